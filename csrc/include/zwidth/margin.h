@@ -1,0 +1,27 @@
+/* zwidth/margin.h - how stable: the closed-loop poles, paper eqs (7), (8).
+ *
+ *   p(z) = 2 z^3 + a1 z^2 + a2 z - c2 beta
+ *   a1 = c1 (alpha + beta) - 2 (1 + e),  a2 = c2 alpha + (c2 - c1) beta + 2 e
+ */
+#ifndef ZWIDTH_MARGIN_H
+#define ZWIDTH_MARGIN_H
+
+#include <stdbool.h>
+
+#include "zwidth/coeffs.h"
+
+/* Coefficients of p(z), highest power first: p[0] = 2, p[1] = a1, p[2] = a2, p[3] = -c2 beta. */
+zw_status zw_char_poly(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real p[4]);
+
+/* Spectral radius rho = max |z| over the three closed-loop poles (stable iff rho < 1).
+ * Real root by safeguarded Newton on a bracket, the other two from the deflated
+ * quadratic by the cancellation-free formulas.  Accuracy: see tests/py/test_margin.py. */
+zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real *rho);
+
+/* "Every pole has |z| < r", decided without root finding by the Jury conditions on
+ * p(r z), with a running error bound: *within is true only if that holds for every value
+ * within the rounding bound (never true when rho >= r).  r > 0 finite (ZW_ERR_ARG). */
+zw_status zw_radius_within(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real r,
+                           bool *within);
+
+#endif /* ZWIDTH_MARGIN_H */

@@ -1,0 +1,61 @@
+/* zwidth/region.h - stability verdicts in the normalized space (delta, alpha, beta).
+ *
+ * alpha = K T^2 / m (NVS), beta = B T / m (NVD).  The exact region, paper eq (10):
+ *     beta > -delta,   0 < alpha < f(beta),   alpha < L(beta) = 4 (1 + e) / d12 - 2 beta
+ * evaluated in the division-free forms
+ *     hyperbola:  alpha g + alpha / (beta + delta) < 2 / c2 - beta
+ *     line:       d12 alpha / 2 + d12 beta < 2 (1 + e)
+ * with a running error bound (Wilkinson) carried through every operation.
+ *
+ * Safety: a verdict says stable only if the point is stable for every value within the
+ * rounding error bound, so an unstable point is never called stable.  A stable point is
+ * called unstable only inside that bound (a few ulps of the inputs); such verdicts carry
+ * marginal = true.
+ */
+#ifndef ZWIDTH_REGION_H
+#define ZWIDTH_REGION_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "zwidth/coeffs.h"
+
+/* The constraints a point can violate; bits of zw_verdict.violated. */
+typedef enum zw_bound {
+    ZW_BOUND_NONE = 0,
+    ZW_BOUND_DAMPING = 1,    /* beta <= -delta (B <= -b): add damping */
+    ZW_BOUND_STIFFNESS = 2,  /* alpha <= 0 (K <= 0) */
+    ZW_BOUND_HYPERBOLA = 4,  /* alpha >= f(beta), including beta >= 2/c2 */
+    ZW_BOUND_LINE = 8,       /* alpha >= L(beta), the bound the legacy region lacks */
+    ZW_BOUND_PASSIVITY = 16  /* K T / 2 >= b - |B| (passivity region only) */
+} zw_bound;
+
+typedef struct zw_verdict {
+    bool stable;
+    bool marginal;            /* within the rounding band of a boundary: could not prove stable */
+    zw_bound deciding;        /* first violated constraint in the order of the enum; NONE if stable */
+    uint_least16_t violated;  /* every violated (or unprovable) constraint, as zw_bound bits */
+} zw_verdict;
+
+/* The regions zw_check_region can evaluate. */
+typedef enum zw_region {
+    ZW_REGION_EXACT = 0,      /* eq (10), all delta >= 0 */
+    ZW_REGION_LEGACY = 1,     /* Gil et al.: (10) without the line; wrong for delta > delta0 */
+    ZW_REGION_PASSIVITY = 2,  /* eq (16): 0 < alpha / 2 < delta - |beta| */
+    ZW_REGION_DELTA0 = 3,     /* eq (17): the delta = 0 region, ignoring delta */
+    ZW_REGION_DELTA_INF = 4,  /* eqs (14), (15): beta > -delta, 0 < alpha / 2 < delta - beta */
+    ZW_REGION_SMALL = 5       /* eq (18): small delta and beta: 0 < alpha / 2 < delta + beta */
+} zw_region;
+
+/* Exact verdict, eq (10).  Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF (alpha, beta or
+ * c->delta infinite). */
+zw_status zw_check(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_verdict *out);
+
+/* Verdict of one of the regions above (each guarded against its own boundary). */
+zw_status zw_check_region(zw_region region, const zw_coeffs *c, zw_real alpha, zw_real beta,
+                          zw_verdict *out);
+
+/* Proportional (stiffness-only) control, beta = 0, eqs (27), (29). */
+zw_status zw_check_proportional(const zw_coeffs *c, zw_real alpha, zw_verdict *out);
+
+#endif /* ZWIDTH_REGION_H */

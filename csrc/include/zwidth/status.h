@@ -1,0 +1,28 @@
+/* zwidth/status.h - status codes shared by every zwidth function.
+ *
+ * Every function returns a zw_status and writes its results through pointers.  On any
+ * status other than ZW_OK the outputs are left untouched: invalid input never produces a
+ * number.
+ */
+#ifndef ZWIDTH_STATUS_H
+#define ZWIDTH_STATUS_H
+
+typedef enum zw_status {
+    ZW_OK = 0,
+    ZW_ERR_NULL = 1,             /* a required pointer argument is NULL */
+    ZW_ERR_NAN = 2,              /* an input is NaN */
+    ZW_ERR_INF = 3,              /* an input is infinite where only finite values mean anything */
+    ZW_ERR_MASS = 4,             /* m (or J) <= 0 */
+    ZW_ERR_PERIOD = 5,           /* T <= 0 */
+    ZW_ERR_DAMPING = 6,          /* b < 0 */
+    ZW_ERR_DELTA = 7,            /* normalized physical damping delta < 0 */
+    ZW_ERR_RANGE = 8,            /* a derived quantity (delta, T^2/m, K T^2/m, ...) over- or underflows */
+    ZW_ERR_ARG = 9,              /* another argument is out of its documented domain (e.g. r <= 0) */
+    ZW_ERR_DOMAIN = 10           /* the requested quantity does not exist for this plant
+                                    (e.g. the hyperbola/line corner when delta <= delta0) */
+} zw_status;
+
+/* Stable, upper-case name of a status ("ZW_ERR_MASS"); "ZW_UNKNOWN" for other values. */
+const char *zw_status_name(zw_status status);
+
+#endif /* ZWIDTH_STATUS_H */

@@ -1,0 +1,13 @@
+/* zwidth/zwidth.h - the whole firmware core in one include. */
+#ifndef ZWIDTH_ZWIDTH_H
+#define ZWIDTH_ZWIDTH_H
+
+#include "zwidth/coeffs.h"
+#include "zwidth/device.h"
+#include "zwidth/extremes.h"
+#include "zwidth/margin.h"
+#include "zwidth/real.h"
+#include "zwidth/region.h"
+#include "zwidth/status.h"
+
+#endif /* ZWIDTH_ZWIDTH_H */

@@ -1,0 +1,212 @@
+/* Real units, paper Section IV: delta = b T / m, alpha = K T^2 / m, beta = B T / m. */
+#include "zwidth/device.h"
+
+#include <stddef.h>
+
+#include "internal.h"
+
+/* Roundings in the conversions, budgeted in the checks' guard:
+ * delta = (b T) / m: 2;  k_scale = m / T / T: 2, alpha = K / k_scale: 1 more;
+ * b_scale = m / T: 1, beta = B / b_scale: 1 more.  One extra u each for slack. */
+#define ZW_DELTA_RELERR (ZW_R(3.0) * ZW_U)
+#define ZW_ALPHA_RELERR (ZW_R(4.0) * ZW_U)
+#define ZW_BETA_RELERR (ZW_R(3.0) * ZW_U)
+
+static bool is_normal_positive(zw_real x)
+{
+    return x >= ZW_REAL_MIN && x <= ZW_REAL_MAX;
+}
+
+zw_status zw_device_init(zw_device *out, zw_real m, zw_real b, zw_real T)
+{
+    zw_device d;
+    zw_status st;
+    zw_real delta;
+    if (out == NULL) return ZW_ERR_NULL;
+    if (ZW_IS_NAN(m) || ZW_IS_NAN(b) || ZW_IS_NAN(T)) return ZW_ERR_NAN;
+    if (!ZW_IS_FINITE(m) || !ZW_IS_FINITE(b) || !ZW_IS_FINITE(T)) return ZW_ERR_INF;
+    if (!(m > ZW_R(0.0))) return ZW_ERR_MASS;
+    if (!(T > ZW_R(0.0))) return ZW_ERR_PERIOD;
+    if (b < ZW_R(0.0)) return ZW_ERR_DAMPING;
+    d.m = m;
+    d.b = b;
+    d.T = T;
+    d.b_scale = m / T;
+    d.k_scale = d.b_scale / T;
+    delta = b * T / m;
+    if (!is_normal_positive(d.b_scale) || !is_normal_positive(d.k_scale)) return ZW_ERR_RANGE;
+    if (b > ZW_R(0.0) && !is_normal_positive(delta)) return ZW_ERR_RANGE;
+    if ((st = zw_coeffs_init(&d.co, delta)) != ZW_OK) return st;
+    if (!ZW_IS_FINITE(d.co.hs)) return ZW_ERR_RANGE;
+    d.co.delta_relerr = ZW_DELTA_RELERR;
+    *out = d;
+    return ZW_OK;
+}
+
+zw_status zw_device_normalize(const zw_device *d, zw_real K, zw_real B, zw_real *alpha,
+                              zw_real *beta)
+{
+    zw_status st;
+    zw_real a, bb;
+    if (d == NULL || alpha == NULL || beta == NULL) return ZW_ERR_NULL;
+    if ((st = zw_require_finite(K)) != ZW_OK) return st;
+    if ((st = zw_require_finite(B)) != ZW_OK) return st;
+    a = K / d->k_scale;
+    bb = B / d->b_scale;
+    if (!ZW_IS_FINITE(a) || !ZW_IS_FINITE(bb)) return ZW_ERR_RANGE;
+    *alpha = a;
+    *beta = bb;
+    return ZW_OK;
+}
+
+/* Normalized gains with the error bounds of their conversion. */
+static zw_status normalize_bounded(const zw_device *d, zw_real K, zw_real B, zw_eb *alpha,
+                                   zw_eb *beta)
+{
+    zw_real a, bb;
+    zw_status st = zw_device_normalize(d, K, B, &a, &bb);
+    if (st != ZW_OK) return st;
+    *alpha = zw_eb_rel(a, ZW_ALPHA_RELERR);
+    *beta = zw_eb_rel(bb, ZW_BETA_RELERR);
+    return ZW_OK;
+}
+
+zw_status zw_device_check_region(zw_region region, const zw_device *d, zw_real K, zw_real B,
+                                 zw_verdict *out)
+{
+    zw_eb alpha, beta;
+    zw_status st = normalize_bounded(d, K, B, &alpha, &beta);
+    if (st != ZW_OK) return st;
+    return zw_check_bounded(region, &d->co, alpha, beta, out);
+}
+
+zw_status zw_device_check(const zw_device *d, zw_real K, zw_real B, zw_verdict *out)
+{
+    return zw_device_check_region(ZW_REGION_EXACT, d, K, B, out);
+}
+
+zw_status zw_device_spectral_radius(const zw_device *d, zw_real K, zw_real B, zw_real *rho)
+{
+    zw_real alpha, beta;
+    zw_status st = zw_device_normalize(d, K, B, &alpha, &beta);
+    if (st != ZW_OK) return st;
+    return zw_spectral_radius(&d->co, alpha, beta, rho);
+}
+
+zw_status zw_device_radius_within(const zw_device *d, zw_real K, zw_real B, zw_real r,
+                                  bool *within)
+{
+    zw_eb alpha, beta;
+    zw_status st = normalize_bounded(d, K, B, &alpha, &beta);
+    if (st != ZW_OK) return st;
+    return zw_radius_within_bounded(&d->co, alpha, beta, r, within);
+}
+
+zw_status zw_device_extremes_compute(const zw_device *d, zw_device_extremes *out)
+{
+    zw_extremes x;
+    zw_device_extremes r;
+    zw_status st;
+    if (d == NULL || out == NULL) return ZW_ERR_NULL;
+    if ((st = zw_extremes_compute(&d->co, &x)) != ZW_OK) return st;
+    r.K_mmax = x.alpha_mmax * d->k_scale;
+    r.B_at_K_mmax = x.beta_at_alpha_mmax * d->b_scale;
+    r.at_corner = x.at_corner;
+    r.K_p_max = x.alpha_p_max * d->k_scale;
+    r.B_mmax = x.beta_mmax * d->b_scale;
+    r.B_mmin = -d->b;
+    r.K_mmin = ZW_R(0.0);
+    if (!ZW_IS_FINITE(r.K_mmax) || !ZW_IS_FINITE(r.K_p_max) || !ZW_IS_FINITE(r.B_mmax))
+        return ZW_ERR_RANGE;
+    *out = r;
+    return ZW_OK;
+}
+
+zw_status zw_device_k_max(const zw_device *d, zw_real B, zw_real *K_max)
+{
+    zw_real alpha, beta, a_max;
+    zw_status st;
+    if (K_max == NULL) return ZW_ERR_NULL;
+    if ((st = zw_device_normalize(d, ZW_R(0.0), B, &alpha, &beta)) != ZW_OK) return st;
+    if ((st = zw_alpha_max(&d->co, beta, &a_max)) != ZW_OK) return st;
+    if (!ZW_IS_FINITE(a_max * d->k_scale)) return ZW_ERR_RANGE;
+    *K_max = a_max * d->k_scale;
+    return ZW_OK;
+}
+
+zw_status zw_device_b_range(const zw_device *d, zw_real K, zw_real *B_lo, zw_real *B_hi,
+                            bool *nonempty)
+{
+    zw_real alpha, beta, lo, hi;
+    bool any;
+    zw_status st;
+    if (B_lo == NULL || B_hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
+    if ((st = zw_device_normalize(d, K, ZW_R(0.0), &alpha, &beta)) != ZW_OK) return st;
+    if ((st = zw_beta_interval(&d->co, alpha, &lo, &hi, &any)) != ZW_OK) return st;
+    *B_lo = lo * d->b_scale;
+    *B_hi = hi * d->b_scale;
+    *nonempty = any;
+    return ZW_OK;
+}
+
+/* Sign of the slope on a curve that falls, rises, falls... across the given breakpoints:
+ * first_trend holds below breaks[0] and alternates at each one. */
+static zw_trend piecewise_trend(zw_real delta, const zw_real *breaks, int n, zw_trend first_trend)
+{
+    int i;
+    zw_trend t = first_trend;
+    for (i = 0; i < n; ++i) {
+        if (delta == breaks[i]) return ZW_FLAT;
+        if (delta < breaks[i]) return t;
+        t = (zw_trend)(-(int)t);
+    }
+    return t;
+}
+
+static zw_trend opposite(zw_trend t)
+{
+    return (zw_trend)(-(int)t);
+}
+
+zw_status zw_device_influence(const zw_device *d, zw_influence *out)
+{
+    static const zw_real k_breaks[2] = {ZW_DELTA_K1, ZW_DELTA_K2};
+    static const zw_real b_breaks[2] = {ZW_DELTA_B, ZW_DELTA0};
+    zw_device_extremes x;
+    zw_influence r;
+    zw_real bT, delta;
+    zw_status st;
+    if (d == NULL || out == NULL) return ZW_ERR_NULL;
+    if ((st = zw_device_extremes_compute(d, &x)) != ZW_OK) return st;
+    delta = d->co.delta;
+    bT = d->b * d->T;
+    r.delta = delta;
+    r.K_mmax = x.K_mmax;
+    r.B_mmax = x.B_mmax;
+    r.m_K1 = bT / ZW_DELTA_K1;
+    r.m_K2 = bT / ZW_DELTA_K2;
+    r.m_K_match = bT / ZW_DELTA_KM;
+    r.m_0 = bT / ZW_DELTA0;
+    r.m_B = bT / ZW_DELTA_B;
+    r.K_mmax_at_m_K2 = ZW_KMAX_LOCAL_MAX * d->b / d->T;
+    r.K_mmax_at_m_K1 = ZW_KMAX_LOCAL_MIN * d->b / d->T;
+    if (d->b > ZW_R(0.0)) {
+        r.T_B = d->m * ZW_DELTA_B / d->b;
+        r.T_0 = d->m * ZW_DELTA0 / d->b;
+    } else {
+        r.T_B = r.T_0 = (zw_real)HUGE_VAL;
+    }
+    /* K_mmax = (b/T) alpha_mmax(delta)/delta: alpha_mmax/delta falls, rises, falls across
+     * delta_K1, delta_K2, and delta = bT/m moves against m. */
+    r.K_vs_m = opposite(piecewise_trend(delta, k_breaks, 2, ZW_FALLS));
+    r.K_vs_b = ZW_RISES; /* (m/T^2) alpha_mmax(delta), alpha_mmax increasing */
+    r.K_vs_T = ZW_FALLS; /* (b^2/m) alpha_mmax/delta^2, decreasing (paper eq (36)) */
+    /* B_mmax = b beta_mmax(delta)/delta against delta (b fixed): falls, rises, falls
+     * across delta_B, delta_0; T moves delta with it, m against it. */
+    r.B_vs_T = piecewise_trend(delta, b_breaks, 2, ZW_FALLS);
+    r.B_vs_m = opposite(r.B_vs_T);
+    r.B_vs_b = ZW_RISES; /* (m/T) beta_mmax(delta), beta_mmax increasing */
+    r.best_m_for_K = r.K_vs_m == ZW_FALLS ? r.m_K2 : d->m;
+    *out = r;
+    return ZW_OK;
+}

@@ -1,0 +1,130 @@
+/* Private to the core: running error bounds and the shared input checks.
+ *
+ * A zw_eb carries a value and a bound on its absolute error against the exact result of
+ * the same expression on exact inputs (Wilkinson's running error analysis).  Every
+ * operation adds one rounding (u |v|) and one underflow quantum (ZW_REAL_MIN, which
+ * also covers flush-to-zero FPUs).  Verdicts compare bounded values with zw_eb_compare,
+ * which answers "surely less", "surely not less" or "cannot tell".
+ */
+#ifndef ZWIDTH_INTERNAL_H
+#define ZWIDTH_INTERNAL_H
+
+#include "zwidth/coeffs.h"
+#include "zwidth/region.h"
+
+#define ZW_U ZW_UNIT_ROUNDOFF
+#define ZW_ETA ZW_REAL_MIN
+
+typedef struct zw_eb {
+    zw_real v; /* computed value */
+    zw_real e; /* bound on |v - exact| */
+} zw_eb;
+
+static inline zw_eb zw_eb_exact(zw_real v)
+{
+    zw_eb r;
+    r.v = v;
+    r.e = ZW_R(0.0);
+    return r;
+}
+
+/* A value known to relative accuracy rel (plus the underflow quantum). */
+static inline zw_eb zw_eb_rel(zw_real v, zw_real rel)
+{
+    zw_eb r;
+    r.v = v;
+    r.e = rel * ZW_FABS(v) + ZW_ETA;
+    return r;
+}
+
+static inline zw_eb zw_eb_add(zw_eb a, zw_eb b)
+{
+    zw_eb r;
+    r.v = a.v + b.v;
+    r.e = a.e + b.e + ZW_U * ZW_FABS(r.v) + ZW_ETA;
+    return r;
+}
+
+static inline zw_eb zw_eb_sub(zw_eb a, zw_eb b)
+{
+    zw_eb r;
+    r.v = a.v - b.v;
+    r.e = a.e + b.e + ZW_U * ZW_FABS(r.v) + ZW_ETA;
+    return r;
+}
+
+static inline zw_eb zw_eb_mul(zw_eb a, zw_eb b)
+{
+    zw_eb r;
+    r.v = a.v * b.v;
+    r.e = ZW_FABS(a.v) * b.e + ZW_FABS(b.v) * a.e + a.e * b.e + ZW_U * ZW_FABS(r.v) + ZW_ETA;
+    return r;
+}
+
+/* a / b.  When b's bound reaches zero the quotient is unbounded: the error becomes
+ * infinite-like (ZW_REAL_MAX) so every comparison with it answers "cannot tell". */
+static inline zw_eb zw_eb_div(zw_eb a, zw_eb b)
+{
+    zw_eb r;
+    zw_real den = ZW_FABS(b.v) - b.e;
+    r.v = a.v / b.v;
+    if (!(den > ZW_R(0.0))) {
+        r.e = ZW_REAL_MAX;
+        return r;
+    }
+    r.e = (a.e + ZW_FABS(r.v) * b.e) / den * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + ZW_U * ZW_FABS(r.v) +
+          ZW_ETA;
+    return r;
+}
+
+typedef enum zw_cmp { ZW_CMP_LT = -1, ZW_CMP_UNSURE = 0, ZW_CMP_GE = 1 } zw_cmp;
+
+/* Is exact(a) < exact(b)?  The bound sum itself is inflated for its own roundings. */
+static inline zw_cmp zw_eb_compare(zw_eb a, zw_eb b)
+{
+    zw_real diff = b.v - a.v;
+    zw_real bound = (a.e + b.e) * (ZW_R(1.0) + ZW_R(16.0) * ZW_U) +
+                    ZW_R(2.0) * ZW_U * ZW_FABS(diff) + ZW_ETA;
+    if (!ZW_IS_FINITE(bound) || ZW_IS_NAN(diff)) {
+        /* An overflowed left side with a finite right side is surely not smaller. */
+        if (a.v > ZW_REAL_MAX && ZW_IS_FINITE(b.v + b.e)) return ZW_CMP_GE;
+        return ZW_CMP_UNSURE;
+    }
+    if (diff > bound) return ZW_CMP_LT;
+    if (diff < -bound) return ZW_CMP_GE;
+    return ZW_CMP_UNSURE;
+}
+
+/* Error bound of a coefficient field: its own accuracy (ZW_COEF_ULPS ulps, an ulp being
+ * at most 2u relative) plus its sensitivity to an uncertain delta (every field's relative
+ * condition number in delta is at most 2; tests/py/test_coeffs.py checks it). */
+static inline zw_eb zw_eb_coef(const zw_coeffs *c, zw_real v)
+{
+    return zw_eb_rel(v, ZW_R(2.0) * (zw_real)ZW_COEF_ULPS * ZW_U + ZW_R(2.0) * c->delta_relerr);
+}
+
+/* exp(-delta) has absolute sensitivity delta e^-delta <= 1/e to a relative error of delta. */
+static inline zw_eb zw_eb_coef_e(const zw_coeffs *c)
+{
+    zw_eb r = zw_eb_coef(c, c->e);
+    r.e += ZW_R(0.5) * c->delta_relerr;
+    return r;
+}
+
+/* Validate one finite real input: ZW_ERR_NAN / ZW_ERR_INF, else ZW_OK. */
+static inline zw_status zw_require_finite(zw_real x)
+{
+    if (ZW_IS_NAN(x)) return ZW_ERR_NAN;
+    if (!ZW_IS_FINITE(x)) return ZW_ERR_INF;
+    return ZW_OK;
+}
+
+/* The exact check on inputs that carry their own error bounds (real-unit conversions). */
+zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, zw_eb alpha, zw_eb beta,
+                           zw_verdict *out);
+
+/* Jury test on p(r z) with bounded inputs. */
+zw_status zw_radius_within_bounded(const zw_coeffs *c, zw_eb alpha, zw_eb beta, zw_real r,
+                                   bool *within);
+
+#endif /* ZWIDTH_INTERNAL_H */

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Install what zwidth needs on a Debian machine (idempotent; quiet when all is there).
+#   system: C toolchain, CMake, Ninja, cmocka (C unit tests), the arm-none-eabi
+#           cross-compiler (MCU footprint), python3 with venv
+#   python: a virtualenv in .venv with the test requirements (mpmath, numpy, pytest)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+need_apt=()
+have() { command -v "$1" >/dev/null 2>&1; }
+have cc || need_apt+=(gcc)
+have cmake || need_apt+=(cmake)
+have ninja || need_apt+=(ninja-build)
+have pkg-config || need_apt+=(pkg-config)
+have arm-none-eabi-gcc || need_apt+=(gcc-arm-none-eabi libnewlib-arm-none-eabi)
+[ -f /usr/include/cmocka.h ] || need_apt+=(libcmocka-dev)
+have python3 || need_apt+=(python3)
+python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need_apt+=(python3-venv)
+
+if [ ${#need_apt[@]} -gt 0 ]; then
+    echo "bootstrap: installing ${need_apt[*]}" >&2
+    SUDO=""
+    [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${need_apt[@]}" >/dev/null
+fi
+
+if [ ! -x .venv/bin/python ]; then
+    echo "bootstrap: creating .venv" >&2
+    python3 -m venv .venv
+fi
+if ! .venv/bin/python -c 'import mpmath, numpy, pytest' >/dev/null 2>&1; then
+    echo "bootstrap: installing Python test requirements into .venv" >&2
+    .venv/bin/python -m pip install -q --disable-pip-version-check -r tools/requirements-test.txt
+fi

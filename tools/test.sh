@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Every test: C unit tests (double and float) plain and under ASan/UBSan, the
+# high-precision reference tests against mpmath, and the MCU footprint targets.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tools/bootstrap.sh
+
+step() { printf '\n==== %s\n' "$*"; }
+
+step "build (Release, double + float, shared libraries for the reference tests)"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build
+
+step "build with -fsanitize=address,undefined"
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DZW_SANITIZE=ON -DZW_BUILD_SHARED=OFF >/dev/null
+cmake --build build-asan
+
+step "C unit tests (ctest)"
+ctest --test-dir build --output-on-failure
+
+step "C unit tests under ASan/UBSan (ctest)"
+ctest --test-dir build-asan --output-on-failure
+
+step "MCU footprint (Cortex-M4F, Cortex-M0)"
+tools/footprint.sh >/dev/null
+echo "footprint within targets (docs/footprint.md)"
+
+step "high-precision reference tests (pytest, mpmath)"
+ZW_LIB_DIR="$PWD/build" .venv/bin/python -m pytest tests/py -q
