@@ -60,24 +60,23 @@ zw_status zw_device_normalize(const zw_device *d, zw_real K, zw_real B, zw_real 
 }
 
 /* Normalized gains with the error bounds of their conversion. */
-static zw_status normalize_bounded(const zw_device *d, zw_real K, zw_real B, zw_eb *alpha,
-                                   zw_eb *beta)
+static zw_status normalize_bounded(const zw_device *d, zw_real K, zw_real B, zw_gains *g)
 {
     zw_real a, bb;
     zw_status st = zw_device_normalize(d, K, B, &a, &bb);
     if (st != ZW_OK) return st;
-    *alpha = zw_eb_rel(a, ZW_ALPHA_RELERR);
-    *beta = zw_eb_rel(bb, ZW_BETA_RELERR);
+    g->alpha = zw_eb_rel(a, ZW_ALPHA_RELERR);
+    g->beta = zw_eb_rel(bb, ZW_BETA_RELERR);
     return ZW_OK;
 }
 
 zw_status zw_device_check_region(zw_region region, const zw_device *d, zw_real K, zw_real B,
                                  zw_verdict *out)
 {
-    zw_eb alpha, beta;
-    zw_status st = normalize_bounded(d, K, B, &alpha, &beta);
+    zw_gains g;
+    zw_status st = normalize_bounded(d, K, B, &g);
     if (st != ZW_OK) return st;
-    return zw_check_bounded(region, &d->co, alpha, beta, out);
+    return zw_check_bounded(region, &d->co, &g, out);
 }
 
 zw_status zw_device_check(const zw_device *d, zw_real K, zw_real B, zw_verdict *out)
@@ -96,29 +95,31 @@ zw_status zw_device_spectral_radius(const zw_device *d, zw_real K, zw_real B, zw
 zw_status zw_device_radius_within(const zw_device *d, zw_real K, zw_real B, zw_real r,
                                   bool *within)
 {
-    zw_eb alpha, beta;
-    zw_status st = normalize_bounded(d, K, B, &alpha, &beta);
+    zw_gains g;
+    zw_status st = normalize_bounded(d, K, B, &g);
     if (st != ZW_OK) return st;
-    return zw_radius_within_bounded(&d->co, alpha, beta, r, within);
+    return zw_radius_within_bounded(&d->co, &g, r, within);
 }
 
 zw_status zw_device_extremes_compute(const zw_device *d, zw_device_extremes *out)
 {
     zw_extremes x;
-    zw_device_extremes r;
+    zw_real K_mmax, K_p_max, B_mmax;
     zw_status st;
     if (d == NULL || out == NULL) return ZW_ERR_NULL;
     if ((st = zw_extremes_compute(&d->co, &x)) != ZW_OK) return st;
-    r.K_mmax = x.alpha_mmax * d->k_scale;
-    r.B_at_K_mmax = x.beta_at_alpha_mmax * d->b_scale;
-    r.at_corner = x.at_corner;
-    r.K_p_max = x.alpha_p_max * d->k_scale;
-    r.B_mmax = x.beta_mmax * d->b_scale;
-    r.B_mmin = -d->b;
-    r.K_mmin = ZW_R(0.0);
-    if (!ZW_IS_FINITE(r.K_mmax) || !ZW_IS_FINITE(r.K_p_max) || !ZW_IS_FINITE(r.B_mmax))
+    K_mmax = x.alpha_mmax * d->k_scale;
+    K_p_max = x.alpha_p_max * d->k_scale;
+    B_mmax = x.beta_mmax * d->b_scale;
+    if (!ZW_IS_FINITE(K_mmax) || !ZW_IS_FINITE(K_p_max) || !ZW_IS_FINITE(B_mmax))
         return ZW_ERR_RANGE;
-    *out = r;
+    out->K_mmax = K_mmax;
+    out->B_at_K_mmax = x.beta_at_alpha_mmax * d->b_scale;
+    out->at_corner = x.at_corner;
+    out->K_p_max = K_p_max;
+    out->B_mmax = B_mmax;
+    out->B_mmin = -d->b;
+    out->K_mmin = ZW_R(0.0);
     return ZW_OK;
 }
 
@@ -172,41 +173,44 @@ zw_status zw_device_influence(const zw_device *d, zw_influence *out)
 {
     static const zw_real k_breaks[2] = {ZW_DELTA_K1, ZW_DELTA_K2};
     static const zw_real b_breaks[2] = {ZW_DELTA_B, ZW_DELTA0};
-    zw_device_extremes x;
-    zw_influence r;
-    zw_real bT, delta;
+    zw_extremes x;
+    zw_real bT, delta, K_mmax, B_mmax;
     zw_status st;
     if (d == NULL || out == NULL) return ZW_ERR_NULL;
-    if ((st = zw_device_extremes_compute(d, &x)) != ZW_OK) return st;
+    /* the normalized extremes directly, not zw_device_extremes_compute: one frame less */
+    if ((st = zw_extremes_compute(&d->co, &x)) != ZW_OK) return st;
+    K_mmax = x.alpha_mmax * d->k_scale;
+    B_mmax = x.beta_mmax * d->b_scale;
+    if (!ZW_IS_FINITE(K_mmax) || !ZW_IS_FINITE(B_mmax)) return ZW_ERR_RANGE;
+    /* Nothing below can fail, so *out is filled in place (no second copy on the stack). */
     delta = d->co.delta;
     bT = d->b * d->T;
-    r.delta = delta;
-    r.K_mmax = x.K_mmax;
-    r.B_mmax = x.B_mmax;
-    r.m_K1 = bT / ZW_DELTA_K1;
-    r.m_K2 = bT / ZW_DELTA_K2;
-    r.m_K_match = bT / ZW_DELTA_KM;
-    r.m_0 = bT / ZW_DELTA0;
-    r.m_B = bT / ZW_DELTA_B;
-    r.K_mmax_at_m_K2 = ZW_KMAX_LOCAL_MAX * d->b / d->T;
-    r.K_mmax_at_m_K1 = ZW_KMAX_LOCAL_MIN * d->b / d->T;
+    out->delta = delta;
+    out->K_mmax = K_mmax;
+    out->B_mmax = B_mmax;
+    out->m_K1 = bT / ZW_DELTA_K1;
+    out->m_K2 = bT / ZW_DELTA_K2;
+    out->m_K_match = bT / ZW_DELTA_KM;
+    out->m_0 = bT / ZW_DELTA0;
+    out->m_B = bT / ZW_DELTA_B;
+    out->K_mmax_at_m_K2 = ZW_KMAX_LOCAL_MAX * d->b / d->T;
+    out->K_mmax_at_m_K1 = ZW_KMAX_LOCAL_MIN * d->b / d->T;
     if (d->b > ZW_R(0.0)) {
-        r.T_B = d->m * ZW_DELTA_B / d->b;
-        r.T_0 = d->m * ZW_DELTA0 / d->b;
+        out->T_B = d->m * ZW_DELTA_B / d->b;
+        out->T_0 = d->m * ZW_DELTA0 / d->b;
     } else {
-        r.T_B = r.T_0 = (zw_real)HUGE_VAL;
+        out->T_B = out->T_0 = (zw_real)HUGE_VAL;
     }
     /* K_mmax = (b/T) alpha_mmax(delta)/delta: alpha_mmax/delta falls, rises, falls across
      * delta_K1, delta_K2, and delta = bT/m moves against m. */
-    r.K_vs_m = opposite(piecewise_trend(delta, k_breaks, 2, ZW_FALLS));
-    r.K_vs_b = ZW_RISES; /* (m/T^2) alpha_mmax(delta), alpha_mmax increasing */
-    r.K_vs_T = ZW_FALLS; /* (b^2/m) alpha_mmax/delta^2, decreasing (paper eq (36)) */
+    out->K_vs_m = opposite(piecewise_trend(delta, k_breaks, 2, ZW_FALLS));
+    out->K_vs_b = ZW_RISES; /* (m/T^2) alpha_mmax(delta), alpha_mmax increasing */
+    out->K_vs_T = ZW_FALLS; /* (b^2/m) alpha_mmax/delta^2, decreasing (paper eq (36)) */
     /* B_mmax = b beta_mmax(delta)/delta against delta (b fixed): falls, rises, falls
      * across delta_B, delta_0; T moves delta with it, m against it. */
-    r.B_vs_T = piecewise_trend(delta, b_breaks, 2, ZW_FALLS);
-    r.B_vs_m = opposite(r.B_vs_T);
-    r.B_vs_b = ZW_RISES; /* (m/T) beta_mmax(delta), beta_mmax increasing */
-    r.best_m_for_K = r.K_vs_m == ZW_FALLS ? r.m_K2 : d->m;
-    *out = r;
+    out->B_vs_T = piecewise_trend(delta, b_breaks, 2, ZW_FALLS);
+    out->B_vs_m = opposite(out->B_vs_T);
+    out->B_vs_b = ZW_RISES; /* (m/T) beta_mmax(delta), beta_mmax increasing */
+    out->best_m_for_K = out->K_vs_m == ZW_FALLS ? out->m_K2 : d->m;
     return ZW_OK;
 }

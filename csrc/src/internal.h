@@ -79,15 +79,15 @@ static inline zw_eb zw_eb_div(zw_eb a, zw_eb b)
 
 typedef enum zw_cmp { ZW_CMP_LT = -1, ZW_CMP_UNSURE = 0, ZW_CMP_GE = 1 } zw_cmp;
 
-/* Is exact(a) < exact(b)?  The bound sum itself is inflated for its own roundings. */
-static inline zw_cmp zw_eb_compare(zw_eb a, zw_eb b)
+/* Is exact(lhs) < exact(rhs), given that |lhs - exact(lhs)| + |rhs - exact(rhs)| <= err?
+ * The bound is inflated for the roundings of err and of the difference themselves. */
+static inline zw_cmp zw_compare(zw_real lhs, zw_real rhs, zw_real err)
 {
-    zw_real diff = b.v - a.v;
-    zw_real bound = (a.e + b.e) * (ZW_R(1.0) + ZW_R(16.0) * ZW_U) +
-                    ZW_R(2.0) * ZW_U * ZW_FABS(diff) + ZW_ETA;
+    zw_real diff = rhs - lhs;
+    zw_real bound = err * (ZW_R(1.0) + ZW_R(16.0) * ZW_U) + ZW_R(2.0) * ZW_U * ZW_FABS(diff) + ZW_ETA;
     if (!ZW_IS_FINITE(bound) || ZW_IS_NAN(diff)) {
         /* An overflowed left side with a finite right side is surely not smaller. */
-        if (a.v > ZW_REAL_MAX && ZW_IS_FINITE(b.v + b.e)) return ZW_CMP_GE;
+        if (lhs > ZW_REAL_MAX && ZW_IS_FINITE(rhs) && ZW_IS_FINITE(err)) return ZW_CMP_GE;
         return ZW_CMP_UNSURE;
     }
     if (diff > bound) return ZW_CMP_LT;
@@ -95,19 +95,36 @@ static inline zw_cmp zw_eb_compare(zw_eb a, zw_eb b)
     return ZW_CMP_UNSURE;
 }
 
-/* Error bound of a coefficient field: its own accuracy (ZW_COEF_ULPS ulps, an ulp being
- * at most 2u relative) plus its sensitivity to an uncertain delta (every field's relative
- * condition number in delta is at most 2; tests/py/test_coeffs.py checks it). */
-static inline zw_eb zw_eb_coef(const zw_coeffs *c, zw_real v)
+static inline zw_cmp zw_eb_compare(zw_eb a, zw_eb b)
 {
-    return zw_eb_rel(v, ZW_R(2.0) * (zw_real)ZW_COEF_ULPS * ZW_U + ZW_R(2.0) * c->delta_relerr);
+    return zw_compare(a.v, b.v, a.e + b.e);
 }
 
-/* exp(-delta) has absolute sensitivity delta e^-delta <= 1/e to a relative error of delta. */
+/* Relative error bound of a coefficient field: its own accuracy (ZW_COEF_ULPS ulps, an ulp
+ * being at most 2u relative) plus its sensitivity to an uncertain delta (every field's
+ * relative condition number in delta is at most 2; tests/py/test_coeffs.py checks it). */
+static inline zw_real zw_coef_relerr(const zw_coeffs *c)
+{
+    return ZW_R(2.0) * (zw_real)ZW_COEF_ULPS * ZW_U + ZW_R(2.0) * c->delta_relerr;
+}
+
+/* Absolute error bound of e = exp(-delta): exp(-delta) has absolute sensitivity
+ * delta e^-delta <= 1/e to a relative error of delta. */
+static inline zw_real zw_coef_e_abserr(const zw_coeffs *c)
+{
+    return zw_coef_relerr(c) * c->e + ZW_R(0.5) * c->delta_relerr + ZW_ETA;
+}
+
+static inline zw_eb zw_eb_coef(const zw_coeffs *c, zw_real v)
+{
+    return zw_eb_rel(v, zw_coef_relerr(c));
+}
+
 static inline zw_eb zw_eb_coef_e(const zw_coeffs *c)
 {
-    zw_eb r = zw_eb_coef(c, c->e);
-    r.e += ZW_R(0.5) * c->delta_relerr;
+    zw_eb r;
+    r.v = c->e;
+    r.e = zw_coef_e_abserr(c);
     return r;
 }
 
@@ -119,12 +136,27 @@ static inline zw_status zw_require_finite(zw_real x)
     return ZW_OK;
 }
 
-/* The exact check on inputs that carry their own error bounds (real-unit conversions). */
-zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, zw_eb alpha, zw_eb beta,
+/* Normalized gains with bounds on their absolute errors (0 when given exactly, a few
+ * roundings when converted from real units). */
+typedef struct zw_gains {
+    zw_eb alpha;
+    zw_eb beta;
+} zw_gains;
+
+static inline zw_gains zw_gains_exact(zw_real alpha, zw_real beta)
+{
+    zw_gains g;
+    g.alpha = zw_eb_exact(alpha);
+    g.beta = zw_eb_exact(beta);
+    return g;
+}
+
+/* The checks on bounded gains (passed by pointer: small stack on soft-float MCUs). */
+zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, const zw_gains *g,
                            zw_verdict *out);
 
 /* Jury test on p(r z) with bounded inputs. */
-zw_status zw_radius_within_bounded(const zw_coeffs *c, zw_eb alpha, zw_eb beta, zw_real r,
+zw_status zw_radius_within_bounded(const zw_coeffs *c, const zw_gains *g, zw_real r,
                                    bool *within);
 
 #endif /* ZWIDTH_INTERNAL_H */

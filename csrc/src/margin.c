@@ -6,21 +6,30 @@
 
 #include "internal.h"
 
-/* a1, a2, a0 of p(z) = 2 z^3 + a1 z^2 + a2 z + a0, with error bounds. */
-static void char_poly_bounded(const zw_coeffs *c, zw_eb alpha, zw_eb beta, zw_eb *a1, zw_eb *a2,
-                              zw_eb *a0)
+/* a[0] = a1, a[1] = a2, a[2] = a0 of p(z) = 2 z^3 + a1 z^2 + a2 z + a0 (the only place
+ * they are formed):
+ *   a1 = c1 (alpha + beta) - 2 (1 + e),  a2 = c2 alpha - d12 beta + 2 e,  a0 = -c2 beta
+ * (c2 - c1 = -d12 is taken from the accurate d12).  With with_err, a_eb[i].e receives a
+ * bound on the absolute error, given the gains' own bounds (else 0). */
+static void char_poly(const zw_coeffs *c, const zw_gains *g, zw_eb a_eb[3], bool with_err)
 {
-    zw_eb c1 = zw_eb_coef(c, c->c1), c2 = zw_eb_coef(c, c->c2), d12 = zw_eb_coef(c, c->d12);
-    zw_eb e = zw_eb_coef_e(c);
-    zw_eb two = zw_eb_exact(ZW_R(2.0));
-    /* a1 = c1 (alpha + beta) - 2 (1 + e) */
-    *a1 = zw_eb_sub(zw_eb_mul(c1, zw_eb_add(alpha, beta)),
-                    zw_eb_mul(two, zw_eb_add(zw_eb_exact(ZW_R(1.0)), e)));
-    /* a2 = c2 alpha - d12 beta + 2 e   (c2 - c1 = -d12, taken from the accurate d12) */
-    *a2 = zw_eb_add(zw_eb_sub(zw_eb_mul(c2, alpha), zw_eb_mul(d12, beta)), zw_eb_mul(two, e));
-    /* a0 = -c2 beta */
-    *a0 = zw_eb_mul(c2, beta);
-    a0->v = -a0->v;
+    const zw_real alpha = g->alpha.v, beta = g->beta.v;
+    zw_real sum = alpha + beta;
+    zw_real t1 = c->c1 * sum, t2 = c->c2 * alpha, t3 = c->d12 * beta;
+    zw_real one_plus_e = ZW_R(1.0) + c->e;
+    a_eb[0] = zw_eb_exact(t1 - ZW_R(2.0) * one_plus_e);
+    a_eb[1] = zw_eb_exact((t2 - t3) + ZW_R(2.0) * c->e);
+    a_eb[2] = zw_eb_exact(-(c->c2 * beta));
+    if (with_err) {
+        const zw_real k = zw_coef_relerr(c) + ZW_U, e_err = zw_coef_e_abserr(c);
+        a_eb[0].e = ZW_FABS(t1) * k + c->c1 * (g->alpha.e + g->beta.e + ZW_U * ZW_FABS(sum)) +
+                    ZW_R(2.0) * (e_err + ZW_U * one_plus_e) + ZW_U * ZW_FABS(a_eb[0].v) +
+                    ZW_R(3.0) * ZW_ETA;
+        a_eb[1].e = (ZW_FABS(t2) + ZW_FABS(t3)) * k + c->c2 * g->alpha.e + c->d12 * g->beta.e +
+                    ZW_U * ZW_FABS(t2 - t3) + ZW_R(2.0) * e_err + ZW_U * ZW_FABS(a_eb[1].v) +
+                    ZW_R(3.0) * ZW_ETA;
+        a_eb[2].e = ZW_FABS(a_eb[2].v) * k + c->c2 * g->beta.e + ZW_ETA;
+    }
 }
 
 static zw_status check_inputs(const zw_coeffs *c, zw_real alpha, zw_real beta)
@@ -34,16 +43,17 @@ static zw_status check_inputs(const zw_coeffs *c, zw_real alpha, zw_real beta)
 
 zw_status zw_char_poly(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real p[4])
 {
-    zw_eb a1, a2, a0;
+    zw_eb a[3];
+    zw_gains g = zw_gains_exact(alpha, beta);
     zw_status st = check_inputs(c, alpha, beta);
     if (st != ZW_OK) return st;
     if (p == NULL) return ZW_ERR_NULL;
-    char_poly_bounded(c, zw_eb_exact(alpha), zw_eb_exact(beta), &a1, &a2, &a0);
-    if (!ZW_IS_FINITE(a1.v) || !ZW_IS_FINITE(a2.v)) return ZW_ERR_RANGE;
+    char_poly(c, &g, a, false);
+    if (!ZW_IS_FINITE(a[0].v) || !ZW_IS_FINITE(a[1].v) || !ZW_IS_FINITE(a[2].v)) return ZW_ERR_RANGE;
     p[0] = ZW_R(2.0);
-    p[1] = a1.v;
-    p[2] = a2.v;
-    p[3] = a0.v;
+    p[1] = a[0].v;
+    p[2] = a[1].v;
+    p[3] = a[2].v;
     return ZW_OK;
 }
 
@@ -102,15 +112,16 @@ static zw_real quadratic_radius(zw_real p, zw_real q)
 
 zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real *rho)
 {
-    zw_eb a1, a2, a0;
+    zw_eb a[3];
     zw_real A, B, C, r, p, q, rq;
+    zw_gains g = zw_gains_exact(alpha, beta);
     zw_status st = check_inputs(c, alpha, beta);
     if (st != ZW_OK) return st;
     if (rho == NULL) return ZW_ERR_NULL;
-    char_poly_bounded(c, zw_eb_exact(alpha), zw_eb_exact(beta), &a1, &a2, &a0);
-    A = ZW_R(0.5) * a1.v;
-    B = ZW_R(0.5) * a2.v;
-    C = ZW_R(0.5) * a0.v;
+    char_poly(c, &g, a, false);
+    A = ZW_R(0.5) * a[0].v;
+    B = ZW_R(0.5) * a[1].v;
+    C = ZW_R(0.5) * a[2].v;
     if (!ZW_IS_FINITE(A) || !ZW_IS_FINITE(B) || !ZW_IS_FINITE(C)) return ZW_ERR_RANGE;
 
     r = real_root(A, B, C);
@@ -127,40 +138,49 @@ zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw
 
 /* ---- Jury test on p(r z) ------------------------------------------------------------- */
 
-zw_status zw_radius_within_bounded(const zw_coeffs *c, zw_eb alpha, zw_eb beta, zw_real r,
+/* The four Jury conditions on q(z) = 2 z^3 + b2 z^2 + b1 z + b0, each required surely:
+ * q(1) > 0, q(-1) < 0, |b0| < 2, 4 - b0^2 > |b0 b2 - 2 b1|.  Evaluated one at a time so
+ * that few bounded values are live at once (MCU stack). */
+static bool jury_surely(zw_eb b2, zw_eb b1, zw_eb b0)
+{
+    const zw_eb two = zw_eb_exact(ZW_R(2.0));
+    const zw_eb zero = zw_eb_exact(ZW_R(0.0));
+    zw_eb lhs, rhs;
+    if (zw_eb_compare(zero, zw_eb_add(zw_eb_add(two, b2), zw_eb_add(b1, b0))) != ZW_CMP_LT)
+        return false;
+    if (zw_eb_compare(zw_eb_add(zw_eb_sub(b2, two), zw_eb_sub(b0, b1)), zero) != ZW_CMP_LT)
+        return false;
+    lhs = b0;
+    lhs.v = ZW_FABS(b0.v);
+    if (zw_eb_compare(lhs, two) != ZW_CMP_LT) return false;
+    rhs = zw_eb_sub(zw_eb_exact(ZW_R(4.0)), zw_eb_mul(b0, b0));
+    lhs = zw_eb_sub(zw_eb_mul(b0, b2), zw_eb_mul(two, b1));
+    lhs.v = ZW_FABS(lhs.v);
+    return zw_eb_compare(lhs, rhs) == ZW_CMP_LT;
+}
+
+zw_status zw_radius_within_bounded(const zw_coeffs *c, const zw_gains *g, zw_real r,
                                    bool *within)
 {
-    zw_eb a1, a2, a0, b2, b1, b0, r_eb, two = zw_eb_exact(ZW_R(2.0)), four = zw_eb_exact(ZW_R(4.0));
-    zw_eb zero = zw_eb_exact(ZW_R(0.0));
-    zw_status st = check_inputs(c, alpha.v, beta.v);
+    zw_eb b[3], r_eb;
+    zw_status st = check_inputs(c, g->alpha.v, g->beta.v);
     if (st != ZW_OK) return st;
     if (within == NULL) return ZW_ERR_NULL;
     if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
     if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
-    char_poly_bounded(c, alpha, beta, &a1, &a2, &a0);
-    /* q(z) = p(r z) / r^3 = 2 z^3 + b2 z^2 + b1 z + b0 */
+    char_poly(c, g, b, true);
+    /* q(z) = p(r z) / r^3 = 2 z^3 + b[0] z^2 + b[1] z + b[2] */
     r_eb = zw_eb_exact(r);
-    b2 = zw_eb_div(a1, r_eb);
-    b1 = zw_eb_div(zw_eb_div(a2, r_eb), r_eb);
-    b0 = zw_eb_div(zw_eb_div(zw_eb_div(a0, r_eb), r_eb), r_eb);
-    {
-        /* Jury: q(1) > 0, q(-1) < 0, |b0| < 2, 4 - b0^2 > |b0 b2 - 2 b1|. */
-        zw_eb q_plus = zw_eb_add(zw_eb_add(two, b2), zw_eb_add(b1, b0));
-        zw_eb q_minus = zw_eb_add(zw_eb_sub(b2, two), zw_eb_sub(b0, b1));
-        zw_eb abs_b0 = b0, lhs4 = zw_eb_sub(four, zw_eb_mul(b0, b0));
-        zw_eb rhs4 = zw_eb_sub(zw_eb_mul(b0, b2), zw_eb_mul(two, b1));
-        abs_b0.v = ZW_FABS(b0.v);
-        rhs4.v = ZW_FABS(rhs4.v);
-        *within = zw_eb_compare(zero, q_plus) == ZW_CMP_LT &&
-                  zw_eb_compare(q_minus, zero) == ZW_CMP_LT &&
-                  zw_eb_compare(abs_b0, two) == ZW_CMP_LT &&
-                  zw_eb_compare(rhs4, lhs4) == ZW_CMP_LT;
-    }
+    b[0] = zw_eb_div(b[0], r_eb);
+    b[1] = zw_eb_div(zw_eb_div(b[1], r_eb), r_eb);
+    b[2] = zw_eb_div(zw_eb_div(zw_eb_div(b[2], r_eb), r_eb), r_eb);
+    *within = jury_surely(b[0], b[1], b[2]);
     return ZW_OK;
 }
 
 zw_status zw_radius_within(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real r,
                            bool *within)
 {
-    return zw_radius_within_bounded(c, zw_eb_exact(alpha), zw_eb_exact(beta), r, within);
+    zw_gains g = zw_gains_exact(alpha, beta);
+    return zw_radius_within_bounded(c, &g, r, within);
 }

@@ -1,4 +1,4 @@
-/* Stability verdicts, paper eqs (10), (14)-(18), each guarded by a running error bound.
+/* Stability verdicts, paper eqs (10), (14)-(18), each guarded by an error bound.
  *
  * Exact region in division-free forms (x = beta + delta > 0, sigma a power of two):
  *   hyperbola  (alpha/sigma) g + (alpha/sigma) / x  <  hs - beta/sigma
@@ -8,6 +8,10 @@
  *              (p(-1) < 0; at delta = 0, d12 = 0 and it always holds, as it must)
  * Using c1 beta + 2 = c1 x + s avoids the cancellation of the paper's form near the corner
  * beta -> -delta, and sigma keeps every term finite up to delta ~ max/2.
+ *
+ * Each side carries a bound on its absolute error, written out operation by operation
+ * (the running error analysis of internal.h, unrolled here because this is the hot path
+ * of a drive and must stay small in flash and stack).
  */
 #include "zwidth/region.h"
 
@@ -21,72 +25,78 @@ typedef struct verdict_builder {
     uint_least16_t unsure;  /* constraints within the rounding band */
 } verdict_builder;
 
-/* Record the outcome of "lhs < rhs must hold" for constraint bit. */
-static void require_less(verdict_builder *vb, zw_bound bit, zw_eb lhs, zw_eb rhs)
+/* Record the outcome of "lhs < rhs must hold" (err bounds both sides' errors). */
+static void require_less(verdict_builder *vb, zw_bound bit, zw_real lhs, zw_real rhs, zw_real err)
 {
-    zw_cmp cmp = zw_eb_compare(lhs, rhs);
+    zw_cmp cmp = zw_compare(lhs, rhs, err);
     if (cmp == ZW_CMP_GE) vb->surely = (uint_least16_t)(vb->surely | bit);
     else if (cmp == ZW_CMP_UNSURE) vb->unsure = (uint_least16_t)(vb->unsure | bit);
 }
 
-static zw_bound first_bit(uint_least16_t mask)
-{
-    uint_least16_t bit;
-    for (bit = 1; bit <= ZW_BOUND_PASSIVITY; bit = (uint_least16_t)(bit << 1))
-        if (mask & bit) return (zw_bound)bit;
-    return ZW_BOUND_NONE;
-}
-
 static void finish(const verdict_builder *vb, zw_verdict *out)
 {
+    uint_least16_t decisive = vb->surely != 0 ? vb->surely : vb->unsure;
     zw_verdict v;
     v.violated = (uint_least16_t)(vb->surely | vb->unsure);
     v.stable = v.violated == 0;
     v.marginal = vb->surely == 0 && vb->unsure != 0;
-    v.deciding = first_bit(vb->surely != 0 ? vb->surely : vb->unsure);
+    /* lowest set bit: the first violated constraint in the order of zw_bound */
+    v.deciding = (zw_bound)(decisive & (uint_least16_t)(~decisive + 1u));
     *out = v;
 }
 
-/* beta + delta, with delta's own uncertainty. */
-static zw_eb damping_excess(const zw_coeffs *c, zw_eb beta)
+/* 0 < alpha and alpha / 2 + sign * beta < delta, for the linear regions (14)-(18);
+ * sign_abs: use |beta| (passivity). */
+static void linear_region(verdict_builder *vb, zw_bound bit, const zw_coeffs *c,
+                          const zw_gains *g, zw_real sign, bool sign_abs)
 {
-    zw_eb delta = zw_eb_exact(c->delta);
-    delta.e = c->delta * c->delta_relerr;
-    return zw_eb_add(beta, delta);
+    zw_real beta_term = sign * (sign_abs ? ZW_FABS(g->beta.v) : g->beta.v);
+    zw_real lhs = ZW_R(0.5) * g->alpha.v + beta_term;
+    require_less(vb, ZW_BOUND_STIFFNESS, ZW_R(0.0), g->alpha.v, g->alpha.e);
+    require_less(vb, bit, lhs, c->delta,
+                 ZW_R(0.5) * g->alpha.e + g->beta.e + c->delta * c->delta_relerr +
+                     ZW_U * ZW_FABS(lhs) + ZW_ETA);
 }
 
-static void exact_constraints(const zw_coeffs *c, zw_eb alpha, zw_eb beta, bool with_line,
-                              verdict_builder *vb)
+/* The constraints of eq (10); with_line false gives the legacy region. */
+static void exact_region(verdict_builder *vb, const zw_coeffs *c, const zw_gains *g,
+                         bool with_line)
 {
-    const zw_eb zero = zw_eb_exact(ZW_R(0.0));
-    zw_eb x = damping_excess(c, beta);
-    require_less(vb, ZW_BOUND_DAMPING, zero, x);
-    require_less(vb, ZW_BOUND_STIFFNESS, zero, alpha);
+    const zw_real coef_err = zw_coef_relerr(c);
+    const zw_real alpha = g->alpha.v, beta = g->beta.v;
+    zw_real x = beta + c->delta;
+    zw_real x_err = g->beta.e + c->delta * c->delta_relerr + ZW_U * ZW_FABS(x) + ZW_ETA;
 
-    if (zw_eb_compare(zero, x) == ZW_CMP_LT) { /* the hyperbola form needs x > 0 */
-        zw_eb inv_sigma = zw_eb_exact(ZW_R(1.0) / c->sigma); /* exact: sigma is a power of two */
-        zw_eb alpha_s = zw_eb_mul(alpha, inv_sigma);
-        zw_eb lhs = zw_eb_add(zw_eb_mul(alpha_s, zw_eb_coef(c, c->g)), zw_eb_div(alpha_s, x));
-        zw_eb rhs = zw_eb_sub(zw_eb_coef(c, c->hs), zw_eb_mul(beta, inv_sigma));
-        require_less(vb, ZW_BOUND_HYPERBOLA, lhs, rhs);
-    } else {
+    require_less(vb, ZW_BOUND_DAMPING, ZW_R(0.0), x, x_err);
+    require_less(vb, ZW_BOUND_STIFFNESS, ZW_R(0.0), alpha, g->alpha.e);
+
+    if ((vb->surely | vb->unsure) & ZW_BOUND_DAMPING) {
+        /* the hyperbola form divides by x: meaningless unless x is surely positive */
         vb->unsure = (uint_least16_t)(vb->unsure | ZW_BOUND_HYPERBOLA);
+    } else {
+        zw_real inv_sigma = ZW_R(1.0) / c->sigma;          /* exact: sigma = 2^k */
+        zw_real as = alpha * inv_sigma, as_err = g->alpha.e * inv_sigma + ZW_ETA;
+        zw_real t1 = as * c->g;
+        zw_real t2 = as / x;
+        zw_real lhs = t1 + t2;
+        zw_real rhs = c->hs - beta * inv_sigma;
+        zw_real err = ZW_FABS(t1) * (coef_err + ZW_U) + as_err * c->g                 /* t1 */
+                    + (as_err + ZW_FABS(t2) * x_err) / (x - x_err) + ZW_U * ZW_FABS(t2) /* t2 */
+                    + ZW_U * ZW_FABS(lhs)                                              /* sum */
+                    + c->hs * coef_err + g->beta.e * inv_sigma + ZW_U * ZW_FABS(rhs)   /* rhs */
+                    + ZW_R(4.0) * ZW_ETA;
+        require_less(vb, ZW_BOUND_HYPERBOLA, lhs, rhs, err);
     }
     if (with_line) {
-        zw_eb d12 = zw_eb_coef(c, c->d12);
-        zw_eb half_alpha = zw_eb_mul(alpha, zw_eb_exact(ZW_R(0.5)));
-        zw_eb lhs = zw_eb_add(zw_eb_mul(d12, half_alpha), zw_eb_mul(d12, beta));
-        zw_eb one_plus_e = zw_eb_add(zw_eb_exact(ZW_R(1.0)), zw_eb_coef_e(c));
-        require_less(vb, ZW_BOUND_LINE, lhs, zw_eb_mul(zw_eb_exact(ZW_R(2.0)), one_plus_e));
+        zw_real t3 = c->d12 * (ZW_R(0.5) * alpha);
+        zw_real t4 = c->d12 * beta;
+        zw_real lhs = t3 + t4;
+        zw_real rhs = ZW_R(2.0) * (ZW_R(1.0) + c->e);
+        zw_real err = (ZW_FABS(t3) + ZW_FABS(t4)) * (coef_err + ZW_U)
+                    + c->d12 * (ZW_R(0.5) * g->alpha.e + g->beta.e) + ZW_U * ZW_FABS(lhs)
+                    + ZW_R(2.0) * zw_coef_e_abserr(c) + ZW_U * rhs + ZW_R(3.0) * ZW_ETA;
+        require_less(vb, ZW_BOUND_LINE, lhs, rhs, err);
     }
-}
-
-/* alpha / 2 + sign_beta * beta < limit, for the linear regions (14)-(18). */
-static void linear_constraint(verdict_builder *vb, zw_bound bit, zw_eb alpha, zw_eb beta_term,
-                              zw_eb limit)
-{
-    zw_eb half_alpha = zw_eb_mul(alpha, zw_eb_exact(ZW_R(0.5)));
-    require_less(vb, bit, zw_eb_add(half_alpha, beta_term), limit);
 }
 
 /* The delta = 0 coefficients, for the region of eq (17) (c1 = c2 = 1, e = 1, d12 = 0). */
@@ -94,44 +104,32 @@ static const zw_coeffs k_delta_zero = {
     ZW_R(0.0), ZW_R(1.0), ZW_R(1.0), ZW_R(1.0), ZW_R(0.0),
     ZW_R(2.0), ZW_R(0.5), ZW_R(1.0), ZW_R(2.0), ZW_R(0.0)};
 
-zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, zw_eb alpha, zw_eb beta,
+zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, const zw_gains *g,
                            zw_verdict *out)
 {
     verdict_builder vb = {0, 0};
-    const zw_eb zero = zw_eb_exact(ZW_R(0.0));
-    zw_eb delta;
     zw_status st;
     if (c == NULL || out == NULL) return ZW_ERR_NULL;
-    if ((st = zw_require_finite(alpha.v)) != ZW_OK) return st;
-    if ((st = zw_require_finite(beta.v)) != ZW_OK) return st;
+    if ((st = zw_require_finite(g->alpha.v)) != ZW_OK) return st;
+    if ((st = zw_require_finite(g->beta.v)) != ZW_OK) return st;
     if ((st = zw_require_finite(c->delta)) != ZW_OK) return st;
     if (!ZW_IS_FINITE(c->hs)) return ZW_ERR_RANGE;
-    delta = zw_eb_exact(c->delta);
-    delta.e = c->delta * c->delta_relerr;
 
     switch (region) {
-    case ZW_REGION_EXACT: exact_constraints(c, alpha, beta, true, &vb); break;
-    case ZW_REGION_LEGACY: exact_constraints(c, alpha, beta, false, &vb); break;
-    case ZW_REGION_DELTA0: exact_constraints(&k_delta_zero, alpha, beta, false, &vb); break;
-    case ZW_REGION_PASSIVITY: {
-        zw_eb abs_beta = beta;
-        abs_beta.v = ZW_FABS(beta.v);
-        require_less(&vb, ZW_BOUND_STIFFNESS, zero, alpha);
-        linear_constraint(&vb, ZW_BOUND_PASSIVITY, alpha, abs_beta, delta);
+    case ZW_REGION_EXACT: exact_region(&vb, c, g, true); break;
+    case ZW_REGION_LEGACY: exact_region(&vb, c, g, false); break;
+    case ZW_REGION_DELTA0: exact_region(&vb, &k_delta_zero, g, false); break;
+    case ZW_REGION_PASSIVITY: /* alpha/2 + |beta| < delta */
+        linear_region(&vb, ZW_BOUND_PASSIVITY, c, g, ZW_R(1.0), true);
         break;
-    }
-    case ZW_REGION_DELTA_INF:
-        require_less(&vb, ZW_BOUND_DAMPING, zero, damping_excess(c, beta));
-        require_less(&vb, ZW_BOUND_STIFFNESS, zero, alpha);
-        linear_constraint(&vb, ZW_BOUND_LINE, alpha, beta, delta);
+    case ZW_REGION_DELTA_INF: /* beta > -delta, alpha/2 + beta < delta */
+        require_less(&vb, ZW_BOUND_DAMPING, -g->beta.v, c->delta,
+                     g->beta.e + c->delta * c->delta_relerr);
+        linear_region(&vb, ZW_BOUND_LINE, c, g, ZW_R(1.0), false);
         break;
-    case ZW_REGION_SMALL: {
-        zw_eb minus_beta = beta;
-        minus_beta.v = -beta.v;
-        require_less(&vb, ZW_BOUND_STIFFNESS, zero, alpha);
-        linear_constraint(&vb, ZW_BOUND_HYPERBOLA, alpha, minus_beta, delta);
+    case ZW_REGION_SMALL: /* alpha/2 - beta < delta */
+        linear_region(&vb, ZW_BOUND_HYPERBOLA, c, g, ZW_R(-1.0), false);
         break;
-    }
     default: return ZW_ERR_ARG;
     }
     finish(&vb, out);
@@ -141,15 +139,18 @@ zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, zw_eb alpha, zw
 zw_status zw_check_region(zw_region region, const zw_coeffs *c, zw_real alpha, zw_real beta,
                           zw_verdict *out)
 {
-    return zw_check_bounded(region, c, zw_eb_exact(alpha), zw_eb_exact(beta), out);
+    zw_gains g = zw_gains_exact(alpha, beta);
+    return zw_check_bounded(region, c, &g, out);
 }
 
 zw_status zw_check(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_verdict *out)
 {
-    return zw_check_region(ZW_REGION_EXACT, c, alpha, beta, out);
+    zw_gains g = zw_gains_exact(alpha, beta);
+    return zw_check_bounded(ZW_REGION_EXACT, c, &g, out);
 }
 
 zw_status zw_check_proportional(const zw_coeffs *c, zw_real alpha, zw_verdict *out)
 {
-    return zw_check_region(ZW_REGION_EXACT, c, alpha, ZW_R(0.0), out);
+    zw_gains g = zw_gains_exact(alpha, ZW_R(0.0));
+    return zw_check_bounded(ZW_REGION_EXACT, c, &g, out);
 }

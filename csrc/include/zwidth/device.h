@@ -60,8 +60,8 @@ zw_status zw_device_b_range(const zw_device *d, zw_real K, zw_real *B_lo, zw_rea
 typedef enum zw_trend { ZW_FALLS = -1, ZW_FLAT = 0, ZW_RISES = 1 } zw_trend;
 
 /* Where the plant sits on the (non-monotonic) curves of K_mmax and B_mmax against m, b, T,
- * paper Section IV and Table 1.  Critical values are +inf when b = 0 (delta = 0 for every
- * m and T, so the curves have no interior turning points). */
+ * paper Section IV and Table 1.  When b = 0, delta = 0 for every m and T and the curves
+ * have no interior turning points: the critical masses are 0 and the periods +inf. */
 typedef struct zw_influence {
     zw_real delta;
     zw_real K_mmax, B_mmax;        /* at the plant */
