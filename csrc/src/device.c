@@ -173,6 +173,7 @@ zw_status zw_device_influence(const zw_device *d, zw_influence *out)
 {
     static const zw_real k_breaks[2] = {ZW_DELTA_K1, ZW_DELTA_K2};
     static const zw_real b_breaks[2] = {ZW_DELTA_B, ZW_DELTA0};
+    static const zw_real beta_breaks[2] = {ZW_DELTA0, ZW_DELTA_BB};
     zw_extremes x;
     zw_real bT, delta, K_mmax, B_mmax;
     zw_status st;
@@ -195,6 +196,8 @@ zw_status zw_device_influence(const zw_device *d, zw_influence *out)
     out->m_B = bT / ZW_DELTA_B;
     out->K_mmax_at_m_K2 = ZW_KMAX_LOCAL_MAX * d->b / d->T;
     out->K_mmax_at_m_K1 = ZW_KMAX_LOCAL_MIN * d->b / d->T;
+    out->b_0 = d->m * ZW_DELTA0 / d->T;
+    out->b_BB = d->m * ZW_DELTA_BB / d->T;
     if (d->b > ZW_R(0.0)) {
         out->T_B = d->m * ZW_DELTA_B / d->b;
         out->T_0 = d->m * ZW_DELTA0 / d->b;
@@ -210,7 +213,8 @@ zw_status zw_device_influence(const zw_device *d, zw_influence *out)
      * across delta_B, delta_0; T moves delta with it, m against it. */
     out->B_vs_T = piecewise_trend(delta, b_breaks, 2, ZW_FALLS);
     out->B_vs_m = opposite(out->B_vs_T);
-    out->B_vs_b = ZW_RISES; /* (m/T) beta_mmax(delta), beta_mmax increasing */
+    /* (m/T) beta_mmax(delta): beta_mmax rises, falls on (delta_0, delta_BB), rises */
+    out->B_vs_b = piecewise_trend(delta, beta_breaks, 2, ZW_RISES);
     out->best_m_for_K = out->K_vs_m == ZW_FALLS ? out->m_K2 : d->m;
     return ZW_OK;
 }

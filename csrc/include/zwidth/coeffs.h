@@ -34,7 +34,8 @@ typedef struct zw_coeffs {
     zw_real d12;          /* c1 - c2, 0 at delta = 0 */
     zw_real s;            /* c1 + c2 = 2 (1 - e) / delta, 2 at delta = 0 */
     zw_real g;            /* c1 / s: 1/2 at delta = 0, -> 1 as delta -> inf */
-    zw_real sigma;        /* power-of-two scale: 1 for delta <= 1, else 2^k >= delta */
+    zw_real sigma;        /* power-of-two scale: 1 for delta <= 1, else the least 2^k >= delta
+                             (capped at the largest finite power of two) */
     zw_real hs;           /* (2 / c2) / sigma, ~delta for large delta: finite up to delta ~ max/2
                              (beyond, +inf, and the checks answer ZW_ERR_RANGE) */
     /* Relative uncertainty of delta itself: 0 when delta was given exactly, a few unit

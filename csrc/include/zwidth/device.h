@@ -74,6 +74,8 @@ typedef struct zw_influence {
      * against m: rises on (0, m_0), falls on (m_0, m_B), rises beyond m_B. */
     zw_real T_B, T_0;              /* m delta_B / b, m delta_0 / b */
     zw_real m_0, m_B;              /* b T / delta_0, b T / delta_B */
+    /* B_mmax against b: rises on (0, b_0), falls on (b_0, b_BB), rises beyond b_BB. */
+    zw_real b_0, b_BB;             /* m delta_0 / T, m delta_BB / T */
     /* Sign of the derivative of each limit in each parameter, at the plant. */
     zw_trend K_vs_m, K_vs_b, K_vs_T;
     zw_trend B_vs_m, B_vs_b, B_vs_T;

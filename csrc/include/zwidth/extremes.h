@@ -15,6 +15,9 @@
 #define ZW_DELTA_K1 ZW_R(1.043514020060016795481397) /* local min of alpha_mmax / delta */
 #define ZW_DELTA_K2 ZW_R(5.774821841547911129033585) /* local max of alpha_mmax / delta */
 #define ZW_DELTA_B ZW_R(1.793282132900761007557553)  /* local min of beta_mmax / delta */
+#define ZW_DELTA_BB ZW_R(3.212230597605534728176283) /* local min of beta_mmax itself (> delta0):
+                                                        B_mmax against b rises, falls on
+                                                        (delta0, delta_BB), rises again */
 /* delta < delta_K1 at which alpha_mmax/delta climbs back to its local max at delta_K2:
  * the inertia a device must be raised to (m = b T / ZW_DELTA_KM) to match m_K2. */
 #define ZW_DELTA_KM ZW_R(0.2260830184931867972235071)
