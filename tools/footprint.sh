@@ -446,6 +446,12 @@ awk -F'\t' \
         measured = agate["m4f"]
         text_ok = measured <= text_limit
         if (!text_ok) fails[++nfail] = sprintf("check + extremes %s on %s is %d bytes > %d (over by %d)", (text_metric == "text" ? ".text" : ".text + .rodata"), n_m4f, measured, text_limit, measured - text_limit)
+        # what a firmware that links check + extremes pays (--gc-sections), on M4F and M0
+        nl = split("m4f m0", LT, " ")
+        for (i = 1; i <= nl; i++) {
+            t = LT[i]; linked_ok[t] = lfl[t, "zwidth"] <= text_limit
+            if (!linked_ok[t]) fails[++nfail] = sprintf("check + extremes linked on %s is %d bytes > %d", tn[t], lfl[t, "zwidth"], text_limit)
+        }
         ng = split(gated_stack, G, " ")
         for (i = 1; i <= ng; i++) {
             t = G[i]; worst[t] = -1
@@ -483,6 +489,10 @@ awk -F'\t' \
         print "| target | limit | measured | verdict |"
         print "|---|---:|---:|---|"
         printf "| check + extremes (status, coeffs, region, extremes), %s, %s, libm excluded | %d | %d | %s |\n", (text_metric == "text" ? ".text" : ".text + .rodata"), n_m4f, text_limit, measured, (text_ok ? "pass" : "**FAIL**")
+        for (i = 1; i <= nl; i++) {
+            t = LT[i]
+            printf "| check + extremes as linked into a firmware (zw_coeffs_init, zw_check, zw_extremes_compute; --gc-sections), zwidth bytes, %s, libm excluded | %d | %d | %s |\n", tn[t], text_limit, lfl[t, "zwidth"], (linked_ok[t] ? "pass" : "**FAIL**")
+        }
         for (i = 1; i <= ng; i++) {
             t = G[i]
             printf "| worst call-chain stack of any public function, %s, libraries excluded | %d | %d (%s) | %s |\n", tn[t], stack_limit, worst[t], worstf[t], (over[t] == "" ? "pass" : "**FAIL**: " over[t])

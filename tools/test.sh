@@ -22,8 +22,8 @@ step "C unit tests under ASan/UBSan (ctest)"
 ctest --test-dir build-asan --output-on-failure
 
 step "MCU footprint (Cortex-M4F, Cortex-M0)"
-tools/footprint.sh >/dev/null
-echo "footprint within targets (docs/footprint.md)"
+tools/footprint.sh --no-write >/dev/null
+echo "footprint within targets (regenerate docs/footprint.md with: tools/footprint.sh)"
 
 step "high-precision reference tests (pytest, mpmath)"
 ZW_LIB_DIR="$PWD/build" .venv/bin/python -m pytest tests/py -q
