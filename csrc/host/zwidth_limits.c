@@ -23,7 +23,7 @@ static void usage(FILE *to)
             "  --m M        mass [kg] or inertia J [kg m^2]  (default 85.78e-7)\n"
             "  --b B        physical damping [N s/m or N m s/rad] (default 2.197e-3)\n"
             "  --T T        sampling period [s] (default 0.02)\n"
-            "  --K K        also check this stiffness [N/m or N m/rad] ...\n"
+            "  --K K        also check this stiffness [N/m or N m/rad] (default 0) ...\n"
             "  --B_gain BV  ... with this virtual damping [N s/m or N m s/rad] (default 0)\n"
             "\n"
             "Exit status: 0 ok (and the pair, if given, is stable), 1 the pair is unstable,\n"
@@ -104,7 +104,7 @@ int main(int argc, char **argv)
         else if (strcmp(arg, "--b") == 0) target = &b;
         else if (strcmp(arg, "--T") == 0) target = &T;
         else if (strcmp(arg, "--K") == 0) { target = &K; have_pair = 1; }
-        else if (strcmp(arg, "--B_gain") == 0) target = &B;
+        else if (strcmp(arg, "--B_gain") == 0) { target = &B; have_pair = 1; }
         if (target == NULL || i + 1 >= argc) {
             fprintf(stderr, "zwidth-limits: %s '%s'\n",
                     target == NULL ? "unknown option" : "missing value for", arg);
@@ -128,7 +128,7 @@ int main(int argc, char **argv)
            x.at_corner ? "corner of hyperbola and line" : "top of the hyperbola");
     printf("  K with B = 0 (proportional only): K < %.6g\n", x.K_p_max);
     printf("  B range  : %.6g < B < %.6g (as K -> 0+)\n", x.B_mmin, x.B_mmax);
-    if (dev.co.delta > ZW_DELTA0) {
+    if (x.at_corner) { /* the legacy region's optimum (the hyperbola top) lies beyond the line */
         zw_real a1, b1;
         if (zw_hyperbola_top(&dev.co, &a1, &b1) == ZW_OK)
             printf("  legacy region (no line) would claim K_mmax = %.6g at B = %.6g: unsafe\n",

@@ -138,8 +138,8 @@ zw_status zw_coeffs_literal(zw_real delta, zw_real *c1, zw_real *c2, zw_real *d1
     if (c1 == NULL || c2 == NULL || d12 == NULL) return ZW_ERR_NULL;
     if (ZW_IS_NAN(delta)) return ZW_ERR_NAN;
     if (delta < ZW_R(0.0)) return ZW_ERR_DELTA;
-    if (delta == ZW_R(0.0)) { /* the literal formulas are 0/0 here; give their limits */
-        *c1 = *c2 = ZW_R(1.0);
+    if (delta == ZW_R(0.0) || !ZW_IS_FINITE(delta)) { /* 0/0 or inf/inf: give the limits */
+        *c1 = *c2 = delta == ZW_R(0.0) ? ZW_R(1.0) : ZW_R(0.0);
         *d12 = ZW_R(0.0);
         return ZW_OK;
     }

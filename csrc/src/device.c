@@ -21,20 +21,27 @@ zw_status zw_device_init(zw_device *out, zw_real m, zw_real b, zw_real T)
 {
     zw_device d;
     zw_status st;
-    zw_real delta;
+    zw_real T_over_m, delta;
     if (out == NULL) return ZW_ERR_NULL;
     if (ZW_IS_NAN(m) || ZW_IS_NAN(b) || ZW_IS_NAN(T)) return ZW_ERR_NAN;
     if (!ZW_IS_FINITE(m) || !ZW_IS_FINITE(b) || !ZW_IS_FINITE(T)) return ZW_ERR_INF;
     if (!(m > ZW_R(0.0))) return ZW_ERR_MASS;
     if (!(T > ZW_R(0.0))) return ZW_ERR_PERIOD;
     if (b < ZW_R(0.0)) return ZW_ERR_DAMPING;
+    /* Every quantity the error budget counts in relative terms must be a normal number:
+     * a subnormal input or intermediate carries an unbounded relative error. */
+    if (!is_normal_positive(m) || !is_normal_positive(T) || (b > ZW_R(0.0) && !is_normal_positive(b)))
+        return ZW_ERR_RANGE;
     d.m = m;
     d.b = b;
     d.T = T;
     d.b_scale = m / T;
     d.k_scale = d.b_scale / T;
-    delta = b * T / m;
-    if (!is_normal_positive(d.b_scale) || !is_normal_positive(d.k_scale)) return ZW_ERR_RANGE;
+    T_over_m = T / m;
+    delta = b * T_over_m; /* b (T/m): no overflow of b T where delta itself is fine */
+    if (!is_normal_positive(d.b_scale) || !is_normal_positive(d.k_scale) ||
+        !is_normal_positive(T_over_m))
+        return ZW_ERR_RANGE;
     if (b > ZW_R(0.0) && !is_normal_positive(delta)) return ZW_ERR_RANGE;
     if ((st = zw_coeffs_init(&d.co, delta)) != ZW_OK) return st;
     if (!ZW_IS_FINITE(d.co.hs)) return ZW_ERR_RANGE;
@@ -104,17 +111,19 @@ zw_status zw_device_radius_within(const zw_device *d, zw_real K, zw_real B, zw_r
 zw_status zw_device_extremes_compute(const zw_device *d, zw_device_extremes *out)
 {
     zw_extremes x;
-    zw_real K_mmax, K_p_max, B_mmax;
+    zw_real K_mmax, K_p_max, B_mmax, B_at;
     zw_status st;
     if (d == NULL || out == NULL) return ZW_ERR_NULL;
     if ((st = zw_extremes_compute(&d->co, &x)) != ZW_OK) return st;
     K_mmax = x.alpha_mmax * d->k_scale;
     K_p_max = x.alpha_p_max * d->k_scale;
     B_mmax = x.beta_mmax * d->b_scale;
-    if (!ZW_IS_FINITE(K_mmax) || !ZW_IS_FINITE(K_p_max) || !ZW_IS_FINITE(B_mmax))
+    B_at = x.beta_at_alpha_mmax * d->b_scale;
+    if (!ZW_IS_FINITE(K_mmax) || !ZW_IS_FINITE(K_p_max) || !ZW_IS_FINITE(B_mmax) ||
+        !ZW_IS_FINITE(B_at))
         return ZW_ERR_RANGE;
     out->K_mmax = K_mmax;
-    out->B_at_K_mmax = x.beta_at_alpha_mmax * d->b_scale;
+    out->B_at_K_mmax = B_at;
     out->at_corner = x.at_corner;
     out->K_p_max = K_p_max;
     out->B_mmax = B_mmax;
@@ -130,8 +139,9 @@ zw_status zw_device_k_max(const zw_device *d, zw_real B, zw_real *K_max)
     if (K_max == NULL) return ZW_ERR_NULL;
     if ((st = zw_device_normalize(d, ZW_R(0.0), B, &alpha, &beta)) != ZW_OK) return st;
     if ((st = zw_alpha_max(&d->co, beta, &a_max)) != ZW_OK) return st;
-    if (!ZW_IS_FINITE(a_max * d->k_scale)) return ZW_ERR_RANGE;
-    *K_max = a_max * d->k_scale;
+    a_max *= d->k_scale;
+    if (!ZW_IS_FINITE(a_max)) return ZW_ERR_RANGE;
+    *K_max = a_max;
     return ZW_OK;
 }
 
@@ -144,8 +154,11 @@ zw_status zw_device_b_range(const zw_device *d, zw_real K, zw_real *B_lo, zw_rea
     if (B_lo == NULL || B_hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
     if ((st = zw_device_normalize(d, K, ZW_R(0.0), &alpha, &beta)) != ZW_OK) return st;
     if ((st = zw_beta_interval(&d->co, alpha, &lo, &hi, &any)) != ZW_OK) return st;
-    *B_lo = lo * d->b_scale;
-    *B_hi = hi * d->b_scale;
+    lo *= d->b_scale;
+    hi *= d->b_scale;
+    if (!ZW_IS_FINITE(lo) || !ZW_IS_FINITE(hi)) return ZW_ERR_RANGE;
+    *B_lo = lo;
+    *B_hi = hi;
     *nonempty = any;
     return ZW_OK;
 }
@@ -175,18 +188,23 @@ zw_status zw_device_influence(const zw_device *d, zw_influence *out)
     static const zw_real b_breaks[2] = {ZW_DELTA_B, ZW_DELTA0};
     static const zw_real beta_breaks[2] = {ZW_DELTA0, ZW_DELTA_BB};
     zw_extremes x;
-    zw_real bT, delta, K_mmax, B_mmax;
+    zw_real bT, b_over_T, m_over_b, K_mmax, B_mmax;
     zw_status st;
     if (d == NULL || out == NULL) return ZW_ERR_NULL;
     /* the normalized extremes directly, not zw_device_extremes_compute: one frame less */
     if ((st = zw_extremes_compute(&d->co, &x)) != ZW_OK) return st;
     K_mmax = x.alpha_mmax * d->k_scale;
     B_mmax = x.beta_mmax * d->b_scale;
-    if (!ZW_IS_FINITE(K_mmax) || !ZW_IS_FINITE(B_mmax)) return ZW_ERR_RANGE;
-    /* Nothing below can fail, so *out is filled in place (no second copy on the stack). */
-    delta = d->co.delta;
+    /* Every critical value is one of these times a constant below 5. */
     bT = d->b * d->T;
-    out->delta = delta;
+    b_over_T = d->b / d->T;
+    m_over_b = d->b > ZW_R(0.0) ? d->m / d->b : ZW_R(0.0);
+    if (!ZW_IS_FINITE(K_mmax) || !ZW_IS_FINITE(B_mmax) || !ZW_IS_FINITE(ZW_R(5.0) * bT) ||
+        !ZW_IS_FINITE(ZW_R(5.0) * b_over_T) || !ZW_IS_FINITE(ZW_R(5.0) * m_over_b) ||
+        !ZW_IS_FINITE(ZW_R(5.0) * d->b_scale))
+        return ZW_ERR_RANGE;
+    /* Nothing below can fail, so *out is filled in place (no second copy on the stack). */
+    out->delta = d->co.delta;
     out->K_mmax = K_mmax;
     out->B_mmax = B_mmax;
     out->m_K1 = bT / ZW_DELTA_K1;
@@ -194,27 +212,27 @@ zw_status zw_device_influence(const zw_device *d, zw_influence *out)
     out->m_K_match = bT / ZW_DELTA_KM;
     out->m_0 = bT / ZW_DELTA0;
     out->m_B = bT / ZW_DELTA_B;
-    out->K_mmax_at_m_K2 = ZW_KMAX_LOCAL_MAX * d->b / d->T;
-    out->K_mmax_at_m_K1 = ZW_KMAX_LOCAL_MIN * d->b / d->T;
-    out->b_0 = d->m * ZW_DELTA0 / d->T;
-    out->b_BB = d->m * ZW_DELTA_BB / d->T;
+    out->K_mmax_at_m_K2 = ZW_KMAX_LOCAL_MAX * b_over_T;
+    out->K_mmax_at_m_K1 = ZW_KMAX_LOCAL_MIN * b_over_T;
+    out->b_0 = ZW_DELTA0 * d->b_scale;
+    out->b_BB = ZW_DELTA_BB * d->b_scale;
     if (d->b > ZW_R(0.0)) {
-        out->T_B = d->m * ZW_DELTA_B / d->b;
-        out->T_0 = d->m * ZW_DELTA0 / d->b;
+        out->T_B = ZW_DELTA_B * m_over_b;
+        out->T_0 = ZW_DELTA0 * m_over_b;
     } else {
-        out->T_B = out->T_0 = (zw_real)HUGE_VAL;
+        out->T_B = out->T_0 = (zw_real)HUGE_VAL; /* documented: no turning point in T */
     }
     /* K_mmax = (b/T) alpha_mmax(delta)/delta: alpha_mmax/delta falls, rises, falls across
      * delta_K1, delta_K2, and delta = bT/m moves against m. */
-    out->K_vs_m = opposite(piecewise_trend(delta, k_breaks, 2, ZW_FALLS));
+    out->K_vs_m = opposite(piecewise_trend(d->co.delta, k_breaks, 2, ZW_FALLS));
     out->K_vs_b = ZW_RISES; /* (m/T^2) alpha_mmax(delta), alpha_mmax increasing */
     out->K_vs_T = ZW_FALLS; /* (b^2/m) alpha_mmax/delta^2, decreasing (paper eq (36)) */
     /* B_mmax = b beta_mmax(delta)/delta against delta (b fixed): falls, rises, falls
      * across delta_B, delta_0; T moves delta with it, m against it. */
-    out->B_vs_T = piecewise_trend(delta, b_breaks, 2, ZW_FALLS);
+    out->B_vs_T = piecewise_trend(d->co.delta, b_breaks, 2, ZW_FALLS);
     out->B_vs_m = opposite(out->B_vs_T);
     /* (m/T) beta_mmax(delta): beta_mmax rises, falls on (delta_0, delta_BB), rises */
-    out->B_vs_b = piecewise_trend(delta, beta_breaks, 2, ZW_RISES);
+    out->B_vs_b = piecewise_trend(d->co.delta, beta_breaks, 2, ZW_RISES);
     out->best_m_for_K = out->K_vs_m == ZW_FALLS ? out->m_K2 : d->m;
     return ZW_OK;
 }

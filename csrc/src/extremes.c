@@ -17,15 +17,6 @@
 
 #include "internal.h"
 
-static zw_status check_coeffs(const zw_coeffs *c)
-{
-    zw_status st;
-    if (c == NULL) return ZW_ERR_NULL;
-    if ((st = zw_require_finite(c->delta)) != ZW_OK) return st;
-    if (!ZW_IS_FINITE(c->hs)) return ZW_ERR_RANGE;
-    return ZW_OK;
-}
-
 /* Does the line bind anywhere, and where does it cross alpha = 0 (lambda)?  Absent when
  * d12 is so small that lambda would exceed every representable beta of interest. */
 static bool line_crossing(const zw_coeffs *c, zw_real *lambda)
@@ -47,7 +38,7 @@ static zw_real hyperbola_scaled(const zw_coeffs *c, zw_real beta)
 zw_status zw_hyperbola_top(const zw_coeffs *c, zw_real *alpha1, zw_real *beta1)
 {
     zw_real h, q, ratio, y, a1, b1;
-    zw_status st = check_coeffs(c);
+    zw_status st = zw_require_coeffs(c, true);
     if (st != ZW_OK) return st;
     if (alpha1 == NULL || beta1 == NULL) return ZW_ERR_NULL;
     h = c->hs * c->sigma;
@@ -65,7 +56,7 @@ zw_status zw_hyperbola_top(const zw_coeffs *c, zw_real *alpha1, zw_real *beta1)
 zw_status zw_corner(const zw_coeffs *c, zw_real *alpha2, zw_real *beta2)
 {
     zw_real d, e, r, a2, b2;
-    zw_status st = check_coeffs(c);
+    zw_status st = zw_require_coeffs(c, true);
     if (st != ZW_OK) return st;
     if (alpha2 == NULL || beta2 == NULL) return ZW_ERR_NULL;
     d = c->delta;
@@ -93,7 +84,7 @@ static zw_real beta_sup(const zw_coeffs *c)
 zw_status zw_alpha_max(const zw_coeffs *c, zw_real beta, zw_real *alpha_max)
 {
     zw_real lambda, f;
-    zw_status st = check_coeffs(c);
+    zw_status st = zw_require_coeffs(c, true);
     if (st != ZW_OK) return st;
     if (alpha_max == NULL) return ZW_ERR_NULL;
     if ((st = zw_require_finite(beta)) != ZW_OK) return st;
@@ -106,8 +97,9 @@ zw_status zw_alpha_max(const zw_coeffs *c, zw_real beta, zw_real *alpha_max)
         zw_real line_scaled = ZW_R(2.0) * (lambda / c->sigma - beta / c->sigma);
         if (line_scaled < f) f = line_scaled;
     }
-    *alpha_max = f * c->sigma;
-    if (!ZW_IS_FINITE(*alpha_max)) return ZW_ERR_RANGE;
+    f *= c->sigma;
+    if (!ZW_IS_FINITE(f)) return ZW_ERR_RANGE;
+    *alpha_max = f;
     return ZW_OK;
 }
 
@@ -115,7 +107,7 @@ zw_status zw_beta_interval(const zw_coeffs *c, zw_real alpha, zw_real *lo, zw_re
                            bool *nonempty)
 {
     zw_real half_p, a_s2, disc, x_plus_s, x_plus, x_minus, blo, bhi, lambda;
-    zw_status st = check_coeffs(c);
+    zw_status st = zw_require_coeffs(c, true);
     if (st != ZW_OK) return st;
     if (lo == NULL || hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
     if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
@@ -145,7 +137,7 @@ zw_status zw_beta_interval(const zw_coeffs *c, zw_real alpha, zw_real *lo, zw_re
 zw_status zw_extremes_compute(const zw_coeffs *c, zw_extremes *out)
 {
     zw_extremes x;
-    zw_status st = check_coeffs(c);
+    zw_status st = zw_require_coeffs(c, true);
     if (st != ZW_OK) return st;
     if (out == NULL) return ZW_ERR_NULL;
     x.at_corner = c->delta > ZW_DELTA1;

@@ -9,6 +9,9 @@
 #ifndef ZWIDTH_INTERNAL_H
 #define ZWIDTH_INTERNAL_H
 
+#include <stdbool.h>
+#include <stddef.h>
+
 #include "zwidth/coeffs.h"
 #include "zwidth/region.h"
 
@@ -85,11 +88,7 @@ static inline zw_cmp zw_compare(zw_real lhs, zw_real rhs, zw_real err)
 {
     zw_real diff = rhs - lhs;
     zw_real bound = err * (ZW_R(1.0) + ZW_R(16.0) * ZW_U) + ZW_R(2.0) * ZW_U * ZW_FABS(diff) + ZW_ETA;
-    if (!ZW_IS_FINITE(bound) || ZW_IS_NAN(diff)) {
-        /* An overflowed left side with a finite right side is surely not smaller. */
-        if (lhs > ZW_REAL_MAX && ZW_IS_FINITE(rhs) && ZW_IS_FINITE(err)) return ZW_CMP_GE;
-        return ZW_CMP_UNSURE;
-    }
+    if (!ZW_IS_FINITE(bound) || ZW_IS_NAN(diff)) return ZW_CMP_UNSURE; /* overflowed: cannot tell */
     if (diff > bound) return ZW_CMP_LT;
     if (diff < -bound) return ZW_CMP_GE;
     return ZW_CMP_UNSURE;
@@ -101,8 +100,19 @@ static inline zw_cmp zw_eb_compare(zw_eb a, zw_eb b)
 }
 
 /* Relative error bound of a coefficient field: its own accuracy (ZW_COEF_ULPS ulps, an ulp
- * being at most 2u relative) plus its sensitivity to an uncertain delta (every field's
- * relative condition number in delta is at most 2; tests/py/test_coeffs.py checks it). */
+ * being at most 2u relative for normal values) plus its sensitivity to an uncertain delta
+ * (every field's relative condition number in delta is at most 2; tests/py/test_coeffs.py
+ * checks it).  A field that is subnormal (c2 for delta > ~1e154 / 1e19, d12 for subnormal
+ * delta) errs by up to ZW_COEF_ABSERR absolutely instead: callers add that times the
+ * magnitude of what multiplies it. */
+#define ZW_COEF_ABSERR ((zw_real)ZW_COEF_ULPS * ZW_ETA)
+
+/* The absolute error floor of a coefficient field: ZW_COEF_ABSERR if it is subnormal
+ * (or flushed to zero), else 0 (its relative bound holds). */
+static inline zw_real zw_coef_floor(zw_real v)
+{
+    return ZW_FABS(v) < ZW_REAL_MIN ? ZW_COEF_ABSERR : ZW_R(0.0);
+}
 static inline zw_real zw_coef_relerr(const zw_coeffs *c)
 {
     return ZW_R(2.0) * (zw_real)ZW_COEF_ULPS * ZW_U + ZW_R(2.0) * c->delta_relerr;
@@ -115,24 +125,25 @@ static inline zw_real zw_coef_e_abserr(const zw_coeffs *c)
     return zw_coef_relerr(c) * c->e + ZW_R(0.5) * c->delta_relerr + ZW_ETA;
 }
 
-static inline zw_eb zw_eb_coef(const zw_coeffs *c, zw_real v)
-{
-    return zw_eb_rel(v, zw_coef_relerr(c));
-}
-
-static inline zw_eb zw_eb_coef_e(const zw_coeffs *c)
-{
-    zw_eb r;
-    r.v = c->e;
-    r.e = zw_coef_e_abserr(c);
-    return r;
-}
-
 /* Validate one finite real input: ZW_ERR_NAN / ZW_ERR_INF, else ZW_OK. */
 static inline zw_status zw_require_finite(zw_real x)
 {
     if (ZW_IS_NAN(x)) return ZW_ERR_NAN;
     if (!ZW_IS_FINITE(x)) return ZW_ERR_INF;
+    return ZW_OK;
+}
+
+/* A coefficient struct the checks can use: finite delta (ZW_ERR_NULL / NAN / INF) and a
+ * delta uncertainty that is a finite non-negative number (ZW_ERR_ARG: a negative one
+ * would shrink every guard).  need_hs: the caller uses hs, which is +inf for delta above
+ * ~max/2 (ZW_ERR_RANGE). */
+static inline zw_status zw_require_coeffs(const zw_coeffs *c, bool need_hs)
+{
+    zw_status st;
+    if (c == NULL) return ZW_ERR_NULL;
+    if ((st = zw_require_finite(c->delta)) != ZW_OK) return st;
+    if (!(c->delta_relerr >= ZW_R(0.0) && ZW_IS_FINITE(c->delta_relerr))) return ZW_ERR_ARG;
+    if (need_hs && !ZW_IS_FINITE(c->hs)) return ZW_ERR_RANGE;
     return ZW_OK;
 }
 

@@ -93,6 +93,7 @@ static void exact_region(verdict_builder *vb, const zw_coeffs *c, const zw_gains
         zw_real lhs = t3 + t4;
         zw_real rhs = ZW_R(2.0) * (ZW_R(1.0) + c->e);
         zw_real err = (ZW_FABS(t3) + ZW_FABS(t4)) * (coef_err + ZW_U)
+                    + zw_coef_floor(c->d12) * (ZW_R(0.5) * ZW_FABS(alpha) + ZW_FABS(beta))
                     + c->d12 * (ZW_R(0.5) * g->alpha.e + g->beta.e) + ZW_U * ZW_FABS(lhs)
                     + ZW_R(2.0) * zw_coef_e_abserr(c) + ZW_U * rhs + ZW_R(3.0) * ZW_ETA;
         require_less(vb, ZW_BOUND_LINE, lhs, rhs, err);
@@ -101,19 +102,20 @@ static void exact_region(verdict_builder *vb, const zw_coeffs *c, const zw_gains
 
 /* The delta = 0 coefficients, for the region of eq (17) (c1 = c2 = 1, e = 1, d12 = 0). */
 static const zw_coeffs k_delta_zero = {
-    ZW_R(0.0), ZW_R(1.0), ZW_R(1.0), ZW_R(1.0), ZW_R(0.0),
-    ZW_R(2.0), ZW_R(0.5), ZW_R(1.0), ZW_R(2.0), ZW_R(0.0)};
+    .delta = ZW_R(0.0), .e = ZW_R(1.0), .c1 = ZW_R(1.0), .c2 = ZW_R(1.0), .d12 = ZW_R(0.0),
+    .s = ZW_R(2.0), .g = ZW_R(0.5), .sigma = ZW_R(1.0), .hs = ZW_R(2.0), .delta_relerr = ZW_R(0.0)};
 
 zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, const zw_gains *g,
                            zw_verdict *out)
 {
     verdict_builder vb = {0, 0};
     zw_status st;
-    if (c == NULL || out == NULL) return ZW_ERR_NULL;
+    if (out == NULL) return ZW_ERR_NULL;
+    /* only the exact and legacy regions use hs */
+    if ((st = zw_require_coeffs(c, region == ZW_REGION_EXACT || region == ZW_REGION_LEGACY)) != ZW_OK)
+        return st;
     if ((st = zw_require_finite(g->alpha.v)) != ZW_OK) return st;
     if ((st = zw_require_finite(g->beta.v)) != ZW_OK) return st;
-    if ((st = zw_require_finite(c->delta)) != ZW_OK) return st;
-    if (!ZW_IS_FINITE(c->hs)) return ZW_ERR_RANGE;
 
     switch (region) {
     case ZW_REGION_EXACT: exact_region(&vb, c, g, true); break;

@@ -367,6 +367,35 @@ static void test_influence_zero_damping(void **state)
 
 /* ---- zw_device_init errors ---------------------------------------------------------------- */
 
+/* b T overflowing while delta = b T / m is an ordinary number is a valid plant (review
+ * finding: it used to be refused with ZW_ERR_RANGE). */
+static void test_init_large_b_and_T(void **state)
+{
+    zw_device d;
+    (void)state;
+    EXPECT_OK(zw_device_init(&d, R(PREC(1e300, 1e30)), R(PREC(1e200, 1e20)), R(PREC(1e110, 1e19))));
+    assert_true(d.co.delta > R(PREC(9.9e9, 9.9e8)) && d.co.delta < R(PREC(1.01e10, 1.01e9)));
+}
+
+/* Review finding S1: b T underflowing to a subnormal while delta is normal gave a delta
+ * off by 30 % and a false "stable".  delta is now b (T / m), accurate here, and the
+ * reviewer's points (exact spectral radius > 1) are not called stable. */
+static void test_init_tiny_b_times_T(void **state)
+{
+    zw_device d;
+    zw_verdict v;
+    const zw_real m = R(PREC(1e-290, 2e-38)), b = R(PREC(1.014070351758794e-160, 1e-30));
+    const zw_real T = R(PREC(1e-160, 1e-15));
+    const zw_real K = R(PREC(1e-40, 3.9728529e-17));
+    const zw_real B = R(PREC(-1.0141935613354365e-160, -1.3812335e-30));
+    const long double want_delta = (long double)b * (long double)T / (long double)m;
+    (void)state;
+    EXPECT_OK(zw_device_init(&d, m, b, T));
+    assert_true(fabsl((long double)d.co.delta - want_delta) <= 8.0L * (long double)ZW_UNIT_ROUNDOFF * want_delta);
+    EXPECT_OK(zw_device_check(&d, K, B, &v));
+    assert_false(v.stable);
+}
+
 static void test_init_errors(void **state)
 {
     const zw_real nan = (zw_real)NAN, inf = (zw_real)INFINITY;
@@ -405,6 +434,11 @@ static void test_init_errors(void **state)
         {R(1.0), ZW_REAL_MIN, R(1e-3), ZW_ERR_RANGE, "delta underflow"},
         /* delta finite but beyond max/2: hs infinite */
         {R(1.0), ZW_REAL_MAX * R(0.75), R(1.0), ZW_ERR_RANGE, "delta > max/2"},
+        /* subnormal inputs carry unbounded relative error (review finding S1: a subnormal
+         * b*T once gave delta 2.0 for a true 1.52 and a false "stable") */
+        {ZWT_TRUE_MIN, R(1.0), R(0.01), ZW_ERR_RANGE, "m subnormal"},
+        {R(1.0), ZWT_TRUE_MIN, R(0.01), ZW_ERR_RANGE, "b subnormal"},
+        {R(1.0), R(1.0), ZWT_TRUE_MIN, ZW_ERR_RANGE, "T subnormal"},
     };
     size_t i;
     (void)state;
@@ -642,6 +676,8 @@ int main(void)
         cmocka_unit_test(test_device_matches_normalized),
         cmocka_unit_test(test_device_kmax_and_b_range),
         cmocka_unit_test(test_device_call_errors),
+        cmocka_unit_test(test_init_large_b_and_T),
+        cmocka_unit_test(test_init_tiny_b_times_T),
     };
     printf("zwidth C tests: device (%s)\n", ZW_REAL_NAME);
     return cmocka_run_group_tests_name("device_" ZW_REAL_NAME, tests, NULL, NULL);

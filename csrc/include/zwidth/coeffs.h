@@ -9,9 +9,10 @@
  *   d12 = c1 - c2
  *
  * The literal formulas cancel catastrophically for small delta and overflow delta^2 for
- * large delta.  zwidth evaluates c1 = 2 e P1(delta), c2 = 2 e P2(delta),
- * d12 = 2 e delta P12(delta) with power series of positive terms below delta = 2 (no
- * cancellation at all), and the literal numerators scaled by 1/delta twice above it.
+ * large delta.  Below delta = 2 zwidth evaluates c1 = e P1(delta), c2 = e P2(delta),
+ * d12 = e delta P12(delta), where P1, P2, P12 are power series with positive coefficients
+ * (2(k+1)/(k+2)!, 2/(k+2)!, 2(k+1)/(k+3)!: no cancellation at all); above it the literal
+ * numerators, divided by delta twice instead of by delta^2.
  * Accuracy against a 50-digit reference is stated by ZW_COEF_ULPS and tested.
  */
 #ifndef ZWIDTH_COEFFS_H

@@ -24,7 +24,9 @@ typedef struct zw_device {
 } zw_device;
 
 /* Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_MASS (m <= 0), ZW_ERR_PERIOD (T <= 0),
- * ZW_ERR_DAMPING (b < 0), ZW_ERR_RANGE (delta, m/T or m/T^2 not a finite normal number). */
+ * ZW_ERR_DAMPING (b < 0), ZW_ERR_RANGE (m, T, a positive b, T/m, delta, m/T or m/T^2 not
+ * a normal number: a subnormal carries an unbounded relative error that the checks could
+ * not budget for). */
 zw_status zw_device_init(zw_device *out, zw_real m, zw_real b, zw_real T);
 
 /* Normalize gains: alpha = K / k_scale, beta = B / b_scale (ZW_ERR_RANGE on overflow). */

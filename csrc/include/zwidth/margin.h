@@ -20,7 +20,8 @@ zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw
 
 /* "Every pole has |z| < r", decided without root finding by the Jury conditions on
  * p(r z), with a running error bound: *within is true only if that holds for every value
- * within the rounding bound (never true when rho >= r).  r > 0 finite (ZW_ERR_ARG). */
+ * within the rounding bound (never true when rho >= r).  r must be finite and > 0
+ * (ZW_ERR_NAN for NaN, ZW_ERR_ARG otherwise). */
 zw_status zw_radius_within(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real r,
                            bool *within);
 

@@ -10,7 +10,13 @@
 #include <float.h>
 #include <math.h>
 
+/* The error bounds assume IEEE-754 binary32 / binary64 arithmetic with round to nearest
+ * (unit roundoff below).  Where double is 32-bit (TI C28x COFF ABI, -mdouble=32), build
+ * with -DZW_REAL_FLOAT; a double build there would silently void every guard. */
 #ifdef ZW_REAL_FLOAT
+#if FLT_MANT_DIG != 24
+#error "zwidth: float is not IEEE-754 binary32"
+#endif
 typedef float zw_real;
 #define ZW_R(x) x##f
 #define ZW_EXP expf
@@ -26,6 +32,9 @@ typedef float zw_real;
 #define ZW_UNIT_ROUNDOFF ZW_R(5.9604644775390625e-8)
 #define ZW_REAL_NAME "float"
 #else
+#if DBL_MANT_DIG != 53
+#error "zwidth: double is not IEEE-754 binary64 here; build with -DZW_REAL_FLOAT"
+#endif
 typedef double zw_real;
 #define ZW_R(x) x
 #define ZW_EXP exp

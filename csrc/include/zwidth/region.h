@@ -48,10 +48,15 @@ typedef enum zw_region {
 } zw_region;
 
 /* Exact verdict, eq (10).  Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF (alpha, beta or
- * c->delta infinite). */
+ * c->delta infinite), ZW_ERR_ARG (c->delta_relerr negative or not finite), ZW_ERR_RANGE
+ * (delta so large that hs = +inf, above ~max/2). */
 zw_status zw_check(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_verdict *out);
 
-/* Verdict of one of the regions above (each guarded against its own boundary). */
+/* Verdict of one of the regions above (each guarded against its own boundary; errors as
+ * zw_check, and ZW_ERR_ARG for an unknown region).  For every region but EXACT, "stable"
+ * means "inside that region": the legacy, delta = 0, delta -> inf and small-delta regions
+ * are the paper's comparisons and approximations, and the legacy one contains unstable
+ * points for delta > delta0.  Only EXACT (and PASSIVITY, which lies inside it) certify. */
 zw_status zw_check_region(zw_region region, const zw_coeffs *c, zw_real alpha, zw_real beta,
                           zw_verdict *out);
 
