@@ -21,20 +21,16 @@ static void char_poly(const zw_coeffs *c, const zw_gains *g, zw_eb a_eb[3], bool
     a_eb[1] = zw_eb_exact((t2 - t3) + ZW_R(2.0) * c->e);
     a_eb[2] = zw_eb_exact(-(c->c2 * beta));
     if (with_err) {
+        /* relative part k; absolute part per unit of |alpha| + |beta| for a subnormal field
+         * (c2 for huge delta; c1 > c2, and d12 matters only where it is normal) */
         const zw_real k = zw_coef_relerr(c) + ZW_U, e_err = zw_coef_e_abserr(c);
-        /* zw_coef_floor covers fields that are subnormal (c2 for huge delta, d12 and
-         * c1 never where they matter, but the bound does not rely on it) */
-        a_eb[0].e = ZW_FABS(t1) * k + zw_coef_floor(c->c1) * ZW_FABS(sum) +
-                    c->c1 * (g->alpha.e + g->beta.e + ZW_U * ZW_FABS(sum)) +
-                    ZW_R(2.0) * (e_err + ZW_U * one_plus_e) + ZW_U * ZW_FABS(a_eb[0].v) +
-                    ZW_R(3.0) * ZW_ETA;
-        a_eb[1].e = (ZW_FABS(t2) + ZW_FABS(t3)) * k + zw_coef_floor(c->c2) * ZW_FABS(alpha) +
-                    zw_coef_floor(c->d12) * ZW_FABS(beta) +
-                    c->c2 * g->alpha.e + c->d12 * g->beta.e +
-                    ZW_U * ZW_FABS(t2 - t3) + ZW_R(2.0) * e_err + ZW_U * ZW_FABS(a_eb[1].v) +
-                    ZW_R(3.0) * ZW_ETA;
-        a_eb[2].e = ZW_FABS(a_eb[2].v) * k + zw_coef_floor(c->c2) * ZW_FABS(beta) + c->c2 * g->beta.e +
-                    ZW_ETA;
+        const zw_real floor_mag = zw_coef_floor(c->c2 < c->d12 ? c->c2 : c->d12) *
+                                  (ZW_FABS(alpha) + ZW_FABS(beta)) + ZW_R(3.0) * ZW_ETA;
+        a_eb[0].e = ZW_FABS(t1) * k + c->c1 * (g->alpha.e + g->beta.e + ZW_U * ZW_FABS(sum)) +
+                    ZW_R(2.0) * (e_err + ZW_U * one_plus_e) + ZW_U * ZW_FABS(a_eb[0].v) + floor_mag;
+        a_eb[1].e = (ZW_FABS(t2) + ZW_FABS(t3)) * (k + ZW_U) + c->c2 * g->alpha.e +
+                    c->d12 * g->beta.e + ZW_R(2.0) * e_err + ZW_U * ZW_FABS(a_eb[1].v) + floor_mag;
+        a_eb[2].e = ZW_FABS(a_eb[2].v) * k + c->c2 * g->beta.e + floor_mag;
     }
 }
 
@@ -147,8 +143,9 @@ zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw
 /* The four Jury conditions on q(z) = 2 z^3 + b2 z^2 + b1 z + b0, each required surely:
  * q(1) > 0, q(-1) < 0, |b0| < 2, 4 - b0^2 > |b0 b2 - 2 b1|.  Evaluated one at a time so
  * that few bounded values are live at once (MCU stack). */
-static bool jury_surely(zw_eb b2, zw_eb b1, zw_eb b0)
+static bool jury_surely(const zw_eb b[3])
 {
+    const zw_eb b2 = b[0], b1 = b[1], b0 = b[2];
     const zw_eb two = zw_eb_exact(ZW_R(2.0));
     const zw_eb zero = zw_eb_exact(ZW_R(0.0));
     zw_eb lhs, rhs;
@@ -180,7 +177,7 @@ zw_status zw_radius_within_bounded(const zw_coeffs *c, const zw_gains *g, zw_rea
     b[0] = zw_eb_div(b[0], r_eb);
     b[1] = zw_eb_div(zw_eb_div(b[1], r_eb), r_eb);
     b[2] = zw_eb_div(zw_eb_div(zw_eb_div(b[2], r_eb), r_eb), r_eb);
-    *within = jury_surely(b[0], b[1], b[2]);
+    *within = jury_surely(b);
     return ZW_OK;
 }
 
