@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Install what zwidth needs on a Debian machine (idempotent; quiet when all is there).
 #   system: C toolchain, CMake, Ninja, cmocka (C unit tests), the arm-none-eabi
-#           cross-compiler (MCU footprint), python3 with venv
-#   python: a virtualenv in .venv with the test requirements (mpmath, numpy, pytest)
+#           cross-compiler (MCU footprint), libmodbus (drive and tuning tool), socat
+#           (RTU over a pseudo-terminal pair), mbpoll (a Modbus client nobody here wrote),
+#           clang (libFuzzer), python3 with venv
+#   python: a virtualenv in .venv with the test requirements (tools/requirements-test.txt)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -14,6 +16,10 @@ have ninja || need_apt+=(ninja-build)
 have pkg-config || need_apt+=(pkg-config)
 have arm-none-eabi-gcc || need_apt+=(gcc-arm-none-eabi libnewlib-arm-none-eabi)
 [ -f /usr/include/cmocka.h ] || need_apt+=(libcmocka-dev)
+[ -f /usr/include/modbus/modbus.h ] || need_apt+=(libmodbus-dev)
+have socat || need_apt+=(socat)
+have mbpoll || need_apt+=(mbpoll)
+have clang || need_apt+=(clang)
 have python3 || need_apt+=(python3)
 python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need_apt+=(python3-venv)
 
@@ -29,7 +35,7 @@ if [ ! -x .venv/bin/python ]; then
     echo "bootstrap: creating .venv" >&2
     python3 -m venv .venv
 fi
-if ! .venv/bin/python -c 'import mpmath, numpy, pytest' >/dev/null 2>&1; then
+if ! .venv/bin/python -c 'import mpmath, numpy, pytest, pymodbus' >/dev/null 2>&1; then
     echo "bootstrap: installing Python test requirements into .venv" >&2
     .venv/bin/python -m pip install -q --disable-pip-version-check -r tools/requirements-test.txt
 fi

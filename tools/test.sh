@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Every test: C unit tests (double and float) plain and under ASan/UBSan, the
-# high-precision reference tests against mpmath, and the MCU footprint targets.
+# Every test: C unit tests (double and float) plain and under ASan/UBSan, the MCU
+# footprint targets, the high-precision reference tests against mpmath, the Modbus drive
+# over real sockets and a pseudo-terminal (zwidth-tune, the Python client, mbpoll), and a
+# bounded libFuzzer run on the request handler (ZW_FUZZ_SECONDS, default 30).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/bootstrap.sh
@@ -25,5 +27,17 @@ step "MCU footprint (Cortex-M4F, Cortex-M0)"
 tools/footprint.sh --no-write >/dev/null
 echo "footprint within targets (regenerate docs/footprint.md with: tools/footprint.sh)"
 
+step "fuzzing the request handler (libFuzzer, ASan/UBSan, ${ZW_FUZZ_SECONDS:-30} s)"
+tools/fuzz.sh "${ZW_FUZZ_SECONDS:-30}" 2>&1 | tail -n 4
+
 step "high-precision reference tests (pytest, mpmath)"
 ZW_LIB_DIR="$PWD/build" .venv/bin/python -m pytest tests/py -q
+
+step "Modbus drive: zwidth-tune, mbpoll, RTU over socat, robustness (pytest)"
+ZW_BUILD_DIR="$PWD/build" .venv/bin/python -m pytest tests/integration -q
+
+step "Modbus drive under ASan/UBSan (same tests)"
+ZW_BUILD_DIR="$PWD/build-asan" .venv/bin/python -m pytest tests/integration -q
+
+step "Python client zwidth.modbus against the drive, and pymodbus interop (pytest)"
+ZW_BUILD_DIR="$PWD/build" PYTHONPATH="$PWD/python" .venv/bin/python -m pytest tests/modbus_py -q

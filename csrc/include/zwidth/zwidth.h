@@ -8,6 +8,7 @@
 #include "zwidth/margin.h"
 #include "zwidth/real.h"
 #include "zwidth/region.h"
+#include "zwidth/regmap.h"
 #include "zwidth/status.h"
 
 #endif /* ZWIDTH_ZWIDTH_H */

@@ -1,0 +1,65 @@
+/* zw_mbhost.h - helpers shared by the Modbus host programs zwidth-drive and zwidth-tune:
+ * number parsing, the certified-block options, the CRC of RTU frames, exception names.
+ * Host only (stdio, POSIX); the firmware core never sees this.
+ */
+#ifndef ZW_MBHOST_H
+#define ZW_MBHOST_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "zwidth/regmap.h"
+
+/* Exit statuses shared by both programs (documented in their --help and docs/modbus.md). */
+enum {
+    ZW_EXIT_OK = 0,
+    ZW_EXIT_FAILURE = 1, /* drive: run-time failure (cannot listen, serial line lost) */
+    ZW_EXIT_USAGE = 2,   /* bad arguments; tune: also connection or protocol failure */
+    ZW_EXIT_REFUSED = 3  /* tune: the drive refused the request (exception response) */
+};
+
+/* Strict number parsing: the whole text must be a finite number (or an integer in
+ * [lo, hi]); on failure prints "<prog>: <name> expects ..., got '<text>'" and returns 0. */
+int zw_parse_double(const char *prog, const char *name, const char *text, double *out);
+int zw_parse_long(const char *prog, const char *name, const char *text, long lo, long hi,
+                  long *out);
+
+/* The certified block as options: --m --b --T --sigma --r --k-min --k-max --b-min --b-max
+ * --dk-max --db-max, in register order (index i is register ZW_REG_CERT_M + 2 i). */
+#define ZW_CERT_FIELDS 11
+typedef struct zw_cert_opts {
+    double v[ZW_CERT_FIELDS];
+    int given[ZW_CERT_FIELDS];
+} zw_cert_opts;
+
+extern const char *const zw_cert_option[ZW_CERT_FIELDS]; /* "--m", "--b", ... */
+extern const char *const zw_cert_label[ZW_CERT_FIELDS];  /* "m", "b", "T", "sigma", ... */
+
+/* The paper's drive: J = 85.78e-7, b = 2.197e-3, T = 0.02, sigma 0.8, r 0.999, K in
+ * [0, 10], B in [-0.01, 0.01], dK 1, dB 0.01 (nothing marked given). */
+void zw_cert_opts_defaults(zw_cert_opts *o);
+
+/* If argv[*i] is a certified-block option, parse its value (advancing *i) and return 1;
+ * 0 if it is not one; -1 on a missing or bad value (message printed). */
+int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv, int *i);
+
+/* The numbers as the float block, and the block as its 22 register words. */
+void zw_cert_opts_to_cert(const zw_cert_opts *o, zw_cert *out);
+void zw_cert_to_words(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS]);
+void zw_cert_from_words(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *out);
+float zw_cert_field(const zw_cert *c, int index);
+
+/* CRC-16/MODBUS of a byte string (RTU framing; the low byte goes on the wire first). */
+uint16_t zw_crc16_bytes(const uint8_t *data, size_t len);
+
+/* "ILLEGAL_DATA_ADDRESS" etc.; "NONE" for 0, "EXCEPTION" for others. */
+const char *zw_exception_name(unsigned code);
+
+/* Print a string as a JSON string literal (quotes and escapes). */
+void zw_json_string(FILE *to, const char *s);
+
+/* A float for JSON: %.9g, or null when not finite. */
+void zw_json_float(FILE *to, double v);
+
+#endif /* ZW_MBHOST_H */

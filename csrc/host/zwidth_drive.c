@@ -1,0 +1,903 @@
+/* zwidth-drive: a Modbus server (TCP or RTU) for one drive's gain register map.
+ *
+ * Every request PDU goes to zw_regmap_handle_pdu (the firmware's own handler), which
+ * validates the whole request before anything changes; the response ADU is framed here.
+ * libmodbus is used for listening, accepting, opening the serial line and receiving
+ * (modbus_receive), never for answering: modbus_reply and modbus_mapping_* are not called,
+ * so the libmodbus 3.1.6 advisories in those functions (CVE-2022-0367, upstream issue 837,
+ * CVE-2024-36843) are unreachable from the network.  See docs/modbus.md.
+ *
+ * Optionally (--simulate) the drive closes the loop on a simulated plant
+ * m x'' + b x' = F, F = -K x - B v (v the backward difference of the sampled position),
+ * discretized exactly under the zero-order hold, and reports x, v, F through
+ * zw_regmap_set_state.
+ */
+/* POLLRDHUP (Linux) tells at once that a peer closed in the middle of a frame; elsewhere the
+ * frame timeout catches it. */
+#if defined(__linux__) && !defined(_GNU_SOURCE)
+#define _GNU_SOURCE
+#endif
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/select.h>
+#include <sys/socket.h>
+#include <sys/types.h>
+
+#include <modbus.h>
+
+#include "zw_mbhost.h"
+#include "zwidth/zwidth.h"
+
+#define PROG "zwidth-drive"
+#define MAX_CLIENTS_LIMIT 64
+#define LISTEN_BACKLOG 128
+#ifndef POLLRDHUP
+#define POLLRDHUP 0
+#endif
+#define FRAMES_PER_WAKE 8       /* pipelined requests served per client per wake-up */
+#define PARTIAL_RECHECK_MS 10   /* how often a partial TCP frame is looked at again */
+#define SEND_TIMEOUT_MS 1000    /* a peer that does not take its answer within this is dropped */
+#define TCP_HEADER 7            /* MBAP: transaction, protocol, length, unit id */
+#define TCP_MAX_ADU 260         /* MBAP 7 + PDU 253 */
+#define RTU_MAX_ADU 256         /* slave 1 + PDU 253 + CRC 2 */
+#define PDU_MAX 253
+
+static void usage(FILE *to)
+{
+    fprintf(to,
+            "usage: zwidth-drive [--host ADDR] [--port N]        (Modbus TCP, default)\n"
+            "       zwidth-drive --rtu DEVICE [--baud N] [--parity N|E|O] [--slave ID]\n"
+            "       ... [certified block options | --unsealed] [--simulate [--speed S] [--x0 X]]\n"
+            "       ... [--max-clients N] [--frame-timeout MS] [--idle-timeout S] [-v]\n"
+            "\n"
+            "Serves the gain register map of one drive (docs/modbus.md): clients read it and\n"
+            "write the stiffness K and damping B, which the drive applies only inside the\n"
+            "certified stability policy.  A refused request is answered with a Modbus\n"
+            "exception and changes nothing but the refusal registers.\n"
+            "\n"
+            "Transport\n"
+            "  --host ADDR         IPv4 address to listen on (default 127.0.0.1; Modbus has no\n"
+            "                      authentication: keep it on loopback or a closed network)\n"
+            "  --port N            TCP port (default 1502; 0 picks a free port and prints it)\n"
+            "  --rtu DEVICE        serve Modbus RTU on a serial device instead of TCP\n"
+            "  --baud N            RTU baud rate (default 19200)\n"
+            "  --parity P          RTU parity N, E or O (default N); 8 data bits, 1 stop bit\n"
+            "  --slave ID          RTU slave address 1..247 (default 1); TCP answers any unit id\n"
+            "  --max-clients N     TCP clients served at once, 1..%d (default 16); when full, a\n"
+            "                      client stalled in the middle of a frame makes room\n"
+            "  --frame-timeout MS  a TCP frame must be complete within this (default 500)\n"
+            "  --idle-timeout S    drop TCP clients silent this long, 0 never (default 300)\n"
+            "\n"
+            "Certified block at power-up (sealed; defaults: the paper's drive)\n"
+            "  --m M  --b B  --T T plant: mass or inertia J (85.78e-7), damping (2.197e-3),\n"
+            "                      sampling period [s] (0.02)\n"
+            "  --sigma S --r R     stiffness fraction of K_max(B) (0.8), spectral radius bound\n"
+            "                      (0.999)\n"
+            "  --k-min --k-max     K bounds (0, 10)\n"
+            "  --b-min --b-max     B bounds (-0.01, 0.01)\n"
+            "  --dk-max --db-max   largest change of K and B per accepted write (1, 0.01)\n"
+            "  --unsealed          start uncommissioned: gains are refused until a client\n"
+            "                      commissions a block (zwidth-tune commission)\n"
+            "\n"
+            "Simulation\n"
+            "  --simulate          run the plant m x'' + b x' = F under the active gains (plant\n"
+            "                      from --m --b --T) and report x, v, F in the state registers\n"
+            "  --speed S           simulated seconds per real second (default 1)\n"
+            "  --x0 X              initial position (default 0.01)\n"
+            "\n"
+            "  -v, --verbose       also log connections and served requests (default: one\n"
+            "                      line per refused request on stderr, nothing else)\n"
+            "  -h, --help          this text\n"
+            "\n"
+            "Stops cleanly on SIGINT or SIGTERM.\n"
+            "Exit status: 0 stopped by a signal, 1 run-time failure (cannot listen, cannot open\n"
+            "or lost the serial device), 2 bad arguments or a certified block that the policy\n"
+            "refuses.\n",
+            MAX_CLIENTS_LIMIT);
+}
+
+/* ---------------------------------------------------------------------------------------
+ * Signals: a self-pipe, so that poll wakes up at once.
+ * ------------------------------------------------------------------------------------- */
+
+static volatile sig_atomic_t g_stop = 0;
+static int g_sigpipe[2] = {-1, -1};
+
+static void on_signal(int sig)
+{
+    int saved = errno;
+    char c = 's';
+    (void)sig;
+    g_stop = 1;
+    if (g_sigpipe[1] >= 0) {
+        ssize_t rc = write(g_sigpipe[1], &c, 1);
+        (void)rc;
+    }
+    errno = saved;
+}
+
+static int install_signals(void)
+{
+    struct sigaction sa;
+    int i;
+    if (pipe(g_sigpipe) != 0) return -1;
+    for (i = 0; i < 2; ++i) {
+        int fl = fcntl(g_sigpipe[i], F_GETFL);
+        if (fl < 0 || fcntl(g_sigpipe[i], F_SETFL, fl | O_NONBLOCK) != 0) return -1;
+        (void)fcntl(g_sigpipe[i], F_SETFD, FD_CLOEXEC);
+    }
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = 0; /* no SA_RESTART: poll returns EINTR */
+    if (sigaction(SIGINT, &sa, NULL) != 0 || sigaction(SIGTERM, &sa, NULL) != 0) return -1;
+    sa.sa_handler = SIG_IGN; /* a peer that vanished must not kill the drive */
+    return sigaction(SIGPIPE, &sa, NULL);
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* ---------------------------------------------------------------------------------------
+ * The drive
+ * ------------------------------------------------------------------------------------- */
+
+typedef struct sim {
+    int on;
+    double m, b, T, speed;
+    double x, v, x_prev; /* sampled position, true velocity, previous sample */
+    double t0;           /* wall clock of step 0 */
+    uint_least32_t step; /* steps taken */
+} sim;
+
+typedef struct client {
+    int fd; /* -1: free slot */
+    double last_active;
+    double partial_since; /* 0: no partial frame pending */
+    char peer[64];
+} client;
+
+typedef struct drive {
+    zw_regmap rm;
+    int verbose;
+    sim s;
+} drive;
+
+#if defined(__GNUC__)
+static void logf_(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+#endif
+
+/* One line on stderr, prefixed with the program name. */
+static void logf_(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs(PROG ": ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+/* One simulation step: sample, control, report, then propagate the plant over T under the
+ * zero-order hold (exact: v' = (F - b v)/m with F constant over the period). */
+static void sim_step(drive *d)
+{
+    sim *s = &d->s;
+    double K = (double)d->rm.K, B = (double)d->rm.B;
+    double vhat = (s->x - s->x_prev) / s->T;
+    double F = -K * s->x - B * vhat + 0.0; /* + 0.0: no negative zero with the output off */
+    double a = s->b / s->m, aT = a * s->T, decay, phi1, phi2;
+
+    zw_regmap_set_state(&d->rm, (float)s->x, (float)vhat, (float)F, s->step);
+
+    decay = exp(-aT);
+    if (aT > 1e-6) {
+        phi1 = -expm1(-aT) / a;       /* int_0^T e^{-a t} dt */
+        phi2 = (s->T - phi1) / a;     /* int_0^T (1 - e^{-a t})/a dt */
+    } else {
+        phi1 = s->T * (1.0 - aT / 2.0);
+        phi2 = s->T * s->T * (0.5 - aT / 6.0);
+    }
+    s->x_prev = s->x;
+    s->x = s->x + s->v * phi1 + F / s->m * phi2;
+    s->v = s->v * decay + F / s->m * phi1;
+    s->step++;
+}
+
+/* Run every step that is due; returns the milliseconds until the next one (-1 if none). */
+static int sim_run(drive *d, double now)
+{
+    sim *s = &d->s;
+    double due_steps, next;
+    int batch = 0, ms;
+    if (!s->on) return -1;
+    due_steps = (now - s->t0) * s->speed / s->T;
+    while ((double)s->step <= due_steps) {
+        sim_step(d);
+        if (++batch >= 20000) { /* far behind (suspended?): drop the backlog */
+            s->t0 = now - (double)s->step * s->T / s->speed;
+            break;
+        }
+    }
+    next = s->t0 + (double)s->step * s->T / s->speed;
+    ms = (int)ceil((next - now) * 1000.0);
+    return ms < 1 ? 1 : ms;
+}
+
+static const char *fc_name(unsigned fc)
+{
+    switch (fc) {
+    case 0x03: return "read";
+    case 0x06: return "write-single";
+    case 0x10: return "write-multiple";
+    default: return "fc";
+    }
+}
+
+/* Hand one request PDU to the register map; the response PDU goes to rsp (PDU_MAX bytes).
+ * Returns its length.  Logs the refusal (always) or the request (-v). */
+static size_t serve_pdu(drive *d, const uint8_t *pdu, size_t len, uint8_t *rsp, const char *who)
+{
+    uint_least8_t req_b[PDU_MAX], rsp_b[PDU_MAX];
+    size_t i, rlen = 0;
+    zw_mb_exception ex;
+    char what[64];
+    unsigned fc = len > 0 ? pdu[0] : 0u;
+
+    if (len > PDU_MAX) len = PDU_MAX; /* cannot happen: framing bounds it */
+    for (i = 0; i < len; ++i) req_b[i] = pdu[i];
+    ex = zw_regmap_handle_pdu(&d->rm, req_b, len, rsp_b, sizeof rsp_b, &rlen);
+    if (rlen < 2 || rlen > PDU_MAX) { /* the handler broke its contract: answer 0x04 */
+        logf_("internal error: register map answered %lu bytes to %s; sending exception 0x04",
+              (unsigned long)rlen, who);
+        rsp[0] = (uint8_t)((fc | 0x80u) & 0xFFu);
+        rsp[1] = (uint8_t)ZW_MB_SERVER_FAILURE;
+        return 2;
+    }
+    for (i = 0; i < rlen; ++i) rsp[i] = (uint8_t)(rsp_b[i] & 0xFFu);
+
+    if (len >= 5)
+        snprintf(what, sizeof what, "%s 0x%02X addr 0x%04X qty %u", fc_name(fc), fc,
+                 (unsigned)(pdu[1] << 8 | pdu[2]), (unsigned)(pdu[3] << 8 | pdu[4]));
+    else
+        snprintf(what, sizeof what, "fc 0x%02X, %lu-byte PDU", fc, (unsigned long)len);
+    if (ex != ZW_MB_OK) {
+        unsigned reason = (unsigned)d->rm.last_reason;
+        logf_("refused %s from %s: %s (exception 0x%02X %s)", what, who,
+              zw_reason_name((zw_reason)reason), (unsigned)ex, zw_exception_name((unsigned)ex));
+    } else if (d->verbose) {
+        if (fc == 0x06 || fc == 0x10)
+            logf_("accepted %s from %s; gains now K = %.9g, B = %.9g", what, who,
+                  (double)d->rm.K, (double)d->rm.B);
+        else
+            logf_("served %s from %s", what, who);
+    }
+    return rlen;
+}
+
+/* Write all of buf to fd (a socket when is_socket), waiting at most SEND_TIMEOUT_MS. */
+static int send_all(int fd, const uint8_t *buf, size_t len, int is_socket)
+{
+    size_t off = 0;
+    double deadline = now_s() + SEND_TIMEOUT_MS / 1000.0;
+    while (off < len) {
+        ssize_t n = is_socket ? send(fd, buf + off, len - off, MSG_NOSIGNAL | MSG_DONTWAIT)
+                              : write(fd, buf + off, len - off);
+        if (n > 0) {
+            off += (size_t)n;
+            continue;
+        }
+        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) {
+            struct pollfd p;
+            double left = deadline - now_s();
+            if (left <= 0.0) return -1;
+            p.fd = fd;
+            p.events = POLLOUT;
+            p.revents = 0;
+            if (poll(&p, 1, (int)(left * 1000.0) + 1) < 0 && errno != EINTR) return -1;
+            continue;
+        }
+        return -1;
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------------------------------
+ * Modbus TCP
+ * ------------------------------------------------------------------------------------- */
+
+/* How many bytes libmodbus 3.1.6's modbus_receive reads for a request (indication) with
+ * this header length and checksum length, from its function code and byte count
+ * (compute_meta_length_after_function / compute_data_length_after_meta).  Used only to
+ * make sure modbus_receive never reads past the frame the MBAP header declares.  Returns
+ * a length larger than avail when it would read more than avail bytes. */
+static size_t libmodbus_request_length(const uint8_t *adu, size_t avail, size_t hdr,
+                                       size_t checksum)
+{
+    unsigned fc;
+    size_t meta, data = 0, n;
+    if (avail < hdr + 1) return avail + 1;
+    fc = adu[hdr];
+    if (fc <= 0x06) meta = 4;
+    else if (fc == 0x0F || fc == 0x10) meta = 5;
+    else if (fc == 0x16) meta = 6;
+    else if (fc == 0x17) meta = 9;
+    else meta = 0;
+    n = hdr + 1 + meta;
+    if (n > avail) return avail + 1;
+    if (fc == 0x0F || fc == 0x10) data = adu[hdr + 5];
+    else if (fc == 0x17) data = adu[hdr + 9];
+    return n + data + checksum;
+}
+
+static void peer_name(int fd, char *out, size_t cap)
+{
+    struct sockaddr_in a;
+    socklen_t alen = sizeof a;
+    char ip[INET_ADDRSTRLEN];
+    if (getpeername(fd, (struct sockaddr *)&a, &alen) == 0 && a.sin_family == AF_INET &&
+        inet_ntop(AF_INET, &a.sin_addr, ip, sizeof ip) != NULL)
+        snprintf(out, cap, "%s:%u", ip, (unsigned)ntohs(a.sin_port));
+    else
+        snprintf(out, cap, "fd %d", fd);
+}
+
+static void client_close(drive *d, client *c, const char *why)
+{
+    uint8_t junk[512];
+    int k;
+    if (why != NULL) logf_("%s: %s; connection closed", c->peer, why);
+    else if (d->verbose) logf_("%s: disconnected", c->peer);
+    /* Take what the peer already sent, so that the close is an orderly FIN rather than a
+     * reset (which could discard an answer still in flight). */
+    for (k = 0; k < 8 && recv(c->fd, junk, sizeof junk, MSG_DONTWAIT) > 0; ++k) {}
+    close(c->fd);
+    c->fd = -1;
+    c->partial_since = 0.0;
+}
+
+/* Serve every complete frame buffered on this client.  hangup: poll reported that the
+ * peer closed or reset the connection, so a partial frame will never complete.  Returns 0
+ * to keep the client, -1 once it has been closed. */
+static int tcp_service(drive *d, modbus_t *ctx, client *c, double now, int hangup)
+{
+    int frames;
+    for (frames = 0; frames < FRAMES_PER_WAKE; ++frames) {
+        uint8_t adu[TCP_MAX_ADU + 8], rsp[TCP_HEADER + PDU_MAX];
+        ssize_t n = recv(c->fd, adu, TCP_MAX_ADU, MSG_PEEK | MSG_DONTWAIT);
+        size_t need, got = 0, hdr, plen, mbap_len;
+        unsigned proto;
+
+        if (n == 0) {
+            client_close(d, c, c->partial_since > 0.0 ? "peer closed in the middle of a frame"
+                                                      : NULL);
+            return -1;
+        }
+        if (n < 0) {
+            if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return 0;
+            client_close(d, c, d->verbose ? strerror(errno) : NULL);
+            return -1;
+        }
+        c->last_active = now;
+        if (n < TCP_HEADER) {
+            if (hangup) {
+                client_close(d, c, "peer closed in the middle of a frame");
+                return -1;
+            }
+            if (c->partial_since <= 0.0) c->partial_since = now;
+            return 0;
+        }
+        proto = (unsigned)(adu[2] << 8 | adu[3]);
+        mbap_len = (size_t)(adu[4] << 8 | adu[5]);
+        if (proto != 0 || mbap_len < 2 || mbap_len > PDU_MAX + 1) {
+            char why[96];
+            snprintf(why, sizeof why,
+                     "refused a frame that is not Modbus TCP (protocol id 0x%04X, length %lu)",
+                     proto, (unsigned long)mbap_len);
+            client_close(d, c, why);
+            return -1;
+        }
+        need = 6 + mbap_len;
+        if ((size_t)n < need) {
+            if (hangup) {
+                client_close(d, c, "peer closed in the middle of a frame");
+                return -1;
+            }
+            if (c->partial_since <= 0.0) c->partial_since = now;
+            return 0;
+        }
+        c->partial_since = 0.0;
+
+        /* The whole frame is buffered.  modbus_receive reads it when libmodbus's idea of
+         * the request's length does not go past the frame (it then cannot block and
+         * cannot swallow the next frame); the rest of the frame, if any (a function code
+         * libmodbus does not know, or trailing bytes), is read here. */
+        if (libmodbus_request_length(adu, need, TCP_HEADER, 0) <= need) {
+            int rc;
+            modbus_set_socket(ctx, c->fd);
+            rc = modbus_receive(ctx, adu);
+            if (rc <= 0 || (size_t)rc > need) {
+                client_close(d, c, "modbus_receive failed on a complete frame");
+                return -1;
+            }
+            got = (size_t)rc;
+        }
+        while (got < need) {
+            ssize_t r = recv(c->fd, adu + got, need - got, MSG_DONTWAIT);
+            if (r <= 0) {
+                client_close(d, c, "lost the rest of a buffered frame");
+                return -1;
+            }
+            got += (size_t)r;
+        }
+        /* The MBAP length field must describe exactly what was received. */
+        hdr = (size_t)modbus_get_header_length(ctx);
+        if (hdr != TCP_HEADER || (size_t)(adu[4] << 8 | adu[5]) != got - 6) {
+            client_close(d, c, "MBAP length does not match the frame");
+            return -1;
+        }
+
+        plen = serve_pdu(d, adu + hdr, got - hdr, rsp + TCP_HEADER, c->peer);
+        rsp[0] = adu[0]; /* transaction id */
+        rsp[1] = adu[1];
+        rsp[2] = 0; /* protocol id */
+        rsp[3] = 0;
+        rsp[4] = (uint8_t)((plen + 1) >> 8);
+        rsp[5] = (uint8_t)((plen + 1) & 0xFFu);
+        rsp[6] = adu[6]; /* unit id, echoed */
+        if (send_all(c->fd, rsp, TCP_HEADER + plen, 1) != 0) {
+            client_close(d, c, d->verbose ? "could not send the answer (peer gone or not reading)"
+                                          : NULL);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static int serve_tcp(drive *d, const char *host, int port, int max_clients,
+                     double frame_timeout, double idle_timeout)
+{
+    modbus_t *ctx = modbus_new_tcp(host, port);
+    client clients[MAX_CLIENTS_LIMIT];
+    struct pollfd pfd[MAX_CLIENTS_LIMIT + 2];
+    int slot_of[MAX_CLIENTS_LIMIT + 2];
+    int lfd, i, fl;
+    struct sockaddr_in a;
+    socklen_t alen = sizeof a;
+    double last_idle_check = 0.0;
+
+    if (ctx == NULL) {
+        logf_("cannot create a Modbus TCP context: %s", modbus_strerror(errno));
+        return ZW_EXIT_FAILURE;
+    }
+    modbus_set_byte_timeout(ctx, 0, 100000);
+    lfd = modbus_tcp_listen(ctx, LISTEN_BACKLOG);
+    if (lfd < 0) {
+        logf_("cannot listen on %s:%d: %s", host, port, modbus_strerror(errno));
+        modbus_free(ctx);
+        return ZW_EXIT_FAILURE;
+    }
+    fl = fcntl(lfd, F_GETFL);
+    if (fl < 0 || fcntl(lfd, F_SETFL, fl | O_NONBLOCK) != 0 ||
+        getsockname(lfd, (struct sockaddr *)&a, &alen) != 0) {
+        logf_("cannot set up the listening socket: %s", strerror(errno));
+        close(lfd);
+        modbus_free(ctx);
+        return ZW_EXIT_FAILURE;
+    }
+    if (d->verbose || port == 0)
+        logf_("serving Modbus TCP on %s:%u (%s)", host, (unsigned)ntohs(a.sin_port),
+              d->rm.is_sealed ? "sealed" : "unsealed");
+    for (i = 0; i < MAX_CLIENTS_LIMIT; ++i) clients[i].fd = -1;
+
+    while (!g_stop) {
+        int n = 0, timeout = -1, any_partial = 0, rc, t;
+        double now = now_s();
+
+        t = sim_run(d, now);
+        if (t >= 0) timeout = t;
+
+        /* The listening socket comes last: clients are served (and the ones that are gone
+         * closed) before new ones take their slots and descriptor numbers. */
+        pfd[n].fd = g_sigpipe[0];
+        pfd[n].events = POLLIN;
+        slot_of[n++] = -1;
+        for (i = 0; i < max_clients; ++i) {
+            if (clients[i].fd < 0) continue;
+            pfd[n].fd = clients[i].fd;
+            /* A client with a partial frame is looked at on a timer (its unread bytes
+             * would keep poll returning at once), and when it hangs up. */
+            pfd[n].events = clients[i].partial_since > 0.0 ? POLLRDHUP : POLLIN;
+            if (clients[i].partial_since > 0.0) any_partial = 1;
+            slot_of[n++] = i;
+        }
+        pfd[n].fd = lfd;
+        pfd[n].events = POLLIN;
+        slot_of[n++] = -2;
+        if (any_partial && (timeout < 0 || timeout > PARTIAL_RECHECK_MS))
+            timeout = PARTIAL_RECHECK_MS;
+        if (idle_timeout > 0.0 && (timeout < 0 || timeout > 1000)) timeout = 1000;
+        for (i = 0; i < n; ++i) pfd[i].revents = 0;
+
+        rc = poll(pfd, (nfds_t)n, timeout);
+        if (rc < 0 && errno != EINTR) {
+            logf_("poll: %s", strerror(errno));
+            break;
+        }
+        if (g_stop) break;
+        now = now_s();
+        (void)sim_run(d, now);
+
+        for (i = 0; rc > 0 && i < n; ++i) {
+            if (pfd[i].revents == 0) continue;
+            if (slot_of[i] == -1) {
+                char buf[16];
+                while (read(g_sigpipe[0], buf, sizeof buf) > 0) {}
+            } else if (slot_of[i] == -2) {
+                int k;
+                for (k = 0; k < 16; ++k) { /* accept what is pending */
+                    int cfd = modbus_tcp_accept(ctx, &lfd), slot, one = 1;
+                    char peer[64];
+                    if (cfd < 0) break;
+                    peer_name(cfd, peer, sizeof peer);
+                    for (slot = 0; slot < max_clients && clients[slot].fd >= 0; ++slot) {}
+                    if (slot == max_clients) {
+                        /* Full: serve what the clients have sent (which also closes the
+                         * ones that are gone), else make room by one stalled in a frame. */
+                        int j;
+                        for (j = 0; j < max_clients; ++j)
+                            if (clients[j].fd >= 0) (void)tcp_service(d, ctx, &clients[j], now, 0);
+                        for (slot = 0; slot < max_clients && clients[slot].fd >= 0; ++slot) {}
+                        if (slot == max_clients) {
+                            for (slot = 0;
+                                 slot < max_clients && clients[slot].partial_since <= 0.0; ++slot) {}
+                            if (slot < max_clients)
+                                client_close(d, &clients[slot],
+                                             "dropped (stalled in a frame) to make room for a "
+                                             "new client");
+                        }
+                    }
+                    if (slot == max_clients || cfd >= FD_SETSIZE) {
+                        /* libmodbus 3.1.6 puts the socket in an fd_set: never past
+                         * FD_SETSIZE. */
+                        logf_("%s: refused the connection (%d clients at most)", peer,
+                              max_clients);
+                        close(cfd);
+                        continue;
+                    }
+                    (void)setsockopt(cfd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+                    clients[slot].fd = cfd;
+                    clients[slot].last_active = now;
+                    clients[slot].partial_since = 0.0;
+                    memcpy(clients[slot].peer, peer, sizeof peer);
+                    if (d->verbose) logf_("%s: connected", peer);
+                }
+            } else {
+                client *c = &clients[slot_of[i]];
+                if (c->fd != pfd[i].fd) continue;
+                if ((pfd[i].revents & POLLNVAL) != 0) {
+                    c->fd = -1;
+                    continue;
+                }
+                (void)tcp_service(d, ctx, c, now,
+                                  (pfd[i].revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0);
+            }
+        }
+
+        /* Partial frames: look again, and drop the ones that took too long. */
+        for (i = 0; i < max_clients; ++i) {
+            client *c = &clients[i];
+            if (c->fd < 0 || c->partial_since <= 0.0) continue;
+            if (tcp_service(d, ctx, c, now, 0) != 0) continue;
+            if (c->fd >= 0 && c->partial_since > 0.0 && now - c->partial_since > frame_timeout)
+                client_close(d, c, "incomplete frame timed out (peer stalled or vanished)");
+        }
+        if (idle_timeout > 0.0 && now - last_idle_check >= 1.0) {
+            last_idle_check = now;
+            for (i = 0; i < max_clients; ++i)
+                if (clients[i].fd >= 0 && now - clients[i].last_active > idle_timeout) {
+                    if (d->verbose) logf_("%s: idle for %.0f s", clients[i].peer, idle_timeout);
+                    clients[i].partial_since = 0.0;
+                    client_close(d, &clients[i], NULL);
+                }
+        }
+    }
+
+    for (i = 0; i < max_clients; ++i)
+        if (clients[i].fd >= 0) close(clients[i].fd);
+    close(lfd);
+    modbus_set_socket(ctx, -1); /* sockets are closed above; modbus_free closes nothing */
+    modbus_free(ctx);
+    if (d->verbose) logf_("stopped");
+    return ZW_EXIT_OK;
+}
+
+/* ---------------------------------------------------------------------------------------
+ * Modbus RTU
+ * ------------------------------------------------------------------------------------- */
+
+/* A fresh receiving context on the open serial line.  libmodbus 3.1.6 treats the frame
+ * after one addressed to another slave as that slave's answer and ignores it; on a line
+ * where garbage can look like another address, the drive instead starts over with a new
+ * context (which knows nothing of that) after such a frame. */
+static modbus_t *rtu_context(const char *dev, int baud, char parity, int slave, int fd)
+{
+    modbus_t *ctx = modbus_new_rtu(dev, baud, parity, 8, 1);
+    if (ctx == NULL) return NULL;
+    if (modbus_set_slave(ctx, slave) != 0) {
+        modbus_free(ctx);
+        return NULL;
+    }
+    modbus_set_byte_timeout(ctx, 0, 200000);
+    if (fd >= 0) modbus_set_socket(ctx, fd);
+    return ctx;
+}
+
+/* Discard input until the line has been quiet for gap seconds (at most 1 s): the rest of
+ * a frame that could not be used, so the next read starts at a frame boundary. */
+static void rtu_drain(int fd, double gap)
+{
+    double end = now_s() + 1.0;
+    uint8_t junk[256];
+    for (;;) {
+        struct pollfd p;
+        int rc;
+        p.fd = fd;
+        p.events = POLLIN;
+        p.revents = 0;
+        rc = poll(&p, 1, (int)ceil(gap * 1000.0));
+        if (rc <= 0 || (p.revents & POLLIN) == 0) return;
+        if (read(fd, junk, sizeof junk) <= 0) return;
+        if (now_s() > end) return;
+    }
+}
+
+static int serve_rtu(drive *d, const char *dev, int baud, char parity, int slave)
+{
+    /* conn opened the line (and restores its settings at the end); ctx receives, and is
+     * conn until it has to be replaced. */
+    modbus_t *conn = rtu_context(dev, baud, parity, slave, -1), *ctx = conn;
+    double gap = 3.5 * 11.0 / (double)baud; /* t3.5 */
+    int fd, status = ZW_EXIT_OK;
+    char who[80];
+
+    if (gap < 0.010) gap = 0.010; /* serial adapters and ptys deliver in bursts */
+    if (ctx == NULL) {
+        logf_("cannot create a Modbus RTU context for %s: %s", dev, modbus_strerror(errno));
+        return ZW_EXIT_FAILURE;
+    }
+    if (modbus_connect(ctx) != 0) {
+        logf_("cannot open %s: %s", dev, modbus_strerror(errno));
+        modbus_free(ctx);
+        return ZW_EXIT_FAILURE;
+    }
+    fd = modbus_get_socket(ctx);
+    snprintf(who, sizeof who, "%s", dev);
+    if (d->verbose)
+        logf_("serving Modbus RTU on %s, %d baud, parity %c, slave %d (%s)", dev, baud, parity,
+              slave, d->rm.is_sealed ? "sealed" : "unsealed");
+
+    while (!g_stop) {
+        struct pollfd p[2];
+        int rc, timeout = sim_run(d, now_s());
+        uint8_t adu[RTU_MAX_ADU + 8], rsp[RTU_MAX_ADU];
+
+        p[0].fd = g_sigpipe[0];
+        p[0].events = POLLIN;
+        p[1].fd = fd;
+        p[1].events = POLLIN;
+        p[0].revents = p[1].revents = 0;
+        rc = poll(p, 2, timeout);
+        if (rc < 0 && errno != EINTR) {
+            logf_("poll: %s", strerror(errno));
+            status = ZW_EXIT_FAILURE;
+            break;
+        }
+        if (g_stop) break;
+        (void)sim_run(d, now_s());
+        if (rc <= 0) continue;
+        if ((p[1].revents & (POLLERR | POLLHUP | POLLNVAL)) != 0 && (p[1].revents & POLLIN) == 0) {
+            logf_("lost the serial device %s", dev);
+            status = ZW_EXIT_FAILURE;
+            break;
+        }
+        if ((p[1].revents & POLLIN) == 0) continue;
+
+        rc = modbus_receive(ctx, adu);
+        if (rc < 0) {
+            int e = errno;
+            if (e == EBADF || e == EIO || e == ENXIO || e == ENODEV) {
+                logf_("lost the serial device %s: %s", dev, modbus_strerror(e));
+                status = ZW_EXIT_FAILURE;
+                break;
+            }
+            logf_("refused a frame on %s: %s (no answer)", dev,
+                  e == EMBBADCRC ? "bad CRC" : e == ETIMEDOUT ? "incomplete frame"
+                                                             : modbus_strerror(e));
+            rtu_drain(fd, gap);
+            continue;
+        }
+        if (rc == 0 || adu[0] != (uint8_t)slave) {
+            /* Another slave's request (or garbage that looks like one), or a broadcast:
+             * no answer.  A drive takes no gains from a broadcast it cannot confirm. */
+            modbus_t *fresh = rtu_context(dev, baud, parity, slave, fd);
+            if (rc > 0)
+                logf_("refused a broadcast request on %s (fc 0x%02X): not answered, not "
+                      "applied", dev, (unsigned)adu[1]);
+            else if (d->verbose)
+                logf_("ignored a frame for another slave on %s", dev);
+            if (fresh != NULL) {
+                if (ctx != conn) {
+                    modbus_set_socket(ctx, -1);
+                    modbus_free(ctx);
+                }
+                ctx = fresh;
+            }
+            rtu_drain(fd, gap);
+            continue;
+        }
+        {
+            size_t hdr = (size_t)modbus_get_header_length(ctx), plen;
+            uint16_t crc;
+            if (hdr != 1 || (size_t)rc < hdr + 1 + 2) continue;
+            plen = serve_pdu(d, adu + hdr, (size_t)rc - hdr - 2, rsp + 1, who);
+            rsp[0] = (uint8_t)slave;
+            crc = zw_crc16_bytes(rsp, plen + 1);
+            rsp[plen + 1] = (uint8_t)(crc & 0xFFu); /* CRC low byte first */
+            rsp[plen + 2] = (uint8_t)(crc >> 8);
+            if (send_all(fd, rsp, plen + 3, 0) != 0)
+                logf_("could not write the answer to %s: %s", dev, strerror(errno));
+        }
+    }
+    if (ctx != conn) {
+        modbus_set_socket(ctx, -1);
+        modbus_free(ctx);
+    }
+    modbus_close(conn);
+    modbus_free(conn);
+    if (d->verbose) logf_("stopped");
+    return status;
+}
+
+/* ---------------------------------------------------------------------------------------
+ * main
+ * ------------------------------------------------------------------------------------- */
+
+int main(int argc, char **argv)
+{
+    static drive d; /* large; one per process */
+    zw_cert_opts co;
+    zw_cert cert;
+    zw_reason reason = ZW_REASON_NONE;
+    zw_status st;
+    const char *host = "127.0.0.1", *rtu = NULL;
+    long port = 1502, baud = 19200, slave = 1, max_clients = 16, frame_ms = 500, idle_s = 300;
+    char parity = 'N';
+    int unsealed = 0, simulate = 0, i, rc;
+    double speed = 1.0, x0 = 0.01;
+    struct in_addr probe;
+
+    zw_cert_opts_defaults(&co);
+    for (i = 1; i < argc; ++i) {
+        const char *arg = argv[i];
+        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
+        int r = zw_cert_opts_parse(PROG, &co, argc, argv, &i);
+        if (r < 0) return ZW_EXIT_USAGE;
+        if (r > 0) continue;
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+            usage(stdout);
+            return ZW_EXIT_OK;
+        }
+        if (strcmp(arg, "-v") == 0 || strcmp(arg, "--verbose") == 0) { d.verbose = 1; continue; }
+        if (strcmp(arg, "--unsealed") == 0) { unsealed = 1; continue; }
+        if (strcmp(arg, "--simulate") == 0) { simulate = 1; continue; }
+        if (strcmp(arg, "--host") != 0 && strcmp(arg, "--port") != 0 &&
+            strcmp(arg, "--rtu") != 0 && strcmp(arg, "--baud") != 0 &&
+            strcmp(arg, "--parity") != 0 && strcmp(arg, "--slave") != 0 &&
+            strcmp(arg, "--speed") != 0 && strcmp(arg, "--x0") != 0 &&
+            strcmp(arg, "--max-clients") != 0 && strcmp(arg, "--frame-timeout") != 0 &&
+            strcmp(arg, "--idle-timeout") != 0) {
+            fprintf(stderr, PROG ": unknown option '%s'\n", arg);
+            usage(stderr);
+            return ZW_EXIT_USAGE;
+        }
+        if (val == NULL) {
+            fprintf(stderr, PROG ": missing value for '%s'\n", arg);
+            return ZW_EXIT_USAGE;
+        }
+        ++i;
+        if (strcmp(arg, "--host") == 0) {
+            if (inet_pton(AF_INET, val, &probe) != 1) {
+                fprintf(stderr, PROG ": --host expects an IPv4 address, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+            host = val;
+        } else if (strcmp(arg, "--port") == 0) {
+            if (!zw_parse_long(PROG, arg, val, 0, 65535, &port)) return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--rtu") == 0) {
+            rtu = val;
+        } else if (strcmp(arg, "--baud") == 0) {
+            if (!zw_parse_long(PROG, arg, val, 50, 4000000, &baud)) return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--parity") == 0) {
+            if ((val[0] != 'N' && val[0] != 'E' && val[0] != 'O') || val[1] != '\0') {
+                fprintf(stderr, PROG ": --parity expects N, E or O, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+            parity = val[0];
+        } else if (strcmp(arg, "--slave") == 0) {
+            if (!zw_parse_long(PROG, arg, val, 1, 247, &slave)) return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--speed") == 0) {
+            if (!zw_parse_double(PROG, arg, val, &speed)) return ZW_EXIT_USAGE;
+            if (!(speed > 0.0 && speed <= 1e6)) {
+                fprintf(stderr, PROG ": --speed expects a number in (0, 1e6], got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+        } else if (strcmp(arg, "--x0") == 0) {
+            if (!zw_parse_double(PROG, arg, val, &x0)) return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--max-clients") == 0) {
+            if (!zw_parse_long(PROG, arg, val, 1, MAX_CLIENTS_LIMIT, &max_clients))
+                return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--frame-timeout") == 0) {
+            if (!zw_parse_long(PROG, arg, val, 10, 60000, &frame_ms)) return ZW_EXIT_USAGE;
+        } else {
+            if (!zw_parse_long(PROG, arg, val, 0, 86400, &idle_s)) return ZW_EXIT_USAGE;
+        }
+    }
+
+    zw_cert_opts_to_cert(&co, &cert);
+    st = zw_regmap_init(&d.rm, unsealed ? NULL : &cert, &reason);
+    if (st != ZW_OK) {
+        fprintf(stderr, PROG ": the certified block is not acceptable: %s (%s)\n",
+                zw_reason_name(reason), zw_status_name(st));
+        return ZW_EXIT_USAGE;
+    }
+    if (simulate) {
+        zw_device probe_dev;
+        st = zw_device_init(&probe_dev, co.v[0], co.v[1], co.v[2]);
+        if (st != ZW_OK) {
+            fprintf(stderr, PROG ": cannot simulate the plant m=%g, b=%g, T=%g: %s\n", co.v[0],
+                    co.v[1], co.v[2], zw_status_name(st));
+            return ZW_EXIT_USAGE;
+        }
+        d.s.on = 1;
+        d.s.m = co.v[0];
+        d.s.b = co.v[1];
+        d.s.T = co.v[2];
+        d.s.speed = speed;
+        d.s.x = d.s.x_prev = x0;
+        d.s.v = 0.0;
+        d.s.step = 0;
+        d.s.t0 = now_s();
+    }
+    if (rtu == NULL && strncmp(host, "127.", 4) != 0)
+        logf_("warning: listening on %s; Modbus has no authentication, anyone who reaches "
+              "this port can write gains (see docs/modbus.md)", host);
+    if (install_signals() != 0) {
+        fprintf(stderr, PROG ": cannot install signal handlers: %s\n", strerror(errno));
+        return ZW_EXIT_FAILURE;
+    }
+
+    if (rtu != NULL) rc = serve_rtu(&d, rtu, (int)baud, parity, (int)slave);
+    else rc = serve_tcp(&d, host, (int)port, (int)max_clients, (double)frame_ms / 1000.0,
+                        (double)idle_s);
+    close(g_sigpipe[0]);
+    close(g_sigpipe[1]);
+    return rc;
+}

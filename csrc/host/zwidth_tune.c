@@ -1,0 +1,548 @@
+/* zwidth-tune: read the state of a zwidth drive and write its gains over Modbus.
+ *
+ *   zwidth-tune status                 mode, sealed, plant, policy, gains, live limits, ...
+ *   zwidth-tune set --K K --B B        one Write Multiple Registers request, then the verdict
+ *   zwidth-tune commission --m .. ..   unlock, write the certified block and its CRC, seal
+ *
+ * Register map: csrc/include/zwidth/regmap.h and docs/modbus.md.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <arpa/inet.h>
+
+#include <modbus.h>
+
+#include "zw_mbhost.h"
+
+#define PROG "zwidth-tune"
+
+static void usage(FILE *to)
+{
+    fprintf(to,
+            "usage: zwidth-tune [connection] status [--json]\n"
+            "       zwidth-tune [connection] set [--K K] [--B B] [--json]\n"
+            "       zwidth-tune [connection] commission --m M --b B --T T --sigma S --r R\n"
+            "                   --k-min K --k-max K --b-min B --b-max B --dk-max D --db-max D\n"
+            "                   [--paper-defaults] [--json]\n"
+            "\n"
+            "Talks to a zwidth drive (zwidth-drive, or firmware with the same register map).\n"
+            "\n"
+            "  status      print mode, sealed, plant and policy, active gains, live limits,\n"
+            "              device state, counters and the last refusal (reason, exception)\n"
+            "  set         write K and B in ONE Write Multiple Registers request (judged as a\n"
+            "              pair), or one of them alone; then read back and print the verdict\n"
+            "  commission  unlock (two command writes), write the certified block and its\n"
+            "              CRC-16, seal; on a refused seal the commissioning is aborted (the\n"
+            "              last sealed block comes back).  Gains are off afterwards.\n"
+            "              --paper-defaults takes omitted fields from the paper's drive\n"
+            "              (J = 85.78e-7, b = 2.197e-3, T = 0.02, sigma 0.8, r 0.999, K in\n"
+            "              [0, 10], B in [-0.01, 0.01], dK 1, dB 0.01)\n"
+            "\n"
+            "Connection (Modbus TCP by default)\n"
+            "  --host ADDR     drive address (default 127.0.0.1)\n"
+            "  --port N        TCP port (default 1502)\n"
+            "  --rtu DEVICE    use Modbus RTU on this serial device instead\n"
+            "  --baud N        RTU baud rate (default 19200)\n"
+            "  --parity P      RTU parity N, E or O (default N)\n"
+            "  --slave ID      slave address / unit id (default 1)\n"
+            "  --timeout MS    response timeout (default 1000)\n"
+            "  --json          machine-readable output (one JSON object on stdout)\n"
+            "\n"
+            "Exit status: 0 done (set: accepted; commission: sealed), 3 the drive refused\n"
+            "(reason and exception printed), 2 bad arguments, connection or protocol error.\n");
+}
+
+typedef struct conn_opts {
+    const char *host, *rtu;
+    long port, baud, slave, timeout_ms;
+    char parity;
+} conn_opts;
+
+/* ---------------------------------------------------------------------------------------
+ * Register access
+ * ------------------------------------------------------------------------------------- */
+
+/* The exception code of a failed libmodbus call (0 when it was not an exception). */
+static unsigned exception_of(int err)
+{
+    if (err > MODBUS_ENOBASE && err <= EMBXGTAR) return (unsigned)(err - MODBUS_ENOBASE);
+    return 0;
+}
+
+static int read_regs(modbus_t *ctx, int addr, int n, uint_least16_t *out, unsigned *exc)
+{
+    uint16_t buf[125];
+    int i;
+    *exc = 0;
+    if (modbus_read_registers(ctx, addr, n, buf) != n) {
+        *exc = exception_of(errno);
+        return -1;
+    }
+    for (i = 0; i < n; ++i) out[i] = buf[i];
+    return 0;
+}
+
+static int write_regs(modbus_t *ctx, int addr, int n, const uint_least16_t *in, unsigned *exc)
+{
+    uint16_t buf[123];
+    int i;
+    for (i = 0; i < n; ++i) buf[i] = (uint16_t)in[i];
+    *exc = 0;
+    if (modbus_write_registers(ctx, addr, n, buf) != n) {
+        *exc = exception_of(errno);
+        return -1;
+    }
+    return 0;
+}
+
+static int write_reg(modbus_t *ctx, int addr, unsigned value, unsigned *exc)
+{
+    *exc = 0;
+    if (modbus_write_register(ctx, addr, (uint16_t)value) != 1) {
+        *exc = exception_of(errno);
+        return -1;
+    }
+    return 0;
+}
+
+static uint_least32_t u32_at(const uint_least16_t *w)
+{
+    return ((uint_least32_t)w[0] << 16) | (uint_least32_t)w[1];
+}
+
+/* What status shows. */
+typedef struct snapshot {
+    uint_least16_t head[10];  /* 0x00..0x09 */
+    uint_least16_t gains[4];  /* 0x10..0x13 */
+    uint_least16_t live[24];  /* 0x20..0x37 */
+    uint_least16_t cert[23];  /* 0x40..0x56 */
+    int have_live, have_cert;
+    unsigned cert_exc;
+} snapshot;
+
+static int protocol_error(const char *what)
+{
+    fprintf(stderr, PROG ": %s: %s\n", what, modbus_strerror(errno));
+    return ZW_EXIT_USAGE;
+}
+
+/* Read the header (first, so the last refusal is the drive's, not ours) and the gains. */
+static int read_head(modbus_t *ctx, snapshot *s)
+{
+    unsigned exc;
+    if (read_regs(ctx, ZW_REG_MAGIC, 10, s->head, &exc) != 0)
+        return protocol_error("cannot read the status registers");
+    if (s->head[0] != ZW_REGMAP_MAGIC) {
+        fprintf(stderr, PROG ": not a zwidth drive (register 0 reads 0x%04X, not 0x%04X)\n",
+                (unsigned)s->head[0], ZW_REGMAP_MAGIC);
+        return ZW_EXIT_USAGE;
+    }
+    if (read_regs(ctx, ZW_REG_K, 4, s->gains, &exc) != 0)
+        return protocol_error("cannot read the gains");
+    return ZW_EXIT_OK;
+}
+
+static int read_snapshot(modbus_t *ctx, snapshot *s)
+{
+    unsigned exc;
+    int rc = read_head(ctx, s);
+    if (rc != ZW_EXIT_OK) return rc;
+    s->have_live = read_regs(ctx, ZW_REG_LIVE_K_MAX, 24, s->live, &exc) == 0;
+    if (!s->have_live) return protocol_error("cannot read the live limits");
+    s->have_cert = read_regs(ctx, ZW_REG_CERT_M, 23, s->cert, &s->cert_exc) == 0;
+    if (!s->have_cert && s->cert_exc == 0) return protocol_error("cannot read the certified block");
+    return ZW_EXIT_OK;
+}
+
+static float fw(const uint_least16_t *w) { return zw_words_to_float(w); }
+
+static const char *const live_label[8] = {"K_max", "K_cert", "B_lo", "B_hi",
+                                          "K_mmax", "B_at_K_mmax", "rho", "delta"};
+
+static void print_snapshot_text(const snapshot *s)
+{
+    int k;
+    unsigned reason = (unsigned)s->head[4], exc = (unsigned)s->head[5];
+    printf("drive      : zwidth register map v%u, %s mode, %s\n", (unsigned)s->head[1],
+           s->head[2] == 1 ? "commissioning" : "operation",
+           s->head[3] ? "sealed" : "NOT sealed (gains refused until commissioned)");
+    printf("gains      : K = %.9g, B = %.9g%s\n", (double)fw(&s->gains[0]),
+           (double)fw(&s->gains[2]),
+           (fw(&s->gains[0]) == 0.0f && fw(&s->gains[2]) == 0.0f) ? "  (output off)" : "");
+    if (s->have_cert) {
+        zw_cert c;
+        zw_cert_from_words(s->cert, &c);
+        printf("plant      : m = %.9g, b = %.9g, T = %.9g s\n", (double)c.m, (double)c.b,
+               (double)c.T);
+        printf("policy     : sigma = %.9g, r = %.9g, K in [%.9g, %.9g], B in [%.9g, %.9g],\n"
+               "             |dK| <= %.9g, |dB| <= %.9g per write; CRC 0x%04X\n",
+               (double)c.sigma, (double)c.r, (double)c.k_min, (double)c.k_max, (double)c.b_min,
+               (double)c.b_max, (double)c.dk_max, (double)c.db_max, (unsigned)s->cert[22]);
+    } else {
+        printf("plant      : certified block not readable (exception 0x%02X %s)\n", s->cert_exc,
+               zw_exception_name(s->cert_exc));
+    }
+    printf("live limits:");
+    for (k = 0; k < 8; ++k)
+        printf("%s %s = %.9g", k == 4 ? "\n            " : (k ? "," : ""), live_label[k],
+               (double)fw(&s->live[2 * k]));
+    printf("\nstate      : x = %.9g, v = %.9g, F = %.9g, step %lu\n", (double)fw(&s->live[16]),
+           (double)fw(&s->live[18]), (double)fw(&s->live[20]), (unsigned long)u32_at(&s->live[22]));
+    printf("counters   : %lu accepted gain changes, %lu refused requests\n",
+           (unsigned long)u32_at(&s->head[6]), (unsigned long)u32_at(&s->head[8]));
+    if (reason == 0 && exc == 0)
+        printf("last refusal: none\n");
+    else
+        printf("last refusal: %s (exception 0x%02X %s)\n", zw_reason_name((zw_reason)reason), exc,
+               zw_exception_name(exc));
+}
+
+static void json_kv_float(const char *key, double v, int comma)
+{
+    printf("%s\"%s\": ", comma ? ", " : "", key);
+    zw_json_float(stdout, v);
+}
+
+static void print_refusal_json(unsigned reason, unsigned exc)
+{
+    printf("\"reason\": ");
+    zw_json_string(stdout, zw_reason_name((zw_reason)reason));
+    printf(", \"reason_code\": %u, \"exception\": %u, \"exception_name\": ", reason, exc);
+    zw_json_string(stdout, zw_exception_name(exc));
+}
+
+static void print_snapshot_json(const snapshot *s)
+{
+    int k;
+    printf("{\"magic\": %u, \"version\": %u, \"mode\": ", (unsigned)s->head[0],
+           (unsigned)s->head[1]);
+    zw_json_string(stdout, s->head[2] == 1 ? "commissioning" : "operation");
+    printf(", \"sealed\": %s, ", s->head[3] ? "true" : "false");
+    printf("\"gains\": {");
+    json_kv_float("K", (double)fw(&s->gains[0]), 0);
+    json_kv_float("B", (double)fw(&s->gains[2]), 1);
+    printf("}, \"cert\": ");
+    if (s->have_cert) {
+        zw_cert c;
+        zw_cert_from_words(s->cert, &c);
+        printf("{");
+        for (k = 0; k < ZW_CERT_FIELDS; ++k)
+            json_kv_float(zw_cert_label[k], (double)zw_cert_field(&c, k), k > 0);
+        printf(", \"crc\": %u}", (unsigned)s->cert[22]);
+    } else {
+        printf("null");
+    }
+    printf(", \"live\": {");
+    for (k = 0; k < 8; ++k) json_kv_float(live_label[k], (double)fw(&s->live[2 * k]), k > 0);
+    printf("}, \"state\": {");
+    json_kv_float("x", (double)fw(&s->live[16]), 0);
+    json_kv_float("v", (double)fw(&s->live[18]), 1);
+    json_kv_float("F", (double)fw(&s->live[20]), 1);
+    printf(", \"step\": %lu}", (unsigned long)u32_at(&s->live[22]));
+    printf(", \"accepted\": %lu, \"refused\": %lu, \"last_refusal\": {",
+           (unsigned long)u32_at(&s->head[6]), (unsigned long)u32_at(&s->head[8]));
+    print_refusal_json((unsigned)s->head[4], (unsigned)s->head[5]);
+    printf("}}\n");
+}
+
+/* ---------------------------------------------------------------------------------------
+ * Commands
+ * ------------------------------------------------------------------------------------- */
+
+static int cmd_status(modbus_t *ctx, int json)
+{
+    snapshot s;
+    int rc = read_snapshot(ctx, &s);
+    if (rc != ZW_EXIT_OK) return rc;
+    if (json) print_snapshot_json(&s);
+    else print_snapshot_text(&s);
+    return ZW_EXIT_OK;
+}
+
+static int cmd_set(modbus_t *ctx, int have_K, double K, int have_B, double B, int json)
+{
+    uint_least16_t w[4];
+    unsigned exc;
+    int addr = have_K ? ZW_REG_K : ZW_REG_B, n = 0, wrc, err, rc;
+    snapshot after;
+
+    if (have_K) {
+        zw_float_to_words((float)K, &w[n]);
+        n += 2;
+    }
+    if (have_B) {
+        zw_float_to_words((float)B, &w[n]);
+        n += 2;
+    }
+    wrc = write_regs(ctx, addr, n, w, &exc);
+    err = errno;
+    if (wrc != 0 && exc == 0) {
+        errno = err;
+        return protocol_error("cannot write the gains");
+    }
+    rc = read_head(ctx, &after); /* the verdict's context: reason, active gains */
+    if (rc != ZW_EXIT_OK) return rc;
+
+    if (wrc == 0) {
+        if (json) {
+            printf("{\"verdict\": \"accepted\"");
+            json_kv_float("K", (double)fw(&after.gains[0]), 1);
+            json_kv_float("B", (double)fw(&after.gains[2]), 1);
+            printf(", \"requests\": 1}\n");
+        } else {
+            printf("accepted: active gains K = %.9g, B = %.9g\n", (double)fw(&after.gains[0]),
+                   (double)fw(&after.gains[2]));
+        }
+        return ZW_EXIT_OK;
+    }
+    /* Refused: the exception came in the answer; the reason is the drive's last refusal
+     * (another client refused in between would show its own; the exception is ours). */
+    {
+        unsigned reason = (unsigned)after.head[4];
+        if ((unsigned)after.head[5] != exc) reason = 0; /* not ours: do not guess */
+        if (json) {
+            printf("{\"verdict\": \"refused\", ");
+            print_refusal_json(reason, exc);
+            json_kv_float("K", (double)fw(&after.gains[0]), 1);
+            json_kv_float("B", (double)fw(&after.gains[2]), 1);
+            printf("}\n");
+        } else {
+            printf("refused: %s (exception 0x%02X %s); active gains stay K = %.9g, B = %.9g\n",
+                   zw_reason_name((zw_reason)reason), exc, zw_exception_name(exc),
+                   (double)fw(&after.gains[0]), (double)fw(&after.gains[2]));
+        }
+    }
+    return ZW_EXIT_REFUSED;
+}
+
+/* A refused commissioning step: report, leave commissioning mode if we entered it. */
+static int commission_refused(modbus_t *ctx, const char *step, unsigned exc, int abort_it,
+                              int json)
+{
+    snapshot s;
+    unsigned reason = 0, abort_exc = 0;
+    int aborted = 0;
+    if (read_head(ctx, &s) == ZW_EXIT_OK && (unsigned)s.head[5] == exc)
+        reason = (unsigned)s.head[4];
+    if (abort_it) aborted = write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_ABORT, &abort_exc) == 0;
+    if (json) {
+        printf("{\"verdict\": \"refused\", \"step\": ");
+        zw_json_string(stdout, step);
+        printf(", ");
+        print_refusal_json(reason, exc);
+        printf(", \"aborted\": %s}\n", aborted ? "true" : "false");
+    } else {
+        printf("refused at %s: %s (exception 0x%02X %s)%s\n", step,
+               zw_reason_name((zw_reason)reason), exc, zw_exception_name(exc),
+               abort_it ? (aborted ? "; commissioning aborted, the last sealed block is back"
+                                   : "; could not abort: the drive stays in commissioning mode")
+                        : "");
+    }
+    return ZW_EXIT_REFUSED;
+}
+
+static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, int json)
+{
+    zw_cert cert;
+    uint_least16_t w[ZW_CERT_WORDS + 1u];
+    unsigned exc;
+    uint_least16_t crc;
+    snapshot s;
+    int k, rc;
+
+    zw_cert_opts_to_cert(co, &cert);
+    zw_cert_to_words(&cert, w);
+    crc = zw_crc16_words(w, ZW_CERT_WORDS);
+    w[ZW_CERT_WORDS] = crc;
+
+    if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_UNLOCK1, &exc) != 0 ||
+        write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_UNLOCK2, &exc) != 0) {
+        if (exc == 0) return protocol_error("cannot send the unlock commands");
+        return commission_refused(ctx, "unlock", exc, 0, json);
+    }
+    if (write_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, w, &exc) != 0) {
+        if (exc == 0) return protocol_error("cannot write the certified block");
+        return commission_refused(ctx, "block", exc, 1, json);
+    }
+    if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_SEAL, &exc) != 0) {
+        if (exc == 0) return protocol_error("cannot send the seal command");
+        return commission_refused(ctx, "seal", exc, 1, json);
+    }
+    rc = read_snapshot(ctx, &s);
+    if (rc != ZW_EXIT_OK) return rc;
+    if (json) {
+        printf("{\"verdict\": \"sealed\", \"crc\": %u, \"cert\": {", (unsigned)crc);
+        for (k = 0; k < ZW_CERT_FIELDS; ++k)
+            json_kv_float(zw_cert_label[k], (double)zw_cert_field(&cert, k), k > 0);
+        printf("}, \"sealed\": %s}\n", s.head[3] ? "true" : "false");
+    } else {
+        printf("commissioned: block sealed with CRC 0x%04X; gains are off until set\n",
+               (unsigned)crc);
+        print_snapshot_text(&s);
+    }
+    return s.head[3] ? ZW_EXIT_OK : ZW_EXIT_REFUSED;
+}
+
+/* ---------------------------------------------------------------------------------------
+ * main
+ * ------------------------------------------------------------------------------------- */
+
+static modbus_t *connect_drive(const conn_opts *o)
+{
+    modbus_t *ctx;
+    if (o->rtu != NULL) ctx = modbus_new_rtu(o->rtu, (int)o->baud, o->parity, 8, 1);
+    else ctx = modbus_new_tcp(o->host, (int)o->port);
+    if (ctx == NULL) {
+        fprintf(stderr, PROG ": cannot create a Modbus context: %s\n", modbus_strerror(errno));
+        return NULL;
+    }
+    modbus_set_slave(ctx, (int)o->slave);
+    modbus_set_response_timeout(ctx, (uint32_t)(o->timeout_ms / 1000),
+                                (uint32_t)(o->timeout_ms % 1000) * 1000u);
+    if (modbus_connect(ctx) != 0) {
+        if (o->rtu != NULL)
+            fprintf(stderr, PROG ": cannot open %s: %s\n", o->rtu, modbus_strerror(errno));
+        else
+            fprintf(stderr, PROG ": cannot connect to %s:%ld: %s\n", o->host, o->port,
+                    modbus_strerror(errno));
+        modbus_free(ctx);
+        return NULL;
+    }
+    return ctx;
+}
+
+int main(int argc, char **argv)
+{
+    conn_opts o = {"127.0.0.1", NULL, 1502, 19200, 1, 1000, 'N'};
+    zw_cert_opts co;
+    const char *cmd = NULL;
+    double K = 0.0, B = 0.0;
+    int have_K = 0, have_B = 0, json = 0, paper = 0, i, rc, k;
+    modbus_t *ctx;
+    struct in_addr probe;
+
+    zw_cert_opts_defaults(&co);
+    for (i = 1; i < argc; ++i) {
+        const char *arg = argv[i];
+        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
+        int r;
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+            usage(stdout);
+            return ZW_EXIT_OK;
+        }
+        if (arg[0] != '-') {
+            if (cmd != NULL) {
+                fprintf(stderr, PROG ": unexpected argument '%s'\n", arg);
+                return ZW_EXIT_USAGE;
+            }
+            cmd = arg;
+            continue;
+        }
+        if (strcmp(arg, "--json") == 0) { json = 1; continue; }
+        if (strcmp(arg, "--paper-defaults") == 0) { paper = 1; continue; }
+        if (strcmp(arg, "--K") == 0 || strcmp(arg, "--B") == 0) {
+            double *t = arg[2] == 'K' ? &K : &B;
+            if (val == NULL) {
+                fprintf(stderr, PROG ": missing value for '%s'\n", arg);
+                return ZW_EXIT_USAGE;
+            }
+            /* NaN and infinities are refused by the drive; let a user send them on purpose. */
+            if (strcmp(val, "nan") == 0 || strcmp(val, "NaN") == 0) *t = (double)NAN;
+            else if (strcmp(val, "inf") == 0 || strcmp(val, "-inf") == 0)
+                *t = val[0] == '-' ? -(double)INFINITY : (double)INFINITY;
+            else if (!zw_parse_double(PROG, arg, val, t)) return ZW_EXIT_USAGE;
+            if (arg[2] == 'K') have_K = 1;
+            else have_B = 1;
+            ++i;
+            continue;
+        }
+        r = zw_cert_opts_parse(PROG, &co, argc, argv, &i);
+        if (r < 0) return ZW_EXIT_USAGE;
+        if (r > 0) continue;
+        if (val == NULL) {
+            fprintf(stderr, PROG ": %s '%s'\n",
+                    strcmp(arg, "--host") == 0 || strcmp(arg, "--port") == 0 ||
+                            strcmp(arg, "--rtu") == 0 || strcmp(arg, "--baud") == 0 ||
+                            strcmp(arg, "--parity") == 0 || strcmp(arg, "--slave") == 0 ||
+                            strcmp(arg, "--timeout") == 0
+                        ? "missing value for"
+                        : "unknown option",
+                    arg);
+            return ZW_EXIT_USAGE;
+        }
+        if (strcmp(arg, "--host") == 0) {
+            if (inet_pton(AF_INET, val, &probe) != 1) {
+                fprintf(stderr, PROG ": --host expects an IPv4 address, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+            o.host = val;
+        } else if (strcmp(arg, "--port") == 0) {
+            if (!zw_parse_long(PROG, arg, val, 1, 65535, &o.port)) return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--rtu") == 0) {
+            o.rtu = val;
+        } else if (strcmp(arg, "--baud") == 0) {
+            if (!zw_parse_long(PROG, arg, val, 50, 4000000, &o.baud)) return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--parity") == 0) {
+            if ((val[0] != 'N' && val[0] != 'E' && val[0] != 'O') || val[1] != '\0') {
+                fprintf(stderr, PROG ": --parity expects N, E or O, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+            o.parity = val[0];
+        } else if (strcmp(arg, "--slave") == 0) {
+            if (!zw_parse_long(PROG, arg, val, 0, 255, &o.slave)) return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--timeout") == 0) {
+            if (!zw_parse_long(PROG, arg, val, 10, 60000, &o.timeout_ms)) return ZW_EXIT_USAGE;
+        } else {
+            fprintf(stderr, PROG ": unknown option '%s'\n", arg);
+            usage(stderr);
+            return ZW_EXIT_USAGE;
+        }
+        ++i;
+    }
+
+    if (cmd == NULL) {
+        fprintf(stderr, PROG ": missing command (status, set or commission)\n");
+        usage(stderr);
+        return ZW_EXIT_USAGE;
+    }
+    if (strcmp(cmd, "set") == 0) {
+        if (!have_K && !have_B) {
+            fprintf(stderr, PROG ": set needs --K, --B or both\n");
+            return ZW_EXIT_USAGE;
+        }
+    } else if (strcmp(cmd, "commission") == 0) {
+        int missing = 0;
+        for (k = 0; k < ZW_CERT_FIELDS; ++k)
+            if (!co.given[k] && !paper) {
+                fprintf(stderr, PROG ": commission needs %s (or --paper-defaults)\n",
+                        zw_cert_option[k]);
+                missing = 1;
+            }
+        if (missing) return ZW_EXIT_USAGE;
+    } else if (strcmp(cmd, "status") != 0) {
+        fprintf(stderr, PROG ": unknown command '%s' (status, set or commission)\n", cmd);
+        return ZW_EXIT_USAGE;
+    }
+    for (k = 0; k < ZW_CERT_FIELDS; ++k)
+        if (co.given[k] && strcmp(cmd, "commission") != 0) {
+            fprintf(stderr, PROG ": %s belongs to commission\n", zw_cert_option[k]);
+            return ZW_EXIT_USAGE;
+        }
+    if ((have_K || have_B) && strcmp(cmd, "set") != 0) {
+        fprintf(stderr, PROG ": --K and --B belong to set\n");
+        return ZW_EXIT_USAGE;
+    }
+
+    ctx = connect_drive(&o);
+    if (ctx == NULL) return ZW_EXIT_USAGE;
+    if (strcmp(cmd, "status") == 0) rc = cmd_status(ctx, json);
+    else if (strcmp(cmd, "set") == 0) rc = cmd_set(ctx, have_K, K, have_B, B, json);
+    else rc = cmd_commission(ctx, &co, json);
+    modbus_close(ctx);
+    modbus_free(ctx);
+    return rc;
+}

@@ -1,0 +1,273 @@
+/* zwidth/regmap.h - the drive-side gain register map and its certification policy.
+ *
+ * Portable C99 for the firmware (no libmodbus, no heap, no I/O; works with 16-bit chars
+ * on TI C28x): a Modbus stack hands every request PDU to zw_regmap_handle_pdu, which
+ * validates the whole request before anything changes and answers with a normal or an
+ * exception response.  A refused write changes nothing but the refusal registers.
+ *
+ * Holding registers (function codes 0x03 read, 0x06 write single, 0x10 write multiple;
+ * any other function code gets exception 0x01).  Floats are IEEE-754 binary32 over two
+ * registers, high word first (big-endian "ABCD"); 32-bit counters likewise.
+ *
+ *   addr    name                    access  meaning
+ *   0x0000  ZW_REG_MAGIC            r       0x5A57 ("ZW")
+ *   0x0001  ZW_REG_VERSION          r       map version, 1
+ *   0x0002  ZW_REG_MODE             r       0 operation, 1 commissioning
+ *   0x0003  ZW_REG_SEALED           r       1 when the certified block is sealed (CRC valid)
+ *   0x0004  ZW_REG_LAST_REASON      r       zw_reason of the last refused request (0 none)
+ *   0x0005  ZW_REG_LAST_EXCEPTION   r       Modbus exception code sent for it (0 none)
+ *   0x0006  ZW_REG_ACCEPTED (u32)   r       count of accepted gain writes (a write of the
+ *                                           current values, or of (0, 0), counts too; block
+ *                                           writes and commands do not)
+ *   0x0008  ZW_REG_REFUSED (u32)    r       count of refused requests (both wrap at 2^32)
+ *           A refused request changes LAST_REASON, LAST_EXCEPTION and REFUSED and nothing
+ *           else; an accepted one leaves all three alone.
+ *
+ *   0x0010  ZW_REG_K (f32)          rw      active stiffness K [N/m or N m/rad]
+ *   0x0012  ZW_REG_B (f32)          rw      active damping B [N s/m or N m s/rad]
+ *           K and B written in one request (0x10 with 4 registers) are judged as a pair.
+ *           Writable in operation mode with a sealed block (else exception 0x02,
+ *           ZW_REASON_NOT_SEALED); (0, 0) is "output off" and always accepted (-0.0 counts
+ *           as 0).  Writing K alone is judged with the current B, and B alone with the
+ *           current K.
+ *
+ *   0x0020  ZW_REG_LIVE_K_MAX (f32)     r   K_max at the current B (exact region)
+ *   0x0022  ZW_REG_LIVE_K_CERT (f32)    r   certified K ceiling at the current B: the
+ *                                           largest K <= min(sigma K_max(B), k_max) that
+ *                                           the stability and radius rules accept, to
+ *                                           float resolution (found by a 32-point scan down
+ *                                           from that bound and a bisection; 0 when no
+ *                                           scanned K is accepted).  Itself accepted by
+ *                                           the k_max, stability, sigma and radius rules;
+ *                                           the k_min and step rules are not applied.
+ *   0x0024  ZW_REG_LIVE_B_LO (f32)      r   stable B interval at the current K (lower end)
+ *   0x0026  ZW_REG_LIVE_B_HI (f32)      r   ... upper end (both 0 when K = 0)
+ *   0x0028  ZW_REG_LIVE_K_MMAX (f32)    r   K_mmax of the plant
+ *   0x002A  ZW_REG_LIVE_B_AT_KMMAX (f32) r  the B that attains it
+ *   0x002C  ZW_REG_LIVE_RHO (f32)       r   spectral radius at the current gains
+ *   0x002E  ZW_REG_LIVE_DELTA (f32)     r   delta = b T / m
+ *           The live registers are recomputed after every accepted write (and at init),
+ *           so a read never runs the core; they read as a quiet NaN (0x7FC0 0x0000)
+ *           without a sealed block, or when the core refuses the computation.  In
+ *           commissioning mode they describe the last sealed plant with the output off.
+ *
+ *   0x0030  ZW_REG_STATE_X (f32)        r   device state reported by the firmware through
+ *   0x0032  ZW_REG_STATE_V (f32)        r   zw_regmap_set_state (position, velocity,
+ *   0x0034  ZW_REG_STATE_F (f32)        r   commanded force, samples since power-up;
+ *   0x0036  ZW_REG_STATE_STEP (u32)     r   all 0 until first set)
+ *
+ *   0x0040  certified block, rw in commissioning mode only (else exception 0x02,
+ *           reason ZW_REASON_LOCKED); every field f32.  Reads show the sealed block and
+ *           its CRC in operation mode (all 0 when nothing is sealed), the staged words in
+ *           commissioning mode.  A staged float must be finite (else 0x03,
+ *           ZW_REASON_NOT_FINITE); the CRC word takes any value:
+ *   0x0040  ZW_REG_CERT_M       m or J            0x004A  ZW_REG_CERT_K_MIN   K lower bound
+ *   0x0042  ZW_REG_CERT_B       b                 0x004C  ZW_REG_CERT_K_MAX   K upper bound
+ *   0x0044  ZW_REG_CERT_T       T [s]             0x004E  ZW_REG_CERT_B_MIN   B lower bound
+ *   0x0046  ZW_REG_CERT_SIGMA   stiffness fraction 0x0050 ZW_REG_CERT_B_MAX   B upper bound
+ *   0x0048  ZW_REG_CERT_R       radius bound r     0x0052 ZW_REG_CERT_DK_MAX  max |dK| per write
+ *                                                 0x0054  ZW_REG_CERT_DB_MAX  max |dB| per write
+ *   0x0056  ZW_REG_CERT_CRC     CRC-16/MODBUS of the 22 words 0x0040..0x0055, each word
+ *                               fed high byte first (rw in commissioning mode)
+ *
+ *   0x0060  ZW_REG_COMMAND      w       ZW_CMD_UNLOCK1 then ZW_CMD_UNLOCK2 (two writes in a
+ *                                       row) opens commissioning mode and turns the output
+ *                                       off (K = B = 0); ZW_CMD_SEAL checks the CRC and the
+ *                                       policy and returns to operation (gains stay off);
+ *                                       ZW_CMD_ABORT leaves commissioning and restores the
+ *                                       last sealed block.  Reads as 0.
+ *           Any request but a read between UNLOCK1 and UNLOCK2 (a refused or even an
+ *           unprocessed one) disarms UNLOCK1; reads never do, so a client polling the
+ *           map cannot block commissioning.  UNLOCK2 stages the block in force and its
+ *           CRC (all 0 when nothing is sealed).  SEAL refused (CRC or BAD_POLICY) stays in
+ *           commissioning mode.  UNLOCK1/UNLOCK2 in commissioning mode, SEAL/ABORT in
+ *           operation mode and unknown values are refused with ZW_REASON_BAD_COMMAND.
+ *
+ * Everything else is unmapped (exception 0x02, ZW_REASON_UNMAPPED).
+ *
+ * Certification of a gain pair (K, B) against the sealed block, in this order; the first
+ * failing rule is the reason:
+ *   finite (ZW_REASON_NOT_FINITE), k_min <= K <= k_max, b_min <= B <= b_max,
+ *   |K - K_now| <= dk_max, |B - B_now| <= db_max, stable by zw_device_check
+ *   (ZW_REASON_UNSTABLE), K <= sigma K_max(B) (ZW_REASON_ABOVE_SIGMA), spectral radius
+ *   < r by zw_device_radius_within (ZW_REASON_RADIUS).
+ * Value failures answer exception 0x03; address failures (unmapped, read-only, half a
+ * float, locked block, gains not writable in this mode) answer 0x02.  The checks run over
+ * the whole request in the order of zw_reason (quantity, then every address, then the
+ * mode, then the values), so a request that fails several reports the first.  Quantities:
+ * 1..125 for reads, 1..123 for writes, address + quantity within 0x10000 (else 0x02).
+ * FC 0x06 on one word of a float is ZW_REASON_HALF_FLOAT; a read may start or end inside
+ * a float.
+ */
+#ifndef ZWIDTH_REGMAP_H
+#define ZWIDTH_REGMAP_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "zwidth/device.h"
+
+/* Register addresses (0-based PDU addresses). */
+enum {
+    ZW_REG_MAGIC = 0x0000,
+    ZW_REG_VERSION = 0x0001,
+    ZW_REG_MODE = 0x0002,
+    ZW_REG_SEALED = 0x0003,
+    ZW_REG_LAST_REASON = 0x0004,
+    ZW_REG_LAST_EXCEPTION = 0x0005,
+    ZW_REG_ACCEPTED = 0x0006,
+    ZW_REG_REFUSED = 0x0008,
+    ZW_REG_K = 0x0010,
+    ZW_REG_B = 0x0012,
+    ZW_REG_LIVE_K_MAX = 0x0020,
+    ZW_REG_LIVE_K_CERT = 0x0022,
+    ZW_REG_LIVE_B_LO = 0x0024,
+    ZW_REG_LIVE_B_HI = 0x0026,
+    ZW_REG_LIVE_K_MMAX = 0x0028,
+    ZW_REG_LIVE_B_AT_KMMAX = 0x002A,
+    ZW_REG_LIVE_RHO = 0x002C,
+    ZW_REG_LIVE_DELTA = 0x002E,
+    ZW_REG_STATE_X = 0x0030,
+    ZW_REG_STATE_V = 0x0032,
+    ZW_REG_STATE_F = 0x0034,
+    ZW_REG_STATE_STEP = 0x0036,
+    ZW_REG_CERT_M = 0x0040,
+    ZW_REG_CERT_B = 0x0042,
+    ZW_REG_CERT_T = 0x0044,
+    ZW_REG_CERT_SIGMA = 0x0046,
+    ZW_REG_CERT_R = 0x0048,
+    ZW_REG_CERT_K_MIN = 0x004A,
+    ZW_REG_CERT_K_MAX = 0x004C,
+    ZW_REG_CERT_B_MIN = 0x004E,
+    ZW_REG_CERT_B_MAX = 0x0050,
+    ZW_REG_CERT_DK_MAX = 0x0052,
+    ZW_REG_CERT_DB_MAX = 0x0054,
+    ZW_REG_CERT_CRC = 0x0056,
+    ZW_REG_COMMAND = 0x0060,
+    ZW_REG_COUNT = 0x0061 /* registers 0 .. ZW_REG_COUNT-1 may be mapped */
+};
+
+#define ZW_REGMAP_MAGIC 0x5A57u
+#define ZW_REGMAP_VERSION 1u
+#define ZW_CERT_WORDS 22u /* words 0x0040..0x0055 covered by the CRC */
+
+/* Command values (macros, not enum constants: an enum constant must fit a 16-bit int on
+ * TI C28x, and 0xC0DE does not). */
+#define ZW_CMD_UNLOCK1 0xC0DEu
+#define ZW_CMD_UNLOCK2 0x5AFEu
+#define ZW_CMD_SEAL 0x5EA1u
+#define ZW_CMD_ABORT 0xAB07u
+
+/* Modbus exception codes used. */
+typedef enum zw_mb_exception {
+    ZW_MB_OK = 0,
+    ZW_MB_ILLEGAL_FUNCTION = 0x01,
+    ZW_MB_ILLEGAL_ADDRESS = 0x02,
+    ZW_MB_ILLEGAL_VALUE = 0x03,
+    ZW_MB_SERVER_FAILURE = 0x04
+} zw_mb_exception;
+
+/* Why a request was refused (ZW_REG_LAST_REASON). */
+typedef enum zw_reason {
+    ZW_REASON_NONE = 0,
+    ZW_REASON_BAD_FUNCTION = 1,   /* function code not supported */
+    ZW_REASON_MALFORMED = 2,      /* PDU length, quantity or byte count inconsistent */
+    ZW_REASON_UNMAPPED = 3,       /* an address in the request is not in the map */
+    ZW_REASON_READ_ONLY = 4,      /* a write touches a read-only register */
+    ZW_REASON_HALF_FLOAT = 5,     /* a write covers one word of a two-word value */
+    ZW_REASON_LOCKED = 6,         /* certified block written outside commissioning mode */
+    ZW_REASON_NOT_SEALED = 7,     /* gains written while no sealed block (or commissioning) */
+    ZW_REASON_NOT_FINITE = 8,     /* NaN or infinity */
+    ZW_REASON_K_BELOW_MIN = 9,
+    ZW_REASON_K_ABOVE_MAX = 10,
+    ZW_REASON_B_BELOW_MIN = 11,
+    ZW_REASON_B_ABOVE_MAX = 12,
+    ZW_REASON_K_STEP = 13,        /* |K - K_now| > dk_max */
+    ZW_REASON_B_STEP = 14,        /* |B - B_now| > db_max */
+    ZW_REASON_UNSTABLE = 15,      /* outside the exact stability region (or within its rounding band) */
+    ZW_REASON_ABOVE_SIGMA = 16,   /* K > sigma K_max(B) */
+    ZW_REASON_RADIUS = 17,        /* spectral radius not below r */
+    ZW_REASON_BAD_COMMAND = 18,   /* unknown command, or UNLOCK2 not right after UNLOCK1 */
+    ZW_REASON_CRC = 19,           /* seal: CRC does not match the block */
+    ZW_REASON_BAD_POLICY = 20     /* seal: a field not finite, plant invalid (zw_device_init
+                                     fails), sigma or r not in (0, 1], k_min > k_max or
+                                     b_min > b_max, or a step limit not > 0 */
+} zw_reason;
+
+/* The certified block as numbers (what the CRC seals, in register order). */
+typedef struct zw_cert {
+    float m, b, T;         /* plant */
+    float sigma;           /* stiffness fraction of K_max(B), (0, 1] */
+    float r;               /* spectral radius bound, (0, 1] */
+    float k_min, k_max;    /* absolute K bounds */
+    float b_min, b_max;    /* absolute B bounds */
+    float dk_max, db_max;  /* largest change per accepted write, > 0 */
+} zw_cert;
+
+/* The whole drive-side state; plain data, one per drive, no globals. */
+typedef struct zw_regmap {
+    zw_cert sealed;                 /* the block in force */
+    zw_device device;               /* derived from sealed */
+    uint_least16_t staged[ZW_CERT_WORDS + 1u]; /* block + CRC being written in commissioning */
+    float K, B;                     /* active gains */
+    float state_x, state_v, state_f;
+    uint_least32_t state_step;
+    uint_least32_t accepted, refused;
+    uint_least16_t mode;            /* 0 operation, 1 commissioning */
+    uint_least16_t is_sealed;
+    uint_least16_t last_reason, last_exception;
+    uint_least16_t unlock_armed;    /* UNLOCK1 seen as the previous request */
+    float live[8];                  /* registers 0x0020..0x002F, recomputed on every accepted
+                                       write and seal (so a read never runs the core) */
+} zw_regmap;
+
+/* Power-up: with cert non-NULL the block is validated and sealed (ZW_ERR_ARG with a
+ * reason in *reason if it is not acceptable); with NULL the drive starts unsealed and
+ * refuses gains until commissioned.  Gains start off (0, 0).  rm is initialised in every
+ * case but ZW_ERR_NULL (rm NULL): after ZW_ERR_ARG it is a working unsealed drive that can
+ * be commissioned.  reason may be NULL; it receives ZW_REASON_NONE on success. */
+zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason);
+
+/* Report the device state (position, velocity, force, sample count) for the state
+ * registers; called by the control loop, never by the Modbus side.  rm NULL: no-op. */
+void zw_regmap_set_state(zw_regmap *rm, float x, float v, float f, uint_least32_t step);
+
+/* Handle one request PDU (function code first, no address/CRC framing).  Writes the
+ * response PDU (normal, or function|0x80 + exception code) into resp, at most resp_cap
+ * bytes (253 always suffices), and its length into *resp_len.  Returns the exception
+ * code sent (ZW_MB_OK for a normal response).  Bytes are held in uint_least8_t so the
+ * same code runs where CHAR_BIT is 16.  Malformed requests (length, quantity or byte count
+ * inconsistent; 0x10 must have byte count 2 x quantity and exactly that many bytes) answer
+ * 0x03 with ZW_REASON_MALFORMED.
+ * The handler's own failures return ZW_MB_SERVER_FAILURE and process nothing (no register
+ * changes, refusal registers included): rm, req, resp or resp_len NULL, req_len 0 or
+ * resp_cap < 2 (*resp_len = 0 when resp_len is not NULL, nothing written to resp); a
+ * normal answer that would not fit in resp_cap (the 2-byte exception 0x04 is sent). */
+zw_mb_exception zw_regmap_handle_pdu(zw_regmap *rm, const uint_least8_t *req, size_t req_len,
+                                     uint_least8_t *resp, size_t resp_cap, size_t *resp_len);
+
+/* Register-level access for stacks that decode PDUs themselves (same rules, same
+ * atomicity).  *reason receives the refusal reason (ZW_REASON_NONE when accepted); reason
+ * may be NULL.  words receive the registers only when the read is accepted.  rm or words
+ * NULL: ZW_MB_SERVER_FAILURE, nothing processed, *reason untouched. */
+zw_mb_exception zw_regmap_read(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
+                               uint_least16_t *words, zw_reason *reason);
+zw_mb_exception zw_regmap_write(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
+                                const uint_least16_t *words, zw_reason *reason);
+
+/* CRC-16/MODBUS (poly 0xA001 reflected, init 0xFFFF) of 16-bit words, high byte first
+ * (words NULL: the CRC of no words, 0xFFFF). */
+uint_least16_t zw_crc16_words(const uint_least16_t *words, size_t count);
+
+/* IEEE-754 binary32 <-> two registers, high word first (portable: no type punning).
+ * Exact for every finite value (subnormals and -0.0 included) and the infinities; every
+ * NaN becomes the quiet NaN 0x7FC0 0x0000.  words NULL: no-op, and NaN back. */
+void zw_float_to_words(float value, uint_least16_t words[2]);
+float zw_words_to_float(const uint_least16_t words[2]);
+
+/* Stable names for logs and tools ("ZW_REASON_UNSTABLE"; "ZW_REASON_UNKNOWN" for other
+ * values). */
+const char *zw_reason_name(zw_reason reason);
+
+#endif /* ZWIDTH_REGMAP_H */

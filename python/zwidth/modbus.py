@@ -1,0 +1,702 @@
+"""Client for the zwidth drive-side gain register map, for Python tuning scripts.
+
+A drive running zwidth serves the register map of ``csrc/include/zwidth/regmap.h`` over
+Modbus (``zwidth-drive`` on a PC, the firmware's own stack on a drive).  The drive is the
+only judge of a gain pair: it checks every write against its sealed certified block (plant,
+stiffness fraction sigma, radius bound r, absolute bounds, step limits) and refuses, with a
+reason, anything that is not provably stable.  This module only speaks the map: it encodes
+floats, sends one request per gain change, reads back what the drive holds, and names the
+drive's reasons.  It never re-decides a verdict.
+
+    from zwidth.modbus import Drive
+
+    with Drive("127.0.0.1", 1502) as drive:
+        print(drive.status().limits.k_cert)            # certified K ceiling [N/m]
+        result = drive.set_gains(K=0.30, B=-1.0e-3)     # one write-multiple request
+        if not result.accepted:
+            print(result.reason)                        # e.g. "ZW_REASON_ABOVE_SIGMA"
+
+Why pymodbus rather than bindings to a C Modbus client: pymodbus is a well-kept,
+pure-Python Modbus library, so a tuning script needs no compiled extension (no libmodbus,
+no compiler, works in any virtualenv); the only C that matters, the certification, runs on
+the drive.  Tested with pymodbus 3.16.1 (unit keyword ``device_id``, pymodbus 3.10 on) and
+3.6.9 (``slave``, older releases); the keyword is picked from the installed release:
+
+    pymodbus>=3.6
+
+Units: a linear device uses m [kg], b [N s/m], K [N/m], B [N s/m]; a rotary one reads m as
+the inertia J [kg m^2], b [N m s/rad], K [N m/rad], B [N m s/rad].  T is in seconds.  Every
+float crosses the wire as IEEE-754 binary32 over two registers, high word first ("ABCD"),
+so read-back values are the binary32 roundings of what was written.
+
+The client assumes it is the only one writing to the drive while it works: the refusal
+reason is read from the drive's "last refusal" registers right after the refused request.
+
+Errors: ``ConnectionError`` (with host:port) when the drive cannot be reached or does not
+answer in time; ``ValueError`` (naming the argument) for arguments that cannot be sent;
+``DriveError`` when the drive refuses a request that is not a gain or commissioning write
+(for instance a status read) or is not a zwidth drive at all.
+"""
+from __future__ import annotations
+
+import inspect
+import math
+import numbers
+import struct
+from dataclasses import dataclass
+from typing import Dict, List, Optional, Sequence, Tuple
+
+# Requirement (for tools/requirements-test.txt): pymodbus>=3.6 -- tested with 3.6.9 and 3.16.1.
+
+__all__ = [
+    "Drive",
+    "DriveError",
+    "Status",
+    "Plant",
+    "Policy",
+    "Gains",
+    "Limits",
+    "State",
+    "Counters",
+    "Refusal",
+    "GainResult",
+    "CommissionResult",
+    "REG",
+    "REASONS",
+    "EXCEPTIONS",
+    "CMD",
+    "MAGIC",
+    "MAP_VERSION",
+    "CERT_WORDS",
+    "crc16_modbus",
+    "crc16_words",
+    "float_to_words",
+    "words_to_float",
+    "u32_from_words",
+    "reason_name",
+    "unit_keyword",
+]
+
+# ---------------------------------------------------------------------------------------
+# The register map (regmap.h).  Restated here, not parsed at run time; tests/modbus_py
+# checks every value against the header.
+# ---------------------------------------------------------------------------------------
+
+MAGIC = 0x5A57
+MAP_VERSION = 1
+CERT_WORDS = 22  # words 0x0040..0x0055 covered by the CRC
+
+REG: Dict[str, int] = {
+    "MAGIC": 0x0000,
+    "VERSION": 0x0001,
+    "MODE": 0x0002,
+    "SEALED": 0x0003,
+    "LAST_REASON": 0x0004,
+    "LAST_EXCEPTION": 0x0005,
+    "ACCEPTED": 0x0006,
+    "REFUSED": 0x0008,
+    "K": 0x0010,
+    "B": 0x0012,
+    "LIVE_K_MAX": 0x0020,
+    "LIVE_K_CERT": 0x0022,
+    "LIVE_B_LO": 0x0024,
+    "LIVE_B_HI": 0x0026,
+    "LIVE_K_MMAX": 0x0028,
+    "LIVE_B_AT_KMMAX": 0x002A,
+    "LIVE_RHO": 0x002C,
+    "LIVE_DELTA": 0x002E,
+    "STATE_X": 0x0030,
+    "STATE_V": 0x0032,
+    "STATE_F": 0x0034,
+    "STATE_STEP": 0x0036,
+    "CERT_M": 0x0040,
+    "CERT_B": 0x0042,
+    "CERT_T": 0x0044,
+    "CERT_SIGMA": 0x0046,
+    "CERT_R": 0x0048,
+    "CERT_K_MIN": 0x004A,
+    "CERT_K_MAX": 0x004C,
+    "CERT_B_MIN": 0x004E,
+    "CERT_B_MAX": 0x0050,
+    "CERT_DK_MAX": 0x0052,
+    "CERT_DB_MAX": 0x0054,
+    "CERT_CRC": 0x0056,
+    "COMMAND": 0x0060,
+    "COUNT": 0x0061,
+}
+
+CMD: Dict[str, int] = {"UNLOCK1": 0xC0DE, "UNLOCK2": 0x5AFE, "SEAL": 0x5EA1, "ABORT": 0xAB07}
+
+REASONS: Dict[int, str] = {
+    0: "ZW_REASON_NONE",
+    1: "ZW_REASON_BAD_FUNCTION",
+    2: "ZW_REASON_MALFORMED",
+    3: "ZW_REASON_UNMAPPED",
+    4: "ZW_REASON_READ_ONLY",
+    5: "ZW_REASON_HALF_FLOAT",
+    6: "ZW_REASON_LOCKED",
+    7: "ZW_REASON_NOT_SEALED",
+    8: "ZW_REASON_NOT_FINITE",
+    9: "ZW_REASON_K_BELOW_MIN",
+    10: "ZW_REASON_K_ABOVE_MAX",
+    11: "ZW_REASON_B_BELOW_MIN",
+    12: "ZW_REASON_B_ABOVE_MAX",
+    13: "ZW_REASON_K_STEP",
+    14: "ZW_REASON_B_STEP",
+    15: "ZW_REASON_UNSTABLE",
+    16: "ZW_REASON_ABOVE_SIGMA",
+    17: "ZW_REASON_RADIUS",
+    18: "ZW_REASON_BAD_COMMAND",
+    19: "ZW_REASON_CRC",
+    20: "ZW_REASON_BAD_POLICY",
+}
+
+EXCEPTIONS: Dict[int, str] = {
+    0: "OK",
+    0x01: "ILLEGAL_FUNCTION",
+    0x02: "ILLEGAL_ADDRESS",
+    0x03: "ILLEGAL_VALUE",
+    0x04: "SERVER_FAILURE",
+}
+
+# Readable blocks of the map (start, count); the gaps between them are unmapped.
+_BLOCK_HEAD = (0x0000, 10)   # magic .. refused counter
+_BLOCK_GAINS = (0x0010, 4)   # K, B
+_BLOCK_LIVE = (0x0020, 16)   # live limits
+_BLOCK_STATE = (0x0030, 8)   # device state
+_BLOCK_CERT = (0x0040, CERT_WORDS + 1)  # certified block and its CRC
+
+_CERT_FIELDS = ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max",
+                "db_max")
+
+_FLT_MAX = struct.unpack(">f", b"\x7f\x7f\xff\xff")[0]
+
+
+def unit_keyword(method) -> str:
+    """Name of the unit-identifier keyword of a pymodbus client method: "device_id" from
+    pymodbus 3.10 on, "slave" before."""
+    params = inspect.signature(method).parameters
+    return "device_id" if "device_id" in params else "slave"
+
+
+def reason_name(code: int) -> str:
+    """Name of a zw_reason code as in regmap.h ("ZW_REASON_UNSTABLE"); unknown codes give
+    "ZW_REASON_UNKNOWN(<code>)"."""
+    return REASONS.get(code, f"ZW_REASON_UNKNOWN({code})")
+
+
+# ---------------------------------------------------------------------------------------
+# Encoding: binary32 ABCD, u32 high word first, CRC-16/MODBUS
+# ---------------------------------------------------------------------------------------
+
+
+def _real(name: str, value) -> float:
+    """``value`` as a Python float, or ValueError naming the argument."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name} must be a real number, got {value!r}")
+    return float(value)
+
+
+def float_to_words(value: float, name: str = "value") -> Tuple[int, int]:
+    """Encode a number as IEEE-754 binary32 in two 16-bit registers, high word first
+    ("ABCD").  The value is rounded to the nearest binary32 (ties to even); NaN and the
+    infinities pass through unchanged (the drive, not the client, refuses them).
+
+    Raises ValueError naming ``name`` when the value is not a real number or is finite but
+    beyond the binary32 range (|value| > 3.4028235e38 after rounding)."""
+    x = _real(name, value)
+    try:
+        raw = struct.pack(">f", x)
+    except OverflowError:
+        raise ValueError(
+            f"{name} = {x!r} does not fit a binary32 register (|{name}| <= {_FLT_MAX!r})"
+        ) from None
+    hi, lo = struct.unpack(">HH", raw)
+    return hi, lo
+
+
+def words_to_float(hi: int, lo: int) -> float:
+    """Decode two registers, high word first ("ABCD"), as IEEE-754 binary32 (returned as a
+    Python float, exactly)."""
+    return struct.unpack(">f", struct.pack(">HH", hi & 0xFFFF, lo & 0xFFFF))[0]
+
+
+def u32_from_words(hi: int, lo: int) -> int:
+    """Decode an unsigned 32-bit counter from two registers, high word first."""
+    return ((hi & 0xFFFF) << 16) | (lo & 0xFFFF)
+
+
+def crc16_modbus(data: bytes, crc: int = 0xFFFF) -> int:
+    """CRC-16/MODBUS (reflected polynomial 0xA001, initial value 0xFFFF, no final XOR) of a
+    byte string.  The standard check value: crc16_modbus(b"123456789") == 0x4B37."""
+    for byte in data:
+        crc ^= byte
+        for _ in range(8):
+            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return crc
+
+
+def crc16_words(words: Sequence[int]) -> int:
+    """CRC-16/MODBUS of 16-bit words, each fed high byte first: what the drive expects in
+    ZW_REG_CERT_CRC over the 22 words of the certified block (zw_crc16_words in C)."""
+    data = bytearray()
+    for w in words:
+        if not 0 <= w <= 0xFFFF:
+            raise ValueError(f"words must be 16-bit values, got {w!r}")
+        data += bytes(((w >> 8) & 0xFF, w & 0xFF))
+    return crc16_modbus(bytes(data))
+
+
+def _words_of(block: Sequence[int], addr: int, base: int) -> Tuple[int, int]:
+    i = addr - base
+    return block[i], block[i + 1]
+
+
+def _f(block: Sequence[int], addr: int, base: int) -> float:
+    return words_to_float(*_words_of(block, addr, base))
+
+
+# ---------------------------------------------------------------------------------------
+# Results
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Plant:
+    """The plant of the certified block: m [kg] (or J [kg m^2]), b [N s/m] (or
+    [N m s/rad]), T [s]."""
+
+    m: float
+    b: float
+    T: float
+
+
+@dataclass(frozen=True)
+class Policy:
+    """The certification policy of the block: sigma (fraction of K_max(B), 1), r (spectral
+    radius bound, 1), K bounds k_min, k_max [N/m], B bounds b_min, b_max [N s/m], largest
+    change per accepted write dk_max [N/m] and db_max [N s/m], and the block's CRC."""
+
+    sigma: float
+    r: float
+    k_min: float
+    k_max: float
+    b_min: float
+    b_max: float
+    dk_max: float
+    db_max: float
+    crc: int
+
+
+@dataclass(frozen=True)
+class Gains:
+    """The active gains: stiffness K [N/m] and damping B [N s/m]; (0, 0) is output off."""
+
+    K: float
+    B: float
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Live limits computed by the drive at the active gains.
+
+    k_max: K_max at the current B [N/m] (exact region); k_cert: certified K ceiling at the
+    current B, min(sigma K_max(B), k_max) [N/m]; b_lo, b_hi: the stable B interval at the
+    current K [N s/m] (both 0 when K = 0); k_mmax: largest stable K of the plant [N/m];
+    b_at_k_mmax: the B that attains it [N s/m]; rho: spectral radius at the current gains
+    (1); delta = b T / m (1)."""
+
+    k_max: float
+    k_cert: float
+    b_lo: float
+    b_hi: float
+    k_mmax: float
+    b_at_k_mmax: float
+    rho: float
+    delta: float
+
+
+@dataclass(frozen=True)
+class State:
+    """Device state reported by the firmware: position x [m or rad], velocity v [m/s or
+    rad/s], commanded force f [N or N m], step (samples since power-up); all 0 until the
+    control loop first reports."""
+
+    x: float
+    v: float
+    f: float
+    step: int
+
+
+@dataclass(frozen=True)
+class Counters:
+    """Counts since power-up: accepted gain changes and refused requests (u32, wrap)."""
+
+    accepted: int
+    refused: int
+
+
+@dataclass(frozen=True)
+class Refusal:
+    """The last refused request: reason name from regmap.h ("ZW_REASON_NONE" if none yet)
+    and the Modbus exception code sent for it (0 if none)."""
+
+    reason: str
+    exception: int
+
+
+@dataclass(frozen=True)
+class Status:
+    """Everything the drive shows, read in five requests (one per mapped block, so not an
+    atomic snapshot).
+
+    mode: "operation" or "commissioning"; sealed: a certified block is in force (CRC
+    valid).  plant and policy come from the certified-block registers: the sealed block in
+    operation mode, the block being written in commissioning mode (the live limits stay
+    those of the sealed block until SEAL)."""
+
+    mode: str
+    sealed: bool
+    plant: Plant
+    policy: Policy
+    gains: Gains
+    limits: Limits
+    state: State
+    counters: Counters
+    last_refusal: Refusal
+    version: int
+
+
+@dataclass(frozen=True)
+class GainResult:
+    """Outcome of a gain write.
+
+    accepted: the drive applied the pair; reason: regmap.h name of the refusal reason
+    ("ZW_REASON_NONE" when accepted); exception: Modbus exception code of the response
+    (0 when accepted; 0x03 value refused, 0x02 address/mode refused); K [N/m], B [N s/m]:
+    the gains the drive holds afterwards, read back (binary32 values)."""
+
+    accepted: bool
+    reason: str
+    exception: int
+    K: float
+    B: float
+
+
+@dataclass(frozen=True)
+class CommissionResult:
+    """Outcome of commissioning.
+
+    accepted: the new block is sealed and the drive is back in operation (gains off, 0/0);
+    reason / exception: as in GainResult, for the first refused step; stage: the step that
+    was refused ("unlock", "write", "seal") or "done"; crc: the CRC-16/MODBUS sent for the
+    block; aborted: after a refusal the client sent ABORT, so the drive went back to the
+    last sealed block (and to operation)."""
+
+    accepted: bool
+    reason: str
+    exception: int
+    stage: str
+    crc: int
+    aborted: bool
+
+
+class DriveError(RuntimeError):
+    """The drive refused a request the client needed (e.g. a status read), or the server is
+    not a zwidth drive.  ``exception`` is the Modbus exception code (0 if not applicable),
+    ``reason`` the regmap.h reason name when known."""
+
+    def __init__(self, message: str, exception: int = 0, reason: str = ""):
+        super().__init__(message)
+        self.exception = exception
+        self.reason = reason
+
+
+# ---------------------------------------------------------------------------------------
+# The client
+# ---------------------------------------------------------------------------------------
+
+
+class Drive:
+    """A zwidth drive over Modbus TCP.
+
+    host: address of the drive (default 127.0.0.1); port: TCP port (default 1502, what
+    zwidth-drive listens on); unit: Modbus unit (device) identifier, 0..255 (default 1);
+    timeout: seconds to wait for a connection or a response (default 1.0).
+
+    Use as a context manager (``with Drive(...) as d:``) or call ``connect()``/``close()``;
+    methods connect on first use.  Connecting checks the map's magic (0x5A57) and version
+    (1).  Requests are never retried (a gain write or a command is not idempotent)."""
+
+    def __init__(self, host: str = "127.0.0.1", port: int = 1502, unit: int = 1,
+                 timeout: float = 1.0):
+        if not isinstance(host, str) or not host:
+            raise ValueError(f"host must be a non-empty string, got {host!r}")
+        if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= 65535:
+            raise ValueError(f"port must be an integer in 1..65535, got {port!r}")
+        if isinstance(unit, bool) or not isinstance(unit, int) or not 0 <= unit <= 255:
+            raise ValueError(f"unit must be an integer in 0..255, got {unit!r}")
+        t = _real("timeout", timeout)
+        if not (t > 0 and math.isfinite(t)):
+            raise ValueError(f"timeout must be > 0 seconds and finite, got {timeout!r}")
+        self.host = host
+        self.port = port
+        self.unit = unit
+        self.timeout = t
+        self._client = None
+        self._unit_kw = "device_id"
+
+    # -- connection ---------------------------------------------------------------------
+
+    @property
+    def address(self) -> str:
+        """"host:port" of the drive."""
+        return f"{self.host}:{self.port}"
+
+    def connect(self) -> "Drive":
+        """Open the TCP connection and check that the server is a zwidth drive (magic and
+        map version).  ConnectionError if it cannot be reached, DriveError if it answers
+        but is not a zwidth drive of map version 1."""
+        if self._client is not None:
+            return self
+        try:  # imported here: a script that only uses the encoders does not need pymodbus
+            from pymodbus.client import ModbusTcpClient
+        except ImportError as exc:
+            raise ImportError("zwidth.modbus.Drive needs pymodbus: pip install 'pymodbus>=3.6'"
+                              ) from exc
+
+        client = ModbusTcpClient(self.host, port=self.port, timeout=self.timeout, retries=0,
+                                 reconnect_delay=0)
+        if not client.connect():
+            client.close()
+            raise ConnectionError(
+                f"cannot connect to the zwidth drive at {self.address} "
+                f"(nothing listening, or no answer within {self.timeout} s)")
+        self._client = client
+        self._unit_kw = unit_keyword(client.read_holding_registers)
+        try:
+            head = self._read(REG["MAGIC"], 2)
+        except DriveError as exc:
+            self.close()
+            raise DriveError(f"{self.address} is not a zwidth drive (reading the magic "
+                             f"register gave exception {exc.exception})",
+                             exc.exception) from None
+        except BaseException:
+            self.close()
+            raise
+        if head[0] != MAGIC or head[1] != MAP_VERSION:
+            self.close()
+            raise DriveError(f"{self.address} is not a zwidth drive of map version "
+                             f"{MAP_VERSION} (magic 0x{head[0]:04X}, version {head[1]})")
+        return self
+
+    def close(self) -> None:
+        """Close the connection (idempotent)."""
+        if self._client is not None:
+            try:
+                self._client.close()
+            finally:
+                self._client = None
+
+    def __enter__(self) -> "Drive":
+        return self.connect()
+
+    def __exit__(self, *exc_info) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return f"Drive({self.host!r}, {self.port}, unit={self.unit}, timeout={self.timeout})"
+
+    # -- raw requests -------------------------------------------------------------------
+
+    def _call(self, what: str, fn, *args, **kwargs):
+        """Run one pymodbus request; returns (response, exception_code)."""
+        from pymodbus.exceptions import ModbusException
+
+        try:
+            kwargs[self._unit_kw] = self.unit
+            rsp = fn(*args, **kwargs)
+        except ModbusException as exc:
+            self.close()
+            raise ConnectionError(f"zwidth drive at {self.address}: {what} got no valid "
+                                  f"answer within {self.timeout} s ({exc})") from None
+        except OSError as exc:
+            self.close()
+            raise ConnectionError(f"zwidth drive at {self.address}: {what}: {exc}") from None
+        code = getattr(rsp, "exception_code", None) if rsp is not None else None
+        if rsp is None or isinstance(rsp, ModbusException) or (rsp.isError() and not code):
+            # pymodbus < 3.7 returns (rather than raises) ModbusIOException on a lost link
+            self.close()
+            raise ConnectionError(f"zwidth drive at {self.address}: {what} got no valid "
+                                  f"answer within {self.timeout} s ({rsp})")
+        if rsp.isError():
+            return rsp, int(code)
+        return rsp, 0
+
+    def _read(self, addr: int, count: int) -> List[int]:
+        """Read ``count`` holding registers from ``addr`` (0x03); DriveError if refused."""
+        rsp, exc = self._call(f"read of {count} registers at 0x{addr:04X}",
+                              self._client_or_connect().read_holding_registers, addr,
+                              count=count)
+        if exc:
+            raise DriveError(f"zwidth drive at {self.address} refused reading {count} "
+                             f"registers at 0x{addr:04X} (exception {exc})", exc)
+        regs = list(rsp.registers)[:count]
+        if len(regs) != count:
+            raise ConnectionError(f"zwidth drive at {self.address}: read of {count} "
+                                  f"registers at 0x{addr:04X} returned {len(regs)}")
+        return regs
+
+    def _write_many(self, addr: int, words: Sequence[int]) -> int:
+        """Write registers in one 0x10 request; returns the exception code (0 accepted)."""
+        _, exc = self._call(f"write of {len(words)} registers at 0x{addr:04X}",
+                            self._client_or_connect().write_registers, addr, list(words))
+        return exc
+
+    def _write_one(self, addr: int, word: int) -> int:
+        """Write one register with 0x06; returns the exception code (0 accepted)."""
+        _, exc = self._call(f"write of register 0x{addr:04X}",
+                            self._client_or_connect().write_register, addr, word)
+        return exc
+
+    def _client_or_connect(self):
+        if self._client is None:
+            self.connect()
+        return self._client
+
+    def _last_refusal(self) -> Refusal:
+        regs = self._read(REG["LAST_REASON"], 2)
+        return Refusal(reason_name(regs[0]), regs[1])
+
+    # -- public API ---------------------------------------------------------------------
+
+    def status(self) -> Status:
+        """Read the whole map (five read requests, one per mapped block).  DriveError if
+        the drive refuses a read."""
+        head = self._read(*_BLOCK_HEAD)
+        gains = self._read(*_BLOCK_GAINS)
+        live = self._read(*_BLOCK_LIVE)
+        state = self._read(*_BLOCK_STATE)
+        cert = self._read(*_BLOCK_CERT)
+        c0 = _BLOCK_CERT[0]
+        block = {name: _f(cert, c0 + 2 * i, c0) for i, name in enumerate(_CERT_FIELDS)}
+        l0 = _BLOCK_LIVE[0]
+        s0 = _BLOCK_STATE[0]
+        return Status(
+            mode={0: "operation", 1: "commissioning"}.get(head[REG["MODE"]],
+                                                          f"unknown({head[REG['MODE']]})"),
+            sealed=bool(head[REG["SEALED"]]),
+            plant=Plant(block["m"], block["b"], block["T"]),
+            policy=Policy(block["sigma"], block["r"], block["k_min"], block["k_max"],
+                          block["b_min"], block["b_max"], block["dk_max"], block["db_max"],
+                          cert[REG["CERT_CRC"] - c0]),
+            gains=Gains(words_to_float(gains[0], gains[1]), words_to_float(gains[2], gains[3])),
+            limits=Limits(
+                k_max=_f(live, REG["LIVE_K_MAX"], l0),
+                k_cert=_f(live, REG["LIVE_K_CERT"], l0),
+                b_lo=_f(live, REG["LIVE_B_LO"], l0),
+                b_hi=_f(live, REG["LIVE_B_HI"], l0),
+                k_mmax=_f(live, REG["LIVE_K_MMAX"], l0),
+                b_at_k_mmax=_f(live, REG["LIVE_B_AT_KMMAX"], l0),
+                rho=_f(live, REG["LIVE_RHO"], l0),
+                delta=_f(live, REG["LIVE_DELTA"], l0),
+            ),
+            state=State(
+                x=_f(state, REG["STATE_X"], s0),
+                v=_f(state, REG["STATE_V"], s0),
+                f=_f(state, REG["STATE_F"], s0),
+                step=u32_from_words(*_words_of(state, REG["STATE_STEP"], s0)),
+            ),
+            counters=Counters(u32_from_words(head[6], head[7]),
+                              u32_from_words(head[8], head[9])),
+            last_refusal=Refusal(reason_name(head[REG["LAST_REASON"]]),
+                                 head[REG["LAST_EXCEPTION"]]),
+            version=head[REG["VERSION"]],
+        )
+
+    def gains(self) -> Gains:
+        """The active gains K [N/m], B [N s/m] (one read request)."""
+        g = self._read(*_BLOCK_GAINS)
+        return Gains(words_to_float(g[0], g[1]), words_to_float(g[2], g[3]))
+
+    def set_gains(self, K: Optional[float] = None, B: Optional[float] = None) -> GainResult:
+        """Ask the drive for new gains: stiffness K [N/m or N m/rad] and/or damping
+        B [N s/m or N m s/rad].
+
+        Both given: K and B go in ONE write-multiple request (0x10, 4 registers at 0x0010),
+        so the drive judges them as a pair.  One given: only that float is written (0x10,
+        2 registers) and the drive judges it with the other active gain.  The drive
+        accepts (0, 0) always (output off); anything else must pass its certification
+        (bounds, step limits, stability, sigma, radius), else it refuses and keeps the
+        old gains.  The gains are then read back.
+
+        Values are rounded to binary32.  ValueError (naming the argument) when neither is
+        given or a value is not a real number or overflows binary32; NaN and infinities
+        are sent and refused by the drive (ZW_REASON_NOT_FINITE)."""
+        if K is None and B is None:
+            raise ValueError("set_gains needs K, B or both")
+        words: List[int] = []
+        addr = REG["K"] if K is not None else REG["B"]
+        if K is not None:
+            words += float_to_words(K, "K")
+        if B is not None:
+            words += float_to_words(B, "B")
+        exc = self._write_many(addr, words)
+        refusal = self._last_refusal() if exc else Refusal(REASONS[0], 0)
+        now = self.gains()
+        return GainResult(accepted=exc == 0, reason=refusal.reason, exception=exc,
+                          K=now.K, B=now.B)
+
+    def command(self, name: str) -> int:
+        """Write one command ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT") to ZW_REG_COMMAND;
+        returns the exception code (0 accepted).  ValueError for an unknown name."""
+        if name not in CMD:
+            raise ValueError(f"command must be one of {sorted(CMD)}, got {name!r}")
+        return self._write_one(REG["COMMAND"], CMD[name])
+
+    def commission(self, m: float, b: float, T: float, sigma: float, r: float,
+                   k_min: float, k_max: float, b_min: float, b_max: float,
+                   dk_max: float, db_max: float, *, abort_on_refusal: bool = True
+                   ) -> CommissionResult:
+        """Install and seal a new certified block.
+
+        m: mass [kg] or inertia J [kg m^2]; b: physical damping [N s/m or N m s/rad];
+        T: sampling period [s]; sigma: fraction of K_max(B) allowed, in (0, 1]; r: spectral
+        radius bound, in (0, 1]; k_min, k_max: K bounds [N/m or N m/rad]; b_min, b_max:
+        B bounds [N s/m or N m s/rad]; dk_max [N/m], db_max [N s/m]: largest change of K
+        and B per accepted write, > 0.
+
+        Steps: UNLOCK1 and UNLOCK2 (two single writes in a row; the drive turns the output
+        off), the 22 block words and their CRC-16/MODBUS in one write-multiple request,
+        then SEAL (the drive checks the CRC and the policy and returns to operation with
+        the gains off).  The drive is the judge of the policy; the client only checks
+        that every value can be sent (ValueError naming the argument otherwise).  If a
+        step is refused and abort_on_refusal is true (default), ABORT is sent so the
+        drive restores its last sealed block and returns to operation."""
+        values = dict(m=m, b=b, T=T, sigma=sigma, r=r, k_min=k_min, k_max=k_max,
+                      b_min=b_min, b_max=b_max, dk_max=dk_max, db_max=db_max)
+        words: List[int] = []
+        for name in _CERT_FIELDS:
+            words += float_to_words(values[name], name)
+        crc = crc16_words(words)
+
+        def refused(stage: str, exc: int, abort: bool) -> CommissionResult:
+            refusal = self._last_refusal()
+            aborted = False
+            if abort and abort_on_refusal:
+                aborted = self.command("ABORT") == 0
+            return CommissionResult(False, refusal.reason, exc, stage, crc, aborted)
+
+        exc = self.command("UNLOCK1")
+        if exc:
+            return refused("unlock", exc, False)
+        exc = self.command("UNLOCK2")
+        if exc:
+            return refused("unlock", exc, False)
+        exc = self._write_many(REG["CERT_M"], words + [crc])
+        if exc:
+            return refused("write", exc, True)
+        exc = self.command("SEAL")
+        if exc:
+            return refused("seal", exc, True)
+        return CommissionResult(True, REASONS[0], 0, "done", crc, False)

@@ -1,0 +1,1541 @@
+/* The drive-side register map (zwidth/regmap.h): every register and its access rights, every
+ * refusal path with its exception code and reason, atomicity (after any refusal every
+ * register but the three refusal registers reads back as before, and the struct itself is
+ * unchanged), the certification rules on the paper's drive, the CRC seal and the
+ * commissioning sequence, the float word order, malformed PDUs, a too-small response
+ * buffer and NULL arguments.
+ *
+ * Independent references: the float words are compared with a host bit cast (memcpy), the
+ * CRC with a bytewise CRC-16/MODBUS written here and its published check values, the paper
+ * numbers with the printed digits.  The live registers are compared with the zw_device_*
+ * functions they are documented to report. */
+#include "zw_test.h"
+
+#include "zwidth/regmap.h"
+
+/* ---- the paper's drive (Section V-B, load motor short-circuited), T = 20 ms -------------- */
+
+#define J1 85.78e-7f    /* kg m^2 */
+#define B_SHORT 2.197e-3f /* N m s/rad */
+#define T_20MS 0.02f
+
+/* A permissive policy: every rule but stability is out of the way unless a test tightens it. */
+static zw_cert paper_cert(void)
+{
+    zw_cert c;
+    c.m = J1;
+    c.b = B_SHORT;
+    c.T = T_20MS;
+    c.sigma = 1.0f;
+    c.r = 1.0f;
+    c.k_min = 0.0f;
+    c.k_max = 10.0f;
+    c.b_min = -0.01f;
+    c.b_max = 0.01f;
+    c.dk_max = 1.0f;
+    c.db_max = 0.01f;
+    return c;
+}
+
+static zw_device paper_device(void)
+{
+    zw_device d;
+    memset(&d, 0, sizeof d);
+    EXPECT_OK(zw_device_init(&d, (zw_real)J1, (zw_real)B_SHORT, (zw_real)T_20MS));
+    return d;
+}
+
+/* A map sealed with c (the struct is filled with garbage first: init must set everything). */
+static void rm_init(zw_regmap *rm, const zw_cert *c)
+{
+    zw_reason why = ZW_REASON_CRC;
+    memset(rm, 0xA5, sizeof *rm);
+    EXPECT_OK(zw_regmap_init(rm, c, &why));
+    assert_int_equal(why, ZW_REASON_NONE);
+}
+
+/* ---- small helpers ------------------------------------------------------------------------ */
+
+static uint32_t bits_of(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+static float float_of(uint32_t u)
+{
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+static void words_of(float f, uint_least16_t w[2])
+{
+    uint32_t u = bits_of(f);
+    w[0] = (uint_least16_t)(u >> 16);
+    w[1] = (uint_least16_t)(u & 0xFFFFu);
+}
+
+static uint_least16_t rd(zw_regmap *rm, uint_least16_t addr)
+{
+    uint_least16_t w = 0xDEADu;
+    zw_reason why = ZW_REASON_CRC;
+    assert_int_equal(zw_regmap_read(rm, addr, 1, &w, &why), ZW_MB_OK);
+    assert_int_equal(why, ZW_REASON_NONE);
+    return w;
+}
+
+static uint32_t rd32(zw_regmap *rm, uint_least16_t addr)
+{
+    uint_least16_t w[2] = {0xDEADu, 0xBEEFu};
+    assert_int_equal(zw_regmap_read(rm, addr, 2, w, NULL), ZW_MB_OK);
+    return ((uint32_t)w[0] << 16) | (uint32_t)w[1];
+}
+
+/* A float register, through a host bit cast (independent of zw_words_to_float). */
+static float rdf(zw_regmap *rm, uint_least16_t addr)
+{
+    return float_of(rd32(rm, addr));
+}
+
+typedef struct outcome {
+    zw_mb_exception exc;
+    zw_reason why;
+} outcome;
+
+static outcome write_words(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
+                           const uint_least16_t *words)
+{
+    outcome o;
+    o.why = (zw_reason)999;
+    o.exc = zw_regmap_write(rm, addr, count, words, &o.why);
+    return o;
+}
+
+static outcome read_words(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
+                          uint_least16_t *words)
+{
+    outcome o;
+    o.why = (zw_reason)999;
+    o.exc = zw_regmap_read(rm, addr, count, words, &o.why);
+    return o;
+}
+
+static outcome write_pair(zw_regmap *rm, float K, float B)
+{
+    uint_least16_t w[4];
+    words_of(K, w);
+    words_of(B, w + 2);
+    return write_words(rm, ZW_REG_K, 4, w);
+}
+
+static outcome write_K(zw_regmap *rm, float K)
+{
+    uint_least16_t w[2];
+    words_of(K, w);
+    return write_words(rm, ZW_REG_K, 2, w);
+}
+
+static outcome write_B(zw_regmap *rm, float B)
+{
+    uint_least16_t w[2];
+    words_of(B, w);
+    return write_words(rm, ZW_REG_B, 2, w);
+}
+
+static outcome command(zw_regmap *rm, uint_least16_t cmd)
+{
+    return write_words(rm, ZW_REG_COMMAND, 1, &cmd);
+}
+
+static void expect_outcome(outcome o, zw_mb_exception exc, zw_reason why, const char *expr,
+                           const char *file, int line)
+{
+    if (o.exc != exc || o.why != why) {
+        print_error("%s:%d: %s gave exception %d, %s; expected %d, %s\n", file, line, expr,
+                    (int)o.exc, zw_reason_name(o.why), (int)exc, zw_reason_name(why));
+        _fail(file, line);
+    }
+}
+#define EXPECT_OUTCOME(call, exc, why)                                                           \
+    expect_outcome((call), (exc), (why), #call, __FILE__, __LINE__)
+#define EXPECT_ACCEPTED(call) EXPECT_OUTCOME(call, ZW_MB_OK, ZW_REASON_NONE)
+
+/* ---- snapshots: every mapped register, read through the map ------------------------------- */
+
+/* The mapped ranges, as regmap.h lists them (test_access_map checks that they are exactly
+ * the mapped addresses). */
+static const struct {
+    uint_least16_t first, last;
+} k_mapped[] = {
+    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x37}, {0x40, 0x56}, {0x60, 0x60},
+};
+
+static bool is_mapped(unsigned addr)
+{
+    size_t i;
+    for (i = 0; i < ZWT_ARRAY_LEN(k_mapped); ++i)
+        if (addr >= k_mapped[i].first && addr <= k_mapped[i].last) return true;
+    return false;
+}
+
+typedef struct snap {
+    uint_least16_t w[ZW_REG_COUNT];
+} snap;
+
+/* Read on a copy, so that taking a snapshot cannot change the map under test. */
+static snap snapshot(const zw_regmap *rm)
+{
+    snap s;
+    size_t i;
+    zw_regmap copy = *rm;
+    memset(&s, 0, sizeof s);
+    for (i = 0; i < ZWT_ARRAY_LEN(k_mapped); ++i) {
+        uint_least16_t n = (uint_least16_t)(k_mapped[i].last - k_mapped[i].first + 1u);
+        assert_int_equal(zw_regmap_read(&copy, k_mapped[i].first, n, &s.w[k_mapped[i].first], NULL),
+                         ZW_MB_OK);
+    }
+    return s;
+}
+
+static bool is_refusal_register(unsigned a)
+{
+    return a == ZW_REG_LAST_REASON || a == ZW_REG_LAST_EXCEPTION || a == ZW_REG_REFUSED ||
+           a == ZW_REG_REFUSED + 1u;
+}
+
+static void expect_same_registers(const snap *before, const snap *after, bool refusal_too,
+                                  const char *file, int line)
+{
+    unsigned a;
+    for (a = 0; a < ZW_REG_COUNT; ++a) {
+        if (!refusal_too && is_refusal_register(a)) continue;
+        if (before->w[a] != after->w[a]) {
+            print_error("%s:%d: register 0x%04X changed from 0x%04X to 0x%04X\n", file, line, a,
+                        (unsigned)before->w[a], (unsigned)after->w[a]);
+            _fail(file, line);
+        }
+    }
+}
+
+static uint32_t snap32(const snap *s, unsigned a)
+{
+    return ((uint32_t)s->w[a] << 16) | (uint32_t)s->w[a + 1u];
+}
+
+/* A refused request: the outcome, then that only the refusal registers changed (REFUSED by
+ * exactly one), and that the struct itself holds the same data but for those fields. */
+static void check_refused(zw_regmap *rm, const snap *before, const zw_regmap *struct_before,
+                          outcome o, zw_mb_exception exc, zw_reason why, const char *expr,
+                          const char *file, int line)
+{
+    snap after;
+    zw_regmap expect;
+    expect_outcome(o, exc, why, expr, file, line);
+    expect = *struct_before;
+    expect.last_reason = (uint_least16_t)why;
+    expect.last_exception = (uint_least16_t)exc;
+    expect.refused = (struct_before->refused + 1u) & 0xFFFFFFFFu;
+    expect.unlock_armed = rm->unlock_armed;
+    if (memcmp(&expect, rm, sizeof expect) != 0) {
+        print_error("%s:%d: %s changed the map beyond the refusal registers\n", file, line, expr);
+        _fail(file, line);
+    }
+    after = snapshot(rm);
+    expect_same_registers(before, &after, false, file, line);
+    if (snap32(&after, ZW_REG_REFUSED) != ((snap32(before, ZW_REG_REFUSED) + 1u) & 0xFFFFFFFFu) ||
+        after.w[ZW_REG_LAST_REASON] != (uint_least16_t)why ||
+        after.w[ZW_REG_LAST_EXCEPTION] != (uint_least16_t)exc) {
+        print_error("%s:%d: %s: refusal registers %u, 0x%02X, %lu (before %lu)\n", file, line, expr,
+                    (unsigned)after.w[ZW_REG_LAST_REASON], (unsigned)after.w[ZW_REG_LAST_EXCEPTION],
+                    (unsigned long)snap32(&after, ZW_REG_REFUSED),
+                    (unsigned long)snap32(before, ZW_REG_REFUSED));
+        _fail(file, line);
+    }
+}
+
+#define EXPECT_REFUSED(rm, call, exc, why)                                                       \
+    do {                                                                                         \
+        snap before_ = snapshot(rm);                                                             \
+        zw_regmap struct_before_ = *(rm);                                                        \
+        outcome o_ = (call);                                                                     \
+        check_refused((rm), &before_, &struct_before_, o_, (exc), (why), #call, __FILE__,        \
+                      __LINE__);                                                                 \
+    } while (0)
+
+/* ---- independent CRC-16/MODBUS ------------------------------------------------------------ */
+
+static uint16_t ref_crc_bytes(const unsigned char *p, size_t n)
+{
+    uint16_t crc = 0xFFFFu;
+    size_t i;
+    int k;
+    for (i = 0; i < n; ++i) {
+        crc = (uint16_t)(crc ^ p[i]);
+        for (k = 0; k < 8; ++k)
+            crc = (crc & 1u) ? (uint16_t)((crc >> 1) ^ 0xA001u) : (uint16_t)(crc >> 1);
+    }
+    return crc;
+}
+
+static uint16_t ref_crc_words(const uint_least16_t *w, size_t n)
+{
+    unsigned char bytes[2 * 64];
+    size_t i;
+    assert_true(n <= 64);
+    for (i = 0; i < n; ++i) {
+        bytes[2 * i] = (unsigned char)(w[i] >> 8);
+        bytes[2 * i + 1] = (unsigned char)(w[i] & 0xFFu);
+    }
+    return ref_crc_bytes(bytes, 2 * n);
+}
+
+/* The 22 block words of c (host bit casts) and their CRC. */
+static void block_words(const zw_cert *c, uint_least16_t w[ZW_CERT_WORDS + 1u])
+{
+    const float f[11] = {c->m,     c->b,     c->T,     c->sigma,  c->r,     c->k_min,
+                         c->k_max, c->b_min, c->b_max, c->dk_max, c->db_max};
+    size_t i;
+    for (i = 0; i < 11; ++i) words_of(f[i], &w[2 * i]);
+    w[ZW_CERT_WORDS] = ref_crc_words(w, ZW_CERT_WORDS);
+}
+
+/* ---- floats over two registers --------------------------------------------------------- */
+
+static void check_pattern(uint32_t u)
+{
+    uint_least16_t w[2], back[2] = {0xDEADu, 0xBEEFu};
+    float f;
+    bool nan_pattern = (u & 0x7F800000u) == 0x7F800000u && (u & 0x7FFFFFu) != 0u;
+    w[0] = (uint_least16_t)(u >> 16);
+    w[1] = (uint_least16_t)(u & 0xFFFFu);
+    f = zw_words_to_float(w);
+    zw_float_to_words(f, back);
+    if (nan_pattern) {
+        if (!(f != f) || back[0] != 0x7FC0u || back[1] != 0u) {
+            print_error("pattern 0x%08lX: NaN expected, back 0x%04X%04X\n", (unsigned long)u,
+                        (unsigned)back[0], (unsigned)back[1]);
+            fail();
+        }
+    } else if (bits_of(f) != u || back[0] != w[0] || back[1] != w[1]) {
+        print_error("pattern 0x%08lX: decoded 0x%08lX, encoded back 0x%04X%04X\n",
+                    (unsigned long)u, (unsigned long)bits_of(f), (unsigned)back[0],
+                    (unsigned)back[1]);
+        fail();
+    }
+}
+
+/* Known encodings, high word first (1.0f is 0x3F80 0x0000). */
+static void test_float_words_known(void **state)
+{
+    static const struct {
+        float f;
+        uint_least16_t hi, lo;
+    } k[] = {
+        {1.0f, 0x3F80u, 0x0000u},       {-2.0f, 0xC000u, 0x0000u},   {0.0f, 0x0000u, 0x0000u},
+        {0.1f, 0x3DCCu, 0xCCCDu},       {-2.5f, 0xC020u, 0x0000u},   {85.78e-7f, 0x370Fu, 0xEA3Bu},
+        {FLT_MAX, 0x7F7Fu, 0xFFFFu},    {FLT_MIN, 0x0080u, 0x0000u}, {-FLT_MAX, 0xFF7Fu, 0xFFFFu},
+        {FLT_MIN * FLT_EPSILON, 0x0000u, 0x0001u}, /* smallest subnormal 2^-149 */
+    };
+    size_t i;
+    uint_least16_t w[2];
+    (void)state;
+    for (i = 0; i < ZWT_ARRAY_LEN(k); ++i) {
+        zw_float_to_words(k[i].f, w);
+        assert_int_equal(w[0], k[i].hi);
+        assert_int_equal(w[1], k[i].lo);
+        assert_true(bits_of(zw_words_to_float(w)) == bits_of(k[i].f));
+    }
+    zw_float_to_words(-0.0f, w);
+    assert_int_equal(w[0], 0x8000u);
+    assert_int_equal(w[1], 0u);
+    zw_float_to_words((float)INFINITY, w);
+    assert_int_equal(w[0], 0x7F80u);
+    assert_int_equal(w[1], 0u);
+    zw_float_to_words(-(float)INFINITY, w);
+    assert_int_equal(w[0], 0xFF80u);
+    assert_int_equal(w[1], 0u);
+    /* every NaN, whatever its sign or payload, becomes the one quiet NaN */
+    zw_float_to_words((float)NAN, w);
+    assert_int_equal(w[0], 0x7FC0u);
+    assert_int_equal(w[1], 0u);
+    zw_float_to_words(float_of(0xFFC12345u), w);
+    assert_int_equal(w[0], 0x7FC0u);
+    assert_int_equal(w[1], 0u);
+    zw_float_to_words(float_of(0x7F800001u), w); /* signalling pattern */
+    assert_int_equal(w[0], 0x7FC0u);
+    assert_int_equal(w[1], 0u);
+    /* words wider than 16 bits are masked */
+    {
+        const uint_least16_t one[2] = {0x3F80u, 0x0000u};
+        assert_true(zw_words_to_float(one) == 1.0f);
+    }
+}
+
+/* Round trip of every exponent with edge and sample significands, both signs, and a
+ * strided sweep of the whole 32-bit space, against a host bit cast. */
+static void test_float_words_round_trip(void **state)
+{
+    uint32_t e, s, u, i;
+    static const uint32_t mant[] = {0u,        1u,        2u,        3u,        0x7FFFFFu,
+                                    0x7FFFFEu, 0x400000u, 0x3FFFFFu, 0x400001u, 0x123456u,
+                                    0x654321u, 0x0F0F0Fu, 0x555555u, 0x2AAAAAu};
+    (void)state;
+    for (s = 0; s < 2; ++s)
+        for (e = 0; e < 256; ++e)
+            for (i = 0; i < ZWT_ARRAY_LEN(mant); ++i)
+                check_pattern((s << 31) | (e << 23) | mant[i]);
+    /* 4099 is prime: the stride visits every exponent and a spread of significands */
+    for (u = 0; u < 0xFFFFFFFFu - 4099u; u += 4099u) check_pattern(u);
+    check_pattern(0xFFFFFFFFu);
+}
+
+/* ---- CRC ------------------------------------------------------------------------------------ */
+
+static void test_crc(void **state)
+{
+    static const unsigned char check[] = "123456789";
+    static const unsigned char eight[] = "12345678";
+    /* "12345678" packed two bytes a word, high byte first */
+    static const uint_least16_t eight_w[4] = {0x3132u, 0x3334u, 0x3536u, 0x3738u};
+    /* the classic Modbus RTU request 01 03 00 00 00 0A, sent with CRC bytes C5 CD */
+    static const uint_least16_t rtu_w[3] = {0x0103u, 0x0000u, 0x000Au};
+    uint_least16_t block[ZW_CERT_WORDS + 1u];
+    zw_cert c = paper_cert();
+    (void)state;
+    /* the reference itself against the catalogue check value of CRC-16/MODBUS */
+    assert_int_equal(ref_crc_bytes(check, 9), 0x4B37u);
+    assert_int_equal(zw_crc16_words(eight_w, 4), ref_crc_bytes(eight, 8));
+    assert_int_equal(zw_crc16_words(eight_w, 4), 0x37DDu);
+    assert_int_equal(zw_crc16_words(rtu_w, 3), 0xCDC5u);
+    block_words(&c, block);
+    assert_int_equal(zw_crc16_words(block, ZW_CERT_WORDS), block[ZW_CERT_WORDS]);
+    assert_int_equal(zw_crc16_words(block, 0), 0xFFFFu);
+    assert_int_equal(zw_crc16_words(NULL, 5), 0xFFFFu);
+}
+
+/* ---- init ------------------------------------------------------------------------------------ */
+
+static void test_init_sealed(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t block[ZW_CERT_WORDS + 1u];
+    unsigned i;
+    (void)state;
+    rm_init(&rm, &c);
+    assert_int_equal(rd(&rm, ZW_REG_MAGIC), 0x5A57u);
+    assert_int_equal(rd(&rm, ZW_REG_VERSION), 1u);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+    assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), 0u);
+    assert_int_equal(rd(&rm, ZW_REG_LAST_EXCEPTION), 0u);
+    assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 0u);
+    assert_int_equal(rd32(&rm, ZW_REG_REFUSED), 0u);
+    assert_true(bits_of(rdf(&rm, ZW_REG_K)) == 0u);
+    assert_true(bits_of(rdf(&rm, ZW_REG_B)) == 0u);
+    for (i = ZW_REG_STATE_X; i <= ZW_REG_STATE_STEP + 1u; ++i)
+        assert_int_equal(rd(&rm, (uint_least16_t)i), 0u);
+    assert_int_equal(rd(&rm, ZW_REG_COMMAND), 0u);
+    /* the sealed block and its CRC read back word for word */
+    block_words(&c, block);
+    for (i = 0; i <= ZW_CERT_WORDS; ++i)
+        assert_int_equal(rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)), block[i]);
+    /* reason may be NULL */
+    EXPECT_OK(zw_regmap_init(&rm, &c, NULL));
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+}
+
+static void test_init_unsealed(void **state)
+{
+    zw_regmap rm;
+    zw_reason why = ZW_REASON_CRC;
+    unsigned i;
+    (void)state;
+    memset(&rm, 0xA5, sizeof rm);
+    EXPECT_OK(zw_regmap_init(&rm, NULL, &why));
+    assert_int_equal(why, ZW_REASON_NONE);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    /* no block: all zero, CRC included; no plant: live registers NaN */
+    for (i = ZW_REG_CERT_M; i <= ZW_REG_CERT_CRC; ++i)
+        assert_int_equal(rd(&rm, (uint_least16_t)i), 0u);
+    for (i = ZW_REG_LIVE_K_MAX; i <= ZW_REG_LIVE_DELTA; i += 2u)
+        assert_int_equal(rd32(&rm, (uint_least16_t)i), 0x7FC00000u);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.1f, 0.0f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.0f, 0.0f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+    EXPECT_STATUS(zw_regmap_init(NULL, NULL, &why), ZW_ERR_NULL);
+}
+
+/* Every BAD_POLICY rule at power-up; the drive comes up unsealed and usable. */
+static void test_init_bad_policy(void **state)
+{
+    int n;
+    (void)state;
+    for (n = 0; n < 20; ++n) {
+        zw_cert c = paper_cert();
+        zw_regmap rm;
+        zw_reason why = ZW_REASON_NONE;
+        switch (n) {
+        case 0: c.sigma = 0.0f; break;
+        case 1: c.sigma = 1.0000001f; break;
+        case 2: c.r = 0.0f; break;
+        case 3: c.r = 1.5f; break;
+        case 4: c.sigma = -0.5f; break;
+        case 5: c.k_min = 1.0f; c.k_max = 0.5f; break;
+        case 6: c.b_min = 0.01f; c.b_max = -0.01f; break;
+        case 7: c.dk_max = 0.0f; break;
+        case 8: c.db_max = -1.0f; break;
+        case 9: c.m = 0.0f; break;
+        case 10: c.T = 0.0f; break;
+        case 11: c.b = -1e-3f; break;
+        case 12: c.m = (float)NAN; break;
+        case 13: c.k_max = (float)INFINITY; break;
+        case 14: c.b_min = -(float)INFINITY; break;
+        case 15: c.dk_max = (float)INFINITY; break;
+        case 16: c.r = (float)NAN; break;
+        case 17: c.T = -0.02f; break;
+        case 18: c.b = (float)INFINITY; break;
+        default: c.sigma = (float)NAN; break;
+        }
+        memset(&rm, 0xA5, sizeof rm);
+        EXPECT_TRUE_MSG(zw_regmap_init(&rm, &c, &why) == ZW_ERR_ARG, "case %d", n);
+        EXPECT_TRUE_MSG(why == ZW_REASON_BAD_POLICY, "case %d: %s", n, zw_reason_name(why));
+        assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+        assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+        assert_int_equal(rd(&rm, ZW_REG_CERT_M), 0u);
+        assert_int_equal(rd32(&rm, ZW_REG_LIVE_K_MMAX), 0x7FC00000u);
+        EXPECT_OUTCOME(write_K(&rm, 0.1f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+        /* and it can be commissioned */
+        EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+        EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK2));
+        assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    }
+}
+
+/* ---- the map ----------------------------------------------------------------------------- */
+
+/* Reads: exactly the documented addresses are mapped; reads may start or end mid-value. */
+static void test_access_map_reads(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    unsigned a;
+    uint_least16_t w[4] = {0u, 0u, 0u, 0u};
+    zw_reason why;
+    (void)state;
+    rm_init(&rm, &c);
+    for (a = 0; a < 0x100u; ++a) {
+        uint_least16_t before = 0x1234u;
+        why = (zw_reason)999;
+        w[0] = before;
+        if (is_mapped(a)) {
+            EXPECT_TRUE_MSG(zw_regmap_read(&rm, (uint_least16_t)a, 1, w, &why) == ZW_MB_OK,
+                            "read 0x%04X", a);
+            assert_int_equal(why, ZW_REASON_NONE);
+        } else {
+            EXPECT_REFUSED(&rm, read_words(&rm, (uint_least16_t)a, 1, w),
+                           ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_UNMAPPED);
+            assert_int_equal(w[0], before); /* words untouched on refusal */
+        }
+    }
+    /* a range touching one unmapped word is refused as a whole */
+    EXPECT_REFUSED(&rm, read_words(&rm, 0x08, 3, w), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_UNMAPPED);
+    EXPECT_REFUSED(&rm, read_words(&rm, 0x56, 2, w), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_UNMAPPED);
+    /* past the end of the address space */
+    EXPECT_REFUSED(&rm, read_words(&rm, 0xFFFF, 1, w),
+                   ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_UNMAPPED);
+    EXPECT_REFUSED(&rm, read_words(&rm, 0xFFFF, 2, w),
+                   ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_UNMAPPED);
+    /* quantity */
+    EXPECT_REFUSED(&rm, read_words(&rm, 0, 0, w), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_MALFORMED);
+    EXPECT_REFUSED(&rm, read_words(&rm, 0, 126, w),
+                   ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    /* mid-value reads: the low word of K alone, and the high word of B with the low of K */
+    EXPECT_ACCEPTED(write_pair(&rm, 0.1f, 1e-3f));
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_K + 1, 2, w, NULL), ZW_MB_OK);
+    assert_int_equal(w[0], (uint_least16_t)(bits_of(0.1f) & 0xFFFFu));
+    assert_int_equal(w[1], (uint_least16_t)(bits_of(1e-3f) >> 16));
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_K, 4, w, NULL), ZW_MB_OK);
+    assert_true((((uint32_t)w[0] << 16) | w[1]) == bits_of(0.1f));
+    assert_true((((uint32_t)w[2] << 16) | w[3]) == bits_of(1e-3f));
+    /* a full read of 125 registers at the end of the map is unmapped, not malformed */
+    {
+        uint_least16_t big[125];
+        EXPECT_REFUSED(&rm, read_words(&rm, 0, 125, big),
+                       ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_UNMAPPED);
+    }
+}
+
+/* Writes: the access right of every mapped address. */
+static void test_access_map_writes(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    unsigned a;
+    uint_least16_t w[2] = {0u, 0u};
+    (void)state;
+    rm_init(&rm, &c);
+    for (a = 0; a < 0x100u; ++a) {
+        uint_least16_t addr = (uint_least16_t)a;
+        if (!is_mapped(a)) {
+            EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
+                           ZW_REASON_UNMAPPED);
+        } else if (a <= 0x09u || (a >= 0x20u && a <= 0x37u)) {
+            /* read-only, whether one word or a whole (aligned) value is written */
+            EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
+                           ZW_REASON_READ_ONLY);
+            if ((a & 1u) == 0u && a >= 0x06u)
+                EXPECT_REFUSED(&rm, write_words(&rm, addr, 2, w), ZW_MB_ILLEGAL_ADDRESS,
+                               ZW_REASON_READ_ONLY);
+        } else if (a >= 0x10u && a <= 0x13u) {
+            EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
+                           ZW_REASON_HALF_FLOAT);
+        } else if (a >= 0x40u && a <= 0x55u) {
+            /* the block: a single word is half a float; a whole float is locked */
+            EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
+                           ZW_REASON_HALF_FLOAT);
+            if ((a & 1u) == 0u)
+                EXPECT_REFUSED(&rm, write_words(&rm, addr, 2, w), ZW_MB_ILLEGAL_ADDRESS,
+                               ZW_REASON_LOCKED);
+        } else if (a == ZW_REG_CERT_CRC) {
+            EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
+                           ZW_REASON_LOCKED);
+        } else {
+            assert_int_equal(a, ZW_REG_COMMAND);
+            EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_VALUE,
+                           ZW_REASON_BAD_COMMAND);
+        }
+    }
+    /* the whole-request order: unmapped before read-only before half a float before mode */
+    {
+        uint_least16_t z[16];
+        memset(z, 0, sizeof z);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x0E, 4, z), ZW_MB_ILLEGAL_ADDRESS,
+                       ZW_REASON_UNMAPPED);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x08, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+                       ZW_REASON_READ_ONLY);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x11, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+                       ZW_REASON_HALF_FLOAT);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x10, 3, z), ZW_MB_ILLEGAL_ADDRESS,
+                       ZW_REASON_HALF_FLOAT);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x41, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+                       ZW_REASON_HALF_FLOAT);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x54, 3, z), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x55, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+                       ZW_REASON_HALF_FLOAT);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x56, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+                       ZW_REASON_UNMAPPED);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0xFFFF, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+                       ZW_REASON_UNMAPPED);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x10, 0, z), ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x10, 124, z), ZW_MB_ILLEGAL_VALUE,
+                       ZW_REASON_MALFORMED);
+    }
+}
+
+/* ---- gains -------------------------------------------------------------------------------- */
+
+/* The issue's motivating case: K then B through an unstable intermediate is refused at the
+ * intermediate; the same pair in one request is accepted. */
+static void test_pair_atomicity(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    zw_device d = paper_device();
+    zw_verdict v;
+    (void)state;
+    rm_init(&rm, &c);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.1f, 0.0f));
+    /* (0.4, 0) is beyond K_max(0) = 0.3577; (0.4, -1.36e-3) is inside (K_max = 0.4928) */
+    EXPECT_OK(zw_device_check(&d, R(0.4f), R(0.0f), &v));
+    assert_false(v.stable);
+    EXPECT_OK(zw_device_check(&d, R(0.4f), R(-1.36e-3f), &v));
+    assert_true(v.stable);
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.4f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_UNSTABLE);
+    assert_true(rdf(&rm, ZW_REG_K) == 0.1f);
+    assert_true(rdf(&rm, ZW_REG_B) == 0.0f);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.4f, -1.36e-3f));
+    assert_true(rdf(&rm, ZW_REG_K) == 0.4f);
+    assert_true(rdf(&rm, ZW_REG_B) == -1.36e-3f);
+    assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 2u);
+    /* and back: B alone first would leave (0.4, 0), unstable; the pair is fine */
+    EXPECT_REFUSED(&rm, write_B(&rm, 0.0f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_UNSTABLE);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.1f, 0.0f));
+    /* K alone is judged with the current B, B alone with the current K */
+    EXPECT_ACCEPTED(write_B(&rm, -1.36e-3f));
+    EXPECT_ACCEPTED(write_K(&rm, 0.4f));
+    assert_true(rdf(&rm, ZW_REG_K) == 0.4f);
+    assert_true(rdf(&rm, ZW_REG_B) == -1.36e-3f);
+    assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 5u);
+    assert_int_equal(rd32(&rm, ZW_REG_REFUSED), 2u);
+}
+
+/* Each rule with its reason, in the documented order. */
+static void test_rules_and_order(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    (void)state;
+    c.k_min = 0.05f;
+    c.k_max = 0.45f;
+    c.b_min = -2e-3f;
+    c.b_max = 2e-3f;
+    c.dk_max = 0.2f;
+    c.db_max = 1e-3f;
+    rm_init(&rm, &c);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.1f, 0.0f));
+    /* NaN and infinities, in either gain, before anything else */
+    EXPECT_REFUSED(&rm, write_pair(&rm, (float)NAN, 0.0f), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_NOT_FINITE);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.1f, (float)NAN), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_NOT_FINITE);
+    EXPECT_REFUSED(&rm, write_pair(&rm, (float)INFINITY, 0.0f), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_NOT_FINITE);
+    EXPECT_REFUSED(&rm, write_B(&rm, -(float)INFINITY), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NOT_FINITE);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.0f, (float)NAN), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_NOT_FINITE);
+    {
+        /* a signalling-NaN pattern on the wire */
+        uint_least16_t w[2] = {0x7F80u, 0x0001u};
+        EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_K, 2, w), ZW_MB_ILLEGAL_VALUE,
+                       ZW_REASON_NOT_FINITE);
+    }
+    EXPECT_REFUSED(&rm, write_pair(&rm, (float)NAN, 1.0f), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_NOT_FINITE);
+    /* bounds, K before B */
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.04f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_BELOW_MIN);
+    EXPECT_REFUSED(&rm, write_K(&rm, -0.1f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_BELOW_MIN);
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.46f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_ABOVE_MAX);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.46f, -1.0f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_ABOVE_MAX);
+    EXPECT_REFUSED(&rm, write_B(&rm, -2.1e-3f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_B_BELOW_MIN);
+    EXPECT_REFUSED(&rm, write_B(&rm, 2.1e-3f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_B_ABOVE_MAX);
+    /* bounds are inclusive */
+    EXPECT_ACCEPTED(write_K(&rm, 0.05f));
+    /* steps, K before B, both against the active pair */
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.3f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_STEP);
+    EXPECT_REFUSED(&rm, write_B(&rm, 1.5e-3f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_B_STEP);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.3f, 1.5e-3f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_STEP);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, -0.9e-3f));
+    EXPECT_ACCEPTED(write_pair(&rm, 0.35f, -1.36e-3f));
+    /* unstable: beyond K_max(B) = 0.2577 at B = 1e-3 (within bounds and steps) */
+    EXPECT_ACCEPTED(write_pair(&rm, 0.25f, -0.5e-3f));
+    EXPECT_ACCEPTED(write_B(&rm, 0.4e-3f));
+    EXPECT_REFUSED(&rm, write_B(&rm, 1.2e-3f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_UNSTABLE);
+    assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 6u);
+}
+
+/* The paper's numbers: K_mmax = 0.4934 at B = -1.357e-3.  With sigma = 0.85 the ceiling at
+ * B = -1.36e-3 is 0.85 K_max(B) = 0.4188: K = 0.40 is accepted, K = 0.45 refused
+ * ABOVE_SIGMA although stable.  (With sigma = 0.8 the ceiling is 0.3942, below 0.40.) */
+static void test_sigma_rule(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    zw_device d = paper_device();
+    zw_verdict v;
+    zw_real kmax;
+    (void)state;
+    EXPECT_OK(zw_device_k_max(&d, R(-1.36e-3f), &kmax));
+    EXPECT_NEAR(kmax, 0.4928, 5e-4, 0);
+    c.sigma = 0.85f;
+    rm_init(&rm, &c);
+    EXPECT_NEAR(rdf(&rm, ZW_REG_LIVE_K_MMAX), 0.4934, 1e-4, 0);
+    EXPECT_NEAR(rdf(&rm, ZW_REG_LIVE_B_AT_KMMAX), -1.357e-3, 1e-6, 0);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.40f, -1.36e-3f));
+    EXPECT_OK(zw_device_check(&d, R(0.45f), R(-1.36e-3f), &v));
+    assert_true(v.stable);
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.45f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_ABOVE_SIGMA);
+    /* unstable wins over sigma: (0.50, -1.36e-3) is past K_max */
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.50f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_UNSTABLE);
+    /* K_CERT is the largest float not above sigma K_max(B), and it is accepted */
+    {
+        /* the rule as documented, K <= sigma K_max(B), evaluated as the drive does */
+        float kc = rdf(&rm, ZW_REG_LIVE_K_CERT);
+        zw_real top = (zw_real)0.85f * kmax;
+        assert_true((zw_real)kc <= top);
+        assert_true((zw_real)nextafterf(kc, 1.0f) > top);
+        EXPECT_ACCEPTED(write_K(&rm, kc));
+        EXPECT_REFUSED(&rm, write_K(&rm, nextafterf(kc, 1.0f)), ZW_MB_ILLEGAL_VALUE,
+                       ZW_REASON_ABOVE_SIGMA);
+    }
+    /* sigma = 0.8: 0.40 is above 0.8 K_max(-1.36e-3) = 0.3942 */
+    c.sigma = 0.8f;
+    rm_init(&rm, &c);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.40f, -1.36e-3f), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_ABOVE_SIGMA);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.39f, -1.36e-3f));
+}
+
+/* r = 0.9 on the paper's drive at B = -1.36e-3: rho(0.2) = 0.872, rho(0.3) = 0.908. */
+static void test_radius_rule(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    zw_device d = paper_device();
+    zw_real rho;
+    float kc;
+    (void)state;
+    c.r = 0.9f;
+    rm_init(&rm, &c);
+    EXPECT_OK(zw_device_spectral_radius(&d, R(0.3f), R(-1.36e-3f), &rho));
+    assert_true(rho > R(0.9) && rho < R(1.0));
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, -1.36e-3f));
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.3f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RADIUS);
+    /* K_CERT: the radius bites below K_max; the value shown is accepted, the next float not */
+    kc = rdf(&rm, ZW_REG_LIVE_K_CERT);
+    assert_true(kc > 0.2f && kc < 0.3f);
+    EXPECT_OK(zw_device_spectral_radius(&d, (zw_real)kc, R(-1.36e-3f), &rho));
+    EXPECT_NEAR(rho, 0.9, 1e-4, 0);
+    EXPECT_ACCEPTED(write_K(&rm, kc));
+    EXPECT_REFUSED(&rm, write_K(&rm, nextafterf(kc, 1.0f)), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RADIUS);
+    EXPECT_NEAR(rdf(&rm, ZW_REG_LIVE_RHO), 0.9, 1e-4, 0);
+    /* at B = 0 with r = 0.5: rho(0.0625) = 0.336, rho(0.2) = 0.590 */
+    c.r = 0.5f;
+    rm_init(&rm, &c);
+    kc = rdf(&rm, ZW_REG_LIVE_K_CERT);
+    assert_true(kc > 0.0625f && kc < 0.2f);
+    EXPECT_ACCEPTED(write_K(&rm, kc));
+    EXPECT_REFUSED(&rm, write_K(&rm, nextafterf(kc, 1.0f)), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RADIUS);
+    /* r below every radius reachable at B = 0 (rho -> 1 as K -> 0, and grows past its
+     * minimum): K_CERT reads 0 and every non-zero K is refused */
+    {
+        zw_real k_max0, rho_min = R(1.0);
+        int i;
+        EXPECT_OK(zw_device_k_max(&d, R(0.0), &k_max0));
+        for (i = 1; i < 1000; ++i) {
+            EXPECT_OK(zw_device_spectral_radius(&d, k_max0 * (zw_real)i / R(1000.0), R(0.0), &rho));
+            if (rho < rho_min) rho_min = rho;
+        }
+        c.r = (float)(R(0.5) * rho_min);
+        rm_init(&rm, &c);
+        assert_true(rdf(&rm, ZW_REG_LIVE_K_CERT) == 0.0f);
+        EXPECT_REFUSED(&rm, write_K(&rm, 0.05f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RADIUS);
+    }
+}
+
+/* ACCEPTED/REFUSED bookkeeping and the output-off pair. */
+static void test_output_off_and_counters(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    (void)state;
+    c.k_min = 0.1f;
+    c.dk_max = 0.05f;
+    rm_init(&rm, &c);
+    /* (0, 0) is always accepted: below k_min, whatever the step */
+    EXPECT_ACCEPTED(write_pair(&rm, 0.0f, 0.0f));
+    assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 1u);
+    /* from off, the step limit applies to the first non-zero pair */
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.12f, 0.0f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_STEP);
+    c.dk_max = 0.2f;
+    rm_init(&rm, &c);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.12f, 0.0f));
+    EXPECT_ACCEPTED(write_pair(&rm, 0.3f, 0.0f));
+    /* back to off in one write, although that step (0.3) is beyond dk_max (-0.0 is 0) */
+    EXPECT_ACCEPTED(write_pair(&rm, -0.0f, 0.0f));
+    assert_int_equal(rd32(&rm, ZW_REG_K), 0x80000000u); /* stored as written */
+    /* the same values again count as accepted */
+    EXPECT_ACCEPTED(write_pair(&rm, 0.12f, 0.0f));
+    EXPECT_ACCEPTED(write_pair(&rm, 0.12f, 0.0f));
+    assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 5u);
+    /* a command or a refused write does not count */
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.05f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_BELOW_MIN);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 5u);
+    assert_int_equal(rd32(&rm, ZW_REG_REFUSED), 1u);
+    /* both counters wrap at 2^32 */
+    rm.accepted = 0xFFFFFFFFu;
+    rm.refused = 0xFFFFFFFFu;
+    EXPECT_ACCEPTED(write_K(&rm, 0.12f));
+    assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 0u);
+    (void)write_K(&rm, (float)NAN);
+    assert_int_equal(rd32(&rm, ZW_REG_REFUSED), 0u);
+    rm.accepted = 0x00012345u;
+    assert_int_equal(rd(&rm, ZW_REG_ACCEPTED), 0x0001u);
+    assert_int_equal(rd(&rm, ZW_REG_ACCEPTED + 1), 0x2345u);
+}
+
+/* dk_max = 0.25 exactly: a step of exactly 0.25 is accepted, one of 0.25 + 2^-28 (which
+ * rounds to 0.25 in float arithmetic) is refused, in both directions. */
+static void test_step_limit_exact(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    const float B = -1.357e-3f;
+    const float just_below = 0.0625f - 0x1p-28f; /* 2^-4 - 2^-28, a float */
+    (void)state;
+    c.dk_max = 0.25f;
+    rm_init(&rm, &c);
+    assert_true((long double)0.3125f - (long double)just_below > 0.25L);
+    EXPECT_ACCEPTED(write_pair(&rm, just_below, B));
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.3125f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_STEP);
+    EXPECT_ACCEPTED(write_K(&rm, 0.0625f));
+    EXPECT_ACCEPTED(write_K(&rm, 0.3125f));
+    EXPECT_REFUSED(&rm, write_K(&rm, just_below), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_STEP);
+    EXPECT_ACCEPTED(write_K(&rm, 0.0625f));
+    /* B likewise: a step of exactly db_max = 2^-10 is accepted, 2^-10 + 2^-30 is not */
+    c.db_max = 0x1p-10f;
+    c.dk_max = 1.0f;
+    rm_init(&rm, &c);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.1f, -0x1p-10f));
+    EXPECT_ACCEPTED(write_B(&rm, 0.0f));
+    EXPECT_REFUSED(&rm, write_B(&rm, -0x1p-10f - 0x1p-30f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_B_STEP);
+}
+
+/* Live registers after a change, against the device functions they report. */
+static void test_live_registers(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    zw_device d = paper_device();
+    zw_device_extremes x;
+    zw_real v, lo, hi;
+    bool any;
+    (void)state;
+    rm_init(&rm, &c);
+    EXPECT_OK(zw_device_extremes_compute(&d, &x));
+    /* gains off: K_max at B = 0 (= K_p_max), the B interval of K = 0 is (0, 0), rho = 1 */
+    EXPECT_REL(rdf(&rm, ZW_REG_LIVE_K_MAX), x.K_p_max, 1e-6);
+    assert_true(rdf(&rm, ZW_REG_LIVE_B_LO) == 0.0f);
+    assert_true(rdf(&rm, ZW_REG_LIVE_B_HI) == 0.0f);
+    EXPECT_NEAR(rdf(&rm, ZW_REG_LIVE_RHO), 1.0, 1e-5, 0);
+    EXPECT_REL(rdf(&rm, ZW_REG_LIVE_DELTA), 5.1224, 1e-4);
+    EXPECT_REL(rdf(&rm, ZW_REG_LIVE_K_MMAX), x.K_mmax, 1e-6);
+    EXPECT_REL(rdf(&rm, ZW_REG_LIVE_B_AT_KMMAX), x.B_at_K_mmax, 1e-6);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.3f, -1e-3f));
+    EXPECT_OK(zw_device_k_max(&d, R(-1e-3f), &v));
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_MAX) == (float)v);
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_CERT) <= (float)v);
+    EXPECT_REL(rdf(&rm, ZW_REG_LIVE_K_CERT), v, PREC(1e-6, 1e-4)); /* just inside the sup */
+    EXPECT_OK(zw_device_b_range(&d, R(0.3f), &lo, &hi, &any));
+    assert_true(any);
+    assert_true(rdf(&rm, ZW_REG_LIVE_B_LO) == (float)lo);
+    assert_true(rdf(&rm, ZW_REG_LIVE_B_HI) == (float)hi);
+    EXPECT_OK(zw_device_spectral_radius(&d, R(0.3f), R(-1e-3f), &v));
+    assert_true(rdf(&rm, ZW_REG_LIVE_RHO) == (float)v);
+    EXPECT_NEAR(rdf(&rm, ZW_REG_LIVE_RHO), 0.84626, 1e-4, 0);
+    /* a refused write leaves them alone (snapshot comparison covers 0x20..0x2F) */
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.9f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_UNSTABLE);
+}
+
+static void test_state_registers(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    (void)state;
+    rm_init(&rm, &c);
+    zw_regmap_set_state(&rm, 0.125f, -2.5f, 1e-3f, 0x89ABCDEFu);
+    assert_true(rdf(&rm, ZW_REG_STATE_X) == 0.125f);
+    assert_true(rdf(&rm, ZW_REG_STATE_V) == -2.5f);
+    assert_true(rdf(&rm, ZW_REG_STATE_F) == 1e-3f);
+    assert_int_equal(rd(&rm, ZW_REG_STATE_STEP), 0x89ABu);
+    assert_int_equal(rd(&rm, ZW_REG_STATE_STEP + 1), 0xCDEFu);
+    zw_regmap_set_state(&rm, (float)NAN, (float)INFINITY, -0.0f, 0u);
+    assert_int_equal(rd32(&rm, ZW_REG_STATE_X), 0x7FC00000u);
+    assert_int_equal(rd32(&rm, ZW_REG_STATE_V), 0x7F800000u);
+    assert_int_equal(rd32(&rm, ZW_REG_STATE_F), 0x80000000u);
+    zw_regmap_set_state(NULL, 1.0f, 1.0f, 1.0f, 1u); /* no-op */
+    /* the state does not count as a request and changes no refusal register */
+    assert_int_equal(rd32(&rm, ZW_REG_REFUSED), 0u);
+}
+
+/* ---- commissioning ----------------------------------------------------------------------- */
+
+static void unlock(zw_regmap *rm)
+{
+    EXPECT_ACCEPTED(command(rm, ZW_CMD_UNLOCK1));
+    EXPECT_ACCEPTED(command(rm, ZW_CMD_UNLOCK2));
+    assert_int_equal(rd(rm, ZW_REG_MODE), 1u);
+}
+
+static void test_unlock_sequence(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t w = 0u;
+    snap sealed_view;
+    unsigned i;
+    (void)state;
+    rm_init(&rm, &c);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, 0.0f));
+    /* UNLOCK2 alone, or in the wrong order */
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, (uint_least16_t)(ZW_CMD_UNLOCK1 ^ 1u)), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_BAD_COMMAND);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    /* reads, accepted, refused or unprocessed, leave UNLOCK1 armed: a client polling the
+     * map must not be able to block commissioning */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    (void)rd(&rm, ZW_REG_MAGIC);
+    assert_int_equal(zw_regmap_read(&rm, 0x0A, 1, &w, NULL), ZW_MB_ILLEGAL_ADDRESS);
+    assert_int_equal(zw_regmap_read(&rm, 0, 1, NULL, NULL), ZW_MB_SERVER_FAILURE);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK2));
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, 0.0f));
+    /* interrupted by an accepted gain write */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_ACCEPTED(write_K(&rm, 0.2f));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    /* by a refused write */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, write_K(&rm, 1e30f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_ABOVE_MAX);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    /* by a write that could not be processed (NULL words) */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    assert_int_equal(zw_regmap_write(&rm, ZW_REG_K, 2, NULL, NULL), ZW_MB_SERVER_FAILURE);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    /* SEAL and ABORT outside commissioning; unknown values */
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_ABORT), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    EXPECT_REFUSED(&rm, command(&rm, 0u), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    EXPECT_REFUSED(&rm, command(&rm, 0xFFFFu), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    assert_true(rdf(&rm, ZW_REG_K) == 0.2f);
+    /* the right sequence (UNLOCK1 twice is fine: the second one re-arms) */
+    sealed_view = snapshot(&rm);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK2));
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+    /* output off; the staged block is the sealed one with its CRC */
+    assert_true(bits_of(rdf(&rm, ZW_REG_K)) == 0u && bits_of(rdf(&rm, ZW_REG_B)) == 0u);
+    for (i = ZW_REG_CERT_M; i <= ZW_REG_CERT_CRC; ++i)
+        assert_int_equal(rd(&rm, (uint_least16_t)i), sealed_view.w[i]);
+    /* in commissioning: gains not writable, unlock again refused */
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.1f, 0.0f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.0f, 0.0f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK1), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    /* ABORT: back to operation with the same block, output still off */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    assert_true(bits_of(rdf(&rm, ZW_REG_K)) == 0u);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, 0.0f));
+}
+
+/* Edit, fail to seal (CRC, policy), abort, edit again, seal a new plant. */
+static void test_seal(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert(), c2 = paper_cert();
+    uint_least16_t block[ZW_CERT_WORDS + 1u], old_block[ZW_CERT_WORDS + 1u];
+    unsigned i;
+    (void)state;
+    rm_init(&rm, &c);
+    block_words(&c, old_block);
+    unlock(&rm);
+    /* a new period: 10 ms, and a tighter sigma */
+    c2.T = 0.01f;
+    c2.sigma = 0.9f;
+    block_words(&c2, block);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS, block)); /* CRC not yet */
+    for (i = 0; i < ZW_CERT_WORDS; ++i)
+        assert_int_equal(rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)), block[i]);
+    assert_int_equal(rd(&rm, ZW_REG_CERT_CRC), old_block[ZW_CERT_WORDS]);
+    /* CRC of the old block: refused, still commissioning, nothing installed */
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_CRC);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    EXPECT_REL(rdf(&rm, ZW_REG_LIVE_DELTA), 5.1224, 1e-4);
+    /* a staged NaN or infinity is refused at the write */
+    {
+        uint_least16_t bad[2] = {0x7FC0u, 0u};
+        EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_CERT_SIGMA, 2, bad), ZW_MB_ILLEGAL_VALUE,
+                       ZW_REASON_NOT_FINITE);
+        bad[0] = 0xFF80u;
+        EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_CERT_B_MIN, 2, bad), ZW_MB_ILLEGAL_VALUE,
+                       ZW_REASON_NOT_FINITE);
+        EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_CERT_M + 1, 1, bad), ZW_MB_ILLEGAL_ADDRESS,
+                       ZW_REASON_HALF_FLOAT);
+    }
+    /* a valid CRC over a bad policy: refused, still commissioning */
+    {
+        zw_cert bad = c2;
+        uint_least16_t bw[ZW_CERT_WORDS + 1u];
+        bad.r = 1.25f;
+        block_words(&bad, bw);
+        EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, bw));
+        EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_POLICY);
+        assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+        bad = c2;
+        bad.m = 0.0f;
+        block_words(&bad, bw);
+        EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, bw));
+        EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_POLICY);
+        /* a CRC one bit off */
+        block_words(&c2, bw);
+        bw[ZW_CERT_WORDS] = (uint_least16_t)(bw[ZW_CERT_WORDS] ^ 0x8000u);
+        EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, bw));
+        EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_CRC);
+    }
+    /* ABORT restores the sealed block */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    for (i = 0; i <= ZW_CERT_WORDS; ++i)
+        assert_int_equal(rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)), old_block[i]);
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block),
+                   ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
+    /* again, now with the right CRC (written on its own) */
+    unlock(&rm);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS, block));
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_CRC, 1, &block[ZW_CERT_WORDS]));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SEAL));
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+    assert_true(bits_of(rdf(&rm, ZW_REG_K)) == 0u);
+    for (i = 0; i <= ZW_CERT_WORDS; ++i)
+        assert_int_equal(rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)), block[i]);
+    /* the new plant is in force: delta halves, sigma = 0.9 applies */
+    EXPECT_REL(rdf(&rm, ZW_REG_LIVE_DELTA), 5.1224 / 2, 1e-4);
+    {
+        zw_device d;
+        zw_real kmax;
+        EXPECT_OK(zw_device_init(&d, (zw_real)J1, (zw_real)B_SHORT, R(0.01f)));
+        EXPECT_OK(zw_device_k_max(&d, R(0.0), &kmax));
+        EXPECT_REFUSED(&rm, write_K(&rm, (float)(R(0.95) * kmax)), ZW_MB_ILLEGAL_VALUE,
+                       ZW_REASON_ABOVE_SIGMA);
+        EXPECT_ACCEPTED(write_K(&rm, (float)(R(0.85) * kmax)));
+    }
+}
+
+/* Commissioning a drive that started unsealed: the staged block is all zero. */
+static void test_commission_unsealed(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t block[ZW_CERT_WORDS + 1u];
+    unsigned i;
+    (void)state;
+    EXPECT_OK(zw_regmap_init(&rm, NULL, NULL));
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_CERT_CRC, 1, block), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_LOCKED);
+    unlock(&rm);
+    for (i = ZW_REG_CERT_M; i <= ZW_REG_CERT_CRC; ++i)
+        assert_int_equal(rd(&rm, (uint_least16_t)i), 0u);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_CRC);
+    block_words(&c, block);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SEAL));
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.4f, -1.36e-3f));
+    /* ABORT on a drive that was never sealed leaves it unsealed */
+    EXPECT_OK(zw_regmap_init(&rm, NULL, NULL));
+    unlock(&rm);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+    assert_int_equal(rd(&rm, ZW_REG_CERT_M), 0u);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.1f, 0.0f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+}
+
+/* ---- PDUs ---------------------------------------------------------------------------------- */
+
+typedef struct reply {
+    zw_mb_exception exc;
+    size_t len;
+    uint_least8_t b[260];
+} reply;
+
+static reply pdu_cap(zw_regmap *rm, const uint_least8_t *req, size_t n, size_t cap)
+{
+    reply r;
+    memset(&r, 0xEE, sizeof r);
+    r.exc = zw_regmap_handle_pdu(rm, req, n, r.b, cap, &r.len);
+    return r;
+}
+
+static reply pdu(zw_regmap *rm, const uint_least8_t *req, size_t n)
+{
+    return pdu_cap(rm, req, n, 253);
+}
+
+static void expect_exception_reply(reply r, unsigned fc, zw_mb_exception exc)
+{
+    assert_int_equal(r.exc, exc);
+    assert_int_equal(r.len, 2);
+    assert_int_equal(r.b[0], (fc | 0x80u) & 0xFFu);
+    assert_int_equal(r.b[1], exc);
+}
+
+/* A refused PDU: exception reply, and only the refusal registers moved. */
+#define EXPECT_PDU_REFUSED(rm, req, n, want_exc, want_why)                                     \
+    do {                                                                                         \
+        snap b_ = snapshot(rm);                                                                  \
+        zw_regmap s_ = *(rm);                                                                    \
+        reply r_ = pdu((rm), (req), (n));                                                        \
+        outcome o_;                                                                              \
+        expect_exception_reply(r_, (unsigned)(req)[0], (want_exc));                              \
+        o_.exc = r_.exc;                                                                         \
+        o_.why = (zw_reason)(rm)->last_reason;                                                   \
+        check_refused((rm), &b_, &s_, o_, (want_exc), (want_why), #req, __FILE__, __LINE__);     \
+    } while (0)
+
+static void test_pdu_read(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    static const uint_least8_t rd10[] = {0x03, 0x00, 0x00, 0x00, 0x0A};
+    static const uint_least8_t rd_k[] = {0x03, 0x00, 0x10, 0x00, 0x04};
+    static const uint_least8_t short4[] = {0x03, 0x00, 0x00, 0x00};
+    static const uint_least8_t long6[] = {0x03, 0x00, 0x00, 0x00, 0x01, 0x00};
+    static const uint_least8_t q0[] = {0x03, 0x00, 0x00, 0x00, 0x00};
+    static const uint_least8_t q126[] = {0x03, 0x00, 0x00, 0x00, 0x7E};
+    static const uint_least8_t q125[] = {0x03, 0x00, 0x00, 0x00, 0x7D};
+    static const uint_least8_t unm[] = {0x03, 0x00, 0x0A, 0x00, 0x01};
+    static const uint_least8_t wrap[] = {0x03, 0xFF, 0xFF, 0x00, 0x02};
+    static const uint_least8_t only_fc[] = {0x03};
+    reply r;
+    (void)state;
+    rm_init(&rm, &c);
+    r = pdu(&rm, rd10, sizeof rd10);
+    assert_int_equal(r.exc, ZW_MB_OK);
+    assert_int_equal(r.len, 22);
+    assert_int_equal(r.b[0], 0x03);
+    assert_int_equal(r.b[1], 20);
+    assert_int_equal(r.b[2], 0x5A);
+    assert_int_equal(r.b[3], 0x57);
+    assert_int_equal(r.b[4], 0x00);
+    assert_int_equal(r.b[5], 0x01);
+    assert_int_equal(r.b[8], 0x00);
+    assert_int_equal(r.b[9], 0x01); /* SEALED */
+    EXPECT_ACCEPTED(write_pair(&rm, 0.25f, -0x1p-11f));
+    r = pdu(&rm, rd_k, sizeof rd_k);
+    assert_int_equal(r.exc, ZW_MB_OK);
+    assert_int_equal(r.len, 10);
+    assert_int_equal(r.b[1], 8);
+    assert_int_equal(r.b[2], 0x3E); /* 0.25f = 0x3E80 0000 */
+    assert_int_equal(r.b[3], 0x80);
+    assert_int_equal(r.b[4], 0x00);
+    assert_int_equal(r.b[5], 0x00);
+    assert_int_equal(r.b[6], 0xBA); /* -2^-11 = 0xBA00 0000 */
+    assert_int_equal(r.b[7], 0x00);
+    EXPECT_PDU_REFUSED(&rm, short4, sizeof short4, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, long6, sizeof long6, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, only_fc, sizeof only_fc, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, q0, sizeof q0, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, q126, sizeof q126, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, q125, sizeof q125, ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_UNMAPPED);
+    EXPECT_PDU_REFUSED(&rm, unm, sizeof unm, ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_UNMAPPED);
+    EXPECT_PDU_REFUSED(&rm, wrap, sizeof wrap, ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_UNMAPPED);
+    /* the largest read the map allows: its 23-word block */
+    {
+        static const uint_least8_t blk[] = {0x03, 0x00, 0x40, 0x00, 0x17};
+        r = pdu(&rm, blk, sizeof blk);
+        assert_int_equal(r.exc, ZW_MB_OK);
+        assert_int_equal(r.len, 2 + 46);
+        assert_int_equal(r.b[2], 0x37); /* J = 85.78e-7 = 0x370F EA3B */
+        assert_int_equal(r.b[3], 0x0F);
+        assert_int_equal(r.b[4], 0xEA);
+        assert_int_equal(r.b[5], 0x3B);
+    }
+}
+
+static void test_pdu_write(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    /* K = 0.25 (0x3E80 0000), B = -2^-11 (0xBA00 0000) */
+    static const uint_least8_t pair[] = {0x10, 0x00, 0x10, 0x00, 0x04, 0x08, 0x3E, 0x80,
+                                         0x00, 0x00, 0xBA, 0x00, 0x00, 0x00};
+    static const uint_least8_t k_only[] = {0x10, 0x00, 0x10, 0x00, 0x02,
+                                           0x04, 0x3E, 0x00, 0x00, 0x00};
+    static const uint_least8_t bc_mismatch[] = {0x10, 0x00, 0x10, 0x00, 0x02, 0x06, 0x3E,
+                                                0x00, 0x00, 0x00, 0x00, 0x00};
+    static const uint_least8_t truncated[] = {0x10, 0x00, 0x10, 0x00, 0x02, 0x04, 0x3E, 0x00, 0x00};
+    static const uint_least8_t extra[] = {0x10, 0x00, 0x10, 0x00, 0x02, 0x04,
+                                          0x3E, 0x00, 0x00, 0x00, 0x00};
+    static const uint_least8_t hdr_only[] = {0x10, 0x00, 0x10, 0x00, 0x02};
+    static const uint_least8_t q0[] = {0x10, 0x00, 0x10, 0x00, 0x00, 0x00};
+    static const uint_least8_t fc6_k[] = {0x06, 0x00, 0x10, 0x3E, 0x80};
+    static const uint_least8_t fc6_short[] = {0x06, 0x00, 0x60, 0xC0};
+    static const uint_least8_t fc6_long[] = {0x06, 0x00, 0x60, 0xC0, 0xDE, 0x00};
+    static const uint_least8_t fc6_ro[] = {0x06, 0x00, 0x00, 0x00, 0x00};
+    static const uint_least8_t fc6_unlock1[] = {0x06, 0x00, 0x60, 0xC0, 0xDE};
+    static const uint_least8_t fc6_unlock2[] = {0x06, 0x00, 0x60, 0x5A, 0xFE};
+    static const uint_least8_t fc16_abort[] = {0x10, 0x00, 0x60, 0x00, 0x01, 0x02, 0xAB, 0x07};
+    static const uint_least8_t nan_b[] = {0x10, 0x00, 0x12, 0x00, 0x02,
+                                          0x04, 0x7F, 0xC0, 0x00, 0x00};
+    reply r;
+    size_t i;
+    (void)state;
+    rm_init(&rm, &c);
+    r = pdu(&rm, pair, sizeof pair);
+    assert_int_equal(r.exc, ZW_MB_OK);
+    assert_int_equal(r.len, 5);
+    for (i = 0; i < 5; ++i) assert_int_equal(r.b[i], pair[i]);
+    assert_true(rdf(&rm, ZW_REG_K) == 0.25f);
+    assert_true(rdf(&rm, ZW_REG_B) == -0x1p-11f);
+    r = pdu(&rm, k_only, sizeof k_only);
+    assert_int_equal(r.exc, ZW_MB_OK);
+    assert_true(rdf(&rm, ZW_REG_K) == 0.125f);
+    EXPECT_PDU_REFUSED(&rm, bc_mismatch, sizeof bc_mismatch, ZW_MB_ILLEGAL_VALUE,
+                       ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, truncated, sizeof truncated, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, extra, sizeof extra, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, hdr_only, sizeof hdr_only, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, q0, sizeof q0, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, fc6_k, sizeof fc6_k, ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_HALF_FLOAT);
+    EXPECT_PDU_REFUSED(&rm, fc6_short, sizeof fc6_short, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, fc6_long, sizeof fc6_long, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    EXPECT_PDU_REFUSED(&rm, fc6_ro, sizeof fc6_ro, ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_READ_ONLY);
+    EXPECT_PDU_REFUSED(&rm, nan_b, sizeof nan_b, ZW_MB_ILLEGAL_VALUE, ZW_REASON_NOT_FINITE);
+    /* quantity 124 (one past 123) with a consistent byte count, and 123 (allowed, unmapped) */
+    {
+        uint_least8_t big[6 + 2 * 124];
+        memset(big, 0, sizeof big);
+        big[0] = 0x10;
+        big[2] = 0x10;
+        big[4] = 124;
+        big[5] = 248;
+        EXPECT_PDU_REFUSED(&rm, big, sizeof big, ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+        big[4] = 123;
+        big[5] = 246;
+        EXPECT_PDU_REFUSED(&rm, big, sizeof big - 2, ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_UNMAPPED);
+    }
+    /* commands through FC 0x06 (echoed) and FC 0x10 */
+    r = pdu(&rm, fc6_unlock1, sizeof fc6_unlock1);
+    assert_int_equal(r.exc, ZW_MB_OK);
+    assert_int_equal(r.len, 5);
+    for (i = 0; i < 5; ++i) assert_int_equal(r.b[i], fc6_unlock1[i]);
+    r = pdu(&rm, fc6_unlock2, sizeof fc6_unlock2);
+    assert_int_equal(r.exc, ZW_MB_OK);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    r = pdu(&rm, fc16_abort, sizeof fc16_abort);
+    assert_int_equal(r.exc, ZW_MB_OK);
+    assert_int_equal(r.len, 5);
+    assert_int_equal(r.b[4], 0x01);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+}
+
+static void test_pdu_bad_function(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    static const uint_least8_t fcs[] = {0x00, 0x01, 0x02, 0x04, 0x05, 0x0F,
+                                        0x16, 0x17, 0x2B, 0x83, 0xFF};
+    size_t i;
+    (void)state;
+    rm_init(&rm, &c);
+    for (i = 0; i < ZWT_ARRAY_LEN(fcs); ++i) {
+        uint_least8_t req[5] = {0, 0x00, 0x00, 0x00, 0x01};
+        req[0] = fcs[i];
+        EXPECT_PDU_REFUSED(&rm, req, sizeof req, ZW_MB_ILLEGAL_FUNCTION, ZW_REASON_BAD_FUNCTION);
+        EXPECT_PDU_REFUSED(&rm, req, 1, ZW_MB_ILLEGAL_FUNCTION, ZW_REASON_BAD_FUNCTION);
+    }
+}
+
+/* resp_cap too small: nothing processed, not even counted. */
+static void test_pdu_resp_cap(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    static const uint_least8_t rd10[] = {0x03, 0x00, 0x00, 0x00, 0x0A};
+    static const uint_least8_t pair[] = {0x10, 0x00, 0x10, 0x00, 0x04, 0x08, 0x3E, 0x80,
+                                         0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
+    static const uint_least8_t bad_fc[] = {0x2B};
+    static const uint_least8_t unlock1[] = {0x06, 0x00, 0x60, 0xC0, 0xDE};
+    static const uint_least8_t unlock2[] = {0x06, 0x00, 0x60, 0x5A, 0xFE};
+    snap before, after;
+    zw_regmap copy;
+    reply r;
+    size_t cap;
+    (void)state;
+    rm_init(&rm, &c);
+    before = snapshot(&rm);
+    for (cap = 0; cap < 2; ++cap) {
+        copy = rm;
+        r = pdu_cap(&rm, rd10, sizeof rd10, cap);
+        assert_int_equal(r.exc, ZW_MB_SERVER_FAILURE);
+        assert_int_equal(r.len, 0);
+        assert_int_equal(r.b[0], 0xEE); /* nothing written */
+        r = pdu_cap(&rm, pair, sizeof pair, cap);
+        assert_int_equal(r.exc, ZW_MB_SERVER_FAILURE);
+        assert_int_equal(r.len, 0);
+        r = pdu_cap(&rm, bad_fc, sizeof bad_fc, cap);
+        assert_int_equal(r.exc, ZW_MB_SERVER_FAILURE);
+        assert_int_equal(r.len, 0);
+        assert_memory_equal(&copy, &rm, sizeof rm);
+    }
+    /* room for an exception but not for the answer: 0x04, nothing applied or counted */
+    for (cap = 2; cap < 22; ++cap) {
+        copy = rm;
+        r = pdu_cap(&rm, rd10, sizeof rd10, cap);
+        expect_exception_reply(r, 0x03, ZW_MB_SERVER_FAILURE);
+        if (cap < 5) {
+            r = pdu_cap(&rm, pair, sizeof pair, cap);
+            expect_exception_reply(r, 0x10, ZW_MB_SERVER_FAILURE);
+        }
+        assert_memory_equal(&copy, &rm, sizeof rm);
+    }
+    after = snapshot(&rm);
+    expect_same_registers(&before, &after, true, __FILE__, __LINE__);
+    /* exact fits work */
+    r = pdu_cap(&rm, rd10, sizeof rd10, 22);
+    assert_int_equal(r.exc, ZW_MB_OK);
+    r = pdu_cap(&rm, pair, sizeof pair, 5);
+    assert_int_equal(r.exc, ZW_MB_OK);
+    assert_true(rdf(&rm, ZW_REG_K) == 0.25f);
+    /* a bad function code with room for its exception is an ordinary refusal */
+    r = pdu_cap(&rm, bad_fc, sizeof bad_fc, 2);
+    expect_exception_reply(r, 0x2B, ZW_MB_ILLEGAL_FUNCTION);
+    /* an unprocessed write still disarms UNLOCK1; an unprocessed read does not */
+    r = pdu(&rm, unlock1, sizeof unlock1);
+    assert_int_equal(r.exc, ZW_MB_OK);
+    r = pdu_cap(&rm, rd10, sizeof rd10, 1);
+    assert_int_equal(r.exc, ZW_MB_SERVER_FAILURE);
+    r = pdu_cap(&rm, pair, sizeof pair, 4);
+    assert_int_equal(r.exc, ZW_MB_SERVER_FAILURE);
+    r = pdu(&rm, unlock2, sizeof unlock2);
+    expect_exception_reply(r, 0x06, ZW_MB_ILLEGAL_VALUE);
+    assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), ZW_REASON_BAD_COMMAND);
+}
+
+static void test_null_arguments(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    static const uint_least8_t rd1[] = {0x03, 0x00, 0x00, 0x00, 0x01};
+    uint_least8_t resp[8];
+    uint_least16_t w[2] = {0x1111u, 0x2222u};
+    size_t len = 99;
+    zw_reason why = ZW_REASON_CRC;
+    zw_regmap copy;
+    (void)state;
+    rm_init(&rm, &c);
+    assert_int_equal(zw_regmap_handle_pdu(NULL, rd1, sizeof rd1, resp, sizeof resp, &len),
+                     ZW_MB_SERVER_FAILURE);
+    assert_int_equal(len, 0);
+    copy = rm;
+    len = 99;
+    assert_int_equal(zw_regmap_handle_pdu(&rm, NULL, sizeof rd1, resp, sizeof resp, &len),
+                     ZW_MB_SERVER_FAILURE);
+    assert_int_equal(len, 0);
+    len = 99;
+    assert_int_equal(zw_regmap_handle_pdu(&rm, rd1, sizeof rd1, NULL, sizeof resp, &len),
+                     ZW_MB_SERVER_FAILURE);
+    assert_int_equal(len, 0);
+    assert_int_equal(zw_regmap_handle_pdu(&rm, rd1, sizeof rd1, resp, sizeof resp, NULL),
+                     ZW_MB_SERVER_FAILURE);
+    len = 99;
+    assert_int_equal(zw_regmap_handle_pdu(&rm, rd1, 0, resp, sizeof resp, &len),
+                     ZW_MB_SERVER_FAILURE);
+    assert_int_equal(len, 0);
+    assert_int_equal(zw_regmap_read(NULL, 0, 1, w, &why), ZW_MB_SERVER_FAILURE);
+    assert_int_equal(zw_regmap_read(&rm, 0, 1, NULL, &why), ZW_MB_SERVER_FAILURE);
+    assert_int_equal(zw_regmap_write(NULL, ZW_REG_K, 2, w, &why), ZW_MB_SERVER_FAILURE);
+    assert_int_equal(zw_regmap_write(&rm, ZW_REG_K, 2, NULL, &why), ZW_MB_SERVER_FAILURE);
+    assert_int_equal(why, ZW_REASON_CRC); /* untouched */
+    assert_memory_equal(&copy, &rm, sizeof rm);
+    /* reason is optional */
+    assert_int_equal(zw_regmap_read(&rm, 0, 1, w, NULL), ZW_MB_OK);
+    assert_int_equal(zw_regmap_read(&rm, 0x0A, 1, w, NULL), ZW_MB_ILLEGAL_ADDRESS);
+    words_of(0.1f, w);
+    assert_int_equal(zw_regmap_write(&rm, ZW_REG_K, 2, w, NULL), ZW_MB_OK);
+    assert_int_equal(zw_regmap_write(&rm, ZW_REG_K, 1, w, NULL), ZW_MB_ILLEGAL_ADDRESS);
+    /* the conversions */
+    zw_float_to_words(1.0f, NULL);
+    assert_true(zw_words_to_float(NULL) != zw_words_to_float(NULL));
+    assert_int_equal(zw_crc16_words(NULL, 3), 0xFFFFu);
+}
+
+static void test_reason_names(void **state)
+{
+#define ZWT_REASON(x) {x, #x}
+    static const struct {
+        zw_reason reason;
+        const char *spelled;
+    } k[] = {
+        ZWT_REASON(ZW_REASON_NONE),         ZWT_REASON(ZW_REASON_BAD_FUNCTION),
+        ZWT_REASON(ZW_REASON_MALFORMED),    ZWT_REASON(ZW_REASON_UNMAPPED),
+        ZWT_REASON(ZW_REASON_READ_ONLY),    ZWT_REASON(ZW_REASON_HALF_FLOAT),
+        ZWT_REASON(ZW_REASON_LOCKED),       ZWT_REASON(ZW_REASON_NOT_SEALED),
+        ZWT_REASON(ZW_REASON_NOT_FINITE),   ZWT_REASON(ZW_REASON_K_BELOW_MIN),
+        ZWT_REASON(ZW_REASON_K_ABOVE_MAX),  ZWT_REASON(ZW_REASON_B_BELOW_MIN),
+        ZWT_REASON(ZW_REASON_B_ABOVE_MAX),  ZWT_REASON(ZW_REASON_K_STEP),
+        ZWT_REASON(ZW_REASON_B_STEP),       ZWT_REASON(ZW_REASON_UNSTABLE),
+        ZWT_REASON(ZW_REASON_ABOVE_SIGMA),  ZWT_REASON(ZW_REASON_RADIUS),
+        ZWT_REASON(ZW_REASON_BAD_COMMAND),  ZWT_REASON(ZW_REASON_CRC),
+        ZWT_REASON(ZW_REASON_BAD_POLICY),
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < ZWT_ARRAY_LEN(k); ++i) {
+        assert_int_equal((int)k[i].reason, (int)i);
+        assert_string_equal(zw_reason_name(k[i].reason), k[i].spelled);
+    }
+    assert_string_equal(zw_reason_name((zw_reason)21), "ZW_REASON_UNKNOWN");
+    assert_string_equal(zw_reason_name((zw_reason)-1), "ZW_REASON_UNKNOWN");
+}
+
+/* A long mixed sequence: after every refusal, only the refusal registers have moved. */
+static void test_refusals_change_nothing(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t junk[8] = {0x7FC0u, 0u, 0x4000u, 0u, 0xFFFFu, 0xFFFFu, 0x1234u, 0x5678u};
+    (void)state;
+    c.sigma = 0.85f;
+    c.r = 0.95f;
+    c.dk_max = 0.3f;
+    c.db_max = 2e-3f;
+    rm_init(&rm, &c);
+    zw_regmap_set_state(&rm, 1.0f, 2.0f, 3.0f, 4u);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.3f, -1.2e-3f));
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_K, 4, junk), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_NOT_FINITE);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 20.0f, 0.0f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_K_ABOVE_MAX);
+    /* sigma before radius: rho(0.45, -1.36e-3) = 0.977 > r too */
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.45f, -1.36e-3f), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_ABOVE_SIGMA);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.41f, -1.36e-3f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RADIUS);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.3f, 1e-3f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_B_STEP);
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_CERT_M, 2, junk + 2), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_LOCKED);
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_LIVE_K_MAX, 2, junk), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_READ_ONLY);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.35f, -1.36e-3f));
+    assert_int_equal(rd32(&rm, ZW_REG_REFUSED), 8u);
+    assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), ZW_REASON_BAD_COMMAND);
+    assert_int_equal(rd(&rm, ZW_REG_LAST_EXCEPTION), ZW_MB_ILLEGAL_VALUE);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_float_words_known),
+        cmocka_unit_test(test_float_words_round_trip),
+        cmocka_unit_test(test_crc),
+        cmocka_unit_test(test_init_sealed),
+        cmocka_unit_test(test_init_unsealed),
+        cmocka_unit_test(test_init_bad_policy),
+        cmocka_unit_test(test_access_map_reads),
+        cmocka_unit_test(test_access_map_writes),
+        cmocka_unit_test(test_pair_atomicity),
+        cmocka_unit_test(test_rules_and_order),
+        cmocka_unit_test(test_sigma_rule),
+        cmocka_unit_test(test_radius_rule),
+        cmocka_unit_test(test_output_off_and_counters),
+        cmocka_unit_test(test_step_limit_exact),
+        cmocka_unit_test(test_live_registers),
+        cmocka_unit_test(test_state_registers),
+        cmocka_unit_test(test_unlock_sequence),
+        cmocka_unit_test(test_seal),
+        cmocka_unit_test(test_commission_unsealed),
+        cmocka_unit_test(test_pdu_read),
+        cmocka_unit_test(test_pdu_write),
+        cmocka_unit_test(test_pdu_bad_function),
+        cmocka_unit_test(test_pdu_resp_cap),
+        cmocka_unit_test(test_null_arguments),
+        cmocka_unit_test(test_reason_names),
+        cmocka_unit_test(test_refusals_change_nothing),
+    };
+    return cmocka_run_group_tests_name("regmap (" ZW_REAL_NAME ")", tests, NULL, NULL);
+}

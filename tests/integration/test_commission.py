@@ -1,0 +1,122 @@
+"""Commissioning end to end: unlock, block, CRC, seal, and the refusals on the way."""
+from __future__ import annotations
+
+import json
+import struct
+
+import pytest
+
+from zwmb_harness import E, ModbusException, f32, float_words, words_float, drive, start_drive  # noqa: F401 (fixtures)
+
+PAPER_OPTS = ["--m", "85.78e-7", "--b", "2.197e-3", "--T", "0.02", "--r", "0.999",
+              "--k-min", "0", "--k-max", "10", "--b-min", "-0.01", "--b-max", "0.01",
+              "--dk-max", "1", "--db-max", "0.01"]
+CMD = E["ZW_REG_COMMAND"]
+
+
+def crc16_words(words):
+    """CRC-16/MODBUS of 16-bit words fed high byte first (independent of the C code)."""
+    crc = 0xFFFF
+    for w in words:
+        for byte in (w >> 8, w & 0xFF):
+            crc ^= byte
+            for _ in range(8):
+                crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return crc
+
+
+def block_words(sigma):
+    return float_words(85.78e-7, 2.197e-3, 0.02, sigma, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01)
+
+
+def status(d):
+    p = d.tune("status", "--json")
+    assert p.returncode == 0, p.stderr
+    return json.loads(p.stdout, parse_float=lambda t: f32(float(t)))
+
+
+def test_commissioning_end_to_end(start_drive):
+    d = start_drive("--unsealed")
+    s = status(d)
+    assert s["sealed"] is False and s["mode"] == "operation"
+    p = d.tune("set", "--K", "0.1", "--B", "0")
+    assert p.returncode == 3 and "ZW_REASON_NOT_SEALED (exception 0x02" in p.stdout
+
+    with d.client() as c:
+        # the block is locked outside commissioning; UNLOCK2 needs UNLOCK1 right before it
+        with pytest.raises(ModbusException) as ei:
+            c.write(E["ZW_REG_CERT_M"], block_words(0.9))
+        assert ei.value.code == 2 and c.refusal() == ("ZW_REASON_LOCKED", 2)
+        with pytest.raises(ModbusException) as ei:
+            c.write1(CMD, E["ZW_CMD_UNLOCK2"])
+        assert ei.value.code == 3 and c.refusal() == ("ZW_REASON_BAD_COMMAND", 3)
+        c.write1(CMD, E["ZW_CMD_UNLOCK1"])
+        with pytest.raises(ModbusException):  # any request but a read in between (here a
+            c.set_gains(0.1, 0.0)             # refused one) disarms UNLOCK1
+        with pytest.raises(ModbusException):
+            c.write1(CMD, E["ZW_CMD_UNLOCK2"])
+        assert c.read(E["ZW_REG_MODE"], 1) == [0]
+        # reads do not disarm it: a client polling the map cannot block commissioning
+        c.write1(CMD, E["ZW_CMD_UNLOCK1"])
+        assert c.read(0, 10)[0] == 0x5A57
+        c.write1(CMD, E["ZW_CMD_UNLOCK2"])
+        assert c.read(E["ZW_REG_MODE"], 1) == [1]
+        c.write1(CMD, E["ZW_CMD_ABORT"])
+        assert c.read(E["ZW_REG_MODE"], 2) == [0, 0]  # back to operation, still unsealed
+
+    p = d.tune("commission", *PAPER_OPTS, "--sigma", "0.9")
+    assert p.returncode == 0, (p.stdout, p.stderr)
+    words = block_words(0.9)
+    assert f"CRC 0x{crc16_words(words):04X}" in p.stdout
+    s = status(d)
+    assert s["sealed"] is True and s["mode"] == "operation"
+    assert s["cert"]["sigma"] == f32(0.9) and s["cert"]["crc"] == crc16_words(words)
+    assert s["gains"] == {"K": 0.0, "B": 0.0}
+    # sigma 0.9: ceiling at B = -1.36e-3 is 0.9 x 0.49275 = 0.4435
+    p = d.tune("set", "--K", "0.42", "--B", "-1.36e-3")
+    assert p.returncode == 0, p.stdout
+    p = d.tune("set", "--K", "0.45", "--B", "-1.36e-3")
+    assert p.returncode == 3 and "ZW_REASON_ABOVE_SIGMA" in p.stdout
+
+    # a policy the drive refuses at SEAL: reported, commissioning aborted, old block back
+    p = d.tune("commission", *PAPER_OPTS, "--sigma", "1.5", "--json")
+    assert p.returncode == 3
+    v = json.loads(p.stdout)
+    assert v == {"verdict": "refused", "step": "seal", "reason": "ZW_REASON_BAD_POLICY",
+                 "reason_code": 20, "exception": 3, "exception_name": "ILLEGAL_DATA_VALUE",
+                 "aborted": True}
+    s = status(d)
+    assert s["sealed"] is True and s["mode"] == "operation" and s["cert"]["sigma"] == f32(0.9)
+    assert s["gains"] == {"K": 0.0, "B": 0.0}  # unlocking turned the output off
+
+    # a wrong CRC is refused at SEAL; ABORT restores the sealed block
+    with d.client() as c:
+        c.write1(CMD, E["ZW_CMD_UNLOCK1"])
+        c.write1(CMD, E["ZW_CMD_UNLOCK2"])
+        assert c.read(E["ZW_REG_MODE"], 1) == [1]
+        c.write(E["ZW_REG_CERT_M"], block_words(0.5) + [crc16_words(block_words(0.5)) ^ 1])
+        with pytest.raises(ModbusException) as ei:
+            c.write1(CMD, E["ZW_CMD_SEAL"])
+        assert ei.value.code == 3 and c.refusal() == ("ZW_REASON_CRC", 3)
+        # gains are refused while commissioning
+        with pytest.raises(ModbusException) as ei:
+            c.set_gains(0.1, 0.0)
+        assert ei.value.code == 2 and c.refusal() == ("ZW_REASON_NOT_SEALED", 2)
+        c.write1(CMD, E["ZW_CMD_ABORT"])
+        assert c.read(E["ZW_REG_MODE"], 2) == [0, 1]
+        assert words_float(c.read(E["ZW_REG_CERT_SIGMA"], 2)) == [f32(0.9)]
+        c.set_gains(0.3, -1e-3)
+        assert c.gains() == (f32(0.3), f32(-1e-3))
+
+
+def test_commission_paper_defaults_and_text_report(start_drive):
+    d = start_drive("--unsealed")
+    p = d.tune("commission", "--paper-defaults", "--sigma", "0.8")
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.startswith("commissioned: block sealed with CRC 0x")
+    assert "operation mode, sealed" in p.stdout
+    crc = crc16_words(block_words(0.8))
+    assert status(d)["cert"]["crc"] == crc
+    # the power-up default block of a sealed drive is the same block, with the same CRC
+    d2 = start_drive()
+    assert status(d2)["cert"]["crc"] == crc

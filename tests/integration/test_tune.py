@@ -1,0 +1,172 @@
+"""zwidth-tune against zwidth-drive over Modbus TCP: status, verdicts, exit statuses."""
+from __future__ import annotations
+
+import json
+import signal
+import socket
+import subprocess
+
+from zwmb_harness import DRIVE, TUNE, E, LOOPBACK, f32, run_tune, drive, start_drive  # noqa: F401 (fixtures)
+
+PAPER = dict(m=85.78e-7, b=2.197e-3, T=0.02, sigma=0.8, r=0.999, k_min=0.0, k_max=10.0,
+             b_min=-0.01, b_max=0.01, dk_max=1.0, db_max=0.01)
+
+
+def loads(text):
+    """zwidth-tune's JSON; its numbers are binary32 registers printed to 9 digits, which
+    read back into binary32 exactly."""
+    return json.loads(text, parse_float=lambda t: f32(float(t)))
+
+
+def status(drive):
+    p = drive.tune("status", "--json")
+    assert p.returncode == 0, p.stderr
+    return loads(p.stdout)
+
+
+def set_gains(drive, *args):
+    p = drive.tune("set", *args, "--json")
+    assert p.returncode in (0, 3), (p.returncode, p.stdout, p.stderr)
+    return p.returncode, loads(p.stdout)
+
+
+def test_help_and_usage_errors():
+    for exe in (DRIVE, TUNE):
+        p = subprocess.run([str(exe), "--help"], capture_output=True, text=True, timeout=5)
+        assert p.returncode == 0 and "Exit status" in p.stdout
+        p = subprocess.run([str(exe), "--no-such-option"], capture_output=True, text=True, timeout=5)
+        assert p.returncode == 2 and "unknown option" in p.stderr
+    p = subprocess.run([str(TUNE)], capture_output=True, text=True, timeout=5)
+    assert p.returncode == 2 and "missing command" in p.stderr
+    p = subprocess.run([str(TUNE), "set"], capture_output=True, text=True, timeout=5)
+    assert p.returncode == 2 and "--K" in p.stderr
+    p = subprocess.run([str(TUNE), "commission", "--m", "1e-5"], capture_output=True, text=True, timeout=5)
+    assert p.returncode == 2 and "--sigma" in p.stderr
+    p = subprocess.run([str(DRIVE), "--port", "99999"], capture_output=True, text=True, timeout=5)
+    assert p.returncode == 2 and "--port" in p.stderr
+    p = subprocess.run([str(DRIVE), "--host", "localhost"], capture_output=True, text=True, timeout=5)
+    assert p.returncode == 2 and "IPv4" in p.stderr
+
+
+def test_connection_error_exits_2():
+    s = socket.socket()
+    s.bind((LOOPBACK, 0))
+    port = s.getsockname()[1]
+    s.close()  # nothing listens there now
+    p = run_tune("--port", str(port), "--timeout", "300", "status", timeout=10)
+    assert p.returncode == 2 and "cannot connect" in p.stderr
+
+
+def test_bad_certified_block_refused_at_startup():
+    p = subprocess.run([str(DRIVE), "--host", LOOPBACK, "--port", "0", "--sigma", "1.5"],
+                       capture_output=True, text=True, timeout=5)
+    assert p.returncode == 2 and "ZW_REASON_BAD_POLICY" in p.stderr
+
+
+def test_status_of_a_fresh_drive(drive):
+    s = status(drive)
+    assert s["magic"] == 0x5A57 and s["version"] == 1
+    assert s["mode"] == "operation" and s["sealed"] is True
+    assert s["gains"] == {"K": 0.0, "B": 0.0}
+    for k, v in PAPER.items():
+        assert s["cert"][k] == f32(v), k
+    assert s["accepted"] == 0 and s["refused"] == 0
+    assert s["last_refusal"]["reason"] == "ZW_REASON_NONE"
+    # live limits of the paper's drive (K_mmax = 0.4934 at B = -1.357e-3; B = 0: K < 0.3577)
+    assert abs(s["live"]["K_mmax"] - 0.493379) < 1e-5
+    assert abs(s["live"]["B_at_K_mmax"] + 1.3567e-3) < 1e-7
+    assert abs(s["live"]["K_max"] - 0.357709) < 1e-5
+    assert abs(s["live"]["delta"] - 5.12241) < 1e-4
+    text = drive.tune("status")
+    assert text.returncode == 0
+    assert "sealed" in text.stdout and "K_mmax = 0.493379" in text.stdout
+
+
+def test_accepted_pair_inside_limits(drive):
+    rc, v = set_gains(drive, "--K", "0.2", "--B", "-5e-4")
+    assert rc == 0 and v["verdict"] == "accepted"
+    assert (v["K"], v["B"]) == (f32(0.2), f32(-5e-4))
+    s = status(drive)
+    assert s["gains"] == {"K": f32(0.2), "B": f32(-5e-4)} and s["accepted"] == 1
+    # the live limits follow the gains: B interval at K = 0.2, K ceiling at B = -5e-4
+    assert s["live"]["B_lo"] < f32(-5e-4) < s["live"]["B_hi"]
+    assert abs(s["live"]["K_max"] - 0.407709) < 1e-5
+    p = drive.tune("set", "--K", "0.25")  # one float alone: judged with the active B
+    assert p.returncode == 0 and p.stdout.startswith("accepted") and "K = 0.25" in p.stdout
+    assert "refused" not in drive.log()
+
+
+def test_pair_outside_refused_and_old_gains_stay(drive):
+    assert set_gains(drive, "--K", "0.2", "--B", "-5e-4")[0] == 0
+    cases = [
+        (("--K", "11", "--B", "0"), "ZW_REASON_K_ABOVE_MAX"),
+        (("--K", "-0.1", "--B", "0"), "ZW_REASON_K_BELOW_MIN"),
+        (("--K", "0.2", "--B", "0.02"), "ZW_REASON_B_ABOVE_MAX"),
+        (("--K", "1.5", "--B", "0"), "ZW_REASON_K_STEP"),          # |dK| = 1.3 > 1 (checked before stability)
+        (("--K", "0.3", "--B", "0.004"), "ZW_REASON_UNSTABLE"),    # B above the stable interval
+        (("--K", "0.35", "--B", "-5e-4"), "ZW_REASON_ABOVE_SIGMA"),  # stable, but > 0.8 K_max(B)
+    ]
+    for args, reason in cases:
+        rc, v = set_gains(drive, *args)
+        assert rc == 3, (args, v)
+        assert v["verdict"] == "refused" and v["reason"] == reason and v["exception"] == 3, (args, v)
+        assert (v["K"], v["B"]) == (f32(0.2), f32(-5e-4)), (args, v)
+    s = status(drive)
+    assert s["gains"] == {"K": f32(0.2), "B": f32(-5e-4)}
+    assert s["accepted"] == 1 and s["refused"] == len(cases)
+    assert s["last_refusal"] == {"reason": "ZW_REASON_ABOVE_SIGMA", "reason_code": 16,
+                                 "exception": 3, "exception_name": "ILLEGAL_DATA_VALUE"}
+    p = drive.tune("set", "--K", "11", "--B", "0")
+    assert p.returncode == 3
+    assert p.stdout.startswith("refused: ZW_REASON_K_ABOVE_MAX (exception 0x03")
+    # one log line per refused request, with the reason and the exception
+    lines = [l for l in drive.log().splitlines() if "refused" in l]
+    assert len(lines) == len(cases) + 1
+    assert "ZW_REASON_UNSTABLE (exception 0x03 ILLEGAL_DATA_VALUE)" in lines[4]
+
+
+def test_paper_pair_sigma_08(drive):
+    """The paper's drive with sigma 0.8.  K_max(-1.36e-3) = 0.49275, so the certified
+    ceiling is 0.8 x 0.49275 = 0.39420: K = 0.39 is accepted, and both K = 0.40 and
+    K = 0.45 (stable: below K_max) are refused ABOVE_SIGMA."""
+    s = status(drive)
+    rc, v = set_gains(drive, "--K", "0.39", "--B", "-1.36e-3")
+    assert rc == 0, v
+    s = status(drive)
+    assert abs(s["live"]["K_max"] - 0.492754) < 1e-5
+    assert abs(s["live"]["K_cert"] - 0.8 * 0.492754) < 1e-5
+    for K in ("0.40", "0.45"):
+        rc, v = set_gains(drive, "--K", K, "--B", "-1.36e-3")
+        assert rc == 3 and v["reason"] == "ZW_REASON_ABOVE_SIGMA" and v["exception"] == 3, v
+        assert (v["K"], v["B"]) == (f32(0.39), f32(-1.36e-3))
+
+
+def test_paper_pair_sigma_085(start_drive):
+    """With sigma 0.85 the ceiling at B = -1.36e-3 is 0.41884: K = 0.40 is accepted and
+    K = 0.45 refused ABOVE_SIGMA."""
+    d = start_drive("--sigma", "0.85")
+    rc, v = set_gains(d, "--K", "0.40", "--B", "-1.36e-3")
+    assert rc == 0 and (v["K"], v["B"]) == (f32(0.40), f32(-1.36e-3)), v
+    rc, v = set_gains(d, "--K", "0.45", "--B", "-1.36e-3")
+    assert rc == 3 and v["reason"] == "ZW_REASON_ABOVE_SIGMA" and v["exception"] == 3, v
+
+
+def test_nan_refused_0x03(drive):
+    rc, v = set_gains(drive, "--K", "nan", "--B", "0")
+    assert rc == 3 and v["reason"] == "ZW_REASON_NOT_FINITE" and v["exception"] == 3
+    rc, v = set_gains(drive, "--B", "inf")
+    assert rc == 3 and v["reason"] == "ZW_REASON_NOT_FINITE"
+    assert status(drive)["gains"] == {"K": 0.0, "B": 0.0}
+
+
+def test_unsealed_drive_refuses_gains(start_drive):
+    d = start_drive("--unsealed")
+    s = status(d)
+    assert s["sealed"] is False and s["live"]["K_max"] is None  # NaN: no plant
+    rc, v = set_gains(d, "--K", "0.1", "--B", "0")
+    assert rc == 3 and v["reason"] == "ZW_REASON_NOT_SEALED" and v["exception"] == 2
+
+
+def test_sigint_stops_cleanly(start_drive):
+    d = start_drive("--simulate")
+    assert d.stop(signal.SIGINT) == 0

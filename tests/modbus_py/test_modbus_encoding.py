@@ -1,0 +1,186 @@
+"""zwidth.modbus without a server: float and counter encoding, CRC-16/MODBUS, the tables
+restated from regmap.h (checked against the header), argument errors."""
+from __future__ import annotations
+
+import ctypes
+import math
+import re
+import struct
+
+import pytest
+
+from mb_support import BUILD_DIR, HEADER, LOOPBACK, free_port
+from zwidth import modbus as zm
+
+# ---------------------------------------------------------------------------------------
+# The header, parsed here (the module itself parses nothing at run time)
+# ---------------------------------------------------------------------------------------
+
+HEADER_TEXT = HEADER.read_text()
+
+
+def header_enum(typedef: str) -> dict:
+    """NAME -> value of a `typedef enum <typedef> { ... }` block."""
+    m = re.search(r"typedef enum %s \{(.*?)\}" % typedef, HEADER_TEXT, re.S)
+    assert m, typedef
+    body = re.sub(r"/\*.*?\*/", "", m.group(1), flags=re.S)
+    return {name: int(value, 0) for name, value in re.findall(r"(\w+)\s*=\s*(0x[0-9A-Fa-f]+|\d+)", body)}
+
+
+def header_anon_enum_with(first: str) -> dict:
+    """NAME -> value of the anonymous `enum { ... }` that contains `first`."""
+    for m in re.finditer(r"enum \{(.*?)\}", HEADER_TEXT, re.S):
+        body = re.sub(r"/\*.*?\*/", "", m.group(1), flags=re.S)
+        if first in body:
+            return {n: int(v, 0) for n, v in re.findall(r"(\w+)\s*=\s*(0x[0-9A-Fa-f]+|\d+)", body)}
+    raise AssertionError(first)
+
+
+def header_define(name: str) -> int:
+    m = re.search(r"#define %s (0x[0-9A-Fa-f]+|\d+)u?" % name, HEADER_TEXT)
+    assert m, name
+    return int(m.group(1), 0)
+
+
+def test_reason_names_match_the_header():
+    assert {v: k for k, v in header_enum("zw_reason").items()} == zm.REASONS
+
+
+def test_register_addresses_match_the_header():
+    regs = header_anon_enum_with("ZW_REG_MAGIC")
+    assert {k[len("ZW_REG_"):]: v for k, v in regs.items()} == zm.REG
+
+
+def test_commands_and_constants_match_the_header():
+    cmds = {name: header_define("ZW_CMD_" + name) for name in ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT")}
+    assert cmds == zm.CMD
+    assert header_define("ZW_REGMAP_MAGIC") == zm.MAGIC
+    assert header_define("ZW_REGMAP_VERSION") == zm.MAP_VERSION
+    assert header_define("ZW_CERT_WORDS") == zm.CERT_WORDS
+    codes = header_enum("zw_mb_exception")
+    assert {v: k[len("ZW_MB_"):] for k, v in codes.items()} == zm.EXCEPTIONS
+
+
+def test_reason_name_of_unknown_code():
+    assert zm.reason_name(16) == "ZW_REASON_ABOVE_SIGMA"
+    assert zm.reason_name(999) == "ZW_REASON_UNKNOWN(999)"
+
+
+# ---------------------------------------------------------------------------------------
+# CRC-16/MODBUS
+# ---------------------------------------------------------------------------------------
+
+
+def test_crc_standard_check_value():
+    assert zm.crc16_modbus(b"123456789") == 0x4B37
+    assert zm.crc16_modbus(b"") == 0xFFFF
+
+
+def test_crc_of_words_feeds_high_byte_first():
+    data = b"12345678"
+    words = list(struct.unpack(">4H", data))
+    assert zm.crc16_words(words) == zm.crc16_modbus(data)
+    assert zm.crc16_words([0x3132]) != zm.crc16_words([0x3231])
+
+
+def test_crc_words_must_be_16_bit():
+    with pytest.raises(ValueError, match="16-bit"):
+        zm.crc16_words([0x10000])
+
+
+def test_crc_agrees_with_the_c_library():
+    lib_path = BUILD_DIR / "libzwidth_d_shared.so"
+    if not lib_path.is_file():
+        pytest.skip(f"{lib_path} not built")
+    lib = ctypes.CDLL(str(lib_path))
+    if not hasattr(lib, "zw_crc16_words"):
+        pytest.skip("zw_crc16_words not in the library yet")
+    lib.zw_crc16_words.restype = ctypes.c_uint16
+    lib.zw_crc16_words.argtypes = [ctypes.POINTER(ctypes.c_uint16), ctypes.c_size_t]
+    words = []
+    for x in (85.78e-7, 2.197e-3, 0.02, 0.8, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01):
+        words += zm.float_to_words(x)
+    arr = (ctypes.c_uint16 * len(words))(*words)
+    assert lib.zw_crc16_words(arr, len(words)) == zm.crc16_words(words)
+
+
+# ---------------------------------------------------------------------------------------
+# binary32 ABCD and u32
+# ---------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("value, words", [
+    (1.0, (0x3F80, 0x0000)),
+    (-2.0, (0xC000, 0x0000)),
+    (0.0, (0x0000, 0x0000)),
+    (-0.0, (0x8000, 0x0000)),
+    (0.40, (0x3ECC, 0xCCCD)),
+    (float("inf"), (0x7F80, 0x0000)),
+])
+def test_float_words_high_word_first(value, words):
+    assert zm.float_to_words(value) == words
+    assert struct.pack(">f", zm.words_to_float(*words)) == struct.pack(">f", value)
+
+
+def test_float_round_trip_is_binary32_rounding():
+    for x in (0.40, -1.36e-3, 85.78e-7, 2.197e-3, 1e-40, 3.4028235e38):
+        assert zm.words_to_float(*zm.float_to_words(x)) == struct.unpack(">f", struct.pack(">f", x))[0]
+    assert math.isnan(zm.words_to_float(*zm.float_to_words(float("nan"))))
+
+
+def test_float_overflow_and_type_errors_name_the_argument():
+    with pytest.raises(ValueError, match=r"^K = 1e\+39 .*binary32"):
+        zm.float_to_words(1e39, "K")
+    with pytest.raises(ValueError, match="^B must be a real number"):
+        zm.float_to_words("0.1", "B")
+    with pytest.raises(ValueError, match="^sigma must be a real number"):
+        zm.float_to_words(True, "sigma")
+
+
+def test_u32_high_word_first():
+    assert zm.u32_from_words(0x0001, 0x0002) == 0x00010002
+    assert zm.u32_from_words(0xFFFF, 0xFFFF) == 0xFFFFFFFF
+
+
+# ---------------------------------------------------------------------------------------
+# Arguments and connection errors (no server)
+# ---------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(port=0), "port"), (dict(port=70000), "port"), (dict(port="1502"), "port"),
+    (dict(unit=256), "unit"), (dict(timeout=0), "timeout"), (dict(timeout=float("inf")), "timeout"),
+    (dict(host=""), "host"),
+])
+def test_drive_arguments(kwargs, name):
+    with pytest.raises(ValueError, match=f"^{name} "):
+        zm.Drive(**kwargs)
+
+
+def test_set_gains_arguments_checked_before_any_request():
+    d = zm.Drive(LOOPBACK, free_port(), timeout=0.5)  # nothing listens: must not be reached
+    with pytest.raises(ValueError, match="K, B or both"):
+        d.set_gains()
+    with pytest.raises(ValueError, match="^K must be a real number"):
+        d.set_gains(K="0.3", B=0.0)
+    with pytest.raises(ValueError, match=r"^B = -1e\+40"):
+        d.set_gains(K=0.3, B=-1e40)
+    with pytest.raises(ValueError, match="^db_max must be a real number"):
+        d.commission(8.578e-6, 2.197e-3, 0.02, 0.8, 1.0, 0.0, 1.0, -0.01, 0.01, 1.0, None)
+    with pytest.raises(ValueError, match="command must be one of"):
+        d.command("OPEN")
+
+
+def test_connection_error_names_host_and_port():
+    pytest.importorskip("pymodbus", reason="pymodbus not installed (tools/requirements-test.txt)")
+    port = free_port()
+    with pytest.raises(ConnectionError, match=f"{LOOPBACK}:{port}"):
+        with zm.Drive(LOOPBACK, port, timeout=0.5) as d:
+            d.status()
+
+
+def test_package_is_tiny():
+    import zwidth
+
+    assert zwidth.__version__ == "0.1.0"
+    assert zwidth.__all__ == ["__version__"]

@@ -1,0 +1,310 @@
+"""zwidth.modbus against a live zwidth-drive on a free 127.0.0.1 port, and pymodbus itself
+as a client that nobody here wrote (interoperability of the exception responses)."""
+from __future__ import annotations
+
+import struct
+
+import pytest
+
+from mb_support import LOOPBACK, PAPER_PLANT, POLICY
+from zwidth import modbus as zm
+
+TIMEOUT = 2.0  # s, every request
+
+
+def f32(x: float) -> float:
+    """x rounded to binary32, as the drive stores it."""
+    return struct.unpack(">f", struct.pack(">f", x))[0]
+
+
+def drive(port: int) -> zm.Drive:
+    return zm.Drive(LOOPBACK, port, timeout=TIMEOUT)
+
+
+# ---------------------------------------------------------------------------------------
+# status
+# ---------------------------------------------------------------------------------------
+
+
+def test_status_of_a_fresh_drive(drive_port):
+    with drive(drive_port) as d:
+        s = d.status()
+    assert s.mode == "operation" and s.sealed and s.version == 1
+    assert s.plant == zm.Plant(*(f32(PAPER_PLANT[k]) for k in ("m", "b", "T")))
+    expected_policy = {k: f32(v) for k, v in POLICY.items()}
+    assert {k: getattr(s.policy, k) for k in POLICY} == expected_policy
+    words = []
+    for key in ("m", "b", "T"):
+        words += zm.float_to_words(PAPER_PLANT[key])
+    for key in ("sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
+        words += zm.float_to_words(POLICY[key])
+    assert s.policy.crc == zm.crc16_words(words)
+    assert s.gains == zm.Gains(0.0, 0.0)
+    # The paper: K_mmax = 0.4934 N m/rad at B = -1.357e-3 N m s/rad, delta = 5.12241.
+    assert s.limits.k_mmax == pytest.approx(0.493379, rel=1e-5)
+    assert s.limits.b_at_k_mmax == pytest.approx(-1.3567e-3, rel=1e-4)
+    assert s.limits.delta == pytest.approx(5.12241, rel=1e-5)
+    assert s.limits.k_max == pytest.approx(0.357709, rel=1e-5)  # at B = 0
+    assert s.state == zm.State(0.0, 0.0, 0.0, 0)
+    assert s.counters == zm.Counters(0, 0)
+    assert s.last_refusal == zm.Refusal("ZW_REASON_NONE", 0)
+
+
+def test_status_is_frozen(drive_port):
+    with drive(drive_port) as d:
+        s = d.status()
+    with pytest.raises(AttributeError):
+        s.sealed = False  # type: ignore[misc]
+
+
+# ---------------------------------------------------------------------------------------
+# gain writes
+# ---------------------------------------------------------------------------------------
+
+
+def test_accepted_pair_is_one_change(drive_port):
+    with drive(drive_port) as d:
+        r = d.set_gains(K=0.30, B=-1.0e-3)
+        assert r == zm.GainResult(True, "ZW_REASON_NONE", 0, f32(0.30), f32(-1.0e-3))
+        s = d.status()
+    assert s.gains == zm.Gains(f32(0.30), f32(-1.0e-3))
+    assert s.counters == zm.Counters(accepted=1, refused=0)
+    # The live ceiling at the new B is sigma K_max(B) (below k_max = 10).
+    assert s.limits.k_cert == pytest.approx(POLICY["sigma"] * s.limits.k_max, rel=1e-6)
+    assert s.limits.b_lo < f32(-1.0e-3) < s.limits.b_hi
+    assert 0.0 < s.limits.rho < POLICY["r"]
+
+
+def test_refused_pair_keeps_the_old_gains(drive_port):
+    with drive(drive_port) as d:
+        assert d.set_gains(K=0.30, B=-1.0e-3).accepted
+        # K_max(0) = 0.3577: K = 0.40 with B = 0 is outside the stability region.
+        r = d.set_gains(K=0.40, B=0.0)
+        assert r == zm.GainResult(False, "ZW_REASON_UNSTABLE", 0x03, f32(0.30), f32(-1.0e-3))
+        s = d.status()
+    assert s.gains == zm.Gains(f32(0.30), f32(-1.0e-3))
+    assert s.counters == zm.Counters(accepted=1, refused=1)
+    assert s.last_refusal == zm.Refusal("ZW_REASON_UNSTABLE", 0x03)
+
+
+@pytest.mark.parametrize("K, B, reason", [
+    (float("nan"), 0.0, "ZW_REASON_NOT_FINITE"),
+    (0.1, float("inf"), "ZW_REASON_NOT_FINITE"),
+    (-0.1, 0.0, "ZW_REASON_K_BELOW_MIN"),
+    (11.0, 0.0, "ZW_REASON_K_ABOVE_MAX"),
+    (0.1, -0.02, "ZW_REASON_B_BELOW_MIN"),
+    (0.1, 0.02, "ZW_REASON_B_ABOVE_MAX"),
+])
+def test_refusal_reasons_by_name(drive_port, K, B, reason):
+    with drive(drive_port) as d:
+        r = d.set_gains(K=K, B=B)
+    assert (r.accepted, r.reason, r.exception, r.K, r.B) == (False, reason, 0x03, 0.0, 0.0)
+
+
+def test_single_gain_is_judged_with_the_other(drive_port):
+    with drive(drive_port) as d:
+        assert d.set_gains(K=0.30, B=-1.0e-3).accepted
+        r = d.set_gains(B=-1.2e-3)
+        assert r == zm.GainResult(True, "ZW_REASON_NONE", 0, f32(0.30), f32(-1.2e-3))
+        r = d.set_gains(K=0.2)
+        assert r == zm.GainResult(True, "ZW_REASON_NONE", 0, f32(0.2), f32(-1.2e-3))
+        assert d.status().counters.accepted == 3
+
+
+def test_output_off_always_accepted(drive_port):
+    with drive(drive_port) as d:
+        assert d.set_gains(K=0.30, B=-1.0e-3).accepted
+        assert d.set_gains(K=0.0, B=0.0) == zm.GainResult(True, "ZW_REASON_NONE", 0, 0.0, 0.0)
+
+
+def test_step_limit(start_drive):
+    port = start_drive({**PAPER_PLANT, **POLICY, "dk_max": 0.15})  # steps of 0.1 pass
+    with drive(port) as d:
+        r = d.set_gains(K=0.30, B=-1.0e-3)
+        assert (r.accepted, r.reason, r.K) == (False, "ZW_REASON_K_STEP", 0.0)
+        for K in (0.1, 0.2, 0.3):
+            assert d.set_gains(K=K, B=-1.0e-3).accepted
+        assert d.gains() == zm.Gains(f32(0.3), f32(-1.0e-3))
+
+
+# ---------------------------------------------------------------------------------------
+# The paper's example: J = 85.78e-7 kg m^2, b = 2.197e-3 N m s/rad, T = 0.02 s.
+# At B = -1.36e-3 N m s/rad, K_max(B) = 0.49275 N m/rad (K_mmax = 0.4934 at B = -1.3567e-3).
+# ---------------------------------------------------------------------------------------
+
+
+def test_paper_example_sigma_085(start_drive):
+    port = start_drive({**PAPER_PLANT, **POLICY, "sigma": 0.85})  # ceiling 0.4188
+    with drive(port) as d:
+        r = d.set_gains(K=0.40, B=-1.36e-3)
+        assert r == zm.GainResult(True, "ZW_REASON_NONE", 0, f32(0.40), f32(-1.36e-3))
+        assert d.status().limits.k_cert == pytest.approx(0.85 * 0.492754, rel=1e-5)
+        r = d.set_gains(K=0.45, B=-1.36e-3)  # stable (0.45 < 0.4928), but above the fraction
+        assert r == zm.GainResult(False, "ZW_REASON_ABOVE_SIGMA", 0x03, f32(0.40), f32(-1.36e-3))
+
+
+def test_paper_example_sigma_08(start_drive):
+    """With sigma = 0.8 the certified ceiling at B = -1.36e-3 is 0.8 x 0.49275 = 0.3942, so
+    K = 0.40 is itself refused ABOVE_SIGMA (it would need sigma >= 0.812); 0.39 passes."""
+    port = start_drive({**PAPER_PLANT, **POLICY, "sigma": 0.8})
+    with drive(port) as d:
+        for K in (0.40, 0.45):
+            r = d.set_gains(K=K, B=-1.36e-3)
+            assert r == zm.GainResult(False, "ZW_REASON_ABOVE_SIGMA", 0x03, 0.0, 0.0)
+        r = d.set_gains(K=0.39, B=-1.36e-3)
+        assert r == zm.GainResult(True, "ZW_REASON_NONE", 0, f32(0.39), f32(-1.36e-3))
+        assert d.status().limits.k_cert == pytest.approx(0.8 * 0.492754, rel=1e-5)
+
+
+# ---------------------------------------------------------------------------------------
+# commissioning
+# ---------------------------------------------------------------------------------------
+
+# sigma 0.9 and K <= 0.45 leave K = 0.44 at B = -1.36e-3 (ceiling 0.4435), but its spectral
+# radius 0.972 is above r = 0.96.
+NEW_BLOCK = dict(m=85.78e-7, b=2.197e-3, T=0.02, sigma=0.9, r=0.96, k_min=0.0, k_max=0.45,
+                 b_min=-2.0e-3, b_max=3.0e-3, dk_max=0.5, db_max=5e-3)
+
+
+def test_commission_an_unsealed_drive(start_drive):
+    port = start_drive(None)
+    with drive(port) as d:
+        s = d.status()
+        assert not s.sealed and s.mode == "operation"
+        r = d.set_gains(K=0.30, B=-1.0e-3)
+        assert (r.accepted, r.reason, r.K, r.B) == (False, "ZW_REASON_NOT_SEALED", 0.0, 0.0)
+        assert r.exception in (0x02, 0x03)  # regmap.h does not say which (see the report)
+
+        c = d.commission(**NEW_BLOCK)
+        words = []
+        for key in ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
+            words += zm.float_to_words(NEW_BLOCK[key])
+        assert c == zm.CommissionResult(True, "ZW_REASON_NONE", 0, "done", zm.crc16_words(words), False)
+        s = d.status()
+        assert s.sealed and s.mode == "operation" and s.gains == zm.Gains(0.0, 0.0)
+        assert s.plant == zm.Plant(f32(85.78e-7), f32(2.197e-3), f32(0.02))
+        assert (s.policy.sigma, s.policy.k_max, s.policy.crc) == (f32(0.9), f32(0.45), c.crc)
+        assert d.set_gains(K=0.30, B=-1.0e-3).accepted  # rho 0.846
+        r = d.set_gains(K=0.44, B=-1.36e-3)
+        assert r == zm.GainResult(False, "ZW_REASON_RADIUS", 0x03, f32(0.30), f32(-1.0e-3))
+
+
+def test_recommission_turns_the_output_off(drive_port):
+    with drive(drive_port) as d:
+        assert d.set_gains(K=0.30, B=-1.0e-3).accepted
+        c = d.commission(**NEW_BLOCK)
+        assert c.accepted and c.stage == "done"
+        s = d.status()
+        assert s.gains == zm.Gains(0.0, 0.0)
+        assert s.policy.k_max == f32(0.45)
+        r = d.set_gains(K=0.46, B=-1.36e-3)
+        assert (r.accepted, r.reason) == (False, "ZW_REASON_K_ABOVE_MAX")
+
+
+def test_commission_bad_policy_aborts_to_the_old_block(drive_port):
+    with drive(drive_port) as d:
+        before = d.status()
+        c = d.commission(**{**NEW_BLOCK, "sigma": 1.5})
+        assert (c.accepted, c.reason, c.exception, c.stage, c.aborted) == \
+            (False, "ZW_REASON_BAD_POLICY", 0x03, "seal", True)
+        after = d.status()
+    assert after.mode == "operation" and after.sealed
+    assert after.policy == before.policy and after.plant == before.plant
+
+
+def test_commission_without_abort_stays_in_commissioning(drive_port):
+    with drive(drive_port) as d:
+        c = d.commission(**{**NEW_BLOCK, "m": -1.0}, abort_on_refusal=False)
+        assert (c.accepted, c.reason, c.stage, c.aborted) == (False, "ZW_REASON_BAD_POLICY", "seal", False)
+        s = d.status()
+        assert s.mode == "commissioning" and s.gains == zm.Gains(0.0, 0.0)
+        r = d.set_gains(K=0.1, B=0.0)
+        assert (r.accepted, r.reason) == (False, "ZW_REASON_NOT_SEALED")
+        assert d.command("ABORT") == 0
+        assert d.status().mode == "operation"
+
+
+# ---------------------------------------------------------------------------------------
+# errors
+# ---------------------------------------------------------------------------------------
+
+
+def test_drive_gone_is_a_connection_error(start_drive):
+    port = start_drive()
+    d = drive(port)
+    d.connect()
+    try:
+        for proc in start_drive.procs:
+            proc.terminate()
+            proc.wait(timeout=5)
+        with pytest.raises(ConnectionError, match=f"{LOOPBACK}:{port}"):
+            d.status()
+    finally:
+        d.close()
+
+
+# ---------------------------------------------------------------------------------------
+# pymodbus as a client nobody here wrote
+# ---------------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def raw(drive_port):
+    from pymodbus.client import ModbusTcpClient
+
+    client = ModbusTcpClient(LOOPBACK, port=drive_port, timeout=TIMEOUT, retries=0)
+    assert client.connect()
+    try:
+        yield client, {zm.unit_keyword(client.read_holding_registers): 1}
+    finally:
+        client.close()
+
+
+def test_raw_read_of_the_head(raw):
+    client, unit = raw
+    rsp = client.read_holding_registers(0x0000, count=10, **unit)
+    assert not rsp.isError()
+    assert list(rsp.registers[:4]) == [0x5A57, 1, 0, 1]
+
+
+def test_raw_bad_pair_is_exception_3(raw):
+    client, unit = raw
+    words = [*zm.float_to_words(0.45), *zm.float_to_words(-1.36e-3)]  # above 0.85 K_max(B)
+    rsp = client.write_registers(0x0010, words, **unit)
+    assert rsp.isError() and rsp.exception_code == 0x03
+    back = client.read_holding_registers(0x0010, count=4, **unit)
+    assert list(back.registers[:4]) == [0, 0, 0, 0]
+    why = client.read_holding_registers(0x0004, count=2, **unit)
+    assert list(why.registers[:2]) == [16, 0x03]  # ZW_REASON_ABOVE_SIGMA
+
+
+def test_raw_half_float_is_exception_2(raw):
+    client, unit = raw
+    hi, lo = zm.float_to_words(0.30)
+    rsp = client.write_registers(0x0010, [hi], **unit)  # 0x10, one word of K
+    assert rsp.isError() and rsp.exception_code == 0x02
+    rsp = client.write_register(0x0013, lo, **unit)  # 0x06, low word of B
+    assert rsp.isError() and rsp.exception_code == 0x02
+    why = client.read_holding_registers(0x0004, count=2, **unit)
+    assert list(why.registers[:2]) == [5, 0x02]  # ZW_REASON_HALF_FLOAT
+    back = client.read_holding_registers(0x0010, count=4, **unit)
+    assert list(back.registers[:4]) == [0, 0, 0, 0]
+
+
+def test_raw_unmapped_and_read_only(raw):
+    client, unit = raw
+    rsp = client.read_holding_registers(0x000A, count=1, **unit)
+    assert rsp.isError() and rsp.exception_code == 0x02
+    rsp = client.write_register(0x0000, 1, **unit)
+    assert rsp.isError() and rsp.exception_code == 0x02
+    rsp = client.read_holding_registers(0x0004, count=2, **unit)
+    assert list(rsp.registers[:2]) == [4, 0x02]  # ZW_REASON_READ_ONLY
+
+
+def test_raw_good_pair_then_client_reads_it(raw, drive_port):
+    client, unit = raw
+    words = [*zm.float_to_words(0.30), *zm.float_to_words(-1.0e-3)]
+    rsp = client.write_registers(0x0010, words, **unit)
+    assert not rsp.isError()
+    with drive(drive_port) as d:  # a second client on the same drive
+        assert d.gains() == zm.Gains(f32(0.30), f32(-1.0e-3))
