@@ -31,9 +31,11 @@ trap 'rm -rf "$WORK"' EXIT
 mkdir -p "$WORK/seeds" "$WORK/corpus"
 
 # Seeds: records [len][PDU] (see tests/fuzz/fuzz_regmap.c), and a dictionary.
-python3 - "$WORK" <<'PY'
+PYTHONPATH="$PWD/python" python3 - "$WORK" <<'PY'
 import struct, sys
 from pathlib import Path
+
+from zwidth.modbus import crc16_words as crc16  # the Python client's CRC: one implementation
 
 work = Path(sys.argv[1])
 
@@ -56,15 +58,6 @@ def fwords(*xs):
     for x in xs:
         out += struct.unpack(">HH", struct.pack(">f", x))
     return out
-
-def crc16(words):
-    crc = 0xFFFF
-    for w in words:
-        for byte in (w >> 8, w & 0xFF):
-            crc ^= byte
-            for _ in range(8):
-                crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return crc
 
 def gains(K, B):
     return writen(0x0010, fwords(K, B))
