@@ -144,9 +144,16 @@ int main(int argc, char **argv)
             fprintf(stderr, "zwidth-limits: cannot check K=%g, B=%g: %s\n", K, B, zw_status_name(st));
             return 2;
         }
-        printf("\nGains K = %.6g, B = %.6g: %s (spectral radius %.6f)%s%s\n", K, B,
-               v.stable ? "STABLE" : "UNSTABLE", rho, v.stable ? "" : " - ",
-               v.stable ? "" : bound_advice(v.deciding));
+        printf("\nGains K = %.6g, B = %.6g: %s (spectral radius %.6f)%s\n", K, B,
+               v.stable ? "STABLE" : "UNSTABLE", rho,
+               v.marginal ? ", within rounding of the boundary" : "");
+        {
+            unsigned bit; /* every violated constraint, the deciding one first */
+            if (!v.stable) printf("  - %s\n", bound_advice(v.deciding));
+            for (bit = ZW_BOUND_DAMPING; bit <= ZW_BOUND_LINE; bit <<= 1)
+                if ((v.violated & bit) && bit != (unsigned)v.deciding)
+                    printf("  - %s\n", bound_advice((zw_bound)bit));
+        }
         return v.stable ? 0 : 1;
     }
     return 0;
