@@ -2,6 +2,7 @@
 #include "zw_mbhost.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -71,7 +72,7 @@ int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv,
     }
     if (!zw_parse_double(prog, arg, argv[*i + 1], &o->v[k])) return -1;
     /* A float register cannot hold it: refuse here rather than send infinity. */
-    if (fabs(o->v[k]) > 3.4028234663852886e38) {
+    if (fabs(o->v[k]) > (double)FLT_MAX) {
         fprintf(stderr, "%s: %s %s does not fit a float register\n", prog, arg, argv[*i + 1]);
         return -1;
     }

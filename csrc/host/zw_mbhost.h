@@ -27,7 +27,7 @@ int zw_parse_long(const char *prog, const char *name, const char *text, long lo,
 
 /* The certified block as options: --m --b --T --sigma --r --k-min --k-max --b-min --b-max
  * --dk-max --db-max, in register order (index i is register ZW_REG_CERT_M + 2 i). */
-#define ZW_CERT_FIELDS 11
+#define ZW_CERT_FIELDS ((int)(ZW_CERT_WORDS / 2u)) /* 11 floats */
 typedef struct zw_cert_opts {
     double v[ZW_CERT_FIELDS];
     int given[ZW_CERT_FIELDS];

@@ -251,8 +251,8 @@ static const char *fc_name(unsigned fc)
     }
 }
 
-/* Hand one request PDU to the register map; the response PDU goes to rsp (PDU_MAX bytes).
- * Returns its length.  Logs the refusal (always) or the request (-v). */
+/* Hand one request PDU (len <= PDU_MAX: both framings bound it) to the register map; the
+ * response PDU goes to rsp (PDU_MAX bytes).  Returns its length.  Logs the refusal (always) or the request (-v). */
 static size_t serve_pdu(drive *d, const uint8_t *pdu, size_t len, uint8_t *rsp, const char *who)
 {
     uint_least8_t req_b[PDU_MAX], rsp_b[PDU_MAX];
@@ -261,7 +261,6 @@ static size_t serve_pdu(drive *d, const uint8_t *pdu, size_t len, uint8_t *rsp, 
     char what[64];
     unsigned fc = len > 0 ? pdu[0] : 0u;
 
-    if (len > PDU_MAX) len = PDU_MAX; /* cannot happen: framing bounds it */
     for (i = 0; i < len; ++i) req_b[i] = pdu[i];
     ex = zw_regmap_handle_pdu(&d->rm, req_b, len, rsp_b, sizeof rsp_b, &rlen);
     if (rlen < 2 || rlen > PDU_MAX) { /* the handler broke its contract: answer 0x04 */
@@ -382,7 +381,7 @@ static int tcp_service(drive *d, modbus_t *ctx, client *c, double now, int hangu
     for (frames = 0; frames < FRAMES_PER_WAKE; ++frames) {
         uint8_t adu[TCP_MAX_ADU + 8], rsp[TCP_HEADER + PDU_MAX];
         ssize_t n = recv(c->fd, adu, TCP_MAX_ADU, MSG_PEEK | MSG_DONTWAIT);
-        size_t need, got = 0, hdr, plen, mbap_len;
+        size_t need, got = 0, plen, mbap_len;
         unsigned proto;
 
         if (n == 0) {
@@ -447,14 +446,8 @@ static int tcp_service(drive *d, modbus_t *ctx, client *c, double now, int hangu
             }
             got += (size_t)r;
         }
-        /* The MBAP length field must describe exactly what was received. */
-        hdr = (size_t)modbus_get_header_length(ctx);
-        if (hdr != TCP_HEADER || (size_t)(adu[4] << 8 | adu[5]) != got - 6) {
-            client_close(d, c, "MBAP length does not match the frame");
-            return -1;
-        }
-
-        plen = serve_pdu(d, adu + hdr, got - hdr, rsp + TCP_HEADER, c->peer);
+        /* got == need == 6 + the MBAP length, checked above. */
+        plen = serve_pdu(d, adu + TCP_HEADER, got - TCP_HEADER, rsp + TCP_HEADER, c->peer);
         rsp[0] = adu[0]; /* transaction id */
         rsp[1] = adu[1];
         rsp[2] = 0; /* protocol id */
@@ -502,9 +495,13 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
         modbus_free(ctx);
         return ZW_EXIT_FAILURE;
     }
-    if (d->verbose || port == 0)
-        logf_("serving Modbus TCP on %s:%u (%s)", host, (unsigned)ntohs(a.sin_port),
+    if (d->verbose || port == 0) {
+        char bound[INET_ADDRSTRLEN];
+        if (a.sin_family != AF_INET || inet_ntop(AF_INET, &a.sin_addr, bound, sizeof bound) == NULL)
+            snprintf(bound, sizeof bound, "%s", host);
+        logf_("serving Modbus TCP on %s:%u (%s)", bound, (unsigned)ntohs(a.sin_port),
               d->rm.is_sealed ? "sealed" : "unsealed");
+    }
     for (i = 0; i < MAX_CLIENTS_LIMIT; ++i) clients[i].fd = -1;
 
     while (!g_stop) {
@@ -650,23 +647,42 @@ static modbus_t *rtu_context(const char *dev, int baud, char parity, int slave, 
     return ctx;
 }
 
-/* Discard input until the line has been quiet for gap seconds (at most 1 s): the rest of
- * a frame that could not be used, so the next read starts at a frame boundary. */
-static void rtu_drain(int fd, double gap)
+/* Discard input until the line has been quiet for gap seconds (t3.5; at most 1 s): the
+ * rest of a frame that could not be used, so the next read starts at a frame boundary.
+ * Returns the number of bytes discarded and the first of them in *first. */
+static size_t rtu_drain(int fd, double gap, unsigned *first)
 {
     double end = now_s() + 1.0;
     uint8_t junk[256];
+    size_t total = 0;
+    *first = 0;
     for (;;) {
         struct pollfd p;
         int rc;
+        ssize_t n;
         p.fd = fd;
         p.events = POLLIN;
         p.revents = 0;
-        rc = poll(&p, 1, (int)ceil(gap * 1000.0));
-        if (rc <= 0 || (p.revents & POLLIN) == 0) return;
-        if (read(fd, junk, sizeof junk) <= 0) return;
-        if (now_s() > end) return;
+        rc = poll(&p, 1, (int)ceil(gap * 1000.0)); /* poll counts milliseconds: rounded up */
+        if (rc <= 0 || (p.revents & POLLIN) == 0) return total;
+        n = read(fd, junk, sizeof junk);
+        if (n <= 0) return total;
+        if (total == 0) *first = junk[0];
+        total += (size_t)n;
+        if (now_s() > end) return total;
     }
+}
+
+/* Drain after an unusable frame; with -v, report what that dropped: bytes that followed
+ * within t3.5 break the Modbus framing, so a request among them is lost. */
+static void rtu_drain_logged(drive *d, int fd, double gap, const char *dev)
+{
+    unsigned first;
+    size_t n = rtu_drain(fd, gap, &first);
+    if (n > 0 && d->verbose)
+        logf_("dropped %lu bytes on %s that followed within t3.5 (%.3f ms) of a frame not "
+              "answered (first byte 0x%02X); a request among them is lost",
+              (unsigned long)n, dev, gap * 1000.0, first);
 }
 
 static int serve_rtu(drive *d, const char *dev, int baud, char parity, int slave)
@@ -674,11 +690,12 @@ static int serve_rtu(drive *d, const char *dev, int baud, char parity, int slave
     /* conn opened the line (and restores its settings at the end); ctx receives, and is
      * conn until it has to be replaced. */
     modbus_t *conn = rtu_context(dev, baud, parity, slave, -1), *ctx = conn;
-    double gap = 3.5 * 11.0 / (double)baud; /* t3.5 */
+    /* t3.5: 3.5 characters of 11 bits; fixed at 1.75 ms above 19200 baud (Modbus over
+     * serial line, 2.5.1.1). */
+    double gap = baud > 19200 ? 0.00175 : 3.5 * 11.0 / (double)baud;
     int fd, status = ZW_EXIT_OK;
     char who[80];
 
-    if (gap < 0.010) gap = 0.010; /* serial adapters and ptys deliver in bursts */
     if (ctx == NULL) {
         logf_("cannot create a Modbus RTU context for %s: %s", dev, modbus_strerror(errno));
         return ZW_EXIT_FAILURE;
@@ -731,7 +748,7 @@ static int serve_rtu(drive *d, const char *dev, int baud, char parity, int slave
             logf_("refused a frame on %s: %s (no answer)", dev,
                   e == EMBBADCRC ? "bad CRC" : e == ETIMEDOUT ? "incomplete frame"
                                                              : modbus_strerror(e));
-            rtu_drain(fd, gap);
+            rtu_drain_logged(d, fd, gap, dev);
             continue;
         }
         if (rc == 0 || adu[0] != (uint8_t)slave) {
@@ -750,7 +767,7 @@ static int serve_rtu(drive *d, const char *dev, int baud, char parity, int slave
                 }
                 ctx = fresh;
             }
-            rtu_drain(fd, gap);
+            rtu_drain_logged(d, fd, gap, dev);
             continue;
         }
         {
@@ -826,6 +843,13 @@ int main(int argc, char **argv)
         if (strcmp(arg, "--host") == 0) {
             if (inet_pton(AF_INET, val, &probe) != 1) {
                 fprintf(stderr, PROG ": --host expects an IPv4 address, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+            /* libmodbus 3.1.6 listens on INADDR_ANY for any address text starting with
+             * '0': allow that only for 0.0.0.0 itself. */
+            if ((ntohl(probe.s_addr) >> 24) == 0u && probe.s_addr != htonl(INADDR_ANY)) {
+                fprintf(stderr, PROG ": --host %s: an address in 0.0.0.0/8 other than 0.0.0.0 "
+                                "cannot be listened on\n", val);
                 return ZW_EXIT_USAGE;
             }
             host = val;

@@ -7,6 +7,7 @@
  * Register map: csrc/include/zwidth/regmap.h and docs/modbus.md.
  */
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -48,7 +49,7 @@ static void usage(FILE *to)
             "  --rtu DEVICE    use Modbus RTU on this serial device instead\n"
             "  --baud N        RTU baud rate (default 19200)\n"
             "  --parity P      RTU parity N, E or O (default N)\n"
-            "  --slave ID      slave address / unit id (default 1)\n"
+            "  --slave ID      RTU slave address 1..247 / TCP unit id 0..255 (default 1)\n"
             "  --timeout MS    response timeout (default 1000)\n"
             "  --json          machine-readable output (one JSON object on stdout)\n"
             "\n"
@@ -207,6 +208,10 @@ static void json_kv_float(const char *key, double v, int comma)
     zw_json_float(stdout, v);
 }
 
+/* The reason of a refusal whose LAST_EXCEPTION is not the one our request got: another
+ * client's.  zw_reason_name() names it "ZW_REASON_UNKNOWN", as the Python client does. */
+#define REASON_NOT_OURS 0xFFFFu
+
 static void print_refusal_json(unsigned reason, unsigned exc)
 {
     printf("\"reason\": ");
@@ -303,7 +308,7 @@ static int cmd_set(modbus_t *ctx, int have_K, double K, int have_B, double B, in
      * (another client refused in between would show its own; the exception is ours). */
     {
         unsigned reason = (unsigned)after.head[4];
-        if ((unsigned)after.head[5] != exc) reason = 0; /* not ours: do not guess */
+        if ((unsigned)after.head[5] != exc) reason = REASON_NOT_OURS; /* do not guess */
         if (json) {
             printf("{\"verdict\": \"refused\", ");
             print_refusal_json(reason, exc);
@@ -324,7 +329,7 @@ static int commission_refused(modbus_t *ctx, const char *step, unsigned exc, int
                               int json)
 {
     snapshot s;
-    unsigned reason = 0, abort_exc = 0;
+    unsigned reason = REASON_NOT_OURS, abort_exc = 0;
     int aborted = 0;
     if (read_head(ctx, &s) == ZW_EXIT_OK && (unsigned)s.head[5] == exc)
         reason = (unsigned)s.head[4];
@@ -345,10 +350,32 @@ static int commission_refused(modbus_t *ctx, const char *step, unsigned exc, int
     return ZW_EXIT_REFUSED;
 }
 
+/* A transport failure after the drive may have entered commissioning mode: send ABORT
+ * (best effort: drop a late answer, and reconnect once if the connection is gone), so the
+ * drive does not stay in commissioning mode with the output off.  Exits 2. */
+static int commission_transport_error(modbus_t *ctx, const char *what)
+{
+    int err = errno, aborted;
+    unsigned exc = 0;
+    (void)modbus_flush(ctx);
+    aborted = write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_ABORT, &exc) == 0;
+    if (!aborted && exc == 0) {
+        modbus_close(ctx);
+        aborted = modbus_connect(ctx) == 0 &&
+                  write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_ABORT, &exc) == 0;
+    }
+    fprintf(stderr, PROG ": %s: %s; %s\n", what, modbus_strerror(err),
+            aborted ? "sent ABORT: commissioning aborted, the last sealed block is back"
+            : exc != 0 ? "ABORT refused: the drive is not in commissioning mode"
+                       : "could not send ABORT either: the drive may stay in commissioning "
+                         "mode (output off) until a client sends ABORT");
+    return ZW_EXIT_USAGE;
+}
+
 static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, int json)
 {
     zw_cert cert;
-    uint_least16_t w[ZW_CERT_WORDS + 1u];
+    uint_least16_t w[ZW_CERT_WORDS + 1u], sealed_flag[1], back[ZW_CERT_WORDS + 1u];
     unsigned exc;
     uint_least16_t crc;
     snapshot s;
@@ -359,18 +386,43 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, int json)
     crc = zw_crc16_words(w, ZW_CERT_WORDS);
     w[ZW_CERT_WORDS] = crc;
 
-    if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_UNLOCK1, &exc) != 0 ||
-        write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_UNLOCK2, &exc) != 0) {
+    if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_UNLOCK1, &exc) != 0) {
         if (exc == 0) return protocol_error("cannot send the unlock commands");
         return commission_refused(ctx, "unlock", exc, 0, json);
     }
+    if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_UNLOCK2, &exc) != 0) {
+        /* No answer: the drive may have taken UNLOCK2 all the same. */
+        if (exc == 0) return commission_transport_error(ctx, "cannot send the unlock commands");
+        return commission_refused(ctx, "unlock", exc, 0, json);
+    }
     if (write_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, w, &exc) != 0) {
-        if (exc == 0) return protocol_error("cannot write the certified block");
+        if (exc == 0) return commission_transport_error(ctx, "cannot write the certified block");
         return commission_refused(ctx, "block", exc, 1, json);
     }
     if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_SEAL, &exc) != 0) {
-        if (exc == 0) return protocol_error("cannot send the seal command");
+        if (exc == 0) return commission_transport_error(ctx, "cannot send the seal command");
         return commission_refused(ctx, "seal", exc, 1, json);
+    }
+    /* Another client may have written the staged block between our block write and SEAL
+     * (the drive cannot tell clients apart): the drive then sealed its block, not ours.
+     * Read back what is sealed and compare every word and the CRC. */
+    if (read_regs(ctx, ZW_REG_SEALED, 1, sealed_flag, &exc) != 0 ||
+        read_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, back, &exc) != 0)
+        return protocol_error("cannot read back the sealed block");
+    for (k = 0; k <= (int)ZW_CERT_WORDS && back[k] == w[k]; ++k) {}
+    if (sealed_flag[0] != 1u || k <= (int)ZW_CERT_WORDS) {
+        if (sealed_flag[0] != 1u)
+            fprintf(stderr, PROG ": the drive reports no sealed block after SEAL: another "
+                            "client wrote during commissioning\n");
+        else
+            fprintf(stderr, PROG ": the drive sealed a different block (CRC 0x%04X, ours "
+                            "0x%04X): another client wrote during commissioning\n",
+                    (unsigned)back[ZW_CERT_WORDS], (unsigned)crc);
+        if (json)
+            printf("{\"verdict\": \"mismatch\", \"crc\": %u, \"sealed_crc\": %u, "
+                   "\"sealed\": %s}\n", (unsigned)crc, (unsigned)back[ZW_CERT_WORDS],
+                   sealed_flag[0] == 1u ? "true" : "false");
+        return ZW_EXIT_REFUSED;
     }
     rc = read_snapshot(ctx, &s);
     if (rc != ZW_EXIT_OK) return rc;
@@ -378,13 +430,13 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, int json)
         printf("{\"verdict\": \"sealed\", \"crc\": %u, \"cert\": {", (unsigned)crc);
         for (k = 0; k < ZW_CERT_FIELDS; ++k)
             json_kv_float(zw_cert_label[k], (double)zw_cert_field(&cert, k), k > 0);
-        printf("}, \"sealed\": %s}\n", s.head[3] ? "true" : "false");
+        printf("}, \"sealed\": true, \"verified\": true}\n");
     } else {
-        printf("commissioned: block sealed with CRC 0x%04X; gains are off until set\n",
-               (unsigned)crc);
+        printf("commissioned: block sealed with CRC 0x%04X (read back and verified); gains are "
+               "off until set\n", (unsigned)crc);
         print_snapshot_text(&s);
     }
-    return s.head[3] ? ZW_EXIT_OK : ZW_EXIT_REFUSED;
+    return ZW_EXIT_OK;
 }
 
 /* ---------------------------------------------------------------------------------------
@@ -400,7 +452,11 @@ static modbus_t *connect_drive(const conn_opts *o)
         fprintf(stderr, PROG ": cannot create a Modbus context: %s\n", modbus_strerror(errno));
         return NULL;
     }
-    modbus_set_slave(ctx, (int)o->slave);
+    if (modbus_set_slave(ctx, (int)o->slave) != 0) {
+        fprintf(stderr, PROG ": cannot use slave %ld: %s\n", o->slave, modbus_strerror(errno));
+        modbus_free(ctx);
+        return NULL;
+    }
     modbus_set_response_timeout(ctx, (uint32_t)(o->timeout_ms / 1000),
                                 (uint32_t)(o->timeout_ms % 1000) * 1000u);
     if (modbus_connect(ctx) != 0) {
@@ -455,6 +511,10 @@ int main(int argc, char **argv)
             else if (strcmp(val, "inf") == 0 || strcmp(val, "-inf") == 0)
                 *t = val[0] == '-' ? -(double)INFINITY : (double)INFINITY;
             else if (!zw_parse_double(PROG, arg, val, t)) return ZW_EXIT_USAGE;
+            else if (fabs(*t) > (double)FLT_MAX) { /* converting it to float is undefined */
+                fprintf(stderr, PROG ": %s %s does not fit a float register\n", arg, val);
+                return ZW_EXIT_USAGE;
+            }
             if (arg[2] == 'K') have_K = 1;
             else have_B = 1;
             ++i;
@@ -504,6 +564,12 @@ int main(int argc, char **argv)
         ++i;
     }
 
+    /* RTU slave 0 is the broadcast address, which is never answered. */
+    if (o.rtu != NULL && (o.slave < 1 || o.slave > 247)) {
+        fprintf(stderr, PROG ": --slave expects 1..247 with --rtu (0 is broadcast), got %ld\n",
+                o.slave);
+        return ZW_EXIT_USAGE;
+    }
     if (cmd == NULL) {
         fprintf(stderr, PROG ": missing command (status, set or commission)\n");
         usage(stderr);

@@ -44,13 +44,17 @@
 enum { F_M, F_B, F_T, F_SIGMA, F_R, F_K_MIN, F_K_MAX, F_B_MIN, F_B_MAX, F_DK_MAX, F_DB_MAX };
 
 /* A quiet NaN of type float, for values that do not exist (live registers without a
- * sealed plant).  NAN is optional in C99 (only where quiet NaNs exist); the fallback
- * builds the same value from its bit pattern. */
+ * sealed plant).  NAN is optional in C99 (only where quiet NaNs exist); the fallback is
+ * 0/0 at run time (not through zw_words_to_float, which itself needs QUIET_NAN_F). */
 #ifdef NAN
 #define QUIET_NAN_F ((float)NAN)
 #else
-#define QUIET_NAN_F (zw_words_to_float(k_quiet_nan_words))
-static const uint_least16_t k_quiet_nan_words[2] = {0x7FC0u, 0x0000u};
+static float quiet_nan_f(void)
+{
+    volatile float zero = 0.0f; /* volatile: no constant folding of 0/0 */
+    return zero / zero;
+}
+#define QUIET_NAN_F (quiet_nan_f())
 #endif
 
 /* Keeps a function out of line where the compiler would merge it into its only caller, so
@@ -260,6 +264,12 @@ static zw_reason seal_staged(zw_regmap *rm)
         !(staged_float(rm, F_B_MIN) <= staged_float(rm, F_B_MAX)))
         return ZW_REASON_BAD_POLICY;
     if (!(staged_float(rm, F_DK_MAX) > 0.0f) || !(staged_float(rm, F_DB_MAX) > 0.0f))
+        return ZW_REASON_BAD_POLICY;
+    /* After a seal the output is off, (0, 0), and steps count from there: refuse a block
+     * from which no pair is within the bounds and one step (it could never be used). */
+    if (staged_float(rm, F_K_MIN) > staged_float(rm, F_DK_MAX) ||
+        staged_float(rm, F_B_MIN) > staged_float(rm, F_DB_MAX) ||
+        staged_float(rm, F_B_MAX) < -staged_float(rm, F_DB_MAX))
         return ZW_REASON_BAD_POLICY;
     if (zw_device_init(&rm->device, (zw_real)staged_float(rm, F_M), (zw_real)staged_float(rm, F_B),
                        (zw_real)staged_float(rm, F_T)) != ZW_OK)

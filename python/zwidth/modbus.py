@@ -29,13 +29,20 @@ the inertia J [kg m^2], b [N m s/rad], K [N m/rad], B [N m s/rad].  T is in seco
 float crosses the wire as IEEE-754 binary32 over two registers, high word first ("ABCD"),
 so read-back values are the binary32 roundings of what was written.
 
-The client assumes it is the only one writing to the drive while it works: the refusal
-reason is read from the drive's "last refusal" registers right after the refused request.
+Other clients may share the drive.  Whether a request was accepted is always decided by
+the drive's answer to that request.  The refusal reason is read from the drive's "last
+refusal" registers right after the refused request and attributed to it only when the
+exception code stored there equals the one our request received; otherwise another
+client's refusal came in between and the reason is reported as ``REASON_UNKNOWN``
+(a refusal by another client with the same exception code in that window cannot be told
+apart).  ``commission`` reads the block back after SEAL and raises DriveError if the
+sealed block is not exactly the one it sent.
 
 Errors: ``ConnectionError`` (with host:port) when the drive cannot be reached or does not
 answer in time; ``ValueError`` (naming the argument) for arguments that cannot be sent;
 ``DriveError`` when the drive refuses a request that is not a gain or commissioning write
-(for instance a status read) or is not a zwidth drive at all.
+(for instance a status read), is not a zwidth drive at all, or ends up sealed with a block
+other than the one ``commission`` sent.
 """
 from __future__ import annotations
 
@@ -63,6 +70,7 @@ __all__ = [
     "CommissionResult",
     "REG",
     "REASONS",
+    "REASON_UNKNOWN",
     "EXCEPTIONS",
     "CMD",
     "MAGIC",
@@ -151,12 +159,19 @@ REASONS: Dict[int, str] = {
     20: "ZW_REASON_BAD_POLICY",
 }
 
+# The reason reported for a refusal whose "last refusal" registers were overwritten by
+# another client's refusal before we read them (see the module docstring).
+REASON_UNKNOWN = "ZW_REASON_UNKNOWN"
+
+# Modbus exception codes by their names in the Modbus Application Protocol specification
+# (as the C tools print them); regmap.h spells 0x02 and 0x03 ZW_MB_ILLEGAL_ADDRESS and
+# ZW_MB_ILLEGAL_VALUE, and 0x04 ZW_MB_SERVER_FAILURE.
 EXCEPTIONS: Dict[int, str] = {
     0: "OK",
     0x01: "ILLEGAL_FUNCTION",
-    0x02: "ILLEGAL_ADDRESS",
-    0x03: "ILLEGAL_VALUE",
-    0x04: "SERVER_FAILURE",
+    0x02: "ILLEGAL_DATA_ADDRESS",
+    0x03: "ILLEGAL_DATA_VALUE",
+    0x04: "SERVER_DEVICE_FAILURE",
 }
 
 # Readable blocks of the map (start, count); the gaps between them are unmapped.
@@ -298,10 +313,15 @@ class Gains:
 
 @dataclass(frozen=True)
 class Limits:
-    """Live limits computed by the drive at the active gains.
+    """Live limits computed by the drive at the active gains (all NaN without a sealed
+    block).
 
     k_max: K_max at the current B [N/m] (exact region); k_cert: certified K ceiling at the
-    current B, min(sigma K_max(B), k_max) [N/m]; b_lo, b_hi: the stable B interval at the
+    current B [N/m]: the largest K (a binary32) that passes all the certification rules
+    that depend on K at this B -- K <= k_max, K <= sigma K_max(B), stable, spectral radius
+    < r -- as found by the drive's search (a scan down from min(sigma K_max(B), k_max) and
+    a bisection); 0 when no K qualifies.  The k_min and step rules are not applied, so a
+    write of k_cert can still be refused by them.  b_lo, b_hi: the stable B interval at the
     current K [N s/m] (both 0 when K = 0); k_mmax: largest stable K of the plant [N/m];
     b_at_k_mmax: the B that attains it [N s/m]; rho: spectral radius at the current gains
     (1); delta = b T / m (1)."""
@@ -371,10 +391,13 @@ class Status:
 class GainResult:
     """Outcome of a gain write.
 
-    accepted: the drive applied the pair; reason: regmap.h name of the refusal reason
-    ("ZW_REASON_NONE" when accepted); exception: Modbus exception code of the response
-    (0 when accepted; 0x03 value refused, 0x02 address/mode refused); K [N/m], B [N s/m]:
-    the gains the drive holds afterwards, read back (binary32 values)."""
+    accepted: the drive applied the pair (decided by the response to our write alone);
+    reason: regmap.h name of the refusal reason ("ZW_REASON_NONE" when accepted,
+    REASON_UNKNOWN when another client's refusal overwrote the drive's "last refusal"
+    registers before they were read); exception: Modbus exception code of the response
+    (0 when accepted; 0x03 ILLEGAL_DATA_VALUE value refused, 0x02 ILLEGAL_DATA_ADDRESS
+    address/mode refused); K [N/m], B [N s/m]: the gains the drive holds afterwards, read
+    back (binary32 values)."""
 
     accepted: bool
     reason: str
@@ -402,8 +425,9 @@ class CommissionResult:
 
 
 class DriveError(RuntimeError):
-    """The drive refused a request the client needed (e.g. a status read), or the server is
-    not a zwidth drive.  ``exception`` is the Modbus exception code (0 if not applicable),
+    """The drive refused a request the client needed (e.g. a status read), the server is
+    not a zwidth drive, or commissioning sealed a block other than the one sent (another
+    client wrote in between; exception 0).  ``exception`` is the Modbus exception code (0 if not applicable),
     ``reason`` the regmap.h reason name when known."""
 
     def __init__(self, message: str, exception: int = 0, reason: str = ""):
@@ -564,9 +588,12 @@ class Drive:
             self.connect()
         return self._client
 
-    def _last_refusal(self) -> Refusal:
-        regs = self._read(REG["LAST_REASON"], 2)
-        return Refusal(reason_name(regs[0]), regs[1])
+    def _refusal_reason(self, exc: int) -> str:
+        """The reason of our request just refused with exception ``exc``: the drive's last
+        reason if its last exception is ``exc``, else REASON_UNKNOWN (another client's
+        refusal came in between; the C tool zwidth-tune does the same)."""
+        reason, last_exc = self._read(REG["LAST_REASON"], 2)
+        return reason_name(reason) if last_exc == exc else REASON_UNKNOWN
 
     # -- public API ---------------------------------------------------------------------
 
@@ -642,10 +669,9 @@ class Drive:
         if B is not None:
             words += float_to_words(B, "B")
         exc = self._write_many(addr, words)
-        refusal = self._last_refusal() if exc else Refusal(REASONS[0], 0)
+        reason = self._refusal_reason(exc) if exc else REASONS[0]
         now = self.gains()
-        return GainResult(accepted=exc == 0, reason=refusal.reason, exception=exc,
-                          K=now.K, B=now.B)
+        return GainResult(accepted=exc == 0, reason=reason, exception=exc, K=now.K, B=now.B)
 
     def command(self, name: str) -> int:
         """Write one command ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT") to ZW_REG_COMMAND;
@@ -672,7 +698,13 @@ class Drive:
         the gains off).  The drive is the judge of the policy; the client only checks
         that every value can be sent (ValueError naming the argument otherwise).  If a
         step is refused and abort_on_refusal is true (default), ABORT is sent so the
-        drive restores its last sealed block and returns to operation."""
+        drive restores its last sealed block and returns to operation.
+
+        After an accepted SEAL the certified block, its CRC and the SEALED flag are read
+        back: another client could have replaced the staged block between our write and
+        SEAL (or re-commissioned right after), so DriveError (exception 0) naming the CRC
+        sent and the CRC the drive holds is raised unless the drive holds exactly the 22
+        words and CRC that were written and is sealed."""
         values = dict(m=m, b=b, T=T, sigma=sigma, r=r, k_min=k_min, k_max=k_max,
                       b_min=b_min, b_max=b_max, dk_max=dk_max, db_max=db_max)
         words: List[int] = []
@@ -681,11 +713,11 @@ class Drive:
         crc = crc16_words(words)
 
         def refused(stage: str, exc: int, abort: bool) -> CommissionResult:
-            refusal = self._last_refusal()
+            reason = self._refusal_reason(exc)
             aborted = False
             if abort and abort_on_refusal:
                 aborted = self.command("ABORT") == 0
-            return CommissionResult(False, refusal.reason, exc, stage, crc, aborted)
+            return CommissionResult(False, reason, exc, stage, crc, aborted)
 
         exc = self.command("UNLOCK1")
         if exc:
@@ -699,4 +731,12 @@ class Drive:
         exc = self.command("SEAL")
         if exc:
             return refused("seal", exc, True)
+        held = self._read(*_BLOCK_CERT)
+        sealed = self._read(REG["SEALED"], 1)[0]
+        if held != words + [crc] or sealed != 1:
+            raise DriveError(
+                f"zwidth drive at {self.address}: after SEAL the drive does not hold the "
+                f"block this client sent (another client wrote in between?): sent CRC "
+                f"0x{crc:04X}, drive holds CRC 0x{held[-1]:04X}"
+                f"{'' if held[:-1] == words else ' over different words'}, SEALED = {sealed}")
         return CommissionResult(True, REASONS[0], 0, "done", crc, False)

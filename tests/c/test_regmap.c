@@ -473,7 +473,7 @@ static void test_init_bad_policy(void **state)
 {
     int n;
     (void)state;
-    for (n = 0; n < 20; ++n) {
+    for (n = 0; n < 23; ++n) {
         zw_cert c = paper_cert();
         zw_regmap rm;
         zw_reason why = ZW_REASON_NONE;
@@ -497,6 +497,10 @@ static void test_init_bad_policy(void **state)
         case 16: c.r = (float)NAN; break;
         case 17: c.T = -0.02f; break;
         case 18: c.b = (float)INFINITY; break;
+        /* no pair reachable in one step from the output-off state (review finding F2) */
+        case 19: c.k_min = 0.3f; c.dk_max = 0.1f; break;
+        case 20: c.b_min = -2e-3f; c.b_max = -1e-3f; c.db_max = 5e-4f; break;
+        case 21: c.b_min = 1e-3f; c.b_max = 2e-3f; c.db_max = 5e-4f; break;
         default: c.sigma = (float)NAN; break;
         }
         memset(&rm, 0xA5, sizeof rm);
@@ -825,7 +829,7 @@ static void test_output_off_and_counters(void **state)
     zw_cert c = paper_cert();
     (void)state;
     c.k_min = 0.1f;
-    c.dk_max = 0.05f;
+    c.dk_max = 0.11f; /* usable: 0.1 .. 0.11 is one step from off */
     rm_init(&rm, &c);
     /* (0, 0) is always accepted: below k_min, whatever the step */
     EXPECT_ACCEPTED(write_pair(&rm, 0.0f, 0.0f));

@@ -9,7 +9,7 @@ import struct
 
 import pytest
 
-from mb_support import BUILD_DIR, HEADER, LOOPBACK, free_port
+from mb_support import BUILD_DIR, HEADER, LOOPBACK, REPO, free_port
 from zwidth import modbus as zm
 
 # ---------------------------------------------------------------------------------------
@@ -58,7 +58,25 @@ def test_commands_and_constants_match_the_header():
     assert header_define("ZW_REGMAP_VERSION") == zm.MAP_VERSION
     assert header_define("ZW_CERT_WORDS") == zm.CERT_WORDS
     codes = header_enum("zw_mb_exception")
-    assert {v: k[len("ZW_MB_"):] for k, v in codes.items()} == zm.EXCEPTIONS
+    assert sorted(codes.values()) == sorted(zm.EXCEPTIONS)
+
+
+# The exception names of the Modbus Application Protocol specification V1.1b3, section 7.
+SPEC_EXCEPTIONS = {0x01: "ILLEGAL_FUNCTION", 0x02: "ILLEGAL_DATA_ADDRESS",
+                   0x03: "ILLEGAL_DATA_VALUE", 0x04: "SERVER_DEVICE_FAILURE"}
+
+
+def test_exception_names_are_the_spec_names_the_c_tools_print():
+    assert {k: v for k, v in zm.EXCEPTIONS.items() if k} == SPEC_EXCEPTIONS
+    assert zm.EXCEPTIONS[0] == "OK"
+    host = REPO / "csrc" / "host" / "zw_mbhost.c"
+    if not host.is_file():
+        pytest.skip(f"{host} not present")
+    m = re.search(r"zw_exception_name\(unsigned code\)\s*\{(.*?)\n\}", host.read_text(), re.S)
+    assert m, "zw_exception_name not found in zw_mbhost.c"
+    printed = {int(c, 0): n for c, n in re.findall(r'case (0x[0-9A-Fa-f]+): return "(\w+)";',
+                                                    m.group(1))}
+    assert {k: printed[k] for k in SPEC_EXCEPTIONS} == SPEC_EXCEPTIONS
 
 
 def test_reason_name_of_unknown_code():

@@ -224,6 +224,83 @@ def test_commission_without_abort_stays_in_commissioning(drive_port):
         assert d.status().mode == "operation"
 
 
+def block_words(block: dict) -> list:
+    """The 22 words of a certified block followed by its CRC, as written to 0x0040."""
+    words = []
+    for key in ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
+        words += zm.float_to_words(block[key])
+    return words + [zm.crc16_words(words)]
+
+
+def test_commission_detects_a_block_replaced_before_seal(raw, drive_port, monkeypatch):
+    """A second client writes another valid block (with its CRC) between our block write
+    and our SEAL: the drive seals theirs, and commission must not report ours as sealed."""
+    client, unit = raw
+    ours, theirs = block_words(NEW_BLOCK), block_words({**NEW_BLOCK, "sigma": 0.7})
+    assert ours[-1] != theirs[-1]
+    with drive(drive_port) as d:
+        command = d.command
+
+        def rival_then(name):
+            if name == "SEAL":
+                rsp = client.write_registers(0x0040, theirs, **unit)
+                assert not rsp.isError()
+            return command(name)
+
+        monkeypatch.setattr(d, "command", rival_then)
+        with pytest.raises(zm.DriveError, match=f"sent CRC 0x{ours[-1]:04X}, drive holds CRC "
+                                                f"0x{theirs[-1]:04X} over different words, "
+                                                f"SEALED = 1") as info:
+            d.commission(**NEW_BLOCK)
+        assert info.value.exception == 0
+        s = d.status()
+    assert s.sealed and s.mode == "operation"
+    assert (s.policy.crc, s.policy.sigma) == (theirs[-1], f32(0.7))
+
+
+def test_commission_read_back_passes_when_the_rival_writes_the_same_block(raw, drive_port,
+                                                                         monkeypatch):
+    client, unit = raw
+    ours = block_words(NEW_BLOCK)
+    with drive(drive_port) as d:
+        command = d.command
+
+        def rival_then(name):
+            if name == "SEAL":
+                assert not client.write_registers(0x0040, ours, **unit).isError()
+            return command(name)
+
+        monkeypatch.setattr(d, "command", rival_then)
+        c = d.commission(**NEW_BLOCK)
+    assert c == zm.CommissionResult(True, "ZW_REASON_NONE", 0, "done", ours[-1], False)
+
+
+def test_refusal_reason_of_another_client_is_not_taken(raw, drive_port, monkeypatch):
+    """Between our refused write and our read of the last-refusal registers a second client
+    is refused with another exception code: the reason is unknown, not theirs."""
+    client, unit = raw
+    with drive(drive_port) as d:
+        write_many = d._write_many
+
+        def then_rival_refused(addr, words):
+            exc = write_many(addr, words)
+            rsp = client.read_holding_registers(0x000A, count=1, **unit)  # unmapped
+            assert rsp.isError() and rsp.exception_code == 0x02
+            return exc
+
+        monkeypatch.setattr(d, "_write_many", then_rival_refused)
+        r = d.set_gains(K=0.45, B=-1.36e-3)  # ours: ZW_REASON_ABOVE_SIGMA, 0x03
+        assert r == zm.GainResult(False, zm.REASON_UNKNOWN, 0x03, 0.0, 0.0)
+        assert d.status().last_refusal == zm.Refusal("ZW_REASON_UNMAPPED", 0x02)
+        # Accepted or not is decided by our own write's answer, not by their refusal.
+        r = d.set_gains(K=0.30, B=-1.0e-3)
+        assert r == zm.GainResult(True, "ZW_REASON_NONE", 0, f32(0.30), f32(-1.0e-3))
+        # Without a rival the reason is ours.
+        monkeypatch.setattr(d, "_write_many", write_many)
+        r = d.set_gains(K=0.45, B=-1.36e-3)
+        assert (r.accepted, r.reason, r.exception) == (False, "ZW_REASON_ABOVE_SIGMA", 0x03)
+
+
 # ---------------------------------------------------------------------------------------
 # errors
 # ---------------------------------------------------------------------------------------

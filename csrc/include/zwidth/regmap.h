@@ -192,7 +192,9 @@ typedef enum zw_reason {
     ZW_REASON_CRC = 19,           /* seal: CRC does not match the block */
     ZW_REASON_BAD_POLICY = 20     /* seal: a field not finite, plant invalid (zw_device_init
                                      fails), sigma or r not in (0, 1], k_min > k_max or
-                                     b_min > b_max, or a step limit not > 0 */
+                                     b_min > b_max, a step limit not > 0, or no pair
+                                     reachable in one step from the output-off state
+                                     (k_min > dk_max, b_min > db_max, b_max < -db_max) */
 } zw_reason;
 
 /* The certified block as numbers (what the CRC seals, in register order). */
@@ -262,7 +264,9 @@ uint_least16_t zw_crc16_words(const uint_least16_t *words, size_t count);
 
 /* IEEE-754 binary32 <-> two registers, high word first (portable: no type punning).
  * Exact for every finite value (subnormals and -0.0 included) and the infinities; every
- * NaN becomes the quiet NaN 0x7FC0 0x0000.  words NULL: no-op, and NaN back. */
+ * NaN becomes the quiet NaN 0x7FC0 0x0000.  words NULL: no-op, and NaN back.  On an FPU
+ * that flushes subnormals to zero (C28x, Cortex-M with FZ set) a subnormal decodes as 0;
+ * no certified field can be subnormal and still pass the policy, so nothing depends on it. */
 void zw_float_to_words(float value, uint_least16_t words[2]);
 float zw_words_to_float(const uint_least16_t words[2]);
 
