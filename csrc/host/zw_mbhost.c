@@ -7,14 +7,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *const zw_cert_option[ZW_CERT_FIELDS] = {
+const char *const zw_cert_option[ZW_CERT_NFIELDS] = {
     "--m", "--b", "--T", "--sigma", "--r", "--k-min", "--k-max", "--b-min", "--b-max",
     "--dk-max", "--db-max"};
 
-const char *const zw_cert_label[ZW_CERT_FIELDS] = {
+const char *const zw_cert_label[ZW_CERT_NFIELDS] = {
     "m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"};
 
-static const double cert_default[ZW_CERT_FIELDS] = {
+static const double cert_default[ZW_CERT_NFIELDS] = {
     85.78e-7, 2.197e-3, 0.02, 0.8, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01};
 
 int zw_parse_double(const char *prog, const char *name, const char *text, double *out)
@@ -50,7 +50,7 @@ int zw_parse_long(const char *prog, const char *name, const char *text, long lo,
 void zw_cert_opts_defaults(zw_cert_opts *o)
 {
     int i;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) {
+    for (i = 0; i < ZW_CERT_NFIELDS; ++i) {
         o->v[i] = cert_default[i];
         o->given[i] = 0;
     }
@@ -60,12 +60,12 @@ int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv,
 {
     const char *arg = argv[*i];
     int k;
-    for (k = 0; k < ZW_CERT_FIELDS; ++k) {
+    for (k = 0; k < ZW_CERT_NFIELDS; ++k) {
         if (strcmp(arg, zw_cert_option[k]) == 0 ||
             (k == 0 && strcmp(arg, "--J") == 0)) /* inertia, as in zwidth-limits */
             break;
     }
-    if (k == ZW_CERT_FIELDS) return 0;
+    if (k == ZW_CERT_NFIELDS) return 0;
     if (*i + 1 >= argc) {
         fprintf(stderr, "%s: missing value for '%s'\n", prog, arg);
         return -1;
@@ -83,55 +83,8 @@ int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv,
 
 void zw_cert_opts_to_cert(const zw_cert_opts *o, zw_cert *out)
 {
-    out->m = (float)o->v[0];
-    out->b = (float)o->v[1];
-    out->T = (float)o->v[2];
-    out->sigma = (float)o->v[3];
-    out->r = (float)o->v[4];
-    out->k_min = (float)o->v[5];
-    out->k_max = (float)o->v[6];
-    out->b_min = (float)o->v[7];
-    out->b_max = (float)o->v[8];
-    out->dk_max = (float)o->v[9];
-    out->db_max = (float)o->v[10];
-}
-
-float zw_cert_field(const zw_cert *c, int index)
-{
-    switch (index) {
-    case 0: return c->m;
-    case 1: return c->b;
-    case 2: return c->T;
-    case 3: return c->sigma;
-    case 4: return c->r;
-    case 5: return c->k_min;
-    case 6: return c->k_max;
-    case 7: return c->b_min;
-    case 8: return c->b_max;
-    case 9: return c->dk_max;
-    default: return c->db_max;
-    }
-}
-
-void zw_cert_to_words(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS])
-{
-    int k;
-    for (k = 0; k < ZW_CERT_FIELDS; ++k) zw_float_to_words(zw_cert_field(c, k), &words[2 * k]);
-}
-
-void zw_cert_from_words(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *out)
-{
-    out->m = zw_words_to_float(&words[0]);
-    out->b = zw_words_to_float(&words[2]);
-    out->T = zw_words_to_float(&words[4]);
-    out->sigma = zw_words_to_float(&words[6]);
-    out->r = zw_words_to_float(&words[8]);
-    out->k_min = zw_words_to_float(&words[10]);
-    out->k_max = zw_words_to_float(&words[12]);
-    out->b_min = zw_words_to_float(&words[14]);
-    out->b_max = zw_words_to_float(&words[16]);
-    out->dk_max = zw_words_to_float(&words[18]);
-    out->db_max = zw_words_to_float(&words[20]);
+    unsigned k;
+    for (k = 0; k < ZW_CERT_FIELDS; ++k) zw_cert_set_field(out, k, (float)o->v[k]);
 }
 
 uint16_t zw_crc16_bytes(const uint8_t *data, size_t len)

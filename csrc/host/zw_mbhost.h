@@ -27,14 +27,15 @@ int zw_parse_long(const char *prog, const char *name, const char *text, long lo,
 
 /* The certified block as options: --m --b --T --sigma --r --k-min --k-max --b-min --b-max
  * --dk-max --db-max, in register order (index i is register ZW_REG_CERT_M + 2 i). */
-#define ZW_CERT_FIELDS ((int)(ZW_CERT_WORDS / 2u)) /* 11 floats */
+#define ZW_CERT_NFIELDS ((int)ZW_CERT_FIELDS) /* the block's 11 fields, as an int for loops */
+
 typedef struct zw_cert_opts {
-    double v[ZW_CERT_FIELDS];
-    int given[ZW_CERT_FIELDS];
+    double v[ZW_CERT_NFIELDS];
+    int given[ZW_CERT_NFIELDS];
 } zw_cert_opts;
 
-extern const char *const zw_cert_option[ZW_CERT_FIELDS]; /* "--m", "--b", ... */
-extern const char *const zw_cert_label[ZW_CERT_FIELDS];  /* "m", "b", "T", "sigma", ... */
+extern const char *const zw_cert_option[ZW_CERT_NFIELDS]; /* "--m", "--b", ... */
+extern const char *const zw_cert_label[ZW_CERT_NFIELDS];  /* "m", "b", "T", "sigma", ... */
 
 /* The paper's drive: J = 85.78e-7, b = 2.197e-3, T = 0.02, sigma 0.8, r 0.999, K in
  * [0, 10], B in [-0.01, 0.01], dK 1, dB 0.01 (nothing marked given). */
@@ -46,9 +47,6 @@ int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv,
 
 /* The numbers as the float block, and the block as its 22 register words. */
 void zw_cert_opts_to_cert(const zw_cert_opts *o, zw_cert *out);
-void zw_cert_to_words(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS]);
-void zw_cert_from_words(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *out);
-float zw_cert_field(const zw_cert *c, int index);
 
 /* CRC-16/MODBUS of a byte string (RTU framing; the low byte goes on the wire first). */
 uint16_t zw_crc16_bytes(const uint8_t *data, size_t len);

@@ -176,7 +176,7 @@ static void print_snapshot_text(const snapshot *s)
            (fw(&s->gains[0]) == 0.0f && fw(&s->gains[2]) == 0.0f) ? "  (output off)" : "");
     if (s->have_cert) {
         zw_cert c;
-        zw_cert_from_words(s->cert, &c);
+        zw_cert_decode(s->cert, &c);
         printf("plant      : m = %.9g, b = %.9g, T = %.9g s\n", (double)c.m, (double)c.b,
                (double)c.T);
         printf("policy     : sigma = %.9g, r = %.9g, K in [%.9g, %.9g], B in [%.9g, %.9g],\n"
@@ -233,10 +233,10 @@ static void print_snapshot_json(const snapshot *s)
     printf("}, \"cert\": ");
     if (s->have_cert) {
         zw_cert c;
-        zw_cert_from_words(s->cert, &c);
+        zw_cert_decode(s->cert, &c);
         printf("{");
-        for (k = 0; k < ZW_CERT_FIELDS; ++k)
-            json_kv_float(zw_cert_label[k], (double)zw_cert_field(&c, k), k > 0);
+        for (k = 0; k < ZW_CERT_NFIELDS; ++k)
+            json_kv_float(zw_cert_label[k], (double)zw_cert_field(&c, (unsigned)k), k > 0);
         printf(", \"crc\": %u}", (unsigned)s->cert[22]);
     } else {
         printf("null");
@@ -382,9 +382,8 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, int json)
     int k, rc;
 
     zw_cert_opts_to_cert(co, &cert);
-    zw_cert_to_words(&cert, w);
-    crc = zw_crc16_words(w, ZW_CERT_WORDS);
-    w[ZW_CERT_WORDS] = crc;
+    zw_cert_encode(&cert, w);
+    crc = w[ZW_CERT_WORDS];
 
     if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_UNLOCK1, &exc) != 0) {
         if (exc == 0) return protocol_error("cannot send the unlock commands");
@@ -428,8 +427,8 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, int json)
     if (rc != ZW_EXIT_OK) return rc;
     if (json) {
         printf("{\"verdict\": \"sealed\", \"crc\": %u, \"cert\": {", (unsigned)crc);
-        for (k = 0; k < ZW_CERT_FIELDS; ++k)
-            json_kv_float(zw_cert_label[k], (double)zw_cert_field(&cert, k), k > 0);
+        for (k = 0; k < ZW_CERT_NFIELDS; ++k)
+            json_kv_float(zw_cert_label[k], (double)zw_cert_field(&cert, (unsigned)k), k > 0);
         printf("}, \"sealed\": true, \"verified\": true}\n");
     } else {
         printf("commissioned: block sealed with CRC 0x%04X (read back and verified); gains are "
@@ -582,7 +581,7 @@ int main(int argc, char **argv)
         }
     } else if (strcmp(cmd, "commission") == 0) {
         int missing = 0;
-        for (k = 0; k < ZW_CERT_FIELDS; ++k)
+        for (k = 0; k < ZW_CERT_NFIELDS; ++k)
             if (!co.given[k] && !paper) {
                 fprintf(stderr, PROG ": commission needs %s (or --paper-defaults)\n",
                         zw_cert_option[k]);
@@ -593,7 +592,7 @@ int main(int argc, char **argv)
         fprintf(stderr, PROG ": unknown command '%s' (status, set or commission)\n", cmd);
         return ZW_EXIT_USAGE;
     }
-    for (k = 0; k < ZW_CERT_FIELDS; ++k)
+    for (k = 0; k < ZW_CERT_NFIELDS; ++k)
         if (co.given[k] && strcmp(cmd, "commission") != 0) {
             fprintf(stderr, PROG ": %s belongs to commission\n", zw_cert_option[k]);
             return ZW_EXIT_USAGE;

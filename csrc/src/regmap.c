@@ -30,7 +30,6 @@
 #define ZW_MB_WRITE_SINGLE 0x06u
 #define ZW_MB_WRITE_MULTIPLE 0x10u
 
-#define CERT_FIELDS 11u /* floats in the certified block */
 #define CRC_INDEX ZW_CERT_WORDS /* staged[CRC_INDEX] is the CRC word */
 
 /* Register kinds (bits). */
@@ -180,7 +179,7 @@ uint_least16_t zw_crc16_words(const uint_least16_t *words, size_t count)
 
 /* ---- the certified block ------------------------------------------------------------------ */
 
-static float cert_get(const zw_cert *c, unsigned i)
+float zw_cert_field(const zw_cert *c, unsigned i)
 {
     switch (i) {
     case F_M: return c->m;
@@ -197,7 +196,7 @@ static float cert_get(const zw_cert *c, unsigned i)
     }
 }
 
-static void cert_set(zw_cert *c, unsigned i, float v)
+void zw_cert_set_field(zw_cert *c, unsigned i, float v)
 {
     switch (i) {
     case F_M: c->m = v; break;
@@ -214,12 +213,17 @@ static void cert_set(zw_cert *c, unsigned i, float v)
     }
 }
 
-/* Encode a block into 22 words and its CRC (words[CRC_INDEX]). */
-static void cert_encode(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS + 1u])
+void zw_cert_encode(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS + 1u])
 {
     unsigned i;
-    for (i = 0; i < CERT_FIELDS; ++i) zw_float_to_words(cert_get(c, i), &words[2u * i]);
+    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_float_to_words(zw_cert_field(c, i), &words[2u * i]);
     words[CRC_INDEX] = zw_crc16_words(words, ZW_CERT_WORDS);
+}
+
+void zw_cert_decode(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *c)
+{
+    unsigned i;
+    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(c, i, zw_words_to_float(&words[2u * i]));
 }
 
 /* Word i (0..22) of the block in force: the sealed block and its CRC, all 0 unsealed.
@@ -230,11 +234,11 @@ static uint_least16_t sealed_word(const zw_regmap *rm, unsigned i)
     unsigned f;
     if (!rm->is_sealed) return 0u;
     if (i < ZW_CERT_WORDS) {
-        zw_float_to_words(cert_get(&rm->sealed, i / 2u), w);
+        zw_float_to_words(zw_cert_field(&rm->sealed, i / 2u), w);
         return w[i & 1u];
     }
-    for (f = 0; f < CERT_FIELDS; ++f) {
-        zw_float_to_words(cert_get(&rm->sealed, f), w);
+    for (f = 0; f < ZW_CERT_FIELDS; ++f) {
+        zw_float_to_words(zw_cert_field(&rm->sealed, f), w);
         crc = crc_word(crc_word(crc, w[0]), w[1]);
     }
     return crc;
@@ -255,7 +259,7 @@ static zw_reason seal_staged(zw_regmap *rm)
     float sigma, r;
     if (zw_crc16_words(rm->staged, ZW_CERT_WORDS) != (rm->staged[CRC_INDEX] & 0xFFFFu))
         return ZW_REASON_CRC;
-    for (i = 0; i < CERT_FIELDS; ++i)
+    for (i = 0; i < ZW_CERT_FIELDS; ++i)
         if (!finite_f(staged_float(rm, i))) return ZW_REASON_BAD_POLICY;
     sigma = staged_float(rm, F_SIGMA);
     r = staged_float(rm, F_R);
@@ -274,7 +278,7 @@ static zw_reason seal_staged(zw_regmap *rm)
     if (zw_device_init(&rm->device, (zw_real)staged_float(rm, F_M), (zw_real)staged_float(rm, F_B),
                        (zw_real)staged_float(rm, F_T)) != ZW_OK)
         return ZW_REASON_BAD_POLICY;
-    for (i = 0; i < CERT_FIELDS; ++i) cert_set(&rm->sealed, i, staged_float(rm, i));
+    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, staged_float(rm, i));
     rm->is_sealed = 1u;
     rm->mode = 0u;
     rm->K = 0.0f; /* gains stay off after a seal */
@@ -681,11 +685,11 @@ ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert)
     zw_reason why = ZW_REASON_NONE;
     /* the floats are set explicitly rather than trusting all-zero bits to mean 0.0f */
     memset(rm, 0, sizeof *rm);
-    for (i = 0; i < CERT_FIELDS; ++i) cert_set(&rm->sealed, i, 0.0f);
+    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, 0.0f);
     rm->K = rm->B = 0.0f;
     rm->state_x = rm->state_v = rm->state_f = 0.0f;
     if (cert != NULL) {
-        cert_encode(cert, rm->staged);
+        zw_cert_encode(cert, rm->staged);
         why = seal_staged(rm);
         for (i = 0; i <= ZW_CERT_WORDS; ++i) rm->staged[i] = 0u;
     }

@@ -1511,12 +1511,41 @@ static void test_refusals_change_nothing(void **state)
     assert_int_equal(rd(&rm, ZW_REG_LAST_EXCEPTION), ZW_MB_ILLEGAL_VALUE);
 }
 
+/* The exported block codec: register order, round trip, and the CRC the drive itself
+ * reports for the sealed block (the words a commissioning tool must send). */
+static void test_cert_codec(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert(), back;
+    uint_least16_t words[ZW_CERT_WORDS + 1u];
+    unsigned i;
+    (void)state;
+    c.sigma = 0.8f;
+    c.r = 0.999f;
+    zw_cert_encode(&c, words);
+    for (i = 0; i < ZW_CERT_FIELDS; ++i) {
+        uint_least16_t one[2];
+        zw_float_to_words(zw_cert_field(&c, i), one);
+        assert_int_equal(words[2u * i], one[0]);
+        assert_int_equal(words[2u * i + 1u], one[1]);
+    }
+    /* m = 85.78e-7f is 0x370FEA3B (Python: struct.pack('>f', 85.78e-7)): high word first */
+    assert_int_equal(words[0], 0x370Fu);
+    assert_int_equal(words[1], 0xEA3Bu);
+    memset(&back, 0, sizeof back);
+    zw_cert_decode(words, &back);
+    assert_memory_equal(&back, &c, sizeof c);
+    rm_init(&rm, &c);
+    for (i = 0; i <= ZW_CERT_WORDS; ++i) assert_int_equal(rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)), words[i]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_float_words_known),
         cmocka_unit_test(test_float_words_round_trip),
         cmocka_unit_test(test_crc),
+        cmocka_unit_test(test_cert_codec),
         cmocka_unit_test(test_init_sealed),
         cmocka_unit_test(test_init_unsealed),
         cmocka_unit_test(test_init_bad_policy),

@@ -258,6 +258,15 @@ zw_mb_exception zw_regmap_read(zw_regmap *rm, uint_least16_t addr, uint_least16_
 zw_mb_exception zw_regmap_write(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
                                 const uint_least16_t *words, zw_reason *reason);
 
+/* The block's fields in register order (0 m, 1 b, 2 T, 3 sigma, 4 r, 5 k_min, 6 k_max,
+ * 7 b_min, 8 b_max, 9 dk_max, 10 db_max): the one place that order is written down. */
+#define ZW_CERT_FIELDS 11u
+float zw_cert_field(const zw_cert *c, unsigned field);
+void zw_cert_set_field(zw_cert *c, unsigned field, float value);
+/* The block as it is on the wire: 22 words, then its CRC (words[ZW_CERT_WORDS]). */
+void zw_cert_encode(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS + 1u]);
+void zw_cert_decode(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *c);
+
 /* CRC-16/MODBUS (poly 0xA001 reflected, init 0xFFFF) of 16-bit words, high byte first
  * (words NULL: the CRC of no words, 0xFFFF). */
 uint_least16_t zw_crc16_words(const uint_least16_t *words, size_t count);
