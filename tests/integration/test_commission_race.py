@@ -80,6 +80,17 @@ def _is_command(pdu, value):
     return pdu == struct.pack(">BHH", 6, CMD, value)
 
 
+def commission_through_proxy(d, hook, *extra):
+    """Run `zwidth-tune commission` (the paper's block, sigma 0.9) through a Proxy that
+    applies hook to every request; returns (completed process, proxy)."""
+    proxy = Proxy(d.port, hook)
+    try:
+        p = d.tune("commission", *PAPER_OPTS, "--sigma", "0.9", *extra, "--port", str(proxy.port))
+    finally:
+        proxy.close()
+    return p, proxy
+
+
 def test_commission_detects_a_block_written_by_another_client(start_drive):
     d = start_drive("--unsealed")
     theirs = block_words(0.5)
@@ -91,11 +102,7 @@ def test_commission_detects_a_block_written_by_another_client(start_drive):
                 c.write(E["ZW_REG_CERT_M"], theirs + [crc16_words(theirs)])
         return "forward"
 
-    proxy = Proxy(d.port, hook)
-    try:
-        p = d.tune("commission", *PAPER_OPTS, "--sigma", "0.9", "--port", str(proxy.port))
-    finally:
-        proxy.close()
+    p, proxy = commission_through_proxy(d, hook)
     assert p.returncode == 3, (p.stdout, p.stderr)
     assert (f"the drive sealed a different block (CRC 0x{crc16_words(theirs):04X}" in p.stderr
             and "another client wrote during commissioning" in p.stderr), p.stderr
@@ -108,11 +115,7 @@ def test_commission_detects_a_block_written_by_another_client(start_drive):
     assert s["sealed"] is True and s["cert"]["sigma"] == f32(0.5)  # theirs, not ours
 
     # --json: a machine-readable verdict too
-    proxy = Proxy(d.port, hook)
-    try:
-        p = d.tune("commission", *PAPER_OPTS, "--sigma", "0.9", "--json", "--port", str(proxy.port))
-    finally:
-        proxy.close()
+    p, proxy = commission_through_proxy(d, hook, "--json")
     assert p.returncode == 3, (p.stdout, p.stderr)
     v = json.loads(p.stdout)
     assert v["verdict"] == "mismatch" and v["sealed_crc"] == crc16_words(theirs)
@@ -142,11 +145,7 @@ def test_commission_lost_connection_after_unlock_sends_abort(start_drive):
             return "drop"
         return "forward"
 
-    proxy = Proxy(d.port, hook)
-    try:
-        p = d.tune("commission", *PAPER_OPTS, "--sigma", "0.9", "--port", str(proxy.port))
-    finally:
-        proxy.close()
+    p, proxy = commission_through_proxy(d, hook)
     assert p.returncode == 2, (p.stdout, p.stderr)
     assert "cannot write the certified block" in p.stderr and "sent ABORT" in p.stderr, p.stderr
     assert (1, struct.pack(">BHH", 6, CMD, E["ZW_CMD_ABORT"])) in proxy.requests
@@ -164,11 +163,7 @@ def test_commission_lost_connection_abort_impossible_is_reported(start_drive):
             return "drop"
         return "forward"
 
-    proxy = Proxy(d.port, hook)
-    try:
-        p = d.tune("commission", *PAPER_OPTS, "--sigma", "0.9", "--port", str(proxy.port))
-    finally:
-        proxy.close()
+    p, proxy = commission_through_proxy(d, hook)
     assert p.returncode == 2, (p.stdout, p.stderr)
     assert "could not send ABORT either" in p.stderr, p.stderr
     assert status(d)["mode"] == "commissioning"
