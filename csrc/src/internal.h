@@ -3,8 +3,9 @@
  * A zw_eb carries a value and a bound on its absolute error against the exact result of
  * the same expression on exact inputs (Wilkinson's running error analysis).  Every
  * operation adds one rounding (u |v|) and one underflow quantum (ZW_REAL_MIN, which
- * also covers flush-to-zero FPUs).  Verdicts compare bounded values with zw_eb_compare,
- * which answers "surely less", "surely not less" or "cannot tell".
+ * also covers flush-to-zero FPUs).  Verdicts compare bounded values with zw_compare
+ * (zw_eb_compare for zw_eb pairs), which answers "surely less", "surely not less" or
+ * "cannot tell".  region.c writes its bounds out term by term instead of using zw_eb.
  */
 #ifndef ZWIDTH_INTERNAL_H
 #define ZWIDTH_INTERNAL_H
@@ -99,20 +100,21 @@ static inline zw_cmp zw_eb_compare(zw_eb a, zw_eb b)
     return zw_compare(a.v, b.v, a.e + b.e);
 }
 
-/* Relative error bound of a coefficient field: its own accuracy (ZW_COEF_ULPS ulps, an ulp
- * being at most 2u relative for normal values) plus its sensitivity to an uncertain delta
- * (every field's relative condition number in delta is at most 2; tests/py/test_coeffs.py
- * checks it).  A field that is subnormal (c2 for delta > ~1e154 / 1e19, d12 for subnormal
- * delta) errs by up to ZW_COEF_ABSERR absolutely instead: callers add that times the
- * magnitude of what multiplies it. */
+/* A coefficient field that is subnormal (c2 for delta > ~1e154 / 1e19, d12 for subnormal
+ * delta) errs by up to ZW_COEF_ABSERR absolutely, whatever its relative bound says:
+ * zw_coef_floor gives that floor (0 for a normal field), and callers add it times the
+ * magnitude of what multiplies the field. */
 #define ZW_COEF_ABSERR ((zw_real)ZW_COEF_ULPS * ZW_ETA)
 
-/* The absolute error floor of a coefficient field: ZW_COEF_ABSERR if it is subnormal
- * (or flushed to zero), else 0 (its relative bound holds). */
 static inline zw_real zw_coef_floor(zw_real v)
 {
     return ZW_FABS(v) < ZW_REAL_MIN ? ZW_COEF_ABSERR : ZW_R(0.0);
 }
+
+/* Relative error bound of a (normal) coefficient field: its own accuracy (ZW_COEF_ULPS
+ * ulps, an ulp being at most 2u relative) plus its sensitivity to an uncertain delta
+ * (every field's relative condition number in delta is at most 2; tests/py/test_coeffs.py
+ * checks it). */
 static inline zw_real zw_coef_relerr(const zw_coeffs *c)
 {
     return ZW_R(2.0) * (zw_real)ZW_COEF_ULPS * ZW_U + ZW_R(2.0) * c->delta_relerr;
