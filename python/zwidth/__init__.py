@@ -1,13 +1,55 @@
 """zwidth: the exact stability region of impedance-controlled haptic devices and drives.
 
-Python side of zwidth.  Today it holds one module:
+A drive renders a virtual stiffness K and damping B on a mass m with physical damping b,
+sampled every T.  zwidth says which (K, B) keep it stable for every such plant (Wang et
+al., IEEE Access 12, 2024), the largest K and B it can render, and how m, b and T move
+those limits.  Every number comes from zwidth's C core; the functions here broadcast over
+numpy arrays and run their loops in C.
 
-    zwidth.modbus   client for the drive-side gain register map (Modbus TCP, pymodbus)
-
-Import submodules explicitly (``from zwidth.modbus import Drive``); this package file
-imports nothing, so ``import zwidth`` stays cheap (compiled bindings come later).
+Normalized space (delta = b T/m, alpha = K T^2/m, beta = B T/m):
+    check, verdict, spectral_radius, radius_within, char_poly, coefficients,
+    extremes, alpha_max, beta_interval, hyperbola_top, corner
+Real units:
+    Device(m, b, T) / Device.rotary(J, b, T) with is_stable, verdict, margin,
+    spectral_radius, radius_within, k_max, b_range, extremes, influence, normalize
+Also: zwidth.plot (matplotlib, optional extra "plot"), zwidth.modbus (pymodbus client of
+a drive, optional extra "modbus"; import it explicitly), the ``zwidth`` command line.
 """
+from __future__ import annotations
 
-__all__ = ["__version__"]
+from typing import Dict
+
+from . import _core
+from ._kernels import STATUS_NAMES, ZwidthError
+from .device import Device
+from .normalized import (alpha_max, beta_interval, char_poly, check, coefficients,
+                         coefficients_literal, corner, extremes, hyperbola_top, radius_within,
+                         spectral_radius, verdict)
+from .results import (BoundaryPoint, Coefficients, DeviceExtremes, Extremes, Influence, Interval,
+                      Normalized, Verdict)
 
 __version__ = "0.1.0"
+
+#: The critical normalized dampings and K_mmax ratios of the paper (from the C headers).
+CONSTANTS: Dict[str, float] = dict(_core.CONSTANTS)
+DELTA0: float = CONSTANTS["DELTA0"]        #: the line starts to bite (legacy region wrong above)
+DELTA1: float = CONSTANTS["DELTA1"]        #: alpha_mmax moves from the hyperbola's top to the corner
+DELTA2: float = CONSTANTS["DELTA2"]        #: beta at alpha_mmax turns negative
+DELTA_K1: float = CONSTANTS["DELTA_K1"]    #: local min of alpha_mmax / delta
+DELTA_K2: float = CONSTANTS["DELTA_K2"]    #: local max of alpha_mmax / delta
+DELTA_B: float = CONSTANTS["DELTA_B"]      #: local min of beta_mmax / delta
+DELTA_BB: float = CONSTANTS["DELTA_BB"]    #: local min of beta_mmax
+DELTA_KM: float = CONSTANTS["DELTA_KM"]    #: below delta_K1, where alpha_mmax/delta regains its local max
+#: Constraint bits of Verdict.deciding / Verdict.violated ('damping', 'stiffness', ...).
+BOUNDS: Dict[str, int] = dict(_core.BOUNDS)
+#: Region names accepted by check(..., region=...).
+REGIONS = tuple(_core.REGIONS)
+
+__all__ = [
+    "__version__", "ZwidthError", "STATUS_NAMES", "CONSTANTS", "BOUNDS", "REGIONS",
+    "DELTA0", "DELTA1", "DELTA2", "DELTA_K1", "DELTA_K2", "DELTA_B", "DELTA_BB", "DELTA_KM",
+    "check", "verdict", "spectral_radius", "radius_within", "char_poly", "coefficients",
+    "coefficients_literal", "extremes", "hyperbola_top", "corner", "alpha_max", "beta_interval",
+    "Device", "Verdict", "Coefficients", "Extremes", "BoundaryPoint", "Interval", "Normalized",
+    "DeviceExtremes", "Influence",
+]

@@ -1,0 +1,593 @@
+// zwidth._core: the C core (double precision) on numpy arrays.
+//
+// Every kernel takes float64 arrays, broadcasts them like a numpy ufunc (stride 0 along
+// broadcast axes, no copies), and runs the element loop in C++ without the GIL for large
+// arrays.  It returns a dict of output arrays, an int8 array "status" holding the zw_status
+// of each element, and "errors", the number of elements whose status is not ZW_OK.  Where
+// status is not ZW_OK the other outputs of that element are left unwritten: the Python
+// layer (zwidth/_kernels.py) raises or masks them, so no invalid element ever carries a
+// number.  No formula lives here: each element is one call of the C core.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+extern "C" {
+#include "zwidth/zwidth.h"
+}
+
+namespace py = pybind11;
+using ssize = py::ssize_t;
+using f64array = py::array_t<double, py::array::forcecast>;
+
+namespace {
+
+// Below this many elements releasing and re-taking the GIL costs more than it frees.
+constexpr ssize kReleaseGilFrom = 4096;
+
+// N float64 inputs broadcast against each other.
+template <std::size_t N>
+class Broadcast {
+  public:
+    explicit Broadcast(const std::array<f64array, N> &inputs) : inputs_(inputs) {
+        std::size_t nd = 0;
+        for (const auto &a : inputs_) nd = std::max(nd, static_cast<std::size_t>(a.ndim()));
+        shape_.assign(nd, 1);
+        for (std::size_t k = 0; k < N; ++k) {
+            const auto &a = inputs_[k];
+            const std::size_t offset = nd - static_cast<std::size_t>(a.ndim());
+            for (std::size_t d = 0; d < static_cast<std::size_t>(a.ndim()); ++d) {
+                const ssize n = a.shape(static_cast<ssize>(d));
+                ssize &s = shape_[offset + d];
+                if (n == s || n == 1) continue;
+                if (s != 1) throw py::value_error("operands could not be broadcast together with shapes " +
+                                                  shapes_text());
+                s = n;
+            }
+        }
+        size_ = 1;
+        for (ssize s : shape_) size_ *= s;
+        for (std::size_t k = 0; k < N; ++k) {
+            const auto &a = inputs_[k];
+            const std::size_t offset = nd - static_cast<std::size_t>(a.ndim());
+            strides_[k].assign(nd, 0);
+            for (std::size_t d = 0; d < static_cast<std::size_t>(a.ndim()); ++d)
+                strides_[k][offset + d] = a.shape(static_cast<ssize>(d)) == 1 ? 0 : a.strides(static_cast<ssize>(d));
+            base_[k] = reinterpret_cast<const char *>(a.data());
+        }
+    }
+
+    ssize size() const { return size_; }
+
+    // A C-contiguous output of the broadcast shape with `trailing` extra axes.
+    template <class T>
+    py::array_t<T> output(std::vector<ssize> trailing = {}) const {
+        std::vector<ssize> shape(shape_);
+        shape.insert(shape.end(), trailing.begin(), trailing.end());
+        return py::array_t<T>(shape);
+    }
+
+    // Calls fn(flat_index, x) for every element, x[k] being input k there; fn returns the
+    // element's zw_status, collected into `status`.  Returns the number of failed elements.
+    template <class Fn>
+    ssize run(int8_t *status, Fn &&fn) const {
+        if (size_ == 0) return 0;
+        std::unique_ptr<py::gil_scoped_release> nogil;
+        if (size_ >= kReleaseGilFrom) nogil.reset(new py::gil_scoped_release());
+        const std::size_t nd = shape_.size();
+        std::array<double, N> x{};
+        ssize errors = 0;
+        if (nd == 0) {
+            for (std::size_t k = 0; k < N; ++k) std::memcpy(&x[k], base_[k], sizeof(double));
+            status[0] = static_cast<int8_t>(fn(ssize{0}, x));
+            return status[0] != ZW_OK;
+        }
+        const ssize inner = shape_[nd - 1];
+        std::vector<ssize> index(nd, 0);
+        ssize flat = 0;
+        for (;;) {
+            std::array<const char *, N> row;
+            for (std::size_t k = 0; k < N; ++k) {
+                row[k] = base_[k];
+                for (std::size_t d = 0; d + 1 < nd; ++d) row[k] += index[d] * strides_[k][d];
+            }
+            for (ssize j = 0; j < inner; ++j, ++flat) {
+                for (std::size_t k = 0; k < N; ++k)
+                    std::memcpy(&x[k], row[k] + j * strides_[k][nd - 1], sizeof(double));
+                const zw_status s = fn(flat, x);
+                status[flat] = static_cast<int8_t>(s);
+                errors += s != ZW_OK;
+            }
+            // Advance the outer (all but the last) axes like an odometer.
+            std::size_t d = nd - 1;
+            for (;;) {
+                if (d == 0) return errors;
+                --d;
+                if (++index[d] < shape_[d]) break;
+                index[d] = 0;
+            }
+        }
+    }
+
+  private:
+    std::string shapes_text() const {
+        std::string out;
+        for (const auto &a : inputs_) {
+            out += out.empty() ? "(" : " (";
+            for (ssize d = 0; d < a.ndim(); ++d) out += (d ? "," : "") + std::to_string(a.shape(d));
+            out += a.ndim() == 1 ? ",)" : ")";
+        }
+        return out;
+    }
+
+    std::array<f64array, N> inputs_;
+    std::vector<ssize> shape_;
+    ssize size_ = 0;
+    std::array<std::vector<ssize>, N> strides_;
+    std::array<const char *, N> base_{};
+};
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// Coefficients for the last delta seen: a sweep over gains at one plant pays for the
+// exponentials once.
+class CoeffsCache {
+  public:
+    zw_status get(double delta, const zw_coeffs **out) {
+        if (!valid_ || !same_bits(delta, delta_)) {
+            status_ = zw_coeffs_init(&coeffs_, delta);
+            delta_ = delta;
+            valid_ = true;
+        }
+        *out = &coeffs_;
+        return status_;
+    }
+
+  private:
+    bool valid_ = false;
+    double delta_ = 0.0;
+    zw_status status_ = ZW_OK;
+    zw_coeffs coeffs_{};
+};
+
+// The device for the last (m, b, T) seen.
+class DeviceCache {
+  public:
+    zw_status get(double m, double b, double T, const zw_device **out) {
+        if (!valid_ || !same_bits(m, m_) || !same_bits(b, b_) || !same_bits(T, T_)) {
+            status_ = zw_device_init(&device_, m, b, T);
+            m_ = m, b_ = b, T_ = T;
+            valid_ = true;
+        }
+        *out = &device_;
+        return status_;
+    }
+
+  private:
+    bool valid_ = false;
+    double m_ = 0.0, b_ = 0.0, T_ = 0.0;
+    zw_status status_ = ZW_OK;
+    zw_device device_{};
+};
+
+// Result of a kernel: {"outputs": {name: array}, "status": int8 array, "errors": int}.
+class Result {
+  public:
+    template <std::size_t N>
+    explicit Result(const Broadcast<N> &bc) : status_(bc.template output<int8_t>()) {}
+
+    int8_t *status() { return status_.mutable_data(); }
+
+    template <class T, std::size_t N>
+    T *add(const Broadcast<N> &bc, const char *name, std::vector<ssize> trailing = {}) {
+        auto a = bc.template output<T>(std::move(trailing));
+        T *p = a.mutable_data();
+        outputs_[name] = std::move(a);
+        return p;
+    }
+
+    py::dict finish(ssize errors) {
+        py::dict r;
+        r["outputs"] = outputs_;
+        r["status"] = status_;
+        r["errors"] = errors;
+        return r;
+    }
+
+  private:
+    py::array_t<int8_t> status_;
+    py::dict outputs_;
+};
+
+// Verdict outputs; `full` adds marginal, deciding and violated to "stable".
+struct VerdictOut {
+    VerdictOut(Result &r, const Broadcast<3> &bc3, bool full) { init(r, bc3, full); }
+    VerdictOut(Result &r, const Broadcast<5> &bc5, bool full) { init(r, bc5, full); }
+
+    void store(ssize i, const zw_verdict &v) const {
+        stable[i] = v.stable;
+        if (marginal) {
+            marginal[i] = v.marginal;
+            deciding[i] = static_cast<uint8_t>(v.deciding);
+            violated[i] = static_cast<uint16_t>(v.violated);
+        }
+    }
+
+    bool *stable = nullptr;
+    bool *marginal = nullptr;
+    uint8_t *deciding = nullptr;
+    uint16_t *violated = nullptr;
+
+  private:
+    template <std::size_t N>
+    void init(Result &r, const Broadcast<N> &bc, bool full) {
+        stable = r.add<bool>(bc, "stable");
+        if (!full) return;
+        marginal = r.add<bool>(bc, "marginal");
+        deciding = r.add<uint8_t>(bc, "deciding");
+        violated = r.add<uint16_t>(bc, "violated");
+    }
+};
+
+zw_region region_from(int region) {
+    if (region < ZW_REGION_EXACT || region > ZW_REGION_SMALL) throw py::value_error("unknown region " + std::to_string(region));
+    return static_cast<zw_region>(region);
+}
+
+// ---- normalized space: (delta, alpha, beta) -----------------------------------------
+
+py::dict check(f64array delta, f64array alpha, f64array beta, int region, bool full) {
+    const zw_region reg = region_from(region);
+    Broadcast<3> bc({delta, alpha, beta});
+    Result r(bc);
+    VerdictOut out(r, bc, full);
+    CoeffsCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 3> &x) {
+        const zw_coeffs *c;
+        zw_status s = cache.get(x[0], &c);
+        zw_verdict v;
+        if (s == ZW_OK) s = zw_check_region(reg, c, x[1], x[2], &v);
+        if (s == ZW_OK) out.store(i, v);
+        return s;
+    });
+    return r.finish(errors);
+}
+
+py::dict spectral_radius(f64array delta, f64array alpha, f64array beta) {
+    Broadcast<3> bc({delta, alpha, beta});
+    Result r(bc);
+    double *rho = r.add<double>(bc, "rho");
+    CoeffsCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 3> &x) {
+        const zw_coeffs *c;
+        zw_status s = cache.get(x[0], &c);
+        return s != ZW_OK ? s : zw_spectral_radius(c, x[1], x[2], &rho[i]);
+    });
+    return r.finish(errors);
+}
+
+py::dict radius_within(f64array delta, f64array alpha, f64array beta, f64array radius) {
+    Broadcast<4> bc({delta, alpha, beta, radius});
+    Result r(bc);
+    bool *within = r.add<bool>(bc, "within");
+    CoeffsCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 4> &x) {
+        const zw_coeffs *c;
+        zw_status s = cache.get(x[0], &c);
+        return s != ZW_OK ? s : zw_radius_within(c, x[1], x[2], x[3], &within[i]);
+    });
+    return r.finish(errors);
+}
+
+py::dict char_poly(f64array delta, f64array alpha, f64array beta) {
+    Broadcast<3> bc({delta, alpha, beta});
+    Result r(bc);
+    double *p = r.add<double>(bc, "coefficients", {4});
+    CoeffsCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 3> &x) {
+        const zw_coeffs *c;
+        zw_status s = cache.get(x[0], &c);
+        return s != ZW_OK ? s : zw_char_poly(c, x[1], x[2], &p[4 * i]);
+    });
+    return r.finish(errors);
+}
+
+py::dict coefficients(f64array delta) {
+    Broadcast<1> bc({delta});
+    Result r(bc);
+    double *e = r.add<double>(bc, "e"), *c1 = r.add<double>(bc, "c1"), *c2 = r.add<double>(bc, "c2");
+    double *d12 = r.add<double>(bc, "d12"), *s = r.add<double>(bc, "s"), *g = r.add<double>(bc, "g");
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 1> &x) {
+        zw_coeffs c;
+        const zw_status st = zw_coeffs_init(&c, x[0]);
+        if (st == ZW_OK) e[i] = c.e, c1[i] = c.c1, c2[i] = c.c2, d12[i] = c.d12, s[i] = c.s, g[i] = c.g;
+        return st;
+    });
+    return r.finish(errors);
+}
+
+py::dict coefficients_literal(f64array delta) {
+    Broadcast<1> bc({delta});
+    Result r(bc);
+    double *c1 = r.add<double>(bc, "c1"), *c2 = r.add<double>(bc, "c2"), *d12 = r.add<double>(bc, "d12");
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 1> &x) {
+        return zw_coeffs_literal(x[0], &c1[i], &c2[i], &d12[i]);
+    });
+    return r.finish(errors);
+}
+
+py::dict extremes(f64array delta) {
+    Broadcast<1> bc({delta});
+    Result r(bc);
+    double *alpha_mmax = r.add<double>(bc, "alpha_mmax"), *beta_at = r.add<double>(bc, "beta_at_alpha_mmax");
+    bool *at_corner = r.add<bool>(bc, "at_corner");
+    double *alpha_p_max = r.add<double>(bc, "alpha_p_max"), *beta_mmax = r.add<double>(bc, "beta_mmax");
+    double *beta_mmin = r.add<double>(bc, "beta_mmin"), *alpha_mmin = r.add<double>(bc, "alpha_mmin");
+    CoeffsCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 1> &x) {
+        const zw_coeffs *c;
+        zw_extremes ex;
+        zw_status s = cache.get(x[0], &c);
+        if (s == ZW_OK) s = zw_extremes_compute(c, &ex);
+        if (s == ZW_OK) {
+            alpha_mmax[i] = ex.alpha_mmax, beta_at[i] = ex.beta_at_alpha_mmax, at_corner[i] = ex.at_corner;
+            alpha_p_max[i] = ex.alpha_p_max, beta_mmax[i] = ex.beta_mmax;
+            beta_mmin[i] = ex.beta_mmin, alpha_mmin[i] = ex.alpha_mmin;
+        }
+        return s;
+    });
+    return r.finish(errors);
+}
+
+// zw_hyperbola_top or zw_corner: (alpha, beta) of a point of the boundary against delta.
+template <zw_status (*point)(const zw_coeffs *, zw_real *, zw_real *)>
+py::dict boundary_point(f64array delta) {
+    Broadcast<1> bc({delta});
+    Result r(bc);
+    double *alpha = r.add<double>(bc, "alpha"), *beta = r.add<double>(bc, "beta");
+    CoeffsCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 1> &x) {
+        const zw_coeffs *c;
+        zw_status s = cache.get(x[0], &c);
+        return s != ZW_OK ? s : point(c, &alpha[i], &beta[i]);
+    });
+    return r.finish(errors);
+}
+
+py::dict alpha_max(f64array delta, f64array beta) {
+    Broadcast<2> bc({delta, beta});
+    Result r(bc);
+    double *amax = r.add<double>(bc, "alpha_max");
+    CoeffsCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 2> &x) {
+        const zw_coeffs *c;
+        zw_status s = cache.get(x[0], &c);
+        return s != ZW_OK ? s : zw_alpha_max(c, x[1], &amax[i]);
+    });
+    return r.finish(errors);
+}
+
+py::dict beta_interval(f64array delta, f64array alpha) {
+    Broadcast<2> bc({delta, alpha});
+    Result r(bc);
+    double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
+    bool *nonempty = r.add<bool>(bc, "nonempty");
+    CoeffsCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 2> &x) {
+        const zw_coeffs *c;
+        zw_status s = cache.get(x[0], &c);
+        return s != ZW_OK ? s : zw_beta_interval(c, x[1], &lo[i], &hi[i], &nonempty[i]);
+    });
+    return r.finish(errors);
+}
+
+// ---- real units: (m, b, T) and gains (K, B) -----------------------------------------
+
+py::dict device_normalize(f64array m, f64array b, f64array T, f64array K, f64array B) {
+    Broadcast<5> bc({m, b, T, K, B});
+    Result r(bc);
+    double *delta = r.add<double>(bc, "delta"), *alpha = r.add<double>(bc, "alpha"), *beta = r.add<double>(bc, "beta");
+    DeviceCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 5> &x) {
+        const zw_device *d;
+        zw_status s = cache.get(x[0], x[1], x[2], &d);
+        if (s == ZW_OK) s = zw_device_normalize(d, x[3], x[4], &alpha[i], &beta[i]);
+        if (s == ZW_OK) delta[i] = d->co.delta;
+        return s;
+    });
+    return r.finish(errors);
+}
+
+py::dict device_check(f64array m, f64array b, f64array T, f64array K, f64array B, int region, bool full) {
+    const zw_region reg = region_from(region);
+    Broadcast<5> bc({m, b, T, K, B});
+    Result r(bc);
+    VerdictOut out(r, bc, full);
+    DeviceCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 5> &x) {
+        const zw_device *d;
+        zw_status s = cache.get(x[0], x[1], x[2], &d);
+        zw_verdict v;
+        if (s == ZW_OK) s = zw_device_check_region(reg, d, x[3], x[4], &v);
+        if (s == ZW_OK) out.store(i, v);
+        return s;
+    });
+    return r.finish(errors);
+}
+
+py::dict device_spectral_radius(f64array m, f64array b, f64array T, f64array K, f64array B) {
+    Broadcast<5> bc({m, b, T, K, B});
+    Result r(bc);
+    double *rho = r.add<double>(bc, "rho");
+    DeviceCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 5> &x) {
+        const zw_device *d;
+        zw_status s = cache.get(x[0], x[1], x[2], &d);
+        return s != ZW_OK ? s : zw_device_spectral_radius(d, x[3], x[4], &rho[i]);
+    });
+    return r.finish(errors);
+}
+
+py::dict device_radius_within(f64array m, f64array b, f64array T, f64array K, f64array B, f64array radius) {
+    Broadcast<6> bc({m, b, T, K, B, radius});
+    Result r(bc);
+    bool *within = r.add<bool>(bc, "within");
+    DeviceCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 6> &x) {
+        const zw_device *d;
+        zw_status s = cache.get(x[0], x[1], x[2], &d);
+        return s != ZW_OK ? s : zw_device_radius_within(d, x[3], x[4], x[5], &within[i]);
+    });
+    return r.finish(errors);
+}
+
+py::dict device_extremes(f64array m, f64array b, f64array T) {
+    Broadcast<3> bc({m, b, T});
+    Result r(bc);
+    double *K_mmax = r.add<double>(bc, "K_mmax"), *B_at = r.add<double>(bc, "B_at_K_mmax");
+    bool *at_corner = r.add<bool>(bc, "at_corner");
+    double *K_p_max = r.add<double>(bc, "K_p_max"), *B_mmax = r.add<double>(bc, "B_mmax");
+    double *B_mmin = r.add<double>(bc, "B_mmin"), *K_mmin = r.add<double>(bc, "K_mmin");
+    DeviceCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 3> &x) {
+        const zw_device *d;
+        zw_device_extremes ex;
+        zw_status s = cache.get(x[0], x[1], x[2], &d);
+        if (s == ZW_OK) s = zw_device_extremes_compute(d, &ex);
+        if (s == ZW_OK) {
+            K_mmax[i] = ex.K_mmax, B_at[i] = ex.B_at_K_mmax, at_corner[i] = ex.at_corner;
+            K_p_max[i] = ex.K_p_max, B_mmax[i] = ex.B_mmax, B_mmin[i] = ex.B_mmin, K_mmin[i] = ex.K_mmin;
+        }
+        return s;
+    });
+    return r.finish(errors);
+}
+
+py::dict device_k_max(f64array m, f64array b, f64array T, f64array B) {
+    Broadcast<4> bc({m, b, T, B});
+    Result r(bc);
+    double *kmax = r.add<double>(bc, "K_max");
+    DeviceCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 4> &x) {
+        const zw_device *d;
+        zw_status s = cache.get(x[0], x[1], x[2], &d);
+        return s != ZW_OK ? s : zw_device_k_max(d, x[3], &kmax[i]);
+    });
+    return r.finish(errors);
+}
+
+py::dict device_b_range(f64array m, f64array b, f64array T, f64array K) {
+    Broadcast<4> bc({m, b, T, K});
+    Result r(bc);
+    double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
+    bool *nonempty = r.add<bool>(bc, "nonempty");
+    DeviceCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 4> &x) {
+        const zw_device *d;
+        zw_status s = cache.get(x[0], x[1], x[2], &d);
+        return s != ZW_OK ? s : zw_device_b_range(d, x[3], &lo[i], &hi[i], &nonempty[i]);
+    });
+    return r.finish(errors);
+}
+
+py::dict device_influence(f64array m, f64array b, f64array T) {
+    Broadcast<3> bc({m, b, T});
+    Result r(bc);
+    const char *real_names[] = {"delta", "K_mmax", "B_mmax", "m_K1", "m_K2", "K_mmax_at_m_K2",
+                                "K_mmax_at_m_K1", "m_K_match", "T_B", "T_0", "m_0", "m_B",
+                                "b_0", "b_BB", "best_m_for_K"};
+    const char *trend_names[] = {"K_vs_m", "K_vs_b", "K_vs_T", "B_vs_m", "B_vs_b", "B_vs_T"};
+    std::array<double *, 15> reals;
+    std::array<int8_t *, 6> trends;
+    for (std::size_t k = 0; k < reals.size(); ++k) reals[k] = r.add<double>(bc, real_names[k]);
+    for (std::size_t k = 0; k < trends.size(); ++k) trends[k] = r.add<int8_t>(bc, trend_names[k]);
+    DeviceCache cache;
+    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 3> &x) {
+        const zw_device *d;
+        zw_influence f;
+        zw_status s = cache.get(x[0], x[1], x[2], &d);
+        if (s == ZW_OK) s = zw_device_influence(d, &f);
+        if (s != ZW_OK) return s;
+        const double values[] = {f.delta, f.K_mmax, f.B_mmax, f.m_K1, f.m_K2, f.K_mmax_at_m_K2,
+                                 f.K_mmax_at_m_K1, f.m_K_match, f.T_B, f.T_0, f.m_0, f.m_B,
+                                 f.b_0, f.b_BB, f.best_m_for_K};
+        const zw_trend signs[] = {f.K_vs_m, f.K_vs_b, f.K_vs_T, f.B_vs_m, f.B_vs_b, f.B_vs_T};
+        for (std::size_t k = 0; k < reals.size(); ++k) reals[k][i] = values[k];
+        for (std::size_t k = 0; k < trends.size(); ++k) trends[k][i] = static_cast<int8_t>(signs[k]);
+        return s;
+    });
+    return r.finish(errors);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, mod) {
+    mod.doc() =
+        "zwidth's C core (double precision) as broadcasting kernels.  Private: use the "
+        "functions of the zwidth package, which name invalid parameters in their errors.";
+
+    py::dict status_names;
+    for (int s = ZW_OK; s <= ZW_ERR_DOMAIN; ++s) status_names[py::int_(s)] = zw_status_name(static_cast<zw_status>(s));
+    mod.attr("STATUS_NAMES") = status_names;
+
+    py::dict regions;
+    regions["exact"] = int{ZW_REGION_EXACT};
+    regions["legacy"] = int{ZW_REGION_LEGACY};
+    regions["passivity"] = int{ZW_REGION_PASSIVITY};
+    regions["delta0"] = int{ZW_REGION_DELTA0};
+    regions["delta_inf"] = int{ZW_REGION_DELTA_INF};
+    regions["small"] = int{ZW_REGION_SMALL};
+    mod.attr("REGIONS") = regions;
+
+    py::dict bounds;
+    bounds["damping"] = int{ZW_BOUND_DAMPING};
+    bounds["stiffness"] = int{ZW_BOUND_STIFFNESS};
+    bounds["hyperbola"] = int{ZW_BOUND_HYPERBOLA};
+    bounds["line"] = int{ZW_BOUND_LINE};
+    bounds["passivity"] = int{ZW_BOUND_PASSIVITY};
+    mod.attr("BOUNDS") = bounds;
+
+    py::dict constants;
+    constants["DELTA0"] = ZW_DELTA0;
+    constants["DELTA1"] = ZW_DELTA1;
+    constants["DELTA2"] = ZW_DELTA2;
+    constants["DELTA_K1"] = ZW_DELTA_K1;
+    constants["DELTA_K2"] = ZW_DELTA_K2;
+    constants["DELTA_B"] = ZW_DELTA_B;
+    constants["DELTA_BB"] = ZW_DELTA_BB;
+    constants["DELTA_KM"] = ZW_DELTA_KM;
+    constants["KMAX_LOCAL_MAX"] = ZW_KMAX_LOCAL_MAX;
+    constants["KMAX_LOCAL_MIN"] = ZW_KMAX_LOCAL_MIN;
+    mod.attr("CONSTANTS") = constants;
+
+    const auto d = py::arg("delta"), a = py::arg("alpha"), be = py::arg("beta");
+    const auto m = py::arg("m"), b = py::arg("b"), T = py::arg("T"), K = py::arg("K"), B = py::arg("B");
+    mod.def("check", &check, d, a, be, py::arg("region"), py::arg("full"), "zw_check_region per element.");
+    mod.def("spectral_radius", &spectral_radius, d, a, be, "zw_spectral_radius per element.");
+    mod.def("radius_within", &radius_within, d, a, be, py::arg("radius"), "zw_radius_within per element.");
+    mod.def("char_poly", &char_poly, d, a, be, "zw_char_poly per element (trailing axis of 4).");
+    mod.def("coefficients", &coefficients, d, "zw_coeffs_init per element.");
+    mod.def("coefficients_literal", &coefficients_literal, d, "zw_coeffs_literal per element.");
+    mod.def("extremes", &extremes, d, "zw_extremes_compute per element.");
+    mod.def("hyperbola_top", &boundary_point<zw_hyperbola_top>, d, "zw_hyperbola_top per element.");
+    mod.def("corner", &boundary_point<zw_corner>, d, "zw_corner per element.");
+    mod.def("alpha_max", &alpha_max, d, be, "zw_alpha_max per element.");
+    mod.def("beta_interval", &beta_interval, d, a, "zw_beta_interval per element.");
+    mod.def("device_normalize", &device_normalize, m, b, T, K, B, "zw_device_normalize per element.");
+    mod.def("device_check", &device_check, m, b, T, K, B, py::arg("region"), py::arg("full"),
+            "zw_device_check_region per element.");
+    mod.def("device_spectral_radius", &device_spectral_radius, m, b, T, K, B,
+            "zw_device_spectral_radius per element.");
+    mod.def("device_radius_within", &device_radius_within, m, b, T, K, B, py::arg("radius"),
+            "zw_device_radius_within per element.");
+    mod.def("device_extremes", &device_extremes, m, b, T, "zw_device_extremes_compute per element.");
+    mod.def("device_k_max", &device_k_max, m, b, T, B, "zw_device_k_max per element.");
+    mod.def("device_b_range", &device_b_range, m, b, T, K, "zw_device_b_range per element.");
+    mod.def("device_influence", &device_influence, m, b, T, "zw_device_influence per element.");
+}

@@ -1,0 +1,115 @@
+"""The normalized space: delta = b T/m, alpha = K T^2/m, beta = B T/m (paper Sections II, III).
+
+Every function broadcasts its array arguments like a numpy ufunc (float64 in; results of
+the broadcast shape, numpy scalars for scalar inputs) and runs its loop in C.  Invalid
+input raises :class:`zwidth.ZwidthError` naming the parameter, or, with
+``errors="mask"``, gives NaN (float results) or False (boolean results) at those elements.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+from numpy.typing import ArrayLike
+
+from . import _core
+from ._kernels import Errors, call, region_code
+from .results import BoundaryPoint, Coefficients, Extremes, Interval, Verdict
+
+_DAB = ("delta", "alpha", "beta")
+
+
+def check(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, region: str = "exact",
+          errors: Errors = "raise") -> Any:
+    """Is (alpha, beta) stable for a plant with normalized damping delta? (bool)
+
+    The exact region, paper eq (10), with a rounding-error guard: True only if the point
+    is stable for every value within the bound; a stable point within a few ulps of the
+    boundary may be called unstable (see :func:`verdict`, ``marginal``).  ``region``
+    selects one of the paper's comparison regions instead: 'legacy' (Gil et al., eq (10)
+    without the line: contains unstable points for delta > delta0), 'passivity' (eq (16)),
+    'delta0' (eq (17)), 'delta_inf' (eqs (14), (15)), 'small' (eq (18)).  Only 'exact' and
+    'passivity' certify stability.
+    """
+    out, _ = call("check", _core.check, _DAB, (delta, alpha, beta), errors,
+                  region=region_code("check", region), full=False)
+    return out["stable"]
+
+
+def verdict(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, region: str = "exact",
+            errors: Errors = "raise") -> Verdict:
+    """Like :func:`check`, with the reasons: stable, marginal, deciding, violated, status."""
+    out, status = call("verdict", _core.check, _DAB, (delta, alpha, beta), errors,
+                       region=region_code("verdict", region), full=True)
+    return Verdict.from_outputs(out, status=status[()] if status.ndim == 0 else status)
+
+
+def spectral_radius(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *,
+                    errors: Errors = "raise") -> Any:
+    """Largest pole modulus of the closed loop, paper eqs (7), (8) (stable iff < 1)."""
+    out, _ = call("spectral_radius", _core.spectral_radius, _DAB, (delta, alpha, beta), errors)
+    return out["rho"]
+
+
+def radius_within(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, radius: ArrayLike, *,
+                  errors: Errors = "raise") -> Any:
+    """Do all closed-loop poles lie strictly inside |z| < radius? (bool, guarded)
+
+    Decided by the Jury conditions on p(radius z) without root finding; True only if it
+    holds for every value within the rounding bound.  radius must be finite and > 0.
+    """
+    out, _ = call("radius_within", _core.radius_within, _DAB + ("radius",),
+                  (delta, alpha, beta, radius), errors)
+    return out["within"]
+
+
+def char_poly(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, errors: Errors = "raise") -> Any:
+    """Characteristic polynomial coefficients [2, a1, a2, -c2 beta], highest power first,
+    along a new trailing axis of length 4 (paper eq (7))."""
+    out, _ = call("char_poly", _core.char_poly, _DAB, (delta, alpha, beta), errors)
+    return out["coefficients"]
+
+
+def coefficients(delta: ArrayLike, *, errors: Errors = "raise") -> Coefficients:
+    """e, c1, c2, d12, s, g at delta (accurate to a few ulps for every delta >= 0)."""
+    out, _ = call("coefficients", _core.coefficients, ("delta",), (delta,), errors)
+    return Coefficients.from_outputs(out)
+
+
+def coefficients_literal(delta: ArrayLike, *, errors: Errors = "raise") -> Coefficients:
+    """c1, c2, d12 by the paper's literal formulas, which cancel for small delta and
+    overflow for large: for comparison only; e, s and g are NaN."""
+    out, _ = call("coefficients_literal", _core.coefficients_literal, ("delta",), (delta,), errors)
+    nan = out["c1"] * float("nan")
+    return Coefficients(e=nan, c1=out["c1"], c2=out["c2"], d12=out["d12"], s=nan, g=nan)
+
+
+def extremes(delta: ArrayLike, *, errors: Errors = "raise") -> Extremes:
+    """alpha_mmax (and the beta at it), alpha with beta = 0, beta_mmax, lower extremes."""
+    out, _ = call("extremes", _core.extremes, ("delta",), (delta,), errors)
+    return Extremes.from_outputs(out)
+
+
+def hyperbola_top(delta: ArrayLike, *, errors: Errors = "raise") -> BoundaryPoint:
+    """Top of the hyperbola alpha = f(beta), eqs (19), (20): the legacy region's
+    alpha_mmax, and the exact one for delta <= delta1."""
+    out, _ = call("hyperbola_top", _core.hyperbola_top, ("delta",), (delta,), errors)
+    return BoundaryPoint.from_outputs(out)
+
+
+def corner(delta: ArrayLike, *, errors: Errors = "raise") -> BoundaryPoint:
+    """Corner where the line meets the hyperbola, eqs (21), (22); NaN for delta <= delta0,
+    where the line lies outside the hyperbola."""
+    out, _ = call("corner", _core.corner, ("delta",), (delta,), errors, domain_is_nan=True)
+    return BoundaryPoint.from_outputs(out)
+
+
+def alpha_max(delta: ArrayLike, beta: ArrayLike, *, errors: Errors = "raise") -> Any:
+    """sup alpha stable at this beta: min(f(beta), L(beta)), 0 outside (-delta, beta_mmax)."""
+    out, _ = call("alpha_max", _core.alpha_max, ("delta", "beta"), (delta, beta), errors)
+    return out["alpha_max"]
+
+
+def beta_interval(delta: ArrayLike, alpha: ArrayLike, *, errors: Errors = "raise") -> Interval:
+    """The open interval of beta stable at this alpha (nonempty False where none)."""
+    out, _ = call("beta_interval", _core.beta_interval, ("delta", "alpha"), (delta, alpha), errors)
+    return Interval.from_outputs(out)
