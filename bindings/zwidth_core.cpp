@@ -12,10 +12,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <cstring>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 extern "C" {
@@ -30,6 +32,15 @@ namespace {
 
 // Below this many elements releasing and re-taking the GIL costs more than it frees.
 constexpr ssize kReleaseGilFrom = 4096;
+// Work is handed out in chunks of this many elements; arrays this large use every core.
+constexpr ssize kChunk = 16384;
+constexpr ssize kThreadsFrom = 65536;
+constexpr ssize kMaxThreads = 8;
+
+ssize hardware_threads() {
+    const unsigned n = std::thread::hardware_concurrency();
+    return std::max<ssize>(1, std::min<ssize>(kMaxThreads, n));
+}
 
 // N float64 inputs broadcast against each other.
 template <std::size_t N>
@@ -73,46 +84,81 @@ class Broadcast {
         return py::array_t<T>(shape);
     }
 
-    // Calls fn(flat_index, x) for every element, x[k] being input k there; fn returns the
-    // element's zw_status, collected into `status`.  Returns the number of failed elements.
-    template <class Fn>
-    ssize run(int8_t *status, Fn &&fn) const {
+    // A stretch of elements along the last axis: element j of input k is at
+    // ptr[k] + j * stride[k] (bytes), and its flat output index is flat + j.
+    struct Segment {
+        ssize flat = 0, count = 0;
+        std::array<const char *, N> ptr{};
+        std::array<ssize, N> stride{};
+    };
+
+    // Runs the segments (rows split into chunks) on up to kMaxThreads threads, without the
+    // GIL for large arrays.  make_worker() is called once per thread and returns a
+    // callable ssize(const Segment &) giving the number of failed elements, so each thread
+    // owns its caches.  Returns the total number of failed elements.
+    template <class MakeWorker>
+    ssize for_segments(MakeWorker &&make_worker) const {
         if (size_ == 0) return 0;
+        const std::size_t nd = shape_.size();
+        const ssize inner = nd == 0 ? 1 : shape_[nd - 1];
+        const ssize rows = size_ / inner;
+        const ssize per_row = (inner + kChunk - 1) / kChunk;
+        const ssize segments = rows * per_row;
+        std::atomic<ssize> next{0}, errors{0};
+        auto work = [&] {
+            auto worker = make_worker();
+            ssize failed = 0;
+            for (ssize s; (s = next.fetch_add(1)) < segments;) {
+                Segment seg;
+                const ssize row = s / per_row, j0 = (s % per_row) * kChunk;
+                seg.flat = row * inner + j0;
+                seg.count = std::min(kChunk, inner - j0);
+                for (std::size_t k = 0; k < N; ++k) {
+                    const char *p = base_[k];
+                    ssize rest = row;
+                    for (std::size_t d = nd >= 1 ? nd - 1 : 0; d-- > 0;) {
+                        p += (rest % shape_[d]) * strides_[k][d];
+                        rest /= shape_[d];
+                    }
+                    seg.stride[k] = nd == 0 ? 0 : strides_[k][nd - 1];
+                    seg.ptr[k] = p + j0 * seg.stride[k];
+                }
+                failed += worker(seg);
+            }
+            errors += failed;
+        };
         std::unique_ptr<py::gil_scoped_release> nogil;
         if (size_ >= kReleaseGilFrom) nogil.reset(new py::gil_scoped_release());
-        const std::size_t nd = shape_.size();
-        std::array<double, N> x{};
-        ssize errors = 0;
-        if (nd == 0) {
-            for (std::size_t k = 0; k < N; ++k) std::memcpy(&x[k], base_[k], sizeof(double));
-            status[0] = static_cast<int8_t>(fn(ssize{0}, x));
-            return status[0] != ZW_OK;
+        const ssize threads = size_ >= kThreadsFrom ? std::min<ssize>(segments, hardware_threads()) : 1;
+        std::vector<std::thread> pool;
+        for (ssize t = 1; t < threads; ++t) pool.emplace_back(work);
+        work();
+        for (auto &t : pool) t.join();
+        return errors.load();
+    }
+
+    // Calls fn(flat_index, x) for every element of seg, x[k] being input k there; fn
+    // returns the element's zw_status, stored in status.  Returns the failed count.
+    template <class Fn>
+    static ssize each(const Segment &seg, int8_t *status, Fn &fn) {
+        std::array<double, N> x;
+        ssize failed = 0;
+        for (ssize j = 0; j < seg.count; ++j) {
+            for (std::size_t k = 0; k < N; ++k) std::memcpy(&x[k], seg.ptr[k] + j * seg.stride[k], sizeof(double));
+            const zw_status st = fn(seg.flat + j, x);
+            status[seg.flat + j] = static_cast<int8_t>(st);
+            failed += st != ZW_OK;
         }
-        const ssize inner = shape_[nd - 1];
-        std::vector<ssize> index(nd, 0);
-        ssize flat = 0;
-        for (;;) {
-            std::array<const char *, N> row;
-            for (std::size_t k = 0; k < N; ++k) {
-                row[k] = base_[k];
-                for (std::size_t d = 0; d + 1 < nd; ++d) row[k] += index[d] * strides_[k][d];
-            }
-            for (ssize j = 0; j < inner; ++j, ++flat) {
-                for (std::size_t k = 0; k < N; ++k)
-                    std::memcpy(&x[k], row[k] + j * strides_[k][nd - 1], sizeof(double));
-                const zw_status s = fn(flat, x);
-                status[flat] = static_cast<int8_t>(s);
-                errors += s != ZW_OK;
-            }
-            // Advance the outer (all but the last) axes like an odometer.
-            std::size_t d = nd - 1;
-            for (;;) {
-                if (d == 0) return errors;
-                --d;
-                if (++index[d] < shape_[d]) break;
-                index[d] = 0;
-            }
-        }
+        return failed;
+    }
+
+    // Element-wise kernels: make_fn() returns, once per thread, a callable
+    // zw_status(ssize flat, const std::array<double, N> &x).
+    template <class MakeFn>
+    ssize run(int8_t *status, MakeFn &&make_fn) const {
+        return for_segments([&] {
+            return [status, fn = make_fn()](const Segment &seg) mutable { return each(seg, status, fn); };
+        });
     }
 
   private:
@@ -132,6 +178,27 @@ class Broadcast {
     std::array<std::vector<ssize>, N> strides_;
     std::array<const char *, N> base_{};
 };
+
+double load(const char *p) {
+    double x;
+    std::memcpy(&x, p, sizeof x);
+    return x;
+}
+
+const double *as_doubles(const char *p) { return reinterpret_cast<const double *>(p); }
+
+// The segment's first `plant` inputs are constant along it (stride 0) and the others are
+// aligned doubles at whole-element strides, as the batch functions of batch.h need.
+template <class Segment>
+bool one_plant(const Segment &seg, std::size_t plant) {
+    for (std::size_t k = 0; k < seg.ptr.size(); ++k) {
+        if (k < plant ? seg.stride[k] != 0
+                      : seg.stride[k] % static_cast<ssize>(sizeof(double)) != 0 ||
+                            reinterpret_cast<std::uintptr_t>(seg.ptr[k]) % alignof(double) != 0)
+            return false;
+    }
+    return true;
+}
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
@@ -247,14 +314,30 @@ py::dict check(f64array delta, f64array alpha, f64array beta, int region, bool f
     Broadcast<3> bc({delta, alpha, beta});
     Result r(bc);
     VerdictOut out(r, bc, full);
-    CoeffsCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 3> &x) {
-        const zw_coeffs *c;
-        zw_status s = cache.get(x[0], &c);
-        zw_verdict v;
-        if (s == ZW_OK) s = zw_check_region(reg, c, x[1], x[2], &v);
-        if (s == ZW_OK) out.store(i, v);
-        return s;
+    auto make_elem = [&] {
+        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_coeffs *c;
+            zw_status s = cache.get(x[0], &c);
+            zw_verdict v;
+            if (s == ZW_OK) s = zw_check_region(reg, c, x[1], x[2], &v);
+            if (s == ZW_OK) out.store(i, v);
+            return s;
+        };
+    };
+    if (reg != ZW_REGION_EXACT || full) return r.finish(bc.run(r.status(), make_elem));
+    // Plain "is it stable": rows with one plant go through the branch-free batch loop.
+    int8_t *status = r.status();
+    const ssize errors = bc.for_segments([&] {
+        return [&, cache = CoeffsCache(), elem = make_elem()](const Broadcast<3>::Segment &seg) mutable {
+            const zw_coeffs *c;
+            if (one_plant(seg, 1) && cache.get(load(seg.ptr[0]), &c) == ZW_OK &&
+                zw_check_many(c, static_cast<size_t>(seg.count), as_doubles(seg.ptr[1]), seg.stride[1] / 8,
+                              as_doubles(seg.ptr[2]), seg.stride[2] / 8, out.stable + seg.flat, nullptr) == ZW_OK) {
+                std::memset(status + seg.flat, ZW_OK, static_cast<std::size_t>(seg.count));
+                return ssize{0};
+            }
+            return Broadcast<3>::each(seg, status, elem);  // some element is invalid: name it
+        };
     });
     return r.finish(errors);
 }
@@ -263,11 +346,12 @@ py::dict spectral_radius(f64array delta, f64array alpha, f64array beta) {
     Broadcast<3> bc({delta, alpha, beta});
     Result r(bc);
     double *rho = r.add<double>(bc, "rho");
-    CoeffsCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 3> &x) {
-        const zw_coeffs *c;
-        zw_status s = cache.get(x[0], &c);
-        return s != ZW_OK ? s : zw_spectral_radius(c, x[1], x[2], &rho[i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_coeffs *c;
+            zw_status s = cache.get(x[0], &c);
+            return s != ZW_OK ? s : zw_spectral_radius(c, x[1], x[2], &rho[i]);
+        };
     });
     return r.finish(errors);
 }
@@ -276,11 +360,12 @@ py::dict radius_within(f64array delta, f64array alpha, f64array beta, f64array r
     Broadcast<4> bc({delta, alpha, beta, radius});
     Result r(bc);
     bool *within = r.add<bool>(bc, "within");
-    CoeffsCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 4> &x) {
-        const zw_coeffs *c;
-        zw_status s = cache.get(x[0], &c);
-        return s != ZW_OK ? s : zw_radius_within(c, x[1], x[2], x[3], &within[i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 4> &x) mutable {
+            const zw_coeffs *c;
+            zw_status s = cache.get(x[0], &c);
+            return s != ZW_OK ? s : zw_radius_within(c, x[1], x[2], x[3], &within[i]);
+        };
     });
     return r.finish(errors);
 }
@@ -289,11 +374,12 @@ py::dict char_poly(f64array delta, f64array alpha, f64array beta) {
     Broadcast<3> bc({delta, alpha, beta});
     Result r(bc);
     double *p = r.add<double>(bc, "coefficients", {4});
-    CoeffsCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 3> &x) {
-        const zw_coeffs *c;
-        zw_status s = cache.get(x[0], &c);
-        return s != ZW_OK ? s : zw_char_poly(c, x[1], x[2], &p[4 * i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_coeffs *c;
+            zw_status s = cache.get(x[0], &c);
+            return s != ZW_OK ? s : zw_char_poly(c, x[1], x[2], &p[4 * i]);
+        };
     });
     return r.finish(errors);
 }
@@ -303,11 +389,13 @@ py::dict coefficients(f64array delta) {
     Result r(bc);
     double *e = r.add<double>(bc, "e"), *c1 = r.add<double>(bc, "c1"), *c2 = r.add<double>(bc, "c2");
     double *d12 = r.add<double>(bc, "d12"), *s = r.add<double>(bc, "s"), *g = r.add<double>(bc, "g");
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 1> &x) {
-        zw_coeffs c;
-        const zw_status st = zw_coeffs_init(&c, x[0]);
-        if (st == ZW_OK) e[i] = c.e, c1[i] = c.c1, c2[i] = c.c2, d12[i] = c.d12, s[i] = c.s, g[i] = c.g;
-        return st;
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&](ssize i, const std::array<double, 1> &x) {
+            zw_coeffs c;
+            const zw_status st = zw_coeffs_init(&c, x[0]);
+            if (st == ZW_OK) e[i] = c.e, c1[i] = c.c1, c2[i] = c.c2, d12[i] = c.d12, s[i] = c.s, g[i] = c.g;
+            return st;
+        };
     });
     return r.finish(errors);
 }
@@ -316,8 +404,10 @@ py::dict coefficients_literal(f64array delta) {
     Broadcast<1> bc({delta});
     Result r(bc);
     double *c1 = r.add<double>(bc, "c1"), *c2 = r.add<double>(bc, "c2"), *d12 = r.add<double>(bc, "d12");
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 1> &x) {
-        return zw_coeffs_literal(x[0], &c1[i], &c2[i], &d12[i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&](ssize i, const std::array<double, 1> &x) {
+            return zw_coeffs_literal(x[0], &c1[i], &c2[i], &d12[i]);
+        };
     });
     return r.finish(errors);
 }
@@ -329,18 +419,19 @@ py::dict extremes(f64array delta) {
     bool *at_corner = r.add<bool>(bc, "at_corner");
     double *alpha_p_max = r.add<double>(bc, "alpha_p_max"), *beta_mmax = r.add<double>(bc, "beta_mmax");
     double *beta_mmin = r.add<double>(bc, "beta_mmin"), *alpha_mmin = r.add<double>(bc, "alpha_mmin");
-    CoeffsCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 1> &x) {
-        const zw_coeffs *c;
-        zw_extremes ex;
-        zw_status s = cache.get(x[0], &c);
-        if (s == ZW_OK) s = zw_extremes_compute(c, &ex);
-        if (s == ZW_OK) {
-            alpha_mmax[i] = ex.alpha_mmax, beta_at[i] = ex.beta_at_alpha_mmax, at_corner[i] = ex.at_corner;
-            alpha_p_max[i] = ex.alpha_p_max, beta_mmax[i] = ex.beta_mmax;
-            beta_mmin[i] = ex.beta_mmin, alpha_mmin[i] = ex.alpha_mmin;
-        }
-        return s;
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 1> &x) mutable {
+            const zw_coeffs *c;
+            zw_extremes ex;
+            zw_status s = cache.get(x[0], &c);
+            if (s == ZW_OK) s = zw_extremes_compute(c, &ex);
+            if (s == ZW_OK) {
+                alpha_mmax[i] = ex.alpha_mmax, beta_at[i] = ex.beta_at_alpha_mmax, at_corner[i] = ex.at_corner;
+                alpha_p_max[i] = ex.alpha_p_max, beta_mmax[i] = ex.beta_mmax;
+                beta_mmin[i] = ex.beta_mmin, alpha_mmin[i] = ex.alpha_mmin;
+            }
+            return s;
+        };
     });
     return r.finish(errors);
 }
@@ -351,11 +442,12 @@ py::dict boundary_point(f64array delta) {
     Broadcast<1> bc({delta});
     Result r(bc);
     double *alpha = r.add<double>(bc, "alpha"), *beta = r.add<double>(bc, "beta");
-    CoeffsCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 1> &x) {
-        const zw_coeffs *c;
-        zw_status s = cache.get(x[0], &c);
-        return s != ZW_OK ? s : point(c, &alpha[i], &beta[i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 1> &x) mutable {
+            const zw_coeffs *c;
+            zw_status s = cache.get(x[0], &c);
+            return s != ZW_OK ? s : point(c, &alpha[i], &beta[i]);
+        };
     });
     return r.finish(errors);
 }
@@ -364,11 +456,12 @@ py::dict alpha_max(f64array delta, f64array beta) {
     Broadcast<2> bc({delta, beta});
     Result r(bc);
     double *amax = r.add<double>(bc, "alpha_max");
-    CoeffsCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 2> &x) {
-        const zw_coeffs *c;
-        zw_status s = cache.get(x[0], &c);
-        return s != ZW_OK ? s : zw_alpha_max(c, x[1], &amax[i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 2> &x) mutable {
+            const zw_coeffs *c;
+            zw_status s = cache.get(x[0], &c);
+            return s != ZW_OK ? s : zw_alpha_max(c, x[1], &amax[i]);
+        };
     });
     return r.finish(errors);
 }
@@ -378,11 +471,12 @@ py::dict beta_interval(f64array delta, f64array alpha) {
     Result r(bc);
     double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
     bool *nonempty = r.add<bool>(bc, "nonempty");
-    CoeffsCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 2> &x) {
-        const zw_coeffs *c;
-        zw_status s = cache.get(x[0], &c);
-        return s != ZW_OK ? s : zw_beta_interval(c, x[1], &lo[i], &hi[i], &nonempty[i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 2> &x) mutable {
+            const zw_coeffs *c;
+            zw_status s = cache.get(x[0], &c);
+            return s != ZW_OK ? s : zw_beta_interval(c, x[1], &lo[i], &hi[i], &nonempty[i]);
+        };
     });
     return r.finish(errors);
 }
@@ -393,13 +487,14 @@ py::dict device_normalize(f64array m, f64array b, f64array T, f64array K, f64arr
     Broadcast<5> bc({m, b, T, K, B});
     Result r(bc);
     double *delta = r.add<double>(bc, "delta"), *alpha = r.add<double>(bc, "alpha"), *beta = r.add<double>(bc, "beta");
-    DeviceCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 5> &x) {
-        const zw_device *d;
-        zw_status s = cache.get(x[0], x[1], x[2], &d);
-        if (s == ZW_OK) s = zw_device_normalize(d, x[3], x[4], &alpha[i], &beta[i]);
-        if (s == ZW_OK) delta[i] = d->co.delta;
-        return s;
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DeviceCache()](ssize i, const std::array<double, 5> &x) mutable {
+            const zw_device *d;
+            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            if (s == ZW_OK) s = zw_device_normalize(d, x[3], x[4], &alpha[i], &beta[i]);
+            if (s == ZW_OK) delta[i] = d->co.delta;
+            return s;
+        };
     });
     return r.finish(errors);
 }
@@ -409,14 +504,29 @@ py::dict device_check(f64array m, f64array b, f64array T, f64array K, f64array B
     Broadcast<5> bc({m, b, T, K, B});
     Result r(bc);
     VerdictOut out(r, bc, full);
-    DeviceCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 5> &x) {
-        const zw_device *d;
-        zw_status s = cache.get(x[0], x[1], x[2], &d);
-        zw_verdict v;
-        if (s == ZW_OK) s = zw_device_check_region(reg, d, x[3], x[4], &v);
-        if (s == ZW_OK) out.store(i, v);
-        return s;
+    auto make_elem = [&] {
+        return [&, cache = DeviceCache()](ssize i, const std::array<double, 5> &x) mutable {
+            const zw_device *d;
+            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            zw_verdict v;
+            if (s == ZW_OK) s = zw_device_check_region(reg, d, x[3], x[4], &v);
+            if (s == ZW_OK) out.store(i, v);
+            return s;
+        };
+    };
+    if (reg != ZW_REGION_EXACT || full) return r.finish(bc.run(r.status(), make_elem));
+    int8_t *status = r.status();
+    const ssize errors = bc.for_segments([&] {
+        return [&, cache = DeviceCache(), elem = make_elem()](const Broadcast<5>::Segment &seg) mutable {
+            const zw_device *d;
+            if (one_plant(seg, 3) && cache.get(load(seg.ptr[0]), load(seg.ptr[1]), load(seg.ptr[2]), &d) == ZW_OK &&
+                zw_device_check_many(d, static_cast<size_t>(seg.count), as_doubles(seg.ptr[3]), seg.stride[3] / 8,
+                                     as_doubles(seg.ptr[4]), seg.stride[4] / 8, out.stable + seg.flat, nullptr) == ZW_OK) {
+                std::memset(status + seg.flat, ZW_OK, static_cast<std::size_t>(seg.count));
+                return ssize{0};
+            }
+            return Broadcast<5>::each(seg, status, elem);
+        };
     });
     return r.finish(errors);
 }
@@ -425,11 +535,12 @@ py::dict device_spectral_radius(f64array m, f64array b, f64array T, f64array K, 
     Broadcast<5> bc({m, b, T, K, B});
     Result r(bc);
     double *rho = r.add<double>(bc, "rho");
-    DeviceCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 5> &x) {
-        const zw_device *d;
-        zw_status s = cache.get(x[0], x[1], x[2], &d);
-        return s != ZW_OK ? s : zw_device_spectral_radius(d, x[3], x[4], &rho[i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DeviceCache()](ssize i, const std::array<double, 5> &x) mutable {
+            const zw_device *d;
+            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            return s != ZW_OK ? s : zw_device_spectral_radius(d, x[3], x[4], &rho[i]);
+        };
     });
     return r.finish(errors);
 }
@@ -438,11 +549,12 @@ py::dict device_radius_within(f64array m, f64array b, f64array T, f64array K, f6
     Broadcast<6> bc({m, b, T, K, B, radius});
     Result r(bc);
     bool *within = r.add<bool>(bc, "within");
-    DeviceCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 6> &x) {
-        const zw_device *d;
-        zw_status s = cache.get(x[0], x[1], x[2], &d);
-        return s != ZW_OK ? s : zw_device_radius_within(d, x[3], x[4], x[5], &within[i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DeviceCache()](ssize i, const std::array<double, 6> &x) mutable {
+            const zw_device *d;
+            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            return s != ZW_OK ? s : zw_device_radius_within(d, x[3], x[4], x[5], &within[i]);
+        };
     });
     return r.finish(errors);
 }
@@ -454,17 +566,18 @@ py::dict device_extremes(f64array m, f64array b, f64array T) {
     bool *at_corner = r.add<bool>(bc, "at_corner");
     double *K_p_max = r.add<double>(bc, "K_p_max"), *B_mmax = r.add<double>(bc, "B_mmax");
     double *B_mmin = r.add<double>(bc, "B_mmin"), *K_mmin = r.add<double>(bc, "K_mmin");
-    DeviceCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 3> &x) {
-        const zw_device *d;
-        zw_device_extremes ex;
-        zw_status s = cache.get(x[0], x[1], x[2], &d);
-        if (s == ZW_OK) s = zw_device_extremes_compute(d, &ex);
-        if (s == ZW_OK) {
-            K_mmax[i] = ex.K_mmax, B_at[i] = ex.B_at_K_mmax, at_corner[i] = ex.at_corner;
-            K_p_max[i] = ex.K_p_max, B_mmax[i] = ex.B_mmax, B_mmin[i] = ex.B_mmin, K_mmin[i] = ex.K_mmin;
-        }
-        return s;
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DeviceCache()](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_device *d;
+            zw_device_extremes ex;
+            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            if (s == ZW_OK) s = zw_device_extremes_compute(d, &ex);
+            if (s == ZW_OK) {
+                K_mmax[i] = ex.K_mmax, B_at[i] = ex.B_at_K_mmax, at_corner[i] = ex.at_corner;
+                K_p_max[i] = ex.K_p_max, B_mmax[i] = ex.B_mmax, B_mmin[i] = ex.B_mmin, K_mmin[i] = ex.K_mmin;
+            }
+            return s;
+        };
     });
     return r.finish(errors);
 }
@@ -473,11 +586,12 @@ py::dict device_k_max(f64array m, f64array b, f64array T, f64array B) {
     Broadcast<4> bc({m, b, T, B});
     Result r(bc);
     double *kmax = r.add<double>(bc, "K_max");
-    DeviceCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 4> &x) {
-        const zw_device *d;
-        zw_status s = cache.get(x[0], x[1], x[2], &d);
-        return s != ZW_OK ? s : zw_device_k_max(d, x[3], &kmax[i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DeviceCache()](ssize i, const std::array<double, 4> &x) mutable {
+            const zw_device *d;
+            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            return s != ZW_OK ? s : zw_device_k_max(d, x[3], &kmax[i]);
+        };
     });
     return r.finish(errors);
 }
@@ -487,11 +601,12 @@ py::dict device_b_range(f64array m, f64array b, f64array T, f64array K) {
     Result r(bc);
     double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
     bool *nonempty = r.add<bool>(bc, "nonempty");
-    DeviceCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 4> &x) {
-        const zw_device *d;
-        zw_status s = cache.get(x[0], x[1], x[2], &d);
-        return s != ZW_OK ? s : zw_device_b_range(d, x[3], &lo[i], &hi[i], &nonempty[i]);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DeviceCache()](ssize i, const std::array<double, 4> &x) mutable {
+            const zw_device *d;
+            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            return s != ZW_OK ? s : zw_device_b_range(d, x[3], &lo[i], &hi[i], &nonempty[i]);
+        };
     });
     return r.finish(errors);
 }
@@ -507,20 +622,21 @@ py::dict device_influence(f64array m, f64array b, f64array T) {
     std::array<int8_t *, 6> trends;
     for (std::size_t k = 0; k < reals.size(); ++k) reals[k] = r.add<double>(bc, real_names[k]);
     for (std::size_t k = 0; k < trends.size(); ++k) trends[k] = r.add<int8_t>(bc, trend_names[k]);
-    DeviceCache cache;
-    const ssize errors = bc.run(r.status(), [&](ssize i, const std::array<double, 3> &x) {
-        const zw_device *d;
-        zw_influence f;
-        zw_status s = cache.get(x[0], x[1], x[2], &d);
-        if (s == ZW_OK) s = zw_device_influence(d, &f);
-        if (s != ZW_OK) return s;
-        const double values[] = {f.delta, f.K_mmax, f.B_mmax, f.m_K1, f.m_K2, f.K_mmax_at_m_K2,
-                                 f.K_mmax_at_m_K1, f.m_K_match, f.T_B, f.T_0, f.m_0, f.m_B,
-                                 f.b_0, f.b_BB, f.best_m_for_K};
-        const zw_trend signs[] = {f.K_vs_m, f.K_vs_b, f.K_vs_T, f.B_vs_m, f.B_vs_b, f.B_vs_T};
-        for (std::size_t k = 0; k < reals.size(); ++k) reals[k][i] = values[k];
-        for (std::size_t k = 0; k < trends.size(); ++k) trends[k][i] = static_cast<int8_t>(signs[k]);
-        return s;
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DeviceCache()](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_device *d;
+            zw_influence f;
+            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            if (s == ZW_OK) s = zw_device_influence(d, &f);
+            if (s != ZW_OK) return s;
+            const double values[] = {f.delta, f.K_mmax, f.B_mmax, f.m_K1, f.m_K2, f.K_mmax_at_m_K2,
+                                     f.K_mmax_at_m_K1, f.m_K_match, f.T_B, f.T_0, f.m_0, f.m_B,
+                                     f.b_0, f.b_BB, f.best_m_for_K};
+            const zw_trend signs[] = {f.K_vs_m, f.K_vs_b, f.K_vs_T, f.B_vs_m, f.B_vs_b, f.B_vs_T};
+            for (std::size_t k = 0; k < reals.size(); ++k) reals[k][i] = values[k];
+            for (std::size_t k = 0; k < trends.size(); ++k) trends[k][i] = static_cast<int8_t>(signs[k]);
+            return s;
+        };
     });
     return r.finish(errors);
 }

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Every test: C unit tests (double and float) plain and under ASan/UBSan, the MCU
-# footprint targets, the high-precision reference tests against mpmath, the Modbus drive
+# footprint targets, the Python package (pip install ., mypy and stubtest, pytest: the
+# bindings bit for bit against the C core, hypothesis properties, the CLI and the plots),
+# the high-precision reference tests against mpmath, the Modbus drive
 # over real sockets and a pseudo-terminal (zwidth-tune, the Python client, mbpoll), and a
 # bounded libFuzzer run on the request handler (ZW_FUZZ_SECONDS, default 30).
 set -euo pipefail
@@ -30,8 +32,18 @@ echo "footprint within targets (regenerate docs/footprint.md with: tools/footpri
 step "fuzzing the request handler (libFuzzer, ASan/UBSan, ${ZW_FUZZ_SECONDS:-30} s)"
 tools/fuzz.sh "${ZW_FUZZ_SECONDS:-30}" 2>&1 | tail -n 4
 
-step "high-precision reference tests (pytest, mpmath)"
-ZW_LIB_DIR="$PWD/build" .venv/bin/python -m pytest tests/py -q
+step "Python package: pip install . (scikit-build-core, pybind11), then mypy --strict and stubtest"
+.venv/bin/python -m pip install -q --disable-pip-version-check .
+.venv/bin/zwidth limits --m 0.1 --b 30 --T 0.01 >/dev/null
+.venv/bin/python -m mypy
+.venv/bin/python -m mypy.stubtest zwidth._core
+
+step "Python tests and high-precision reference tests (pytest: bindings, CLI, plots, mpmath)"
+MPLBACKEND=Agg ZW_LIB_DIR="$PWD/build" .venv/bin/python -m pytest tests/py -q
+
+step "benchmark smoke run (bench/python/bench_check.py --quick)"
+.venv/bin/python bench/python/bench_check.py --quick >/dev/null
+echo "benchmark runs (full table: .venv/bin/python bench/python/bench_check.py)"
 
 step "Modbus drive: zwidth-tune, mbpoll, RTU over socat, robustness (pytest)"
 ZW_BUILD_DIR="$PWD/build" .venv/bin/python -m pytest tests/integration -q
@@ -40,4 +52,4 @@ step "Modbus drive under ASan/UBSan (same tests)"
 ZW_BUILD_DIR="$PWD/build-asan" .venv/bin/python -m pytest tests/integration -q
 
 step "Python client zwidth.modbus against the drive, and pymodbus interop (pytest)"
-ZW_BUILD_DIR="$PWD/build" PYTHONPATH="$PWD/python" .venv/bin/python -m pytest tests/modbus_py -q
+ZW_BUILD_DIR="$PWD/build" .venv/bin/python -m pytest tests/modbus_py -q

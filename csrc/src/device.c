@@ -5,13 +5,6 @@
 
 #include "internal.h"
 
-/* Roundings in the conversions, budgeted in the checks' guard:
- * delta = (b T) / m: 2;  k_scale = m / T / T: 2, alpha = K / k_scale: 1 more;
- * b_scale = m / T: 1, beta = B / b_scale: 1 more.  One extra u each for slack. */
-#define ZW_DELTA_RELERR (ZW_R(3.0) * ZW_U)
-#define ZW_ALPHA_RELERR (ZW_R(4.0) * ZW_U)
-#define ZW_BETA_RELERR (ZW_R(3.0) * ZW_U)
-
 static bool is_normal_positive(zw_real x)
 {
     return x >= ZW_REAL_MIN && x <= ZW_REAL_MAX;

@@ -85,14 +85,28 @@ typedef enum zw_cmp { ZW_CMP_LT = -1, ZW_CMP_UNSURE = 0, ZW_CMP_GE = 1 } zw_cmp;
 
 /* Is exact(lhs) < exact(rhs), given that |lhs - exact(lhs)| + |rhs - exact(rhs)| <= err?
  * The bound is inflated for the roundings of err and of the difference themselves. */
+static inline zw_real zw_compare_bound(zw_real diff, zw_real err)
+{
+    return err * (ZW_R(1.0) + ZW_R(16.0) * ZW_U) + ZW_R(2.0) * ZW_U * ZW_FABS(diff) + ZW_ETA;
+}
+
 static inline zw_cmp zw_compare(zw_real lhs, zw_real rhs, zw_real err)
 {
     zw_real diff = rhs - lhs;
-    zw_real bound = err * (ZW_R(1.0) + ZW_R(16.0) * ZW_U) + ZW_R(2.0) * ZW_U * ZW_FABS(diff) + ZW_ETA;
+    zw_real bound = zw_compare_bound(diff, err);
     if (!ZW_IS_FINITE(bound) || ZW_IS_NAN(diff)) return ZW_CMP_UNSURE; /* overflowed: cannot tell */
     if (diff > bound) return ZW_CMP_LT;
     if (diff < -bound) return ZW_CMP_GE;
     return ZW_CMP_UNSURE;
+}
+
+/* zw_compare(lhs, rhs, err) == ZW_CMP_LT without branches, for loops the compiler can
+ * vectorize (a NaN difference compares false; the bound must be finite). */
+static inline bool zw_surely_less(zw_real lhs, zw_real rhs, zw_real err)
+{
+    zw_real diff = rhs - lhs;
+    zw_real bound = zw_compare_bound(diff, err);
+    return (diff > bound) & (ZW_FABS(bound) <= ZW_REAL_MAX);
 }
 
 static inline zw_cmp zw_eb_compare(zw_eb a, zw_eb b)
@@ -149,6 +163,14 @@ static inline zw_status zw_require_coeffs(const zw_coeffs *c, bool need_hs)
     return ZW_OK;
 }
 
+/* Roundings in the conversions, budgeted in the checks' guard
+ * (device.c converts, batch.c repeats the conversion inside its loop):
+ * delta = (b T) / m: 2;  k_scale = m / T / T: 2, alpha = K / k_scale: 1 more;
+ * b_scale = m / T: 1, beta = B / b_scale: 1 more.  One extra u each for slack. */
+#define ZW_DELTA_RELERR (ZW_R(3.0) * ZW_U)
+#define ZW_ALPHA_RELERR (ZW_R(4.0) * ZW_U)
+#define ZW_BETA_RELERR (ZW_R(3.0) * ZW_U)
+
 /* Normalized gains with bounds on their absolute errors (0 when given exactly, a few
  * roundings when converted from real units). */
 typedef struct zw_gains {
@@ -162,6 +184,60 @@ static inline zw_gains zw_gains_exact(zw_real alpha, zw_real beta)
     g.alpha = zw_eb_exact(alpha);
     g.beta = zw_eb_exact(beta);
     return g;
+}
+
+/* The constraints of the exact region, eq (10), each "lhs < rhs" with err bounding the
+ * errors of both sides.  One definition serves the verdicts (region.c) and the batch
+ * loops (batch.c), so both decide every point identically.
+ * x = beta + delta > 0 is the damping constraint; the hyperbola form divides by x and
+ * means nothing unless x is surely positive (callers must not use it otherwise). */
+typedef struct zw_constraint {
+    zw_real lhs, rhs, err;
+} zw_constraint;
+
+static inline zw_eb zw_exact_x(const zw_coeffs *c, const zw_gains *g)
+{
+    zw_eb x;
+    x.v = g->beta.v + c->delta;
+    x.e = g->beta.e + c->delta * c->delta_relerr + ZW_U * ZW_FABS(x.v) + ZW_ETA;
+    return x;
+}
+
+/* hyperbola  (alpha/sigma) g + (alpha/sigma) / x  <  hs - beta/sigma */
+static inline zw_constraint zw_hyperbola_constraint(const zw_coeffs *c, zw_real coef_err,
+                                                    const zw_gains *g, zw_eb x)
+{
+    zw_constraint k;
+    const zw_real alpha = g->alpha.v, beta = g->beta.v;
+    zw_real inv_sigma = ZW_R(1.0) / c->sigma;          /* exact: sigma = 2^k */
+    zw_real as = alpha * inv_sigma, as_err = g->alpha.e * inv_sigma + ZW_ETA;
+    zw_real t1 = as * c->g;
+    zw_real t2 = as / x.v;
+    k.lhs = t1 + t2;
+    k.rhs = c->hs - beta * inv_sigma;
+    k.err = ZW_FABS(t1) * (coef_err + ZW_U) + as_err * c->g                   /* t1 */
+          + (as_err + ZW_FABS(t2) * x.e) / (x.v - x.e) + ZW_U * ZW_FABS(t2)   /* t2 */
+          + ZW_U * ZW_FABS(k.lhs)                                              /* sum */
+          + c->hs * coef_err + g->beta.e * inv_sigma + ZW_U * ZW_FABS(k.rhs)   /* rhs */
+          + ZW_R(4.0) * ZW_ETA;
+    return k;
+}
+
+/* line  d12 (alpha/2) + d12 beta  <  2 (1 + e) */
+static inline zw_constraint zw_line_constraint(const zw_coeffs *c, zw_real coef_err,
+                                               const zw_gains *g)
+{
+    zw_constraint k;
+    const zw_real alpha = g->alpha.v, beta = g->beta.v;
+    zw_real t3 = c->d12 * (ZW_R(0.5) * alpha);
+    zw_real t4 = c->d12 * beta;
+    k.lhs = t3 + t4;
+    k.rhs = ZW_R(2.0) * (ZW_R(1.0) + c->e);
+    k.err = (ZW_FABS(t3) + ZW_FABS(t4)) * (coef_err + ZW_U)
+          + zw_coef_floor(c->d12) * (ZW_R(0.5) * ZW_FABS(alpha) + ZW_FABS(beta))
+          + c->d12 * (ZW_R(0.5) * g->alpha.e + g->beta.e) + ZW_U * ZW_FABS(k.lhs)
+          + ZW_R(2.0) * zw_coef_e_abserr(c) + ZW_U * k.rhs + ZW_R(3.0) * ZW_ETA;
+    return k;
 }
 
 /* The checks on bounded gains (passed by pointer: small stack on soft-float MCUs). */

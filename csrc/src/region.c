@@ -10,8 +10,8 @@
  * beta -> -delta, and sigma keeps every term finite up to delta ~ max/2.
  *
  * Each side carries a bound on its absolute error, written out operation by operation
- * (the running error analysis of internal.h, unrolled here because this is the hot path
- * of a drive and must stay small in flash and stack).
+ * (the running error analysis, unrolled in internal.h's zw_*_constraint because this is
+ * the hot path of a drive and must stay small in flash and stack; batch.c shares them).
  */
 #include "zwidth/region.h"
 
@@ -58,45 +58,26 @@ static void linear_region(verdict_builder *vb, zw_bound bit, const zw_coeffs *c,
                      ZW_U * ZW_FABS(lhs) + ZW_ETA);
 }
 
-/* The constraints of eq (10); with_line false gives the legacy region. */
+/* The constraints of eq (10) (internal.h); with_line false gives the legacy region. */
 static void exact_region(verdict_builder *vb, const zw_coeffs *c, const zw_gains *g,
                          bool with_line)
 {
     const zw_real coef_err = zw_coef_relerr(c);
-    const zw_real alpha = g->alpha.v, beta = g->beta.v;
-    zw_real x = beta + c->delta;
-    zw_real x_err = g->beta.e + c->delta * c->delta_relerr + ZW_U * ZW_FABS(x) + ZW_ETA;
+    const zw_eb x = zw_exact_x(c, g);
 
-    require_less(vb, ZW_BOUND_DAMPING, ZW_R(0.0), x, x_err);
-    require_less(vb, ZW_BOUND_STIFFNESS, ZW_R(0.0), alpha, g->alpha.e);
+    require_less(vb, ZW_BOUND_DAMPING, ZW_R(0.0), x.v, x.e);
+    require_less(vb, ZW_BOUND_STIFFNESS, ZW_R(0.0), g->alpha.v, g->alpha.e);
 
     if ((vb->surely | vb->unsure) & ZW_BOUND_DAMPING) {
         /* the hyperbola form divides by x: meaningless unless x is surely positive */
         vb->unsure = (uint_least16_t)(vb->unsure | ZW_BOUND_HYPERBOLA);
     } else {
-        zw_real inv_sigma = ZW_R(1.0) / c->sigma;          /* exact: sigma = 2^k */
-        zw_real as = alpha * inv_sigma, as_err = g->alpha.e * inv_sigma + ZW_ETA;
-        zw_real t1 = as * c->g;
-        zw_real t2 = as / x;
-        zw_real lhs = t1 + t2;
-        zw_real rhs = c->hs - beta * inv_sigma;
-        zw_real err = ZW_FABS(t1) * (coef_err + ZW_U) + as_err * c->g                 /* t1 */
-                    + (as_err + ZW_FABS(t2) * x_err) / (x - x_err) + ZW_U * ZW_FABS(t2) /* t2 */
-                    + ZW_U * ZW_FABS(lhs)                                              /* sum */
-                    + c->hs * coef_err + g->beta.e * inv_sigma + ZW_U * ZW_FABS(rhs)   /* rhs */
-                    + ZW_R(4.0) * ZW_ETA;
-        require_less(vb, ZW_BOUND_HYPERBOLA, lhs, rhs, err);
+        zw_constraint k = zw_hyperbola_constraint(c, coef_err, g, x);
+        require_less(vb, ZW_BOUND_HYPERBOLA, k.lhs, k.rhs, k.err);
     }
     if (with_line) {
-        zw_real t3 = c->d12 * (ZW_R(0.5) * alpha);
-        zw_real t4 = c->d12 * beta;
-        zw_real lhs = t3 + t4;
-        zw_real rhs = ZW_R(2.0) * (ZW_R(1.0) + c->e);
-        zw_real err = (ZW_FABS(t3) + ZW_FABS(t4)) * (coef_err + ZW_U)
-                    + zw_coef_floor(c->d12) * (ZW_R(0.5) * ZW_FABS(alpha) + ZW_FABS(beta))
-                    + c->d12 * (ZW_R(0.5) * g->alpha.e + g->beta.e) + ZW_U * ZW_FABS(lhs)
-                    + ZW_R(2.0) * zw_coef_e_abserr(c) + ZW_U * rhs + ZW_R(3.0) * ZW_ETA;
-        require_less(vb, ZW_BOUND_LINE, lhs, rhs, err);
+        zw_constraint k = zw_line_constraint(c, coef_err, g);
+        require_less(vb, ZW_BOUND_LINE, k.lhs, k.rhs, k.err);
     }
 }
 

@@ -51,7 +51,7 @@ import math
 import numbers
 import struct
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 # Requirement (for tools/requirements-test.txt): pymodbus>=3.6 -- tested with 3.6.9 and 3.16.1.
 
@@ -187,7 +187,7 @@ _CERT_FIELDS = ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max",
 _FLT_MAX = struct.unpack(">f", b"\x7f\x7f\xff\xff")[0]
 
 
-def unit_keyword(method) -> str:
+def unit_keyword(method: Callable[..., Any]) -> str:
     """Name of the unit-identifier keyword of a pymodbus client method: "device_id" from
     pymodbus 3.10 on, "slave" before."""
     params = inspect.signature(method).parameters
@@ -205,7 +205,7 @@ def reason_name(code: int) -> str:
 # ---------------------------------------------------------------------------------------
 
 
-def _real(name: str, value) -> float:
+def _real(name: str, value: object) -> float:
     """``value`` as a Python float, or ValueError naming the argument."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise ValueError(f"{name} must be a real number, got {value!r}")
@@ -233,7 +233,8 @@ def float_to_words(value: float, name: str = "value") -> Tuple[int, int]:
 def words_to_float(hi: int, lo: int) -> float:
     """Decode two registers, high word first ("ABCD"), as IEEE-754 binary32 (returned as a
     Python float, exactly)."""
-    return struct.unpack(">f", struct.pack(">HH", hi & 0xFFFF, lo & 0xFFFF))[0]
+    value: float = struct.unpack(">f", struct.pack(">HH", hi & 0xFFFF, lo & 0xFFFF))[0]
+    return value
 
 
 def u32_from_words(hi: int, lo: int) -> int:
@@ -467,7 +468,7 @@ class Drive:
         self.port = port
         self.unit = unit
         self.timeout = t
-        self._client = None
+        self._client: Any = None  # pymodbus ModbusTcpClient (imported on connect)
         self._unit_kw = "device_id"
 
     # -- connection ---------------------------------------------------------------------
@@ -489,8 +490,8 @@ class Drive:
             raise ImportError("zwidth.modbus.Drive needs pymodbus: pip install 'pymodbus>=3.6'"
                               ) from exc
 
-        client = ModbusTcpClient(self.host, port=self.port, timeout=self.timeout, retries=0,
-                                 reconnect_delay=0)
+        client: Any = ModbusTcpClient(self.host, port=self.port, timeout=self.timeout, retries=0,
+                                      reconnect_delay=0)
         if not client.connect():
             client.close()
             raise ConnectionError(
@@ -525,7 +526,7 @@ class Drive:
     def __enter__(self) -> "Drive":
         return self.connect()
 
-    def __exit__(self, *exc_info) -> None:
+    def __exit__(self, *exc_info: object) -> None:
         self.close()
 
     def __repr__(self) -> str:
@@ -533,7 +534,7 @@ class Drive:
 
     # -- raw requests -------------------------------------------------------------------
 
-    def _call(self, what: str, fn, *args, **kwargs):
+    def _call(self, what: str, fn: Callable[..., Any], *args: Any, **kwargs: Any) -> Tuple[Any, int]:
         """Run one pymodbus request; returns (response, exception_code)."""
         from pymodbus.exceptions import ModbusException
 
@@ -554,7 +555,7 @@ class Drive:
             raise ConnectionError(f"zwidth drive at {self.address}: {what} got no valid "
                                   f"answer within {self.timeout} s ({rsp})")
         if rsp.isError():
-            return rsp, int(code)
+            return rsp, int(code)  # type: ignore[arg-type]  # isError() with a code
         return rsp, 0
 
     def _read(self, addr: int, count: int) -> List[int]:
@@ -583,7 +584,7 @@ class Drive:
                             self._client_or_connect().write_register, addr, word)
         return exc
 
-    def _client_or_connect(self):
+    def _client_or_connect(self) -> Any:
         if self._client is None:
             self.connect()
         return self._client

@@ -9,7 +9,7 @@ N/m as N m/rad and N s/m as N m s/rad).
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Dict, Iterator, Mapping
+from typing import Any, Dict, Iterator, Mapping, Type, TypeVar
 
 import numpy as np
 
@@ -32,6 +32,9 @@ def _format(value: Any) -> str:
     return repr(value)
 
 
+R = TypeVar("R", bound="Result")
+
+
 @dataclasses.dataclass(frozen=True, repr=False)
 class Result:
     """Base of every result: tuple-like unpacking, ``as_dict()``, readable repr."""
@@ -51,7 +54,8 @@ class Result:
         return f"{type(self).__name__}({', '.join(parts)})"
 
     @classmethod
-    def from_outputs(cls, outputs: Mapping[str, Any], **extra: Any) -> Any:
+    def from_outputs(cls: Type[R], outputs: Mapping[str, Any], **extra: Any) -> R:
+        """Build from a kernel's outputs (extra keys ignored) plus ``extra`` fields."""
         names = {f.name for f in dataclasses.fields(cls) if f.init}
         return cls(**{k: v for k, v in outputs.items() if k in names}, **extra)
 

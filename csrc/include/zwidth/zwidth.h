@@ -2,6 +2,7 @@
 #ifndef ZWIDTH_ZWIDTH_H
 #define ZWIDTH_ZWIDTH_H
 
+#include "zwidth/batch.h"
 #include "zwidth/coeffs.h"
 #include "zwidth/device.h"
 #include "zwidth/extremes.h"

@@ -1,0 +1,27 @@
+/* zwidth/batch.h - the exact-region check over many gain pairs of one plant.
+ *
+ * stable[i] is exactly zw_check(...).stable (or zw_device_check(...).stable) of pair i,
+ * without the reasons: one validation pass, then a branch-free loop the compiler can
+ * vectorize and the CPU need not predict.  For gain tables on a drive, design sweeps on a
+ * host, and the Python bindings.
+ *
+ * Pair i reads alpha[i * alpha_stride] and beta[i * beta_stride] (strides in elements; 0
+ * repeats one value).  Errors: ZW_ERR_NULL; the errors of zw_check (coefficients) or of
+ * zw_device_init's device (ZW_ERR_NULL only); and, for the first pair that zw_check or
+ * zw_device_check would refuse, its status, with its index in *first_invalid (if not
+ * NULL).  On any error nothing is written to stable.
+ */
+#ifndef ZWIDTH_BATCH_H
+#define ZWIDTH_BATCH_H
+#include <stdbool.h>
+#include <stddef.h>
+#include "zwidth/device.h"
+zw_status zw_check_many(const zw_coeffs *c, size_t n, const zw_real *alpha, ptrdiff_t alpha_stride,
+                        const zw_real *beta, ptrdiff_t beta_stride, bool *stable,
+                        size_t *first_invalid);
+/* Real units: K [N/m], B [N s/m] on device d (conversion roundings guarded as in
+ * zw_device_check). */
+zw_status zw_device_check_many(const zw_device *d, size_t n, const zw_real *K, ptrdiff_t K_stride,
+                               const zw_real *B, ptrdiff_t B_stride, bool *stable,
+                               size_t *first_invalid);
+#endif /* ZWIDTH_BATCH_H */

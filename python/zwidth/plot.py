@@ -1,0 +1,558 @@
+"""Figures of the stability region and its extremes (matplotlib, optional extra "plot").
+
+    region(delta)        the region in the (beta, alpha) plane, paper Figs. 3-5, 18
+    extremes()           alpha_mmax, beta_mmax and their ratios against delta, Figs. 8-10
+    influence(device)    K_mmax and B_mmax against m, b and T around a plant, Figs. 11-12
+    device(device, K, B) a plant's region in real units (K against B), with the advice
+    save(fig, path)      PNG or SVG by suffix
+
+Every number drawn comes from zwidth's functions (the C core); this module only samples
+them on grids and draws.  matplotlib is imported when a function is called, so
+``import zwidth.plot`` works without it; the functions then raise ImportError.  Each
+returns the matplotlib Figure (created with pyplot, so ``plt.show()`` works; pass
+``ax``/``fig`` to draw into your own).
+"""
+from __future__ import annotations
+
+import math
+import textwrap
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import (DELTA0, DELTA1, DELTA2, DELTA_B, DELTA_BB, DELTA_K1, DELTA_K2, alpha_max,
+               corner, hyperbola_top, verdict)
+from . import check as _check
+from . import extremes as _extremes
+from .device import Device
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure, SubFigure
+
+__all__ = ["region", "extremes", "influence", "device", "save", "CRITICAL_DELTAS"]
+
+_INSTALL_HINT = "zwidth.plot needs matplotlib: pip install zwidth[plot]"
+
+# Colours: exact region green (paper's dark green), legacy light green, passivity blue.
+_EXACT_FILL = "#4caf50"
+_EXACT_EDGE = "#1b5e20"
+_LEGACY_FILL = "#dcedc8"
+_LEGACY_EDGE = "#689f38"
+_PASSIVITY_EDGE = "#1565c0"
+_VERDICT_COLOURS = {"stable": "#2e7d32", "marginal": "#ef6c00", "unstable": "#c62828"}
+
+#: The critical normalized dampings drawn by :func:`extremes`: (name, TeX label, value, meaning).
+CRITICAL_DELTAS: Tuple[Tuple[str, str, float, str], ...] = (
+    ("DELTA_K1", r"$\delta_{K1}$", DELTA_K1, r"local min of $\alpha_{mmax}/\delta$"),
+    ("DELTA_B", r"$\delta_B$", DELTA_B, r"local min of $\beta_{mmax}/\delta$"),
+    ("DELTA0", r"$\delta_0$", DELTA0, "the line starts to bite (legacy region unsafe above)"),
+    ("DELTA_BB", r"$\delta_{BB}$", DELTA_BB, r"local min of $\beta_{mmax}$"),
+    ("DELTA1", r"$\delta_1$", DELTA1, r"$\alpha_{mmax}$ moves from the hyperbola's top to the corner"),
+    ("DELTA2", r"$\delta_2$", DELTA2, r"$\beta$ at $\alpha_{mmax}$ turns negative"),
+    ("DELTA_K2", r"$\delta_{K2}$", DELTA_K2, r"local max of $\alpha_{mmax}/\delta$"),
+)
+_CRITICAL_COLOURS = ("#8e24aa", "#00897b", "#e53935", "#6d4c41", "#fb8c00", "#3949ab", "#c0ca33")
+
+
+# ---------------------------------------------------------------------------------------
+# matplotlib access (lazy)
+# ---------------------------------------------------------------------------------------
+
+
+def _subplots(nrows: int = 1, ncols: int = 1, **kwargs: Any) -> Tuple["Figure", Any]:
+    """pyplot.subplots, imported on first use (ImportError with the install hint)."""
+    try:
+        import matplotlib.pyplot as plt
+    except ImportError as exc:
+        raise ImportError(_INSTALL_HINT) from exc
+    fig, axes = plt.subplots(nrows, ncols, **kwargs)
+    return fig, axes
+
+
+def _root(fig: Union["Figure", "SubFigure", None]) -> "Figure":
+    """The top-level Figure of an Axes' (sub)figure."""
+    from matplotlib.figure import Figure
+    if fig is None:
+        raise ValueError("zwidth.plot: the axes belong to no figure")
+    return fig if isinstance(fig, Figure) else fig.figure  # a SubFigure's .figure is the root
+
+
+def _own_axes(ax: Optional["Axes"], figsize: Tuple[float, float]) -> Tuple["Figure", "Axes"]:
+    if ax is not None:
+        return _root(ax.get_figure()), ax
+    fig, new = _subplots(figsize=figsize, layout="constrained")
+    return fig, new
+
+
+def _proxy(**kwargs: Any) -> Any:
+    """A legend handle for artists (contours, fills) that make none themselves."""
+    from matplotlib.lines import Line2D
+    return Line2D([], [], **kwargs)
+
+
+def _scalar(name: str, value: Any) -> float:
+    if np.ndim(value) != 0:
+        raise ValueError(f"zwidth.plot: {name} must be a scalar, got shape {np.shape(value)}")
+    return float(value)
+
+
+def _word(stable: bool, marginal: bool) -> str:
+    return "stable" if stable else ("marginal" if marginal else "unstable")
+
+
+# ---------------------------------------------------------------------------------------
+# The region in the normalized plane
+# ---------------------------------------------------------------------------------------
+
+
+def _legacy_right_edge(delta: float, start: float) -> float:
+    """Right end of the legacy region along alpha -> 0+ (found with check(region='legacy'),
+    which has no closed form in the API): doubling, then a fine scan."""
+    tiny = 1e-9 * max(1.0, delta)
+    hi = max(start, 1.0)
+    for _ in range(60):
+        if not bool(_check(delta, tiny, 2.0 * hi, region="legacy")):
+            break
+        hi *= 2.0
+    probe = np.linspace(hi, 2.0 * hi, 4001)
+    inside = np.asarray(_check(delta, tiny, probe, region="legacy"))
+    return float(probe[inside][-1]) if inside.any() else hi
+
+
+def _outline(ax: "Axes", delta: float, name: str, extent: Tuple[float, float, float, float],
+             fill: Optional[str], edge: str, resolution: Tuple[int, int]) -> None:
+    """A comparison region's outline: contour of check(..., region=name) on a grid."""
+    x0, x1, y0, y1 = extent
+    betas = np.linspace(x0, x1, resolution[0])
+    alphas = np.linspace(y0, y1, resolution[1])
+    bb, aa = np.meshgrid(betas, alphas)
+    mask = np.asarray(_check(delta, aa, bb, region=name), dtype=float)
+    if fill is not None:
+        ax.contourf(bb, aa, mask, levels=[0.5, 1.5], colors=[fill], zorder=1)
+    ax.contour(bb, aa, mask, levels=[0.5], colors=[edge], linestyles="--", linewidths=1.5,
+               zorder=4)
+
+
+def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
+           point: Optional[Tuple[float, float]] = None, ax: Optional["Axes"] = None,
+           resolution: Tuple[int, int] = (700, 500)) -> "Figure":
+    """The exact stability region at delta in the (beta, alpha) plane (paper Figs. 3-5, 18).
+
+    x = beta = B T/m (normalized virtual damping), y = alpha = K T^2/m (normalized virtual
+    stiffness).  The exact boundary is ``zwidth.alpha_max(delta, beta)`` over
+    (-delta, beta_mmax), filled.  ``overlays`` draws comparison regions as dashed outlines,
+    sampled with ``zwidth.check(..., region=name)`` on a ``resolution`` grid: 'legacy'
+    (Gil et al., no line; shaded light green where it claims more than the exact region)
+    and 'passivity'; any other region name of ``zwidth.REGIONS`` works too.  Marked:
+    alpha_mmax, the corner where line meets hyperbola (delta > delta0), and ``point`` =
+    (beta, alpha), coloured by its exact verdict.  Returns the Figure (``ax``'s, if given).
+    """
+    delta = _scalar("delta", delta)
+    ext = _extremes(delta)  # validates delta (ZwidthError)
+    top = hyperbola_top(delta)
+    cor = corner(delta)
+    lo, hi = -delta, float(ext.beta_mmax)
+    has_corner = math.isfinite(float(cor.alpha))
+
+    # Boundary: alpha_max on a grid that contains the kinks, so the corner stays sharp.
+    special = [float(ext.beta_at_alpha_mmax), float(top.beta)] + ([float(cor.beta)] if has_corner else [])
+    betas = np.unique(np.concatenate([np.linspace(lo, hi, 2001),
+                                      [b for b in special if lo < b < hi]]))
+    alphas = np.asarray(alpha_max(delta, betas), dtype=float)
+
+    # View: the exact region, plus the overlays' extents (the legacy region reaches
+    # beta ~ delta^2 for large delta, so it is clipped at three widths of the exact one).
+    width = hi - lo
+    x_hi = hi
+    y_hi = float(ext.alpha_mmax)
+    if "legacy" in overlays:
+        x_hi = max(x_hi, min(_legacy_right_edge(delta, hi), hi + 2.0 * width))
+        y_hi = max(y_hi, float(top.alpha))
+    if "passivity" in overlays:
+        x_hi = max(x_hi, delta)
+    if point is not None:
+        x_hi = max(x_hi, float(point[0]))
+        y_hi = max(y_hi, float(point[1]))
+    pad = 0.06 * (x_hi - lo)
+    extent = (lo - pad, x_hi + pad, 0.0, 1.1 * y_hi)
+
+    fig, ax = _own_axes(ax, (7.5, 5.2))
+    handles: List[Any] = []
+    ax.fill_between(betas, 0.0, alphas, color=_EXACT_FILL, alpha=0.75, linewidth=0, zorder=2)
+    ax.plot(betas, alphas, color=_EXACT_EDGE, linewidth=2.0, zorder=5)
+    handles.append(_proxy(color=_EXACT_EDGE, linewidth=6, alpha=0.75,
+                          label="exact region (eq. (10))"))
+
+    for name in overlays:
+        if name == "legacy":
+            _outline(ax, delta, "legacy", extent, _LEGACY_FILL, _LEGACY_EDGE, resolution)
+            handles.append(_proxy(color=_LEGACY_EDGE, linestyle="--",
+                                  label="legacy region (no line; Gil et al.)"))
+        elif name == "passivity":
+            _outline(ax, delta, "passivity", extent, None, _PASSIVITY_EDGE, resolution)
+            handles.append(_proxy(color=_PASSIVITY_EDGE, linestyle="--",
+                                  label="passivity (eq. (16))"))
+        else:
+            _outline(ax, delta, name, extent, None, "0.35", resolution)
+            handles.append(_proxy(color="0.35", linestyle="--", label=f"'{name}' region"))
+
+    where = "corner" if bool(ext.at_corner) else "hyperbola top"
+    handles += ax.plot([float(ext.beta_at_alpha_mmax)], [float(ext.alpha_mmax)], "*", color="gold",
+                       markeredgecolor="black", markersize=15, zorder=7, linestyle="none",
+                       label=rf"$\alpha_{{mmax}}$ = {float(ext.alpha_mmax):.4g} at "
+                             rf"$\beta$ = {float(ext.beta_at_alpha_mmax):.4g} ({where})")
+    if has_corner:
+        handles += ax.plot([float(cor.beta)], [float(cor.alpha)], "o", markerfacecolor="none",
+                           markeredgecolor="black", markersize=10, markeredgewidth=1.5, zorder=8,
+                           linestyle="none", label="corner: line meets hyperbola")
+    if point is not None:
+        pb, pa = float(point[0]), float(point[1])
+        v = verdict(delta, pa, pb)
+        word = _word(bool(v.stable), bool(v.marginal))
+        why = f", {v.deciding_name}" if word != "stable" and v.deciding_name else ""
+        handles += ax.plot([pb], [pa], "D", color=_VERDICT_COLOURS[word], markeredgecolor="black",
+                           markersize=9, zorder=9, linestyle="none",
+                           label=rf"($\beta$, $\alpha$) = ({pb:.4g}, {pa:.4g}): {word}{why}")
+
+    ax.axvline(0.0, color="0.6", linewidth=0.8, zorder=0)
+    ax.set_xlim(extent[0], extent[1])
+    ax.set_ylim(extent[2], extent[3])
+    ax.set_xlabel(r"$\beta = BT/m$ (normalized virtual damping)")
+    ax.set_ylabel(r"$\alpha = KT^2/m$ (normalized virtual stiffness)")
+    if delta > DELTA0:
+        side = rf"$\delta$ > $\delta_0$ = {DELTA0:.4g}: the line bounds it on the right"
+    else:
+        side = rf"$\delta \leq \delta_0$ = {DELTA0:.4g}: hyperbola only (legacy region exact)"
+    ax.set_title(rf"Stability region, $\delta = bT/m$ = {delta:.4g}" + "\n" + side)
+    ax.grid(True, color="0.9", zorder=0)
+    ax.legend(handles=handles, loc="upper right", fontsize="small", framealpha=0.9)
+    return fig
+
+
+# ---------------------------------------------------------------------------------------
+# Extremes against delta
+# ---------------------------------------------------------------------------------------
+
+
+def _mark_criticals(ax: "Axes", lo: float, hi: float) -> None:
+    for (_, label, value, _), colour in zip(CRITICAL_DELTAS, _CRITICAL_COLOURS):
+        if lo <= value <= hi:
+            ax.axvline(value, color=colour, linestyle=":", linewidth=1.2, zorder=1)
+
+
+def _dot(ax: "Axes", x: float, y: float, colour: str) -> None:
+    ax.plot([x], [y], "o", color=colour, markersize=5, zorder=6)
+
+
+def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
+             fig: Optional["Figure"] = None, points: int = 1500) -> "Figure":
+    """The impedance extremes against delta (log axis; paper Figs. 8-10), six panels.
+
+    (a) alpha_mmax and alpha with beta = 0 (proportional control, Fig. 9a);
+    (b) alpha_mmax / delta = K_mmax / (b/T): its local min at delta_K1 and max at delta_K2
+    make K_mmax go up-down-up in m; (c) beta at alpha_mmax and the normalized apparent
+    damping beta + delta (Fig. 8b), negative beyond delta_2; (d) beta_mmax and beta_mmax +
+    delta (Fig. 10), dipping after delta_0 to delta_BB; (e) beta_mmax / delta = B_mmax / b,
+    local min at delta_B; (f) the ratio alpha_p_max / alpha_mmax (Fig. 9b).  The critical
+    deltas of ``CRITICAL_DELTAS`` are dotted vertical lines, explained in the legend below.
+    All values from ``zwidth.extremes``.  Draws into ``fig`` if given (it is cleared).
+    """
+    delta_min, delta_max = _scalar("delta_min", delta_min), _scalar("delta_max", delta_max)
+    if not (0.0 < delta_min < delta_max and math.isfinite(delta_max)):
+        raise ValueError(f"zwidth.plot.extremes: need 0 < delta_min < delta_max < inf, "
+                         f"got {delta_min!r}, {delta_max!r}")
+    crit = [value for _, _, value, _ in CRITICAL_DELTAS if delta_min <= value <= delta_max]
+    deltas = np.unique(np.concatenate([np.geomspace(delta_min, delta_max, points), crit]))
+    ex = _extremes(deltas)
+    a_max = np.asarray(ex.alpha_mmax, dtype=float)
+    b_at = np.asarray(ex.beta_at_alpha_mmax, dtype=float)
+    b_max = np.asarray(ex.beta_mmax, dtype=float)
+    a_p = np.asarray(ex.alpha_p_max, dtype=float)
+
+    if fig is None:
+        fig, _ = _subplots(3, 2, figsize=(11.0, 11.0), layout="constrained")
+        axes = list(fig.axes)
+    else:
+        fig.clear()
+        axes = list(fig.subplots(3, 2).flat)
+    ax_a, ax_ad, ax_bat, ax_b, ax_bd, ax_ratio = axes
+    at = {name: _extremes(value) for name, _, value, _ in CRITICAL_DELTAS}
+
+    ax_a.plot(deltas, a_max, color="C0", linewidth=2, label=r"$\alpha_{mmax}$ (impedance control)")
+    ax_a.plot(deltas, a_p, color="C1", linestyle="--", linewidth=1.6,
+              label=r"$\alpha_{p,max}$ ($\beta$ = 0, stiffness only)")
+    ax_a.set_yscale("log")
+    ax_a.set_ylabel(r"$\alpha = KT^2/m$")
+    ax_a.set_title(r"(a) largest stable $\alpha$ (Figs. 8a, 9a)")
+
+    ratio_k = a_max / deltas
+    ax_ad.plot(deltas, ratio_k, color="C0", linewidth=2, label=r"$\alpha_{mmax}/\delta = K_{mmax}/(b/T)$")
+    for name, colour in (("DELTA_K1", _CRITICAL_COLOURS[0]), ("DELTA_K2", _CRITICAL_COLOURS[6])):
+        d = dict((n, v) for n, _, v, _ in CRITICAL_DELTAS)[name]
+        if delta_min <= d <= delta_max:
+            _dot(ax_ad, d, float(at[name].alpha_mmax) / d, colour)
+    tail = ratio_k[deltas >= min(0.3, delta_max / 2)]
+    ax_ad.set_ylim(0.0, 1.6 * float(np.nanmax(tail)) if tail.size else None)
+    ax_ad.set_ylabel(r"$\alpha_{mmax}/\delta$")
+    ax_ad.set_title(r"(b) $K_{mmax}$ per $b/T$: up-down-up in $m$ (Eq. (35))")
+
+    ax_bat.plot(deltas, b_at, color="C2", linewidth=2, label=r"$\beta$ at $\alpha_{mmax}$ (NVD)")
+    ax_bat.plot(deltas, b_at + deltas, color="C3", linestyle="--", linewidth=1.6,
+                label=r"$\beta + \delta$ at $\alpha_{mmax}$ (apparent damping)")
+    ax_bat.axhline(0.0, color="0.5", linewidth=0.8)
+    if delta_min <= DELTA2 <= delta_max:
+        _dot(ax_bat, DELTA2, float(at["DELTA2"].beta_at_alpha_mmax), _CRITICAL_COLOURS[5])
+    ax_bat.set_ylabel(r"$\beta = BT/m$")
+    ax_bat.set_title(r"(c) damping at $\alpha_{mmax}$ (Fig. 8b)")
+
+    ax_b.plot(deltas, b_max, color="C4", linewidth=2, label=r"$\beta_{mmax}$ (NVD)")
+    ax_b.plot(deltas, b_max + deltas, color="C5", linestyle="--", linewidth=1.6,
+              label=r"$\beta_{mmax} + \delta$ (apparent damping)")
+    if delta_min <= DELTA_BB <= delta_max:
+        _dot(ax_b, DELTA_BB, float(at["DELTA_BB"].beta_mmax), _CRITICAL_COLOURS[3])
+    if delta_min <= DELTA0 <= delta_max:
+        _dot(ax_b, DELTA0, float(at["DELTA0"].beta_mmax), _CRITICAL_COLOURS[2])
+    ax_b.set_yscale("log")
+    ax_b.set_ylabel(r"$\beta = BT/m$")
+    ax_b.set_title(r"(d) largest stable $\beta$ ($\alpha \to 0^+$; Fig. 10)")
+
+    ratio_b = b_max / deltas
+    ax_bd.plot(deltas, ratio_b, color="C4", linewidth=2, label=r"$\beta_{mmax}/\delta = B_{mmax}/b$")
+    ax_bd.axhline(1.0, color="0.5", linewidth=0.8)
+    if delta_min <= DELTA_B <= delta_max:
+        _dot(ax_bd, DELTA_B, float(at["DELTA_B"].beta_mmax) / DELTA_B, _CRITICAL_COLOURS[1])
+    if delta_min <= DELTA0 <= delta_max:
+        _dot(ax_bd, DELTA0, float(at["DELTA0"].beta_mmax) / DELTA0, _CRITICAL_COLOURS[2])
+    tail = ratio_b[deltas >= min(0.3, delta_max / 2)]
+    ax_bd.set_ylim(0.0, 1.6 * float(np.nanmax(tail)) if tail.size else None)
+    ax_bd.set_ylabel(r"$\beta_{mmax}/\delta$")
+    ax_bd.set_title(r"(e) $B_{mmax}$ per $b$: falls, rises, falls in $T$ (Eq. (43))")
+
+    ax_ratio.plot(deltas, a_p / a_max, color="C1", linewidth=2,
+                  label=r"$\alpha_{p,max}/\alpha_{mmax}$")
+    ax_ratio.set_ylim(0.0, 1.05)
+    ax_ratio.set_ylabel("ratio")
+    ax_ratio.set_title(r"(f) stiffness-only share of $\alpha_{mmax}$ (Fig. 9b)")
+
+    for ax in axes:
+        ax.set_xscale("log")
+        ax.set_xlim(delta_min, delta_max)
+        _mark_criticals(ax, delta_min, delta_max)
+        ax.grid(True, which="major", color="0.9")
+        ax.legend(loc="best", fontsize="small")
+    for ax in axes[-2:]:
+        ax.set_xlabel(r"$\delta = bT/m$")
+    crit_handles = [_proxy(color=colour, linestyle=":", linewidth=1.5,
+                           label=f"{label} = {value:.4g}: {meaning}")
+                    for (_, label, value, meaning), colour in zip(CRITICAL_DELTAS, _CRITICAL_COLOURS)
+                    if delta_min <= value <= delta_max]
+    if crit_handles:
+        fig.legend(handles=crit_handles, loc="outside lower center", ncols=2, fontsize="small",
+                   title="critical normalized dampings")
+    fig.suptitle("Impedance extremes against the normalized physical damping")
+    return fig
+
+
+# ---------------------------------------------------------------------------------------
+# Real units: influence of m, b, T and a device's region
+# ---------------------------------------------------------------------------------------
+
+
+def _units(dev: Device) -> Dict[str, str]:
+    if dev.is_rotary:
+        return {"m": "J", "m_unit": "kg m²", "b_unit": "N m s/rad", "K_unit": "N m/rad",
+                "B_unit": "N m s/rad"}
+    return {"m": "m", "m_unit": "kg", "b_unit": "N s/m", "K_unit": "N/m", "B_unit": "N s/m"}
+
+
+def _scalar_device(dev: Device, function: str) -> Tuple[float, float, float]:
+    if np.ndim(dev.delta) != 0:
+        raise ValueError(f"zwidth.plot.{function}: needs a scalar Device (one plant), "
+                         f"got arrays of shape {np.shape(dev.delta)}")
+    return float(dev.m), float(dev.b), float(dev.T)
+
+
+def _sweep(value: float, marks: Sequence[float]) -> NDArray[np.float64]:
+    """A log grid two decades either side of the plant, widened to hold every mark."""
+    known = [v for v in [value, *marks] if math.isfinite(v) and v > 0.0]
+    lo = min(known) / 3.0 if known else 1e-3
+    hi = max(known) * 3.0 if known else 1.0
+    if value > 0.0:
+        lo, hi = min(lo, value / 100.0), max(hi, value * 100.0)
+    grid = np.geomspace(lo, hi, 600)
+    return np.unique(np.concatenate([grid, [v for v in known if lo <= v <= hi]]))
+
+
+def influence(device: Device, *, fig: Optional["Figure"] = None) -> "Figure":
+    """K_mmax and B_mmax against m, b and T around a plant, real units (paper Figs. 11, 12).
+
+    Each column sweeps one of m (or J), b, T over log grids around ``device`` (a scalar
+    :class:`zwidth.Device`) with the other two held, via ``Device(array, b, T).extremes()``.
+    Marked: the plant (red dot) and the critical values of ``device.influence()``: m_K2
+    (local max of K_mmax), m_K1 (local min), m_K_match (where raising m catches up with
+    m_K2's K_mmax), m_0 and m_B, b_0 and b_BB, T_B and T_0 (turning points of B_mmax).
+    The advice is printed under the panels.  Draws into ``fig`` if given (cleared).
+    """
+    m, b, T = _scalar_device(device, "influence")
+    rot = device.is_rotary
+    u = _units(device)
+    inf = device.influence()
+    f = {k: float(v) for k, v in inf.as_dict().items() if k != "m"}
+
+    if fig is None:
+        fig, _ = _subplots(2, 3, figsize=(13.0, 7.6), layout="constrained")
+        axes = list(fig.axes)
+    else:
+        fig.clear()
+        axes = list(fig.subplots(2, 3).flat)
+
+    m_marks = {"m_K2": f["m_K2"], "m_K1": f["m_K1"], "m_K_match": f["m_K_match"],
+               "m_0": f["m_0"], "m_B": f["m_B"]}
+    b_marks = {"b_0": f["b_0"], "b_BB": f["b_BB"]}
+    t_marks = {"T_B": f["T_B"], "T_0": f["T_0"]}
+    columns: List[Tuple[str, float, Dict[str, float], str, Dict[str, str]]] = [
+        (u["m"], m, m_marks, u["m_unit"], {"K": "m_K2 m_K1 m_K_match", "B": "m_0 m_B"}),
+        ("b", b, b_marks, u["b_unit"], {"K": "", "B": "b_0 b_BB"}),
+        ("T", T, t_marks, "s", {"K": "", "B": "T_B T_0"}),
+    ]
+    styles = {"m_K2": "C1", "m_K1": "C2", "m_K_match": "C3", "m_0": "C4", "m_B": "C5",
+              "b_0": "C4", "b_BB": "C5", "T_B": "C5", "T_0": "C4"}
+    for col, (name, value, marks, unit, which) in enumerate(columns):
+        grid = _sweep(value, list(marks.values()))
+        plants = {0: Device(grid, b, T, rotary=rot), 1: Device(m, grid, T, rotary=rot),
+                  2: Device(m, b, grid, rotary=rot)}[col]
+        lim = plants.extremes()
+        for row, (key, values, plant_value, limit_unit) in enumerate((
+                ("K", np.asarray(lim.K_mmax, dtype=float), f["K_mmax"], u["K_unit"]),
+                ("B", np.asarray(lim.B_mmax, dtype=float), f["B_mmax"], u["B_unit"]))):
+            ax = axes[3 * row + col]
+            ax.plot(grid, values, color="C0", linewidth=2, label=f"{key}_mmax")
+            for mark in which[key].split():
+                at = marks[mark]
+                if math.isfinite(at) and at > 0.0:
+                    ax.axvline(at, color=styles[mark], linestyle="--", linewidth=1.2,
+                               label=f"{mark} = {at:.4g}")
+            if key == "K" and col == 0:  # the local max and min themselves
+                for mark, level in (("m_K2", f["K_mmax_at_m_K2"]), ("m_K1", f["K_mmax_at_m_K1"])):
+                    if marks[mark] > 0.0:
+                        ax.plot([marks[mark]], [level], "o", color=styles[mark], markersize=6)
+            if value > 0.0:
+                ax.plot([value], [plant_value], "o", color="#c62828", markeredgecolor="black",
+                        markersize=8, zorder=6, label=f"plant: {name} = {value:.4g}")
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel(f"{name} [{unit}]")
+            ax.set_ylabel(f"{key}_mmax [{limit_unit}]")
+            ax.grid(True, which="major", color="0.9")
+            ax.legend(loc="best", fontsize="x-small")
+    held = f"{u['m']} = {m:.4g} {u['m_unit']}, b = {b:.4g} {u['b_unit']}, T = {T:.4g} s"
+    fig.suptitle(f"Influence of {u['m']}, b and T on K_mmax and B_mmax around the plant "
+                 f"{held} (δ = {float(device.delta):.4g})")
+    fig.text(0.01, 0.005, "\n".join(textwrap.wrap(inf.trends + ". " + inf.advice, 170)),
+             fontsize="small", va="bottom", ha="left")
+    fig.get_layout_engine().set(rect=(0.0, 0.06, 1.0, 0.94))  # type: ignore[union-attr, call-arg]
+    return fig
+
+
+def device(device: Device, K: Optional[float] = None, B: Optional[float] = None, *,
+           fig: Optional["Figure"] = None, overlays: Sequence[str] = ("legacy",),
+           resolution: Tuple[int, int] = (500, 400)) -> "Figure":
+    """A plant's stability region in real units, K against B (paper Fig. 20b).
+
+    The boundary is ``device.k_max(B)`` over (B_mmin, B_mmax) = (-b, B_mmax), filled;
+    marked are K_mmax (with the B at it), K_p_max (B = 0) and the B range as K -> 0+, all
+    from ``device.extremes()``; ``overlays`` ('legacy', 'passivity', ...) as dashed grid
+    contours of ``device.is_stable(..., region=name)``.  With K and B, the gain pair is
+    marked, coloured by ``device.verdict``.  The advice of ``device.influence()`` is
+    printed under the axes.  Draws into ``fig`` if given (cleared).
+    """
+    m, b, T = _scalar_device(device, "device")
+    u = _units(device)
+    lim = device.extremes()
+    lo, hi = float(lim.B_mmin), float(lim.B_mmax)
+    bs = np.unique(np.concatenate([np.linspace(lo, hi, 2001), [float(lim.B_at_K_mmax), 0.0]]))
+    bs = bs[(bs >= lo) & (bs <= hi)]
+    ks = np.asarray(device.k_max(bs), dtype=float)
+
+    if fig is None:
+        fig, ax = _subplots(figsize=(7.5, 5.8), layout="constrained")
+    else:
+        fig.clear()
+        ax = fig.add_subplot()
+    x_hi, y_hi = hi, float(lim.K_mmax)
+    legacy = "legacy" in overlays and float(device.delta) > DELTA0
+    if legacy:
+        top = hyperbola_top(device.delta)
+        # Unit conversion of the legacy hyperbola top: alpha m/T^2, beta m/T.
+        y_hi = max(y_hi, float(top.alpha) * m / T ** 2)
+        x_hi = max(x_hi, min(_legacy_right_edge(float(device.delta), float(device.delta)) * m / T,
+                             hi + 2.0 * (hi - lo)))
+    have_gains = K is not None and B is not None
+    if have_gains:
+        x_hi, y_hi = max(x_hi, float(B)), max(y_hi, float(K))  # type: ignore[arg-type]
+    pad = 0.06 * (x_hi - lo)
+    x0, x1, y0, y1 = lo - pad, x_hi + pad, 0.0, 1.1 * y_hi
+
+    handles: List[Any] = []
+    ax.fill_between(bs, 0.0, ks, color=_EXACT_FILL, alpha=0.75, linewidth=0, zorder=2)
+    ax.plot(bs, ks, color=_EXACT_EDGE, linewidth=2.0, zorder=5)
+    handles.append(_proxy(color=_EXACT_EDGE, linewidth=6, alpha=0.75, label="stable (exact region)"))
+    for name in overlays:
+        if name == "legacy" and not legacy:
+            continue  # identical to the exact region for delta <= delta0
+        bb, kk = np.meshgrid(np.linspace(x0, x1, resolution[0]), np.linspace(y0, y1, resolution[1]))
+        mask = np.asarray(device.is_stable(kk, bb, region=name), dtype=float)
+        edge = {"legacy": _LEGACY_EDGE, "passivity": _PASSIVITY_EDGE}.get(name, "0.35")
+        if name == "legacy":
+            ax.contourf(bb, kk, mask, levels=[0.5, 1.5], colors=[_LEGACY_FILL], zorder=1)
+        ax.contour(bb, kk, mask, levels=[0.5], colors=[edge], linestyles="--", linewidths=1.5, zorder=4)
+        handles.append(_proxy(color=edge, linestyle="--", label=f"{name} region"))
+
+    corner_word = "corner" if bool(lim.at_corner) else "hyperbola top"
+    handles += ax.plot([float(lim.B_at_K_mmax)], [float(lim.K_mmax)], "*", color="gold",
+                       markeredgecolor="black", markersize=15, zorder=7, linestyle="none",
+                       label=f"K_mmax = {float(lim.K_mmax):.4g} at B = {float(lim.B_at_K_mmax):.4g} "
+                             f"({corner_word})")
+    handles += ax.plot([0.0], [float(lim.K_p_max)], "s", color="white", markeredgecolor="black",
+                       markersize=7, zorder=7, linestyle="none",
+                       label=f"K_p_max = {float(lim.K_p_max):.4g} (B = 0)")
+    handles += ax.plot([lo, hi], [0.0, 0.0], "|", color="black", markersize=14, markeredgewidth=2,
+                       zorder=7, linestyle="none", label=f"B range ({lo:.4g}, {hi:.4g}) as K -> 0+")
+    if have_gains:
+        kf, bf = float(K), float(B)  # type: ignore[arg-type]
+        v = device.verdict(kf, bf)
+        word = _word(bool(v.stable), bool(v.marginal))
+        why = f", {v.deciding_name}" if word != "stable" and v.deciding_name else ""
+        handles += ax.plot([bf], [kf], "D", color=_VERDICT_COLOURS[word], markeredgecolor="black",
+                           markersize=9, zorder=9, linestyle="none",
+                           label=f"K = {kf:.4g}, B = {bf:.4g}: {word}{why}")
+    ax.axvline(0.0, color="0.6", linewidth=0.8, zorder=0)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_xlabel(f"B [{u['B_unit']}] (virtual damping)")
+    ax.set_ylabel(f"K [{u['K_unit']}] (virtual stiffness)")
+    ax.set_title(f"Stable gains for {u['m']} = {m:.4g} {u['m_unit']}, b = {b:.4g} {u['b_unit']}, "
+                 f"T = {T:.4g} s\n(δ = bT/{u['m']} = {float(device.delta):.4g})")
+    ax.grid(True, color="0.9", zorder=0)
+    ax.legend(handles=handles, loc="upper right", fontsize="small", framealpha=0.9)
+    advice = device.influence().advice
+    fig.text(0.01, 0.005, "\n".join(textwrap.wrap("Advice: " + advice, 110)), fontsize="small",
+             va="bottom", ha="left")
+    fig.get_layout_engine().set(rect=(0.0, 0.07, 1.0, 0.93))  # type: ignore[union-attr, call-arg]
+    return fig
+
+
+def save(fig: "Figure", path: Union[str, Path], *, dpi: float = 100.0) -> Path:
+    """Write ``fig`` as PNG or SVG, chosen by the suffix of ``path``; returns the Path.
+
+    Raises ValueError for any other suffix and OSError if the file cannot be written.
+    """
+    out = Path(path)
+    fmt = out.suffix.lower().lstrip(".")
+    if fmt not in ("png", "svg"):
+        raise ValueError(f"zwidth.plot.save: {out.name!r}: the file must end in .png or .svg")
+    fig.savefig(out, format=fmt, dpi=dpi)
+    return out
