@@ -15,7 +15,7 @@
 #
 # What it does
 #   1. Cross-compiles every core module (csrc/src/{status,coeffs,region,margin,extremes,
-#      device}.c) with the project's strict flags for three targets:
+#      device,regmap,batch}.c) with the project's strict flags for three targets:
 #        m4f  Cortex-M4F, hard float, float build (-DZW_REAL_FLOAT)      <- gated
 #        m0   Cortex-M0, soft float, float build (-DZW_REAL_FLOAT)       <- stack gated
 #        m4d  Cortex-M4F, hard float, double build (information only: the FPU is
@@ -25,9 +25,9 @@
 #      are not linked, so libm (expf, expm1f, sqrtf, frexpf, ldexpf), libgcc (soft-float and
 #      double helpers) and libc (memcpy) are NOT included in these numbers.  Totals:
 #        (a) "check + extremes" = status + coeffs + region + extremes
-#        (b) the whole core      = all six modules
+#        (b) the whole core      = all eight modules
 #      Then a tiny main calling zw_coeffs_init, zw_check and zw_extremes_compute is linked
-#      against all six objects with --gc-sections, nano.specs and nosys.specs, and the
+#      against all eight objects with --gc-sections, nano.specs and nosys.specs, and the
 #      linker map splits the image into zwidth / libm / libgcc / libc+startup, so the
 #      reader sees what the maths library costs.
 #   3. Stack, from -fstack-usage (.su: one frame per emitted function) and
@@ -119,7 +119,7 @@ if [ "$(${CROSS}gcc -print-file-name=nano.specs)" = nano.specs ]; then
     exit 2
 fi
 
-MODULES="status coeffs region extremes margin device regmap"
+MODULES="status coeffs region extremes margin device regmap batch"
 CHECK_MODULES="status coeffs region extremes"
 TARGETS="m4f m0 m4d"
 GATED_STACK_TARGETS="m4f m0"
@@ -231,7 +231,7 @@ for t in $TARGETS; do
             k = kind(sec); if (k == "" || hex(size) == 0) return
             obj = file
             if (file ~ /\/app\/main\.o$/) o = "main"
-            else if (file ~ /\/(status|coeffs|region|extremes|margin|device|regmap)\.o$/) o = "zwidth"
+            else if (file ~ /\/(status|coeffs|region|extremes|margin|device|regmap|batch)\.o$/) o = "zwidth"
             else if (file ~ /libm\.a\(/) o = "libm"
             else if (file ~ /libgcc\.a\(/) o = "libgcc"
             else if (file ~ /lib(c|c_nano|g|g_nano|nosys)\.a\(|crt[0-9a-z]*\.o$/) o = "libc"
@@ -535,10 +535,11 @@ awk -F'\t' \
 
         print "## Linked image: tiny main calling zw_coeffs_init, zw_check, zw_extremes_compute"
         print ""
-        print "All six core objects linked with `--gc-sections` (unreferenced functions such as"
-        print "zw_status_name, zw_coeffs_literal, zw_beta_interval and the margin/device modules are"
-        print "dropped).  Flash = text + rodata + data of each origin, from the linker map; padding is"
-        print "the rest of the text + data that `arm-none-eabi-size` reports for the image."
+        print "All eight core objects linked with `--gc-sections` (unreferenced functions such as"
+        print "zw_status_name, zw_coeffs_literal, zw_beta_interval and the margin, device, regmap and"
+        print "batch modules are dropped).  Flash = text + rodata + data of each origin, from the"
+        print "linker map; padding is the rest of the text + data that `arm-none-eabi-size` reports"
+        print "for the image."
         print ""
         hdr = "| origin |"; sep = "|---|"
         for (i = 1; i <= nt; i++) { hdr = hdr " " tn[T[i]] " |"; sep = sep "---:|" }

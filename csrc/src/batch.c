@@ -1,8 +1,9 @@
 /* The exact-region check over many gain pairs of one plant (zwidth/batch.h).
  *
  * Validation first, so that the loop proper has no early exits; the loop evaluates every
- * constraint of internal.h unconditionally and combines the answers with &, which is what
- * makes it vectorizable.  The hyperbola is evaluated even where x = beta + delta is not
+ * constraint of internal.h unconditionally and multiplies their 1/0 answers, in zw_real
+ * so that no integer conversion stops the compiler from vectorizing it (the bools are
+ * written by a second short loop per block).  The hyperbola is evaluated even where x = beta + delta is not
  * surely positive and is then meaningless (possibly inf or NaN, which IEEE arithmetic
  * allows), but the damping answer is false there and masks it: stable[i] equals
  * zw_check's verdict bit for bit.
@@ -11,13 +12,22 @@
 
 #include "internal.h"
 
-static bool exact_stable(const zw_coeffs *c, zw_real coef_err, const zw_gains *g)
+/* Pairs per block: the 1/0 answers of a block wait in a zw_real array on the stack. */
+#define ZW_BATCH_BLOCK 16
+
+static zw_real exact_stable01(const zw_coeffs *c, zw_real coef_err, const zw_gains *g)
 {
     const zw_eb x = zw_exact_x(c, g);
     const zw_constraint h = zw_hyperbola_constraint(c, coef_err, g, x);
     const zw_constraint l = zw_line_constraint(c, coef_err, g);
-    return zw_surely_less(ZW_R(0.0), x.v, x.e) & zw_surely_less(ZW_R(0.0), g->alpha.v, g->alpha.e) &
-           zw_surely_less(h.lhs, h.rhs, h.err) & zw_surely_less(l.lhs, l.rhs, l.err);
+    return zw_surely_less01(ZW_R(0.0), x.v, x.e) * zw_surely_less01(ZW_R(0.0), g->alpha.v, g->alpha.e) *
+           zw_surely_less01(h.lhs, h.rhs, h.err) * zw_surely_less01(l.lhs, l.rhs, l.err);
+}
+
+static void store_block(bool *stable, const zw_real *ok, size_t count)
+{
+    size_t j;
+    for (j = 0; j < count; ++j) stable[j] = ok[j] != ZW_R(0.0);
 }
 
 static zw_status invalid_at(zw_status st, size_t i, size_t *first_invalid)
@@ -34,7 +44,7 @@ zw_status zw_check_many(const zw_coeffs *c, size_t n, const zw_real *alpha, ptrd
     size_t i;
     zw_real coef_err;
     if (n == 0) return ZW_OK;
-    if (alpha == NULL || beta == NULL || stable == NULL) return ZW_ERR_NULL;
+    if (c == NULL || alpha == NULL || beta == NULL || stable == NULL) return ZW_ERR_NULL;
     if ((st = zw_require_coeffs(c, true)) != ZW_OK) return invalid_at(st, 0, first_invalid);
     for (i = 0; i < n; ++i) {
         if ((st = zw_require_finite(alpha[(ptrdiff_t)i * alpha_stride])) != ZW_OK ||
@@ -42,9 +52,15 @@ zw_status zw_check_many(const zw_coeffs *c, size_t n, const zw_real *alpha, ptrd
             return invalid_at(st, i, first_invalid);
     }
     coef_err = zw_coef_relerr(c);
-    for (i = 0; i < n; ++i) {
-        zw_gains g = zw_gains_exact(alpha[(ptrdiff_t)i * alpha_stride], beta[(ptrdiff_t)i * beta_stride]);
-        stable[i] = exact_stable(c, coef_err, &g);
+    for (i = 0; i < n; i += ZW_BATCH_BLOCK) {
+        zw_real ok[ZW_BATCH_BLOCK];
+        size_t j, count = n - i < ZW_BATCH_BLOCK ? n - i : ZW_BATCH_BLOCK;
+        for (j = 0; j < count; ++j) {
+            const ptrdiff_t k = (ptrdiff_t)(i + j);
+            zw_gains g = zw_gains_exact(alpha[k * alpha_stride], beta[k * beta_stride]);
+            ok[j] = exact_stable01(c, coef_err, &g);
+        }
+        store_block(stable + i, ok, count);
     }
     return ZW_OK;
 }
@@ -65,12 +81,18 @@ zw_status zw_device_check_many(const zw_device *d, size_t n, const zw_real *K, p
     }
     if ((st = zw_require_coeffs(&d->co, true)) != ZW_OK) return invalid_at(st, 0, first_invalid);
     coef_err = zw_coef_relerr(&d->co);
-    for (i = 0; i < n; ++i) {
-        /* the conversion of zw_device_normalize, with the error bounds of zw_device_check */
-        zw_gains g;
-        g.alpha = zw_eb_rel(K[(ptrdiff_t)i * K_stride] / d->k_scale, ZW_ALPHA_RELERR);
-        g.beta = zw_eb_rel(B[(ptrdiff_t)i * B_stride] / d->b_scale, ZW_BETA_RELERR);
-        stable[i] = exact_stable(&d->co, coef_err, &g);
+    for (i = 0; i < n; i += ZW_BATCH_BLOCK) {
+        zw_real ok[ZW_BATCH_BLOCK];
+        size_t j, count = n - i < ZW_BATCH_BLOCK ? n - i : ZW_BATCH_BLOCK;
+        for (j = 0; j < count; ++j) {
+            /* the conversion of zw_device_normalize, with the error bounds of zw_device_check */
+            const ptrdiff_t k = (ptrdiff_t)(i + j);
+            zw_gains g;
+            g.alpha = zw_eb_rel(K[k * K_stride] / d->k_scale, ZW_ALPHA_RELERR);
+            g.beta = zw_eb_rel(B[k * B_stride] / d->b_scale, ZW_BETA_RELERR);
+            ok[j] = exact_stable01(&d->co, coef_err, &g);
+        }
+        store_block(stable + i, ok, count);
     }
     return ZW_OK;
 }

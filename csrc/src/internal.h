@@ -100,13 +100,15 @@ static inline zw_cmp zw_compare(zw_real lhs, zw_real rhs, zw_real err)
     return ZW_CMP_UNSURE;
 }
 
-/* zw_compare(lhs, rhs, err) == ZW_CMP_LT without branches, for loops the compiler can
- * vectorize (a NaN difference compares false; the bound must be finite). */
-static inline bool zw_surely_less(zw_real lhs, zw_real rhs, zw_real err)
+/* zw_compare(lhs, rhs, err) == ZW_CMP_LT as 1 or 0 in zw_real, without branches or
+ * integer conversions, so that loops over it vectorize (a NaN difference compares false;
+ * the bound must be finite).  Products of these are "and". */
+static inline zw_real zw_surely_less01(zw_real lhs, zw_real rhs, zw_real err)
 {
     zw_real diff = rhs - lhs;
     zw_real bound = zw_compare_bound(diff, err);
-    return (diff > bound) & (ZW_FABS(bound) <= ZW_REAL_MAX);
+    zw_real less = diff > bound ? ZW_R(1.0) : ZW_R(0.0);
+    return ZW_FABS(bound) <= ZW_REAL_MAX ? less : ZW_R(0.0);
 }
 
 static inline zw_cmp zw_eb_compare(zw_eb a, zw_eb b)

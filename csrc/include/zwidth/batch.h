@@ -6,10 +6,11 @@
  * host, and the Python bindings.
  *
  * Pair i reads alpha[i * alpha_stride] and beta[i * beta_stride] (strides in elements; 0
- * repeats one value).  Errors: ZW_ERR_NULL; the errors of zw_check (coefficients) or of
- * zw_device_init's device (ZW_ERR_NULL only); and, for the first pair that zw_check or
- * zw_device_check would refuse, its status, with its index in *first_invalid (if not
- * NULL).  On any error nothing is written to stable.
+ * repeats one value).  Errors: ZW_ERR_NULL (a NULL pointer with n > 0; *first_invalid
+ * untouched); the errors zw_check / zw_device_check would give for the coefficients
+ * (*first_invalid = 0: they concern every pair); and, for the first pair those functions
+ * would refuse, its status with its index in *first_invalid.  first_invalid may be NULL.
+ * On any error nothing is written to stable.  n = 0 is ZW_OK and reads nothing.
  */
 #ifndef ZWIDTH_BATCH_H
 #define ZWIDTH_BATCH_H
