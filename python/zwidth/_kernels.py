@@ -47,13 +47,20 @@ class ZwidthError(ValueError):
         self.index = index
         self.values = dict(values)
 
+    def __reduce__(self) -> Tuple[Any, ...]:
+        # picklable (multiprocessing, concurrent.futures): rebuild from every argument
+        return (type(self), (str(self), self.status, self.parameter, self.index, self.values))
+
 
 def _describe(function: str, status: str, names: Sequence[str], values: Sequence[float],
               index: Tuple[int, ...]) -> ZwidthError:
     where = f" at index {index}" if index else ""
     given = dict(zip(names, values))
     parameter: Optional[str] = None
-    if status in _STATUS_PARAMETER and _STATUS_PARAMETER[status][0] in given:
+    if status == "ZW_ERR_MASS" and "J" in given:  # a rotary plant
+        parameter, rule = "J", "must be > 0"
+        what = f"J {rule}, got {given['J']!r}"
+    elif status in _STATUS_PARAMETER and _STATUS_PARAMETER[status][0] in given:
         parameter, rule = _STATUS_PARAMETER[status]
         what = f"{parameter} {rule}, got {given[parameter]!r}"
     elif status == "ZW_ERR_NAN":

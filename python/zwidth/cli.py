@@ -1,3 +1,693 @@
-"""Placeholder replaced below."""
-def main() -> int:
-    return 0
+"""The ``zwidth`` command: check gains, print limits and advice, draw figures.
+
+Every number printed comes from zwidth's functions (the C core); this module parses,
+formats and chooses exit codes.  ``python -m zwidth`` runs the same :func:`main`.
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import math
+import sys
+import textwrap
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence, TextIO
+
+import numpy as np
+
+from . import (BOUNDS, DELTA0, REGIONS, Device, ZwidthError, __version__, alpha_max, beta_interval,
+               corner, extremes, hyperbola_top, spectral_radius, verdict)
+
+EXIT_OK = 0        #: stable, or the command succeeded
+EXIT_UNSTABLE = 1  #: the checked gains are not (provably) stable
+EXIT_USAGE = 2     #: bad command line (argparse)
+EXIT_INVALID = 3   #: invalid values (zwidth.ZwidthError)
+EXIT_PLOT = 4      #: cannot plot: matplotlib missing or file not writable
+
+DESCRIPTION = """\
+A drive renders stiffness K and damping B on a mass m with damping b, sampled every T;
+zwidth says which (K, B) are stable for that plant (exact region of Wang et al. 2024)
+and how m, b, T move the limits."""
+
+EPILOG = """\
+plant and gains (every subcommand):
+  real units (default): --m M (kg) or --J J (kg m^2, rotary), --b (N s/m | N m s/rad),
+    --T (s), gains --K (N/m | N m/rad) and --B (N s/m | N m s/rad)
+  normalized instead:   --delta = bT/m, --alpha = K T^2/m, --beta = B T/m
+
+exit status:
+  0  stable, or success
+  1  the checked gains are not stable (check; advise with gains); marginal counts as not
+  2  usage error (unknown option, bad number, missing or conflicting options)
+  3  invalid values (m <= 0, T <= 0, b < 0, NaN, ...): the message names the option
+  4  cannot plot (matplotlib missing: pip install zwidth[plot]; file not writable)
+
+examples:
+  zwidth limits --m 0.1 --b 30 --T 0.01
+  zwidth check --J 85.78e-7 --b 2.197e-3 --T 0.02 --K 0.39 --B -1.36e-3
+  zwidth check --delta 5.122 --alpha 23 --beta -1.5 --json
+  zwidth advise --J 85.78e-7 --b 2.197e-3 --T 0.02 --K 0.5 --B -1.36e-3
+  zwidth plot region --delta 5.122 --alpha 23 --beta -1.5 -o region.png
+
+'zwidth SUBCOMMAND --help' lists the keys of each subcommand's --json output."""
+
+_PLANT_KEYS = """\
+--json prints one JSON object (floats as numbers, NaN as null).  Common keys:
+  command  the subcommand
+  mode     "real" or "normalized" (--delta)
+  plant    {m, b, T: number|null (null in normalized mode; m is J with --J),
+            rotary: bool, delta: number}
+  units    {m, b, T, K, B: unit strings} or null in normalized mode"""
+
+_CHECK_EPILOG = _PLANT_KEYS + """
+check keys:
+  region         the region checked (--region)
+  verdict        "stable" | "unstable" | "marginal" (within rounding of a boundary:
+                 not proved stable)
+  stable, marginal  bool;  exact_stable  bool, the exact region's verdict
+  deciding       name of the first violated constraint (damping, stiffness, hyperbola,
+                 line, passivity) or null;  deciding_text  it in words, or null
+  violated       list of every violated (or unprovable) constraint
+  spectral_radius  largest closed-loop pole modulus (stable iff < 1)
+  K, B           the gains (null in normalized mode);  alpha, beta  normalized gains
+  K_max          sup K stable at this B, exact region (null in normalized mode)
+  B_range        {lo, hi, nonempty}: stable B at this K (null in normalized mode)
+  alpha_max      sup alpha stable at this beta;  beta_range  {lo, hi, nonempty}
+exit status 0 only when the gains are stable in --region (only exact and passivity
+certify stability)."""
+
+_LIMITS_EPILOG = _PLANT_KEYS + """
+limits keys (real-unit ones null in normalized mode):
+  K_mmax, B_at_K_mmax   largest stable K (a supremum) and the B at it
+  K_p_max               largest stable K with B = 0
+  B_mmax, B_mmin        stable B range as K -> 0+ (B_mmin = -b)
+  alpha_mmax, beta_at_alpha_mmax, alpha_p_max, beta_mmax, beta_mmin  the same, normalized
+  at_corner             K_mmax sits on the corner of hyperbola and line (delta > delta1)
+  corner                {alpha, beta} where line meets hyperbola (null values: none)
+  delta0, above_delta0  the critical delta0 and whether delta > delta0
+  legacy                {K_mmax, B_at_K_mmax (null in normalized mode), alpha_mmax,
+                         beta_at_alpha_mmax, region_unsafe: bool (delta > delta0: the
+                         legacy region contains unstable gains), overstates_K_mmax: bool}"""
+
+_ADVISE_EPILOG = _PLANT_KEYS + """
+advise keys:
+  influence   every field of Device.influence(): delta, K_mmax, B_mmax, m_K1, m_K2,
+              K_mmax_at_m_K2, K_mmax_at_m_K1, m_K_match, T_B, T_0, m_0, m_B, b_0, b_BB,
+              best_m_for_K (numbers), K_vs_m, K_vs_b, K_vs_T, B_vs_m, B_vs_b, B_vs_T
+              (ints: -1 falls, 0 flat, +1 rises).  In normalized mode the plant is taken
+              as m = 1, T = 1, b = delta: masses and periods are then multiples of the
+              plant's m and T, dampings of m/T.
+  trends, advice   strings
+  gains       null without gains, else {K, B, alpha, beta, verdict, stable, marginal,
+              deciding, spectral_radius, K_max, B_range: {lo, hi, nonempty},
+              suggestions: [{change: "K"|"B"|"m"|"b"|"T", lo: number|null,
+              hi: number|null, value: number|null, text}]}
+exit status 1 when gains are given and are not stable."""
+
+_PLOT_EPILOG = """\
+kinds:
+  region     the region in the (beta, alpha) plane with the legacy and passivity
+             regions (needs the plant; gains, if given, are marked)
+  extremes   alpha_mmax, beta_mmax and ratios against delta (no plant; --delta-min/max)
+  influence  K_mmax and B_mmax against m, b and T around a real-unit plant
+  device     a real-unit plant's stable (K, B) region, its limits and the advice
+--json keys: command, kind, file, format ("png"|"svg"), bytes."""
+
+_BOUND_TEXT = {
+    "damping": "damping: beta > -delta (B > -b: the total damping b + B must stay positive)",
+    "stiffness": "stiffness: alpha > 0 (K > 0)",
+    "hyperbola": "hyperbola: alpha < f(beta), the curved upper bound of paper eq (10)",
+    "line": ("line: alpha < L(beta) = 4(1 + e)/d12 - 2 beta, the straight bound of eq (10) "
+             "that appears for delta > delta0 (the legacy region misses it)"),
+    "passivity": "passivity: K T/2 < b - |B| (eq (16))",
+}
+
+
+class _Usage(Exception):
+    """A usage error found after parsing (reported through parser.error, exit 2)."""
+
+
+class _PlotError(Exception):
+    """Cannot plot (exit 4)."""
+
+
+@dataclasses.dataclass
+class _Outcome:
+    """What a subcommand found: exit status, the --json object, the human-readable lines."""
+
+    status: int
+    data: Dict[str, Any]
+    lines: List[str]
+
+
+def _number(text: str) -> float:
+    return float(text)
+
+
+_number.__name__ = "number"  # argparse says "invalid number value: 'abc'"
+
+
+def _fmt(x: Any) -> str:
+    return f"{float(x) + 0.0:.6g}"  # + 0.0: print -0 (beta_mmin = -delta at delta = 0) as 0
+
+
+def _jsonable(value: Any) -> Any:
+    """numpy scalars to Python; NaN and infinities to None (JSON has no such numbers)."""
+    if isinstance(value, dict):
+        return {k: _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        f = float(value)
+        return f if math.isfinite(f) else None
+    return value
+
+
+# ---------------------------------------------------------------------------------------
+# The plant: real units or normalized
+# ---------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass
+class _Plant:
+    """What the options describe.  Real mode has a Device; normalized mode only delta."""
+
+    delta: float
+    device: Optional[Device]
+    rotary: bool
+    K: Optional[float] = None      # gains as given (real mode)
+    B: Optional[float] = None
+    alpha: Optional[float] = None  # gains as given (normalized mode) or normalized image
+    beta: Optional[float] = None
+
+    @property
+    def real(self) -> bool:
+        return self.device is not None
+
+    @property
+    def has_gains(self) -> bool:
+        return self.alpha is not None
+
+    def units(self) -> Optional[Dict[str, str]]:
+        if not self.real:
+            return None
+        if self.rotary:
+            return {"m": "kg m^2", "b": "N m s/rad", "T": "s", "K": "N m/rad", "B": "N m s/rad"}
+        return {"m": "kg", "b": "N s/m", "T": "s", "K": "N/m", "B": "N s/m"}
+
+    @property
+    def mass(self) -> str:
+        return "J" if self.rotary else "m"
+
+    def summary(self) -> Dict[str, Any]:
+        dev = self.device
+        return {"m": None if dev is None else dev.m[()], "b": None if dev is None else dev.b[()],
+                "T": None if dev is None else dev.T[()], "rotary": self.rotary, "delta": self.delta}
+
+    def header(self) -> str:
+        if self.device is None:
+            return f"Plant (normalized): delta = bT/m = {_fmt(self.delta)}"
+        u = self.units() or {}
+        d = self.device
+        return (f"Plant: {self.mass} = {_fmt(d.m)} {u['m']}, b = {_fmt(d.b)} {u['b']}, "
+                f"T = {_fmt(d.T)} s  ->  delta = bT/{self.mass} = {_fmt(self.delta)}")
+
+    def gains_text(self) -> str:
+        if self.device is None:
+            return f"alpha = {_fmt(self.alpha)}, beta = {_fmt(self.beta)}"
+        u = self.units() or {}
+        return f"K = {_fmt(self.K)} {u['K']}, B = {_fmt(self.B)} {u['B']}"
+
+
+def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Plant]:
+    """Build the plant from the options (usage errors as _Usage, values as ZwidthError)."""
+    real_given = [f"--{n}" for n in ("m", "J", "b", "T", "K", "B") if getattr(args, n) is not None]
+    norm_given = [f"--{n}" for n in ("delta", "alpha", "beta") if getattr(args, n) is not None]
+    if real_given and norm_given:
+        raise _Usage(f"give either a real-unit plant or a normalized one: {', '.join(real_given)} "
+                     f"cannot be combined with {', '.join(norm_given)}")
+    if not real_given and not norm_given:
+        if need_plant:
+            raise _Usage("no plant: give --m (or --J), --b and --T, or --delta for the normalized space")
+        return None
+    if norm_given:
+        if args.delta is None:
+            raise _Usage("--alpha and --beta need --delta")
+        if (args.alpha is None) != (args.beta is None):
+            raise _Usage("give both --alpha and --beta (or neither)")
+        extremes(args.delta)  # validates delta (ZwidthError naming it)
+        return _Plant(delta=float(args.delta), device=None, rotary=False,
+                      alpha=args.alpha, beta=args.beta)
+    missing = [name for name, ok in (("--m (or --J)", args.m is not None or args.J is not None),
+                                     ("--b", args.b is not None), ("--T", args.T is not None))
+               if not ok]
+    if missing:
+        raise _Usage(f"the plant needs {', '.join(missing)}")
+    if (args.K is None) != (args.B is None):
+        raise _Usage("give both --K and --B (or neither)")
+    rotary = args.J is not None
+    dev = Device.rotary(args.J, args.b, args.T) if rotary else Device(args.m, args.b, args.T)
+    plant = _Plant(delta=float(dev.delta), device=dev, rotary=rotary, K=args.K, B=args.B)
+    if args.K is not None:
+        n = dev.normalize(args.K, args.B)
+        plant.alpha, plant.beta = float(n.alpha), float(n.beta)
+    return plant
+
+
+def _option_of(exc: ZwidthError) -> Optional[str]:
+    """The command-line option of the parameter an error names (J for a rotary plant)."""
+    return None if exc.parameter is None else f"--{exc.parameter}"
+
+
+# ---------------------------------------------------------------------------------------
+# Subcommands: each returns an _Outcome (exit status, JSON object, human text)
+# ---------------------------------------------------------------------------------------
+
+
+def _interval(iv: Any) -> Dict[str, Any]:
+    return {"lo": iv.lo, "hi": iv.hi, "nonempty": bool(iv.nonempty)}
+
+
+def _verdict_word(v: Any) -> str:
+    return "stable" if bool(v.stable) else ("marginal" if bool(v.marginal) else "unstable")
+
+
+def _violated(v: Any) -> List[str]:
+    return [name for name, bit in BOUNDS.items() if int(v.violated) & bit]
+
+
+def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
+    """Verdict of one gain pair, with the deciding constraint, radius and local limits."""
+    region = args.region
+    dev, d = plant.device, plant.delta
+    alpha, beta = float(plant.alpha), float(plant.beta)  # type: ignore[arg-type]
+    if dev is not None:
+        K, B = float(plant.K), float(plant.B)  # type: ignore[arg-type]
+        v = dev.verdict(K, B, region=region)
+        exact_v = v if region == "exact" else dev.verdict(K, B)
+        rho = dev.spectral_radius(K, B)
+        k_max: Any = dev.k_max(B)
+        b_range: Any = _interval(dev.b_range(K))
+    else:
+        v = verdict(d, alpha, beta, region=region)
+        exact_v = v if region == "exact" else verdict(d, alpha, beta)
+        rho = spectral_radius(d, alpha, beta)
+        k_max, b_range = None, None
+    a_max = alpha_max(d, beta)
+    beta_range = _interval(beta_interval(d, alpha))
+    word = _verdict_word(v)
+    deciding = str(v.deciding_name) or None
+    text_of = _BOUND_TEXT.get(deciding or "") if region == "exact" else (
+        f"the {deciding} bound of the '{region}' region" if deciding else None)
+    data = {
+        "region": region, "verdict": word, "stable": bool(v.stable), "marginal": bool(v.marginal),
+        "deciding": deciding, "deciding_text": text_of if deciding else None,
+        "violated": _violated(v), "exact_stable": bool(exact_v.stable), "spectral_radius": rho,
+        "K": plant.K, "B": plant.B, "alpha": alpha, "beta": beta,
+        "K_max": k_max, "B_range": b_range, "alpha_max": a_max, "beta_range": beta_range,
+    }
+    lines = [plant.header(), f"Gains: {plant.gains_text()}"
+             + (f"  ->  alpha = {_fmt(alpha)}, beta = {_fmt(beta)}" if plant.real else "")]
+    lines.append(f"Verdict ({region} region): {word.upper()}")
+    if deciding:
+        lines += textwrap.wrap(f"deciding constraint: {text_of}", 92, initial_indent="  ",
+                               subsequent_indent="    ")
+        others = [n for n in data["violated"] if n != deciding]
+        if others:
+            lines.append(f"  also violated: {', '.join(others)}")
+    if word == "marginal":
+        lines.append("  marginal: within rounding error of the boundary, so not proved stable")
+    if region not in ("exact", "passivity"):
+        lines.append(f"  note: the '{region}' region does not certify stability; exact region: "
+                     f"{_verdict_word(exact_v)}")
+    lines.append(f"  spectral radius = {_fmt(rho)} (stable iff < 1)")
+    if dev is not None:
+        u = plant.units() or {}
+        lines.append(f"  K_max at this B = {_fmt(k_max)} {u['K']} (exact region)")
+        lines.append("  B range at this K: " + (f"{_fmt(b_range['lo'])} < B < {_fmt(b_range['hi'])} {u['B']}"
+                                                 if b_range["nonempty"] else "none (no B is stable at this K)"))
+    else:
+        lines.append(f"  alpha_max at this beta = {_fmt(a_max)} (exact region)")
+        lines.append("  beta range at this alpha: " + (
+            f"{_fmt(beta_range['lo'])} < beta < {_fmt(beta_range['hi'])}"
+            if beta_range["nonempty"] else "none (no beta is stable at this alpha)"))
+    return _Outcome(EXIT_OK if bool(v.stable) else EXIT_UNSTABLE, data, lines)
+
+
+def cmd_limits(args: argparse.Namespace, plant: _Plant) -> _Outcome:
+    """Largest stable K and B, the B range and what the legacy region would claim."""
+    d, dev = plant.delta, plant.device
+    ext = extremes(d)
+    top = hyperbola_top(d)
+    cor = corner(d)
+    real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_at_K_mmax", "K_p_max", "B_mmax", "B_mmin"))
+    legacy_K: Any = None
+    legacy_B: Any = None
+    if dev is not None:
+        lim = dev.extremes()
+        real = {k: getattr(lim, k) for k in real}
+        # The legacy claim is the hyperbola's top; m/T^2 and m/T only convert its units.
+        legacy_K = float(top.alpha) * float(dev.m) / float(dev.T) ** 2
+        legacy_B = float(top.beta) * float(dev.m) / float(dev.T)
+    above = d > DELTA0
+    overstates = bool(ext.at_corner)
+    data = {
+        **real,
+        "alpha_mmax": ext.alpha_mmax, "beta_at_alpha_mmax": ext.beta_at_alpha_mmax,
+        "alpha_p_max": ext.alpha_p_max, "beta_mmax": ext.beta_mmax, "beta_mmin": ext.beta_mmin,
+        "at_corner": bool(ext.at_corner), "corner": {"alpha": cor.alpha, "beta": cor.beta},
+        "delta0": DELTA0, "above_delta0": above,
+        "legacy": {"K_mmax": legacy_K, "B_at_K_mmax": legacy_B, "alpha_mmax": top.alpha,
+                   "beta_at_alpha_mmax": top.beta, "region_unsafe": above,
+                   "overstates_K_mmax": overstates},
+    }
+    where = "corner of hyperbola and line" if overstates else "top of the hyperbola"
+    lines = [plant.header(), "", "Limits (exact region, paper eq (10))"]
+    if dev is not None:
+        u = plant.units() or {}
+        lines += [
+            f"  K_mmax   = {_fmt(real['K_mmax'])} {u['K']} at B = {_fmt(real['B_at_K_mmax'])} {u['B']} ({where})",
+            f"  K with B = 0 (stiffness only): K < {_fmt(real['K_p_max'])} {u['K']}"
+            + (" (none is stable)" if float(real["K_p_max"]) <= 0.0 else ""),
+            f"  B range  : {_fmt(real['B_mmin'])} < B < {_fmt(real['B_mmax'])} {u['B']} (as K -> 0+)",
+        ]
+        claim = f"K_mmax = {_fmt(legacy_K)} {u['K']} at B = {_fmt(legacy_B)} {u['B']}"
+    else:
+        lines += [
+            f"  alpha_mmax = {_fmt(ext.alpha_mmax)} at beta = {_fmt(ext.beta_at_alpha_mmax)} ({where})",
+            f"  alpha with beta = 0 (stiffness only): alpha < {_fmt(ext.alpha_p_max)}"
+            + (" (none is stable)" if float(ext.alpha_p_max) <= 0.0 else ""),
+            f"  beta range : {_fmt(ext.beta_mmin)} < beta < {_fmt(ext.beta_mmax)} (as alpha -> 0+)",
+        ]
+        claim = f"alpha_mmax = {_fmt(top.alpha)} at beta = {_fmt(top.beta)}"
+    if overstates:
+        judgement = (f"unsafe: that point is unstable, and so are other gains it admits "
+                     f"(delta > delta0 = {_fmt(DELTA0)})")
+    elif above:
+        judgement = (f"the same maximum, but unsafe: it admits unstable gains "
+                     f"(delta > delta0 = {_fmt(DELTA0)})")
+    else:
+        judgement = f"exact here (delta <= delta0 = {_fmt(DELTA0)})"
+    lines += [f"  legacy region (no line) would claim {claim}", f"    -> {judgement}"]
+    return _Outcome(EXIT_OK, data, lines)
+
+
+def _advise_device(plant: _Plant) -> Device:
+    if plant.device is not None:
+        return plant.device
+    return Device(1.0, plant.delta, 1.0)  # normalized: m = T = 1, so K = alpha, B = beta
+
+
+def _plant_changes(plant: _Plant, K: float, B: float) -> List[Dict[str, Any]]:
+    """Nearest stable m, b and T on log grids (three decades either way), checked with
+    Device.is_stable, for keeping unstable gains as they are."""
+    dev = plant.device
+    if dev is None:
+        return []  # normalized gains move with m and T: only alpha and beta changes make sense
+    m, b, T = float(dev.m), float(dev.b), float(dev.T)
+    u = plant.units() or {}
+    factors = np.geomspace(1e-3, 1e3, 2401)
+    out: List[Dict[str, Any]] = []
+    for name, value in ((plant.mass, m), ("b", b), ("T", T)):
+        base = value if value > 0.0 else m / T  # b = 0: search b in units of m/T
+        grid = base * factors
+        trial = {plant.mass: Device(grid, b, T, rotary=plant.rotary),
+                 "b": Device(m, grid, T, rotary=plant.rotary),
+                 "T": Device(m, b, grid, rotary=plant.rotary)}[name]
+        ok = np.asarray(trial.is_stable(K, B))
+        if not ok.any():
+            continue
+        distance = np.abs(np.log(grid / base))
+        distance[~ok] = np.inf
+        best = float(grid[int(np.argmin(distance))])
+        unit = {plant.mass: u["m"], "b": u["b"], "T": "s"}[name]
+        ratio = f"{best / value:.3g} x now; " if value > 0.0 else ""
+        out.append({"change": "m" if name == "J" else name, "lo": None, "hi": None, "value": best,
+                    "text": f"keep the gains, set {name} = {_fmt(best)} {unit} "
+                            f"({ratio}the nearest stable value on a log grid)"})
+    return out
+
+
+def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
+    """Influence of m, b, T on the limits, critical values, advice; gains: what to change."""
+    dev = _advise_device(plant)
+    inf = dev.influence()
+    fields = {k: v for k, v in inf.as_dict().items() if k != "m"}
+    M = plant.mass
+    trends = inf.trends
+    data: Dict[str, Any] = {"influence": fields, "trends": trends, "advice": inf.advice, "gains": None}
+    if plant.real:
+        u = plant.units() or {}
+        mu, tu, bu, ku = f" {u['m']}", " s", f" {u['b']}", f" {u['K']}"
+        scale_note = ""
+    else:
+        mu = tu = bu = ku = ""
+        scale_note = "  (normalized: m = T = 1, b = delta; masses in units of m, periods of T, dampings of m/T)"
+    lines = [plant.header(), "", "Influence (paper Section IV)" + scale_note]
+    lines += [f"  {part.strip()}" for part in trends.split(";")]
+    if plant.delta > 0.0:
+        pad = " " * len(f"  K_mmax against {M}: ")
+        lines += [
+            f"  K_mmax against {M}: rises to {M}_K2 = {_fmt(inf.m_K2)}{mu} (local max {_fmt(inf.K_mmax_at_m_K2)}{ku}),",
+            f"{pad}falls to {M}_K1 = {_fmt(inf.m_K1)}{mu} (local min {_fmt(inf.K_mmax_at_m_K1)}{ku}),",
+            f"{pad}regains the local max at {M}_K_match = {_fmt(inf.m_K_match)}{mu}",
+            f"  B_mmax against {M}: turns at {M}_0 = {_fmt(inf.m_0)} and {M}_B = {_fmt(inf.m_B)}{mu}",
+            f"  B_mmax against T: turns at T_B = {_fmt(inf.T_B)} and T_0 = {_fmt(inf.T_0)}{tu}",
+        ]
+    else:
+        lines.append(f"  no turning points in {M} or T: b = 0 gives delta = 0 for every {M} and T")
+    lines.append(f"  B_mmax against b: turns at b_0 = {_fmt(inf.b_0)} and b_BB = {_fmt(inf.b_BB)}{bu}")
+    lines += textwrap.wrap(f"advice: {inf.advice}", 92, initial_indent="  ", subsequent_indent="          ")
+    status = EXIT_OK
+    if plant.has_gains:
+        K = float(plant.K) if plant.real else float(plant.alpha)  # type: ignore[arg-type]
+        B = float(plant.B) if plant.real else float(plant.beta)  # type: ignore[arg-type]
+        v = dev.verdict(K, B)
+        k_max = dev.k_max(B)
+        b_range = dev.b_range(K)
+        word = _verdict_word(v)
+        Kn, Bn = ("K", "B") if plant.real else ("alpha", "beta")
+        kunit = f" {plant.units()['K']}" if plant.real else ""  # type: ignore[index]
+        bunit = f" {plant.units()['B']}" if plant.real else ""  # type: ignore[index]
+        suggestions: List[Dict[str, Any]] = []
+        if not bool(v.stable):
+            status = EXIT_UNSTABLE
+            if float(k_max) > 0.0:
+                suggestions.append({"change": "K", "lo": 0.0, "hi": k_max, "value": None,
+                                    "text": f"set {Kn} in (0, {_fmt(k_max)}){kunit}: stable at this {Bn}"})
+            if bool(b_range.nonempty):
+                suggestions.append({"change": "B", "lo": b_range.lo, "hi": b_range.hi, "value": None,
+                                    "text": f"set {Bn} in ({_fmt(b_range.lo)}, {_fmt(b_range.hi)}){bunit}: "
+                                            f"stable at this {Kn}"})
+            suggestions += _plant_changes(plant, K, B)
+        data["gains"] = {
+            "K": plant.K, "B": plant.B, "alpha": plant.alpha, "beta": plant.beta,
+            "verdict": word, "stable": bool(v.stable), "marginal": bool(v.marginal),
+            "deciding": str(v.deciding_name) or None, "spectral_radius": dev.spectral_radius(K, B),
+            "K_max": k_max, "B_range": _interval(b_range), "suggestions": suggestions,
+        }
+        lines += ["", f"Gains {plant.gains_text()}: {word.upper()}"
+                  + (f" ({v.deciding_name})" if v.deciding_name else "")
+                  + f", spectral radius {_fmt(data['gains']['spectral_radius'])}"]
+        if bool(v.stable):
+            lines.append(f"  {Kn} is {100.0 * K / float(k_max):.4g} % of {Kn}_max = {_fmt(k_max)}{kunit} at this {Bn}")
+        elif suggestions:
+            lines.append("  to make them stable:")
+            lines += [f"   - {s['text']}" for s in suggestions]
+        else:
+            lines.append("  no change of one gain or of m, b or T (within 1e-3..1e3 x) makes them stable")
+    return _Outcome(status, data, lines)
+
+
+def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
+    """Draw one figure with zwidth.plot under the Agg backend and write it."""
+    kind = args.kind
+    out = Path(args.output or f"zwidth-{kind}.png")
+    try:
+        import matplotlib
+        matplotlib.use("Agg")  # no display needed, and none is used
+        from . import plot
+    except ImportError:
+        raise _PlotError("matplotlib is not installed: pip install zwidth[plot]") from None
+    if kind == "extremes":
+        fig = plot.extremes(args.delta_min, args.delta_max)
+    elif kind == "region":
+        assert plant is not None
+        point = None if not plant.has_gains else (float(plant.beta), float(plant.alpha))  # type: ignore[arg-type]
+        fig = plot.region(plant.delta, point=point)
+    elif kind == "influence":
+        assert plant is not None and plant.device is not None
+        fig = plot.influence(plant.device)
+    else:
+        assert plant is not None and plant.device is not None
+        fig = plot.device(plant.device, plant.K, plant.B)
+    try:
+        plot.save(fig, out, dpi=args.dpi)
+    except OSError as exc:
+        raise _PlotError(f"cannot write {out}: {exc.strerror or exc}") from None
+    finally:
+        import matplotlib.pyplot as plt
+        plt.close(fig)
+    data = {"kind": kind, "file": str(out), "format": out.suffix.lower().lstrip("."),
+            "bytes": out.stat().st_size}
+    return _Outcome(EXIT_OK, data, [f"wrote {out} ({kind}, {data['bytes']} bytes)"])
+
+
+# ---------------------------------------------------------------------------------------
+# Parser and main
+# ---------------------------------------------------------------------------------------
+
+
+def _add_plant_options(p: argparse.ArgumentParser) -> None:
+    real = p.add_argument_group("plant and gains in real units (default)")
+    mass = real.add_mutually_exclusive_group()
+    mass.add_argument("--m", type=_number, metavar="M", help="mass [kg]")
+    mass.add_argument("--J", type=_number, metavar="J",
+                      help="inertia [kg m^2] of a rotary device (units then N m s/rad, N m/rad)")
+    real.add_argument("--b", type=_number, metavar="b", help="physical damping [N s/m] (>= 0)")
+    real.add_argument("--T", type=_number, metavar="T", help="sampling period [s] (> 0)")
+    real.add_argument("--K", type=_number, metavar="K", help="virtual stiffness [N/m]")
+    real.add_argument("--B", type=_number, metavar="B", help="virtual damping [N s/m]")
+    norm = p.add_argument_group("normalized space instead (not with the options above)")
+    norm.add_argument("--delta", type=_number, metavar="DELTA", help="normalized damping bT/m (>= 0)")
+    norm.add_argument("--alpha", type=_number, metavar="ALPHA", help="normalized stiffness K T^2/m")
+    norm.add_argument("--beta", type=_number, metavar="BETA", help="normalized damping B T/m")
+    p.add_argument("--json", action="store_true", help="print one JSON object (keys below)")
+
+
+def _wrap(text: str) -> str:
+    return textwrap.fill(text, 88)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argparse parser of the ``zwidth`` command."""
+    fmt = argparse.RawDescriptionHelpFormatter
+    parser = argparse.ArgumentParser(prog="zwidth", description=DESCRIPTION, epilog=EPILOG,
+                                     formatter_class=fmt, allow_abbrev=False)
+    parser.add_argument("--version", action="version", version=f"zwidth {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="{check,limits,advise,plot}", required=True)
+
+    p = sub.add_parser("check", help="is the gain pair stable? why not? (exit 1 if not)",
+                       description=_wrap("Check one gain pair: verdict, deciding constraint, "
+                                         "spectral radius, K_max at this B and the B range at this K."),
+                       epilog=_CHECK_EPILOG, formatter_class=fmt, allow_abbrev=False)
+    _add_plant_options(p)
+    p.add_argument("--region", choices=REGIONS, default="exact",
+                   help="region to check in (default exact; legacy, delta0, delta_inf and small "
+                        "are the paper's comparisons and certify nothing)")
+    p.set_defaults(handler=cmd_check, needs_gains=True, parser=p)
+
+    p = sub.add_parser("limits", help="largest stable K and B, the B range, the legacy claim",
+                       description=_wrap("The impedance extremes of the plant (paper Sections III, "
+                                         "IV) and what the legacy region would claim."),
+                       epilog=_LIMITS_EPILOG, formatter_class=fmt, allow_abbrev=False)
+    _add_plant_options(p)
+    p.set_defaults(handler=cmd_limits, needs_gains=False, parser=p)
+
+    p = sub.add_parser("advise", help="how m, b, T move the limits; with gains, what to change",
+                       description=_wrap("Trends of K_mmax and B_mmax in m, b and T, the critical "
+                                         "masses, periods and dampings, and advice (paper Section "
+                                         "IV); with gains, what to change to make them stable."),
+                       epilog=_ADVISE_EPILOG, formatter_class=fmt, allow_abbrev=False)
+    _add_plant_options(p)
+    p.set_defaults(handler=cmd_advise, needs_gains=False, parser=p)
+
+    p = sub.add_parser("plot", help="draw a figure (PNG or SVG; needs matplotlib)",
+                       description="Draw a figure with zwidth.plot (matplotlib, Agg backend).",
+                       epilog=_PLOT_EPILOG, formatter_class=fmt, allow_abbrev=False)
+    p.add_argument("kind", choices=("region", "extremes", "influence", "device"))
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="output file, .png or .svg (default zwidth-KIND.png)")
+    p.add_argument("--dpi", type=_number, default=100.0, help="resolution of PNG files (default 100)")
+    p.add_argument("--delta-min", type=_number, default=1e-3, help="extremes: smallest delta (default 1e-3)")
+    p.add_argument("--delta-max", type=_number, default=20.0, help="extremes: largest delta (default 20)")
+    _add_plant_options(p)
+    p.set_defaults(handler=cmd_plot, needs_gains=False, parser=p)
+    return parser
+
+
+def _emit(outcome: _Outcome, command: str, plant: Optional[_Plant], as_json: bool, stream: TextIO) -> None:
+    if as_json:
+        head: Dict[str, Any] = {"command": command}
+        if plant is not None and command != "plot":
+            head.update(mode="real" if plant.real else "normalized", plant=plant.summary(),
+                        units=plant.units())
+        print(json.dumps(_jsonable({**head, **outcome.data}), allow_nan=False), file=stream)
+    else:
+        print("\n".join(outcome.lines), file=stream)
+
+
+_NUMBER_OPTIONS = frozenset({"--m", "--J", "--b", "--T", "--K", "--B", "--delta", "--alpha",
+                              "--beta", "--dpi", "--delta-min", "--delta-max"})
+
+
+def _join_negative_numbers(argv: Sequence[str]) -> List[str]:
+    """'--B -1.36e-3' -> '--B=-1.36e-3': argparse before Python 3.13 takes a negative
+    number in exponent notation for an option and reports a missing value."""
+    out: List[str] = []
+    i = 0
+    while i < len(argv):
+        token = argv[i]
+        if token in _NUMBER_OPTIONS and i + 1 < len(argv) and argv[i + 1].startswith("-"):
+            try:
+                float(argv[i + 1])
+            except ValueError:
+                pass
+            else:
+                out.append(f"{token}={argv[i + 1]}")
+                i += 2
+                continue
+        if token == "--":
+            out.extend(argv[i:])
+            break
+        out.append(token)
+        i += 1
+    return out
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """Run the ``zwidth`` command line; returns the exit status (see ``zwidth --help``)."""
+    parser = build_parser()
+    args = parser.parse_args(_join_negative_numbers(sys.argv[1:] if argv is None else argv))
+    sub: argparse.ArgumentParser = args.parser
+    plant: Optional[_Plant] = None
+    try:
+        if args.command == "plot":
+            if not 0.0 < args.dpi < math.inf:
+                raise _Usage(f"argument --dpi: must be > 0, got {args.dpi:g}")
+            suffix = Path(args.output).suffix.lower() if args.output else ".png"
+            if suffix not in (".png", ".svg"):
+                raise _Usage(f"argument -o/--output: {args.output!r} must end in .png or .svg")
+            if args.kind == "extremes":
+                if not 0.0 < args.delta_min < args.delta_max < math.inf:
+                    raise _Usage(f"need 0 < --delta-min < --delta-max < inf, got "
+                                 f"{args.delta_min:g} and {args.delta_max:g}")
+                if _plant(args, need_plant=False) is not None:
+                    raise _Usage("plot extremes draws every delta: give --delta-min/--delta-max, not a plant")
+            else:
+                plant = _plant(args)
+                if args.kind in ("influence", "device") and plant is not None and not plant.real:
+                    raise _Usage(f"plot {args.kind} needs a real-unit plant (--m or --J, --b, --T)")
+        else:
+            plant = _plant(args)
+            if args.needs_gains and plant is not None and not plant.has_gains:
+                raise _Usage(f"{args.command} needs the gains: --K and --B (or --alpha and --beta with --delta)")
+        assert plant is not None or args.command == "plot"
+        outcome = args.handler(args, plant)
+    except _Usage as exc:
+        sub.error(str(exc))  # exits 2
+    except ZwidthError as exc:
+        option = _option_of(exc)
+        where = f"invalid value of {option}: " if option else "invalid input: "
+        print(f"zwidth {args.command}: error: {where}{exc}", file=sys.stderr)
+        return EXIT_INVALID
+    except _PlotError as exc:
+        print(f"zwidth plot: error: cannot plot: {exc}", file=sys.stderr)
+        return EXIT_PLOT
+    _emit(outcome, args.command, plant, args.json, sys.stdout)
+    return int(outcome.status)

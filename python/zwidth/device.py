@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from ._kernels import Errors, call, region_code
+from ._kernels import Errors, _as_result, call, region_code
 from .results import DeviceExtremes, Influence, Interval, Normalized, Verdict
 
 _PLANT = ("m", "b", "T")
@@ -37,12 +37,13 @@ class Device:
 
     def __init__(self, m: ArrayLike, b: ArrayLike, T: ArrayLike, *, errors: Errors = "raise",
                  rotary: bool = False) -> None:
-        self.m: NDArray[np.float64] = np.asarray(m, dtype=np.float64)
-        self.b: NDArray[np.float64] = np.asarray(b, dtype=np.float64)
-        self.T: NDArray[np.float64] = np.asarray(T, dtype=np.float64)
+        self._m: NDArray[np.float64] = np.asarray(m, dtype=np.float64)
+        self._b: NDArray[np.float64] = np.asarray(b, dtype=np.float64)
+        self._T: NDArray[np.float64] = np.asarray(T, dtype=np.float64)
         self.errors: Errors = errors
         self.is_rotary = rotary  #: J, N m/rad, N m s/rad instead of m, N/m, N s/m
-        out, _ = call("Device", _core.device_normalize, _PLANT, self._plant(), errors, K=0.0, B=0.0)
+        self._names = ("J", "b", "T") if rotary else _PLANT  # how errors name the parameters
+        out, _ = call("Device", _core.device_normalize, self._names, self._plant(), errors, K=0.0, B=0.0)
         self.delta: Any = out["delta"]  #: normalized damping b T / m
 
     @classmethod
@@ -51,18 +52,35 @@ class Device:
         gains then are K [N m/rad] and B [N m s/rad]."""
         return cls(J, b, T, errors=errors, rotary=True)
 
+    @property
+    def m(self) -> Any:
+        """Mass [kg] or inertia J [kg m^2] (numpy scalar, or array when given one)."""
+        return _as_result(self._m)
+
+    @property
+    def b(self) -> Any:
+        """Physical damping [N s/m] or [N m s/rad]."""
+        return _as_result(self._b)
+
+    @property
+    def T(self) -> Any:
+        """Sampling period [s]."""
+        return _as_result(self._T)
+
     def __repr__(self) -> str:
         def show(a: NDArray[np.float64]) -> str:
             return f"{float(a):.6g}" if a.ndim == 0 else f"array(shape={a.shape})"
         mass = "J" if self.is_rotary else "m"
-        return f"Device({mass}={show(self.m)}, b={show(self.b)}, T={show(self.T)}, delta={show(np.asarray(self.delta))})"
+        return (f"Device({mass}={show(self._m)}, b={show(self._b)}, T={show(self._T)}, "
+                f"delta={show(np.asarray(self.delta))})")
 
     def _plant(self) -> Tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        return self.m, self.b, self.T
+        return self._m, self._b, self._T
 
     def _call(self, function: str, kernel: Any, names: Tuple[str, ...], gains: Tuple[ArrayLike, ...],
               **options: Any) -> Tuple[Any, Any]:
-        return call(f"Device.{function}", kernel, _PLANT + names, self._plant() + gains, self.errors, **options)
+        return call(f"Device.{function}", kernel, self._names + names, self._plant() + gains, self.errors,
+                    **options)
 
     def normalize(self, K: ArrayLike, B: ArrayLike) -> Normalized:
         """(delta, alpha, beta) = (b T/m, K T^2/m, B T/m) for gains K [N/m], B [N s/m]."""
@@ -111,10 +129,10 @@ class Device:
 
     def extremes(self) -> DeviceExtremes:
         """K_mmax, the B at it, K with B = 0, B_mmax and the lower extremes, real units."""
-        out, _ = call("Device.extremes", _core.device_extremes, _PLANT, self._plant(), self.errors)
+        out, _ = call("Device.extremes", _core.device_extremes, self._names, self._plant(), self.errors)
         return DeviceExtremes.from_outputs(out)
 
     def influence(self) -> Influence:
         """Critical masses, periods and dampings, trends, and advice (paper Section IV)."""
-        out, _ = call("Device.influence", _core.device_influence, _PLANT, self._plant(), self.errors)
-        return Influence.from_outputs(out, m=self.m[()] if self.m.ndim == 0 else self.m)
+        out, _ = call("Device.influence", _core.device_influence, self._names, self._plant(), self.errors)
+        return Influence.from_outputs(out, m=self.m, mass_symbol="J" if self.is_rotary else "m")

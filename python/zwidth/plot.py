@@ -136,8 +136,11 @@ def _outline(ax: "Axes", delta: float, name: str, extent: Tuple[float, float, fl
                zorder=4)
 
 
+Point = Tuple[float, float]
+
+
 def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
-           point: Optional[Tuple[float, float]] = None, ax: Optional["Axes"] = None,
+           point: Union[Point, Sequence[Point], None] = None, ax: Optional["Axes"] = None,
            resolution: Tuple[int, int] = (700, 500)) -> "Figure":
     """The exact stability region at delta in the (beta, alpha) plane (paper Figs. 3-5, 18).
 
@@ -148,7 +151,8 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
     (Gil et al., no line; shaded light green where it claims more than the exact region)
     and 'passivity'; any other region name of ``zwidth.REGIONS`` works too.  Marked:
     alpha_mmax, the corner where line meets hyperbola (delta > delta0), and ``point`` =
-    (beta, alpha), coloured by its exact verdict.  Returns the Figure (``ax``'s, if given).
+    (beta, alpha) (or a list of such pairs), coloured by its exact verdict.  Returns the
+    Figure (``ax``'s, if given).
     """
     delta = _scalar("delta", delta)
     ext = _extremes(delta)  # validates delta (ZwidthError)
@@ -173,9 +177,9 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
         y_hi = max(y_hi, float(top.alpha))
     if "passivity" in overlays:
         x_hi = max(x_hi, delta)
-    if point is not None:
-        x_hi = max(x_hi, float(point[0]))
-        y_hi = max(y_hi, float(point[1]))
+    points = [] if point is None else np.asarray(point, dtype=float).reshape(-1, 2).tolist()
+    for pb, pa in points:
+        x_hi, y_hi = max(x_hi, pb), max(y_hi, pa)
     pad = 0.06 * (x_hi - lo)
     extent = (lo - pad, x_hi + pad, 0.0, 1.1 * y_hi)
 
@@ -202,14 +206,13 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
     where = "corner" if bool(ext.at_corner) else "hyperbola top"
     handles += ax.plot([float(ext.beta_at_alpha_mmax)], [float(ext.alpha_mmax)], "*", color="gold",
                        markeredgecolor="black", markersize=15, zorder=7, linestyle="none",
-                       label=rf"$\alpha_{{mmax}}$ = {float(ext.alpha_mmax):.4g} at "
+                       label=rf"$\alpha_{{mmax}}$ = {float(ext.alpha_mmax):.5g} at "
                              rf"$\beta$ = {float(ext.beta_at_alpha_mmax):.4g} ({where})")
     if has_corner:
         handles += ax.plot([float(cor.beta)], [float(cor.alpha)], "o", markerfacecolor="none",
-                           markeredgecolor="black", markersize=10, markeredgewidth=1.5, zorder=8,
+                           markeredgecolor="black", markersize=20, markeredgewidth=1.5, zorder=8,
                            linestyle="none", label="corner: line meets hyperbola")
-    if point is not None:
-        pb, pa = float(point[0]), float(point[1])
+    for pb, pa in points:
         v = verdict(delta, pa, pb)
         word = _word(bool(v.stable), bool(v.marginal))
         why = f", {v.deciding_name}" if word != "stable" and v.deciding_name else ""
@@ -238,13 +241,31 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
 
 
 def _mark_criticals(ax: "Axes", lo: float, hi: float) -> None:
-    for (_, label, value, _), colour in zip(CRITICAL_DELTAS, _CRITICAL_COLOURS):
+    for (_, _, value, _), colour in zip(CRITICAL_DELTAS, _CRITICAL_COLOURS):
         if lo <= value <= hi:
             ax.axvline(value, color=colour, linestyle=":", linewidth=1.2, zorder=1)
 
 
 def _dot(ax: "Axes", x: float, y: float, colour: str) -> None:
     ax.plot([x], [y], "o", color=colour, markersize=5, zorder=6)
+
+
+def _zoom(ax: "Axes", bounds: Tuple[float, float, float, float], lo: float, hi: float,
+          values: Any, colour: str, dots: Sequence[str]) -> None:
+    """An inset on delta in [lo, hi] (linear), for the small dips around delta0; ``dots``
+    names the critical deltas (CRITICAL_DELTAS) to mark on the curve."""
+    deltas = np.unique(np.concatenate([np.linspace(lo, hi, 400),
+                                       [v for _, _, v, _ in CRITICAL_DELTAS if lo <= v <= hi]]))
+    inset = ax.inset_axes(bounds)
+    inset.plot(deltas, values(deltas), color=colour, linewidth=1.8)
+    for name in dots:
+        index = [entry[0] for entry in CRITICAL_DELTAS].index(name)
+        d = CRITICAL_DELTAS[index][2]
+        inset.axvline(d, color=_CRITICAL_COLOURS[index], linestyle=":", linewidth=1.2)
+        _dot(inset, d, float(values(np.asarray(d))), _CRITICAL_COLOURS[index])
+    inset.set_xlim(lo, hi)
+    inset.tick_params(labelsize="x-small")
+    inset.set_facecolor("#fafafa")
 
 
 def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
@@ -291,7 +312,7 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
     ratio_k = a_max / deltas
     ax_ad.plot(deltas, ratio_k, color="C0", linewidth=2, label=r"$\alpha_{mmax}/\delta = K_{mmax}/(b/T)$")
     for name, colour in (("DELTA_K1", _CRITICAL_COLOURS[0]), ("DELTA_K2", _CRITICAL_COLOURS[6])):
-        d = dict((n, v) for n, _, v, _ in CRITICAL_DELTAS)[name]
+        d = {n: v for n, _, v, _ in CRITICAL_DELTAS}[name]
         if delta_min <= d <= delta_max:
             _dot(ax_ad, d, float(at[name].alpha_mmax) / d, colour)
     tail = ratio_k[deltas >= min(0.3, delta_max / 2)]
@@ -308,7 +329,7 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
     ax_bat.set_ylabel(r"$\beta = BT/m$")
     ax_bat.set_title(r"(c) damping at $\alpha_{mmax}$ (Fig. 8b)")
 
-    ax_b.plot(deltas, b_max, color="C4", linewidth=2, label=r"$\beta_{mmax}$ (NVD)")
+    ax_b.plot(deltas, b_max, color="C4", linewidth=2, label=r"$\beta_{mmax}$ (NVD; inset: the dip)")
     ax_b.plot(deltas, b_max + deltas, color="C5", linestyle="--", linewidth=1.6,
               label=r"$\beta_{mmax} + \delta$ (apparent damping)")
     if delta_min <= DELTA_BB <= delta_max:
@@ -316,16 +337,23 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
     if delta_min <= DELTA0 <= delta_max:
         _dot(ax_b, DELTA0, float(at["DELTA0"].beta_mmax), _CRITICAL_COLOURS[2])
     ax_b.set_yscale("log")
+    if delta_min <= 1.5 and delta_max >= 4.5:
+        _zoom(ax_b, (0.08, 0.50, 0.36, 0.36), 1.5, 4.5,
+              lambda d: np.asarray(_extremes(d).beta_mmax, dtype=float), "C4", ["DELTA0", "DELTA_BB"])
     ax_b.set_ylabel(r"$\beta = BT/m$")
     ax_b.set_title(r"(d) largest stable $\beta$ ($\alpha \to 0^+$; Fig. 10)")
 
     ratio_b = b_max / deltas
-    ax_bd.plot(deltas, ratio_b, color="C4", linewidth=2, label=r"$\beta_{mmax}/\delta = B_{mmax}/b$")
+    ax_bd.plot(deltas, ratio_b, color="C4", linewidth=2, label=r"$\beta_{mmax}/\delta = B_{mmax}/b$ (inset: turning points)")
     ax_bd.axhline(1.0, color="0.5", linewidth=0.8)
     if delta_min <= DELTA_B <= delta_max:
         _dot(ax_bd, DELTA_B, float(at["DELTA_B"].beta_mmax) / DELTA_B, _CRITICAL_COLOURS[1])
     if delta_min <= DELTA0 <= delta_max:
         _dot(ax_bd, DELTA0, float(at["DELTA0"].beta_mmax) / DELTA0, _CRITICAL_COLOURS[2])
+    if delta_min <= 1.0 and delta_max >= 4.0:
+        _zoom(ax_bd, (0.08, 0.14, 0.36, 0.36), 1.0, 4.0,
+              lambda d: np.asarray(_extremes(d).beta_mmax, dtype=float) / d, "C4",
+              ["DELTA_B", "DELTA0"])
     tail = ratio_b[deltas >= min(0.3, delta_max / 2)]
     ax_bd.set_ylim(0.0, 1.6 * float(np.nanmax(tail)) if tail.size else None)
     ax_bd.set_ylabel(r"$\beta_{mmax}/\delta$")
@@ -337,12 +365,14 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
     ax_ratio.set_ylabel("ratio")
     ax_ratio.set_title(r"(f) stiffness-only share of $\alpha_{mmax}$ (Fig. 9b)")
 
-    for ax in axes:
+    # Legend corners chosen to clear the curves and the insets at the default range.
+    corners: Tuple[Any, ...] = ("upper left", "upper right", "lower left", "lower right", "upper right", "upper left")
+    for ax, where in zip(axes, corners):
         ax.set_xscale("log")
         ax.set_xlim(delta_min, delta_max)
         _mark_criticals(ax, delta_min, delta_max)
         ax.grid(True, which="major", color="0.9")
-        ax.legend(loc="best", fontsize="small")
+        ax.legend(loc=where, fontsize="small")
     for ax in axes[-2:]:
         ax.set_xlabel(r"$\delta = bT/m$")
     crit_handles = [_proxy(color=colour, linestyle=":", linewidth=1.5,
@@ -382,6 +412,8 @@ def _sweep(value: float, marks: Sequence[float]) -> NDArray[np.float64]:
     hi = max(known) * 3.0 if known else 1.0
     if value > 0.0:
         lo, hi = min(lo, value / 100.0), max(hi, value * 100.0)
+    else:
+        lo = lo / 30.0  # b = 0: the plant is off the log axis; show the approach to it
     grid = np.geomspace(lo, hi, 600)
     return np.unique(np.concatenate([grid, [v for v in known if lo <= v <= hi]]))
 
@@ -433,8 +465,9 @@ def influence(device: Device, *, fig: Optional["Figure"] = None) -> "Figure":
             for mark in which[key].split():
                 at = marks[mark]
                 if math.isfinite(at) and at > 0.0:
+                    shown = "J" + mark[1:] if rot and mark.startswith("m_") else mark
                     ax.axvline(at, color=styles[mark], linestyle="--", linewidth=1.2,
-                               label=f"{mark} = {at:.4g}")
+                               label=f"{shown} = {at:.4g}")
             if key == "K" and col == 0:  # the local max and min themselves
                 for mark, level in (("m_K2", f["K_mmax_at_m_K2"]), ("m_K1", f["K_mmax_at_m_K1"])):
                     if marks[mark] > 0.0:
@@ -442,6 +475,8 @@ def influence(device: Device, *, fig: Optional["Figure"] = None) -> "Figure":
             if value > 0.0:
                 ax.plot([value], [plant_value], "o", color="#c62828", markeredgecolor="black",
                         markersize=8, zorder=6, label=f"plant: {name} = {value:.4g}")
+            else:
+                ax.plot([], [], " ", label=f"plant: {name} = 0 (off the log axis)")
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.set_xlabel(f"{name} [{unit}]")
@@ -520,7 +555,8 @@ def device(device: Device, K: Optional[float] = None, B: Optional[float] = None,
                        markersize=7, zorder=7, linestyle="none",
                        label=f"K_p_max = {float(lim.K_p_max):.4g} (B = 0)")
     handles += ax.plot([lo, hi], [0.0, 0.0], "|", color="black", markersize=14, markeredgewidth=2,
-                       zorder=7, linestyle="none", label=f"B range ({lo:.4g}, {hi:.4g}) as K -> 0+")
+                       zorder=7, linestyle="none",
+                       label=f"B range ({lo + 0.0:.4g}, {hi:.4g}) as K -> 0+")
     if have_gains:
         kf, bf = float(K), float(B)  # type: ignore[arg-type]
         v = device.verdict(kf, bf)

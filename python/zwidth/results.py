@@ -21,8 +21,9 @@ _TREND_WORDS = {-1: "falls", 0: "is flat", 1: "rises"}
 
 def _format(value: Any) -> str:
     if isinstance(value, np.ndarray):
-        with np.printoptions(precision=6, threshold=8, edgeitems=2):
-            return np.array2string(value, separator=", ")
+        # 6 significant digits, as for scalars; long arrays are summarized
+        return np.array2string(value, separator=", ", threshold=8, edgeitems=2,
+                               formatter={"float_kind": lambda v: f"{v:.6g}"})
     if isinstance(value, (bool, np.bool_)):
         return str(bool(value))
     if isinstance(value, (int, np.integer)):
@@ -39,12 +40,17 @@ R = TypeVar("R", bound="Result")
 class Result:
     """Base of every result: tuple-like unpacking, ``as_dict()``, readable repr."""
 
+    @classmethod
+    def _result_fields(cls) -> Iterator["dataclasses.Field[Any]"]:
+        # fields marked result=False are presentation settings, not results
+        return (f for f in dataclasses.fields(cls) if f.metadata.get("result", True))
+
     def __iter__(self) -> Iterator[Any]:
-        return (getattr(self, f.name) for f in dataclasses.fields(self))
+        return (getattr(self, f.name) for f in self._result_fields())
 
     def as_dict(self) -> Dict[str, Any]:
         """The fields by name (values as stored: numpy scalars or arrays)."""
-        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        return {f.name: getattr(self, f.name) for f in self._result_fields()}
 
     def __repr__(self) -> str:
         parts = []
@@ -213,7 +219,10 @@ class Influence(Result):
     B_vs_m: Any
     B_vs_b: Any
     B_vs_T: Any
+    #: the plant's mass (or inertia), which the advice compares with m_K2
     m: Any = dataclasses.field(default=None, repr=False)
+    #: "m", or "J" for a rotary device: the name the sentences use for the mass
+    mass_symbol: str = dataclasses.field(default="m", repr=False, metadata={"result": False})
 
     @property
     def trends(self) -> str:
@@ -222,22 +231,24 @@ class Influence(Result):
             raise ValueError("trends is a sentence about one plant; index the arrays instead")
         words = [_TREND_WORDS[int(t)] for t in (self.K_vs_m, self.K_vs_b, self.K_vs_T,
                                                 self.B_vs_m, self.B_vs_b, self.B_vs_T)]
-        return (f"K_mmax {words[0]} with m, {words[1]} with b, {words[2]} with T; "
-                f"B_mmax {words[3]} with m, {words[4]} with b, {words[5]} with T")
+        M = self.mass_symbol
+        return (f"K_mmax {words[0]} with {M}, {words[1]} with b, {words[2]} with T; "
+                f"B_mmax {words[3]} with {M}, {words[4]} with b, {words[5]} with T")
 
     @property
     def advice(self) -> str:
         """Knob-switch advice on the mass (paper Section IV-A, V-B-3), for one plant."""
         if np.ndim(self.K_vs_m) != 0 or self.m is None:
             raise ValueError("advice is about one plant; build a Device with scalar m, b, T")
+        M = self.mass_symbol
         if not float(self.delta) > 0.0:
-            return "b = 0: delta = 0 for every m and T, so m and T scale the limits without turning points."
+            return f"b = 0: delta = 0 for every {M} and T, so {M} and T scale the limits without turning points."
         if int(self.K_vs_m) < 0:
-            return (f"m sits on the falling stretch (m_K2, m_K1) of K_mmax. Reduce m to "
-                    f"m_K2 = {float(self.m_K2):.4g} for K_mmax = {float(self.K_mmax_at_m_K2):.4g} "
-                    f"(from {float(self.K_mmax):.4g}); raising m only helps past "
+            return (f"{M} sits on the falling stretch ({M}_K2, {M}_K1) of K_mmax. Reduce {M} to "
+                    f"{M}_K2 = {float(self.m_K2):.4g} for K_mmax = {float(self.K_mmax_at_m_K2):.4g} "
+                    f"(from {float(self.K_mmax):.4g}); raising {M} only helps past "
                     f"{float(self.m_K_match):.4g}.")
         if float(self.m) < float(self.m_K2):
-            return (f"raising m toward m_K2 = {float(self.m_K2):.4g} raises K_mmax up to "
+            return (f"raising {M} toward {M}_K2 = {float(self.m_K2):.4g} raises K_mmax up to "
                     f"{float(self.K_mmax_at_m_K2):.4g}.")
-        return "raising m raises K_mmax; so does shortening T."
+        return f"raising {M} raises K_mmax; so does shortening T."
