@@ -996,7 +996,7 @@ def test_paper_drive_influence_advice_and_trends():
     # the paper: K_mmax falls with J here, rises with b, falls with T
     assert inf.trends.startswith("K_mmax falls with J, rises with b, falls with T")
     # a plant below m_K2 is told to raise m; b = 0 has no turning points
-    assert zwidth.Device.rotary(5e-6, B_PAPER, T_PAPER).influence().advice.startswith("raising m toward m_K2")
+    assert zwidth.Device.rotary(5e-6, B_PAPER, T_PAPER).influence().advice.startswith("raising J toward J_K2")
     assert zwidth.Device(1.0, 0.0, 0.01).influence().advice.startswith("b = 0")
     arrays = zwidth.Device(np.array([1.0, 2.0]), 1.0, 0.01).influence()
     with pytest.raises(ValueError):
