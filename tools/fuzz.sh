@@ -31,11 +31,17 @@ trap 'rm -rf "$WORK"' EXIT
 mkdir -p "$WORK/seeds" "$WORK/corpus"
 
 # Seeds: records [len][PDU] (see tests/fuzz/fuzz_regmap.c), and a dictionary.
-PYTHONPATH="$PWD/python" python3 - "$WORK" <<'PY'
-import struct, sys
+python3 - "$WORK" "$PWD/python/zwidth/modbus.py" <<'PY'
+import importlib.util, struct, sys
 from pathlib import Path
 
-from zwidth.modbus import crc16_words as crc16  # the Python client's CRC: one implementation
+# The Python client's CRC (one implementation), loaded from its file alone: importing the
+# zwidth package would need the compiled extension, which this script does not build.
+spec = importlib.util.spec_from_file_location("zw_modbus", sys.argv[2])
+zw_modbus = importlib.util.module_from_spec(spec)
+sys.modules["zw_modbus"] = zw_modbus  # dataclasses look their module up here
+spec.loader.exec_module(zw_modbus)
+crc16 = zw_modbus.crc16_words
 
 work = Path(sys.argv[1])
 

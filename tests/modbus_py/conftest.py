@@ -1,8 +1,8 @@
 """Fixtures for the zwidth.modbus tests.
 
-Run from the repository root:
+Run from the repository root, with the package installed (tools/test.sh runs pip install .):
 
-    PYTHONPATH=python python -m pytest tests/modbus_py -q
+    .venv/bin/python -m pytest tests/modbus_py -q
 
 The live tests start ``zwidth-drive`` from $ZW_BUILD_DIR (default <repo>/build) on a free
 127.0.0.1 port (never another address), wait for it with a deadline, and kill it in a

@@ -197,8 +197,11 @@ def test_connection_error_names_host_and_port():
             d.status()
 
 
-def test_package_is_tiny():
-    import zwidth
+def test_import_zwidth_does_not_load_the_modbus_client():
+    """pymodbus is an optional extra: the analysis package must import without it."""
+    import subprocess
+    import sys
 
-    assert zwidth.__version__ == "0.1.0"
-    assert zwidth.__all__ == ["__version__"]
+    code = "import sys, zwidth; print('pymodbus' in sys.modules, 'zwidth.modbus' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "False"]
