@@ -27,6 +27,7 @@ from . import (DELTA0, DELTA1, DELTA2, DELTA_B, DELTA_BB, DELTA_K1, DELTA_K2, al
 from . import check as _check
 from . import extremes as _extremes
 from .device import Device
+from .results import Verdict
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -101,6 +102,14 @@ def _scalar(name: str, value: Any) -> float:
 
 def _word(stable: bool, marginal: bool) -> str:
     return "stable" if stable else ("marginal" if marginal else "unstable")
+
+
+def _mark_verdict(ax: "Axes", x: float, y: float, v: Verdict, what: str) -> List[Any]:
+    """A diamond at (x, y) coloured by the verdict, labelled "what: verdict, deciding"."""
+    word = _word(bool(v.stable), bool(v.marginal))
+    why = f", {v.deciding_name}" if word != "stable" and v.deciding_name else ""
+    return list(ax.plot([x], [y], "D", color=_VERDICT_COLOURS[word], markeredgecolor="black",
+                        markersize=9, zorder=9, linestyle="none", label=f"{what}: {word}{why}"))
 
 
 # ---------------------------------------------------------------------------------------
@@ -213,12 +222,8 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
                            markeredgecolor="black", markersize=20, markeredgewidth=1.5, zorder=8,
                            linestyle="none", label="corner: line meets hyperbola")
     for pb, pa in points:
-        v = verdict(delta, pa, pb)
-        word = _word(bool(v.stable), bool(v.marginal))
-        why = f", {v.deciding_name}" if word != "stable" and v.deciding_name else ""
-        handles += ax.plot([pb], [pa], "D", color=_VERDICT_COLOURS[word], markeredgecolor="black",
-                           markersize=9, zorder=9, linestyle="none",
-                           label=rf"($\beta$, $\alpha$) = ({pb:.4g}, {pa:.4g}): {word}{why}")
+        handles += _mark_verdict(ax, pb, pa, verdict(delta, pa, pb),
+                                 rf"($\beta$, $\alpha$) = ({pb:.4g}, {pa:.4g})")
 
     ax.axvline(0.0, color="0.6", linewidth=0.8, zorder=0)
     ax.set_xlim(extent[0], extent[1])
@@ -559,12 +564,7 @@ def device(device: Device, K: Optional[float] = None, B: Optional[float] = None,
                        label=f"B range ({lo + 0.0:.4g}, {hi:.4g}) as K -> 0+")
     if have_gains:
         kf, bf = float(K), float(B)  # type: ignore[arg-type]
-        v = device.verdict(kf, bf)
-        word = _word(bool(v.stable), bool(v.marginal))
-        why = f", {v.deciding_name}" if word != "stable" and v.deciding_name else ""
-        handles += ax.plot([bf], [kf], "D", color=_VERDICT_COLOURS[word], markeredgecolor="black",
-                           markersize=9, zorder=9, linestyle="none",
-                           label=f"K = {kf:.4g}, B = {bf:.4g}: {word}{why}")
+        handles += _mark_verdict(ax, bf, kf, device.verdict(kf, bf), f"K = {kf:.4g}, B = {bf:.4g}")
     ax.axvline(0.0, color="0.6", linewidth=0.8, zorder=0)
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
