@@ -315,7 +315,30 @@ class Bench:
                          points: Tuple[np.ndarray, ...],
                          marginal: np.ndarray) -> Dict[str, Any]:
         """Disagreements of verdict with zwidth's ref, arbitrated at 60 digits."""
-        diff = verdict != ref
+        delta, alpha, beta = points
+
+        def judge(i: int) -> str:
+            exact = bool(self.arbiter.radius(float(delta[i]), float(alpha[i]), float(beta[i])) < 1)
+            if bool(ref[i]) == exact:
+                return "right"
+            return "guarded" if exact and bool(marginal[i]) else "wrong"  # guarded: stable, in zwidth's band
+        return self._arbitrate(verdict != ref, away, judge)
+
+    def compare_values(self, value: np.ndarray, ref: np.ndarray, away: np.ndarray,
+                       points: Tuple[np.ndarray, np.ndarray]) -> Dict[str, Any]:
+        """k_max: relative differences > band, arbitrated at 60 digits."""
+        band = self.args.band
+        delta, beta = points
+
+        def judge(i: int) -> str:
+            exact = self.arbiter.alpha_max(float(delta[i]), float(beta[i]))
+            zw_err, peer_err = abs(ref[i] - exact), abs(value[i] - exact)
+            return "right" if zw_err <= band * abs(exact) or zw_err <= peer_err else "wrong"
+        return self._arbitrate(np.abs(value - ref) > band * np.abs(ref), away, judge)
+
+    def _arbitrate(self, diff: np.ndarray, away: np.ndarray, judge: Callable[[int], str]) -> Dict[str, Any]:
+        """Count the disagreements (diff) and let judge(i) ('right', 'guarded' or 'wrong'
+        for zwidth) settle up to arbiter.limit of them, away-from-boundary ones first."""
         out: Dict[str, Any] = {"disagree_away": int(np.count_nonzero(diff & away)),
                                "n_away": int(np.count_nonzero(away)),
                                "disagree_all": int(np.count_nonzero(diff))}
@@ -326,41 +349,10 @@ class Bench:
         idx = np.concatenate([idx[away[idx]], idx[~away[idx]]])[: self.arbiter.limit]
         tally = {"checked": int(idx.size), "zwidth_right": 0, "zwidth_guarded": 0, "zwidth_wrong": 0,
                  "zwidth_wrong_away": 0}
-        delta, alpha, beta = points
         for i in idx:
-            exact = bool(self.arbiter.radius(float(delta[i]), float(alpha[i]), float(beta[i])) < 1)
-            if bool(ref[i]) == exact:
-                tally["zwidth_right"] += 1
-            elif exact and bool(marginal[i]):
-                tally["zwidth_guarded"] += 1       # stable, but within zwidth's rounding band
-            else:
-                tally["zwidth_wrong"] += 1
-                tally["zwidth_wrong_away"] += int(away[i])
-        out["arbiter"] = tally
-        return out
-
-    def compare_values(self, value: np.ndarray, ref: np.ndarray, away: np.ndarray,
-                       points: Tuple[np.ndarray, np.ndarray]) -> Dict[str, Any]:
-        """k_max: relative differences > band, arbitrated at 60 digits."""
-        band = self.args.band
-        diff = np.abs(value - ref) > band * np.abs(ref)
-        out: Dict[str, Any] = {"disagree_away": int(np.count_nonzero(diff & away)),
-                               "n_away": int(np.count_nonzero(away)),
-                               "disagree_all": int(np.count_nonzero(diff))}
-        idx = np.flatnonzero(diff)
-        if self.arbiter.mp is None or idx.size == 0:
-            return out
-        idx = np.concatenate([idx[away[idx]], idx[~away[idx]]])[: self.arbiter.limit]
-        tally = {"checked": int(idx.size), "zwidth_right": 0, "zwidth_guarded": 0, "zwidth_wrong": 0,
-                 "zwidth_wrong_away": 0}
-        delta, beta = points
-        for i in idx:
-            exact = self.arbiter.alpha_max(float(delta[i]), float(beta[i]))
-            zw_err, peer_err = abs(ref[i] - exact), abs(value[i] - exact)
-            if zw_err <= band * abs(exact) or zw_err <= peer_err:
-                tally["zwidth_right"] += 1
-            else:
-                tally["zwidth_wrong"] += 1
+            outcome = judge(int(i))
+            tally["zwidth_" + outcome] += 1
+            if outcome == "wrong":
                 tally["zwidth_wrong_away"] += int(away[i])
         out["arbiter"] = tally
         return out
