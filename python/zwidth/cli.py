@@ -12,7 +12,7 @@ import math
 import sys
 import textwrap
 from pathlib import Path
-from typing import Any, Dict, List, Optional, Sequence, TextIO
+from typing import Any, Dict, List, Optional, Sequence, TextIO, Tuple
 
 import numpy as np
 
@@ -179,7 +179,6 @@ class _Plant:
 
     delta: float
     device: Optional[Device]
-    rotary: bool
     K: Optional[float] = None      # gains as given (real mode)
     B: Optional[float] = None
     alpha: Optional[float] = None  # gains as given (normalized mode) or normalized image
@@ -190,24 +189,24 @@ class _Plant:
         return self.device is not None
 
     @property
+    def rotary(self) -> bool:
+        return self.device is not None and self.device.is_rotary
+
+    @property
     def has_gains(self) -> bool:
         return self.alpha is not None
 
     def units(self) -> Optional[Dict[str, str]]:
-        if not self.real:
-            return None
-        if self.rotary:
-            return {"m": "kg m^2", "b": "N m s/rad", "T": "s", "K": "N m/rad", "B": "N m s/rad"}
-        return {"m": "kg", "b": "N s/m", "T": "s", "K": "N/m", "B": "N s/m"}
+        return None if self.device is None else self.device.units
 
     @property
     def mass(self) -> str:
-        return "J" if self.rotary else "m"
+        return "m" if self.device is None else self.device.mass_symbol
 
     def summary(self) -> Dict[str, Any]:
         dev = self.device
-        return {"m": None if dev is None else dev.m[()], "b": None if dev is None else dev.b[()],
-                "T": None if dev is None else dev.T[()], "rotary": self.rotary, "delta": self.delta}
+        return {"m": None if dev is None else dev.m, "b": None if dev is None else dev.b,
+                "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta}
 
     def header(self) -> str:
         if self.device is None:
@@ -241,8 +240,7 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
         if (args.alpha is None) != (args.beta is None):
             raise _Usage("give both --alpha and --beta (or neither)")
         extremes(args.delta)  # validates delta (ZwidthError naming it)
-        return _Plant(delta=float(args.delta), device=None, rotary=False,
-                      alpha=args.alpha, beta=args.beta)
+        return _Plant(delta=float(args.delta), device=None, alpha=args.alpha, beta=args.beta)
     missing = [name for name, ok in (("--m (or --J)", args.m is not None or args.J is not None),
                                      ("--b", args.b is not None), ("--T", args.T is not None))
                if not ok]
@@ -250,9 +248,8 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
         raise _Usage(f"the plant needs {', '.join(missing)}")
     if (args.K is None) != (args.B is None):
         raise _Usage("give both --K and --B (or neither)")
-    rotary = args.J is not None
-    dev = Device.rotary(args.J, args.b, args.T) if rotary else Device(args.m, args.b, args.T)
-    plant = _Plant(delta=float(dev.delta), device=dev, rotary=rotary, K=args.K, B=args.B)
+    dev = Device.rotary(args.J, args.b, args.T) if args.J is not None else Device(args.m, args.b, args.T)
+    plant = _Plant(delta=float(dev.delta), device=dev, K=args.K, B=args.B)
     if args.K is not None:
         n = dev.normalize(args.K, args.B)
         plant.alpha, plant.beta = float(n.alpha), float(n.beta)
@@ -416,9 +413,9 @@ def _plant_changes(plant: _Plant, K: float, B: float) -> List[Dict[str, Any]]:
     for name, value in ((plant.mass, m), ("b", b), ("T", T)):
         base = value if value > 0.0 else m / T  # b = 0: search b in units of m/T
         grid = base * factors
-        trial = {plant.mass: Device(grid, b, T, rotary=plant.rotary),
-                 "b": Device(m, grid, T, rotary=plant.rotary),
-                 "T": Device(m, b, grid, rotary=plant.rotary)}[name]
+        plant_with: Tuple[Any, Any, Any] = {plant.mass: (grid, b, T), "b": (m, grid, T),
+                                            "T": (m, b, grid)}[name]
+        trial = Device(*plant_with, rotary=plant.rotary)
         ok = np.asarray(trial.is_stable(K, B))
         if not ok.any():
             continue

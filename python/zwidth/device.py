@@ -9,7 +9,7 @@ verdict is as safe as a normalized one.
 """
 from __future__ import annotations
 
-from typing import Any, Tuple
+from typing import Any, Dict, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -67,11 +67,22 @@ class Device:
         """Sampling period [s]."""
         return _as_result(self._T)
 
+    @property
+    def mass_symbol(self) -> str:
+        """"J" for a rotary plant, else "m"."""
+        return "J" if self.is_rotary else "m"
+
+    @property
+    def units(self) -> Dict[str, str]:
+        """Units of m (or J), b, T, K and B for this kind of plant."""
+        if self.is_rotary:
+            return {"m": "kg m^2", "b": "N m s/rad", "T": "s", "K": "N m/rad", "B": "N m s/rad"}
+        return {"m": "kg", "b": "N s/m", "T": "s", "K": "N/m", "B": "N s/m"}
+
     def __repr__(self) -> str:
         def show(a: NDArray[np.float64]) -> str:
             return f"{float(a):.6g}" if a.ndim == 0 else f"array(shape={a.shape})"
-        mass = "J" if self.is_rotary else "m"
-        return (f"Device({mass}={show(self._m)}, b={show(self._b)}, T={show(self._T)}, "
+        return (f"Device({self.mass_symbol}={show(self._m)}, b={show(self._b)}, T={show(self._T)}, "
                 f"delta={show(np.asarray(self.delta))})")
 
     def _plant(self) -> Tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
@@ -98,7 +109,7 @@ class Device:
         """:meth:`is_stable` with the reasons (marginal, deciding, violated, status)."""
         out, status = self._call("verdict", _core.device_check, ("K", "B"), (K, B),
                                  region=region_code("Device.verdict", region), full=True)
-        return Verdict.from_outputs(out, status=status[()] if status.ndim == 0 else status)
+        return Verdict.from_outputs(out, status=_as_result(status))
 
     def spectral_radius(self, K: ArrayLike, B: ArrayLike) -> Any:
         """Largest closed-loop pole modulus at K, B (stable iff < 1)."""
@@ -129,10 +140,10 @@ class Device:
 
     def extremes(self) -> DeviceExtremes:
         """K_mmax, the B at it, K with B = 0, B_mmax and the lower extremes, real units."""
-        out, _ = call("Device.extremes", _core.device_extremes, self._names, self._plant(), self.errors)
+        out, _ = self._call("extremes", _core.device_extremes, (), ())
         return DeviceExtremes.from_outputs(out)
 
     def influence(self) -> Influence:
         """Critical masses, periods and dampings, trends, and advice (paper Section IV)."""
-        out, _ = call("Device.influence", _core.device_influence, self._names, self._plant(), self.errors)
-        return Influence.from_outputs(out, m=self.m, mass_symbol="J" if self.is_rotary else "m")
+        out, _ = self._call("influence", _core.device_influence, (), ())
+        return Influence.from_outputs(out, m=self.m, mass_symbol=self.mass_symbol)

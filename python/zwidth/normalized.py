@@ -12,7 +12,7 @@ from typing import Any
 from numpy.typing import ArrayLike
 
 from . import _core
-from ._kernels import Errors, call, region_code
+from ._kernels import Errors, _as_result, call, region_code
 from .results import BoundaryPoint, Coefficients, Extremes, Interval, Verdict
 
 _DAB = ("delta", "alpha", "beta")
@@ -40,7 +40,7 @@ def verdict(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, region: str 
     """Like :func:`check`, with the reasons: stable, marginal, deciding, violated, status."""
     out, status = call("verdict", _core.check, _DAB, (delta, alpha, beta), errors,
                        region=region_code("verdict", region), full=True)
-    return Verdict.from_outputs(out, status=status[()] if status.ndim == 0 else status)
+    return Verdict.from_outputs(out, status=_as_result(status))
 
 
 def spectral_radius(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *,

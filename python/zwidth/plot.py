@@ -73,6 +73,17 @@ def _subplots(nrows: int = 1, ncols: int = 1, **kwargs: Any) -> Tuple["Figure", 
     return fig, axes
 
 
+def _axes_grid(fig: Optional["Figure"], nrows: int, ncols: int,
+               figsize: Tuple[float, float]) -> Tuple["Figure", List["Axes"]]:
+    """A new figure of nrows x ncols axes, or the given one cleared and refilled."""
+    if fig is None:
+        fig, _ = _subplots(nrows, ncols, figsize=figsize, layout="constrained")
+    else:
+        fig.clear()
+        fig.subplots(nrows, ncols)
+    return fig, list(fig.axes)
+
+
 def _root(fig: Union["Figure", "SubFigure", None]) -> "Figure":
     """The top-level Figure of an Axes' (sub)figure."""
     from matplotlib.figure import Figure
@@ -298,12 +309,7 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
     b_max = np.asarray(ex.beta_mmax, dtype=float)
     a_p = np.asarray(ex.alpha_p_max, dtype=float)
 
-    if fig is None:
-        fig, _ = _subplots(3, 2, figsize=(11.0, 11.0), layout="constrained")
-        axes = list(fig.axes)
-    else:
-        fig.clear()
-        axes = list(fig.subplots(3, 2).flat)
+    fig, axes = _axes_grid(fig, 3, 2, (11.0, 11.0))
     ax_a, ax_ad, ax_bat, ax_b, ax_bd, ax_ratio = axes
     at = {name: _extremes(value) for name, _, value, _ in CRITICAL_DELTAS}
 
@@ -397,10 +403,10 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
 
 
 def _units(dev: Device) -> Dict[str, str]:
-    if dev.is_rotary:
-        return {"m": "J", "m_unit": "kg m²", "b_unit": "N m s/rad", "K_unit": "N m/rad",
-                "B_unit": "N m s/rad"}
-    return {"m": "m", "m_unit": "kg", "b_unit": "N s/m", "K_unit": "N/m", "B_unit": "N s/m"}
+    """The Device's mass symbol and units, typeset for figures (kg m² for kg m^2)."""
+    u = {k: v.replace("^2", "²") for k, v in dev.units.items()}
+    return {"m": dev.mass_symbol, "m_unit": u["m"], "b_unit": u["b"], "K_unit": u["K"],
+            "B_unit": u["B"]}
 
 
 def _scalar_device(dev: Device, function: str) -> Tuple[float, float, float]:
@@ -439,12 +445,7 @@ def influence(device: Device, *, fig: Optional["Figure"] = None) -> "Figure":
     inf = device.influence()
     f = {k: float(v) for k, v in inf.as_dict().items() if k != "m"}
 
-    if fig is None:
-        fig, _ = _subplots(2, 3, figsize=(13.0, 7.6), layout="constrained")
-        axes = list(fig.axes)
-    else:
-        fig.clear()
-        axes = list(fig.subplots(2, 3).flat)
+    fig, axes = _axes_grid(fig, 2, 3, (13.0, 7.6))
 
     m_marks = {"m_K2": f["m_K2"], "m_K1": f["m_K1"], "m_K_match": f["m_K_match"],
                "m_0": f["m_0"], "m_B": f["m_B"]}
@@ -517,11 +518,7 @@ def device(device: Device, K: Optional[float] = None, B: Optional[float] = None,
     bs = bs[(bs >= lo) & (bs <= hi)]
     ks = np.asarray(device.k_max(bs), dtype=float)
 
-    if fig is None:
-        fig, ax = _subplots(figsize=(7.5, 5.8), layout="constrained")
-    else:
-        fig.clear()
-        ax = fig.add_subplot()
+    fig, (ax,) = _axes_grid(fig, 1, 1, (7.5, 5.8))
     x_hi, y_hi = hi, float(lim.K_mmax)
     legacy = "legacy" in overlays and float(device.delta) > DELTA0
     if legacy:
