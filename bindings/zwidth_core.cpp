@@ -200,48 +200,36 @@ bool one_plant(const Segment &seg, std::size_t plant) {
     return true;
 }
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-// Coefficients for the last delta seen: a sweep over gains at one plant pays for the
-// exponentials once.
-class CoeffsCache {
+// The plant (coefficients, or a device) made from an element's first Keys inputs, kept for
+// the next element: a sweep over gains at one plant pays for the exponentials once.
+template <class Plant, std::size_t Keys, zw_status (*init)(Plant *, const double *)>
+class PlantCache {
   public:
-    zw_status get(double delta, const zw_coeffs **out) {
-        if (!valid_ || !same_bits(delta, delta_)) {
-            status_ = zw_coeffs_init(&coeffs_, delta);
-            delta_ = delta;
+    using plant_type = Plant;
+
+    template <std::size_t N>
+    zw_status get(const std::array<double, N> &x, const Plant **out) {
+        static_assert(N >= Keys, "an element holds the plant's parameters first");
+        if (!valid_ || std::memcmp(key_.data(), x.data(), sizeof key_) != 0) {  // bitwise: NaN too
+            std::memcpy(key_.data(), x.data(), sizeof key_);
+            status_ = init(&plant_, key_.data());
             valid_ = true;
         }
-        *out = &coeffs_;
+        *out = &plant_;
         return status_;
     }
 
   private:
     bool valid_ = false;
-    double delta_ = 0.0;
+    std::array<double, Keys> key_{};
     zw_status status_ = ZW_OK;
-    zw_coeffs coeffs_{};
+    Plant plant_{};
 };
 
-// The device for the last (m, b, T) seen.
-class DeviceCache {
-  public:
-    zw_status get(double m, double b, double T, const zw_device **out) {
-        if (!valid_ || !same_bits(m, m_) || !same_bits(b, b_) || !same_bits(T, T_)) {
-            status_ = zw_device_init(&device_, m, b, T);
-            m_ = m, b_ = b, T_ = T;
-            valid_ = true;
-        }
-        *out = &device_;
-        return status_;
-    }
-
-  private:
-    bool valid_ = false;
-    double m_ = 0.0, b_ = 0.0, T_ = 0.0;
-    zw_status status_ = ZW_OK;
-    zw_device device_{};
-};
+zw_status init_coeffs(zw_coeffs *c, const double *key) { return zw_coeffs_init(c, key[0]); }
+zw_status init_device(zw_device *d, const double *key) { return zw_device_init(d, key[0], key[1], key[2]); }
+using CoeffsCache = PlantCache<zw_coeffs, 1, init_coeffs>;  // key: delta
+using DeviceCache = PlantCache<zw_device, 3, init_device>;  // key: m, b, T
 
 // Result of a kernel: {"outputs": {name: array}, "status": int8 array, "errors": int}.
 class Result {
@@ -307,6 +295,23 @@ zw_region region_from(int region) {
     return static_cast<zw_region>(region);
 }
 
+// A kernel with one output of type T per element: call(plant, x, &out[i]) on the plant the
+// Cache makes from the element's first inputs.
+template <class T, class Cache, std::size_t N, class Call>
+py::dict one_output(const std::array<f64array, N> &inputs, const char *name, Call call) {
+    Broadcast<N> bc(inputs);
+    Result r(bc);
+    T *out = r.add<T>(bc, name);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = Cache()](ssize i, const std::array<double, N> &x) mutable {
+            const typename Cache::plant_type *p;
+            const zw_status s = cache.get(x, &p);
+            return s != ZW_OK ? s : call(p, x, &out[i]);
+        };
+    });
+    return r.finish(errors);
+}
+
 // ---- normalized space: (delta, alpha, beta) -----------------------------------------
 
 py::dict check(f64array delta, f64array alpha, f64array beta, int region, bool full) {
@@ -317,7 +322,7 @@ py::dict check(f64array delta, f64array alpha, f64array beta, int region, bool f
     auto make_elem = [&] {
         return [&, cache = CoeffsCache()](ssize i, const std::array<double, 3> &x) mutable {
             const zw_coeffs *c;
-            zw_status s = cache.get(x[0], &c);
+            zw_status s = cache.get(x, &c);
             zw_verdict v;
             if (s == ZW_OK) s = zw_check_region(reg, c, x[1], x[2], &v);
             if (s == ZW_OK) out.store(i, v);
@@ -330,7 +335,7 @@ py::dict check(f64array delta, f64array alpha, f64array beta, int region, bool f
     const ssize errors = bc.for_segments([&] {
         return [&, cache = CoeffsCache(), elem = make_elem()](const Broadcast<3>::Segment &seg) mutable {
             const zw_coeffs *c;
-            if (one_plant(seg, 1) && cache.get(load(seg.ptr[0]), &c) == ZW_OK &&
+            if (one_plant(seg, 1) && cache.get(std::array<double, 1>{load(seg.ptr[0])}, &c) == ZW_OK &&
                 zw_check_many(c, static_cast<size_t>(seg.count), as_doubles(seg.ptr[1]), seg.stride[1] / 8,
                               as_doubles(seg.ptr[2]), seg.stride[2] / 8, out.stable + seg.flat, nullptr) == ZW_OK) {
                 std::memset(status + seg.flat, ZW_OK, static_cast<std::size_t>(seg.count));
@@ -343,31 +348,15 @@ py::dict check(f64array delta, f64array alpha, f64array beta, int region, bool f
 }
 
 py::dict spectral_radius(f64array delta, f64array alpha, f64array beta) {
-    Broadcast<3> bc({delta, alpha, beta});
-    Result r(bc);
-    double *rho = r.add<double>(bc, "rho");
-    const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 3> &x) mutable {
-            const zw_coeffs *c;
-            zw_status s = cache.get(x[0], &c);
-            return s != ZW_OK ? s : zw_spectral_radius(c, x[1], x[2], &rho[i]);
-        };
-    });
-    return r.finish(errors);
+    return one_output<double, CoeffsCache, 3>({delta, alpha, beta}, "rho",
+        [](const zw_coeffs *c, const std::array<double, 3> &x, double *rho) { return zw_spectral_radius(c, x[1], x[2], rho); });
 }
 
 py::dict radius_within(f64array delta, f64array alpha, f64array beta, f64array radius) {
-    Broadcast<4> bc({delta, alpha, beta, radius});
-    Result r(bc);
-    bool *within = r.add<bool>(bc, "within");
-    const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 4> &x) mutable {
-            const zw_coeffs *c;
-            zw_status s = cache.get(x[0], &c);
-            return s != ZW_OK ? s : zw_radius_within(c, x[1], x[2], x[3], &within[i]);
-        };
-    });
-    return r.finish(errors);
+    return one_output<bool, CoeffsCache, 4>({delta, alpha, beta, radius}, "within",
+        [](const zw_coeffs *c, const std::array<double, 4> &x, bool *within) {
+            return zw_radius_within(c, x[1], x[2], x[3], within);
+        });
 }
 
 py::dict char_poly(f64array delta, f64array alpha, f64array beta) {
@@ -377,7 +366,7 @@ py::dict char_poly(f64array delta, f64array alpha, f64array beta) {
     const ssize errors = bc.run(r.status(), [&] {
         return [&, cache = CoeffsCache()](ssize i, const std::array<double, 3> &x) mutable {
             const zw_coeffs *c;
-            zw_status s = cache.get(x[0], &c);
+            zw_status s = cache.get(x, &c);
             return s != ZW_OK ? s : zw_char_poly(c, x[1], x[2], &p[4 * i]);
         };
     });
@@ -423,7 +412,7 @@ py::dict extremes(f64array delta) {
         return [&, cache = CoeffsCache()](ssize i, const std::array<double, 1> &x) mutable {
             const zw_coeffs *c;
             zw_extremes ex;
-            zw_status s = cache.get(x[0], &c);
+            zw_status s = cache.get(x, &c);
             if (s == ZW_OK) s = zw_extremes_compute(c, &ex);
             if (s == ZW_OK) {
                 alpha_mmax[i] = ex.alpha_mmax, beta_at[i] = ex.beta_at_alpha_mmax, at_corner[i] = ex.at_corner;
@@ -445,7 +434,7 @@ py::dict boundary_point(f64array delta) {
     const ssize errors = bc.run(r.status(), [&] {
         return [&, cache = CoeffsCache()](ssize i, const std::array<double, 1> &x) mutable {
             const zw_coeffs *c;
-            zw_status s = cache.get(x[0], &c);
+            zw_status s = cache.get(x, &c);
             return s != ZW_OK ? s : point(c, &alpha[i], &beta[i]);
         };
     });
@@ -453,17 +442,8 @@ py::dict boundary_point(f64array delta) {
 }
 
 py::dict alpha_max(f64array delta, f64array beta) {
-    Broadcast<2> bc({delta, beta});
-    Result r(bc);
-    double *amax = r.add<double>(bc, "alpha_max");
-    const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = CoeffsCache()](ssize i, const std::array<double, 2> &x) mutable {
-            const zw_coeffs *c;
-            zw_status s = cache.get(x[0], &c);
-            return s != ZW_OK ? s : zw_alpha_max(c, x[1], &amax[i]);
-        };
-    });
-    return r.finish(errors);
+    return one_output<double, CoeffsCache, 2>({delta, beta}, "alpha_max",
+        [](const zw_coeffs *c, const std::array<double, 2> &x, double *amax) { return zw_alpha_max(c, x[1], amax); });
 }
 
 py::dict beta_interval(f64array delta, f64array alpha) {
@@ -474,7 +454,7 @@ py::dict beta_interval(f64array delta, f64array alpha) {
     const ssize errors = bc.run(r.status(), [&] {
         return [&, cache = CoeffsCache()](ssize i, const std::array<double, 2> &x) mutable {
             const zw_coeffs *c;
-            zw_status s = cache.get(x[0], &c);
+            zw_status s = cache.get(x, &c);
             return s != ZW_OK ? s : zw_beta_interval(c, x[1], &lo[i], &hi[i], &nonempty[i]);
         };
     });
@@ -490,7 +470,7 @@ py::dict device_normalize(f64array m, f64array b, f64array T, f64array K, f64arr
     const ssize errors = bc.run(r.status(), [&] {
         return [&, cache = DeviceCache()](ssize i, const std::array<double, 5> &x) mutable {
             const zw_device *d;
-            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            zw_status s = cache.get(x, &d);
             if (s == ZW_OK) s = zw_device_normalize(d, x[3], x[4], &alpha[i], &beta[i]);
             if (s == ZW_OK) delta[i] = d->co.delta;
             return s;
@@ -507,7 +487,7 @@ py::dict device_check(f64array m, f64array b, f64array T, f64array K, f64array B
     auto make_elem = [&] {
         return [&, cache = DeviceCache()](ssize i, const std::array<double, 5> &x) mutable {
             const zw_device *d;
-            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            zw_status s = cache.get(x, &d);
             zw_verdict v;
             if (s == ZW_OK) s = zw_device_check_region(reg, d, x[3], x[4], &v);
             if (s == ZW_OK) out.store(i, v);
@@ -519,7 +499,7 @@ py::dict device_check(f64array m, f64array b, f64array T, f64array K, f64array B
     const ssize errors = bc.for_segments([&] {
         return [&, cache = DeviceCache(), elem = make_elem()](const Broadcast<5>::Segment &seg) mutable {
             const zw_device *d;
-            if (one_plant(seg, 3) && cache.get(load(seg.ptr[0]), load(seg.ptr[1]), load(seg.ptr[2]), &d) == ZW_OK &&
+            if (one_plant(seg, 3) && cache.get(std::array<double, 3>{load(seg.ptr[0]), load(seg.ptr[1]), load(seg.ptr[2])}, &d) == ZW_OK &&
                 zw_device_check_many(d, static_cast<size_t>(seg.count), as_doubles(seg.ptr[3]), seg.stride[3] / 8,
                                      as_doubles(seg.ptr[4]), seg.stride[4] / 8, out.stable + seg.flat, nullptr) == ZW_OK) {
                 std::memset(status + seg.flat, ZW_OK, static_cast<std::size_t>(seg.count));
@@ -532,31 +512,17 @@ py::dict device_check(f64array m, f64array b, f64array T, f64array K, f64array B
 }
 
 py::dict device_spectral_radius(f64array m, f64array b, f64array T, f64array K, f64array B) {
-    Broadcast<5> bc({m, b, T, K, B});
-    Result r(bc);
-    double *rho = r.add<double>(bc, "rho");
-    const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = DeviceCache()](ssize i, const std::array<double, 5> &x) mutable {
-            const zw_device *d;
-            zw_status s = cache.get(x[0], x[1], x[2], &d);
-            return s != ZW_OK ? s : zw_device_spectral_radius(d, x[3], x[4], &rho[i]);
-        };
-    });
-    return r.finish(errors);
+    return one_output<double, DeviceCache, 5>({m, b, T, K, B}, "rho",
+        [](const zw_device *d, const std::array<double, 5> &x, double *rho) {
+            return zw_device_spectral_radius(d, x[3], x[4], rho);
+        });
 }
 
 py::dict device_radius_within(f64array m, f64array b, f64array T, f64array K, f64array B, f64array radius) {
-    Broadcast<6> bc({m, b, T, K, B, radius});
-    Result r(bc);
-    bool *within = r.add<bool>(bc, "within");
-    const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = DeviceCache()](ssize i, const std::array<double, 6> &x) mutable {
-            const zw_device *d;
-            zw_status s = cache.get(x[0], x[1], x[2], &d);
-            return s != ZW_OK ? s : zw_device_radius_within(d, x[3], x[4], x[5], &within[i]);
-        };
-    });
-    return r.finish(errors);
+    return one_output<bool, DeviceCache, 6>({m, b, T, K, B, radius}, "within",
+        [](const zw_device *d, const std::array<double, 6> &x, bool *within) {
+            return zw_device_radius_within(d, x[3], x[4], x[5], within);
+        });
 }
 
 py::dict device_extremes(f64array m, f64array b, f64array T) {
@@ -570,7 +536,7 @@ py::dict device_extremes(f64array m, f64array b, f64array T) {
         return [&, cache = DeviceCache()](ssize i, const std::array<double, 3> &x) mutable {
             const zw_device *d;
             zw_device_extremes ex;
-            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            zw_status s = cache.get(x, &d);
             if (s == ZW_OK) s = zw_device_extremes_compute(d, &ex);
             if (s == ZW_OK) {
                 K_mmax[i] = ex.K_mmax, B_at[i] = ex.B_at_K_mmax, at_corner[i] = ex.at_corner;
@@ -583,17 +549,8 @@ py::dict device_extremes(f64array m, f64array b, f64array T) {
 }
 
 py::dict device_k_max(f64array m, f64array b, f64array T, f64array B) {
-    Broadcast<4> bc({m, b, T, B});
-    Result r(bc);
-    double *kmax = r.add<double>(bc, "K_max");
-    const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = DeviceCache()](ssize i, const std::array<double, 4> &x) mutable {
-            const zw_device *d;
-            zw_status s = cache.get(x[0], x[1], x[2], &d);
-            return s != ZW_OK ? s : zw_device_k_max(d, x[3], &kmax[i]);
-        };
-    });
-    return r.finish(errors);
+    return one_output<double, DeviceCache, 4>({m, b, T, B}, "K_max",
+        [](const zw_device *d, const std::array<double, 4> &x, double *kmax) { return zw_device_k_max(d, x[3], kmax); });
 }
 
 py::dict device_b_range(f64array m, f64array b, f64array T, f64array K) {
@@ -604,7 +561,7 @@ py::dict device_b_range(f64array m, f64array b, f64array T, f64array K) {
     const ssize errors = bc.run(r.status(), [&] {
         return [&, cache = DeviceCache()](ssize i, const std::array<double, 4> &x) mutable {
             const zw_device *d;
-            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            zw_status s = cache.get(x, &d);
             return s != ZW_OK ? s : zw_device_b_range(d, x[3], &lo[i], &hi[i], &nonempty[i]);
         };
     });
@@ -626,7 +583,7 @@ py::dict device_influence(f64array m, f64array b, f64array T) {
         return [&, cache = DeviceCache()](ssize i, const std::array<double, 3> &x) mutable {
             const zw_device *d;
             zw_influence f;
-            zw_status s = cache.get(x[0], x[1], x[2], &d);
+            zw_status s = cache.get(x, &d);
             if (s == ZW_OK) s = zw_device_influence(d, &f);
             if (s != ZW_OK) return s;
             const double values[] = {f.delta, f.K_mmax, f.B_mmax, f.m_K1, f.m_K2, f.K_mmax_at_m_K2,
