@@ -600,6 +600,8 @@ py::dict device_influence(f64array m, f64array b, f64array T) {
 
 }  // namespace
 
+void zw_register_sim(py::module_ &mod);  // zwidth_sim.cpp: Simulator, sim_judge, SIM_EFFECTS
+
 PYBIND11_MODULE(_core, mod) {
     mod.doc() =
         "zwidth's C core (double precision) as broadcasting kernels.  Private: use the "
@@ -663,4 +665,5 @@ PYBIND11_MODULE(_core, mod) {
     mod.def("device_k_max", &device_k_max, m, b, T, B, "zw_device_k_max per element.");
     mod.def("device_b_range", &device_b_range, m, b, T, K, "zw_device_b_range per element.");
     mod.def("device_influence", &device_influence, m, b, T, "zw_device_influence per element.");
+    zw_register_sim(mod);
 }

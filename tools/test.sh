@@ -45,6 +45,10 @@ step "benchmark smoke run (bench/python/bench_check.py --quick)"
 .venv/bin/python bench/python/bench_check.py --quick >/dev/null
 echo "benchmark runs (full table: .venv/bin/python bench/python/bench_check.py)"
 
+step "simulation benchmark smoke run (bench/sim/bench_sim.py --quick)"
+.venv/bin/python bench/sim/bench_sim.py --quick >/dev/null
+echo "simulation benchmark runs (full table: .venv/bin/python bench/sim/bench_sim.py --markdown)"
+
 step "Modbus drive: zwidth-tune, mbpoll, RTU over socat, robustness (pytest)"
 ZW_BUILD_DIR="$PWD/build" .venv/bin/python -m pytest tests/integration -q
 

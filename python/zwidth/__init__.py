@@ -12,6 +12,9 @@ Normalized space (delta = b T/m, alpha = K T^2/m, beta = B T/m):
 Real units:
     Device(m, b, T) / Device.rotary(J, b, T) with is_stable, verdict, margin,
     spectral_radius, radius_within, k_max, b_range, extremes, influence, normalize
+Simulation (time domain, paper Fig. 13; scenes as TOML files, docs/scenes.md):
+    load_scene -> Scene, simulate -> SimulationSet of Simulation (numpy arrays, SimVerdict,
+    the analytic verdict for linear scenes), SceneError
 Also: zwidth.plot (matplotlib, optional extra "plot"), zwidth.modbus (pymodbus client of
 a drive, optional extra "modbus"; import it explicitly), the ``zwidth`` command line.
 """
@@ -27,6 +30,8 @@ from .normalized import (alpha_max, beta_interval, char_poly, check, coefficient
                          spectral_radius, verdict)
 from .results import (BoundaryPoint, Coefficients, DeviceExtremes, Extremes, Influence, Interval,
                       Normalized, Verdict)
+from .scene import Scene, SceneError, load_scene
+from .sim import Simulation, SimulationSet, SimVerdict, simulate
 
 __version__ = "0.1.0"
 
@@ -52,4 +57,5 @@ __all__ = [
     "coefficients_literal", "extremes", "hyperbola_top", "corner", "alpha_max", "beta_interval",
     "Device", "Verdict", "Coefficients", "Extremes", "BoundaryPoint", "Interval", "Normalized",
     "DeviceExtremes", "Influence",
+    "load_scene", "Scene", "SceneError", "simulate", "Simulation", "SimulationSet", "SimVerdict",
 ]

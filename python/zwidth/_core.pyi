@@ -1,7 +1,10 @@
 # Type stub of the compiled kernels (bindings/zwidth_core.cpp).  Every kernel broadcasts
 # its float64 inputs and returns {"outputs": {name: array}, "status": int8 array,
 # "errors": number of elements whose status is not ZW_OK}.
-from typing import Any, Dict
+from typing import Any, Dict, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
 
 from numpy.typing import ArrayLike
 
@@ -29,3 +32,16 @@ def device_extremes(m: ArrayLike, b: ArrayLike, T: ArrayLike) -> Dict[str, Any]:
 def device_k_max(m: ArrayLike, b: ArrayLike, T: ArrayLike, B: ArrayLike) -> Dict[str, Any]: ...
 def device_b_range(m: ArrayLike, b: ArrayLike, T: ArrayLike, K: ArrayLike) -> Dict[str, Any]: ...
 def device_influence(m: ArrayLike, b: ArrayLike, T: ArrayLike) -> Dict[str, Any]: ...
+
+# Scene simulation (bindings/zwidth_sim.cpp over sim.h).
+SIM_EFFECTS: Dict[str, int]
+
+class Simulator:
+    def __init__(self, scene: Dict[str, Any]) -> None: ...
+    def run(self, samples: int, signals: Sequence[str] = ...) -> Dict[str, NDArray[np.float64]]: ...
+    @property
+    def k(self) -> int: ...
+    @property
+    def scene(self) -> Dict[str, Any]: ...
+
+def sim_judge(x: ArrayLike, window: int, windows: int, tolerance: float) -> Dict[str, Any]: ...

@@ -31,7 +31,7 @@ zwidth says which (K, B) are stable for that plant (exact region of Wang et al. 
 and how m, b, T move the limits."""
 
 EPILOG = """\
-plant and gains (every subcommand):
+plant and gains (check, limits, advise, plot):
   real units (default): --m M (kg) or --J J (kg m^2, rotary), --b (N s/m | N m s/rad),
     --T (s), gains --K (N/m | N m/rad) and --B (N s/m | N m s/rad)
   normalized instead:   --delta = bT/m, --alpha = K T^2/m, --beta = B T/m
@@ -42,6 +42,9 @@ exit status:
   2  usage error (unknown option, bad number, missing or conflicting options)
   3  invalid values (m <= 0, T <= 0, b < 0, NaN, ...): the message names the option
   4  cannot plot (matplotlib missing: pip install zwidth[plot]; file not writable)
+  simulate: 0 every case simulated stable, 1 some not, 3 an invalid scene file
+
+simulate takes a scene file instead of a plant (docs/scenes.md): 'zwidth simulate --help'.
 
 examples:
   zwidth limits --m 0.1 --b 30 --T 0.01
@@ -49,6 +52,7 @@ examples:
   zwidth check --delta 5.122 --alpha 23 --beta -1.5 --json
   zwidth advise --J 85.78e-7 --b 2.197e-3 --T 0.02 --K 0.5 --B -1.36e-3
   zwidth plot region --delta 5.122 --alpha 23 --beta -1.5 -o region.png
+  zwidth simulate scenes/paper-fig15.toml --plot fig15.png
 
 'zwidth SUBCOMMAND --help' lists the keys of each subcommand's --json output."""
 
@@ -113,6 +117,61 @@ kinds:
   influence  K_mmax and B_mmax against m, b and T around a real-unit plant
   device     a real-unit plant's stable (K, B) region, its limits and the advice
 --json keys: command, kind, file, format ("png"|"svg"), bytes."""
+
+_SIMULATE_DESCRIPTION = """\
+Simulate a scene in the time domain (paper Fig. 13): the plant behind a zero-order hold,
+sampled every T, the impedance controller and only the effects the scene file asks for
+(quantization, friction, delay, saturation, velocity filter, hand, wall, knob, schedule).
+Prints each case's simulated verdict and, for linear scenes (no effect), the exact
+region's verdict and whether they agree; optionally writes the arrays and a figure."""
+
+_SIMULATE_EPILOG = """\
+the scene file (TOML; every key, unit and default in docs/scenes.md):
+  [scene] name, description, duration   [plant] m | J, b, T   [controller] K, B | alpha, beta
+  [reference] from, to, at   [initial] x, v   effects: [quantization] [friction] [delay]
+  [saturation] [velocity_filter] [hand] [wall] [knob] [[schedule]]
+  [integrator] substeps | step   [verdict] tolerance, window, windows   [[case]] label + overrides
+  Values with units are strings: "0.1 kg", "23 N*s/m", "85.78e-7 kg*m^2", "45 deg".
+
+verdict of a case (zw_sim_judge on the position; default: 4 windows over the run's second half):
+  stable     the last window's peak-to-peak <= tolerance (default 1e-3 of the run's range)
+  unstable   overflow, or the last window's peak-to-peak >= the first's (not dying out)
+  undecided  still decaying: run longer (--duration)
+
+output files:
+  --out RUN.npz   every case's arrays: keys "<label>/<signal>" (t, x, v, x_measured, force and
+                  the per-effect signals), and "labels"
+  --out RUN.csv   one row per sample: case, then the signals (header with units)
+  --plot FIG.png|.svg  responses with simulated and analytic verdicts (paper Fig. 15); for a
+                  knob, planned and rendered stiffness against position (Fig. 23)
+  A progress bar goes to stderr for long runs (--no-progress: none).
+
+--json keys:
+  command   "simulate"
+  scene     {name, description, file, duration, rotary, linear, effects: [names], units}
+  cases     [{label, description, samples, T, duration, params (the flat scene dict, SI
+             units; infinities as null), normalized: {delta, alpha, beta} | null,
+             verdict: {outcome, amplitude_first, amplitude_last, growth, reason, window,
+             windows, tolerance, first_nonfinite}, analytic: {verdict, stable, marginal,
+             deciding, spectral_radius, legacy_stable} | null (nonlinear scenes),
+             agrees: bool | null}]
+  summary   {cases, stable, unstable, undecided, compared, agree}
+  out, plot  the files written, or null
+
+exit status:
+  0  every case simulated stable
+  1  some case simulated unstable or undecided
+  2  usage error (bad option, --out not .npz/.csv or not writable, --plot not .png/.svg)
+  3  invalid scene: the message names the file and the key
+  4  cannot plot (matplotlib missing: pip install zwidth[plot]; file not writable)
+
+examples:
+  zwidth simulate scenes/paper-fig15.toml --plot fig15.png
+  zwidth simulate scenes/knob-legacy.toml --out knob.npz --plot knob.png
+  zwidth simulate scenes/wall-hand.toml --duration "5 s" --json"""
+
+# Progress bar for runs of about a second or more (zwidth.sim.work units, ~3 ns each).
+_PROGRESS_WORK = 300_000_000
 
 _BOUND_TEXT = {
     "damping": "damping: beta > -delta (B > -b: the total damping b + B must stay positive)",
@@ -535,6 +594,133 @@ def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
     return _Outcome(EXIT_OK, data, [f"wrote {out} ({kind}, {data['bytes']} bytes)"])
 
 
+def _simulate_outputs(args: argparse.Namespace) -> Tuple[Optional[Path], Optional[Path]]:
+    """Check --out and --plot before simulating (usage errors)."""
+    out = Path(args.out) if args.out else None
+    fig = Path(args.plot) if args.plot else None
+    if out is not None and out.suffix.lower() not in (".npz", ".csv"):
+        raise _Usage(f"argument --out: {args.out!r} must end in .npz or .csv")
+    if fig is not None and fig.suffix.lower() not in (".png", ".svg"):
+        raise _Usage(f"argument --plot: {args.plot!r} must end in .png or .svg")
+    return out, fig
+
+
+def _simulation_json(sim: Any, rotary: bool) -> Dict[str, Any]:
+    analytic = None
+    p = sim.params
+    if sim.analytic is not None:
+        dev = Device(p["m"], p["b"], p["T"], rotary=rotary)
+        analytic = {"verdict": _verdict_word(sim.analytic), "stable": bool(sim.analytic.stable),
+                    "marginal": bool(sim.analytic.marginal),
+                    "deciding": str(sim.analytic.deciding_name) or None,
+                    "spectral_radius": dev.spectral_radius(p["K"], p["B"]),
+                    "legacy_stable": bool(dev.is_stable(p["K"], p["B"], region="legacy"))}
+    norm = sim.case.normalized
+    params = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in p.items()}
+    return {"label": sim.label, "description": sim.case.description, "samples": len(sim.t),
+            "T": p["T"], "duration": sim.case.duration, "params": params,
+            "normalized": None if norm is None else dict(zip(("delta", "alpha", "beta"), norm)),
+            "verdict": sim.verdict.as_dict(), "analytic": analytic, "agrees": sim.agrees}
+
+
+def _growth(v: Any) -> str:
+    # A settled run has decayed to rounding: its envelope ratio says nothing.
+    return "(settled)" if v.outcome == "stable" else _fmt(v.growth)
+
+
+def cmd_simulate(args: argparse.Namespace) -> _Outcome:
+    """Simulate every case of a scene file; verdicts, files, figure."""
+    from .scene import load_scene, parse_quantity
+    from .sim import simulate, work
+
+    out, fig_path = _simulate_outputs(args)
+    seconds: Optional[float] = None
+    if args.duration is not None:
+        try:
+            seconds = parse_quantity(args.duration, "time", what="--duration")
+        except ValueError as exc:
+            raise _Usage(f"argument --duration: {getattr(exc, 'problem', exc)}") from None
+        if not (math.isfinite(seconds) and seconds > 0.0):
+            raise _Usage(f"argument --duration: must be > 0 s and finite, got {args.duration!r}")
+    scene = load_scene(Path(args.scene))
+    if seconds is not None:
+        scene = scene.with_duration(seconds)
+    total = sum(work(c) for c in scene.cases)
+    sims = simulate(scene, progress=not args.no_progress and total >= _PROGRESS_WORK)
+
+    counts = {o: sum(s.verdict.outcome == o for s in sims) for o in ("stable", "unstable", "undecided")}
+    compared = [bool(s.agrees) for s in sims if s.agrees is not None]
+    data: Dict[str, Any] = {
+        "scene": {"name": scene.name, "description": scene.description, "file": scene.source,
+                  "duration": scene.duration, "rotary": scene.rotary, "linear": scene.linear,
+                  "effects": list(scene.effects), "units": scene.units},
+        "cases": [_simulation_json(s, scene.rotary) for s in sims],
+        "summary": {"cases": len(sims), **counts, "compared": len(compared), "agree": sum(compared)},
+        "out": None, "plot": None,
+    }
+    pos = scene.units["position"]
+    plural = "s" if len(sims) != 1 else ""
+    lines = [f"Scene {scene.name} ({scene.source})" + (f": {scene.description}" if scene.description else ""),
+             f"  {'rotary' if scene.rotary else 'translational'} plant; effects: "
+             + (", ".join(scene.effects) if scene.effects else "none (the ideal loop: exact solution)")
+             + f"; {len(sims)} case{plural}, {_fmt(scene.duration)} s each", ""]
+    width = max([4] + [len(s.label) for s in sims])
+    if scene.linear:
+        lines.append(f"  {'case':<{width}}  {'delta':>7} {'alpha':>8} {'beta':>8}  {'simulated':<10} "
+                     f"{'growth/sample':>13}  {'exact region':<12} {'agrees':<6}  legacy region")
+    else:
+        lines.append(f"  {'case':<{width}}  {'simulated':<10} {'growth/sample':>13}  "
+                     f"{'final x [' + pos + ']':>16}")
+    for s in sims:
+        v = s.verdict
+        if scene.linear:
+            d, a, b = s.case.normalized or (math.nan, math.nan, math.nan)
+            exact = _verdict_word(s.analytic) if s.analytic is not None else "-"
+            agrees = {True: "yes", False: "NO", None: "-"}[s.agrees]
+            legacy = data["cases"][sims.index(s)]["analytic"]["legacy_stable"]
+            lines.append(f"  {s.label:<{width}}  {_fmt(d):>7} {_fmt(a):>8} {_fmt(b):>8}  {v.outcome:<10} "
+                         f"{_growth(v):>13}  {exact:<12} {agrees:<6}  {'stable' if legacy else 'unstable'}")
+        else:
+            lines.append(f"  {s.label:<{width}}  {v.outcome:<10} {_growth(v):>13}  {_fmt(s.x[-1]):>16}")
+    for s in sims:
+        if s.verdict.outcome != "stable" or not scene.linear:
+            lines += textwrap.wrap(f"{s.label}: {s.verdict.reason}", 92, initial_indent="  ",
+                                   subsequent_indent="      ")
+    summary = ", ".join(f"{c} {o}" for o, c in counts.items() if c)
+    if compared:
+        summary += f"; simulated = analytic (exact region) for {sum(compared)} of {len(compared)}"
+    lines += ["", f"  {len(sims)} case{plural}: {summary}"]
+
+    if out is not None:
+        try:
+            if out.suffix.lower() == ".npz":
+                sims.to_npz(out)
+            else:
+                sims.to_csv(out)
+        except OSError as exc:
+            raise _Usage(f"argument --out: cannot write {out}: {exc.strerror or exc}") from None
+        data["out"] = str(out)
+        lines.append(f"wrote {out} ({out.stat().st_size} bytes)")
+    if fig_path is not None:
+        try:
+            import matplotlib
+            matplotlib.use("Agg")  # no display needed, and none is used
+            from . import plot
+        except ImportError:
+            raise _PlotError("matplotlib is not installed: pip install zwidth[plot]") from None
+        import matplotlib.pyplot as plt
+        fig = plot.simulation(sims)
+        try:
+            plot.save(fig, fig_path, dpi=args.dpi)
+        except OSError as exc:
+            raise _PlotError(f"cannot write {fig_path}: {exc.strerror or exc}") from None
+        finally:
+            plt.close(fig)
+        data["plot"] = str(fig_path)
+        lines.append(f"wrote {fig_path} ({fig_path.stat().st_size} bytes)")
+    return _Outcome(EXIT_OK if counts["stable"] == len(sims) else EXIT_UNSTABLE, data, lines)
+
+
 # ---------------------------------------------------------------------------------------
 # Parser and main
 # ---------------------------------------------------------------------------------------
@@ -567,7 +753,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="zwidth", description=DESCRIPTION, epilog=EPILOG,
                                      formatter_class=fmt, allow_abbrev=False)
     parser.add_argument("--version", action="version", version=f"zwidth {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{check,limits,advise,plot}", required=True)
+    sub = parser.add_subparsers(dest="command", metavar="{check,limits,advise,plot,simulate}",
+                                required=True)
 
     p = sub.add_parser("check", help="is the gain pair stable? why not? (exit 1 if not)",
                        description=_wrap("Check one gain pair: verdict, deciding constraint, "
@@ -605,6 +792,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--delta-max", type=_number, default=20.0, help="extremes: largest delta (default 20)")
     _add_plant_options(p)
     p.set_defaults(handler=cmd_plot, needs_gains=False, parser=p)
+
+    p = sub.add_parser("simulate", help="simulate a scene file in time (exit 1 if a case is not stable)",
+                       description=_SIMULATE_DESCRIPTION, epilog=_SIMULATE_EPILOG, formatter_class=fmt,
+                       allow_abbrev=False)
+    p.add_argument("scene", metavar="SCENE.toml", help="the scene file (docs/scenes.md; examples in scenes/)")
+    p.add_argument("--out", metavar="FILE", help="write the arrays: .npz (numpy) or .csv")
+    p.add_argument("--plot", metavar="FILE", help="draw the responses: .png or .svg (needs matplotlib)")
+    p.add_argument("--dpi", type=_number, default=100.0, help="resolution of a PNG plot (default 100)")
+    p.add_argument("--duration", metavar="TIME",
+                   help="simulate this long instead of the scene's duration (\"20 s\", \"500 ms\"; "
+                        "a bare number is seconds)")
+    p.add_argument("--no-progress", action="store_true",
+                   help="no progress bar (otherwise one on stderr for long runs)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (keys below)")
+    p.set_defaults(handler=None, needs_gains=False, parser=p)
     return parser
 
 
@@ -653,6 +855,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args = parser.parse_args(_join_negative_numbers(sys.argv[1:] if argv is None else argv))
     sub: argparse.ArgumentParser = args.parser
     plant: Optional[_Plant] = None
+    if args.command == "simulate":
+        return _main_simulate(args, sub)
     try:
         if args.command == "plot":
             if not 0.0 < args.dpi < math.inf:
@@ -687,4 +891,22 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(f"zwidth plot: error: cannot plot: {exc}", file=sys.stderr)
         return EXIT_PLOT
     _emit(outcome, args.command, plant, args.json, sys.stdout)
+    return int(outcome.status)
+
+
+def _main_simulate(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
+    from .scene import SceneError
+    try:
+        if not 0.0 < args.dpi < math.inf:
+            raise _Usage(f"argument --dpi: must be > 0, got {args.dpi:g}")
+        outcome = cmd_simulate(args)
+    except _Usage as exc:
+        sub.error(str(exc))  # exits 2
+    except SceneError as exc:
+        print(f"zwidth simulate: error: invalid scene: {exc}", file=sys.stderr)
+        return EXIT_INVALID
+    except _PlotError as exc:
+        print(f"zwidth simulate: error: cannot plot: {exc}", file=sys.stderr)
+        return EXIT_PLOT
+    _emit(outcome, "simulate", None, args.json, sys.stdout)
     return int(outcome.status)

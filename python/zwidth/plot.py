@@ -4,6 +4,7 @@
     extremes()           alpha_mmax, beta_mmax and their ratios against delta, Figs. 8-10
     influence(device)    K_mmax and B_mmax against m, b and T around a plant, Figs. 11-12
     device(device, K, B) a plant's region in real units (K against B), with the advice
+    simulation(sims)     simulated responses with their verdicts (Fig. 15); knobs: Fig. 23
     save(fig, path)      PNG or SVG by suffix
 
 Every number drawn comes from zwidth's functions (the C core); this module only samples
@@ -28,12 +29,16 @@ from . import check as _check
 from . import extremes as _extremes
 from .device import Device
 from .results import Verdict
+from .scene import EFFECTS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure, SubFigure
 
-__all__ = ["region", "extremes", "influence", "device", "save", "CRITICAL_DELTAS"]
+    from .scene import Scene
+    from .sim import Simulation, SimulationSet
+
+__all__ = ["region", "extremes", "influence", "device", "simulation", "save", "CRITICAL_DELTAS"]
 
 _INSTALL_HINT = "zwidth.plot needs matplotlib: pip install zwidth[plot]"
 
@@ -575,6 +580,219 @@ def device(device: Device, K: Optional[float] = None, B: Optional[float] = None,
     fig.text(0.01, 0.005, "\n".join(textwrap.wrap("Advice: " + advice, 110)), fontsize="small",
              va="bottom", ha="left")
     fig.get_layout_engine().set(rect=(0.0, 0.07, 1.0, 0.93))  # type: ignore[union-attr, call-arg]
+    return fig
+
+
+# ---------------------------------------------------------------------------------------
+# Simulations (zwidth.simulate): responses like paper Fig. 15, the knob like Fig. 23
+# ---------------------------------------------------------------------------------------
+
+_SIM_COLOURS = {"stable": "#2e7d32", "unstable": "#c62828", "undecided": "#ef6c00"}
+_SHORT = {"stable": "S", "unstable": "US", "undecided": "?", "marginal": "M"}
+
+
+def _case_title(sim: "Simulation", rotary: bool) -> str:
+    """The case's label with its plant and gains (normalized when the gains are constant)."""
+    norm = sim.case.normalized
+    if norm is None:
+        return sim.label
+    d, a, b = norm
+    return rf"{sim.label}: $\delta$={d:.4g}, $\alpha$={a:.4g}, $\beta$={b:.4g}"
+
+
+def _verdict_lines(sim: "Simulation", legacy: Optional[bool]) -> Tuple[str, str]:
+    """'simulated: unstable (US)' and, for linear cases, the analytic verdicts."""
+    v = sim.verdict
+    first = f"simulated: {v.outcome} ({_SHORT[v.outcome]})"
+    if sim.analytic is None:
+        return first, ""
+    exact = _word(bool(sim.analytic.stable), bool(sim.analytic.marginal))
+    second = f"exact: {exact}"
+    if legacy is not None:
+        second += f" · legacy: {'stable' if legacy else 'unstable'}"
+    if sim.agrees is not None:
+        second += " ✓" if sim.agrees else " ✗ disagree"
+    return first, second
+
+
+def _legacy_verdict(sim: "Simulation", rotary: bool) -> Optional[bool]:
+    if sim.analytic is None:
+        return None
+    p = sim.params
+    dev = Device(p["m"], p["b"], p["T"], rotary=rotary)
+    return bool(dev.is_stable(p["K"], p["B"], region="legacy"))
+
+
+def _pretty(unit: str) -> str:
+    """N*m*s/rad -> N m s/rad, kg*m^2 -> kg m²: units as the other figures write them."""
+    return unit.replace("*", " ").replace("^2", "²")
+
+
+def _position_scale(rotary: bool) -> Tuple[float, str]:
+    """Factor and unit for drawing positions: degrees for a rotary plant."""
+    return (180.0 / math.pi, "deg") if rotary else (1.0, "m")
+
+
+def _response_panel(ax: "Axes", sim: "Simulation", scene: "Scene") -> None:
+    p = sim.params
+    scale, unit = _position_scale(scene.rotary)
+    t, x = sim.t, sim.x * scale
+    colour = _SIM_COLOURS[sim.verdict.outcome]
+    ax.plot(t, x, color=colour, linewidth=1.3, label="x (position)")
+    x_eq = np.where(t >= p["t_step"], p["x_eq_after"], p["x_eq_before"]) * scale
+    if float(p["K"]) != 0.0 or "schedule" in scene.effects:  # without a spring it means nothing
+        ax.plot(t, x_eq, color="0.45", linestyle="--", linewidth=1.0, label="equilibrium (reference)")
+    marks = [float(p["x_eq_before"]), float(p["x_eq_after"]), float(p["x_init"])]
+    effects = scene.effects
+    if "wall" in effects:
+        ax.axhline(p["wall_position"] * scale, color="#5d4037", linewidth=2.0, label="wall")
+        marks.append(float(p["wall_position"]))
+    if "hand_target" in sim.signals:
+        ax.plot(t, sim.signals["hand_target"] * scale, color="0.5", linestyle=":", linewidth=1.2,
+                label="the hand's intended position")
+    if "hand" in effects:
+        marks += [float(p["hand_from"]), float(p["hand_to"])]
+    lo, hi = min(marks) * scale, max(marks) * scale
+    finite = x[np.isfinite(x)]
+    t_end = float(t[-1]) if len(t) > 1 else 1.0
+    if scene.linear and finite.size:
+        # Unstable responses grow without bound: show the band around the step, as Fig. 15,
+        # and the time until the response leaves it; stable ones until they settle.
+        span = (hi - lo) or 1.0
+        top, bottom = hi + 1.5 * span, lo - 1.5 * span
+        outside = np.flatnonzero(~((x >= bottom) & (x <= top)))
+        if outside.size:
+            ax.set_ylim(bottom, top)
+        if sim.verdict.outcome == "unstable" and outside.size:
+            t_end = min(t_end, max(4.0 * float(t[outside[0]]), 40 * float(p["T"])))
+        elif sim.verdict.outcome == "stable":
+            moving = np.flatnonzero(np.abs(x - x_eq) > 0.01 * span)
+            if moving.size:
+                t_end = min(t_end, max(2.0 * float(t[moving[-1]]), 40 * float(p["T"])))
+    ax.set_xlim(float(t[0]), t_end)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel(f"x [{unit}]")
+    ax.grid(True, color="0.92")
+    first, second = _verdict_lines(sim, _legacy_verdict(sim, scene.rotary))
+    text = first + ("\n" + second if second else "")
+    ax.text(0.98, 0.04, text, transform=ax.transAxes, ha="right", va="bottom", fontsize="small",
+            color=colour, bbox=dict(boxstyle="round,pad=0.3", facecolor="white", edgecolor=colour,
+                                    alpha=0.9))
+    ax.set_title(_case_title(sim, scene.rotary), fontsize="medium")
+
+
+def _force_panel(ax: "Axes", sim: "Simulation", scene: "Scene") -> None:
+    unit = _pretty(sim.units["force"])
+    ax.plot(sim.t, sim.force, color="C0", linewidth=1.2, label="force applied")
+    names = {"force_command": "controller command", "wall_force": "wall", "hand_force": "hand",
+             "friction": "friction"}
+    for i, (name, text) in enumerate(names.items()):
+        if name in sim.signals:
+            ax.plot(sim.t, sim.signals[name], color=f"C{i + 1}", linewidth=1.0, label=text,
+                    linestyle="--" if name == "force_command" else "-")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel(f"force [{unit}]")
+    ax.grid(True, color="0.92")
+    ax.legend(loc="best", fontsize="small")
+
+
+def _knob_map(sim: "Simulation", positions: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The knob's planned stiffness at each position, from the C core's map (one sample
+    of a knob-only run started there), so the drawing and the simulation share it."""
+    from . import _core
+    p = {k: v for k, v in sim.params.items() if k.startswith("knob_")}
+    base = {"m": sim.params["m"], "b": sim.params["b"], "T": sim.params["T"],
+            "effects": EFFECTS["knob"], **p}
+    out = np.empty_like(positions)
+    for i, x in enumerate(positions):
+        out[i] = _core.Simulator({**base, "x_init": float(x)}).run(1, ["stiffness_planned"])["stiffness_planned"][0]
+    return out
+
+
+def _knob_panels(ax_k: "Axes", ax_x: "Axes", sim: "Simulation", scene: "Scene") -> None:
+    p = sim.params
+    scale, unit = _position_scale(scene.rotary)
+    first, pitch, count = float(p["knob_first"]), float(p["knob_pitch"]), int(p["knob_count"])
+    last = first + (count - 1) * pitch
+    finite = sim.x[np.isfinite(sim.x)]
+    lo = min(first - pitch / 2, float(finite.min()) if finite.size else first)
+    hi = max(last + pitch / 2, float(finite.max()) if finite.size else last)
+    grid = np.linspace(lo, hi, 3001)
+    planned = _knob_map(sim, grid)
+    k_unit = _pretty(sim.units["stiffness"])
+    colour = _SIM_COLOURS[sim.verdict.outcome]
+    ax_k.plot(grid * scale, planned, color="0.2", linewidth=2.0, drawstyle="steps-mid",
+              label="planned (knob map)")
+    rendered = sim.signals["stiffness"]
+    ax_k.plot(sim.x * scale, rendered, color=colour, linewidth=0.7, alpha=0.8, marker=".",
+              markersize=3, label="rendered: K used at each sample, at the true position")
+    ax_k.set_xlabel(f"position [{unit}]")
+    ax_k.set_ylabel(f"stiffness [{k_unit}]")
+    ax_k.grid(True, color="0.92")
+    ax_k.legend(loc="lower left", fontsize="small")
+    ax_k.set_title(f"{sim.label}: planned and rendered stiffness (cf. paper Fig. 23)", fontsize="medium")
+
+    ax_x.plot(sim.t, sim.x * scale, color=colour, linewidth=1.3, label="knob position")
+    if "hand_target" in sim.signals:
+        ax_x.plot(sim.t, sim.signals["hand_target"] * scale, color="0.5", linestyle=":",
+                  linewidth=1.2, label="the hand's intended position")
+    for i in range(count):
+        ax_x.axhline((first + i * pitch) * scale, color="0.8", linewidth=0.8, zorder=0)
+    ax_x.set_xlabel("t [s]")
+    ax_x.set_ylabel(f"position [{unit}]")
+    ax_x.grid(True, color="0.92", axis="x")
+    ax_x.legend(loc="lower right", fontsize="small")
+    text = (f"simulated: {sim.verdict.outcome}\nES {p['knob_k_end']:.4g}, IPS {p['knob_k_detent']:.4g} "
+            f"{k_unit}, VD {p['knob_damping']:.4g} {_pretty(sim.units['damping'])}")
+    ax_x.text(0.02, 0.97, text, transform=ax_x.transAxes, ha="left", va="top", fontsize="small",
+              color=colour, bbox=dict(boxstyle="round,pad=0.3", facecolor="white", edgecolor=colour, alpha=0.9))
+    ax_x.set_title(f"{sim.label}: time response", fontsize="medium")
+
+
+def simulation(sims: "SimulationSet", *, fig: Optional["Figure"] = None,
+               columns: Optional[int] = None) -> "Figure":
+    """The responses of a simulated scene (:func:`zwidth.simulate`).
+
+    One panel per case, position against time (paper Fig. 15), with the equilibrium's
+    step dashed and a box giving the simulated verdict and, for linear scenes, the exact
+    and legacy analytic verdicts (coloured: green stable, red unstable, orange undecided).
+    Unstable responses of linear scenes are clipped to a band around the step.  A scene
+    with one case also gets a panel of the forces (applied, controller command, wall,
+    hand, friction).  A knob scene draws, per case, the planned stiffness against
+    position (the knob map) with the stiffness rendered along the run (paper Fig. 23),
+    and the time response with the detents.  ``columns``: panels per row (default up to
+    4).  Draws into ``fig`` if given (cleared).
+    """
+    scene = sims.scene
+    n = len(sims)
+    if n == 0:
+        raise ValueError("zwidth.plot.simulation: no simulations to draw")
+    if "knob" in scene.effects:
+        fig, axes = _axes_grid(fig, n, 2, (13.0, 4.6 * n))
+        for i, sim in enumerate(sims):
+            _knob_panels(axes[2 * i], axes[2 * i + 1], sim, scene)
+    elif n == 1:
+        fig, axes = _axes_grid(fig, 2, 1, (9.0, 7.5))
+        _response_panel(axes[0], sims[0], scene)
+        axes[0].legend(loc="upper left", fontsize="small")
+        _force_panel(axes[1], sims[0], scene)
+    else:
+        ncols = columns or min(4, n)
+        if ncols < 1:
+            raise ValueError(f"zwidth.plot.simulation: columns must be >= 1, got {columns}")
+        nrows = (n + ncols - 1) // ncols
+        fig, axes = _axes_grid(fig, nrows, ncols, (3.6 * ncols, 2.9 * nrows + 0.6))
+        for ax, sim in zip(axes, sims):
+            _response_panel(ax, sim, scene)
+        for ax in axes[n:]:
+            ax.set_visible(False)
+    agree = [s.agrees for s in sims if s.agrees is not None]
+    counts = {o: sum(s.verdict.outcome == o for s in sims) for o in ("stable", "unstable", "undecided")}
+    summary = ", ".join(f"{c} {o}" for o, c in counts.items() if c)
+    if agree:
+        summary += f"; simulated = analytic for {sum(agree)} of {len(agree)}"
+    fig.suptitle(f"{scene.name}: {scene.description or 'simulated responses'}\n({summary})",
+                 fontsize="medium")
     return fig
 
 

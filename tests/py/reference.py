@@ -489,7 +489,7 @@ def extremes(delta, dps=None):
     else:
         am, bm = a1, b1
     with mp.workdps(dps + 10):
-        ap = 2 * (1 - co.e) / co.c2
+        ap = -2 * mp.expm1(-co.delta) / co.c2   # 1 - e would cancel to 0 for tiny delta
         bmax = 2 / co.c2
         if co.d12 != 0:
             ap = min(ap, 4 * (1 + co.e) / co.d12)

@@ -24,6 +24,8 @@ typedef float zw_real;
 #define ZW_SQRT sqrtf
 #define ZW_FABS fabsf
 #define ZW_FREXP frexpf
+#define ZW_FLOOR floorf
+#define ZW_POW powf
 #define ZW_LDEXP ldexpf
 #define ZW_REAL_MAX FLT_MAX
 #define ZW_REAL_MIN FLT_MIN
@@ -42,6 +44,8 @@ typedef double zw_real;
 #define ZW_SQRT sqrt
 #define ZW_FABS fabs
 #define ZW_FREXP frexp
+#define ZW_FLOOR floor
+#define ZW_POW pow
 #define ZW_LDEXP ldexp
 #define ZW_REAL_MAX DBL_MAX
 #define ZW_REAL_MIN DBL_MIN

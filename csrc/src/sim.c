@@ -1,0 +1,560 @@
+/* sim.c - the sampled impedance loop of paper Fig. 13 with the effects a scene asks for.
+ *
+ * Two loops: run_linear for the ideal loop (no effect flag: the exact step and the
+ * controller, nothing else), run_general for everything else, where each effect is one
+ * branch on a loop-invariant flag.  See sim.h for the model and the contract.
+ */
+#include "zwidth/sim.h"
+
+#include <string.h>
+
+#include "zwidth/coeffs.h"
+#include "zwidth/device.h"
+
+#define ZW_TWO_PI ZW_R(6.28318530717958647692)
+#define ZW_SIM_INF ((zw_real)HUGE_VAL)
+
+/* ---- validation --------------------------------------------------------------------- */
+
+/* NaN -> ZW_ERR_NAN, +-inf -> ZW_ERR_INF, else ZW_OK. */
+static zw_status finite_value(zw_real x) {
+    if (ZW_IS_NAN(x)) return ZW_ERR_NAN;
+    if (!ZW_IS_FINITE(x)) return ZW_ERR_INF;
+    return ZW_OK;
+}
+
+/* Check a list of values for NaN / inf in one place; the first bad one decides. */
+static zw_status all_finite(const zw_real *values, size_t n) {
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        zw_status st = finite_value(values[i]);
+        if (st != ZW_OK) return st;
+    }
+    return ZW_OK;
+}
+
+/* A value that may be +inf ("never", "at once") but not NaN or -inf. */
+static zw_status not_nan_nor_minus_inf(zw_real x) {
+    if (ZW_IS_NAN(x)) return ZW_ERR_NAN;
+    if (x < -ZW_REAL_MAX) return ZW_ERR_INF;
+    return ZW_OK;
+}
+
+#define ZW_TRY(expr)                       \
+    do {                                   \
+        zw_status zw_try_st_ = (expr);     \
+        if (zw_try_st_ != ZW_OK) return zw_try_st_; \
+    } while (0)
+#define ZW_REQUIRE(cond) \
+    do {                 \
+        if (!(cond)) return ZW_ERR_ARG; \
+    } while (0)
+
+static zw_status validate_hand(const zw_sim_hand *h) {
+    const zw_real finite[] = {h->mass, h->stiffness, h->damping, h->t_grasp, h->from, h->to};
+    ZW_TRY(all_finite(finite, sizeof finite / sizeof finite[0]));
+    ZW_TRY(not_nan_nor_minus_inf(h->t_release));
+    ZW_TRY(not_nan_nor_minus_inf(h->speed));
+    ZW_REQUIRE(h->mass >= 0 && h->stiffness >= 0 && h->damping >= 0);
+    ZW_REQUIRE(h->t_grasp >= 0 && h->t_release > h->t_grasp && h->speed > 0);
+    return ZW_OK;
+}
+
+static zw_status validate_knob(const zw_sim_knob *kb) {
+    const zw_real finite[] = {kb->first, kb->pitch, kb->k_detent, kb->k_end, kb->damping};
+    ZW_TRY(all_finite(finite, sizeof finite / sizeof finite[0]));
+    ZW_REQUIRE(kb->pitch > 0 && kb->count >= 2 && kb->k_detent > 0 && kb->k_end > 0);
+    /* The last detent must be a finite position. */
+    ZW_REQUIRE(ZW_IS_FINITE(kb->first + (zw_real)(kb->count - 1) * kb->pitch));
+    return ZW_OK;
+}
+
+static zw_status validate_schedule(const zw_sim_segment *seg, size_t len) {
+    size_t i;
+    if (len == 0) return ZW_ERR_ARG;
+    if (seg == NULL) return ZW_ERR_NULL;
+    for (i = 0; i < len; ++i) {
+        const zw_real finite[] = {seg[i].t_start, seg[i].K, seg[i].B};
+        ZW_TRY(all_finite(finite, sizeof finite / sizeof finite[0]));
+        ZW_REQUIRE(i == 0 ? seg[i].t_start == 0 : seg[i].t_start > seg[i - 1].t_start);
+    }
+    return ZW_OK;
+}
+
+/* A bound on the modulus of every eigenvalue of the continuous part, m s^2 + c s + k:
+ * |s| <= c/m + sqrt(k/m), for the plant alone and for the plant held by the hand. */
+static zw_real fastest_rate(const zw_sim_scene *sc) {
+    zw_real rate = sc->b / sc->m;
+    if (sc->effects & ZW_SIM_HAND) {
+        const zw_real m = sc->m + sc->hand.mass;
+        const zw_real held = (sc->b + sc->hand.damping) / m + ZW_SQRT(sc->hand.stiffness / m);
+        if (held > rate) rate = held;
+    }
+    return rate;
+}
+
+static zw_status validate_scene(const zw_sim_scene *sc) {
+    const unsigned fx = sc->effects;
+    {
+        const zw_real finite[] = {sc->x_init, sc->v_init, sc->x_eq_before, sc->x_eq_after};
+        ZW_TRY(all_finite(finite, sizeof finite / sizeof finite[0]));
+    }
+    ZW_TRY(not_nan_nor_minus_inf(sc->t_step));
+    ZW_REQUIRE(sc->t_step >= 0);
+    ZW_REQUIRE((fx & ~(unsigned)ZW_SIM_ALL_EFFECTS) == 0u);
+    ZW_REQUIRE(!((fx & ZW_SIM_KNOB) && (fx & ZW_SIM_SCHEDULE)));
+    if (!(fx & (ZW_SIM_KNOB | ZW_SIM_SCHEDULE))) {
+        const zw_real gains[] = {sc->K, sc->B};
+        ZW_TRY(all_finite(gains, 2));
+    }
+    if (fx & ZW_SIM_QUANTIZATION) {
+        ZW_TRY(finite_value(sc->counts_per_unit));
+        ZW_REQUIRE(sc->counts_per_unit > 0);
+    }
+    if (fx & ZW_SIM_FRICTION) {
+        const zw_real forces[] = {sc->coulomb, sc->stiction};
+        ZW_TRY(all_finite(forces, 2));
+        ZW_REQUIRE(sc->coulomb >= 0 && sc->stiction >= sc->coulomb && sc->stiction > 0);
+    }
+    if (fx & ZW_SIM_DELAY) ZW_REQUIRE(sc->delay_samples >= 1 && sc->delay_samples <= ZW_SIM_MAX_DELAY);
+    if (fx & ZW_SIM_SATURATION) {
+        ZW_TRY(finite_value(sc->force_max));
+        ZW_REQUIRE(sc->force_max > 0);
+    }
+    if (fx & ZW_SIM_VELOCITY_FILTER) {
+        ZW_TRY(finite_value(sc->cutoff_hz));
+        ZW_REQUIRE(sc->cutoff_hz > 0);
+    }
+    if (fx & ZW_SIM_HAND) ZW_TRY(validate_hand(&sc->hand));
+    if (fx & ZW_SIM_WALL) {
+        const zw_real finite[] = {sc->wall.position, sc->wall.stiffness, sc->wall.damping};
+        ZW_TRY(all_finite(finite, 3));
+        ZW_REQUIRE(sc->wall.stiffness > 0 && (sc->wall.side == 1 || sc->wall.side == -1));
+    }
+    if (fx & ZW_SIM_KNOB) ZW_TRY(validate_knob(&sc->knob));
+    if (fx & ZW_SIM_SCHEDULE) ZW_TRY(validate_schedule(sc->schedule, sc->schedule_len));
+    if (fx & ZW_SIM_CONTINUOUS) {
+        ZW_REQUIRE(sc->substeps >= 1 && sc->substeps <= ZW_SIM_MAX_SUBSTEPS);
+        ZW_REQUIRE(fastest_rate(sc) * (sc->T / (zw_real)sc->substeps) <= ZW_SIM_RK4_LIMIT);
+    }
+    return ZW_OK;
+}
+
+/* The first sample index k with k T >= t_step, computed the way the loop compares. */
+static size_t first_sample_at(zw_real t_step, zw_real T) {
+    zw_real q = t_step / T;
+    size_t k;
+    if (!(q < ZW_R(1e15))) return (size_t)-1;   /* never reached (also t_step = +inf) */
+    k = (size_t)q;
+    while (k > 0 && (zw_real)(k - 1) * T >= t_step) --k;
+    while ((zw_real)k * T < t_step) ++k;
+    return k;
+}
+
+zw_status zw_sim_init(zw_sim *sim, const zw_sim_scene *scene) {
+    zw_device dev;
+    zw_sim s;
+    if (sim == NULL || scene == NULL) return ZW_ERR_NULL;
+    ZW_TRY(zw_device_init(&dev, scene->m, scene->b, scene->T));
+    ZW_TRY(validate_scene(scene));
+
+    memset(&s, 0, sizeof s);
+    s.scene = *scene;
+    /* The exact ZOH step in the coefficients of coeffs.h: phi = (1 - e)/delta = s/2,
+     * (1 - e) m / b = T phi, (T - (1 - e) m/b)/b = (T^2/m) c1/2, (1 - e)/b = (T/m) phi. */
+    s.e = dev.co.e;
+    s.phi_T = scene->T * (dev.co.s / 2);
+    s.x_gain = (scene->T / scene->m) * scene->T * (dev.co.c1 / 2);
+    s.v_gain = (scene->T / scene->m) * (dev.co.s / 2);
+    s.k_step = first_sample_at(scene->t_step, scene->T);
+    if (scene->effects & ZW_SIM_VELOCITY_FILTER)
+        s.filter_a = ZW_EXP(-ZW_TWO_PI * scene->cutoff_hz * scene->T);
+    s.x = scene->x_init;
+    s.v = scene->v_init;
+    s.stuck = scene->v_init == 0;
+    *sim = s;
+    return ZW_OK;
+}
+
+/* ---- the pieces of one sample ------------------------------------------------------- */
+
+/* Stiffness and equilibrium of the detent knob at x (paper Fig. 22(b)). */
+static void knob_map(const zw_sim_knob *kb, zw_real x, zw_real *K, zw_real *x_eq) {
+    const zw_real last = kb->first + (zw_real)(kb->count - 1) * kb->pitch;
+    if (x <= kb->first || x >= last) {
+        *K = kb->k_end;
+        *x_eq = x <= kb->first ? kb->first : last;
+    } else {
+        zw_real u = (x - kb->first) / kb->pitch;
+        int i = (int)(u + ZW_R(0.5));   /* nearest detent; u > 0 so truncation is floor */
+        zw_real p, d;
+        if (i > kb->count - 1) i = kb->count - 1;
+        p = kb->first + (zw_real)i * kb->pitch;
+        d = x - p;
+        if (ZW_FABS(d) <= kb->pitch / 4) {
+            *K = kb->k_detent;
+            *x_eq = p;
+        } else {
+            *K = -kb->k_detent;
+            *x_eq = d > 0 ? p + kb->pitch / 2 : p - kb->pitch / 2;
+        }
+    }
+}
+
+/* The unilateral wall's force on the handle (never pulling it in). */
+static zw_real wall_force(const zw_sim_wall *w, zw_real x_meas, zw_real v_est) {
+    zw_real f;
+    if (w->side > 0 ? !(x_meas > w->position) : !(x_meas < w->position)) return 0;
+    f = w->stiffness * (w->position - x_meas) - w->damping * v_est;
+    return w->side > 0 ? (f < 0 ? f : 0) : (f > 0 ? f : 0);
+}
+
+/* The pieces of the hand's motion: not held, held while its intended position moves,
+ * held after that position arrived.  The integrator fixes the piece once per substep
+ * (at its midpoint), so every RK4 stage sees one smooth force and stays 4th order away
+ * from the few substeps that hold a grasp, a release or an arrival. */
+typedef enum zw_hand_phase { ZW_HAND_OFF, ZW_HAND_MOVING, ZW_HAND_ARRIVED } zw_hand_phase;
+
+static bool hand_arrived(const zw_sim_hand *h, zw_real t) {
+    /* speed = +inf is a step (and inf * 0 at t_grasp must not make a NaN). */
+    return !(h->speed <= ZW_REAL_MAX) || !(h->speed * (t - h->t_grasp) < ZW_FABS(h->to - h->from));
+}
+
+static zw_hand_phase hand_phase(const zw_sim_hand *h, zw_real t) {
+    if (!(t >= h->t_grasp && t < h->t_release)) return ZW_HAND_OFF;
+    return hand_arrived(h, t) ? ZW_HAND_ARRIVED : ZW_HAND_MOVING;
+}
+
+/* Intended position and velocity on a piece (MOVING extends the ramp past its end, so one
+ * formula serves a whole substep). */
+static void hand_path(const zw_sim_hand *h, zw_hand_phase phase, zw_real t, zw_real *xh,
+                      zw_real *vh) {
+    if (phase == ZW_HAND_MOVING) {
+        const zw_real velocity = h->to > h->from ? h->speed : -h->speed;
+        *xh = h->from + velocity * (t - h->t_grasp);
+        *vh = velocity;
+    } else {
+        *xh = h->to;
+        *vh = 0;
+    }
+}
+
+/* The intended position at t, for the trace: `from` until the grasp. */
+static zw_real hand_target(const zw_sim_hand *h, zw_real t) {
+    zw_real xh, vh;
+    if (t <= h->t_grasp) return h->from;
+    hand_path(h, hand_arrived(h, t) ? ZW_HAND_ARRIVED : ZW_HAND_MOVING, t, &xh, &vh);
+    return xh;
+}
+
+/* Force of the hand on the handle at (t, x, v) on a piece; 0 when not held. */
+static zw_real hand_force(const zw_sim_hand *h, zw_hand_phase phase, zw_real t, zw_real x,
+                          zw_real v) {
+    zw_real xh, vh;
+    if (phase == ZW_HAND_OFF) return 0;
+    hand_path(h, phase, t, &xh, &vh);
+    return h->stiffness * (xh - x) + h->damping * (vh - v);
+}
+
+/* The continuous part over one substep. */
+typedef struct zw_substep {
+    const zw_sim_scene *sc;
+    zw_hand_phase hand;  /* ZW_HAND_OFF also when the scene has no hand */
+    zw_real applied;     /* the zero-order-held controller force */
+    zw_real friction;    /* constant over the substep */
+    zw_real inv_mass;    /* 1 / (m, plus m_h while held) */
+} zw_substep;
+
+static zw_real acceleration(const zw_substep *st, zw_real t, zw_real x, zw_real v) {
+    zw_real f = st->applied + st->friction - st->sc->b * v;
+    if (st->hand != ZW_HAND_OFF) f += hand_force(&st->sc->hand, st->hand, t, x, v);
+    return f * st->inv_mass;
+}
+
+/* Classical RK4 on (x, v) over [t, t + h]. */
+static void rk4(const zw_substep *st, zw_real t, zw_real h, zw_real *x, zw_real *v) {
+    const zw_real x0 = *x, v0 = *v, h2 = h / 2;
+    const zw_real a1 = acceleration(st, t, x0, v0);
+    const zw_real v1 = v0 + h2 * a1;
+    const zw_real a2 = acceleration(st, t + h2, x0 + h2 * v0, v1);
+    const zw_real v2 = v0 + h2 * a2;
+    const zw_real a3 = acceleration(st, t + h2, x0 + h2 * v1, v2);
+    const zw_real v3 = v0 + h * a3;
+    const zw_real a4 = acceleration(st, t + h, x0 + h * v2, v3);
+    *x = x0 + (h / 6) * (v0 + 2 * v1 + 2 * v2 + v3);
+    *v = v0 + (h / 6) * (a1 + 2 * a2 + 2 * a3 + a4);
+}
+
+static zw_real sign_of(zw_real x) { return x > 0 ? ZW_R(1.0) : (x < 0 ? ZW_R(-1.0) : ZW_R(0.0)); }
+
+/* Advance the plant over one sample under the continuous effects; returns the friction
+ * force at the sample's start (for the trace). */
+static zw_real integrate_sample(const zw_sim_scene *sc, zw_real t, zw_real applied,
+                               zw_real *x, zw_real *v, bool *stuck) {
+    const bool friction = (sc->effects & ZW_SIM_FRICTION) != 0;
+    const bool hand = (sc->effects & ZW_SIM_HAND) != 0;
+    const zw_real h = sc->T / (zw_real)sc->substeps;
+    zw_real friction_at_start = 0;
+    zw_substep st;
+    int i;
+    st.sc = sc;
+    st.applied = applied;
+    st.friction = 0;
+    for (i = 0; i < sc->substeps; ++i) {
+        const zw_real ts = t + (zw_real)i * h;
+        zw_real mass = sc->m;
+        st.hand = hand ? hand_phase(&sc->hand, ts + h / 2) : ZW_HAND_OFF;
+        if (st.hand != ZW_HAND_OFF) mass += sc->hand.mass;
+        st.inv_mass = 1 / mass;
+        if (friction) {
+            zw_real direction;
+            /* At rest, or slow enough that friction alone stops it within this substep
+             * (Karnopp's band, |v| < h F_c / m: without it an exponential approach to
+             * rest would never stick): stiction holds while the other forces on the
+             * plant at rest stay within F_s. */
+            if (*stuck || ZW_FABS(*v) * mass < h * sc->coulomb) {
+                const zw_real others = applied + hand_force(&sc->hand, st.hand, ts, *x, 0);
+                if (ZW_FABS(others) <= sc->stiction) {
+                    if (i == 0) friction_at_start = -others;
+                    *v = 0;
+                    *stuck = true;
+                    continue;
+                }
+                direction = *stuck ? sign_of(others) : sign_of(*v);
+                *stuck = false;
+            } else {
+                direction = sign_of(*v);
+            }
+            st.friction = -sc->coulomb * direction;
+            if (i == 0) friction_at_start = st.friction;
+            rk4(&st, ts, h, x, v);
+            /* A velocity that reverses within the substep stops there. */
+            if (!(*v * direction > 0)) {
+                *v = 0;
+                *stuck = true;
+            }
+        } else {
+            rk4(&st, ts, h, x, v);
+        }
+    }
+    return friction_at_start;
+}
+
+/* Store a value if the signal is recorded. */
+#define ZW_RECORD(array, j, value) \
+    do {                           \
+        if ((array) != NULL) (array)[j] = (value); \
+    } while (0)
+
+/* ---- the loops ---------------------------------------------------------------------- */
+
+/* The ideal loop: constant gains, the reference step, the exact step.  Kept apart so a
+ * scene without effects pays for none of their flags. */
+static void run_linear(zw_sim *sim, size_t n, const zw_sim_trace *tr) {
+    const zw_sim_scene *sc = &sim->scene;
+    const zw_real K = sc->K, B_over_T = sc->B / sc->T, T = sc->T;
+    const zw_real e = sim->e, phi_T = sim->phi_T, x_gain = sim->x_gain, v_gain = sim->v_gain;
+    zw_real x = sim->x, v = sim->v;
+    zw_real x_prev = sim->started ? sim->x_meas_prev : x;
+    /* The step's index within this call, so the loop compares a local. */
+    const size_t j_step = sim->k_step > sim->k ? sim->k_step - sim->k : 0;
+    size_t j;
+    for (j = 0; j < n; ++j) {
+        const size_t k = sim->k + j;
+        const zw_real x_eq = j >= j_step ? sc->x_eq_after : sc->x_eq_before;
+        const zw_real F = K * (x_eq - x) - B_over_T * (x - x_prev);
+        ZW_RECORD(tr->t, j, (zw_real)k * T);
+        ZW_RECORD(tr->x, j, x);
+        ZW_RECORD(tr->v, j, v);
+        ZW_RECORD(tr->x_measured, j, x);
+        ZW_RECORD(tr->force, j, F);
+        ZW_RECORD(tr->force_command, j, F);
+        ZW_RECORD(tr->stiffness, j, K);
+        ZW_RECORD(tr->stiffness_planned, j, K);
+        ZW_RECORD(tr->damping, j, sc->B);
+        ZW_RECORD(tr->wall_force, j, 0);
+        ZW_RECORD(tr->friction, j, 0);
+        ZW_RECORD(tr->hand_force, j, 0);
+        ZW_RECORD(tr->hand_target, j, 0);
+        x_prev = x;
+        {
+            const zw_real x_next = x + phi_T * v + x_gain * F;
+            v = e * v + v_gain * F;
+            x = x_next;
+        }
+    }
+    sim->x = x;
+    sim->v = v;
+    if (n > 0) {
+        sim->x_meas_prev = x_prev;
+        sim->started = true;
+    }
+    sim->k += n;
+}
+
+/* Everything else: one branch per effect on a loop-invariant flag.  The state lives in
+ * locals (the trace arrays could alias *sim) and is written back at the end. */
+static void run_general(zw_sim *sim, size_t n, const zw_sim_trace *tr) {
+    const zw_sim_scene *sc = &sim->scene;
+    const unsigned fx = sc->effects;
+    const zw_real T = sc->T;
+    zw_real x = sim->x, v = sim->v, x_meas_prev = sim->x_meas_prev, v_filtered = sim->v_filtered;
+    bool stuck = sim->stuck;
+    size_t j;
+    for (j = 0; j < n; ++j) {
+        const size_t k = sim->k + j;
+        const zw_real t = (zw_real)k * T;
+        zw_real x_meas = x, dx, K, B, x_eq, K_planned, F_cmd, F, applied, friction = 0;
+        zw_real wall = 0;
+
+        if (fx & ZW_SIM_QUANTIZATION) x_meas = ZW_FLOOR(x * sc->counts_per_unit) / sc->counts_per_unit;
+        if (k == 0 && !sim->started) x_meas_prev = x_meas;
+        dx = x_meas - x_meas_prev;
+
+        /* Gains and equilibrium: the knob's map, the schedule, or the constants. */
+        if (fx & ZW_SIM_KNOB) {
+            zw_real unused;
+            knob_map(&sc->knob, x_meas, &K, &x_eq);
+            knob_map(&sc->knob, x, &K_planned, &unused);
+            B = sc->knob.damping;
+        } else {
+            if (fx & ZW_SIM_SCHEDULE) {
+                while (sim->schedule_index + 1 < sc->schedule_len &&
+                       t >= sc->schedule[sim->schedule_index + 1].t_start)
+                    ++sim->schedule_index;
+                K = sc->schedule[sim->schedule_index].K;
+                B = sc->schedule[sim->schedule_index].B;
+            } else {
+                K = sc->K;
+                B = sc->B;
+            }
+            K_planned = K;
+            x_eq = k >= sim->k_step ? sc->x_eq_after : sc->x_eq_before;
+        }
+
+        if (fx & ZW_SIM_VELOCITY_FILTER) {
+            v_filtered = sim->filter_a * v_filtered + (1 - sim->filter_a) * (dx / T);
+            F_cmd = K * (x_eq - x_meas) - B * v_filtered;
+        } else {
+            F_cmd = K * (x_eq - x_meas) - (B / T) * dx;
+        }
+        if (fx & ZW_SIM_WALL) {
+            wall = wall_force(&sc->wall, x_meas, (fx & ZW_SIM_VELOCITY_FILTER) ? v_filtered : dx / T);
+            F_cmd += wall;
+        }
+        F = F_cmd;
+        if (fx & ZW_SIM_SATURATION) {
+            if (F > sc->force_max) F = sc->force_max;
+            if (F < -sc->force_max) F = -sc->force_max;
+        }
+        applied = F;
+        if (fx & ZW_SIM_DELAY) {
+            applied = sim->delay_line[sim->delay_head];
+            sim->delay_line[sim->delay_head] = F;
+            if (++sim->delay_head == sc->delay_samples) sim->delay_head = 0;
+        }
+
+        ZW_RECORD(tr->t, j, t);
+        ZW_RECORD(tr->x, j, x);
+        ZW_RECORD(tr->v, j, v);
+        ZW_RECORD(tr->x_measured, j, x_meas);
+        ZW_RECORD(tr->force, j, applied);
+        ZW_RECORD(tr->force_command, j, F_cmd);
+        ZW_RECORD(tr->stiffness, j, K);
+        ZW_RECORD(tr->stiffness_planned, j, K_planned);
+        ZW_RECORD(tr->damping, j, B);
+        ZW_RECORD(tr->wall_force, j, wall);
+        if (fx & ZW_SIM_HAND) {
+            ZW_RECORD(tr->hand_force, j, hand_force(&sc->hand, hand_phase(&sc->hand, t), t, x, v));
+            ZW_RECORD(tr->hand_target, j, hand_target(&sc->hand, t));
+        } else {
+            ZW_RECORD(tr->hand_force, j, 0);
+            ZW_RECORD(tr->hand_target, j, 0);
+        }
+
+        x_meas_prev = x_meas;
+        if (fx & ZW_SIM_CONTINUOUS) {
+            friction = integrate_sample(sc, t, applied, &x, &v, &stuck);
+        } else {
+            const zw_real x_next = x + sim->phi_T * v + sim->x_gain * applied;
+            v = sim->e * v + sim->v_gain * applied;
+            x = x_next;
+        }
+        ZW_RECORD(tr->friction, j, friction);
+    }
+    sim->x = x;
+    sim->v = v;
+    sim->x_meas_prev = x_meas_prev;
+    sim->v_filtered = v_filtered;
+    sim->stuck = stuck;
+    if (n > 0) sim->started = true;
+    sim->k += n;
+}
+
+zw_status zw_sim_run(zw_sim *sim, size_t n, const zw_sim_trace *trace) {
+    if (sim == NULL || trace == NULL) return ZW_ERR_NULL;
+    if (sim->scene.effects == 0u)
+        run_linear(sim, n, trace);
+    else
+        run_general(sim, n, trace);
+    return ZW_OK;
+}
+
+/* ---- the verdict -------------------------------------------------------------------- */
+
+/* Peak-to-peak of x[0 .. n-1]; +inf if any is not finite. */
+static zw_real peak_to_peak(const zw_real *x, size_t n) {
+    zw_real lo = x[0], hi = x[0];
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        if (!ZW_IS_FINITE(x[i])) return ZW_SIM_INF;
+        if (x[i] < lo) lo = x[i];
+        if (x[i] > hi) hi = x[i];
+    }
+    return hi - lo;
+}
+
+zw_status zw_sim_judge(const zw_real *x, size_t n, size_t window, size_t windows,
+                       zw_real tolerance, zw_sim_verdict *out) {
+    zw_sim_verdict r;
+    size_t i;
+    if (x == NULL || out == NULL) return ZW_ERR_NULL;
+    ZW_TRY(finite_value(tolerance));
+    ZW_REQUIRE(tolerance >= 0 && window >= 1 && windows >= 2 && windows <= n / window);
+
+    r.first_nonfinite = n;
+    for (i = 0; i < n; ++i) {
+        if (!ZW_IS_FINITE(x[i])) {
+            r.first_nonfinite = i;
+            break;
+        }
+    }
+    r.amplitude_first = peak_to_peak(x + (n - windows * window), window);
+    r.amplitude_last = peak_to_peak(x + (n - window), window);
+    if (r.first_nonfinite < n) {
+        r.outcome = ZW_SIM_UNSTABLE;
+        r.growth = ZW_SIM_INF;
+    } else {
+        const zw_real a1 = r.amplitude_first, aw = r.amplitude_last;
+        if (a1 > 0)
+            r.growth = ZW_POW(aw / a1, ZW_R(1.0) / ((zw_real)(windows - 1) * (zw_real)window));
+        else
+            r.growth = aw > 0 ? ZW_SIM_INF : 0;
+        if (aw <= tolerance) {
+            r.outcome = ZW_SIM_STABLE;
+        } else {
+            /* Dying out means every window smaller than the one before: a linear decay is,
+             * a sustained (limit-cycle, chaotic) oscillation is not, whatever its noise. */
+            bool decaying = true;
+            zw_real before = a1;
+            for (i = 1; i < windows && decaying; ++i) {
+                const zw_real a = peak_to_peak(x + (n - (windows - i) * window), window);
+                decaying = a < before;
+                before = a;
+            }
+            r.outcome = decaying ? ZW_SIM_UNDECIDED : ZW_SIM_UNSTABLE;
+        }
+    }
+    *out = r;
+    return ZW_OK;
+}
