@@ -308,19 +308,15 @@ static zw_real integrate_sample(const zw_sim_scene *sc, zw_real t, zw_real appli
         st.inv_mass = 1 / mass;
         if (friction) {
             zw_real direction;
-            /* At rest, or slow enough that friction alone stops it within this substep
-             * (Karnopp's band, |v| < h F_c / m: without it an exponential approach to
-             * rest would never stick): stiction holds while the other forces on the
-             * plant at rest stay within F_s. */
-            if (*stuck || ZW_FABS(*v) * mass < h * sc->coulomb) {
+            if (*stuck) {
+                /* At rest: stiction holds while the other forces stay within F_s. */
                 const zw_real others = applied + hand_force(&sc->hand, st.hand, ts, *x, 0);
                 if (ZW_FABS(others) <= sc->stiction) {
                     if (i == 0) friction_at_start = -others;
                     *v = 0;
-                    *stuck = true;
                     continue;
                 }
-                direction = *stuck ? sign_of(others) : sign_of(*v);
+                direction = sign_of(others);
                 *stuck = false;
             } else {
                 direction = sign_of(*v);

@@ -30,11 +30,13 @@
  *
  * Continuous effects:
  *   ZW_SIM_FRICTION: Coulomb friction F_c opposing the velocity, with stiction F_s >= F_c:
- *     a plant at rest, or slower than friction alone could stop within one substep
- *     (|v| < h F_c / m: Karnopp's band, which vanishes as h -> 0), stays or comes to rest
- *     while the other forces on it at rest stay within F_s (evaluated at the start of each
- *     substep); a moving plant whose velocity changes sign within a substep stops there
- *     (v = 0 at the end of the substep).  Both are O(h) events.
+ *     a resting plant (v = 0) stays at rest while the other forces on it stay within F_s
+ *     (evaluated at the start of each substep), and a moving plant whose velocity changes
+ *     sign within a substep stops there (v = 0 at the end of the substep; an O(h) event).
+ *     A plant creeping toward the edge of the stiction band (the net force tending to 0,
+ *     v decaying without reversing) keeps sliding, as in the ideal Coulomb model, and
+ *     pays for RK4 while it does.  (A Karnopp velocity band would stop it sooner and
+ *     cheaper, at the price of an O(h) error measured to dominate the benchmark.)
  *   ZW_SIM_HAND: a hand holding the handle rigidly during [t_grasp, t_release): its mass
  *     m_h adds to m, and its arm pulls it toward the operator's intended position
  *     x_h(t) with stiffness k_h and damping b_h:  F_hand = k_h (x_h - x) + b_h (x_h' - x').
