@@ -49,6 +49,9 @@ step "simulation benchmark smoke run (bench/sim/bench_sim.py --quick)"
 .venv/bin/python bench/sim/bench_sim.py --quick >/dev/null
 echo "simulation benchmark runs (full table: .venv/bin/python bench/sim/bench_sim.py --markdown)"
 
+step "benchmark report, reduced size: fails if a method's error exceeds the report's claims"
+.venv/bin/python bench/report/generate.py --quick | tail -n 3
+
 step "Modbus drive: zwidth-tune, mbpoll, RTU over socat, robustness (pytest)"
 ZW_BUILD_DIR="$PWD/build" .venv/bin/python -m pytest tests/integration -q
 
