@@ -59,6 +59,9 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
+# The number formats of the project's other benchmark, so the README's tables read alike.
+sys.path.insert(0, str(REPO / "bench" / "python"))
+from bench_check import per_point as per_sample, si  # noqa: E402
 M, B_PLANT, T = 0.1, 30.0, 0.01
 K_LIN, B_LIN = 7000.0, 20.0   # point P5 of paper Fig. 15 (scenes/paper-fig15.toml): alpha 7, beta 2
 SUBSTEPS = (1, 2, 5, 10, 20, 50, 100)
@@ -76,20 +79,6 @@ def best_of(fn: Callable[[], Any], repeats: int) -> Tuple[float, Any]:
         out = fn()
         best = min(best, time.perf_counter() - t0)
     return best, out
-
-
-def si(x: float) -> str:
-    for scale, suffix in ((1e9, " G"), (1e6, " M"), (1e3, " k")):
-        if x >= scale:
-            return f"{x / scale:.3g}{suffix}"
-    return f"{x:.3g}"
-
-
-def per_sample(seconds: float) -> str:
-    for scale, unit in ((1.0, "s"), (1e-3, "ms"), (1e-6, "µs")):
-        if seconds >= scale:
-            return f"{seconds / scale:.3g} {unit}"
-    return f"{seconds / 1e-9:.3g} ns"
 
 
 def machine(zw: Any, ct: Any) -> str:

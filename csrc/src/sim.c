@@ -336,7 +336,9 @@ static zw_real integrate_sample(const zw_sim_scene *sc, zw_real t, zw_real appli
     return friction_at_start;
 }
 
-/* Store a value if the signal is recorded. */
+/* Store a value if the signal is recorded.  Both loops write their trace entry by entry:
+ * gathering a sample into a struct for one shared store function made the bare loop 1.4x
+ * slower (bench-sim), which is the price an absent effect must not pay. */
 #define ZW_RECORD(array, j, value) \
     do {                           \
         if ((array) != NULL) (array)[j] = (value); \
