@@ -21,7 +21,7 @@
 typedef struct rec {
     size_t n;
     zw_real *t, *x, *v, *x_measured, *force, *force_command, *stiffness, *stiffness_planned,
-        *damping, *wall_force, *friction, *hand_force;
+        *damping, *wall_force, *friction, *hand_force, *hand_target;
     zw_sim_trace tr;
 } rec;
 
@@ -79,6 +79,7 @@ static void rec_alloc(rec *r, size_t n)
     r->tr.wall_force = r->wall_force = alloc_signal(n);
     r->tr.friction = r->friction = alloc_signal(n);
     r->tr.hand_force = r->hand_force = alloc_signal(n);
+    r->tr.hand_target = r->hand_target = alloc_signal(n);
 }
 
 static void rec_free(rec *r)
@@ -95,6 +96,7 @@ static void rec_free(rec *r)
     free_signal(r->wall_force);
     free_signal(r->friction);
     free_signal(r->hand_force);
+    free_signal(r->hand_target);
     memset(r, 0, sizeof *r);
 }
 
@@ -949,6 +951,7 @@ static zw_sim_trace trace_from(const rec *r, size_t at)
     t.wall_force = r->wall_force + at;
     t.friction = r->friction + at;
     t.hand_force = r->hand_force + at;
+    t.hand_target = r->hand_target + at;
     return t;
 }
 
@@ -989,6 +992,7 @@ static void test_resumable(void **state)
         SAME(wall_force);
         SAME(friction);
         SAME(hand_force);
+        SAME(hand_target);
 #undef SAME
         assert_true(max_abs(whole.x, total) > 0.1L); /* it moved */
         rec_free(&whole);
