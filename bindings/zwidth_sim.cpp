@@ -77,6 +77,7 @@ const Signal kSignals[] = {
     {"stiffness", &zw_sim_trace::stiffness},
     {"stiffness_planned", &zw_sim_trace::stiffness_planned},
     {"damping", &zw_sim_trace::damping},
+    {"velocity_estimate", &zw_sim_trace::velocity_estimate},
     {"wall_force", &zw_sim_trace::wall_force},
     {"friction", &zw_sim_trace::friction},
     {"hand_force", &zw_sim_trace::hand_force},
@@ -108,7 +109,8 @@ long long integer_of(const std::string &key, py::handle value) {
 
 class Simulator {
   public:
-    explicit Simulator(const py::dict &scene) : scene_dict_(scene) {
+    // A copy of the dict, so .scene says what was simulated whatever the caller changes.
+    explicit Simulator(const py::dict &scene) : scene_dict_(scene.attr("copy")()) {
         zw_sim_scene s{};
         for (auto item : scene) {
             const std::string key = py::str(item.first);
@@ -161,7 +163,7 @@ class Simulator {
 
     py::ssize_t k() const { return static_cast<py::ssize_t>(sim_.k); }
 
-    py::dict scene() const { return py::dict(scene_dict_); }
+    py::dict scene() const { return scene_dict_.attr("copy")(); }
 
     std::string repr() const {
         char buf[160];

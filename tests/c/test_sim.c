@@ -21,7 +21,7 @@
 typedef struct rec {
     size_t n;
     zw_real *t, *x, *v, *x_measured, *force, *force_command, *stiffness, *stiffness_planned,
-        *damping, *wall_force, *friction, *hand_force, *hand_target;
+        *damping, *velocity_estimate, *wall_force, *friction, *hand_force, *hand_target;
     zw_sim_trace tr;
 } rec;
 
@@ -80,6 +80,7 @@ static void rec_alloc(rec *r, size_t n)
     r->tr.friction = r->friction = alloc_signal(n);
     r->tr.hand_force = r->hand_force = alloc_signal(n);
     r->tr.hand_target = r->hand_target = alloc_signal(n);
+    r->tr.velocity_estimate = r->velocity_estimate = alloc_signal(n);
 }
 
 static void rec_free(rec *r)
@@ -97,6 +98,7 @@ static void rec_free(rec *r)
     free_signal(r->friction);
     free_signal(r->hand_force);
     free_signal(r->hand_target);
+    free_signal(r->velocity_estimate);
     memset(r, 0, sizeof *r);
 }
 
@@ -454,6 +456,8 @@ static void test_velocity_filter(void **state)
     for (k = 0; k < r.n; ++k) {
         assert_true(r.x[k] == (zw_real)k * R(0.00390625)); /* the probe is exact */
         EXPECT_ABS(r.force_command[k], -0.5L * (1.0L - powl(a, (long double)k)), TOLL(32) * 0.5L);
+        /* the trace shows the filtered estimate the damping used (B = 1) */
+        EXPECT_ABS(r.velocity_estimate[k], 0.5L * (1.0L - powl(a, (long double)k)), TOLL(32) * 0.5L);
     }
     rec_free(&r);
 }
@@ -614,6 +618,26 @@ static void test_knob_map(void **state)
         EXPECT_ABS(F, cases[i].K * (cases[i].x_eq - x),
                    TOLL(4) * fabsl(cases[i].K) * (fabsl(cases[i].x_eq) + fabsl(x)));
     }
+}
+
+/* A knob scene that blows up records inf and NaN and goes on (no undefined conversion of a
+ * NaN position to a detent index): an end wall far too stiff for the plant. */
+static void test_knob_diverging(void **state)
+{
+    zw_sim_scene sc = scene_knob(R(0.7));
+    zw_sim_verdict vd;
+    rec r;
+    size_t k, nonfinite = 0;
+    (void)state;
+    sc.knob.k_end = R(1e6);
+    simulate(&sc, 400, &r);
+    for (k = 0; k < r.n; ++k) nonfinite += ZW_IS_FINITE(r.x[k]) ? 0u : 1u;
+    assert_true(nonfinite > 0 && ZW_IS_NAN(r.x[r.n - 1]));
+    assert_true(ZW_IS_NAN(r.stiffness[r.n - 1]));
+    EXPECT_OK(zw_sim_judge(r.x, r.n, 50, 4, R(1e-3), &vd));
+    assert_int_equal(vd.outcome, ZW_SIM_UNSTABLE);
+    assert_true(vd.first_nonfinite < r.n);
+    rec_free(&r);
 }
 
 /* The force is continuous across every boundary of the map (the ends p_0, p_{n-1} and the
@@ -952,6 +976,7 @@ static zw_sim_trace trace_from(const rec *r, size_t at)
     t.friction = r->friction + at;
     t.hand_force = r->hand_force + at;
     t.hand_target = r->hand_target + at;
+    t.velocity_estimate = r->velocity_estimate + at;
     return t;
 }
 
@@ -993,11 +1018,39 @@ static void test_resumable(void **state)
         SAME(friction);
         SAME(hand_force);
         SAME(hand_target);
+        SAME(velocity_estimate);
 #undef SAME
         assert_true(max_abs(whole.x, total) > 0.1L); /* it moved */
         rec_free(&whole);
         rec_free(&parts);
     }
+}
+
+/* A linear scene runs the ideal loop unless the velocity estimate is asked for, which
+ * only the general loop stores: both give the same trajectory bit for bit, and the
+ * estimate is the backward difference of the measured position. */
+static void test_linear_loops_agree(void **state)
+{
+    zw_sim_scene sc = scene_linear(R(0.1), R(3.0), R(0.01), R(200.0), R(1.0));
+    zw_sim sim;
+    zw_sim_trace no_estimate;
+    rec all;
+    zw_real x[300], F[300];
+    size_t k;
+    (void)state;
+    sc.x_eq_after = R(1.0);
+    sc.t_step = R(0.5);
+    simulate(&sc, 300, &all);   /* every signal: the general loop */
+    memset(&no_estimate, 0, sizeof no_estimate);
+    no_estimate.x = x;
+    no_estimate.force = F;
+    EXPECT_OK(zw_sim_init(&sim, &sc));
+    EXPECT_OK(zw_sim_run(&sim, 300, &no_estimate));
+    assert_memory_equal(x, all.x, sizeof x);
+    assert_memory_equal(F, all.force, sizeof F);
+    for (k = 1; k < 300; ++k) assert_true(all.velocity_estimate[k] == (x[k] - x[k - 1]) / sc.T);
+    assert_true(all.velocity_estimate[0] == 0);
+    rec_free(&all);
 }
 
 /* A NULL trace pointer means "not recorded": the other signals are unchanged. */
@@ -1323,6 +1376,7 @@ static void test_init_errors(void **state)
     CASE(ZW_SIM_SCHEDULE, sc.schedule_len = 0, ZW_ERR_ARG);
     /* a missing required array */
     CASE(ZW_SIM_SCHEDULE, sc.schedule = NULL, ZW_ERR_NULL);
+    CASE(ZW_SIM_SCHEDULE, (sc.schedule = NULL, sc.schedule_len = 0), ZW_ERR_NULL);
 #undef CASE
 
     /* NULL arguments */
@@ -1409,6 +1463,7 @@ int main(void)
         cmocka_unit_test_teardown(test_wall_force, free_all),
         cmocka_unit_test_teardown(test_wall_steady_penetration, free_all),
         cmocka_unit_test_teardown(test_knob_map, free_all),
+        cmocka_unit_test_teardown(test_knob_diverging, free_all),
         cmocka_unit_test_teardown(test_knob_continuity, free_all),
         cmocka_unit_test_teardown(test_knob_planned_vs_measured, free_all),
         cmocka_unit_test_teardown(test_schedule, free_all),
@@ -1417,6 +1472,7 @@ int main(void)
         cmocka_unit_test_teardown(test_hand_step_speed_inf, free_all),
         cmocka_unit_test_teardown(test_hand_integrator_matches_exact, free_all),
         cmocka_unit_test_teardown(test_resumable, free_all),
+        cmocka_unit_test_teardown(test_linear_loops_agree, free_all),
         cmocka_unit_test_teardown(test_partial_trace, free_all),
         cmocka_unit_test_teardown(test_judge_decaying, free_all),
         cmocka_unit_test_teardown(test_judge_growing, free_all),

@@ -182,6 +182,9 @@ typedef struct zw_sim_trace {
     zw_real *stiffness;         /* K the controller used at this sample */
     zw_real *stiffness_planned; /* K the schedule or knob map gives at the true position */
     zw_real *damping;           /* B used at this sample */
+    zw_real *velocity_estimate; /* v_est the damping terms used (filtered with the filter);
+                                   asking for it in a scene without effects costs the
+                                   general loop's speed instead of the ideal loop's */
     zw_real *wall_force;        /* the wall's part of force_command */
     zw_real *friction;          /* signed friction force on the plant at t (substep start) */
     zw_real *hand_force;        /* F_hand at t */
