@@ -9,6 +9,7 @@ import argparse
 import dataclasses
 import json
 import math
+import os
 import sys
 import textwrap
 from pathlib import Path
@@ -42,7 +43,8 @@ exit status:
   2  usage error (unknown option, bad number, missing or conflicting options)
   3  invalid values (m <= 0, T <= 0, b < 0, NaN, ...): the message names the option
   4  cannot plot (matplotlib missing: pip install zwidth[plot]; file not writable)
-  simulate: 0 every case simulated stable, 1 some not, 3 an invalid scene file
+  simulate: 0 every case simulated stable, 1 some not, 3 an invalid scene file or a run
+    too large for memory
 
 simulate takes a scene file instead of a plant (docs/scenes.md): 'zwidth simulate --help'.
 
@@ -133,10 +135,12 @@ the scene file (TOML; every key, unit and default in docs/scenes.md):
   [integrator] substeps | step   [verdict] tolerance, window, windows   [[case]] label + overrides
   Values with units are strings: "0.1 kg", "23 N*s/m", "85.78e-7 kg*m^2", "45 deg".
 
-verdict of a case (zw_sim_judge on the position; default: 4 windows over the run's second half):
-  stable     the last window's peak-to-peak <= tolerance (default 1e-3 of the run's range)
-  unstable   overflow, or the last window's peak-to-peak >= the first's (not dying out)
-  undecided  still decaying: run longer (--duration)
+verdict of a case (zw_sim_judge on the position; default: 8 windows over the run's second half):
+  unstable   the position overflowed
+  stable     otherwise, the last window's peak-to-peak <= tolerance (default 1e-3 of the run's range)
+  unstable   otherwise, unless the peak-to-peak strictly shrinks from each window to the next
+             (a growing or sustained oscillation, a limit cycle, a drift: not dying out)
+  undecided  shrinking in every window but not settled: run longer (--duration)
 
 output files:
   --out RUN.npz   every case's arrays: keys "<label>/<signal>" (t, x, v, x_measured, force and
@@ -161,9 +165,12 @@ output files:
 exit status:
   0  every case simulated stable
   1  some case simulated unstable or undecided
-  2  usage error (bad option, --out not .npz/.csv or not writable, --plot not .png/.svg)
-  3  invalid scene: the message names the file and the key
+  2  usage error (bad option, --out not .npz/.csv or its directory missing or not writable,
+     --plot not .png/.svg); checked before simulating
+  3  invalid scene: the message names the file and the key; or out of memory (a case may
+     have at most 2**28 samples, and its arrays must fit in memory)
   4  cannot plot (matplotlib missing: pip install zwidth[plot]; file not writable)
+  130  interrupted (Ctrl-C)
 
 examples:
   zwidth simulate scenes/paper-fig15.toml --plot fig15.png
@@ -602,7 +609,29 @@ def _simulate_outputs(args: argparse.Namespace) -> Tuple[Optional[Path], Optiona
         raise _Usage(f"argument --out: {args.out!r} must end in .npz or .csv")
     if fig is not None and fig.suffix.lower() not in (".png", ".svg"):
         raise _Usage(f"argument --plot: {args.plot!r} must end in .png or .svg")
+    if out is not None:
+        problem = _unwritable(out)
+        if problem:
+            raise _Usage(f"argument --out: cannot write {out}: {problem}")
+    if fig is not None:
+        problem = _unwritable(fig)
+        if problem:
+            raise _PlotError(f"cannot write {fig}: {problem}")
     return out, fig
+
+
+def _unwritable(path: Path) -> Optional[str]:
+    """Why a file cannot be written there (checked before a long run), or None."""
+    parent = path.parent
+    if path.is_dir():
+        return "it is a directory"
+    if not parent.is_dir():
+        return f"no directory {parent}" if not parent.exists() else f"{parent} is not a directory"
+    if path.exists() and not os.access(path, os.W_OK):
+        return "the file is not writable"
+    if not path.exists() and not os.access(parent, os.W_OK | os.X_OK):
+        return f"the directory {parent} is not writable"
+    return None
 
 
 def _simulation_json(sim: Any, rotary: bool) -> Dict[str, Any]:
@@ -905,8 +934,19 @@ def _main_simulate(args: argparse.Namespace, sub: argparse.ArgumentParser) -> in
     except SceneError as exc:
         print(f"zwidth simulate: error: invalid scene: {exc}", file=sys.stderr)
         return EXIT_INVALID
+    except ZwidthError as exc:  # the loader checks the plants first; should not happen
+        print(f"zwidth simulate: error: invalid scene {args.scene}: {exc}", file=sys.stderr)
+        return EXIT_INVALID
+    except MemoryError as exc:
+        why = str(exc) or "a case's arrays do not fit in memory"
+        print(f"zwidth simulate: error: out of memory: {why}; shorten the duration (--duration) or "
+              f"lengthen T", file=sys.stderr)
+        return EXIT_INVALID
     except _PlotError as exc:
         print(f"zwidth simulate: error: cannot plot: {exc}", file=sys.stderr)
         return EXIT_PLOT
+    except KeyboardInterrupt:
+        print("zwidth simulate: interrupted", file=sys.stderr)
+        return 130
     _emit(outcome, "simulate", None, args.json, sys.stdout)
     return int(outcome.status)

@@ -32,6 +32,8 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from . import _core
+from ._kernels import ZwidthError
+from .device import Device
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -40,7 +42,7 @@ else:  # pragma: no cover - Python < 3.11
 
 __all__ = ["SceneError", "Scene", "Case", "load_scene", "parse_quantity", "EFFECTS", "MAX_SUBSTEPS", "MAX_DELAY",
            "SUBSTEP_ACCURACY", "MIN_SUBSTEPS", "DEFAULT_DURATION", "DEFAULT_WINDOWS",
-           "DEFAULT_RELATIVE_TOLERANCE"]
+           "DEFAULT_RELATIVE_TOLERANCE", "MAX_SAMPLES", "MAX_KNOB_COUNT"]
 
 #: Effect name -> bit of ``zw_sim_scene.effects`` (sim.h).
 EFFECTS: Dict[str, int] = dict(_core.SIM_EFFECTS)
@@ -58,6 +60,12 @@ DEFAULT_DURATION = 10.0      #: [s] when [scene] gives none
 DEFAULT_WINDOWS = 8          #: verdict windows; the default window is duration / (2 windows)
 #: Default verdict tolerance, as a fraction of the position's peak-to-peak over the run.
 DEFAULT_RELATIVE_TOLERANCE = 1e-3
+#: Most samples a case may have (2**28): at least 5 signals of 8 bytes per sample are
+#: recorded, so a case at the limit needs 10 GiB.  Longer runs are refused by the loader.
+MAX_SAMPLES = 2 ** 28
+#: Signals every run records (t, x, v, x_measured, force): the memory estimate's floor.
+_BASIC_SIGNALS = 5
+MAX_KNOB_COUNT = 10 ** 6     #: most detents of a [knob]
 
 Source = Union[str, Path, Mapping[str, Any]]
 
@@ -266,7 +274,28 @@ class _Reader:
             raise self.fail(path, f"cannot convert {raw!r} to {unit}: {exc}") from None
         if math.isnan(x):
             raise self.fail(path, f"is NaN: {raw!r}")
+        self.check_angle(q, raw, path, kind, x)
         return x
+
+    def check_angle(self, q: Any, raw: str, path: str, kind: str, x: float) -> None:
+        """pint takes the radian for a plain number (rad/s and Hz are both 1/s): refuse the
+        units where that would silently mis-convert by 2 pi."""
+        if not (kind == "frequency" or (kind == "velocity" and self.rotary)):
+            return
+        try:
+            angle = dict(q.to_root_units().unit_items()).get("radian", 0)
+        except Exception:  # pragma: no cover - the conversion above succeeded
+            angle = 0
+        if kind == "frequency" and angle != 0:
+            hint = (f" ({raw} is {x / (2 * math.pi):.6g} Hz)" if angle == 1 and _finite(x) else "")
+            raise self.fail(path, f"{raw!r} has an angle in its units: give a frequency in Hz (cycles "
+                                  f"per second), e.g. \"20 Hz\"{hint}; pint reads rad as a plain "
+                                  f"number, so rad/s, deg/s and rpm would count 2 pi times too many "
+                                  f"cycles")
+        if kind == "velocity" and angle != 1:
+            raise self.fail(path, f"{raw!r} is ambiguous for an angular velocity: give an angle per "
+                                  f"time, e.g. \"1 rad/s\", \"60 rpm\" or \"90 deg/s\" (10 Hz or 10 / s "
+                                  f"could be 10 rad/s or 10 turns per second)")
 
     def require(self, table: Mapping[str, Any], where: str, key: str, kind: str) -> Any:
         if key not in table:
@@ -313,6 +342,36 @@ def _show(value: Any) -> str:
 
 def _finite(x: float) -> bool:
     return math.isfinite(x)
+
+
+def _plant_out_of_range(m: float, b: float, T: float, mass_key: str, rotary: bool,
+                        exc: ZwidthError) -> Tuple[Tuple[str, ...], str]:
+    """The keys and the words for a plant zw_device_init refuses although each of m, b, T
+    is valid on its own: a value or a ratio outside the normal doubles."""
+    tiny, huge = sys.float_info.min, sys.float_info.max
+    mu, bu = unit_of("mass", rotary), unit_of("damping", rotary)
+    given = f"{mass_key} = {m:g} {mu}, b = {b:g} {bu}, T = {T:g} s"
+    M = mass_key
+    candidates: List[Tuple[Tuple[str, ...], str, float]] = [
+        ((M,), M, m), (("T",), "T", T)]
+    if b > 0:
+        candidates.append((("b",), "b", b))
+    candidates += [((M, "T"), f"{M}/T", m / T), ((M, "T"), f"{M}/T^2", m / T / T),
+                   ((M, "T"), f"T/{M}", T / m)]
+    if b > 0:
+        candidates.append(((M, "b", "T"), f"delta = b T/{M}", b * (T / m)))
+    for keys, name, value in candidates:
+        if not tiny <= value <= huge:
+            what = "overflows" if value > huge else ("is too small" if value > 0 else "underflows to 0")
+            if len(keys) == 1:
+                unit = {M: mu, "T": "s", "b": bu}[name]
+                return keys, (f"{name} = {value:g} {unit} {what}: zwidth computes in double precision "
+                              f"and needs {name} between {tiny:.4g} and {huge:.4g} {unit} (a normal "
+                              f"double)")
+            return keys, (f"the plant is outside the range zwidth computes in: {name} = {value:g} {what} "
+                          f"(it must be a normal double, {tiny:.4g} to {huge:.4g}); {given}: "
+                          f"change {', '.join(keys[:-1])} or {keys[-1]}")
+    return (M, "b", "T"), f"the plant is outside the range zwidth computes in ({given}): {exc}"
 
 
 # ---------------------------------------------------------------------------------------
@@ -687,6 +746,15 @@ class _Builder:
         r.check(_finite(m) and m > 0, f"{where}.{mass_key}", f"{word} must be > 0 and finite, got {m:g}")
         r.check(_finite(b) and b >= 0, f"{where}.b", f"b must be >= 0 and finite, got {b:g}")
         r.check(_finite(T) and T > 0, f"{where}.T", f"T must be > 0 and finite, got {T:g}")
+        # The C core (zw_device_init, which zw_sim_init calls) computes with m, b, T, m/T,
+        # m/T^2, T/m and delta = b T/m and needs each a normal double: check it here, so
+        # that the simulator never answers a bare [ZW_ERR_RANGE].
+        try:
+            Device(m, b, T, rotary=r.rotary)
+        except ZwidthError as exc:
+            keys, problem = _plant_out_of_range(m, b, T, mass_key, r.rotary, exc)
+            key = f"{where}.{keys[0]}" if len(keys) == 1 else ("[plant]" if where == "plant" else where)
+            raise r.fail(key, problem) from None
 
     def check_controller(self, c: Mapping[str, float], where: str, *, needs_complete: bool) -> None:
         r = self.r
@@ -722,6 +790,9 @@ class _Builder:
             if has_res:
                 res = self.get(q, "quantization", "resolution", "position")
                 r.check(_finite(res) and res > 0, "quantization.resolution", f"must be > 0, got {res:g}")
+                r.check(_finite(1.0 / res), "quantization.resolution",
+                        f"is too small: {res:g} {unit_of('position', r.rotary)} gives 1/resolution = inf "
+                        f"counts per {unit_of('position', r.rotary)} (it must be finite)")
                 p["counts_per_unit"] = 1.0 / res
                 si["quantization"] = {"resolution": res}
             else:
@@ -801,9 +872,14 @@ class _Builder:
             r.check(_finite(first), "knob.first", f"must be finite, got {first}")
             r.check(_finite(pitch) and pitch > 0, "knob.pitch", f"must be > 0, got {pitch:g}")
             r.check(count >= 2, "knob.count", f"a knob needs >= 2 positions, got {count}")
+            r.check(count <= MAX_KNOB_COUNT, "knob.count",
+                    f"at most {MAX_KNOB_COUNT:,} positions, got {count:,}")
             r.check(_finite(k_detent) and k_detent > 0, "knob.k_detent", f"must be > 0, got {k_detent:g}")
             r.check(_finite(k_end) and k_end > 0, "knob.k_end", f"must be > 0, got {k_end:g}")
             r.check(_finite(damping), "knob.damping", f"must be finite, got {damping}")
+            last = first + float(count - 1) * pitch     # as zw_sim_init computes it
+            r.check(_finite(last), "knob.pitch", f"the last detent, first + (count - 1) pitch = {last:g}, "
+                                                 f"must be finite")
             p.update(knob_first=first, knob_pitch=pitch, knob_count=count, knob_k_detent=k_detent,
                      knob_k_end=k_end, knob_damping=damping)
             si["knob"] = {"first": first, "pitch": pitch, "count": count, "k_detent": k_detent,
@@ -855,12 +931,16 @@ class _Builder:
             else:
                 raise r.fail(f"{where}.K", "missing: give K and B (or alpha and beta) in this case "
                                            "or in [controller]")
+            # The scales of zw_device_init: m/T and (m/T)/T (T ** 2 could overflow or underflow
+            # where these are fine; check_plant made them normal numbers).
+            b_scale = m / T
+            k_scale = b_scale / T
             if "alpha" in merged:
-                K, B = merged["alpha"] * m / T ** 2, merged["beta"] * m / T
-                normalized = (b * T / m, float(merged["alpha"]), float(merged["beta"]))
+                K, B = merged["alpha"] * k_scale, merged["beta"] * b_scale
+                normalized = (b * (T / m), float(merged["alpha"]), float(merged["beta"]))
             else:
                 K, B = merged["K"], merged["B"]
-                normalized = (b * T / m, K * T ** 2 / m, B * T / m)
+                normalized = (b * (T / m), K / k_scale, B / b_scale)
             r.check(_finite(K) and _finite(B), where, f"the gains overflow: K = {K:g}, B = {B:g}")
             params.update(K=K, B=B)
         else:
@@ -869,29 +949,50 @@ class _Builder:
         # Integrator: substeps for the continuous effects (sim.h: RK4 steps per sample).
         fx = [e for e, bit in EFFECTS.items() if params["effects"] & bit]
         if any(e in CONTINUOUS for e in fx):
+            key = "integrator.step" if step is not None and substeps is None else "integrator.substeps"
             if substeps is not None:
                 n = substeps
             elif step is not None:
-                n = max(1, int(round(T / step)))
+                per_sample = T / step
+                if not per_sample < MAX_SUBSTEPS + 0.5:     # also inf (a tiny step)
+                    raise r.fail(key, f"case {label!r}: T / step = {T:g} s / {step:g} s = {per_sample:.6g} "
+                                      f"substeps per sample, more than {MAX_SUBSTEPS}: lengthen the step")
+                n = max(1, int(round(per_sample)))
             else:
-                n = default_substeps(params)
-            key = "integrator.step" if step is not None and substeps is None else "integrator.substeps"
-            if n > MAX_SUBSTEPS:
-                raise r.fail(key if (substeps is not None or step is not None) else where,
-                             f"{n} substeps per sample needed (more than {MAX_SUBSTEPS}): "
-                             f"the continuous part is too fast for T = {T:g} s")
+                needed = _substeps_needed(params)
+                if not needed <= MAX_SUBSTEPS:               # also inf and NaN
+                    raise r.fail(where, f"{needed:.6g} substeps per sample needed (more than "
+                                        f"{MAX_SUBSTEPS}): the continuous part is too fast for T = {T:g} s")
+                n = max(MIN_SUBSTEPS, int(math.ceil(needed)))
             rate = _rk4_rate(params)
-            if rate * T / n > RK4_LIMIT:
-                need = int(math.ceil(rate * T / RK4_LIMIT))
-                raise r.fail(key, f"{n} substeps per sample ({T / n:g} s) are too few for "
-                                  f"{label!r}: RK4 diverges when the step times the fastest rate "
-                                  f"({rate:g} /s) exceeds {RK4_LIMIT:g}; use at least {need} (or omit "
-                                  f"[integrator]: the default is accurate)")
+            if not _rk4_stable(rate, T, n):
+                need = _rk4_fewest_substeps(rate, T)
+                use = (f"use at least {need}" if need <= MAX_SUBSTEPS else
+                       f"even {MAX_SUBSTEPS} are too few: lengthen T or slow the continuous part")
+                raise r.fail(key if (substeps is not None or step is not None) else where,
+                             f"{n} substeps per sample ({T / n:g} s) are too few for "
+                             f"{label!r}: RK4 diverges when the step times the fastest rate "
+                             f"({rate:g} /s) exceeds {RK4_LIMIT:g}; {use} (or omit "
+                             f"[integrator]: the default is accurate)")
             params["substeps"] = n
 
-        samples = max(1, int(math.ceil(duration / T * (1.0 - 1e-12))))
+        # Samples: refuse a run that cannot be held in memory (and duration / T = inf).
+        ratio = duration / T * (1.0 - 1e-12)
+        if not ratio <= MAX_SAMPLES:
+            memory = (f"{ratio * _BASIC_SIGNALS * 8 / 2 ** 30:.3g} GiB" if _finite(ratio)
+                      else "more memory than any computer has")
+            raise r.fail("scene.duration",
+                         f"case {label!r}: duration / T = {duration:g} s / {T:g} s = {ratio:.4g} samples, more "
+                         f"than the {MAX_SAMPLES:,} (2**28) a case may have: the run would need {memory} "
+                         f"({_BASIC_SIGNALS} signals of 8 bytes per sample at least); shorten the duration "
+                         f"or lengthen T")
+        samples = max(1, int(math.ceil(ratio)))
         if window_s is not None:
-            window = max(1, int(round(window_s / T)))
+            per_window = window_s / T
+            if not per_window <= MAX_SAMPLES:
+                raise r.fail("verdict.window", f"case {label!r}: window / T = {window_s:g} s / {T:g} s = "
+                                               f"{per_window:.4g} samples, longer than the run ({samples})")
+            window = max(1, int(round(per_window)))
         else:
             window = max(1, samples // (2 * windows))
         if window * windows > samples:
@@ -924,20 +1025,36 @@ class _SIBuilder(_Builder):
 
 def _rk4_rate(params: Mapping[str, Any]) -> float:
     """The bound on |s| of the continuous part that zw_sim_init checks (sim.h,
-    ZW_SIM_RK4_LIMIT): b/m, and with a hand (b + b_h)/(m + m_h) + sqrt(k_h/(m + m_h))."""
+    ZW_SIM_RK4_LIMIT): b/m, and with a hand (b + b_h)/(m + m_h) + sqrt(k_h/(m + m_h)).
+    Evaluated exactly as sim.c's fastest_rate(), so that the loader and the C core agree."""
     m, b = float(params["m"]), float(params["b"])
     rate = b / m
     if int(params.get("effects", 0)) & EFFECTS["hand"]:
         mh = m + float(params.get("hand_mass", 0.0))
         held = (b + float(params.get("hand_damping", 0.0))) / mh + math.sqrt(float(params.get("hand_stiffness", 0.0)) / mh)
-        rate = max(rate, held)
+        if held > rate:
+            rate = held
     return rate
 
 
-def default_substeps(params: Mapping[str, Any]) -> int:
-    """RK4 steps per sample so that h * lambda <= SUBSTEP_ACCURACY (h = T/n), lambda the
-    fastest rate of the continuous part: b/m, and with a hand (b + b_h)/(m + m_h) and
-    sqrt(k_h/(m + m_h)); at least MIN_SUBSTEPS."""
+def _rk4_stable(rate: float, T: float, n: int) -> bool:
+    """zw_sim_init's test, in its order of evaluation: rate * (T / n) <= ZW_SIM_RK4_LIMIT."""
+    return rate * (T / float(n)) <= RK4_LIMIT
+
+
+def _rk4_fewest_substeps(rate: float, T: float) -> int:
+    """The fewest substeps that pass :func:`_rk4_stable` (MAX_SUBSTEPS + 1 if none does)."""
+    guess = rate * T / RK4_LIMIT
+    if not guess <= MAX_SUBSTEPS:
+        return MAX_SUBSTEPS + 1
+    n = max(1, int(math.ceil(guess)) - 1)
+    while n <= MAX_SUBSTEPS and not _rk4_stable(rate, T, n):
+        n += 1
+    return n
+
+
+def _substeps_needed(params: Mapping[str, Any]) -> float:
+    """T lambda / SUBSTEP_ACCURACY (may be inf): see :func:`default_substeps`."""
     m, b, T = float(params["m"]), float(params["b"]), float(params["T"])
     rate = b / m
     if int(params.get("effects", 0)) & EFFECTS["hand"]:
@@ -945,7 +1062,17 @@ def default_substeps(params: Mapping[str, Any]) -> int:
         bh = float(params.get("hand_damping", 0.0))
         kh = float(params.get("hand_stiffness", 0.0))
         rate = max(rate, (b + bh) / (m + mh), math.sqrt(kh / (m + mh)))
-    return max(MIN_SUBSTEPS, int(math.ceil(T * rate / SUBSTEP_ACCURACY)))
+    return T * rate / SUBSTEP_ACCURACY
+
+
+def default_substeps(params: Mapping[str, Any]) -> int:
+    """RK4 steps per sample so that h * lambda <= SUBSTEP_ACCURACY (h = T/n), lambda the
+    fastest rate of the continuous part: b/m, and with a hand (b + b_h)/(m + m_h) and
+    sqrt(k_h/(m + m_h)); at least MIN_SUBSTEPS.  ValueError if that is not finite."""
+    needed = _substeps_needed(params)
+    if not math.isfinite(needed):
+        raise ValueError(f"default_substeps: T lambda / {SUBSTEP_ACCURACY} = {needed} is not finite")
+    return max(MIN_SUBSTEPS, int(math.ceil(needed)))
 
 
 # ---------------------------------------------------------------------------------------
@@ -984,6 +1111,6 @@ def signal_units(rotary: bool) -> Dict[str, str]:
     pos, vel, force = unit_of("position", rotary), unit_of("velocity", rotary), unit_of("force", rotary)
     return {"t": "s", "x": pos, "v": vel, "x_measured": pos, "force": force, "force_command": force,
             "stiffness": unit_of("stiffness", rotary), "stiffness_planned": unit_of("stiffness", rotary),
-            "damping": unit_of("damping", rotary), "wall_force": force, "friction": force,
-            "hand_force": force, "hand_target": pos}
+            "damping": unit_of("damping", rotary), "velocity_estimate": vel, "wall_force": force,
+            "friction": force, "hand_force": force, "hand_target": pos}
 

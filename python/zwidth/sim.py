@@ -6,14 +6,17 @@ impedance controller, and only the effects the scene asks for.  Without an effec
 sample is the exact discrete-time solution; friction and a hand bring an RK4 integrator.
 
 The simulated verdict (:class:`SimVerdict`) is the C core's ``zw_sim_judge`` on the true
-position: the last ``windows`` windows of ``window`` samples each (by default 4 windows
-covering the run's second half), their peak-to-peak amplitudes A_1 (oldest) .. A_w:
+position: the last ``windows`` windows of ``window`` samples each (by default 8 windows,
+DEFAULT_WINDOWS, covering the run's second half), their peak-to-peak amplitudes A_1
+(oldest) .. A_w:
 
-    stable     A_w <= tolerance: settled (default tolerance: 1e-3 of the position's
-               peak-to-peak over the whole run)
-    unstable   otherwise, if the position overflowed or A_w >= A_1: a growing or sustained
-               oscillation, or a drift
-    undecided  otherwise: still decaying, run longer
+    unstable   the position overflowed (a sample is not finite)
+    stable     otherwise, if A_w <= tolerance: settled (default tolerance: 1e-3 of the
+               position's peak-to-peak over the whole run)
+    unstable   otherwise, unless the amplitudes strictly shrink window by window
+               (A_{i+1} < A_i for every i): a growing or sustained oscillation, a limit
+               cycle or a drift is not dying out
+    undecided  otherwise: shrinking in every window but not settled yet: run longer
 
 For a linear scene (no effect) the analysis covers the loop: ``Simulation.analytic`` is
 zwidth's exact verdict for the case's plant and gains and ``agrees`` compares the two.
@@ -41,8 +44,8 @@ __all__ = ["simulate", "Simulation", "SimulationSet", "SimVerdict", "SIGNALS", "
 
 #: Every signal the simulator can record (zw_sim_trace fields).
 SIGNALS: Tuple[str, ...] = ("t", "x", "v", "x_measured", "force", "force_command", "stiffness",
-                            "stiffness_planned", "damping", "wall_force", "friction", "hand_force",
-                            "hand_target")
+                            "stiffness_planned", "damping", "velocity_estimate", "wall_force",
+                            "friction", "hand_force", "hand_target")
 _BASIC = ("t", "x", "v", "x_measured", "force")
 #: Per-effect signals recorded into Simulation.signals when the effect is on.
 EFFECT_SIGNALS: Dict[str, Tuple[str, ...]] = {
@@ -50,7 +53,7 @@ EFFECT_SIGNALS: Dict[str, Tuple[str, ...]] = {
     "friction": ("friction",),
     "delay": ("force_command",),
     "saturation": ("force_command",),
-    "velocity_filter": (),
+    "velocity_filter": ("velocity_estimate",),   # the filtered v_est the damping used
     "hand": ("hand_force", "hand_target"),
     "wall": ("wall_force", "force_command"),
     "knob": ("stiffness", "stiffness_planned", "damping"),
@@ -102,7 +105,8 @@ class Simulation:
     x_measured: the position the controller saw (quantized with [quantization])
     force:      force applied to the plant over [t, t + T) (N; N m for a rotary plant)
     signals:    the per-effect signals of the scene's effects (EFFECT_SIGNALS): friction,
-                hand_force, hand_target, wall_force, force_command, stiffness, stiffness_planned, damping
+                hand_force, hand_target, wall_force, force_command, stiffness, stiffness_planned,
+                damping, velocity_estimate
     verdict:    the simulated verdict (:class:`SimVerdict`)
     analytic:   zwidth's exact verdict (:class:`zwidth.Verdict`) of the case's plant and
                 gains for a linear scene, else None
@@ -241,7 +245,9 @@ def judge(x: NDArray[np.float64], case: Case, T: float, unit: str = "") -> SimVe
     tolerance = case.tolerance
     if tolerance is None:
         finite = x[np.isfinite(x)]
-        scale = float(finite.max() - finite.min()) if finite.size else 0.0
+        scale = float(finite.max()) - float(finite.min()) if finite.size else 0.0
+        if not math.isfinite(scale):   # finite positions spanning more than DBL_MAX
+            scale = float(np.finfo(np.float64).max)
         tolerance = DEFAULT_RELATIVE_TOLERANCE * scale
     r = dict(_core.sim_judge(x, case.window, case.windows, tolerance))
     nonfinite = int(r["first_nonfinite"])
@@ -271,6 +277,25 @@ def _signals_for(effects: int) -> List[str]:
     return names
 
 
+def _run_records(sim: Any, case: Case, names: List[str], bar: Any) -> Dict[str, NDArray[np.float64]]:
+    """Run the case's samples, in chunks of about _CHUNK_WORK when a progress bar shows."""
+    n = case.samples
+    if bar is None:
+        data: Dict[str, NDArray[np.float64]] = sim.run(n, names)
+        return data
+    chunk = max(64, _CHUNK_WORK * n // max(1, work(case)))
+    parts: Dict[str, List[NDArray[np.float64]]] = {k: [] for k in names}
+    done = 0
+    while done < n:
+        step = min(chunk, n - done)
+        piece = sim.run(step, names)
+        for k in names:
+            parts[k].append(piece[k])
+        done += step
+        bar.update(step)
+    return {k: np.concatenate(v) if v else np.empty(0) for k, v in parts.items()}
+
+
 def _run_case(case: Case, scene: Scene, bar: Any) -> Simulation:
     params = case.params
     try:
@@ -279,20 +304,12 @@ def _run_case(case: Case, scene: Scene, bar: Any) -> Simulation:
         raise SceneError(scene.source, case.label, f"the simulator refused this case: {exc}") from None
     names = _signals_for(int(params["effects"]))
     n = case.samples
-    if bar is None:
-        data = sim.run(n, names)
-    else:
-        chunk = max(64, _CHUNK_WORK * n // max(1, work(case)))
-        parts: Dict[str, List[NDArray[np.float64]]] = {k: [] for k in names}
-        done = 0
-        while done < n:
-            step = min(chunk, n - done)
-            piece = sim.run(step, names)
-            for k in names:
-                parts[k].append(piece[k])
-            done += step
-            bar.update(step)
-        data = {k: np.concatenate(v) if v else np.empty(0) for k, v in parts.items()}
+    try:
+        data = _run_records(sim, case, names, bar)
+    except MemoryError:
+        gib = n * len(names) * 8 / 2 ** 30
+        raise MemoryError(f"case {case.label!r}: {n} samples x {len(names)} signals x 8 bytes = "
+                          f"{gib:.3g} GiB do not fit in memory") from None
     rotary = scene.rotary
     units = signal_units(rotary)
     verdict = judge(data["x"], case, case.T, units["x"])
@@ -315,8 +332,9 @@ def simulate(scene: Union[Scene, str, Path, Mapping[str, Any]], *, progress: boo
     """Simulate every case of a scene (a :class:`zwidth.scene.Scene`, or anything
     :func:`zwidth.load_scene` reads: a path, TOML text, a dict).
 
-    ``progress=True`` shows a tqdm bar on stderr (the runs then go in chunks of about a
-    million integration steps); ``duration`` [s] overrides the scene's.  Returns a
+    ``progress=True`` shows a tqdm bar on stderr (the runs then go in chunks of
+    ``_CHUNK_WORK`` = 30 million units of :func:`work`, about 0.1 s of computing each);
+    ``duration`` [s] overrides the scene's.  Returns a
     :class:`SimulationSet`.  Invalid scenes raise :class:`zwidth.SceneError`.
 
     >>> sims = simulate("scenes/paper-fig15.toml")           # doctest: +SKIP

@@ -1149,8 +1149,32 @@ static void test_judge_growing(void **state)
     assert_true(v.amplitude_last > v.amplitude_first);
 }
 
+/* Amplitudes 8, 6, 7, 4 over four windows: smaller at the end than at the start, but not
+ * shrinking in every window (a noisy sustained oscillation looks like this): UNSTABLE; and
+ * 8, 6, 5, 4 (shrinking in every window, above tolerance): UNDECIDED. */
+static void test_judge_every_window_must_shrink(void **state)
+{
+    enum { w = 10, n = 4 * w };
+    static const zw_real noisy[4] = {R(4.0), R(3.0), R(3.5), R(2.0)};
+    static const zw_real decaying[4] = {R(4.0), R(3.0), R(2.5), R(2.0)};
+    const zw_real *amplitude[2] = {noisy, decaying};
+    const zw_sim_outcome expected[2] = {ZW_SIM_UNSTABLE, ZW_SIM_UNDECIDED};
+    zw_real x[n];
+    int c;
+    size_t i;
+    (void)state;
+    for (c = 0; c < 2; ++c) {
+        zw_sim_verdict v;
+        /* +a, -a alternating within window i: peak-to-peak exactly 2 a */
+        for (i = 0; i < n; ++i) x[i] = (i % 2 == 0 ? 1 : -1) * amplitude[c][i / w];
+        v = judge(x, n, w, 4, R(1.0));
+        assert_int_equal(v.outcome, expected[c]);
+        assert_true(v.amplitude_first == R(8.0) && v.amplitude_last == R(4.0));
+    }
+}
+
 /* A sustained oscillation, sin(pi k/2) = 0, 1, 0, -1, ...: every window has A = 2 exactly,
- * A_w >= A_1: UNSTABLE (not dying out), growth exactly 1. */
+ * so the amplitudes do not shrink: UNSTABLE (not dying out), growth exactly 1. */
 static void test_judge_constant_amplitude(void **state)
 {
     enum { n = 400 };
@@ -1477,6 +1501,7 @@ int main(void)
         cmocka_unit_test_teardown(test_judge_decaying, free_all),
         cmocka_unit_test_teardown(test_judge_growing, free_all),
         cmocka_unit_test_teardown(test_judge_constant_amplitude, free_all),
+        cmocka_unit_test_teardown(test_judge_every_window_must_shrink, free_all),
         cmocka_unit_test_teardown(test_judge_settled, free_all),
         cmocka_unit_test_teardown(test_judge_nonfinite, free_all),
         cmocka_unit_test_teardown(test_judge_errors, free_all),

@@ -198,6 +198,156 @@ def test_scene_error_pickles():
 
 
 # ---------------------------------------------------------------------------------------
+# Values the C core would refuse, or could not hold, are the loader's error
+# ---------------------------------------------------------------------------------------
+
+DBL_MAX = sys.float_info.max
+KNOB = '[knob]\npitch = "{pitch}"\ncount = {count}\nk_detent = "1 N/m"\nk_end = "2 N/m"\n'
+
+
+def no_controller(t):
+    return t.split("[controller]")[0]
+
+
+# (description, edit of BASE, the key the error must name, words it must contain)
+LIMITS = [
+    # more samples than a case may have (2**28), or duration / T = inf
+    ("T of 1 ns for 10 s", lambda t: t.replace('"0.01 s"', '"1 ns"'), "scene.duration",
+     ["1e+10 samples", "268,435,456", "2**28", "373 GiB", "lengthen T"]),
+    ("T of 1e-300 s", lambda t: t.replace('"0.1 kg"', '"1e-300 kg"').replace('"23 N*s/m"', '"0 N*s/m"')
+     .replace('"0.01 s"', '"1e-300 s"'), "scene.duration", ["1e+301 samples", "2**28"]),
+    ("duration / T overflows", lambda t: t.replace('"0.1 kg"', '"1e-300 kg"').replace('"23 N*s/m"', '"0 N*s/m"')
+     .replace('"0.01 s"', '"1e-300 s"').replace('"10 s"', '"1e10 s"'), "scene.duration", ["inf samples", "2**28"]),
+    ("one sample over the cap", lambda t: t.replace('"0.01 s"', '"1 s"').replace('"10 s"', f'"{2 ** 28 + 1} s"'),
+     "scene.duration", ["2**28"]),
+    ("window / T overflows", lambda t: t.replace('"0.01 s"', '"1 ms"') + '[verdict]\nwindow = "1e308 s"\n',
+     "verdict.window", ["inf samples", "longer than the run (10000)"]),
+    ("integrator step / T overflows", lambda t: t + '[friction]\ncoulomb = "1 N"\n[integrator]\nstep = "1e-320 s"\n',
+     "integrator.step", ["inf substeps per sample", "100000"]),
+    ("integrator step too short", lambda t: t + '[friction]\ncoulomb = "1 N"\n[integrator]\nstep = "1 ns"\n',
+     "integrator.step", ["1e+07 substeps per sample", "100000"]),
+    # plants outside zw_device's range (each of m, b, T valid on its own)
+    ("plant out of range", lambda t: t.replace('"0.1 kg"', '"1e-300 kg"').replace('"23 N*s/m"', '"1e10 N*s/m"')
+     .replace('"0.01 s"', '"1 s"'), "[plant]", ["delta = b T/m = inf overflows", "m = 1e-300 kg",
+                                                 "b = 1e+10 N*s/m", "T = 1 s", "change m, b or T"]),
+    ("subnormal mass", lambda t: t.replace('"0.1 kg"', '"1e-320 kg"'), "plant.m",
+     ["m = 9.99989e-321 kg is too small", "normal double"]),
+    ("subnormal period", lambda t: t.replace('"0.01 s"', '"1e-320 s"'), "plant.T", ["T = 9.99989e-321 s is too small"]),
+    ("m/T^2 overflows", lambda t: t.replace('"0.1 kg"', '"1e300 kg"').replace('"0.01 s"', '"1e-5 s"'), "[plant]",
+     ["m/T^2 = inf overflows", "change m or T"]),
+    ("case plant out of range", lambda t: t + '[[case]]\nlabel = "a"\nm = "1e-300 kg"\nb = "1e11 N*s/m"\n',
+     "case[1]", ["delta = b T/m", "change m, b or T"]),
+    # quantization finer than a double can count
+    ("resolution too fine", lambda t: t + '[quantization]\nresolution = "1e-320 m"\n', "quantization.resolution",
+     ["too small", "1/resolution = inf"]),
+    # knob sizes
+    ("knob with 3e9 positions", lambda t: no_controller(t) + KNOB.format(pitch="1 mm", count=3_000_000_000),
+     "knob.count", ["at most 1,000,000", "3,000,000,000"]),
+    ("knob beyond the doubles", lambda t: no_controller(t) + KNOB.format(pitch="1e303 m", count=1_000_000),
+     "knob.pitch", ["last detent", "finite"]),
+    # angles: pint reads rad as a plain number
+    ("cutoff in rad/s", lambda t: t + '[velocity_filter]\ncutoff = "100 rad/s"\n', "velocity_filter.cutoff",
+     ["angle", "Hz (cycles per second)", "15.9155 Hz"]),
+    ("cutoff in rpm", lambda t: t + '[velocity_filter]\ncutoff = "30 rpm"\n', "velocity_filter.cutoff",
+     ["angle", "Hz (cycles per second)", "0.5 Hz"]),
+    ("cutoff in deg/s", lambda t: t + '[velocity_filter]\ncutoff = "360 deg/s"\n', "velocity_filter.cutoff",
+     ["1 Hz"]),
+    ("cutoff in turn/s", lambda t: t + '[velocity_filter]\ncutoff = "2 turn/s"\n', "velocity_filter.cutoff",
+     ["2 Hz"]),
+]
+
+
+@pytest.mark.parametrize("edit, key, words", [b[1:] for b in LIMITS], ids=[b[0] for b in LIMITS])
+def test_values_the_core_cannot_take_are_named(tmp_path, edit, key, words):
+    path, err = bad(tmp_path, edit(BASE))
+    msg = str(err)
+    assert err.key == key and msg.startswith(f"{path}: {key}: "), msg
+    assert msg.count("\n") == 0
+    for w in words:
+        assert w in msg, (w, msg)
+
+
+def test_sample_cap_is_inclusive():
+    scene = load_scene(BASE.replace('"0.01 s"', '"1 s"').replace('"10 s"', f'"{2 ** 28} s"'))
+    assert scene.cases[0].samples == zwidth.scene.MAX_SAMPLES == 2 ** 28    # loading allocates nothing
+
+
+def test_extreme_plant_scales_convert_the_gains_like_the_core():
+    # m/T = 1e100 and m/T^2 = 1e-100 are normal doubles although T^2 = 1e400 overflows
+    text = (BASE.replace('"0.1 kg"', '"1e300 kg"').replace('"23 N*s/m"', '"0 N*s/m"')
+            .replace('"0.01 s"', '"1e200 s"').replace('"10 s"', '"1e203 s"')
+            .replace('K = "100 N/m"\nB = "1 N*s/m"', "alpha = 2.0\nbeta = 0.5"))
+    p = load_scene(text).cases[0].params
+    assert p["K"] == pytest.approx(2e-100, rel=1e-15) and p["B"] == pytest.approx(0.5e100, rel=1e-15)
+
+
+def test_plant_check_is_zwidth_device():
+    # what load_scene refuses is what zwidth.Device refuses, and the reverse
+    for m, b, T in [(1e-300, 1e10, 1.0), (1e300, 0.0, 1e-10), (1e-320, 1.0, 0.01), (0.1, 1e-320, 0.01),
+                    (1e-300, 0.0, 1e-300), (1.0, 1e300, 1e8)]:
+        text = f'[plant]\nm = "{m!r} kg"\nb = "{b!r} N*s/m"\nT = "{T!r} s"\n[controller]\nK = "0 N/m"\nB = "0 N*s/m"\n'
+        text += f'[scene]\nduration = "{100 * T!r} s"\n'
+        try:
+            zwidth.Device(m, b, T)
+        except zwidth.ZwidthError:
+            with pytest.raises(SceneError, match="plant"):
+                load_scene(text)
+        else:
+            assert load_scene(text).cases[0].params["m"] == m
+
+
+def test_rk4_limit_is_evaluated_as_the_core_does():
+    # zw_sim_init tests rate * (T / n) <= 2.5; rate * T / n rounds differently near the limit
+    def scene(b, T, n):
+        return (f'[plant]\nm = "1 kg"\nb = "{b!r} N*s/m"\nT = "{T!r} s"\n[controller]\nK = "0 N/m"\n'
+                f'B = "0 N*s/m"\n[friction]\ncoulomb = "1 N"\n[integrator]\nsubsteps = {n}\n')
+
+    def core_accepts(params):
+        try:
+            zwidth._core.Simulator(params)
+        except ValueError:
+            return False
+        return True
+
+    # 2125 * 0.02 / 17 == 2.5 but 2125 * (0.02 / 17) > 2.5: the core refuses, so must the loader
+    assert 2125.0 * 0.02 / 17 <= 2.5 < 2125.0 * (0.02 / 17)
+    p = load_scene(scene(2125.0, 0.02, 18)).cases[0].params
+    assert not core_accepts({**p, "substeps": 17})
+    with pytest.raises(SceneError, match=r"integrator\.substeps: 17 substeps .* use at least 18"):
+        load_scene(scene(2125.0, 0.02, 17))
+    # 7500.000000000001 * 0.001 / 3 > 2.5 but the core's order gives <= 2.5: both accept
+    b = 7500.000000000001
+    assert b * 0.001 / 3 > 2.5 >= b * (0.001 / 3)
+    p = load_scene(scene(b, 0.001, 3)).cases[0].params
+    assert (p["b"], p["T"], p["substeps"]) == (b, 0.001, 3) and core_accepts(p)
+
+
+def test_angles_in_frequencies_and_rotary_velocities():
+    # a frequency in Hz or 1/s is taken as cycles per second
+    for cutoff, hz in (("1.2 kHz", 1200.0), ("50 / s", 50.0), ("20 Hz", 20.0)):
+        _, p = one(BASE + f'[velocity_filter]\ncutoff = "{cutoff}"\n')
+        assert p["cutoff_hz"] == pytest.approx(hz, rel=1e-15)
+    rotary = ('[plant]\nJ = "1e-5 kg*m^2"\nb = "1e-3 N*m*s/rad"\nT = "0.01 s"\n[controller]\n'
+              'K = "0.1 N*m/rad"\nB = "0 N*m*s/rad"\n')
+    # a rotary velocity is an angle per time: rad/s, deg/s, turn/s, rpm (2 pi / 60 rad/s)
+    for v, rad_s in (("3 rad/s", 3.0), ("90 deg/s", math.pi / 2), ("0.5 turn/s", math.pi),
+                     ("1 rpm", 2 * math.pi / 60), ("30 rpm", math.pi)):
+        _, p = one(rotary + f'[initial]\nv = "{v}"\n')
+        assert p["v_init"] == pytest.approx(rad_s, rel=1e-14), v
+        _, p = one(rotary + f'[hand]\nstiffness = "1 N*m/rad"\nto = "1 rad"\nspeed = "{v}"\n')
+        assert p["hand_speed"] == pytest.approx(rad_s, rel=1e-14), v
+    # ... and Hz or 1/s is ambiguous there (10 rad/s or 10 turns per second?)
+    for v in ("10 Hz", "10 / s", "10 rad/rad/s"):
+        with pytest.raises(SceneError, match=r"initial\.v: .* ambiguous .* rad/s"):
+            load_scene(rotary + f'[initial]\nv = "{v}"\n')
+        with pytest.raises(SceneError, match=r"hand\.speed: .* ambiguous"):
+            load_scene(rotary + f'[hand]\nstiffness = "1 N*m/rad"\nspeed = "{v}"\n')
+    # a translational velocity has no angle to confuse
+    _, p = one(BASE + '[initial]\nv = "2 mm/s"\n')
+    assert p["v_init"] == pytest.approx(0.002, rel=1e-15)
+
+
+# ---------------------------------------------------------------------------------------
 # Units: SI values from hand-computed factors
 # ---------------------------------------------------------------------------------------
 
@@ -305,7 +455,7 @@ def test_defaults_of_a_minimal_scene():
     assert p["effects"] == 0 and "substeps" not in p
     assert (p["x_init"], p["v_init"], p["x_eq_before"], p["x_eq_after"], p["t_step"]) == (0, 0, 0, 0, 0)
     case = scene.cases[0]
-    # 10 s at T = 0.01 s: 1000 samples; 4 windows covering the second half: 125 each
+    # 10 s at T = 0.01 s: 1000 samples; 8 windows covering the second half: 1000 // 16 = 62 each
     assert (case.samples, case.windows, case.window, case.tolerance) == (1000, 8, 62, None)
     assert case.label == "scene"
 

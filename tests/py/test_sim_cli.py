@@ -353,3 +353,136 @@ def test_simulation_set_api():
     assert "P6" in repr(sims) and "unstable" in repr(p6)
     with pytest.raises(zwidth.SceneError, match="duration"):
         zwidth.simulate(SCENES / "paper-fig15.toml", duration=-1.0)
+
+
+# ---------------------------------------------------------------------------------------
+# Review fixes: limits, texts, outputs, signals
+# ---------------------------------------------------------------------------------------
+
+BIG = """\
+[scene]
+name = "big"
+duration = "200 s"
+[plant]
+m = "0.1 kg"
+b = "23 N*s/m"
+T = "1 us"
+[controller]
+K = "100 N/m"
+B = "1 N*s/m"
+"""
+
+
+def test_too_long_runs_exit_3_without_a_traceback(tmp_path):
+    # over the cap of 2**28 samples: refused by the loader, naming the key and the memory
+    path = tmp_path / "huge.toml"
+    path.write_text(BIG.replace('"1 us"', '"1 ns"').replace('"200 s"', '"10 s"'))
+    r = run("simulate", path)
+    assert r.returncode == 3 and r.stdout == "" and "Traceback" not in r.stderr
+    assert "scene.duration" in r.stderr and "2**28" in r.stderr and "GiB" in r.stderr
+    # under the cap (2e8 samples, 7.5 GiB of arrays) but more than the memory there is
+    resource = pytest.importorskip("resource")
+    path.write_text(BIG)
+
+    def little_memory():
+        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+
+    r = run("simulate", path, "--no-progress", preexec_fn=little_memory)
+    assert r.returncode == 3 and r.stdout == "" and "Traceback" not in r.stderr, r.stderr
+    assert "zwidth simulate: error: out of memory: case 'big': 200000000 samples" in r.stderr
+    assert "shorten the duration" in r.stderr
+
+
+def test_default_tolerance_of_positions_spanning_more_than_dbl_max():
+    case = zwidth.load_scene(SCENES / "paper-fig15.toml").cases[0]
+    x = np.where(np.arange(case.samples) % 2 == 0, 1.5e308, -1.5e308)    # span 3e308 = inf
+    from zwidth.sim import judge
+    v = judge(x, case, case.T, "m")
+    assert v.outcome == "unstable" and v.first_nonfinite is None
+    assert v.tolerance == zwidth.scene.DEFAULT_RELATIVE_TOLERANCE * np.finfo(np.float64).max
+
+
+def test_outputs_are_checked_before_simulating(tmp_path, monkeypatch, capsys):
+    import zwidth.cli
+    import zwidth.sim
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("simulated although --out/--plot cannot be written")
+
+    monkeypatch.setattr(zwidth.sim, "simulate", no_run)
+    scene = str(SCENES / "wall-hand.toml")
+    for out, words in ((tmp_path / "no" / "run.npz", f"no directory {tmp_path / 'no'}"),
+                       (tmp_path / "dir.npz", "it is a directory"),
+                       (tmp_path / "file.txt" / "run.csv", "is not a directory")):
+        (tmp_path / "file.txt").write_text("")
+        (tmp_path / "dir.npz").mkdir(exist_ok=True)
+        with pytest.raises(SystemExit) as info:
+            zwidth.cli.main(["simulate", scene, "--out", str(out)])
+        err = capsys.readouterr().err
+        assert info.value.code == 2 and "argument --out: cannot write" in err and words in err, err
+    # --plot: exit 4 (cannot plot), also before the run
+    assert zwidth.cli.main(["simulate", scene, "--plot", str(tmp_path / "no" / "fig.png")]) == 4
+    err = capsys.readouterr().err
+    assert "cannot plot: cannot write" in err and "no directory" in err
+    if os.geteuid() != 0:          # root may write anywhere
+        locked = tmp_path / "locked"
+        locked.mkdir()
+        locked.chmod(0o500)
+        try:
+            with pytest.raises(SystemExit) as info:
+                zwidth.cli.main(["simulate", scene, "--out", str(locked / "run.npz")])
+            assert info.value.code == 2 and "not writable" in capsys.readouterr().err
+        finally:
+            locked.chmod(0o700)
+
+
+def test_texts_state_the_verdict_rule():
+    import zwidth.sim as zs
+    n = zwidth.scene.DEFAULT_WINDOWS
+    assert n == 8
+    doc = " ".join(zs.__doc__.split())
+    assert f"by default {n} windows" in doc and "strictly shrink window by window" in doc
+    assert "A_w >= A_1" not in doc and "4 windows" not in doc
+    sim_doc = " ".join(zs.simulate.__doc__.split())
+    assert "million integration steps" not in sim_doc and "30 million units of :func:`work`" in sim_doc
+    assert zs._CHUNK_WORK == 30_000_000
+    r = run("simulate", "--help")
+    assert f"default: {n} windows over the run's second half" in r.stdout
+    assert "strictly shrinks" in r.stdout and ">= the first's" not in r.stdout and "4 windows" not in r.stdout
+
+
+def test_velocity_filter_records_the_velocity_estimate():
+    from zwidth.sim import EFFECT_SIGNALS, SIGNALS
+    assert "velocity_estimate" in SIGNALS and EFFECT_SIGNALS["velocity_filter"] == ("velocity_estimate",)
+    assert zwidth.scene.signal_units(False)["velocity_estimate"] == "m/s"
+    assert zwidth.scene.signal_units(True)["velocity_estimate"] == "rad/s"
+    text = """
+[plant]
+m = "0.1 kg"
+b = "23 N*s/m"
+T = "0.01 s"
+[controller]
+K = "100 N/m"
+B = "2 N*s/m"
+[reference]
+to = "10 mm"
+[quantization]
+resolution = "10 um"
+[velocity_filter]
+cutoff = "5 Hz"
+"""
+    s = zwidth.simulate(text, duration=2.0)[0]
+    v_est = s.signals["velocity_estimate"]
+    assert s.units["velocity_estimate"] == "m/s" and len(v_est) == len(s.t) == 200
+    # v_est,k = a v_est,k-1 + (1 - a) (x_meas,k - x_meas,k-1)/T, a = exp(-2 pi cutoff T)
+    a = math.exp(-2 * math.pi * 5.0 * 0.01)
+    dx = np.diff(s.x_measured, prepend=s.x_measured[0]) / 0.01
+    expected = np.empty_like(dx)
+    prev = 0.0
+    for k, d in enumerate(dx):
+        prev = a * prev + (1 - a) * d
+        expected[k] = prev
+    assert np.allclose(v_est, expected, rtol=1e-12, atol=1e-15)
+    assert np.abs(v_est).max() > 1e-3                                  # it moved
+    # the damping acted on it: F = K (x_eq - x_meas) - B v_est
+    assert np.allclose(s.force, 100.0 * (0.01 - s.x_measured) - 2.0 * v_est, rtol=1e-12, atol=1e-12)
