@@ -13,7 +13,7 @@ import os
 import sys
 import textwrap
 from pathlib import Path
-from typing import Any, Dict, List, Optional, Sequence, TextIO, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, TextIO, Tuple
 
 import numpy as np
 
@@ -336,10 +336,6 @@ def _interval(iv: Any) -> Dict[str, Any]:
     return {"lo": iv.lo, "hi": iv.hi, "nonempty": bool(iv.nonempty)}
 
 
-def _verdict_word(v: Any) -> str:
-    return "stable" if bool(v.stable) else ("marginal" if bool(v.marginal) else "unstable")
-
-
 def _violated(v: Any) -> List[str]:
     return [name for name, bit in BOUNDS.items() if int(v.violated) & bit]
 
@@ -363,7 +359,7 @@ def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         k_max, b_range = None, None
     a_max = alpha_max(d, beta)
     beta_range = _interval(beta_interval(d, alpha))
-    word = _verdict_word(v)
+    word = v.word
     deciding = str(v.deciding_name) or None
     text_of = _BOUND_TEXT.get(deciding or "") if region == "exact" else (
         f"the {deciding} bound of the '{region}' region" if deciding else None)
@@ -387,7 +383,7 @@ def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         lines.append("  marginal: within rounding error of the boundary, so not proved stable")
     if region not in ("exact", "passivity"):
         lines.append(f"  note: the '{region}' region does not certify stability; exact region: "
-                     f"{_verdict_word(exact_v)}")
+                     f"{exact_v.word}")
     lines.append(f"  spectral radius = {_fmt(rho)} (stable iff < 1)")
     if dev is not None:
         u = plant.units() or {}
@@ -533,7 +529,7 @@ def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         v = dev.verdict(K, B)
         k_max = dev.k_max(B)
         b_range = dev.b_range(K)
-        word = _verdict_word(v)
+        word = v.word
         Kn, Bn = ("K", "B") if plant.real else ("alpha", "beta")
         kunit = f" {plant.units()['K']}" if plant.real else ""  # type: ignore[index]
         bunit = f" {plant.units()['B']}" if plant.real else ""  # type: ignore[index]
@@ -567,35 +563,43 @@ def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     return _Outcome(status, data, lines)
 
 
-def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
-    """Draw one figure with zwidth.plot under the Agg backend and write it."""
-    kind = args.kind
-    out = Path(args.output or f"zwidth-{kind}.png")
+def _write_figure(draw: Callable[[Any], Any], out: Path, dpi: int) -> None:
+    """Draw a figure with zwidth.plot under the Agg backend (``draw(plot)`` returns it),
+    write it to ``out`` and close it; _PlotError when matplotlib or the file fails."""
     try:
         import matplotlib
         matplotlib.use("Agg")  # no display needed, and none is used
         from . import plot
     except ImportError:
         raise _PlotError("matplotlib is not installed: pip install zwidth[plot]") from None
-    if kind == "extremes":
-        fig = plot.extremes(args.delta_min, args.delta_max)
-    elif kind == "region":
-        assert plant is not None
-        point = None if not plant.has_gains else (float(plant.beta), float(plant.alpha))  # type: ignore[arg-type]
-        fig = plot.region(plant.delta, point=point)
-    elif kind == "influence":
-        assert plant is not None and plant.device is not None
-        fig = plot.influence(plant.device)
-    else:
-        assert plant is not None and plant.device is not None
-        fig = plot.device(plant.device, plant.K, plant.B)
+    fig = draw(plot)
     try:
-        plot.save(fig, out, dpi=args.dpi)
+        plot.save(fig, out, dpi=dpi)
     except OSError as exc:
         raise _PlotError(f"cannot write {out}: {exc.strerror or exc}") from None
     finally:
         import matplotlib.pyplot as plt
         plt.close(fig)
+
+
+def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
+    """Draw one figure with zwidth.plot under the Agg backend and write it."""
+    kind = args.kind
+    out = Path(args.output or f"zwidth-{kind}.png")
+
+    def draw(plot: Any) -> Any:
+        if kind == "extremes":
+            return plot.extremes(args.delta_min, args.delta_max)
+        if kind == "region":
+            assert plant is not None
+            point = None if not plant.has_gains else (float(plant.beta), float(plant.alpha))  # type: ignore[arg-type]
+            return plot.region(plant.delta, point=point)
+        assert plant is not None and plant.device is not None
+        if kind == "influence":
+            return plot.influence(plant.device)
+        return plot.device(plant.device, plant.K, plant.B)
+
+    _write_figure(draw, out, args.dpi)
     data = {"kind": kind, "file": str(out), "format": out.suffix.lower().lstrip("."),
             "bytes": out.stat().st_size}
     return _Outcome(EXIT_OK, data, [f"wrote {out} ({kind}, {data['bytes']} bytes)"])
@@ -639,7 +643,7 @@ def _simulation_json(sim: Any, rotary: bool) -> Dict[str, Any]:
     p = sim.params
     if sim.analytic is not None:
         dev = Device(p["m"], p["b"], p["T"], rotary=rotary)
-        analytic = {"verdict": _verdict_word(sim.analytic), "stable": bool(sim.analytic.stable),
+        analytic = {"verdict": sim.analytic.word, "stable": bool(sim.analytic.stable),
                     "marginal": bool(sim.analytic.marginal),
                     "deciding": str(sim.analytic.deciding_name) or None,
                     "spectral_radius": dev.spectral_radius(p["K"], p["B"]),
@@ -704,7 +708,7 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
         v = s.verdict
         if scene.linear:
             d, a, b = s.case.normalized or (math.nan, math.nan, math.nan)
-            exact = _verdict_word(s.analytic) if s.analytic is not None else "-"
+            exact = s.analytic.word if s.analytic is not None else "-"
             agrees = {True: "yes", False: "NO", None: "-"}[s.agrees]
             legacy = data["cases"][sims.index(s)]["analytic"]["legacy_stable"]
             lines.append(f"  {s.label:<{width}}  {_fmt(d):>7} {_fmt(a):>8} {_fmt(b):>8}  {v.outcome:<10} "
@@ -731,20 +735,7 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
         data["out"] = str(out)
         lines.append(f"wrote {out} ({out.stat().st_size} bytes)")
     if fig_path is not None:
-        try:
-            import matplotlib
-            matplotlib.use("Agg")  # no display needed, and none is used
-            from . import plot
-        except ImportError:
-            raise _PlotError("matplotlib is not installed: pip install zwidth[plot]") from None
-        import matplotlib.pyplot as plt
-        fig = plot.simulation(sims)
-        try:
-            plot.save(fig, fig_path, dpi=args.dpi)
-        except OSError as exc:
-            raise _PlotError(f"cannot write {fig_path}: {exc.strerror or exc}") from None
-        finally:
-            plt.close(fig)
+        _write_figure(lambda plot: plot.simulation(sims), fig_path, args.dpi)
         data["plot"] = str(fig_path)
         lines.append(f"wrote {fig_path} ({fig_path.stat().st_size} bytes)")
     return _Outcome(EXIT_OK if counts["stable"] == len(sims) else EXIT_UNSTABLE, data, lines)

@@ -116,13 +116,9 @@ def _scalar(name: str, value: Any) -> float:
     return float(value)
 
 
-def _word(stable: bool, marginal: bool) -> str:
-    return "stable" if stable else ("marginal" if marginal else "unstable")
-
-
 def _mark_verdict(ax: "Axes", x: float, y: float, v: Verdict, what: str) -> List[Any]:
     """A diamond at (x, y) coloured by the verdict, labelled "what: verdict, deciding"."""
-    word = _word(bool(v.stable), bool(v.marginal))
+    word = v.word
     why = f", {v.deciding_name}" if word != "stable" and v.deciding_name else ""
     return list(ax.plot([x], [y], "D", color=_VERDICT_COLOURS[word], markeredgecolor="black",
                         markersize=9, zorder=9, linestyle="none", label=f"{what}: {word}{why}"))
@@ -606,7 +602,7 @@ def _verdict_lines(sim: "Simulation", legacy: Optional[bool]) -> Tuple[str, str]
     first = f"simulated: {v.outcome} ({_SHORT[v.outcome]})"
     if sim.analytic is None:
         return first, ""
-    exact = _word(bool(sim.analytic.stable), bool(sim.analytic.marginal))
+    exact = sim.analytic.word
     second = f"exact: {exact}"
     if legacy is not None:
         second += f" · legacy: {'stable' if legacy else 'unstable'}"

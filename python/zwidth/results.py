@@ -86,6 +86,13 @@ class Verdict(Result):
     status: Any
 
     @property
+    def word(self) -> Any:
+        """'stable', 'marginal' (within the rounding band: not proved stable) or 'unstable'."""
+        words = np.where(np.asarray(self.stable), "stable",
+                         np.where(np.asarray(self.marginal), "marginal", "unstable"))
+        return str(words[()]) if words.ndim == 0 else words.astype(object)
+
+    @property
     def deciding_name(self) -> Any:
         """Name of the deciding constraint ('line', 'hyperbola', ..., '' when stable)."""
         codes = np.asarray(self.deciding)

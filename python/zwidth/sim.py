@@ -132,7 +132,7 @@ class Simulation:
     case: Case = dataclasses.field(repr=False)
 
     def __repr__(self) -> str:
-        analytic = "None" if self.analytic is None else _word(self.analytic)
+        analytic = "None" if self.analytic is None else self.analytic.word
         return (f"Simulation({self.label!r}, {len(self.t)} samples, T={self.params['T']:g} s, "
                 f"verdict={self.verdict.outcome}, growth={self.verdict.growth:.6g}, "
                 f"analytic={analytic}, agrees={self.agrees})")
@@ -183,7 +183,7 @@ class SimulationSet(Tuple[Simulation, ...]):
     def __repr__(self) -> str:
         lines = [f"SimulationSet({self.scene.name!r}, {len(self)} case{'s' if len(self) != 1 else ''})"]
         for s in self:
-            analytic = "-" if s.analytic is None else _word(s.analytic)
+            analytic = "-" if s.analytic is None else s.analytic.word
             lines.append(f"  {s.label:<12} simulated {s.verdict.outcome:<9} growth/sample "
                          f"{s.verdict.growth:<10.6g} analytic {analytic:<9} agrees {s.agrees}")
         return "\n".join(lines)
@@ -216,10 +216,6 @@ class SimulationSet(Tuple[Simulation, ...]):
                 # %.17g: every double reads back exactly
                 np.savetxt(f, block, fmt=label + "," + ",".join(["%.17g"] * len(names)))
         return out
-
-
-def _word(v: Verdict) -> str:
-    return "stable" if bool(v.stable) else ("marginal" if bool(v.marginal) else "unstable")
 
 
 def _reason(outcome: str, r: Mapping[str, Any], window: int, windows: int, tolerance: float,
