@@ -1023,17 +1023,24 @@ class _SIBuilder(_Builder):
         return self.get(table, where, key, kind)
 
 
+def _rates(params: Mapping[str, Any]) -> Tuple[float, Optional[Tuple[float, float]]]:
+    """The rates of the continuous part: b/m, and with a hand held ((b + b_h)/(m + m_h),
+    sqrt(k_h/(m + m_h))) (None without a hand), each evaluated as sim.c does."""
+    m, b = float(params["m"]), float(params["b"])
+    if not int(params.get("effects", 0)) & EFFECTS["hand"]:
+        return b / m, None
+    mh = m + float(params.get("hand_mass", 0.0))
+    return b / m, ((b + float(params.get("hand_damping", 0.0))) / mh,
+                   math.sqrt(float(params.get("hand_stiffness", 0.0)) / mh))
+
+
 def _rk4_rate(params: Mapping[str, Any]) -> float:
     """The bound on |s| of the continuous part that zw_sim_init checks (sim.h,
     ZW_SIM_RK4_LIMIT): b/m, and with a hand (b + b_h)/(m + m_h) + sqrt(k_h/(m + m_h)).
     Evaluated exactly as sim.c's fastest_rate(), so that the loader and the C core agree."""
-    m, b = float(params["m"]), float(params["b"])
-    rate = b / m
-    if int(params.get("effects", 0)) & EFFECTS["hand"]:
-        mh = m + float(params.get("hand_mass", 0.0))
-        held = (b + float(params.get("hand_damping", 0.0))) / mh + math.sqrt(float(params.get("hand_stiffness", 0.0)) / mh)
-        if held > rate:
-            rate = held
+    rate, held = _rates(params)
+    if held is not None and held[0] + held[1] > rate:
+        rate = held[0] + held[1]
     return rate
 
 
@@ -1055,14 +1062,10 @@ def _rk4_fewest_substeps(rate: float, T: float) -> int:
 
 def _substeps_needed(params: Mapping[str, Any]) -> float:
     """T lambda / SUBSTEP_ACCURACY (may be inf): see :func:`default_substeps`."""
-    m, b, T = float(params["m"]), float(params["b"]), float(params["T"])
-    rate = b / m
-    if int(params.get("effects", 0)) & EFFECTS["hand"]:
-        mh = float(params.get("hand_mass", 0.0))
-        bh = float(params.get("hand_damping", 0.0))
-        kh = float(params.get("hand_stiffness", 0.0))
-        rate = max(rate, (b + bh) / (m + mh), math.sqrt(kh / (m + mh)))
-    return T * rate / SUBSTEP_ACCURACY
+    rate, held = _rates(params)
+    if held is not None:
+        rate = max(rate, *held)
+    return float(params["T"]) * rate / SUBSTEP_ACCURACY
 
 
 def default_substeps(params: Mapping[str, Any]) -> int:
