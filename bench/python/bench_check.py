@@ -225,16 +225,20 @@ def per_point(seconds: float) -> str:
     return f"{seconds / 1e-9:.3g} ns"
 
 
-def machine() -> Dict[str, Any]:
-    cpu = platform.processor() or platform.machine()
+def cpu_name() -> str:
+    """The CPU's model name (/proc/cpuinfo), else what platform knows."""
     try:
         with open("/proc/cpuinfo", encoding="utf-8") as fh:
             for line in fh:
                 if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
+                    return line.split(":", 1)[1].strip()
     except OSError:
         pass
+    return platform.processor() or platform.machine()
+
+
+def machine() -> Dict[str, Any]:
+    cpu = cpu_name()
     info: Dict[str, Any] = {
         "platform": platform.platform(), "python": platform.python_version(), "cpu": cpu,
         "cpu_count": os.cpu_count(), "numpy": np.__version__,

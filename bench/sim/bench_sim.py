@@ -61,7 +61,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 # The number formats of the project's other benchmark, so the README's tables read alike.
 sys.path.insert(0, str(REPO / "bench" / "python"))
-from bench_check import per_point as per_sample, si  # noqa: E402
+from bench_check import cpu_name, per_point as per_sample, si  # noqa: E402
 M, B_PLANT, T = 0.1, 30.0, 0.01
 K_LIN, B_LIN = 7000.0, 20.0   # point P5 of paper Fig. 15 (scenes/paper-fig15.toml): alpha 7, beta 2
 SUBSTEPS = (1, 2, 5, 10, 20, 50, 100)
@@ -82,15 +82,7 @@ def best_of(fn: Callable[[], Any], repeats: int) -> Tuple[float, Any]:
 
 
 def machine(zw: Any, ct: Any) -> str:
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
+    cpu = cpu_name()
     import scipy
     return (f"{platform.platform()}; {cpu}; {os.cpu_count()} CPUs; python {platform.python_version()}, "
             f"numpy {np.__version__}, scipy {scipy.__version__}, "

@@ -151,7 +151,7 @@ static unsigned m_check(const prepared *p)
 {
     zw_verdict v;
     zw_status st = zw_check(&p->co, p->x.alpha, p->x.beta, &v);
-    return (unsigned)st + (unsigned)v.stable;
+    return (unsigned)st + (st == ZW_OK ? (unsigned)v.stable : 0u);
 }
 
 static unsigned m_check_new_plant(const prepared *p)
