@@ -608,7 +608,7 @@ PYBIND11_MODULE(_core, mod) {
         "functions of the zwidth package, which name invalid parameters in their errors.";
 
     py::dict status_names;
-    for (int s = ZW_OK; s <= ZW_ERR_DOMAIN; ++s) status_names[py::int_(s)] = zw_status_name(static_cast<zw_status>(s));
+    for (int s = ZW_OK; s <= ZW_STATUS_LAST; ++s) status_names[py::int_(s)] = zw_status_name(static_cast<zw_status>(s));
     mod.attr("STATUS_NAMES") = status_names;
 
     py::dict regions;

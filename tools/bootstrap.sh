@@ -1,49 +1,148 @@
 #!/usr/bin/env bash
 # Install what zwidth needs on a Debian machine (idempotent; quiet when all is there).
-#   system: C toolchain, CMake, Ninja, cmocka (C unit tests), the arm-none-eabi
-#           cross-compiler (MCU footprint), libmodbus (drive and tuning tool), socat
-#           (RTU over a pseudo-terminal pair), mbpoll (a Modbus client nobody here wrote),
-#           clang (libFuzzer), python3 with venv and headers, g++ (the Python extension)
-#   python: a virtualenv in .venv with the test requirements (tools/requirements-test.txt);
-#           the zwidth package itself is installed by tools/test.sh (pip install .)
+#
+# Each step of tools/test.sh needs a capability, not a command: "clang is on the PATH"
+# does not mean libFuzzer links, and "arm-none-eabi-gcc exists" does not mean a Cortex-M
+# image with newlib links.  So every capability is probed by doing the smallest real
+# thing the step does (compile and link a one-line program, find a header, start a
+# program), and the Debian packages that provide it are installed only when that fails.
+# After installing, every probe runs again and a capability still missing stops here
+# with its name, instead of failing minutes later inside a test step.
+#
+#   tools/bootstrap.sh            probe, install what is missing, verify
+#   tools/bootstrap.sh --check    probe only; print what is missing (exit 1 if anything is)
+#   tools/bootstrap.sh --demo     only what tools/demo.sh needs (C compiler, CMake, Ninja)
+#
+# Python: a virtualenv in .venv with tools/requirements-test.txt; the zwidth package itself
+# is installed by tools/test.sh (pip install .).
+# First run on a fresh Debian 12 machine: about 4 minutes (apt and pip downloads), then
+# about 2 s (probes only).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-need_apt=()
-have() { command -v "$1" >/dev/null 2>&1; }
-have cc || need_apt+=(gcc)
-have g++ || need_apt+=(g++)
-have cmake || need_apt+=(cmake)
-have ninja || need_apt+=(ninja-build)
-have pkg-config || need_apt+=(pkg-config)
-have arm-none-eabi-gcc || need_apt+=(gcc-arm-none-eabi libnewlib-arm-none-eabi)
-[ -f /usr/include/cmocka.h ] || need_apt+=(libcmocka-dev)
-[ -f /usr/include/modbus/modbus.h ] || need_apt+=(libmodbus-dev)
-have socat || need_apt+=(socat)
-have mbpoll || need_apt+=(mbpoll)
-have clang || need_apt+=(clang)
-# bench/report: instruction counts (callgrind) and the emulated Cortex-M4 (qemu)
-have valgrind || need_apt+=(valgrind)
-have qemu-system-arm || need_apt+=(qemu-system-arm)
-have python3 || need_apt+=(python3)
-python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need_apt+=(python3-venv)
-# Python.h, for building zwidth._core against the interpreter the venv is made from
-python3 -c 'import os, sysconfig; assert os.path.exists(os.path.join(sysconfig.get_paths()["include"], "Python.h"))' \
-    >/dev/null 2>&1 || need_apt+=(python3-dev)
+mode=all
+case "${1:-}" in
+    "") ;;
+    --check) mode=check ;;
+    --demo) mode=demo ;;
+    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "bootstrap.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+esac
 
-if [ ${#need_apt[@]} -gt 0 ]; then
-    echo "bootstrap: installing ${need_apt[*]}" >&2
-    SUDO=""
+PROBE_DIR=$(mktemp -d "${TMPDIR:-/tmp}/zw-probe.XXXXXX")
+trap 'rm -rf "$PROBE_DIR"' EXIT
+quiet() { "$@" >/dev/null 2>&1; }
+
+# compile_and_link CC SOURCE_EXT FLAGS... : builds a one-line program read from stdin.
+compile_and_link() {
+    local cc=$1 ext=$2; shift 2
+    local src="$PROBE_DIR/probe.$ext"
+    cat >"$src"
+    quiet "$cc" "$src" -o "$PROBE_DIR/probe.out" "$@"
+}
+
+probe_c() { printf '#include <math.h>\nint main(void){volatile double x=2;return sqrt(x)>1?0:1;}\n' \
+    | compile_and_link cc c -std=c99 -lm; }
+probe_cxx() { printf '#include <vector>\nint main(){std::vector<int> v(1);return v[0];}\n' \
+    | compile_and_link c++ cpp; }
+probe_cmake() { echo 'cmake_minimum_required(VERSION 3.18)' >"$PROBE_DIR/version.cmake"
+    quiet cmake -P "$PROBE_DIR/version.cmake"; }
+probe_ninja() { quiet ninja --version; }
+probe_pkg_config() { quiet pkg-config --version; }
+probe_sanitizers() { printf 'int main(void){return 0;}\n' \
+    | compile_and_link cc c -fsanitize=address,undefined && "$PROBE_DIR/probe.out"; }
+probe_tsan() { printf '#include <pthread.h>\nstatic void*f(void*p){return p;}\nint main(void){pthread_t t;pthread_create(&t,0,f,0);return pthread_join(t,0);}\n' \
+    | compile_and_link cc c -fsanitize=thread -pthread && "$PROBE_DIR/probe.out"; }
+probe_cmocka() { printf '#include <stdarg.h>\n#include <stddef.h>\n#include <stdint.h>\n#include <setjmp.h>\n#include <cmocka.h>\nstatic void t(void **s){(void)s;assert_true(1);}\nint main(void){const struct CMUnitTest ts[]={cmocka_unit_test(t)};return cmocka_run_group_tests(ts,0,0);}\n' \
+    | compile_and_link cc c -lcmocka; }
+probe_modbus() { printf '#include <modbus.h>\nint main(void){modbus_t*c=modbus_new_tcp("127.0.0.1",1502);if(c)modbus_free(c);return 0;}\n' \
+    | compile_and_link cc c $(pkg-config --cflags --libs libmodbus 2>/dev/null || echo -I/usr/include/modbus -lmodbus); }
+probe_arm() { printf '#include <math.h>\nvolatile float x=2.0f;int main(void){return sqrtf(x)>1.0f?0:1;}\n' \
+    | compile_and_link arm-none-eabi-gcc c -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard \
+        --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections -lm; }
+probe_qemu_m4() { qemu-system-arm -machine help 2>/dev/null | grep -q '^mps2-an386'; }
+probe_valgrind() { quiet valgrind --tool=callgrind --callgrind-out-file=/dev/null true; }
+probe_fuzzer() { printf '#include <stddef.h>\n#include <stdint.h>\nint LLVMFuzzerTestOneInput(const uint8_t*d,size_t n){(void)d;(void)n;return 0;}\n' \
+    | compile_and_link clang c -fsanitize=fuzzer,address,undefined; }
+probe_socat() { quiet socat -V; }
+probe_mbpoll() { mbpoll -h 2>&1 | grep -qi modbus; }
+probe_python_venv() { quiet python3 -c 'import venv, ensurepip'; }
+probe_python_headers() { quiet python3 -c 'import os, sysconfig; assert os.path.exists(os.path.join(sysconfig.get_paths()["include"], "Python.h"))'; }
+
+# The capabilities, the Debian packages that give each, and which steps need it.
+#        name           probe               packages                                  demo?
+caps=(
+    "C99 compiler + libm|probe_c|gcc libc6-dev|demo"
+    "C++ compiler|probe_cxx|g++|"
+    "CMake >= 3.18|probe_cmake|cmake|demo"
+    "Ninja|probe_ninja|ninja-build|demo"
+    "pkg-config|probe_pkg_config|pkg-config|"
+    "gcc ASan/UBSan runtime|probe_sanitizers|libasan8 libubsan1|"
+    "gcc ThreadSanitizer runtime|probe_tsan|libtsan2|"
+    "cmocka (C unit tests)|probe_cmocka|libcmocka-dev|"
+    "libmodbus (drive, tuning tool)|probe_modbus|libmodbus-dev|"
+    "Cortex-M cross link with newlib (footprint, QEMU)|probe_arm|gcc-arm-none-eabi libnewlib-arm-none-eabi|"
+    "QEMU mps2-an386 (Cortex-M4 benchmark)|probe_qemu_m4|qemu-system-arm|"
+    "valgrind callgrind (instruction counts)|probe_valgrind|valgrind|"
+    "clang libFuzzer + ASan/UBSan (fuzzing)|probe_fuzzer|clang|"
+    "socat (RTU over a pseudo-terminal)|probe_socat|socat|"
+    "mbpoll (an independent Modbus client)|probe_mbpoll|mbpoll|"
+    "python3 venv + ensurepip|probe_python_venv|python3-venv|"
+    "Python.h of python3 (the extension)|probe_python_headers|python3-dev|"
+)
+
+missing_names=()
+missing_pkgs=()
+probe_all() {
+    missing_names=(); missing_pkgs=()
+    local entry name probe pkgs demo
+    for entry in "${caps[@]}"; do
+        IFS='|' read -r name probe pkgs demo <<<"$entry"
+        [ "$mode" = demo ] && [ "$demo" != demo ] && continue
+        if ! "$probe"; then
+            missing_names+=("$name")
+            # libFuzzer's runtime is a separate package named after clang's major version
+            # (libclang-rt-14-dev on Debian 12); clang itself does not pull it in.
+            if [ "$probe" = probe_fuzzer ] && command -v clang >/dev/null 2>&1; then
+                pkgs="libclang-rt-$(clang -dumpversion | cut -d. -f1)-dev"
+            fi
+            missing_pkgs+=($pkgs)
+        fi
+    done
+}
+
+apt_install() {
+    local SUDO=""
     [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-    $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${need_apt[@]}" >/dev/null
+    echo "bootstrap: installing $*" >&2
+    if [ -z "${ZW_APT_UPDATED:-}" ]; then
+        $SUDO apt-get update -qq
+        ZW_APT_UPDATED=1
+    fi
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$@" >/dev/null
+}
+
+probe_all
+if [ ${#missing_names[@]} -gt 0 ]; then
+    printf 'bootstrap: missing: %s\n' "${missing_names[@]}" >&2
+    [ "$mode" = check ] && exit 1
+    apt_install "${missing_pkgs[@]}"
+    # A second round for what only the first install can name (libclang-rt-N-dev).
+    probe_all
+    [ ${#missing_names[@]} -gt 0 ] && apt_install "${missing_pkgs[@]}"
+    probe_all
+    if [ ${#missing_names[@]} -gt 0 ]; then
+        printf 'bootstrap: still missing after installing: %s\n' "${missing_names[@]}" >&2
+        exit 1
+    fi
 fi
+[ "$mode" = all ] || exit 0
 
 if [ ! -x .venv/bin/python ]; then
     echo "bootstrap: creating .venv" >&2
     python3 -m venv .venv
 fi
-if ! .venv/bin/python -c 'import mpmath, numpy, pytest, pymodbus, hypothesis, mypy, matplotlib, scipy, control, pybind11, scikit_build_core' >/dev/null 2>&1; then
+if ! .venv/bin/python -c 'import mpmath, numpy, pytest, pymodbus, hypothesis, mypy, matplotlib, scipy, control, pybind11, scikit_build_core, pint, tqdm' >/dev/null 2>&1; then
     echo "bootstrap: installing Python test requirements into .venv" >&2
     .venv/bin/python -m pip install -q --disable-pip-version-check -r tools/requirements-test.txt
 fi

@@ -14,6 +14,9 @@ const char *zw_status_name(zw_status status)
     case ZW_ERR_RANGE: return "ZW_ERR_RANGE";
     case ZW_ERR_ARG: return "ZW_ERR_ARG";
     case ZW_ERR_DOMAIN: return "ZW_ERR_DOMAIN";
+    case ZW_ERR_FPENV: return "ZW_ERR_FPENV";
+    case ZW_ERR_DELAY: return "ZW_ERR_DELAY";
+    case ZW_ERR_FILTER: return "ZW_ERR_FILTER";
     }
     return "ZW_UNKNOWN";
 }

@@ -18,9 +18,18 @@ typedef enum zw_status {
     ZW_ERR_DELTA = 7,            /* normalized physical damping delta < 0 */
     ZW_ERR_RANGE = 8,            /* a derived quantity (delta, T^2/m, K T^2/m, ...) over- or underflows */
     ZW_ERR_ARG = 9,              /* another argument is out of its documented domain (e.g. r <= 0) */
-    ZW_ERR_DOMAIN = 10           /* the requested quantity does not exist for this plant
+    ZW_ERR_DOMAIN = 10,          /* the requested quantity does not exist for this plant
                                     (e.g. the hyperbola/line corner when delta <= delta0) */
+    ZW_ERR_FPENV = 11,           /* the floating-point environment is not the one the error
+                                    bounds assume (zw_selftest): nothing can be certified */
+    ZW_ERR_DELAY = 12,           /* loop delay outside 0..ZW_LOOP_MAX_DELAY samples */
+    ZW_ERR_FILTER = 13           /* velocity estimate out of its domain: filter pole outside
+                                    [0, 1), cut-off <= 0 or at/above Nyquist, average length
+                                    outside 1..ZW_LOOP_MAX_AVERAGE, unknown kind */
 } zw_status;
+
+/* The last status code: every value in ZW_OK..ZW_STATUS_LAST has a name. */
+#define ZW_STATUS_LAST ZW_ERR_FILTER
 
 /* Stable, upper-case name of a status ("ZW_ERR_MASS"); "ZW_UNKNOWN" for other values. */
 const char *zw_status_name(zw_status status);

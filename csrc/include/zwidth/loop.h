@@ -1,0 +1,136 @@
+/* zwidth/loop.h - the loop a real drive runs: delay, velocity filters, differentiators.
+ *
+ * The paper's loop applies F_k = -(K x_k + B v_k) at once, with v_k the backward
+ * difference.  A drive adds a delay of d samples (the force computed from x_k is applied
+ * over [(k+d)T, (k+d+1)T)) and estimates the velocity differently.  In normalized units
+ * (delta = bT/m, alpha = KT^2/m, beta = BT/m) the sampled plant is
+ *     x/F = (c1 z + c2) / (2 (z - 1)(z - e))          (times T^2/m; coeffs.h)
+ * and the velocity estimate is T V(z) = Nv(z) / Dv(z):
+ *     backward difference        (z - 1) / z
+ *     Tustin                     2 (z - 1) / (z + 1)
+ *     low-pass (pole a) on it    (1 - a) z / (z - a)            times the differentiator
+ *     moving average over n      (1/n) sum_{i<n} z^-i           times the differentiator
+ *                                (backward: (z^n - 1) / (n z^n))
+ * so the closed loop's characteristic polynomial is affine in (alpha, beta):
+ *     p(z) = D(z) + alpha Na(z) + beta Nb(z)
+ *     D  = 2 z^d (z - 1)(z - e) Dv(z),  Na = (c1 z + c2) Dv(z),  Nb = (c1 z + c2) Nv(z)
+ * (d = 0 with the backward difference gives the paper's cubic, eqs (7), (8)).  See
+ * shared notes general-loop.md and docs/numerics.md for the derivation and its checks.
+ *
+ * A zero-initialized zw_loop_spec is the paper's ideal loop.
+ *
+ * Safety, as for the ideal loop: a verdict says stable only if every root is inside the
+ * unit circle for every value within the rounding error bound of the computation
+ * (including the coefficient functions' own error, ZW_COEF_ULPS, and delta_relerr); a
+ * stable point is called unstable only within that band, and then marginal = true.  A
+ * limit (alpha_max, beta interval, extremes) is never above the true one.
+ *
+ * Fail-safe outputs: on every error, a verdict output is written as not stable
+ * (stable = false) and a limit output as one that certifies nothing (0, an empty range),
+ * so a caller that ignores the status can never read "stable".
+ */
+#ifndef ZWIDTH_LOOP_H
+#define ZWIDTH_LOOP_H
+
+#include <stdbool.h>
+
+#include "zwidth/coeffs.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define ZW_LOOP_MAX_DELAY 8u    /* d in 0..8 samples */
+#define ZW_LOOP_MAX_AVERAGE 16u /* moving average over n in 1..16 samples */
+/* Plant (2) + delay + velocity estimate (at most ZW_LOOP_MAX_AVERAGE). */
+#define ZW_LOOP_MAX_DEGREE (2u + ZW_LOOP_MAX_DELAY + ZW_LOOP_MAX_AVERAGE)
+
+typedef enum zw_differentiator {
+    ZW_DIFF_BACKWARD = 0, /* v_k = (x_k - x_{k-1}) / T (the paper's) */
+    ZW_DIFF_TUSTIN = 1    /* v_k = (2/T)(x_k - x_{k-1}) - v_{k-1} */
+} zw_differentiator;
+
+typedef enum zw_velocity_filter {
+    ZW_VFILTER_NONE = 0,
+    ZW_VFILTER_LOWPASS = 1, /* vf_k = a vf_{k-1} + (1 - a) v_k, a = filter_pole in [0, 1) */
+    ZW_VFILTER_AVERAGE = 2  /* mean of the last n differentiator outputs, n = average */
+} zw_velocity_filter;
+
+/* What the drive runs.  filter_pole is used by LOWPASS only, average by AVERAGE only.
+ * The pole is taken as exact: the drive's filter multiplies by its own stored a, so the
+ * certificate is for that a (zw_loop_lowpass_pole gives it from a cut-off). */
+typedef struct zw_loop_spec {
+    unsigned delay;                   /* d, 0..ZW_LOOP_MAX_DELAY */
+    zw_differentiator differentiator;
+    zw_velocity_filter filter;
+    zw_real filter_pole;              /* a, LOWPASS */
+    unsigned average;                 /* n, AVERAGE */
+} zw_loop_spec;
+
+/* a = exp(-2 pi f_c T) for a cut-off f_c [Hz] at period T [s].  Errors: ZW_ERR_NULL,
+ * ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_PERIOD (T <= 0), ZW_ERR_FILTER (f_c <= 0 or
+ * f_c >= 1 / (2 T), the Nyquist frequency).  *a = 0 on error. */
+zw_status zw_loop_lowpass_pole(zw_real f_c, zw_real T, zw_real *a);
+
+/* The loop for one plant: the three polynomial parts, each coefficient with a bound on
+ * its absolute error against the exact value (from e, c1, c2's own error and delta_relerr
+ * and every rounding of the construction).  Coefficients are stored highest power first
+ * (index 0 is z^degree), like zw_char_poly.  Filled by zw_loop_init; read-only after. */
+typedef struct zw_loop {
+    zw_coeffs c;
+    zw_loop_spec spec;
+    unsigned degree;                        /* 3 + d for the ideal velocity estimate, ... */
+    zw_real D[ZW_LOOP_MAX_DEGREE + 1u], D_err[ZW_LOOP_MAX_DEGREE + 1u];
+    zw_real Na[ZW_LOOP_MAX_DEGREE + 1u], Na_err[ZW_LOOP_MAX_DEGREE + 1u];
+    zw_real Nb[ZW_LOOP_MAX_DEGREE + 1u], Nb_err[ZW_LOOP_MAX_DEGREE + 1u];
+} zw_loop;
+
+/* Build the loop of spec for the plant c (a copy of *c is kept).  Errors: ZW_ERR_NULL,
+ * ZW_ERR_DELAY, ZW_ERR_FILTER, ZW_ERR_NAN, ZW_ERR_INF / ZW_ERR_RANGE (delta too large to
+ * bound), ZW_ERR_ARG (bad delta_relerr).  On error *out is an empty loop (degree 0) that
+ * every function below refuses with ZW_ERR_ARG. */
+zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spec);
+
+/* p(z) = D + alpha Na + beta Nb, highest power first, p[0..*degree].  On error every
+ * entry is 0 and *degree = 0. */
+zw_status zw_loop_poly(const zw_loop *loop, zw_real alpha, zw_real beta,
+                       zw_real p[ZW_LOOP_MAX_DEGREE + 1u], unsigned *degree);
+
+/* Which boundary of the stability region a point is beyond (or nearest, when marginal):
+ * where the root of largest modulus sits. */
+typedef enum zw_loop_boundary {
+    ZW_LOOP_BOUNDARY_NONE = 0,      /* stable */
+    ZW_LOOP_BOUNDARY_Z_PLUS1 = 1,   /* a real root at z >= 1 (static divergence) */
+    ZW_LOOP_BOUNDARY_Z_MINUS1 = 2,  /* a real root at z <= -1 (oscillation at Nyquist) */
+    ZW_LOOP_BOUNDARY_COMPLEX = 3    /* a complex pair e^{+-j theta} (oscillation at
+                                       theta / (2 pi T) Hz) */
+} zw_loop_boundary;
+
+typedef struct zw_loop_verdict {
+    bool stable;
+    bool marginal;              /* within the rounding band: could not prove stable */
+    zw_loop_boundary deciding;  /* NONE when stable */
+    zw_real theta;              /* COMPLEX: angle of the deciding pair in (0, pi) rad per
+                                   sample; 0 for the real boundaries and when stable */
+} zw_loop_verdict;
+
+/* Guarded verdict of the general loop (always the general path; the ideal loop's closed
+ * form is zw_check).  Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an
+ * uninitialized loop).  On error *out = {stable = false, marginal = false, NONE, 0}. */
+zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta,
+                        zw_loop_verdict *out);
+
+/* "Every root has |z| < r" with the same guard (never true when rho >= r); r finite > 0. */
+zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
+                                bool *within);
+
+/* Spectral radius rho (largest root modulus), with the angle in [0, pi] of that root.
+ * Informational (plots, reports): verdicts never rest on it.  *rho = +inf on error. */
+zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real beta,
+                                  zw_real *rho, zw_real *theta);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ZWIDTH_LOOP_H */
