@@ -6,6 +6,7 @@
  */
 #include "zwidth/sim.h"
 
+#include <stdint.h>
 #include <string.h>
 
 #include "zwidth/coeffs.h"
@@ -140,23 +141,39 @@ static zw_status validate_scene(const zw_sim_scene *sc) {
     return ZW_OK;
 }
 
-/* The first sample index k with k T >= t_step, computed the way the loop compares. */
-static size_t first_sample_at(zw_real t_step, zw_real T) {
-    zw_real q = t_step / T;
+/* The first sample index k with k T >= t_step, computed the way the loop compares (k T in
+ * zw_real); SIZE_MAX for t_step = +inf (no step).  ZW_ERR_RANGE when t_step / T is not
+ * below 2^p (p = 24 float, 53 double), where consecutive counts stop being distinct
+ * zw_real values and the search below would not end, or not below SIZE_MAX (16- and
+ * 32-bit size_t).  Below both, k = (size_t)q is in range and one step up suffices: an
+ * integer between q = fl(t_step / T) and t_step / T would be nearer to it than q. */
+static zw_status first_sample_at(zw_real t_step, zw_real T, size_t *first) {
+    const zw_real exact_counts = ZW_R(1.0) / ZW_UNIT_ROUNDOFF;   /* 2^p */
+    /* May round up to 2^bits; q below it then still floors to at most SIZE_MAX - 1. */
+    const zw_real counter_max = (zw_real)SIZE_MAX;
+    zw_real q;
     size_t k;
-    if (!(q < ZW_R(1e15))) return (size_t)-1;   /* never reached (also t_step = +inf) */
+    if (!(t_step <= ZW_REAL_MAX)) {   /* +inf: never */
+        *first = SIZE_MAX;
+        return ZW_OK;
+    }
+    q = t_step / T;
+    if (!(q < exact_counts && q < counter_max)) return ZW_ERR_RANGE;   /* also q = +inf */
     k = (size_t)q;
     while (k > 0 && (zw_real)(k - 1) * T >= t_step) --k;
     while ((zw_real)k * T < t_step) ++k;
-    return k;
+    *first = k;
+    return ZW_OK;
 }
 
 zw_status zw_sim_init(zw_sim *sim, const zw_sim_scene *scene) {
     zw_device dev;
     zw_sim s;
+    size_t k_step;
     if (sim == NULL || scene == NULL) return ZW_ERR_NULL;
     ZW_TRY(zw_device_init(&dev, scene->m, scene->b, scene->T));
     ZW_TRY(validate_scene(scene));
+    ZW_TRY(first_sample_at(scene->t_step, scene->T, &k_step));
 
     memset(&s, 0, sizeof s);
     s.scene = *scene;
@@ -166,7 +183,7 @@ zw_status zw_sim_init(zw_sim *sim, const zw_sim_scene *scene) {
     s.phi_T = scene->T * (dev.co.s / 2);
     s.x_gain = (scene->T / scene->m) * scene->T * (dev.co.c1 / 2);
     s.v_gain = (scene->T / scene->m) * (dev.co.s / 2);
-    s.k_step = first_sample_at(scene->t_step, scene->T);
+    s.k_step = k_step;
     if (scene->effects & ZW_SIM_VELOCITY_FILTER)
         s.filter_a = ZW_EXP(-ZW_TWO_PI * scene->cutoff_hz * scene->T);
     s.x = scene->x_init;
@@ -301,7 +318,7 @@ static zw_real integrate_sample(const zw_sim_scene *sc, zw_real t, zw_real appli
     const zw_real h = sc->T / (zw_real)sc->substeps;
     zw_real friction_at_start = 0;
     zw_substep st;
-    int i;
+    int_least32_t i;
     st.sc = sc;
     st.applied = applied;
     st.friction = 0;

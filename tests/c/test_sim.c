@@ -1302,6 +1302,64 @@ static void expect_init(const zw_sim_scene *sc, zw_status want, const char *what
     }
 }
 
+/* The step's sample index near the top of its range: t_step / T below 2^p (p = 24 float, 53
+ * double) is found exactly, from 2^p on (and past SIZE_MAX: 2^70) zw_sim_init refuses it
+ * with ZW_ERR_RANGE instead of searching forever (the old (size_t) cast of 2^70 was UB and
+ * hung 16/32-bit targets).  No run reaches such an index, so the index itself is read from
+ * the zw_sim (k_step): k T >= t_step > (k - 1) T, in zw_real as the loop compares. */
+static void test_step_index_range(void **state)
+{
+    const int p = ZWT_MANT_DIG;
+    const zw_real top = ZW_LDEXP(R(1.0), p);   /* 2^p */
+    const struct {
+        zw_real T, steps;   /* t_step = steps * T, exact for dyadic T */
+        size_t want;
+    } exact[] = {
+        {T_DYADIC, top - R(1.0), (size_t)(top - R(1.0))},               /* largest accepted */
+        {T_DYADIC, ZW_LDEXP(R(1.0), p - 1) - R(0.5), (size_t)ZW_LDEXP(R(1.0), p - 1)},   /* between */
+        {T_DYADIC, R(3.0), 3},
+    };
+    const zw_real refused[] = {top, ZW_LDEXP(R(1.0), 70)};
+    /* Non-dyadic T: t_step / T rounds; the index must still be the loop's first sample. */
+    const zw_real periods[] = {R(0.001), R(0.0003), R(1e-6) / R(3.0)};
+    zw_sim sim;
+    size_t i, j;
+    (void)state;
+    for (i = 0; i < ZWT_ARRAY_LEN(exact); ++i) {
+        zw_sim_scene sc = scene_linear(R(0.125), R(2.0), exact[i].T, R(4.0), R(2.0));
+        sc.t_step = exact[i].steps * exact[i].T;
+        EXPECT_OK(zw_sim_init(&sim, &sc));
+        assert_true(sim.k_step == exact[i].want);
+    }
+    for (i = 0; i < ZWT_ARRAY_LEN(refused); ++i) {
+        zw_sim_scene sc = scene_linear(R(0.125), R(2.0), T_DYADIC, R(4.0), R(2.0));
+        sc.t_step = refused[i] * T_DYADIC;
+        expect_init(&sc, ZW_ERR_RANGE, "t_step / T >= 2^p");
+    }
+    {
+        zw_sim_scene sc = scene_linear(R(0.125), R(2.0), T_DYADIC, R(4.0), R(2.0));
+        sc.t_step = ZW_REAL_MAX;   /* t_step / T overflows to +inf: finite, so refused */
+        expect_init(&sc, ZW_ERR_RANGE, "t_step = ZW_REAL_MAX");
+        sc.t_step = (zw_real)INFINITY;   /* no step */
+        EXPECT_OK(zw_sim_init(&sim, &sc));
+        assert_true(sim.k_step == SIZE_MAX);
+    }
+    for (i = 0; i < ZWT_ARRAY_LEN(periods); ++i) {
+        const zw_real T = periods[i];
+        for (j = 0; j < 8; ++j) {
+            /* q from 2^(p-1) to just below 2^p, off the integers */
+            const zw_real steps = top * (R(0.5) + R(0.0625) * (zw_real)j) + R(0.37) * (zw_real)j;
+            zw_sim_scene sc = scene_linear(R(0.125), R(2.0), T, R(4.0), R(2.0));
+            size_t k;
+            sc.t_step = steps * T;
+            if (!(sc.t_step / T < top)) continue;
+            EXPECT_OK(zw_sim_init(&sim, &sc));
+            k = sim.k_step;
+            assert_true(k >= 1 && (zw_real)k * T >= sc.t_step && (zw_real)(k - 1) * T < sc.t_step);
+        }
+    }
+}
+
 static void test_init_errors(void **state)
 {
     const unsigned all = ZW_SIM_ALL_EFFECTS & ~(unsigned)ZW_SIM_KNOB;
@@ -1506,6 +1564,7 @@ int main(void)
         cmocka_unit_test_teardown(test_judge_nonfinite, free_all),
         cmocka_unit_test_teardown(test_judge_errors, free_all),
         cmocka_unit_test_teardown(test_init_errors, free_all),
+        cmocka_unit_test(test_step_index_range),
         cmocka_unit_test_teardown(test_fig15_kind, free_all),
     };
     printf("zwidth C tests: sim (%s)\n", ZW_REAL_NAME);

@@ -64,13 +64,14 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "zwidth/real.h"
 #include "zwidth/status.h"
 
 /* Longest computation delay, in samples (the delay line lives inside zw_sim). */
 #define ZW_SIM_MAX_DELAY 64
-/* Most integrator substeps per sample. */
+/* Most integrator substeps per sample (above a 16-bit int: the field is int_least32_t). */
 #define ZW_SIM_MAX_SUBSTEPS 100000
 /* RK4 is stable for h |s| up to about 2.8 in the left half-plane (2.785 on the real axis,
  * 2.828 on the imaginary one); zw_sim_init refuses substeps that give h |s|max above this,
@@ -127,7 +128,8 @@ typedef struct zw_sim_scene {
     zw_real m, b, T;               /* plant and period, as in device.h */
     zw_real K, B;                  /* controller gains (ignored under KNOB / SCHEDULE) */
     zw_real x_init, v_init;        /* initial state */
-    zw_real x_eq_before, x_eq_after, t_step;   /* the equilibrium's step (t_step >= 0) */
+    zw_real x_eq_before, x_eq_after, t_step;   /* the equilibrium's step (t_step >= 0;
+                                                  +inf: no step, x_eq_before throughout) */
     unsigned effects;              /* ZW_SIM_* flags; 0: the ideal linear loop */
     /* Parameters of each effect, read only when its flag is set. */
     zw_real counts_per_unit;       /* QUANTIZATION: > 0 (counts per m, or per rad) */
@@ -140,7 +142,7 @@ typedef struct zw_sim_scene {
     zw_sim_knob knob;              /* KNOB */
     const zw_sim_segment *schedule;   /* SCHEDULE: caller-owned, must outlive the zw_sim */
     size_t schedule_len;              /* >= 1 */
-    int substeps;                  /* RK4 steps per sample when a continuous effect is on:
+    int_least32_t substeps;        /* RK4 steps per sample when a continuous effect is on:
                                       1 .. ZW_SIM_MAX_SUBSTEPS (ignored otherwise) */
 } zw_sim_scene;
 
@@ -162,7 +164,10 @@ typedef struct zw_sim {
 
 /* Validate the scene and set the run to t = 0.  Errors: ZW_ERR_NULL (also a NULL schedule
  * under SCHEDULE); the plant's errors as in zw_device_init (ZW_ERR_MASS, ZW_ERR_PERIOD,
- * ZW_ERR_DAMPING, ZW_ERR_RANGE); ZW_ERR_NAN for a NaN in any field that is read;
+ * ZW_ERR_DAMPING, ZW_ERR_RANGE); ZW_ERR_RANGE also for a finite t_step whose sample index
+ * t_step / T is not below 2^24 (float build) / 2^53 (double build), the counts the real type
+ * holds exactly, or not below SIZE_MAX (a 16- or 32-bit size_t): a step meant as "never"
+ * is t_step = +inf; ZW_ERR_NAN for a NaN in any field that is read;
  * ZW_ERR_INF for an infinity where only finite values mean anything (everywhere except
  * t_step, hand.t_release and hand.speed, where +inf means "never" / "at once");
  * ZW_ERR_ARG for any other field outside its documented domain (unknown flag bits, KNOB
