@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # tools/footprint.sh - flash and stack footprint of the zwidth firmware core on Cortex-M.
 #
-# Usage:  bash tools/footprint.sh [--no-write] [--keep]
-#   --no-write  print the report only; leave docs/footprint.md alone
+# Usage:  bash tools/footprint.sh [--no-write | --check] [--keep]
+#   (none)      write docs/footprint.md and the generated table of README.md
+#   --no-write  print the report only; leave docs/footprint.md and README.md alone
+#   --check     write nothing; also fail (exit 1, the diff on stderr) when docs/footprint.md
+#               or README.md's generated table differs from what this run generates (CI)
 #   --keep      keep the temporary build directory (its path goes to stderr)
 # Environment (CI tuning; the defaults are the project's targets):
 #   FOOTPRINT_TEXT_LIMIT   flash limit of "check + extremes" on the Cortex-M4F, bytes (4096)
@@ -10,12 +13,15 @@
 #                          arm-none-eabi-size prints as "text") or "text" (code only)
 #   FOOTPRINT_STACK_LIMIT  worst call-chain stack of any public function, bytes (256)
 #
-# Exit status: 0 all targets met; 1 a target missed (each miss is printed to stderr);
-# 2 the toolchain is missing or something failed to build.
+# Exit status: 0 all targets met; 1 a target missed (each miss is printed to stderr) or,
+# with --check, a committed report is stale; 2 the toolchain is missing or something
+# failed to build.
 #
 # What it does
-#   1. Cross-compiles every core module (csrc/src/{status,coeffs,region,margin,extremes,
-#      device,regmap,batch}.c) with the project's strict flags for three targets:
+#   1. Cross-compiles every firmware module, i.e. every file of ZW_CORE_SOURCES in
+#      CMakeLists.txt (the list the libraries are built from; csrc/src files outside it,
+#      such as the host-only simulator sim.c, are named in the report as left out), with
+#      the project's strict flags for three targets:
 #        m4f  Cortex-M4F, hard float, float build (-DZW_REAL_FLOAT)      <- gated
 #        m0   Cortex-M0, soft float, float build (-DZW_REAL_FLOAT)       <- stack gated
 #        m4d  Cortex-M4F, hard float, double build (information only: the FPU is
@@ -25,9 +31,9 @@
 #      are not linked, so libm (expf, expm1f, sqrtf, frexpf, ldexpf), libgcc (soft-float and
 #      double helpers) and libc (memcpy) are NOT included in these numbers.  Totals:
 #        (a) "check + extremes" = status + coeffs + region + extremes
-#        (b) the whole core      = all eight modules
+#        (b) the whole core      = all modules
 #      Then a tiny main calling zw_coeffs_init, zw_check and zw_extremes_compute is linked
-#      against all eight objects with --gc-sections, nano.specs and nosys.specs, and the
+#      against all objects with --gc-sections, nano.specs and nosys.specs, and the
 #      linker map splits the image into zwidth / libm / libgcc / libc+startup, so the
 #      reader sees what the maths library costs.
 #   3. Stack, from -fstack-usage (.su: one frame per emitted function) and
@@ -52,9 +58,10 @@
 #      were inlined do not exist as code and are not listed: their locals are part of
 #      their caller's frame.  A recursive cycle, an indirect call or a dynamic frame would
 #      make the bound meaningless and is reported (and fails the stack target).
-#   4. Prints a Markdown report to stdout and writes it to docs/footprint.md (unless
-#      --no-write).  The report is deterministic (no dates, no temporary paths), so CI can
-#      also check that the committed docs/footprint.md is current with `git diff`.
+#   4. Prints a Markdown report to stdout and writes it to docs/footprint.md, and the
+#      summary table to README.md between its "footprint.sh" markers (unless --no-write or
+#      --check).  The report is deterministic (no dates, no temporary paths; modules in
+#      CMakeLists.txt order, every table sorted), so --check can compare it byte for byte.
 #
 # Only the Arm cross toolchain, bash, awk (any POSIX awk; Debian's mawk works), sort and
 # mktemp are needed:  sudo apt-get install -y gcc-arm-none-eabi libnewlib-arm-none-eabi
@@ -62,13 +69,18 @@ set -euo pipefail
 export LC_ALL=C
 
 WRITE=1
+CHECK=0
 KEEP=0
 for arg in "$@"; do
     case "$arg" in
     --no-write) WRITE=0 ;;
+    --check)
+        WRITE=0
+        CHECK=1
+        ;;
     --keep) KEEP=1 ;;
     -h | --help)
-        sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'
+        sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
         exit 0
         ;;
     *)
@@ -119,8 +131,58 @@ if [ "$(${CROSS}gcc -print-file-name=nano.specs)" = nano.specs ]; then
     exit 2
 fi
 
-MODULES="status coeffs region extremes margin device regmap batch"
+# The firmware modules: ZW_CORE_SOURCES of CMakeLists.txt (set(...) and list(APPEND ...)),
+# in its order, so that a module added there is measured and gated without editing this.
+MODULES=$(awk '
+    /^[ \t]*(set[ \t]*\([ \t]*ZW_CORE_SOURCES|list[ \t]*\([ \t]*APPEND[ \t]+ZW_CORE_SOURCES)([ \t]|$)/ { on = 1 }
+    on {
+        line = $0; sub(/#.*/, "", line)
+        rest = line
+        while (match(rest, /csrc\/src\/[A-Za-z0-9_]+\.c/)) {
+            m = substr(rest, RSTART + 9, RLENGTH - 11)
+            if (!(m in seen)) { seen[m] = 1; printf "%s ", m }
+            rest = substr(rest, RSTART + RLENGTH)
+        }
+        if (line ~ /\)/) on = 0
+    }' CMakeLists.txt | sed 's/ $//')
 CHECK_MODULES="status coeffs region extremes"
+if [ -z "$MODULES" ]; then
+    echo "footprint.sh: no csrc/src/*.c found in ZW_CORE_SOURCES of CMakeLists.txt" >&2
+    exit 2
+fi
+for m in $MODULES; do
+    [ -f "csrc/src/$m.c" ] || {
+        echo "footprint.sh: csrc/src/$m.c (in ZW_CORE_SOURCES) does not exist" >&2
+        exit 2
+    }
+done
+for m in $CHECK_MODULES; do
+    case " $MODULES " in
+    *" $m "*) ;;
+    *)
+        echo "footprint.sh: check module $m is not in ZW_CORE_SOURCES of CMakeLists.txt" >&2
+        exit 2
+        ;;
+    esac
+done
+# csrc/src files that are not firmware (named in the report).
+LEFT_OUT=""
+for f in csrc/src/*.c; do
+    m=$(basename "$f" .c)
+    case " $MODULES " in
+    *" $m "*) ;;
+    *) LEFT_OUT="$LEFT_OUT $m.c" ;;
+    esac
+done
+LEFT_OUT=${LEFT_OUT# }
+README_BEGIN='<!-- BEGIN footprint table: generated by tools/footprint.sh from docs/footprint.md; do not edit -->'
+README_END='<!-- END footprint table -->'
+if [ "$WRITE" = 1 ] || [ "$CHECK" = 1 ]; then
+    if [ "$(grep -cxF "$README_BEGIN" README.md)" != 1 ] || [ "$(grep -cxF "$README_END" README.md)" != 1 ]; then
+        echo "footprint.sh: README.md needs exactly one line '$README_BEGIN' and one '$README_END'" >&2
+        exit 2
+    fi
+fi
 TARGETS="m4f m0 m4d"
 GATED_STACK_TARGETS="m4f m0"
 declare -A TFLAGS TNAME
@@ -214,12 +276,14 @@ done
 # link.tsv: target origin object kind bytes, from the map ("Linker script and memory map").
 # origin: zwidth | main | libm | libgcc | libc (libc_nano, libnosys, crt*) | other.
 for t in $TARGETS; do
-    awk -v t="$t" '
+    awk -v t="$t" -v modules="$MODULES" '
+        BEGIN { n = split(modules, M, " "); for (i = 1; i <= n; i++) ismod[M[i] ".o"] = 1 }
         function hex(s,   i, c, v) {
             v = 0; s = tolower(s); sub(/^0x/, "", s)
             for (i = 1; i <= length(s); i++) { c = index("0123456789abcdef", substr(s, i, 1)) - 1; v = v * 16 + c }
             return v
         }
+        function basename(s) { sub(/^.*\//, "", s); return s }
         function kind(s) {
             if (s ~ /^\.(text|init$|fini$|glue_7|vfp11_veneer|v4_bx|iplt)/) return "text"
             if (s ~ /^\.(rodata|ARM\.ex|eh_frame|init_array|fini_array|preinit_array)/) return "rodata"
@@ -231,7 +295,7 @@ for t in $TARGETS; do
             k = kind(sec); if (k == "" || hex(size) == 0) return
             obj = file
             if (file ~ /\/app\/main\.o$/) o = "main"
-            else if (file ~ /\/(status|coeffs|region|extremes|margin|device|regmap|batch)\.o$/) o = "zwidth"
+            else if (file ~ /\/[A-Za-z0-9_]+\.o$/ && (basename(file) in ismod)) o = "zwidth"
             else if (file ~ /libm\.a\(/) o = "libm"
             else if (file ~ /libgcc\.a\(/) o = "libgcc"
             else if (file ~ /lib(c|c_nano|g|g_nano|nosys)\.a\(|crt[0-9a-z]*\.o$/) o = "libc"
@@ -374,6 +438,7 @@ done | sort -t"$(printf '\t')" -k1,1 -k2,2 >"$B/chains.tsv"
 
 # ---- 4. report -------------------------------------------------------------------------------
 GCC_VERSION=$(${CROSS}gcc --version | head -n1)
+GCC_SHORT=$(${CROSS}gcc -dumpversion)
 SIZE_VERSION=$(${CROSS}size --version | head -n1)
 NEWLIB_VERSION=$(printf '#include <newlib.h>\n_NEWLIB_VERSION\n' | ${CROSS}gcc -E -P -x c - 2>/dev/null | tail -n1 | tr -d '"' || true)
 # Public API = the functions declared in the public headers (the gate applies to them;
@@ -395,7 +460,9 @@ awk -F'\t' \
     -v cmd="$CMD" -v cflags="$CFLAGS $CGFLAGS" -v ldflags="$LDFLAGS" \
     -v f_m4f="${TFLAGS[m4f]}" -v f_m0="${TFLAGS[m0]}" -v f_m4d="${TFLAGS[m4d]}" \
     -v n_m4f="${TNAME[m4f]}" -v n_m0="${TNAME[m0]}" -v n_m4d="${TNAME[m4d]}" \
-    -v failfile="$B/failures" '
+    -v failfile="$B/failures" -v readmefile="$B/readme_table.md" -v left_out="$LEFT_OUT" \
+    -v gcc_short="$GCC_SHORT" '
+    function commas(n,   s, out) { s = sprintf("%d", n); out = ""; while (length(s) > 3) { out = "," substr(s, length(s) - 2) out; s = substr(s, 1, length(s) - 3) } return s out }
     function isort(a, n,   x, y, tmp) { for (x = 2; x <= n; x++) for (y = x; y > 1 && a[y - 1] > a[y]; y--) { tmp = a[y]; a[y] = a[y - 1]; a[y - 1] = tmp } }
     function v(x) { return (x == "" ? "-" : x) }
     function flash(t, m) { return tx[t, m] + ro[t, m] + da[t, m] }
@@ -472,6 +539,21 @@ awk -F'\t' \
             }
             if (nover[t] > 0) fails[++nfail] = sprintf("stack on %s: %d public function%s over %d bytes (or unbounded), worst %s %d bytes", tn[t], nover[t], (nover[t] > 1 ? "s" : ""), stack_limit, worstf[t], worst[t])
         }
+        # Gated functions within a quarter of the stack limit (but not over it), deepest first.
+        near_from = int((3 * stack_limit + 3) / 4)
+        for (i = 1; i <= ng; i++) {
+            t = G[i]; nn = 0
+            for (j = 1; j <= np; j++) {
+                f = pubs[j]
+                if (!((t, f) in cd) || !(f in api) || (t == "m0" && !(f in capi))) continue
+                if (cd[t, f] >= near_from && cd[t, f] <= stack_limit) { nn++; nd[nn] = cd[t, f]; nf_[nn] = f }
+            }
+            for (x = 2; x <= nn; x++) for (y = x; y > 1 && (nd[y - 1] < nd[y] || (nd[y - 1] == nd[y] && nf_[y - 1] > nf_[y])); y--) {
+                tmp = nd[y]; nd[y] = nd[y - 1]; nd[y - 1] = tmp; tmp = nf_[y]; nf_[y] = nf_[y - 1]; nf_[y - 1] = tmp
+            }
+            near[t] = ""
+            for (x = 1; x <= nn; x++) near[t] = near[t] (x > 1 ? ", " : "") "`" nf_[x] "` " nd[x]
+        }
 
         print "# zwidth firmware footprint (Cortex-M)"
         print ""
@@ -486,6 +568,9 @@ awk -F'\t' \
         print "- Binutils: `" size_version "`, newlib " newlib_version
         print "- Compile flags (every module, every target): `" cflags "`"
         print "- Link flags (tiny main only): `" ldflags " -lm`"
+        nmods = 0; mlist = ""; for (j = 1; j <= nm; j++) { nmods++; mlist = mlist (j > 1 ? ", " : "") M[j] }
+        print "- Modules (" nmods ", `ZW_CORE_SOURCES` of CMakeLists.txt): " mlist
+        if (left_out != "") print "- Not firmware (csrc/src files outside `ZW_CORE_SOURCES`, not measured): " left_out
         for (i = 1; i <= nt; i++) print "- " tn[T[i]] ": `" tf[T[i]] "`" (T[i] == "m4d" ? " (for information: double on a single-precision FPU)" : "")
         print ""
         print "## Targets"
@@ -501,6 +586,10 @@ awk -F'\t' \
             t = G[i]
             printf "| worst call-chain stack of any %s, %s, libraries excluded | %d | %d (%s) | %s |\n", (t == "m0" ? "check or extremes function (status, coeffs, region, extremes)" : "public function"), tn[t], stack_limit, worst[t], worstf[t], (over[t] == "" ? "pass" : "**FAIL**: " over[t])
         }
+        print ""
+        printf "Near the stack limit (gated functions at %d to %d bytes, worst chain):\n", near_from, stack_limit
+        print ""
+        for (i = 1; i <= ng; i++) print "- " tn[G[i]] ": " (near[G[i]] == "" ? "none" : near[G[i]])
         print ""
 
         print "## Flash per module (object files, not linked)"
@@ -535,9 +624,11 @@ awk -F'\t' \
 
         print "## Linked image: tiny main calling zw_coeffs_init, zw_check, zw_extremes_compute"
         print ""
-        print "All eight core objects linked with `--gc-sections` (unreferenced functions such as"
-        print "zw_status_name, zw_coeffs_literal, zw_beta_interval and the margin, device, regmap and"
-        print "batch modules are dropped).  Flash = text + rodata + data of each origin, from the"
+        others = ""; no = 0
+        for (j = 1; j <= nm; j++) if (!(M[j] in incheck)) { no++; others = others (others == "" ? "" : ", ") M[j] }
+        print "All " nm " core objects linked with `--gc-sections` (unreferenced functions such as"
+        print "zw_status_name, zw_coeffs_literal, zw_beta_interval and the modules " others " are"
+        print "dropped).  Flash = text + rodata + data of each origin, from the"
         print "linker map; padding is the rest of the text + data that `arm-none-eabi-size` reports"
         print "for the image."
         print ""
@@ -670,16 +761,61 @@ awk -F'\t' \
         if (nfail == 0) print "All targets met."
         for (i = 1; i <= nfail; i++) { print "- FAIL: " fails[i]; print "FAIL: " fails[i] > failfile }
         for (i = 1; i <= ndet; i++) print "  " details[i] > failfile
-    }' "$B/sizes.tsv" "$B/link.tsv" "$B/frames.tsv" "$B/chains.tsv" >"$B/report.md"
+
+        # ---- README.md summary table (the same figures)
+        wt = ""; wd = -1; w0 = ""; w0d = -1
+        for (j = 1; j <= np; j++) {
+            f = pubs[j]; if (!(f in api)) continue
+            if (("m4f", f) in cd && cd["m4f", f] > wd) { wd = cd["m4f", f]; wt = f }
+            if (("m0", f) in cd && cd["m0", f] > w0d) { w0d = cd["m0", f]; w0 = f }
+        }
+        R = readmefile
+        print "" > R
+        print "| target (arm-none-eabi-gcc " gcc_short ", -Os, float build) | Cortex-M4F (hard FPU) | Cortex-M0 (soft float) | limit |" > R
+        print "|---|---:|---:|---:|" > R
+        printf "| check + extremes linked into a firmware (`zw_coeffs_init`, `zw_check`, `zw_extremes_compute`, --gc-sections), zwidth code + constants | %s B | %s B | %s B |\n", commas(lfl["m4f", "zwidth"]), commas(lfl["m0", "zwidth"]), commas(text_limit) > R
+        printf "| all of %s (object files, every function) | %s B | %s B | %s B (M4F, %s) |\n", checkmods_list(), commas(atx["m4f"] + aro["m4f"] + ada["m4f"]), commas(atx["m0"] + aro["m0"] + ada["m0"]), commas(text_limit), (text_metric == "text" ? "code only" : "code + constants") > R
+        printf "| whole core, %d modules (%s) | %s B | %s B | - |\n", nm, mlist, commas(btx["m4f"] + bro["m4f"] + bda["m4f"]), commas(btx["m0"] + bro["m0"] + bda["m0"]) > R
+        printf "| stack, worst call chain: `zw_check` / `zw_extremes_compute` | %s / %s B | %s / %s B | %d B |\n", v(cd["m4f", "zw_check"]), v(cd["m4f", "zw_extremes_compute"]), v(cd["m0", "zw_check"]), v(cd["m0", "zw_extremes_compute"]), stack_limit > R
+        printf "| stack, worst of any public function | %d B (`%s`) | %d B (`%s`%s) | %d B (M4F: all; M0: check and extremes) |\n", wd, wt, w0d, w0, (w0 in capi ? "" : ", not gated"), stack_limit > R
+        printf "| static RAM of the core (`.data` + `.bss`, object files) | %d B | %d B | - |\n", bda["m4f"] + bbs["m4f"], bda["m0"] + bbs["m0"] > R
+        printf "| libm pulled in by that firmware (expf, expm1f, sqrtf, ...); libgcc soft float on the M0 | %s B | %s B + %s B | excluded |\n", commas(lfl["m4f", "libm"]), commas(lfl["m0", "libm"]), commas(lfl["m0", "libgcc"]) > R
+        print "" > R
+    }
+    function checkmods_list(   i, n, out) { n = split(checkmods, CMX, " "); out = ""; for (i = 1; i <= n; i++) out = out (i == 1 ? "" : (i == n ? " and " : ", ")) CMX[i]; return out }
+    ' "$B/sizes.tsv" "$B/link.tsv" "$B/frames.tsv" "$B/chains.tsv" >"$B/report.md"
+
+# README.md with the table replaced between the markers.
+awk -v begin="$README_BEGIN" -v end="$README_END" -v table="$B/readme_table.md" '
+    $0 == begin { print; while ((getline line < table) > 0) print line; skip = 1; next }
+    $0 == end { skip = 0 }
+    !skip { print }' README.md >"$B/README.md"
 
 cat "$B/report.md"
 if [ "$WRITE" = 1 ]; then
     mkdir -p docs
     cp "$B/report.md" docs/footprint.md
-    echo "footprint.sh: wrote docs/footprint.md" >&2
+    cp "$B/README.md" README.md
+    echo "footprint.sh: wrote docs/footprint.md and the footprint table of README.md" >&2
+fi
+awk '/^Near the stack limit/ { on = 1; next } on && /^- / { print "footprint.sh: near the stack limit, " substr($0, 3) } on && /^## / { exit }' "$B/report.md" >&2
+STALE=0
+if [ "$CHECK" = 1 ]; then
+    for pair in "docs/footprint.md:$B/report.md" "README.md:$B/README.md"; do
+        committed=${pair%%:*}
+        if ! diff -u --label "$committed (committed)" --label "$committed (generated now)" "$committed" "${pair#*:}" >&2; then
+            STALE=1
+        fi
+    done
+    if [ "$STALE" = 1 ]; then
+        echo "footprint.sh: STALE: the committed footprint report differs from the source (diff above); regenerate with: bash tools/footprint.sh" >&2
+    else
+        echo "footprint.sh: docs/footprint.md and the README.md table are current" >&2
+    fi
 fi
 if [ -s "$B/failures" ]; then
     cat "$B/failures" >&2
     exit 1
 fi
+[ "$STALE" = 0 ] || exit 1
 exit 0

@@ -25,9 +25,9 @@ ctest --test-dir build --output-on-failure
 step "C unit tests under ASan/UBSan (ctest)"
 ctest --test-dir build-asan --output-on-failure
 
-step "MCU footprint (Cortex-M4F, Cortex-M0)"
-tools/footprint.sh --no-write >/dev/null
-echo "footprint within targets (regenerate docs/footprint.md with: tools/footprint.sh)"
+step "MCU footprint (Cortex-M4F, Cortex-M0): targets, and docs/footprint.md + README table current"
+tools/footprint.sh --check >/dev/null
+echo "footprint within targets; docs/footprint.md and the README table match the source"
 
 step "fuzzing the request handler (libFuzzer, ASan/UBSan, ${ZW_FUZZ_SECONDS:-30} s)"
 tools/fuzz.sh "${ZW_FUZZ_SECONDS:-30}" 2>&1 | tail -n 4
