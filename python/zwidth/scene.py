@@ -65,6 +65,9 @@ DEFAULT_RELATIVE_TOLERANCE = 1e-3
 MAX_SAMPLES = 2 ** 28
 #: Signals every run records (t, x, v, x_measured, force): the memory estimate's floor.
 _BASIC_SIGNALS = 5
+#: reference.at / T must be below this (zw_sim_init: ZW_ERR_RANGE from the sample counts a
+#: double no longer holds exactly on).
+_STEP_INDEX_LIMIT = 2.0 ** 53
 MAX_KNOB_COUNT = 10 ** 6     #: most detents of a [knob]
 
 Source = Union[str, Path, Mapping[str, Any]]
@@ -919,6 +922,13 @@ class _Builder:
         T = over.get("T", base["T"])
         self.check_plant(m, b, T, where, mass_key)
         params.update(m=m, b=b, T=T)
+        # zw_sim_init counts the step's sample index exactly, and refuses it from 2**53 on.
+        t_step = params["t_step"]
+        if not t_step / T < _STEP_INDEX_LIMIT:      # also inf
+            raise r.fail("reference.at", f"case {label!r}: at / T = {t_step:g} s / {T:g} s = {t_step / T:.4g} "
+                                         f"samples, not below 2**53, the sample index the simulator counts "
+                                         f"exactly; no run is that long: give a time within the duration, "
+                                         f"or leave reference.to out for no step")
         normalized: Optional[Tuple[float, float, float]] = None
         if gains_elsewhere is None:
             ctrl_over = {k: over[k] for k in ("K", "B", "alpha", "beta") if k in over}

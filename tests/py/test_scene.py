@@ -222,6 +222,11 @@ LIMITS = [
      "scene.duration", ["2**28"]),
     ("window / T overflows", lambda t: t.replace('"0.01 s"', '"1 ms"') + '[verdict]\nwindow = "1e308 s"\n',
      "verdict.window", ["inf samples", "longer than the run (10000)"]),
+    ("step index past the simulator's count", lambda t: t + '[reference]\nto = "1 mm"\nat = "1e20 s"\n',
+     "reference.at", ["1e+20 s / 0.01 s = 1e+22 samples", "2**53", "within the duration"]),
+    ("step index overflows", lambda t: t.replace('"0.01 s"', '"1e-300 s"').replace('"0.1 kg"', '"1e-300 kg"')
+     .replace('"23 N*s/m"', '"0 N*s/m"').replace('"10 s"', '"1e-290 s"') + '[reference]\nto = "1 mm"\nat = "1e10 s"\n',
+     "reference.at", ["inf samples", "2**53"]),
     ("integrator step / T overflows", lambda t: t + '[friction]\ncoulomb = "1 N"\n[integrator]\nstep = "1e-320 s"\n',
      "integrator.step", ["inf substeps per sample", "100000"]),
     ("integrator step too short", lambda t: t + '[friction]\ncoulomb = "1 N"\n[integrator]\nstep = "1 ns"\n',
