@@ -80,7 +80,7 @@ for arg in "$@"; do
         ;;
     --keep) KEEP=1 ;;
     -h | --help)
-        sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
+        sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'
         exit 0
         ;;
     *)
