@@ -1,7 +1,6 @@
 /* zw_selftest: passes on the host's IEEE arithmetic, and fails, naming the property, when
- * the environment is changed under it (rounding mode).  Flush-to-zero is accepted: every
- * bound adds ZW_ETA = ZW_REAL_MIN per operation (docs/fp-environment.md).  The builds that
- * contract or assume finite maths are tested by test_selftest_variant.c. */
+ * the environment is changed under it: directed rounding, flush-to-zero, denormals-are-zero.
+ * The builds that contract or assume finite maths are tested by test_selftest_variant.c. */
 #include "zw_test.h"
 
 #include <fenv.h>
@@ -60,27 +59,38 @@ static void test_directed_rounding_refused(void **state)
 #endif
 }
 
-/* Flush-to-zero and denormals-are-zero (SSE MXCSR FTZ | DAZ, as on a C28x FPU or a
- * Cortex-M with FPSCR.FZ set): accepted, by design (ZW_ETA covers a flushed result). */
-static void test_flush_to_zero_accepted(void **state)
+#if ZWT_HAVE_MXCSR
+/* zw_selftest under MXCSR | mode_bits; expects ZW_ERR_FPENV naming the underflow property,
+ * and checks that the mode really was in force (what the FPU did with a subnormal). */
+static void expect_flush_refused(unsigned int mode_bits, const char *name)
+{
+    const unsigned int saved = _mm_getcsr();
+    volatile zw_real tiny = ZW_REAL_MIN, sub = ZW_REAL_MIN * ZW_R(0.5);
+    uint_least16_t failed = 0u;
+    zw_status st;
+    zw_real flushed_result, read_as_zero;
+    _mm_setcsr(saved | mode_bits);
+    flushed_result = tiny * ZW_R(0.5); /* FTZ: 0 */
+    read_as_zero = sub * ZW_R(2.0);    /* DAZ: 0 */
+    st = zw_selftest_failures(&failed);
+    _mm_setcsr(saved);
+    EXPECT_TRUE_MSG(flushed_result == ZW_R(0.0) || read_as_zero == ZW_R(0.0), "%s not in force", name);
+    EXPECT_TRUE_MSG(st == ZW_ERR_FPENV, "%s: status %s", name, zw_status_name(st));
+    EXPECT_TRUE_MSG(failed == ZW_SELFTEST_UNDERFLOW, "%s: failed = 0x%x", name, (unsigned)failed);
+    EXPECT_OK(zw_selftest());
+}
+#endif
+
+/* Flush-to-zero and denormals-are-zero (SSE MXCSR FTZ, DAZ; as on a C28x FPU or a Cortex-M
+ * with FPSCR.FZ set): refused, each alone and together (docs/fp-environment.md says why:
+ * flushed fields make 0/0, a negative subnormal reads as zero). */
+static void test_flush_to_zero_refused(void **state)
 {
     (void)state;
 #if ZWT_HAVE_MXCSR
-    {
-        const unsigned int saved = _mm_getcsr();
-        uint_least16_t failed = 0xFFFFu;
-        zw_status st;
-        volatile zw_real tiny = ZW_REAL_MIN;
-        zw_real flushed;
-        _mm_setcsr(saved | 0x8040u); /* FTZ (bit 15) | DAZ (bit 6) */
-        flushed = tiny * ZW_R(0.5);
-        st = zw_selftest_failures(&failed);
-        _mm_setcsr(saved);
-        /* the mode really was in force: half the smallest normal came out as 0 */
-        EXPECT_TRUE_MSG(flushed == ZW_R(0.0), "FTZ not in force");
-        EXPECT_TRUE_MSG(st == ZW_OK && failed == 0u, "status %s, failed = 0x%x",
-                        zw_status_name(st), (unsigned)failed);
-    }
+    expect_flush_refused(0x8000u, "FTZ");
+    expect_flush_refused(0x0040u, "DAZ");
+    expect_flush_refused(0x8040u, "FTZ | DAZ");
 #else
     print_message("no MXCSR on this host: skipped\n");
 #endif
@@ -92,7 +102,7 @@ int main(void)
         cmocka_unit_test(test_host_passes),
         cmocka_unit_test(test_null),
         cmocka_unit_test(test_directed_rounding_refused),
-        cmocka_unit_test(test_flush_to_zero_accepted),
+        cmocka_unit_test(test_flush_to_zero_refused),
     };
     return cmocka_run_group_tests_name("selftest_" ZW_REAL_NAME, tests, NULL, NULL);
 }
