@@ -25,9 +25,18 @@ ctest --test-dir build --output-on-failure
 step "C unit tests under ASan/UBSan (ctest)"
 ctest --test-dir build-asan --output-on-failure
 
+step "portable-math build (-DZW_PORTABLE_MATH): C tests and the coefficient ulp test on the fallbacks"
+cmake -S . -B build-portable -G Ninja -DCMAKE_BUILD_TYPE=Release -DZW_PORTABLE_MATH=ON -DZW_BUILD_HOST=OFF >/dev/null
+cmake --build build-portable
+ctest --test-dir build-portable --output-on-failure
+ZW_LIB_DIR="$PWD/build-portable" .venv/bin/python -m pytest tests/py/test_coeffs.py -q
+
 step "MCU footprint (Cortex-M4F, Cortex-M0): targets, and docs/footprint.md + README table current"
 tools/footprint.sh --check >/dev/null
 echo "footprint within targets; docs/footprint.md and the README table match the source"
+
+step "zw_selftest on the Cortex-M4F (QEMU): c99 passes, GNU-mode contraction and round-to-zero refused"
+tools/fpenv_m4f.sh
 
 step "fuzzing the request handler (libFuzzer, ASan/UBSan, ${ZW_FUZZ_SECONDS:-30} s)"
 tools/fuzz.sh "${ZW_FUZZ_SECONDS:-30}" 2>&1 | tail -n 4

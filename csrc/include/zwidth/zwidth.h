@@ -10,6 +10,7 @@
 #include "zwidth/real.h"
 #include "zwidth/region.h"
 #include "zwidth/regmap.h"
+#include "zwidth/selftest.h"
 #include "zwidth/status.h"
 
 #endif /* ZWIDTH_ZWIDTH_H */
