@@ -893,6 +893,11 @@ int main(int argc, char **argv)
 
     zw_cert_opts_to_cert(&co, &cert);
     st = zw_regmap_init(&d.rm, unsealed ? NULL : &cert, &reason);
+    if (st == ZW_ERR_FPENV) { /* the machine, not the block: no block could be sealed here */
+        fprintf(stderr, PROG ": the floating-point self-test failed (%s, %s): this build or "
+                "machine cannot certify gains\n", zw_reason_name(reason), zw_status_name(st));
+        return ZW_EXIT_FAILURE;
+    }
     if (st != ZW_OK) {
         fprintf(stderr, PROG ": the certified block is not acceptable: %s (%s)\n",
                 zw_reason_name(reason), zw_status_name(st));
