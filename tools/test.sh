@@ -28,9 +28,18 @@ ctest --test-dir build --output-on-failure -L tsan
 step "C unit tests under ASan/UBSan (ctest)"
 ctest --test-dir build-asan --output-on-failure
 
+step "portable-math build (-DZW_PORTABLE_MATH): C tests and the coefficient ulp test on the fallbacks"
+cmake -S . -B build-portable -G Ninja -DCMAKE_BUILD_TYPE=Release -DZW_PORTABLE_MATH=ON -DZW_BUILD_HOST=OFF >/dev/null
+cmake --build build-portable
+ctest --test-dir build-portable --output-on-failure
+ZW_LIB_DIR="$PWD/build-portable" .venv/bin/python -m pytest tests/py/test_coeffs.py -q
+
 step "MCU footprint (Cortex-M4F, Cortex-M0)"
 tools/footprint.sh --no-write >/dev/null
 echo "footprint within targets (regenerate docs/footprint.md with: tools/footprint.sh)"
+
+step "zw_selftest on the Cortex-M4F (QEMU): c99 passes, GNU-mode contraction and round-to-zero refused"
+tools/fpenv_m4f.sh
 
 step "fuzzing the request handler (libFuzzer, ASan/UBSan, ${ZW_FUZZ_SECONDS:-30} s)"
 tools/fuzz.sh "${ZW_FUZZ_SECONDS:-30}" 2>&1 | tail -n 4

@@ -213,7 +213,7 @@ zw_status zw_device_influence(const zw_device *d, zw_influence *out)
         out->T_B = ZW_DELTA_B * m_over_b;
         out->T_0 = ZW_DELTA0 * m_over_b;
     } else {
-        out->T_B = out->T_0 = (zw_real)HUGE_VAL; /* documented: no turning point in T */
+        out->T_B = out->T_0 = ZW_HUGE_VAL; /* documented: no turning point in T */
     }
     /* K_mmax = (b/T) alpha_mmax(delta)/delta: alpha_mmax/delta falls, rises, falls across
      * delta_K1, delta_K2, and delta = bT/m moves against m. */

@@ -2,8 +2,8 @@
  *
  * A zw_eb carries a value and a bound on its absolute error against the exact result of
  * the same expression on exact inputs (Wilkinson's running error analysis).  Every
- * operation adds one rounding (u |v|) and one underflow quantum (ZW_REAL_MIN, which
- * also covers flush-to-zero FPUs).  Verdicts compare bounded values with zw_compare
+ * operation adds one rounding (u |v|) and one underflow quantum (ZW_REAL_MIN; it bounds a
+ * flushed result, but zw_selftest refuses flush-to-zero: docs/fp-environment.md).  Verdicts compare bounded values with zw_compare
  * (zw_eb_compare for zw_eb pairs), which answers "surely less", "surely not less" or
  * "cannot tell".  region.c writes its bounds out term by term instead of using zw_eb.
  */

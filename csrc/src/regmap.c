@@ -182,8 +182,8 @@ static bool finite_f(float x)
 static float to_float(zw_real x)
 {
     if (x != x) return QUIET_NAN_F;
-    if (x > (zw_real)FLT_MAX) return HUGE_VALF;
-    if (x < -(zw_real)FLT_MAX) return -HUGE_VALF;
+    if (x > (zw_real)FLT_MAX) return ZW_HUGE_VALF;
+    if (x < -(zw_real)FLT_MAX) return -ZW_HUGE_VALF;
     return (float)x;
 }
 
@@ -228,7 +228,7 @@ float zw_words_to_float(const uint_least16_t words[2])
     bits = ((uint_least32_t)(words[0] & 0xFFFFu) << 16) | (uint_least32_t)(words[1] & 0xFFFFu);
     expo = (unsigned)((bits >> 23) & 0xFFu);
     frac = bits & 0x7FFFFFu;
-    if (expo == 0xFFu) v = frac != 0u ? QUIET_NAN_F : HUGE_VALF;
+    if (expo == 0xFFu) v = frac != 0u ? QUIET_NAN_F : ZW_HUGE_VALF;
     else if (expo == 0u) v = ldexpf((float)frac, -149); /* subnormal (or zero) */
     else v = ldexpf((float)(frac | 0x800000u), (int)expo - 150);
     return (bits & 0x80000000u) != 0u ? -v : v;
@@ -443,7 +443,7 @@ enum { L_K_MAX, L_K_CERT, L_B_LO, L_B_HI, L_K_MMAX, L_B_AT_KMMAX, L_RHO, L_DELTA
 static float float_down(zw_real x)
 {
     float f = to_float(x);
-    if ((zw_real)f > x) f = nextafterf(f, -HUGE_VALF);
+    if ((zw_real)f > x) f = ZW_NEXTAFTERF(f, -ZW_HUGE_VALF);
     return f;
 }
 

@@ -12,7 +12,7 @@
 #include "zwidth/device.h"
 
 #define ZW_TWO_PI ZW_R(6.28318530717958647692)
-#define ZW_SIM_INF ((zw_real)HUGE_VAL)
+#define ZW_SIM_INF ZW_HUGE_VAL
 
 /* ---- validation --------------------------------------------------------------------- */
 

@@ -33,7 +33,7 @@ zw_status zw_selftest(void);
 #define ZW_SELFTEST_PRECISION 0x02u   /* significand of 24 (float) / 53 (double) bits */
 #define ZW_SELFTEST_NAN 0x04u         /* 0/0 and inf-inf are NaN; NaN != NaN; NaN orders nothing */
 #define ZW_SELFTEST_OVERFLOW 0x08u    /* overflow gives +-inf, and inf orders above ZW_REAL_MAX */
-#define ZW_SELFTEST_UNDERFLOW 0x10u   /* ZW_REAL_MIN kept; below it exact (gradual) or 0 (flushed) */
+#define ZW_SELFTEST_UNDERFLOW 0x10u   /* gradual underflow: no flush to zero (FTZ), no DAZ */
 #define ZW_SELFTEST_CONTRACTION 0x20u /* a * b - c rounds the product (no fused multiply-add) */
 #define ZW_SELFTEST_LIBM 0x40u        /* ZW_EXP, ZW_EXPM1, ZW_SQRT, ZW_FREXP, ZW_LDEXP at exact points */
 
