@@ -20,7 +20,10 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DZW_SANITIZE=ON -DZW
 cmake --build build-asan
 
 step "C unit tests (ctest)"
-ctest --test-dir build --output-on-failure
+ctest --test-dir build --output-on-failure -LE tsan
+
+step "register map across threads under ThreadSanitizer (regmap.c as C11 atomics; ctest -L tsan)"
+ctest --test-dir build --output-on-failure -L tsan
 
 step "C unit tests under ASan/UBSan (ctest)"
 ctest --test-dir build-asan --output-on-failure

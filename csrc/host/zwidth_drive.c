@@ -200,10 +200,16 @@ static void logf_(const char *fmt, ...)
 static void sim_step(drive *d)
 {
     sim *s = &d->s;
-    double K = (double)d->rm.K, B = (double)d->rm.B;
-    double vhat = (s->x - s->x_prev) / s->T;
-    double F = -K * s->x - B * vhat + 0.0; /* + 0.0: no negative zero with the output off */
+    float Kf, Bf;
+    double K, B, vhat, F;
     double a = s->b / s->m, aT = a * s->T, decay, phi1, phi2;
+
+    /* the control loop's reader: one certified pair, (0, 0) on any failure */
+    (void)zw_regmap_active_gains(&d->rm, &Kf, &Bf);
+    K = (double)Kf;
+    B = (double)Bf;
+    vhat = (s->x - s->x_prev) / s->T;
+    F = -K * s->x - B * vhat + 0.0; /* + 0.0: no negative zero with the output off */
 
     zw_regmap_set_state(&d->rm, (float)s->x, (float)vhat, (float)F, s->step);
 
@@ -887,6 +893,11 @@ int main(int argc, char **argv)
 
     zw_cert_opts_to_cert(&co, &cert);
     st = zw_regmap_init(&d.rm, unsealed ? NULL : &cert, &reason);
+    if (st == ZW_ERR_FPENV) { /* the machine, not the block: no block could be sealed here */
+        fprintf(stderr, PROG ": the floating-point self-test failed (%s, %s): this build or "
+                "machine cannot certify gains\n", zw_reason_name(reason), zw_status_name(st));
+        return ZW_EXIT_FAILURE;
+    }
     if (st != ZW_OK) {
         fprintf(stderr, PROG ": the certified block is not acceptable: %s (%s)\n",
                 zw_reason_name(reason), zw_status_name(st));

@@ -15,6 +15,11 @@
  * deepest chains into the core start from the public function's tail call instead of
  * below a read loop's frame, which keeps the worst stack chain on the Cortex-M4F within
  * the project's 256 bytes (see ZW_NOINLINE).
+ *
+ * The gain pair (Modbus task -> control loop) and the state registers (control loop ->
+ * Modbus task) cross contexts through a double buffer and a sequence word (regmap.h,
+ * threading model): publish_gains / zw_regmap_set_state write, zw_regmap_active_gains /
+ * read_state read; nothing else is shared.
  */
 #include "zwidth/regmap.h"
 
@@ -22,6 +27,12 @@
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
+
+#include "zwidth/selftest.h"
+
+#if ZW_REGMAP_C11_ATOMICS
+#include <stdatomic.h>
+#endif
 
 /* Modbus limits on one request (Modbus Application Protocol v1.1b3, 6.3 and 6.12). */
 #define ZW_MB_READ_MAX 125u
@@ -65,6 +76,77 @@ static float quiet_nan_f(void)
 #else
 #define ZW_NOINLINE
 #endif
+
+/* ---- publication between contexts (regmap.h, threading model) ---------------------------- */
+
+/* Port hook: orders the shared accesses around it.  On one core every shared access is
+ * volatile and the compiler barrier is all that is needed; a multi-core build without C11
+ * atomics must define it to a hardware fence (__DMB(), __sync_synchronize()). */
+#ifndef ZW_MEMORY_BARRIER
+#if defined(__GNUC__)
+#define ZW_MEMORY_BARRIER() __asm__ __volatile__("" ::: "memory")
+#else
+#define ZW_MEMORY_BARRIER() ((void)0) /* volatile accesses keep their order */
+#endif
+#endif
+
+/* C11: every shared store is a release and every shared load an acquire (also those of the
+ * slots, so that a reader whose slot was overwritten sees the new sequence word); C99:
+ * volatile accesses, ordered by the barrier between the steps. */
+#if ZW_REGMAP_C11_ATOMICS
+#define SHARED_LOAD(obj) atomic_load_explicit(&(obj), memory_order_acquire)
+#define SHARED_STORE(obj, value) atomic_store_explicit(&(obj), (value), memory_order_release)
+#define SHARED_ORDER() ((void)0)
+#else
+#define SHARED_LOAD(obj) (obj)
+#define SHARED_STORE(obj, value) ((obj) = (value))
+#define SHARED_ORDER() ZW_MEMORY_BARRIER()
+#endif
+
+/* The next sequence value: the slot it names, seq & 1, is the one not in force. */
+static uint_least32_t next_seq(uint_least32_t seq)
+{
+    return (seq + 1u) & 0xFFFFFFFFu;
+}
+
+/* Modbus task, the only writer of the gains: the pair the control loop applies from now on
+ * (and the task's own copy in rm->K, rm->B). */
+static void publish_gains(zw_regmap *rm, float K, float B)
+{
+    uint_least32_t seq = next_seq(SHARED_LOAD(rm->gains_seq));
+    zw_regmap_gain_slot *slot = &rm->gains[seq & 1u];
+    rm->K = K;
+    rm->B = B;
+    SHARED_ORDER(); /* the previous sequence word before this slot changes */
+    SHARED_STORE(slot->K, K);
+    SHARED_STORE(slot->B, B);
+    SHARED_ORDER(); /* the whole slot before the word that makes it current */
+    SHARED_STORE(rm->gains_seq, seq);
+}
+
+/* One sample of the state registers, as the Modbus side reads it. */
+typedef struct state_sample {
+    float x, v, f;
+    uint_least32_t step;
+} state_sample;
+
+/* Modbus task: one consistent sample, or false after ZW_REGMAP_READ_TRIES tries. */
+static bool read_state(const zw_regmap *rm, state_sample *out)
+{
+    unsigned tries;
+    for (tries = 0u; tries < ZW_REGMAP_READ_TRIES; ++tries) {
+        uint_least32_t seq = SHARED_LOAD(rm->state_seq);
+        const zw_regmap_state_slot *slot = &rm->state[seq & 1u];
+        SHARED_ORDER();
+        out->x = SHARED_LOAD(slot->x);
+        out->v = SHARED_LOAD(slot->v);
+        out->f = SHARED_LOAD(slot->f);
+        out->step = SHARED_LOAD(slot->step);
+        SHARED_ORDER();
+        if (SHARED_LOAD(rm->state_seq) == seq) return true;
+    }
+    return false;
+}
 
 typedef struct reg_range {
     uint_least16_t first, last, kind;
@@ -257,6 +339,8 @@ static zw_reason seal_staged(zw_regmap *rm)
 {
     unsigned i;
     float sigma, r;
+    /* every check below, and every certification after it, trusts the arithmetic */
+    if (zw_selftest() != ZW_OK) return ZW_REASON_FPENV;
     if (zw_crc16_words(rm->staged, ZW_CERT_WORDS) != (rm->staged[CRC_INDEX] & 0xFFFFu))
         return ZW_REASON_CRC;
     for (i = 0; i < ZW_CERT_FIELDS; ++i)
@@ -281,8 +365,7 @@ static zw_reason seal_staged(zw_regmap *rm)
     for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, staged_float(rm, i));
     rm->is_sealed = 1u;
     rm->mode = 0u;
-    rm->K = 0.0f; /* gains stay off after a seal */
-    rm->B = 0.0f;
+    publish_gains(rm, 0.0f, 0.0f); /* gains stay off after a seal */
     return ZW_REASON_NONE;
 }
 
@@ -346,8 +429,7 @@ ZW_NOINLINE static zw_reason apply_gains(zw_regmap *rm, float K, float B)
 {
     zw_reason why = certify(rm, K, B);
     if (why != ZW_REASON_NONE) return why;
-    rm->K = K;
-    rm->B = B;
+    publish_gains(rm, K, B);
     rm->accepted = (rm->accepted + 1u) & 0xFFFFFFFFu;
     return ZW_REASON_NONE;
 }
@@ -464,8 +546,10 @@ static zw_mb_exception live_all(zw_regmap *rm)
 
 /* ---- reads --------------------------------------------------------------------------------- */
 
-/* Both words of the two-word value at base (even address of an RK_PAIR register). */
-static void read_pair(const zw_regmap *rm, uint_least16_t base, uint_least16_t w[2])
+/* Both words of the two-word value at base (even address of an RK_PAIR register); the
+ * state registers from the sample st. */
+static void read_pair(const zw_regmap *rm, const state_sample *st, uint_least16_t base,
+                      uint_least16_t w[2])
 {
     uint_least32_t u;
     float f;
@@ -477,7 +561,7 @@ static void read_pair(const zw_regmap *rm, uint_least16_t base, uint_least16_t w
     }
     if (base == ZW_REG_ACCEPTED || base == ZW_REG_REFUSED || base == ZW_REG_STATE_STEP) {
         u = base == ZW_REG_ACCEPTED ? rm->accepted
-            : base == ZW_REG_REFUSED ? rm->refused : rm->state_step;
+            : base == ZW_REG_REFUSED ? rm->refused : st->step;
         w[0] = (uint_least16_t)((u >> 16) & 0xFFFFu);
         w[1] = (uint_least16_t)(u & 0xFFFFu);
         return;
@@ -485,9 +569,9 @@ static void read_pair(const zw_regmap *rm, uint_least16_t base, uint_least16_t w
     switch (base) {
     case ZW_REG_K: f = rm->K; break;
     case ZW_REG_B: f = rm->B; break;
-    case ZW_REG_STATE_X: f = rm->state_x; break;
-    case ZW_REG_STATE_V: f = rm->state_v; break;
-    case ZW_REG_STATE_F: f = rm->state_f; break;
+    case ZW_REG_STATE_X: f = st->x; break;
+    case ZW_REG_STATE_V: f = st->v; break;
+    case ZW_REG_STATE_F: f = st->f; break;
     default: f = rm->live[(unsigned)(base - ZW_REG_LIVE_K_MAX) / 2u]; break;
     }
     zw_float_to_words(f, w);
@@ -571,22 +655,32 @@ static zw_reason check_range(uint_least16_t addr, uint_least16_t count, uint_lea
     return ZW_REASON_NONE;
 }
 
-/* One read request into words or big-endian bytes (written only when it is accepted). */
+/* One read request into words or big-endian bytes (written only when it is accepted).
+ * *sampled is false, and nothing written, when the read covers a state register and no
+ * consistent sample could be taken (the caller answers 0x04). */
 static zw_reason read_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
-                           uint_least16_t *words, uint_least8_t *bytes)
+                           uint_least16_t *words, uint_least8_t *bytes, bool *sampled)
 {
     uint_least16_t kinds, w[2];
     zw_reason why;
     size_t i = 0;
+    state_sample st = {0.0f, 0.0f, 0.0f, 0u};
+    *sampled = true;
     /* reads leave a pending UNLOCK1 armed: a client polling the map must not be able to
      * block commissioning */
     if ((why = check_range(addr, count, ZW_MB_READ_MAX, &kinds)) != ZW_REASON_NONE) return why;
+    /* one sample for the whole read, so that x, v, f and step belong together */
+    if ((uint_least32_t)addr + count > ZW_REG_STATE_X && addr <= ZW_REG_STATE_STEP + 1u &&
+        !read_state(rm, &st)) {
+        *sampled = false;
+        return ZW_REASON_NONE;
+    }
     while (i < count) {
         uint_least16_t a = (uint_least16_t)(addr + i);
         size_t first = 0, n = 1, j;
         if ((reg_kind(a) & RK_PAIR) != 0u) {
             /* both words of a value at once (a read may start or end mid-value) */
-            read_pair(rm, (uint_least16_t)(a & ~1u), w);
+            read_pair(rm, &st, (uint_least16_t)(a & ~1u), w);
             first = a & 1u;
             if (first == 0u && i + 1u < count) n = 2;
         } else {
@@ -627,8 +721,7 @@ static zw_reason command(zw_regmap *rm, uint_least16_t cmd, bool armed)
     case ZW_CMD_UNLOCK2:
         if (rm->mode != 0u || !armed) return ZW_REASON_BAD_COMMAND;
         rm->mode = 1u;
-        rm->K = 0.0f; /* output off while the block may change */
-        rm->B = 0.0f;
+        publish_gains(rm, 0.0f, 0.0f); /* output off while the block may change */
         for (i = 0; i <= ZW_CERT_WORDS; ++i) rm->staged[i] = sealed_word(rm, i);
         return ZW_REASON_NONE;
     case ZW_CMD_SEAL:
@@ -686,8 +779,10 @@ ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert)
     /* the floats are set explicitly rather than trusting all-zero bits to mean 0.0f */
     memset(rm, 0, sizeof *rm);
     for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, 0.0f);
-    rm->K = rm->B = 0.0f;
-    rm->state_x = rm->state_v = rm->state_f = 0.0f;
+    for (i = 0; i < 2u; ++i) { /* both slots of each double buffer */
+        publish_gains(rm, 0.0f, 0.0f);
+        zw_regmap_set_state(rm, 0.0f, 0.0f, 0.0f, 0u);
+    }
     if (cert != NULL) {
         zw_cert_encode(cert, rm->staged);
         why = seal_staged(rm);
@@ -703,25 +798,76 @@ zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason)
     why = power_up(rm, cert);
     if (reason != NULL) *reason = why;
     (void)live_all(rm);
-    return why == ZW_REASON_NONE ? ZW_OK : ZW_ERR_ARG; /* on ZW_ERR_ARG: a valid unsealed drive */
+    if (why == ZW_REASON_NONE) return ZW_OK;
+    /* otherwise a valid unsealed drive with the output off */
+    return why == ZW_REASON_FPENV ? ZW_ERR_FPENV : ZW_ERR_ARG;
 }
 
+zw_status zw_regmap_active_gains(const zw_regmap *rm, float *K, float *B)
+{
+    unsigned tries;
+    if (K != NULL) *K = 0.0f; /* output off unless a consistent pair is read */
+    if (B != NULL) *B = 0.0f;
+    if (rm == NULL || K == NULL || B == NULL) return ZW_ERR_NULL;
+    for (tries = 0u; tries < ZW_REGMAP_READ_TRIES; ++tries) {
+        uint_least32_t seq = SHARED_LOAD(rm->gains_seq);
+        const zw_regmap_gain_slot *slot = &rm->gains[seq & 1u];
+        float k, b;
+        SHARED_ORDER();
+        k = SHARED_LOAD(slot->K);
+        b = SHARED_LOAD(slot->B);
+        SHARED_ORDER();
+        if (SHARED_LOAD(rm->gains_seq) == seq) {
+            *K = k;
+            *B = b;
+            return ZW_OK;
+        }
+    }
+    return ZW_ERR_BUSY;
+}
+
+/* Control loop, the only writer of the state registers. */
 void zw_regmap_set_state(zw_regmap *rm, float x, float v, float f, uint_least32_t step)
 {
+    uint_least32_t seq;
+    zw_regmap_state_slot *slot;
     if (rm == NULL) return;
-    rm->state_x = x;
-    rm->state_v = v;
-    rm->state_f = f;
-    rm->state_step = step & 0xFFFFFFFFu;
+    seq = next_seq(SHARED_LOAD(rm->state_seq));
+    slot = &rm->state[seq & 1u];
+    SHARED_ORDER(); /* the previous sequence word before this slot changes */
+    SHARED_STORE(slot->x, x);
+    SHARED_STORE(slot->v, v);
+    SHARED_STORE(slot->f, f);
+    SHARED_STORE(slot->step, step & 0xFFFFFFFFu);
+    SHARED_ORDER(); /* the whole slot before the word that makes it current */
+    SHARED_STORE(rm->state_seq, seq);
+}
+
+/* What a refused register-level read leaves in words (regmap.h): values that certify
+ * nothing, 0 everywhere (K_CERT 0, gains off, unsealed, empty B interval) but the spectral
+ * radius, +inf.  Only for a quantity a read may have (the caller's buffer holds count). */
+static void fail_safe_words(uint_least16_t addr, uint_least16_t count, uint_least16_t *words)
+{
+    size_t i;
+    if (words == NULL || count < 1u || count > ZW_MB_READ_MAX) return;
+    for (i = 0; i < count; ++i)
+        words[i] = (uint_least16_t)((uint_least32_t)addr + i == ZW_REG_LIVE_RHO ? 0x7F80u : 0u);
 }
 
 zw_mb_exception zw_regmap_read(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
                                uint_least16_t *words, zw_reason *reason)
 {
     zw_reason why;
-    if (rm == NULL || words == NULL) return ZW_MB_SERVER_FAILURE;
-    if ((why = read_core(rm, addr, count, words, NULL)) != ZW_REASON_NONE)
-        return refuse(rm, why, reason);
+    bool sampled = true;
+    if (rm == NULL || words == NULL) {
+        fail_safe_words(addr, count, words);
+        return ZW_MB_SERVER_FAILURE;
+    }
+    why = read_core(rm, addr, count, words, NULL, &sampled);
+    if (why != ZW_REASON_NONE || !sampled) {
+        fail_safe_words(addr, count, words);
+        return !sampled ? ZW_MB_SERVER_FAILURE : refuse(rm, why, reason);
+    }
     if (reason != NULL) *reason = ZW_REASON_NONE;
     return ZW_MB_OK;
 }
@@ -763,6 +909,7 @@ zw_mb_exception zw_regmap_handle_pdu(zw_regmap *rm, const uint_least8_t *req, si
     uint_least16_t addr = 0u, qty = 0u;
     size_t i;
     zw_reason why;
+    bool sampled = true;
     if (rm == NULL) {
         if (resp_len != NULL) *resp_len = 0;
         return ZW_MB_SERVER_FAILURE;
@@ -787,7 +934,8 @@ zw_mb_exception zw_regmap_handle_pdu(zw_regmap *rm, const uint_least8_t *req, si
         } else if (2u + 2u * (size_t)qty > resp_cap) {
             /* the answer would not fit: nothing is processed, not even counted */
             return answer_exception(resp, resp_len, fc, ZW_MB_SERVER_FAILURE);
-        } else if ((why = read_core(rm, addr, qty, NULL, resp + 2)) == ZW_REASON_NONE) {
+        } else if ((why = read_core(rm, addr, qty, NULL, resp + 2, &sampled)) == ZW_REASON_NONE) {
+            if (!sampled) return answer_exception(resp, resp_len, fc, ZW_MB_SERVER_FAILURE);
             resp[0] = (uint_least8_t)fc;
             resp[1] = (uint_least8_t)(2u * (unsigned)qty);
             *resp_len = 2u + 2u * (size_t)qty;
@@ -842,6 +990,7 @@ const char *zw_reason_name(zw_reason reason)
     case ZW_REASON_BAD_COMMAND: return "ZW_REASON_BAD_COMMAND";
     case ZW_REASON_CRC: return "ZW_REASON_CRC";
     case ZW_REASON_BAD_POLICY: return "ZW_REASON_BAD_POLICY";
+    case ZW_REASON_FPENV: return "ZW_REASON_FPENV";
     }
     return "ZW_REASON_UNKNOWN";
 }

@@ -17,6 +17,7 @@ const char *zw_status_name(zw_status status)
     case ZW_ERR_FPENV: return "ZW_ERR_FPENV";
     case ZW_ERR_DELAY: return "ZW_ERR_DELAY";
     case ZW_ERR_FILTER: return "ZW_ERR_FILTER";
+    case ZW_ERR_BUSY: return "ZW_ERR_BUSY";
     }
     return "ZW_UNKNOWN";
 }

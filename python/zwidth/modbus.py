@@ -157,6 +157,7 @@ REASONS: Dict[int, str] = {
     18: "ZW_REASON_BAD_COMMAND",
     19: "ZW_REASON_CRC",
     20: "ZW_REASON_BAD_POLICY",
+    21: "ZW_REASON_FPENV",
 }
 
 # The reason reported for a refusal whose "last refusal" registers were overwritten by

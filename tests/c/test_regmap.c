@@ -11,6 +11,8 @@
  * functions they are documented to report. */
 #include "zw_test.h"
 
+#include <fenv.h>
+
 #include "zwidth/regmap.h"
 
 /* ---- the paper's drive (Section V-B, load motor short-circuited), T = 20 ms -------------- */
@@ -541,7 +543,8 @@ static void test_access_map_reads(void **state)
         } else {
             EXPECT_REFUSED(&rm, read_words(&rm, (uint_least16_t)a, 1, w),
                            ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_UNMAPPED);
-            assert_int_equal(w[0], before); /* words untouched on refusal */
+            (void)before;
+            assert_int_equal(w[0], 0u); /* fail-safe words on refusal (regmap.h) */
         }
     }
     /* a range touching one unmapped word is refused as a whole */
@@ -1466,7 +1469,7 @@ static void test_reason_names(void **state)
         ZWT_REASON(ZW_REASON_B_STEP),       ZWT_REASON(ZW_REASON_UNSTABLE),
         ZWT_REASON(ZW_REASON_ABOVE_SIGMA),  ZWT_REASON(ZW_REASON_RADIUS),
         ZWT_REASON(ZW_REASON_BAD_COMMAND),  ZWT_REASON(ZW_REASON_CRC),
-        ZWT_REASON(ZW_REASON_BAD_POLICY),
+        ZWT_REASON(ZW_REASON_BAD_POLICY),   ZWT_REASON(ZW_REASON_FPENV),
     };
     size_t i;
     (void)state;
@@ -1474,7 +1477,7 @@ static void test_reason_names(void **state)
         assert_int_equal((int)k[i].reason, (int)i);
         assert_string_equal(zw_reason_name(k[i].reason), k[i].spelled);
     }
-    assert_string_equal(zw_reason_name((zw_reason)21), "ZW_REASON_UNKNOWN");
+    assert_string_equal(zw_reason_name((zw_reason)22), "ZW_REASON_UNKNOWN");
     assert_string_equal(zw_reason_name((zw_reason)-1), "ZW_REASON_UNKNOWN");
 }
 
@@ -1539,6 +1542,226 @@ static void test_cert_codec(void **state)
     for (i = 0; i <= ZW_CERT_WORDS; ++i) assert_int_equal(rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)), words[i]);
 }
 
+/* ---- the control loop's side: zw_regmap_active_gains, and what crosses contexts ------------ */
+
+/* The reader hands out the pair in force, bit for bit the K and B registers (registers: the
+ * Modbus task's view, not compared in the mid-publication states built below). */
+static void expect_active(zw_regmap *rm, float K, float B, bool registers, const char *file,
+                          int line)
+{
+    float k = 1234.0f, b = 1234.0f;
+    zw_status st = zw_regmap_active_gains(rm, &k, &b);
+    if (st != ZW_OK || bits_of(k) != bits_of(K) || bits_of(b) != bits_of(B) ||
+        (registers && (bits_of(k) != rd32(rm, ZW_REG_K) || bits_of(b) != rd32(rm, ZW_REG_B)))) {
+        print_error("%s:%d: active gains %s (%.9g, %.9g), expected (%.9g, %.9g); registers "
+                    "0x%08lX 0x%08lX\n", file, line, zw_status_name(st), (double)k, (double)b,
+                    (double)K, (double)B, (unsigned long)rd32(rm, ZW_REG_K),
+                    (unsigned long)rd32(rm, ZW_REG_B));
+        _fail(file, line);
+    }
+}
+#define EXPECT_ACTIVE(rm, K, B) expect_active((rm), (K), (B), true, __FILE__, __LINE__)
+#define EXPECT_READER(rm, K, B) expect_active((rm), (K), (B), false, __FILE__, __LINE__)
+
+static void test_active_gains(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    float K = 1.0f, B = 1.0f;
+    (void)state;
+    rm_init(&rm, &c);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.3f, -1.2e-3f));
+    EXPECT_ACTIVE(&rm, 0.3f, -1.2e-3f);
+    EXPECT_OUTCOME(write_pair(&rm, 0.9f, 0.0f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_UNSTABLE);
+    EXPECT_ACTIVE(&rm, 0.3f, -1.2e-3f);
+    EXPECT_ACCEPTED(write_K(&rm, 0.35f)); /* judged with, and paired with, the B in force */
+    EXPECT_ACTIVE(&rm, 0.35f, -1.2e-3f);
+    EXPECT_ACCEPTED(write_B(&rm, -1.36e-3f));
+    EXPECT_ACTIVE(&rm, 0.35f, -1.36e-3f);
+    /* through the PDU handler too */
+    {
+        static const uint_least8_t wr[] = {0x10, 0x00, 0x10, 0x00, 0x04, 0x08, 0x3E, 0x80,
+                                           0x00, 0x00, 0xBA, 0x83, 0x12, 0x6F}; /* 0.25, -1e-3 */
+        uint_least8_t resp[8];
+        size_t len = 0;
+        assert_int_equal(zw_regmap_handle_pdu(&rm, wr, sizeof wr, resp, sizeof resp, &len),
+                         ZW_MB_OK);
+        EXPECT_ACTIVE(&rm, 0.25f, float_of(0xBA83126Fu));
+    }
+    /* commissioning turns the output off, and a seal keeps it off */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_ACTIVE(&rm, 0.25f, float_of(0xBA83126Fu)); /* UNLOCK1 alone changes nothing */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK2));
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    EXPECT_OUTCOME(write_pair(&rm, 0.3f, 0.0f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SEAL));
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.3f, -1.2e-3f));
+    EXPECT_ACTIVE(&rm, 0.3f, -1.2e-3f);
+    unlock(&rm);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    /* unsealed: off */
+    EXPECT_OK(zw_regmap_init(&rm, NULL, NULL));
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    /* errors: every output that exists reads "off" */
+    EXPECT_STATUS(zw_regmap_active_gains(NULL, &K, &B), ZW_ERR_NULL);
+    assert_true(K == 0.0f && B == 0.0f);
+    rm_init(&rm, &c);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.3f, -1.2e-3f));
+    K = 1.0f;
+    EXPECT_STATUS(zw_regmap_active_gains(&rm, &K, NULL), ZW_ERR_NULL);
+    assert_true(K == 0.0f);
+    B = 1.0f;
+    EXPECT_STATUS(zw_regmap_active_gains(&rm, NULL, &B), ZW_ERR_NULL);
+    assert_true(B == 0.0f);
+}
+
+/* On one core the control ISR can preempt the Modbus task at any point of a publication.
+ * Every state the struct passes through before the sequence word is stored (any subset of
+ * the new slot's stores done, in any order) must read as the old pair, and the final state
+ * as the new one: the writer only ever touches the slot that is not in force. */
+static void test_active_gains_mid_publication(void **state)
+{
+    zw_regmap before, after;
+    zw_cert c = paper_cert();
+    unsigned subset;
+    (void)state;
+    rm_init(&before, &c);
+    EXPECT_ACCEPTED(write_pair(&before, 0.3f, -1.2e-3f));
+    after = before;
+    EXPECT_ACCEPTED(write_pair(&after, 0.35f, -1.36e-3f));
+    assert_true(after.gains_seq != before.gains_seq);
+    for (subset = 0; subset < 4u; ++subset) {
+        zw_regmap mid = before;
+        unsigned i;
+        for (i = 0; i < 2u; ++i) {
+            if ((subset & 1u) != 0u) mid.gains[i].K = after.gains[i].K;
+            if ((subset & 2u) != 0u) mid.gains[i].B = after.gains[i].B;
+        }
+        EXPECT_READER(&mid, 0.3f, -1.2e-3f);
+        mid.gains_seq = after.gains_seq;
+        if (subset == 3u) EXPECT_READER(&mid, 0.35f, -1.36e-3f);
+    }
+}
+
+/* The same for the state registers, written by the control ISR while the Modbus task reads:
+ * until the sequence word is stored, a read shows the previous sample, all four values. */
+static void test_state_mid_publication(void **state)
+{
+    zw_regmap before, after;
+    zw_cert c = paper_cert();
+    unsigned subset;
+    (void)state;
+    rm_init(&before, &c);
+    zw_regmap_set_state(&before, 1.0f, 2.0f, 3.0f, 4u);
+    after = before;
+    zw_regmap_set_state(&after, -1.0f, -2.0f, -3.0f, 5u);
+    for (subset = 0; subset < 16u; ++subset) {
+        zw_regmap mid = before;
+        unsigned i;
+        for (i = 0; i < 2u; ++i) {
+            if ((subset & 1u) != 0u) mid.state[i].x = after.state[i].x;
+            if ((subset & 2u) != 0u) mid.state[i].v = after.state[i].v;
+            if ((subset & 4u) != 0u) mid.state[i].f = after.state[i].f;
+            if ((subset & 8u) != 0u) mid.state[i].step = after.state[i].step;
+        }
+        assert_true(rdf(&mid, ZW_REG_STATE_X) == 1.0f && rdf(&mid, ZW_REG_STATE_V) == 2.0f &&
+                    rdf(&mid, ZW_REG_STATE_F) == 3.0f && rd32(&mid, ZW_REG_STATE_STEP) == 4u);
+        mid.state_seq = after.state_seq;
+        if (subset == 15u)
+            assert_true(rdf(&mid, ZW_REG_STATE_X) == -1.0f && rdf(&mid, ZW_REG_STATE_V) == -2.0f &&
+                        rdf(&mid, ZW_REG_STATE_F) == -3.0f && rd32(&mid, ZW_REG_STATE_STEP) == 5u);
+    }
+}
+
+/* A refused register-level read fills the caller's words with values that certify nothing:
+ * 0, and +inf for the spectral radius; a quantity no read may have writes nothing. */
+static void test_read_fail_safe_words(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t w[32];
+    unsigned i;
+    (void)state;
+    rm_init(&rm, &c);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.3f, -1.2e-3f));
+    for (i = 0; i < 32u; ++i) w[i] = 0x1234u;
+    /* 0x0020..0x003F: the live and state registers, then unmapped 0x0038.. */
+    EXPECT_REFUSED(&rm, read_words(&rm, ZW_REG_LIVE_K_MAX, 32, w), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_UNMAPPED);
+    for (i = 0; i < 32u; ++i)
+        assert_int_equal(w[i], ZW_REG_LIVE_K_MAX + i == ZW_REG_LIVE_RHO ? 0x7F80u : 0u);
+    assert_true(float_of(((uint32_t)w[ZW_REG_LIVE_RHO - ZW_REG_LIVE_K_MAX] << 16) |
+                         w[ZW_REG_LIVE_RHO - ZW_REG_LIVE_K_MAX + 1u]) == (float)INFINITY);
+    /* the handler's own failure (rm NULL) too */
+    w[0] = w[1] = 0x1234u;
+    assert_int_equal(zw_regmap_read(NULL, ZW_REG_LIVE_K_CERT, 2, w, NULL), ZW_MB_SERVER_FAILURE);
+    assert_true(w[0] == 0u && w[1] == 0u);
+    /* quantities 0 and 126: nothing written */
+    w[0] = 0x1234u;
+    EXPECT_REFUSED(&rm, read_words(&rm, ZW_REG_K, 0, w), ZW_MB_ILLEGAL_VALUE, ZW_REASON_MALFORMED);
+    assert_int_equal(w[0], 0x1234u);
+}
+
+/* Item 4 of the review: on a target whose arithmetic is not what the bounds assume, nothing
+ * is sealed, at power-up or by SEAL.  The environment is broken for real: rounding upward
+ * (C99 fesetround), which zw_selftest's rounding check must catch. */
+static int restore_rounding(void **state)
+{
+    (void)state;
+    return fesetround(FE_TONEAREST);
+}
+
+static void test_fpenv_refuses_seal(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t block[ZW_CERT_WORDS + 1u];
+    zw_reason why = ZW_REASON_NONE;
+    zw_status selftest_broken, init_st;
+    outcome seal;
+    (void)state;
+    if (fesetround(FE_UPWARD) != 0) skip();
+    selftest_broken = zw_selftest();
+    init_st = zw_regmap_init(&rm, &c, &why);
+    assert_int_equal(fesetround(FE_TONEAREST), 0);
+    EXPECT_STATUS(selftest_broken, ZW_ERR_FPENV);
+    EXPECT_STATUS(init_st, ZW_ERR_FPENV);
+    assert_int_equal(why, ZW_REASON_FPENV);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    EXPECT_OUTCOME(write_pair(&rm, 0.3f, -1.2e-3f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+    /* commissioning: the same block and CRC, sealed under the broken environment */
+    unlock(&rm);
+    block_words(&c, block);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
+    assert_int_equal(fesetround(FE_UPWARD), 0);
+    seal = command(&rm, ZW_CMD_SEAL);
+    assert_int_equal(fesetround(FE_TONEAREST), 0);
+    EXPECT_OUTCOME(seal, ZW_MB_ILLEGAL_VALUE, ZW_REASON_FPENV);
+    assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), ZW_REASON_FPENV);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u); /* still commissioning, nothing sealed */
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    /* FPENV is checked first: a wrong CRC is not even looked at */
+    block[ZW_CERT_WORDS] = (uint_least16_t)(block[ZW_CERT_WORDS] ^ 1u);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_CRC, 1, &block[ZW_CERT_WORDS]));
+    assert_int_equal(fesetround(FE_UPWARD), 0);
+    seal = command(&rm, ZW_CMD_SEAL);
+    assert_int_equal(fesetround(FE_TONEAREST), 0);
+    EXPECT_OUTCOME(seal, ZW_MB_ILLEGAL_VALUE, ZW_REASON_FPENV);
+    /* back to round to nearest: the same requests seal */
+    block[ZW_CERT_WORDS] = (uint_least16_t)(block[ZW_CERT_WORDS] ^ 1u);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_CRC, 1, &block[ZW_CERT_WORDS]));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SEAL));
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.3f, -1.2e-3f));
+    EXPECT_ACTIVE(&rm, 0.3f, -1.2e-3f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1567,6 +1790,11 @@ int main(void)
         cmocka_unit_test(test_pdu_bad_function),
         cmocka_unit_test(test_pdu_resp_cap),
         cmocka_unit_test(test_null_arguments),
+        cmocka_unit_test(test_active_gains),
+        cmocka_unit_test(test_active_gains_mid_publication),
+        cmocka_unit_test(test_state_mid_publication),
+        cmocka_unit_test(test_read_fail_safe_words),
+        cmocka_unit_test_teardown(test_fpenv_refuses_seal, restore_rounding),
         cmocka_unit_test(test_reason_names),
         cmocka_unit_test(test_refusals_change_nothing),
     };

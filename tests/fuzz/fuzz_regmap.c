@@ -24,8 +24,9 @@
  *     alone and bumped ZW_REG_ACCEPTED by at most one; exception 0x04 (the handler's own
  *     failure: empty PDU, resp_cap < 2, or a normal answer that would not fit) changed no
  *     register at all, refusal registers included (regmap.c: "not even counted");
- *   - the active gains are (0, 0), or the map is in operation mode with a sealed block and
- *     an independent re-check with the library's device functions on that block (read from
+ *   - the pair the control loop applies, read through zw_regmap_active_gains (ZW_OK), is bit
+ *     for bit the K and B registers, and it is (0, 0), or the map is in operation mode with
+ *     a sealed block and an independent re-check with the library's device functions on that block (read from
  *     its registers, plant re-initialised with zw_device_init) accepts them: finite, within
  *     [k_min, k_max] x [b_min, b_max], zw_device_check stable and not marginal,
  *     K <= sigma K_max(B) (zw_device_k_max), zw_device_radius_within(r);
@@ -283,15 +284,29 @@ NO_COV static void check_response(const uint_least8_t *req, size_t n, const uint
     }
 }
 
+/* The pair the control loop applies: through the control loop's reader only. */
+typedef struct active_pair {
+    zw_status st;
+    float K, B;
+} active_pair;
+
+NO_COV static active_pair read_active(const zw_regmap *rm)
+{
+    active_pair a;
+    a.K = a.B = 1234.0f;
+    a.st = zw_regmap_active_gains(rm, &a.K, &a.B);
+    return a;
+}
+
 NO_COV static void check_state(const snapshot *before, const snapshot *after, zw_mb_exception ret,
-                               bool first)
+                               bool first, active_pair active)
 {
     const snapshot *s = after;
     CHECK(s->w[ZW_REG_MAGIC] == ZW_REGMAP_MAGIC && s->w[ZW_REG_VERSION] == ZW_REGMAP_VERSION,
           "magic 0x%04X version %u", s->w[ZW_REG_MAGIC], s->w[ZW_REG_VERSION]);
     CHECK(s->w[ZW_REG_MODE] <= 1 && s->w[ZW_REG_SEALED] <= 1, "mode %u sealed %u",
           s->w[ZW_REG_MODE], s->w[ZW_REG_SEALED]);
-    CHECK(s->w[ZW_REG_LAST_REASON] <= ZW_REASON_BAD_POLICY && s->w[ZW_REG_LAST_EXCEPTION] <= 4,
+    CHECK(s->w[ZW_REG_LAST_REASON] <= ZW_REASON_FPENV && s->w[ZW_REG_LAST_EXCEPTION] <= 4,
           "last reason %u exception %u", s->w[ZW_REG_LAST_REASON], s->w[ZW_REG_LAST_EXCEPTION]);
     CHECK(!s->have[ZW_REG_COMMAND] || s->w[ZW_REG_COMMAND] == 0, "command register reads 0x%04X",
           s->w[ZW_REG_COMMAND]);
@@ -331,8 +346,12 @@ NO_COV static void check_state(const snapshot *before, const snapshot *after, zw
               (unsigned)acc1);
     }
 
-    /* Gains. */
-    float K = f32_at(after, ZW_REG_K), B = f32_at(after, ZW_REG_B);
+    /* Gains: the control loop's pair is the registers' pair, and it is what is checked. */
+    CHECK(active.st == ZW_OK, "zw_regmap_active_gains: status %d", (int)active.st);
+    CHECK(same_bits(active.K, f32_at(after, ZW_REG_K)) && same_bits(active.B, f32_at(after, ZW_REG_B)),
+          "control loop reads K=%a B=%a, registers hold K=%a B=%a", (double)active.K,
+          (double)active.B, (double)f32_at(after, ZW_REG_K), (double)f32_at(after, ZW_REG_B));
+    float K = active.K, B = active.B;
     float K0 = f32_at(before, ZW_REG_K), B0 = f32_at(before, ZW_REG_B);
     bool off = (K == 0.0f && B == 0.0f);
     bool operation = after->w[ZW_REG_MODE] == 0;
@@ -391,7 +410,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     snapshot before, after;
     take_snapshot(&rm, &before);
-    check_state(&before, &before, ZW_MB_OK, true);
+    check_state(&before, &before, ZW_MB_OK, true, read_active(&rm));
     CHECK(before.w[ZW_REG_SEALED] == 1 && before.w[ZW_REG_MODE] == 0, "fresh map not sealed in operation");
 
     size_t cap = 253, pos = 0;
@@ -417,7 +436,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         g_requests++;
         take_snapshot(&rm, &after);
         check_response(req, n, resp, resp_len, cap, ret, &after);
-        check_state(&before, &after, ret, false);
+        check_state(&before, &after, ret, false, read_active(&rm));
         before = after;
         free(req);
         free(resp);

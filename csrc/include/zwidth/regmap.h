@@ -55,6 +55,8 @@
  *   0x0032  ZW_REG_STATE_V (f32)        r   zw_regmap_set_state (position, velocity,
  *   0x0034  ZW_REG_STATE_F (f32)        r   commanded force, samples since power-up;
  *   0x0036  ZW_REG_STATE_STEP (u32)     r   all 0 until first set)
+ *           One read shows one sample: the four come from the same zw_regmap_set_state
+ *           call, whichever of them the read covers (see the threading model below).
  *
  *   0x0040  certified block, rw in commissioning mode only (else exception 0x02,
  *           reason ZW_REASON_LOCKED); every field f32.  Reads show the sealed block and
@@ -82,6 +84,10 @@
  *           CRC (all 0 when nothing is sealed).  SEAL refused (CRC or BAD_POLICY) stays in
  *           commissioning mode.  UNLOCK1/UNLOCK2 in commissioning mode, SEAL/ABORT in
  *           operation mode and unknown values are refused with ZW_REASON_BAD_COMMAND.
+ *           SEAL first runs zw_selftest() (zwidth/selftest.h): on a target whose
+ *           floating-point environment is not the one the error bounds assume it is
+ *           refused with ZW_REASON_FPENV (before the CRC is looked at) and nothing is
+ *           sealed, so no gain pair can ever be accepted there.
  *
  * Everything else is unmapped (exception 0x02, ZW_REASON_UNMAPPED).
  *
@@ -98,6 +104,41 @@
  * 1..125 for reads, 1..123 for writes, address + quantity within 0x10000 (else 0x02).
  * FC 0x06 on one word of a float is ZW_REASON_HALF_FLOAT; a read may start or end inside
  * a float.
+ *
+ * Threading model.  A drive runs the map in three contexts:
+ *   init            zw_regmap_init, before the control interrupt and the Modbus task start
+ *                   (it writes everything, with plain stores).
+ *   control loop    the control ISR (or the control thread): zw_regmap_active_gains, the
+ *                   gain pair to apply this sample, and zw_regmap_set_state.  Both are
+ *                   wait-free and constant time (a few loads and stores, no core call),
+ *                   never block, and can run at any moment, also in the middle of a
+ *                   Modbus request.  Only one context may call zw_regmap_set_state.
+ *   Modbus task     zw_regmap_handle_pdu, zw_regmap_read, zw_regmap_write: one task (the
+ *                   single writer of everything but the state registers), at a priority
+ *                   below the control loop, never in the serial/Ethernet receive ISR: an
+ *                   accepted write or a SEAL runs the core (live registers, K_CERT search,
+ *                   400-iteration root finder) for thousands of float operations, milliseconds
+ *                   on a soft-float C28x; measure its worst case on the target and size the
+ *                   Modbus response timeout for it.  The control loop only ever reads the
+ *                   gains it is handed, so a long request never delays a control sample.
+ * The two cross-context channels are published through a double buffer and a sequence word
+ * stored once: the writer fills the slot not in force, then stores the sequence word that
+ * makes it current.  A reader reads the word, the slot it names, and the word again, and
+ * retries (at most ZW_REGMAP_READ_TRIES times) if it changed.  On one core a reader that
+ * preempts the writer (the ISR reading the gains) always succeeds at once, because the
+ * writer never touches the slot in force; the Modbus task reading the state succeeds
+ * unless a control interrupt lands in each of its tries (a few loads each).  On several
+ * cores a reader can fail only if the writer publishes throughout all its tries; it then
+ * answers fail-safe (gains off, K = B = 0, ZW_ERR_BUSY; a state read answers exception
+ * 0x04 and processes nothing) rather than a mix of two publications.  No lock is taken,
+ * so nothing an ISR does can deadlock.
+ * What a port provides: nothing on one core (every shared access is volatile in C99, and
+ * regmap.c puts a compiler barrier, ZW_MEMORY_BARRIER(), between the steps on GCC and
+ * Clang).  On several cores, either build regmap.c as C11 with <stdatomic.h> (the shared
+ * fields are then _Atomic and the steps acquire/release, the form ThreadSanitizer checks),
+ * or define ZW_MEMORY_BARRIER() to a full hardware fence (__DMB(), __sync_synchronize()).
+ * The sequence word is 32 bits; where a 32-bit store is two stores (8/16-bit cores) the
+ * scheme still holds on one core, as the slot index is its lowest bit.
  */
 #ifndef ZWIDTH_REGMAP_H
 #define ZWIDTH_REGMAP_H
@@ -190,11 +231,13 @@ typedef enum zw_reason {
     ZW_REASON_RADIUS = 17,        /* spectral radius not below r */
     ZW_REASON_BAD_COMMAND = 18,   /* unknown command, or UNLOCK2 not right after UNLOCK1 */
     ZW_REASON_CRC = 19,           /* seal: CRC does not match the block */
-    ZW_REASON_BAD_POLICY = 20     /* seal: a field not finite, plant invalid (zw_device_init
+    ZW_REASON_BAD_POLICY = 20,    /* seal: a field not finite, plant invalid (zw_device_init
                                      fails), sigma or r not in (0, 1], k_min > k_max or
                                      b_min > b_max, a step limit not > 0, or no pair
                                      reachable in one step from the output-off state
                                      (k_min > dk_max, b_min > db_max, b_max < -db_max) */
+    ZW_REASON_FPENV = 21          /* seal: the floating-point self-test (zw_selftest) failed;
+                                     nothing can be certified on this target */
 } zw_reason;
 
 /* The certified block as numbers (what the CRC seals, in register order). */
@@ -207,14 +250,46 @@ typedef struct zw_cert {
     float dk_max, db_max;  /* largest change per accepted write, > 0 */
 } zw_cert;
 
-/* The whole drive-side state; plain data, one per drive, no globals. */
+/* The fields shared between contexts (threading model above).  Under C11 with atomics
+ * they are _Atomic, so that ThreadSanitizer and a multi-core memory model see the
+ * publication; otherwise volatile.  Every translation unit that shares a zw_regmap must
+ * make the same choice (define ZW_REGMAP_NO_C11_ATOMICS in all or none; on GCC and Clang
+ * targets both forms have the size and alignment of the plain type). */
+#if !defined(__cplusplus) && defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L && \
+    !defined(__STDC_NO_ATOMICS__) && !defined(ZW_REGMAP_NO_C11_ATOMICS)
+#define ZW_REGMAP_C11_ATOMICS 1
+#define ZW_REGMAP_SHARED _Atomic
+#else
+#define ZW_REGMAP_C11_ATOMICS 0
+#define ZW_REGMAP_SHARED volatile
+#endif
+
+/* Tries of a cross-context reader before it answers fail-safe. */
+#define ZW_REGMAP_READ_TRIES 8u
+
+/* One publication of the gain pair (written by the Modbus task). */
+typedef struct zw_regmap_gain_slot {
+    ZW_REGMAP_SHARED float K, B;
+} zw_regmap_gain_slot;
+
+/* One sample of the state registers (written by the control loop). */
+typedef struct zw_regmap_state_slot {
+    ZW_REGMAP_SHARED float x, v, f;
+    ZW_REGMAP_SHARED uint_least32_t step;
+} zw_regmap_state_slot;
+
+/* The whole drive-side state; plain data, one per drive, no globals.  Read it only through
+ * the functions below: K and B are the Modbus task's own copy, the control loop takes
+ * its gains from zw_regmap_active_gains. */
 typedef struct zw_regmap {
     zw_cert sealed;                 /* the block in force */
     zw_device device;               /* derived from sealed */
     uint_least16_t staged[ZW_CERT_WORDS + 1u]; /* block + CRC being written in commissioning */
-    float K, B;                     /* active gains */
-    float state_x, state_v, state_f;
-    uint_least32_t state_step;
+    float K, B;                     /* active gains (Modbus task) */
+    zw_regmap_gain_slot gains[2];   /* their publication: gains[gains_seq & 1] is in force */
+    ZW_REGMAP_SHARED uint_least32_t gains_seq;
+    zw_regmap_state_slot state[2];  /* state registers: state[state_seq & 1] is current */
+    ZW_REGMAP_SHARED uint_least32_t state_seq;
     uint_least32_t accepted, refused;
     uint_least16_t mode;            /* 0 operation, 1 commissioning */
     uint_least16_t is_sealed;
@@ -224,15 +299,27 @@ typedef struct zw_regmap {
                                        write and seal (so a read never runs the core) */
 } zw_regmap;
 
-/* Power-up: with cert non-NULL the block is validated and sealed (ZW_ERR_ARG with a
- * reason in *reason if it is not acceptable); with NULL the drive starts unsealed and
- * refuses gains until commissioned.  Gains start off (0, 0).  rm is initialised in every
- * case but ZW_ERR_NULL (rm NULL): after ZW_ERR_ARG it is a working unsealed drive that can
- * be commissioned.  reason may be NULL; it receives ZW_REASON_NONE on success. */
+/* Power-up (init context: before the control loop and the Modbus task run): with cert
+ * non-NULL the block is validated and sealed like a SEAL (ZW_ERR_ARG with a reason in
+ * *reason if it is not acceptable; ZW_ERR_FPENV with ZW_REASON_FPENV when zw_selftest()
+ * fails); with NULL the drive starts unsealed and refuses gains until commissioned.  Gains
+ * start off (0, 0).  rm is initialised in every case but ZW_ERR_NULL (rm NULL): after
+ * ZW_ERR_ARG or ZW_ERR_FPENV it is a working unsealed drive (gains off) that can be
+ * commissioned.  reason may be NULL; it receives ZW_REASON_NONE on success. */
 zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason);
 
-/* Report the device state (position, velocity, force, sample count) for the state
- * registers; called by the control loop, never by the Modbus side.  rm NULL: no-op. */
+/* Control loop: the certified gain pair in force, to apply this sample.  *K and *B are
+ * always one pair that the map accepted (or (0, 0), output off: unsealed, commissioning,
+ * after a seal), never the K of one accepted write with the B of another.  Wait-free and
+ * constant time; callable from an ISR that preempts the Modbus task.  On any error both
+ * outputs that are not NULL are 0 (output off): ZW_ERR_NULL (rm, K or B NULL),
+ * ZW_ERR_BUSY (no consistent pair in ZW_REGMAP_READ_TRIES tries: only possible while
+ * another core publishes continuously).  rm is only read. */
+zw_status zw_regmap_active_gains(const zw_regmap *rm, float *K, float *B);
+
+/* Control loop: report the device state (position, velocity, force, sample count) for the
+ * state registers.  Wait-free and constant time; one context only (the control loop),
+ * never the Modbus side.  rm NULL: no-op. */
 void zw_regmap_set_state(zw_regmap *rm, float x, float v, float f, uint_least32_t step);
 
 /* Handle one request PDU (function code first, no address/CRC framing).  Writes the
@@ -245,14 +332,20 @@ void zw_regmap_set_state(zw_regmap *rm, float x, float v, float f, uint_least32_
  * The handler's own failures return ZW_MB_SERVER_FAILURE and process nothing (no register
  * changes, refusal registers included): rm, req, resp or resp_len NULL, req_len 0 or
  * resp_cap < 2 (*resp_len = 0 when resp_len is not NULL, nothing written to resp); a
- * normal answer that would not fit in resp_cap (the 2-byte exception 0x04 is sent). */
+ * normal answer that would not fit in resp_cap, or a read of a state register that cannot
+ * take a consistent sample (threading model above) (the 2-byte exception 0x04 is sent). */
 zw_mb_exception zw_regmap_handle_pdu(zw_regmap *rm, const uint_least8_t *req, size_t req_len,
                                      uint_least8_t *resp, size_t resp_cap, size_t *resp_len);
 
 /* Register-level access for stacks that decode PDUs themselves (same rules, same
  * atomicity).  *reason receives the refusal reason (ZW_REASON_NONE when accepted); reason
- * may be NULL.  words receive the registers only when the read is accepted.  rm or words
- * NULL: ZW_MB_SERVER_FAILURE, nothing processed, *reason untouched. */
+ * may be NULL.  words receive the registers when the read is accepted; when it is not
+ * (and words is not NULL, count 1..125) every word reads 0 but LIVE_RHO, which reads +inf
+ * (0x7F80 0x0000), so that a caller ignoring the exception reads values that certify
+ * nothing (K_CERT 0, gains off, unsealed, empty B interval).  rm or words NULL:
+ * ZW_MB_SERVER_FAILURE, nothing processed, *reason untouched.  A read that covers a state
+ * register and cannot take a consistent sample (see the threading model) answers
+ * ZW_MB_SERVER_FAILURE and processes nothing (no refusal registers change). */
 zw_mb_exception zw_regmap_read(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
                                uint_least16_t *words, zw_reason *reason);
 zw_mb_exception zw_regmap_write(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,

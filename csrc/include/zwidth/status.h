@@ -23,13 +23,15 @@ typedef enum zw_status {
     ZW_ERR_FPENV = 11,           /* the floating-point environment is not the one the error
                                     bounds assume (zw_selftest): nothing can be certified */
     ZW_ERR_DELAY = 12,           /* loop delay outside 0..ZW_LOOP_MAX_DELAY samples */
-    ZW_ERR_FILTER = 13           /* velocity estimate out of its domain: filter pole outside
+    ZW_ERR_FILTER = 13,          /* velocity estimate out of its domain: filter pole outside
                                     [0, 1), cut-off <= 0 or at/above Nyquist, average length
                                     outside 1..ZW_LOOP_MAX_AVERAGE, unknown kind */
+    ZW_ERR_BUSY = 14             /* no consistent snapshot of data another context kept
+                                    publishing (zw_regmap_active_gains): output off */
 } zw_status;
 
 /* The last status code: every value in ZW_OK..ZW_STATUS_LAST has a name. */
-#define ZW_STATUS_LAST ZW_ERR_FILTER
+#define ZW_STATUS_LAST ZW_ERR_BUSY
 
 /* Stable, upper-case name of a status ("ZW_ERR_MASS"); "ZW_UNKNOWN" for other values. */
 const char *zw_status_name(zw_status status);
