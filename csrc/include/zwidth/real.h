@@ -9,6 +9,11 @@
 
 #include <float.h>
 #include <math.h>
+#include "zwidth/precision.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* The error bounds assume IEEE-754 binary32 / binary64 arithmetic with round to nearest
  * (unit roundoff below).  Where double is 32-bit (TI C28x COFF ABI, -mdouble=32), build
@@ -59,5 +64,9 @@ typedef double zw_real;
  * for every FPU (x != x is true only for NaN; the second test catches +-inf). */
 #define ZW_IS_NAN(x) ((x) != (x))
 #define ZW_IS_FINITE(x) (!ZW_IS_NAN(x) && ZW_FABS(x) <= ZW_REAL_MAX)
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* ZWIDTH_REAL_H */
