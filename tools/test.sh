@@ -22,6 +22,9 @@ cmake --build build-asan
 step "C unit tests (ctest)"
 ctest --test-dir build --output-on-failure
 
+step "use from another project: cmake --install, find_package and pkg-config, C and C++, precision mismatch"
+tools/consumer_test.sh build
+
 step "C unit tests under ASan/UBSan (ctest)"
 ctest --test-dir build-asan --output-on-failure
 
