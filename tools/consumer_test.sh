@@ -5,7 +5,8 @@
 #   1. with find_package(zwidth): zwidth::core (double) and zwidth::core_f (float),
 #   2. with pkg-config and plain cc / c++: zwidth.pc and zwidth_f.pc,
 # run all eight programs, compile every installed header alone as C++, and check that an
-# object built for one precision does not link against the other library.
+# object built for one precision does not link against the other library.  Then the same
+# programs against the one-file amalgamation (tools/amalgamate.sh), double and float.
 #
 # Usage: tools/consumer_test.sh [BUILD_DIR]   (default build; must be built already)
 set -euo pipefail
@@ -88,4 +89,23 @@ mismatch C "$CC" tests/consumer/consumer.c zwidth_f zwidth "zw_coeffs_init_f'"
 mismatch C "$CC" tests/consumer/consumer.c zwidth zwidth_f "zw_coeffs_init'"
 mismatch C++ "$CXX" tests/consumer/consumer.cpp zwidth_f zwidth "zw_coeffs_init_f'"
 mismatch C++ "$CXX" tests/consumer/consumer.cpp zwidth zwidth_f "zw_coeffs_init'"
+echo "amalgamation (tools/amalgamate.sh: zwidth.c + zwidth.h), strict flags:"
+tools/amalgamate.sh "$T/amal" >/dev/null
+# The consumer includes "zwidth/zwidth.h" (and "zwidth/sim.h", host-only, not in the
+# amalgamation); a vendored copy includes "zwidth.h".  Two forwarding headers bridge that.
+mkdir -p "$T/amal_inc/zwidth"
+echo "#include \"$T/amal/zwidth.h\"" >"$T/amal_inc/zwidth/zwidth.h"
+echo "#include \"$T/amal/zwidth.h\"" >"$T/amal_inc/zwidth/sim.h"
+STRICT="$CWARN -Wshadow -Wmissing-prototypes -ffp-contract=off"
+for def in "" -DZW_REAL_FLOAT; do
+    name=double; [ -n "$def" ] && name=float
+    # shellcheck disable=SC2086
+    $CC $STRICT $def -O2 -c "$T/amal/zwidth.c" -o "$T/amal.o"
+    # shellcheck disable=SC2086
+    $CC $CWARN $def -ffp-contract=off -I"$T/amal" -I"$T/amal_inc" tests/consumer/consumer.c "$T/amal.o" -lm -o "$T/amal_c"
+    # shellcheck disable=SC2086
+    $CXX $XWARN $def -ffp-contract=off -I"$T/amal" -I"$T/amal_inc" tests/consumer/consumer.cpp "$T/amal.o" -lm -o "$T/amal_cxx"
+    run "$T/amal_c" "consumer ok ($name, C)"
+    run "$T/amal_cxx" "consumer ok ($name, C++)"
+done
 echo "consumer_test: all passed"
