@@ -3,7 +3,8 @@
 # into a temporary prefix (then move it, to prove the installed files are relocatable), and
 # build tests/consumer/ (a C and a C++ program) against it
 #   1. with find_package(zwidth): zwidth::core (double) and zwidth::core_f (float),
-#   2. with pkg-config and plain cc / c++: zwidth.pc and zwidth_f.pc,
+#   2. with add_subdirectory of the source tree (same target names),
+#   3. with pkg-config and plain cc / c++: zwidth.pc and zwidth_f.pc,
 # run all eight programs, compile every installed header alone as C++, and check that an
 # object built for one precision does not link against the other library.  Then the same
 # programs against the one-file amalgamation (tools/amalgamate.sh), double and float.
@@ -44,6 +45,13 @@ run "$T/cm/consumer_c" "consumer ok (double, C)"
 run "$T/cm/consumer_cxx" "consumer ok (double, C++)"
 run "$T/cm/consumer_c_f" "consumer ok (float, C)"
 run "$T/cm/consumer_cxx_f" "consumer ok (float, C++)"
+
+echo "add_subdirectory(zwidth):"
+cmake -S tests/consumer -B "$T/sub" -G Ninja -DCMAKE_BUILD_TYPE=Release -DZWIDTH_SOURCE_DIR="$PWD" \
+    >"$T/log" 2>&1 || { cat "$T/log"; fail "configure"; }
+cmake --build "$T/sub" >"$T/log" 2>&1 || { cat "$T/log"; fail "build"; }
+run "$T/sub/consumer_c" "consumer ok (double, C)"
+run "$T/sub/consumer_cxx_f" "consumer ok (float, C++)"
 
 echo "pkg-config:"
 export PKG_CONFIG_PATH="$P/lib/pkgconfig"
