@@ -209,6 +209,12 @@ fail_build() {
     exit 2
 }
 
+# The float build links every function as zw_name_f (zwidth/precision.h); the report names
+# functions as declared, so one row of the tables covers all targets.
+unsuffix() {
+    if [[ "${TFLAGS[$1]}" == *ZW_REAL_FLOAT* ]]; then sed -E 's/\b(zw_[a-z0-9_]+)_f\b/\1/g'; else cat; fi
+}
+
 # ---- 1. compile ------------------------------------------------------------------------
 # Relative source paths (run from the repository root) keep temporary paths out of the
 # .su/.ci names and so out of the report.
@@ -218,6 +224,7 @@ for t in $TARGETS; do
         # shellcheck disable=SC2086
         ${CROSS}gcc $CFLAGS $CGFLAGS ${TFLAGS[$t]} -Icsrc/include -c "csrc/src/$m.c" \
             -o "$B/$t/$m.o" >"$B/log" 2>&1 || fail_build "csrc/src/$m.c for ${TNAME[$t]}: ${CROSS}gcc $CFLAGS ${TFLAGS[$t]} -Icsrc/include -c csrc/src/$m.c"
+        for f in "$B/$t/$m.su" "$B/$t/$m.ci"; do unsuffix "$t" <"$f" >"$f.tmp" && mv "$f.tmp" "$f"; done
     done
 done
 
@@ -237,7 +244,7 @@ for t in $TARGETS; do
                 sub(/^\.(text|rodata|data|bss)\./, "", item)
                 if (item ~ /^str1\.|\.str1\.|^CSWTCH/) item = item " (" s ")"
                 printf "%s\t%s\t%s\t%s\t%d\n", t, m, item, k, $2
-            }'
+            }' | unsuffix "$t"
     done
 done >"$B/sizes.tsv"
 
@@ -313,7 +320,7 @@ for t in $TARGETS; do
         /^ [^ *]/ {
             if (NF == 1) pending = $1
             else if (NF >= 4 && $3 ~ /^0x/) record($1, $3, $4)
-        }' "$B/$t/app/app.map"
+        }' "$B/$t/app/app.map" | unsuffix "$t"
     # Berkeley totals of the image, for the padding remainder.
     ${CROSS}size "$B/$t/app/app.elf" | awk -v t="$t" 'NR == 2 { printf "%s\tTOTAL\timage\ttext\t%d\n%s\tTOTAL\timage\tdata\t%d\n%s\tTOTAL\timage\tbss\t%d\n", t, $1, t, $2, t, $3 }'
 done >"$B/link.tsv"
@@ -329,7 +336,7 @@ done >"$B/frames.tsv"
 # <module>.rel: module caller call|tail callee, from the relocations of each call site.
 for t in $TARGETS; do
     for m in $MODULES; do
-        ${CROSS}objdump -dr "$B/$t/$m.o" | awk -v m="$m" '
+        ${CROSS}objdump -dr "$B/$t/$m.o" | unsuffix "$t" | awk -v m="$m" '
             /^[0-9a-f]+ <.*>:$/ { f = $0; sub(/^[0-9a-f]+ </, "", f); sub(/>:$/, "", f); next }
             /R_ARM_[A-Z0-9_]*(CALL|JUMP|PC22)/ {
                 k = ($2 ~ /JUMP/) ? "tail" : "call"

@@ -25,6 +25,9 @@ ctest --test-dir build --output-on-failure -LE tsan
 step "register map across threads under ThreadSanitizer (regmap.c as C11 atomics; ctest -L tsan)"
 ctest --test-dir build --output-on-failure -L tsan
 
+step "use from another project: cmake --install, find_package and pkg-config, C and C++, precision mismatch"
+tools/consumer_test.sh build
+
 step "C unit tests under ASan/UBSan (ctest)"
 ctest --test-dir build-asan --output-on-failure
 

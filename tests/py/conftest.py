@@ -107,6 +107,21 @@ def as_dict(s):
 # ---------------------------------------------------------------------------------------
 
 
+class _Suffixed:
+    """The float library exports every function as zw_name_f (zwidth/precision.h: a
+    precision mismatch fails at link time); this looks lib.zw_name up as zw_name + suffix,
+    so the tests use the declared names for both precisions."""
+
+    def __init__(self, cdll, suffix):
+        self._cdll, self._suffix = cdll, suffix
+
+    def __getattr__(self, name):
+        fn = getattr(self._cdll, name + self._suffix)
+        setattr(self, name, fn)  # one function object per name, so restype/argtypes stick
+        return fn
+
+
+
 class ZW:
     """One precision of the library.  Attributes: name ('double'/'float'), fmt (the
     reference's binary format), real (ctypes type), np (numpy type), u (unit roundoff),
@@ -122,7 +137,7 @@ class ZW:
         if not path.exists():
             pytest.fail(f"{path} not found: build with cmake (see tests/py/conftest.py) or set ZW_LIB_DIR",
                         pytrace=False)
-        self.lib = ctypes.CDLL(str(path))
+        self.lib = _Suffixed(ctypes.CDLL(str(path)), "_f" if name == "float" else "")
         (self.Coeffs, self.Verdict, self.Extremes, self.Device, self.DeviceExtremes,
          self.Influence) = _structs(self.real)
         self._outs = []

@@ -17,6 +17,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include "zwidth/device.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 zw_status zw_check_many(const zw_coeffs *c, size_t n, const zw_real *alpha, ptrdiff_t alpha_stride,
                         const zw_real *beta, ptrdiff_t beta_stride, bool *stable,
                         size_t *first_invalid);
@@ -25,4 +29,8 @@ zw_status zw_check_many(const zw_coeffs *c, size_t n, const zw_real *alpha, ptrd
 zw_status zw_device_check_many(const zw_device *d, size_t n, const zw_real *K, ptrdiff_t K_stride,
                                const zw_real *B, ptrdiff_t B_stride, bool *stable,
                                size_t *first_invalid);
+#ifdef __cplusplus
+}
+#endif
+
 #endif /* ZWIDTH_BATCH_H */

@@ -21,6 +21,10 @@
 #include "zwidth/real.h"
 #include "zwidth/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Worst error of every coefficient field below against the exact value of the
  * function at the given delta, in units of the field's own ulp (measured over a
  * dense log grid and every hard case, both precisions; see tests/py/test_coeffs.py).
@@ -52,5 +56,9 @@ zw_status zw_coeffs_init(zw_coeffs *out, zw_real delta);
 /* The literal (cancelling) formulas of eqs (3), (4), kept only so that tests and
  * benchmarks can show what the careful ones buy.  Never used by the checks. */
 zw_status zw_coeffs_literal(zw_real delta, zw_real *c1, zw_real *c2, zw_real *d12);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* ZWIDTH_COEFFS_H */

@@ -14,6 +14,10 @@
 #include "zwidth/margin.h"
 #include "zwidth/region.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct zw_device {
     zw_real m;        /* mass [kg] or inertia J [kg m^2], > 0 */
     zw_real b;        /* physical damping [N s/m] or [N m s/rad], >= 0 */
@@ -88,5 +92,9 @@ typedef struct zw_influence {
 } zw_influence;
 
 zw_status zw_device_influence(const zw_device *d, zw_influence *out);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* ZWIDTH_DEVICE_H */

@@ -8,6 +8,10 @@
 
 #include "zwidth/coeffs.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Critical NPDs (re-derived at 40 digits by root finding in tests/py/test_constants.py). */
 #define ZW_DELTA0 ZW_R(2.310571356753694244202296)   /* line bites: (1+d)(1+e^-d)^2 = 4 */
 #define ZW_DELTA1 ZW_R(3.659361627421783507110962)   /* beta1 = beta2: alpha_mmax switches branch */
@@ -52,5 +56,9 @@ zw_status zw_alpha_max(const zw_coeffs *c, zw_real beta, zw_real *alpha_max);
  * lo = hi = 0) when there is none (alpha <= 0 or alpha >= alpha_mmax). */
 zw_status zw_beta_interval(const zw_coeffs *c, zw_real alpha, zw_real *lo, zw_real *hi,
                            bool *nonempty);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* ZWIDTH_EXTREMES_H */

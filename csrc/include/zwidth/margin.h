@@ -10,6 +10,10 @@
 
 #include "zwidth/coeffs.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Coefficients of p(z), highest power first: p[0] = 2, p[1] = a1, p[2] = a2, p[3] = -c2 beta. */
 zw_status zw_char_poly(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real p[4]);
 
@@ -24,5 +28,9 @@ zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw
  * (ZW_ERR_NAN for NaN, ZW_ERR_ARG otherwise). */
 zw_status zw_radius_within(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real r,
                            bool *within);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* ZWIDTH_MARGIN_H */

@@ -9,6 +9,11 @@
 
 #include <float.h>
 #include <math.h>
+#include "zwidth/precision.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* ---- Builds that silently switch the guards off are refused (docs/fp-environment.md) ----
  * -ffast-math / -Ofast / -ffinite-math-only let the compiler fold x != x to false, so a NaN
@@ -114,6 +119,10 @@ typedef double zw_real;
  * for every FPU (x != x is true only for NaN; the second test catches +-inf). */
 #define ZW_IS_NAN(x) ((x) != (x))
 #define ZW_IS_FINITE(x) (!ZW_IS_NAN(x) && ZW_FABS(x) <= ZW_REAL_MAX)
+
+#ifdef __cplusplus
+}
+#endif
 
 #ifdef ZW_PORTABLE_MATH
 #include "zwidth/portable_math.h"

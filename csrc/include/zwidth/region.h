@@ -20,6 +20,10 @@
 
 #include "zwidth/coeffs.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* The constraints a point can violate; bits of zw_verdict.violated. */
 typedef enum zw_bound {
     ZW_BOUND_NONE = 0,
@@ -62,5 +66,9 @@ zw_status zw_check_region(zw_region region, const zw_coeffs *c, zw_real alpha, z
 
 /* Proportional (stiffness-only) control, beta = 0, eqs (27), (29). */
 zw_status zw_check_proportional(const zw_coeffs *c, zw_real alpha, zw_verdict *out);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* ZWIDTH_REGION_H */

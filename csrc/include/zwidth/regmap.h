@@ -149,6 +149,10 @@
 
 #include "zwidth/device.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Register addresses (0-based PDU addresses). */
 enum {
     ZW_REG_MAGIC = 0x0000,
@@ -375,5 +379,9 @@ float zw_words_to_float(const uint_least16_t words[2]);
 /* Stable names for logs and tools ("ZW_REASON_UNSTABLE"; "ZW_REASON_UNKNOWN" for other
  * values). */
 const char *zw_reason_name(zw_reason reason);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* ZWIDTH_REGMAP_H */

@@ -69,6 +69,10 @@
 #include "zwidth/real.h"
 #include "zwidth/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Longest computation delay, in samples (the delay line lives inside zw_sim). */
 #define ZW_SIM_MAX_DELAY 64
 /* Most integrator substeps per sample (above a 16-bit int: the field is int_least32_t). */
@@ -234,5 +238,9 @@ typedef struct zw_sim_verdict {
 
 zw_status zw_sim_judge(const zw_real *x, size_t n, size_t window, size_t windows,
                        zw_real tolerance, zw_sim_verdict *out);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* ZWIDTH_SIM_H */

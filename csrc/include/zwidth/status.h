@@ -7,6 +7,12 @@
 #ifndef ZWIDTH_STATUS_H
 #define ZWIDTH_STATUS_H
 
+#include "zwidth/precision.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum zw_status {
     ZW_OK = 0,
     ZW_ERR_NULL = 1,             /* a required pointer argument is NULL */
@@ -35,5 +41,9 @@ typedef enum zw_status {
 
 /* Stable, upper-case name of a status ("ZW_ERR_MASS"); "ZW_UNKNOWN" for other values. */
 const char *zw_status_name(zw_status status);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* ZWIDTH_STATUS_H */

@@ -1,0 +1,88 @@
+/* zwidth/precision.h - one link-time name per precision.
+ *
+ * The float build (-DZW_REAL_FLOAT) and the double build share one source, but their
+ * structs and arguments differ in size.  An object compiled for one precision and linked
+ * against the other library would run with garbage, so in the float build every external
+ * function gets the suffix _f (zw_check -> zw_check_f): the mismatch is an "undefined
+ * reference" at link time instead.  Included first by status.h and real.h, hence by every
+ * public header.  Callers keep writing zw_check; only the symbol changes.
+ *
+ * Every function with external linkage in the core and in the simulation library must be
+ * listed here (tools/check_symbols.sh fails on a float-library symbol without _f and on a
+ * public declaration missing from this list).
+ */
+#ifndef ZWIDTH_PRECISION_H
+#define ZWIDTH_PRECISION_H
+
+#ifdef ZW_REAL_FLOAT
+/* batch.h */
+#define zw_check_many zw_check_many_f
+#define zw_device_check_many zw_device_check_many_f
+/* coeffs.h */
+#define zw_coeffs_init zw_coeffs_init_f
+#define zw_coeffs_literal zw_coeffs_literal_f
+/* device.h */
+#define zw_device_init zw_device_init_f
+#define zw_device_normalize zw_device_normalize_f
+#define zw_device_check zw_device_check_f
+#define zw_device_check_region zw_device_check_region_f
+#define zw_device_spectral_radius zw_device_spectral_radius_f
+#define zw_device_radius_within zw_device_radius_within_f
+#define zw_device_extremes_compute zw_device_extremes_compute_f
+#define zw_device_k_max zw_device_k_max_f
+#define zw_device_b_range zw_device_b_range_f
+#define zw_device_influence zw_device_influence_f
+/* extremes.h */
+#define zw_extremes_compute zw_extremes_compute_f
+#define zw_hyperbola_top zw_hyperbola_top_f
+#define zw_corner zw_corner_f
+#define zw_alpha_max zw_alpha_max_f
+#define zw_beta_interval zw_beta_interval_f
+/* loop.h */
+#define zw_loop_lowpass_pole zw_loop_lowpass_pole_f
+#define zw_loop_init zw_loop_init_f
+#define zw_loop_poly zw_loop_poly_f
+#define zw_loop_check zw_loop_check_f
+#define zw_loop_radius_within zw_loop_radius_within_f
+#define zw_loop_spectral_radius zw_loop_spectral_radius_f
+/* margin.h */
+#define zw_char_poly zw_char_poly_f
+#define zw_spectral_radius zw_spectral_radius_f
+#define zw_radius_within zw_radius_within_f
+/* region.h */
+#define zw_check zw_check_f
+#define zw_check_region zw_check_region_f
+#define zw_check_proportional zw_check_proportional_f
+/* regmap.h (float on the wire in both builds, but zw_regmap holds a zw_device) */
+#define zw_regmap_init zw_regmap_init_f
+#define zw_regmap_active_gains zw_regmap_active_gains_f
+#define zw_regmap_set_state zw_regmap_set_state_f
+#define zw_regmap_handle_pdu zw_regmap_handle_pdu_f
+#define zw_regmap_read zw_regmap_read_f
+#define zw_regmap_write zw_regmap_write_f
+#define zw_cert_field zw_cert_field_f
+#define zw_cert_set_field zw_cert_set_field_f
+#define zw_cert_encode zw_cert_encode_f
+#define zw_cert_decode zw_cert_decode_f
+#define zw_crc16_words zw_crc16_words_f
+#define zw_float_to_words zw_float_to_words_f
+#define zw_words_to_float zw_words_to_float_f
+#define zw_reason_name zw_reason_name_f
+/* selftest.h */
+#define zw_selftest zw_selftest_f
+#define zw_selftest_failures zw_selftest_failures_f
+/* portable_math.h */
+#define zw_expm1_portable zw_expm1_portable_f
+#define zw_nextafterf_portable zw_nextafterf_portable_f
+/* sim.h (host-only library zwidth_sim_f) */
+#define zw_sim_init zw_sim_init_f
+#define zw_sim_run zw_sim_run_f
+#define zw_sim_judge zw_sim_judge_f
+/* status.h */
+#define zw_status_name zw_status_name_f
+/* library-internal, declared in csrc/src/internal.h */
+#define zw_check_bounded zw_check_bounded_f
+#define zw_radius_within_bounded zw_radius_within_bounded_f
+#endif /* ZW_REAL_FLOAT */
+
+#endif /* ZWIDTH_PRECISION_H */
