@@ -35,7 +35,7 @@ static zw_real hyperbola_scaled(const zw_coeffs *c, zw_real beta)
     return room / (c->g + ZW_R(1.0) / x);
 }
 
-zw_status zw_hyperbola_top(const zw_coeffs *c, zw_real *alpha1, zw_real *beta1)
+static zw_status hyperbola_top(const zw_coeffs *c, zw_real *alpha1, zw_real *beta1)
 {
     zw_real h, q, ratio, y, a1, b1;
     zw_status st = zw_require_coeffs(c, true);
@@ -53,7 +53,14 @@ zw_status zw_hyperbola_top(const zw_coeffs *c, zw_real *alpha1, zw_real *beta1)
     return ZW_OK;
 }
 
-zw_status zw_corner(const zw_coeffs *c, zw_real *alpha2, zw_real *beta2)
+zw_status zw_hyperbola_top(const zw_coeffs *c, zw_real *alpha1, zw_real *beta1)
+{
+    zw_status st = hyperbola_top(c, alpha1, beta1);
+    if (st != ZW_OK) zw_fail_interval(alpha1, beta1, NULL);
+    return st;
+}
+
+static zw_status corner(const zw_coeffs *c, zw_real *alpha2, zw_real *beta2)
 {
     zw_real d, e, r, a2, b2;
     zw_status st = zw_require_coeffs(c, true);
@@ -71,6 +78,13 @@ zw_status zw_corner(const zw_coeffs *c, zw_real *alpha2, zw_real *beta2)
     return ZW_OK;
 }
 
+zw_status zw_corner(const zw_coeffs *c, zw_real *alpha2, zw_real *beta2)
+{
+    zw_status st = corner(c, alpha2, beta2);
+    if (st != ZW_OK) zw_fail_interval(alpha2, beta2, NULL);
+    return st;
+}
+
 /* sup beta (alpha -> 0+), eq (32): min{2/c2, lambda}; also whether the line decides. */
 static zw_real beta_sup(const zw_coeffs *c)
 {
@@ -81,7 +95,7 @@ static zw_real beta_sup(const zw_coeffs *c)
     return c->hs * c->sigma;
 }
 
-zw_status zw_alpha_max(const zw_coeffs *c, zw_real beta, zw_real *alpha_max)
+static zw_status alpha_max_at(const zw_coeffs *c, zw_real beta, zw_real *alpha_max)
 {
     zw_real lambda, f;
     zw_status st = zw_require_coeffs(c, true);
@@ -103,8 +117,15 @@ zw_status zw_alpha_max(const zw_coeffs *c, zw_real beta, zw_real *alpha_max)
     return ZW_OK;
 }
 
-zw_status zw_beta_interval(const zw_coeffs *c, zw_real alpha, zw_real *lo, zw_real *hi,
-                           bool *nonempty)
+zw_status zw_alpha_max(const zw_coeffs *c, zw_real beta, zw_real *alpha_max)
+{
+    zw_status st = alpha_max_at(c, beta, alpha_max);
+    if (st != ZW_OK) zw_fail_real(alpha_max, ZW_R(0.0));
+    return st;
+}
+
+static zw_status beta_interval(const zw_coeffs *c, zw_real alpha, zw_real *lo, zw_real *hi,
+                               bool *nonempty)
 {
     zw_real half_p, a_s2, disc, x_plus_s, x_plus, x_minus, blo, bhi, lambda;
     zw_status st = zw_require_coeffs(c, true);
@@ -134,7 +155,15 @@ zw_status zw_beta_interval(const zw_coeffs *c, zw_real alpha, zw_real *lo, zw_re
     return ZW_OK;
 }
 
-zw_status zw_extremes_compute(const zw_coeffs *c, zw_extremes *out)
+zw_status zw_beta_interval(const zw_coeffs *c, zw_real alpha, zw_real *lo, zw_real *hi,
+                           bool *nonempty)
+{
+    zw_status st = beta_interval(c, alpha, lo, hi, nonempty);
+    if (st != ZW_OK) zw_fail_interval(lo, hi, nonempty);
+    return st;
+}
+
+static zw_status extremes_compute(const zw_coeffs *c, zw_extremes *out)
 {
     zw_extremes x;
     zw_status st = zw_require_coeffs(c, true);
@@ -151,4 +180,15 @@ zw_status zw_extremes_compute(const zw_coeffs *c, zw_extremes *out)
     x.alpha_mmin = ZW_R(0.0);
     *out = x;
     return ZW_OK;
+}
+
+zw_status zw_extremes_compute(const zw_coeffs *c, zw_extremes *out)
+{
+    zw_status st = extremes_compute(c, out);
+    if (st != ZW_OK && out != NULL) {
+        out->alpha_mmax = out->beta_at_alpha_mmax = out->alpha_p_max = ZW_R(0.0);
+        out->beta_mmax = out->beta_mmin = out->alpha_mmin = ZW_R(0.0);
+        out->at_corner = false;
+    }
+    return st;
 }
