@@ -60,10 +60,11 @@ typedef enum zw_region {
 zw_status zw_check(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_verdict *out);
 
 /* Verdict of one of the regions above (each guarded against its own boundary; errors as
- * zw_check, and ZW_ERR_ARG for an unknown region; fail-safe verdict on each).  For every region but EXACT, "stable"
- * means "inside that region": the legacy, delta = 0, delta -> inf and small-delta regions
- * are the paper's comparisons and approximations, and the legacy one contains unstable
- * points for delta > delta0.  Only EXACT (and PASSIVITY, which lies inside it) certify. */
+ * zw_check, and ZW_ERR_ARG for an unknown region; fail-safe verdict on each).  For every
+ * region but EXACT, "stable" means "inside that region": the legacy, delta = 0, delta ->
+ * inf and small-delta regions are the paper's comparisons and approximations, and the
+ * legacy one contains unstable points for delta > delta0.  Only EXACT (and PASSIVITY,
+ * which lies inside it) certify. */
 zw_status zw_check_region(zw_region region, const zw_coeffs *c, zw_real alpha, zw_real beta,
                           zw_verdict *out);
 

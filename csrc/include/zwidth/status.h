@@ -9,7 +9,9 @@
  * (ZW_BOUND_INVALID, region.h), a "within" flag or per-pair flag as false, a limit (K_max,
  * alpha_max, extremes) as 0, a range as empty (lo = hi = 0, nonempty false), a spectral
  * radius as +inf, and a plant, coefficient set or normalized gain as NaN (every later
- * check on it answers ZW_ERR_NAN).  Each header states its functions' fail-safe values.
+ * check on it answers ZW_ERR_NAN).  Each header states its functions' fail-safe values
+ * (and the few outputs that are no verdict, limit or plant and stay untouched, such as
+ * zw_sim_init's *sim).
  */
 #ifndef ZWIDTH_STATUS_H
 #define ZWIDTH_STATUS_H
