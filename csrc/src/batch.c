@@ -36,15 +36,25 @@ static zw_status invalid_at(zw_status st, size_t i, size_t *first_invalid)
     return st;
 }
 
-zw_status zw_check_many(const zw_coeffs *c, size_t n, const zw_real *alpha, ptrdiff_t alpha_stride,
-                        const zw_real *beta, ptrdiff_t beta_stride, bool *stable,
-                        size_t *first_invalid)
+/* On an error no pair has a verdict: every flag the call was asked for is false. */
+static zw_status fail_all(zw_status st, bool *stable, size_t n)
+{
+    size_t i;
+    if (st != ZW_OK && stable != NULL)
+        for (i = 0; i < n; ++i) stable[i] = false;
+    return st;
+}
+
+static zw_status check_many(const zw_coeffs *c, size_t n, const zw_real *alpha, ptrdiff_t alpha_stride,
+                            const zw_real *beta, ptrdiff_t beta_stride, bool *stable,
+                            size_t *first_invalid)
 {
     zw_status st;
     size_t i;
     zw_real coef_err;
     if (n == 0) return ZW_OK;
-    if (c == NULL || alpha == NULL || beta == NULL || stable == NULL) return ZW_ERR_NULL;
+    if (c == NULL || alpha == NULL || beta == NULL || stable == NULL)
+        return invalid_at(ZW_ERR_NULL, 0, first_invalid);
     if ((st = zw_require_coeffs(c, true)) != ZW_OK) return invalid_at(st, 0, first_invalid);
     for (i = 0; i < n; ++i) {
         if ((st = zw_require_finite(alpha[(ptrdiff_t)i * alpha_stride])) != ZW_OK ||
@@ -65,15 +75,24 @@ zw_status zw_check_many(const zw_coeffs *c, size_t n, const zw_real *alpha, ptrd
     return ZW_OK;
 }
 
-zw_status zw_device_check_many(const zw_device *d, size_t n, const zw_real *K, ptrdiff_t K_stride,
-                               const zw_real *B, ptrdiff_t B_stride, bool *stable,
-                               size_t *first_invalid)
+zw_status zw_check_many(const zw_coeffs *c, size_t n, const zw_real *alpha, ptrdiff_t alpha_stride,
+                        const zw_real *beta, ptrdiff_t beta_stride, bool *stable,
+                        size_t *first_invalid)
+{
+    return fail_all(check_many(c, n, alpha, alpha_stride, beta, beta_stride, stable, first_invalid),
+                    stable, n);
+}
+
+static zw_status device_check_many(const zw_device *d, size_t n, const zw_real *K, ptrdiff_t K_stride,
+                                   const zw_real *B, ptrdiff_t B_stride, bool *stable,
+                                   size_t *first_invalid)
 {
     zw_status st;
     size_t i;
     zw_real coef_err;
     if (n == 0) return ZW_OK;
-    if (d == NULL || K == NULL || B == NULL || stable == NULL) return ZW_ERR_NULL;
+    if (d == NULL || K == NULL || B == NULL || stable == NULL)
+        return invalid_at(ZW_ERR_NULL, 0, first_invalid);
     for (i = 0; i < n; ++i) {
         zw_real alpha, beta;
         st = zw_device_normalize(d, K[(ptrdiff_t)i * K_stride], B[(ptrdiff_t)i * B_stride], &alpha, &beta);
@@ -95,4 +114,12 @@ zw_status zw_device_check_many(const zw_device *d, size_t n, const zw_real *K, p
         store_block(stable + i, ok, count);
     }
     return ZW_OK;
+}
+
+zw_status zw_device_check_many(const zw_device *d, size_t n, const zw_real *K, ptrdiff_t K_stride,
+                               const zw_real *B, ptrdiff_t B_stride, bool *stable,
+                               size_t *first_invalid)
+{
+    return fail_all(device_check_many(d, n, K, K_stride, B, B_stride, stable, first_invalid),
+                    stable, n);
 }

@@ -90,8 +90,10 @@ zw_status zw_coeffs_init(zw_coeffs *out, zw_real delta)
 {
     zw_coeffs c;
     if (out == NULL) return ZW_ERR_NULL;
-    if (ZW_IS_NAN(delta)) return ZW_ERR_NAN;
-    if (delta < ZW_R(0.0)) return ZW_ERR_DELTA;
+    if (ZW_IS_NAN(delta) || delta < ZW_R(0.0)) {
+        zw_fail_coeffs(out);
+        return ZW_IS_NAN(delta) ? ZW_ERR_NAN : ZW_ERR_DELTA;
+    }
 
     c.delta = delta;
     c.delta_relerr = ZW_R(0.0);
@@ -135,9 +137,16 @@ zw_status zw_coeffs_init(zw_coeffs *out, zw_real delta)
 zw_status zw_coeffs_literal(zw_real delta, zw_real *c1, zw_real *c2, zw_real *d12)
 {
     zw_real e, dd;
-    if (c1 == NULL || c2 == NULL || d12 == NULL) return ZW_ERR_NULL;
-    if (ZW_IS_NAN(delta)) return ZW_ERR_NAN;
-    if (delta < ZW_R(0.0)) return ZW_ERR_DELTA;
+    zw_status st = ZW_OK;
+    if (c1 == NULL || c2 == NULL || d12 == NULL) st = ZW_ERR_NULL;
+    else if (ZW_IS_NAN(delta)) st = ZW_ERR_NAN;
+    else if (delta < ZW_R(0.0)) st = ZW_ERR_DELTA;
+    if (st != ZW_OK) {
+        zw_fail_real(c1, ZW_NAN);
+        zw_fail_real(c2, ZW_NAN);
+        zw_fail_real(d12, ZW_NAN);
+        return st;
+    }
     if (delta == ZW_R(0.0) || !ZW_IS_FINITE(delta)) { /* 0/0 or inf/inf: give the limits */
         *c1 = *c2 = delta == ZW_R(0.0) ? ZW_R(1.0) : ZW_R(0.0);
         *d12 = ZW_R(0.0);

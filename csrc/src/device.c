@@ -10,7 +10,7 @@ static bool is_normal_positive(zw_real x)
     return x >= ZW_REAL_MIN && x <= ZW_REAL_MAX;
 }
 
-zw_status zw_device_init(zw_device *out, zw_real m, zw_real b, zw_real T)
+static zw_status device_init(zw_device *out, zw_real m, zw_real b, zw_real T)
 {
     zw_device d;
     zw_status st;
@@ -43,12 +43,24 @@ zw_status zw_device_init(zw_device *out, zw_real m, zw_real b, zw_real T)
     return ZW_OK;
 }
 
-zw_status zw_device_normalize(const zw_device *d, zw_real K, zw_real B, zw_real *alpha,
-                              zw_real *beta)
+zw_status zw_device_init(zw_device *out, zw_real m, zw_real b, zw_real T)
+{
+    zw_status st = device_init(out, m, b, T);
+    if (st != ZW_OK && out != NULL) {
+        out->m = out->b = out->T = out->k_scale = out->b_scale = ZW_NAN;
+        zw_fail_coeffs(&out->co);
+    }
+    return st;
+}
+
+/* Also refuses a device a failed zw_device_init left NaN (ZW_ERR_NAN from its delta). */
+static zw_status normalize(const zw_device *d, zw_real K, zw_real B, zw_real *alpha,
+                           zw_real *beta)
 {
     zw_status st;
     zw_real a, bb;
     if (d == NULL || alpha == NULL || beta == NULL) return ZW_ERR_NULL;
+    if ((st = zw_require_coeffs(&d->co, false)) != ZW_OK) return st;
     if ((st = zw_require_finite(K)) != ZW_OK) return st;
     if ((st = zw_require_finite(B)) != ZW_OK) return st;
     a = K / d->k_scale;
@@ -57,6 +69,17 @@ zw_status zw_device_normalize(const zw_device *d, zw_real K, zw_real B, zw_real 
     *alpha = a;
     *beta = bb;
     return ZW_OK;
+}
+
+zw_status zw_device_normalize(const zw_device *d, zw_real K, zw_real B, zw_real *alpha,
+                              zw_real *beta)
+{
+    zw_status st = normalize(d, K, B, alpha, beta);
+    if (st != ZW_OK) {
+        zw_fail_real(alpha, ZW_NAN);
+        zw_fail_real(beta, ZW_NAN);
+    }
+    return st;
 }
 
 /* Normalized gains with the error bounds of their conversion. */
@@ -75,8 +98,11 @@ zw_status zw_device_check_region(zw_region region, const zw_device *d, zw_real K
 {
     zw_gains g;
     zw_status st = normalize_bounded(d, K, B, &g);
-    if (st != ZW_OK) return st;
-    return zw_check_bounded(region, &d->co, &g, out);
+    if (st != ZW_OK) {
+        zw_fail_verdict(out);
+        return st;
+    }
+    return zw_check_bounded(region, &d->co, &g, out); /* fail-safe itself */
 }
 
 zw_status zw_device_check(const zw_device *d, zw_real K, zw_real B, zw_verdict *out)
@@ -88,8 +114,11 @@ zw_status zw_device_spectral_radius(const zw_device *d, zw_real K, zw_real B, zw
 {
     zw_real alpha, beta;
     zw_status st = zw_device_normalize(d, K, B, &alpha, &beta);
-    if (st != ZW_OK) return st;
-    return zw_spectral_radius(&d->co, alpha, beta, rho);
+    if (st != ZW_OK) {
+        zw_fail_real(rho, ZW_INF);
+        return st;
+    }
+    return zw_spectral_radius(&d->co, alpha, beta, rho); /* fail-safe itself */
 }
 
 zw_status zw_device_radius_within(const zw_device *d, zw_real K, zw_real B, zw_real r,
@@ -97,11 +126,14 @@ zw_status zw_device_radius_within(const zw_device *d, zw_real K, zw_real B, zw_r
 {
     zw_gains g;
     zw_status st = normalize_bounded(d, K, B, &g);
-    if (st != ZW_OK) return st;
-    return zw_radius_within_bounded(&d->co, &g, r, within);
+    if (st != ZW_OK) {
+        zw_fail_bool(within);
+        return st;
+    }
+    return zw_radius_within_bounded(&d->co, &g, r, within); /* fail-safe itself */
 }
 
-zw_status zw_device_extremes_compute(const zw_device *d, zw_device_extremes *out)
+static zw_status device_extremes(const zw_device *d, zw_device_extremes *out)
 {
     zw_extremes x;
     zw_real K_mmax, K_p_max, B_mmax, B_at;
@@ -125,7 +157,18 @@ zw_status zw_device_extremes_compute(const zw_device *d, zw_device_extremes *out
     return ZW_OK;
 }
 
-zw_status zw_device_k_max(const zw_device *d, zw_real B, zw_real *K_max)
+zw_status zw_device_extremes_compute(const zw_device *d, zw_device_extremes *out)
+{
+    zw_status st = device_extremes(d, out);
+    if (st != ZW_OK && out != NULL) {
+        out->K_mmax = out->B_at_K_mmax = out->K_p_max = ZW_R(0.0);
+        out->B_mmax = out->B_mmin = out->K_mmin = ZW_R(0.0);
+        out->at_corner = false;
+    }
+    return st;
+}
+
+static zw_status k_max_at(const zw_device *d, zw_real B, zw_real *K_max)
 {
     zw_real alpha, beta, a_max;
     zw_status st;
@@ -138,8 +181,15 @@ zw_status zw_device_k_max(const zw_device *d, zw_real B, zw_real *K_max)
     return ZW_OK;
 }
 
-zw_status zw_device_b_range(const zw_device *d, zw_real K, zw_real *B_lo, zw_real *B_hi,
-                            bool *nonempty)
+zw_status zw_device_k_max(const zw_device *d, zw_real B, zw_real *K_max)
+{
+    zw_status st = k_max_at(d, B, K_max);
+    if (st != ZW_OK) zw_fail_real(K_max, ZW_R(0.0));
+    return st;
+}
+
+static zw_status b_range(const zw_device *d, zw_real K, zw_real *B_lo, zw_real *B_hi,
+                         bool *nonempty)
 {
     zw_real alpha, beta, lo, hi;
     bool any;
@@ -154,6 +204,14 @@ zw_status zw_device_b_range(const zw_device *d, zw_real K, zw_real *B_lo, zw_rea
     *B_hi = hi;
     *nonempty = any;
     return ZW_OK;
+}
+
+zw_status zw_device_b_range(const zw_device *d, zw_real K, zw_real *B_lo, zw_real *B_hi,
+                            bool *nonempty)
+{
+    zw_status st = b_range(d, K, B_lo, B_hi, nonempty);
+    if (st != ZW_OK) zw_fail_interval(B_lo, B_hi, nonempty);
+    return st;
 }
 
 /* Sign of the slope on a curve that falls, rises, falls... across the given breakpoints:
@@ -175,7 +233,7 @@ static zw_trend opposite(zw_trend t)
     return (zw_trend)(-(int)t);
 }
 
-zw_status zw_device_influence(const zw_device *d, zw_influence *out)
+static zw_status influence(const zw_device *d, zw_influence *out)
 {
     static const zw_real k_breaks[2] = {ZW_DELTA_K1, ZW_DELTA_K2};
     static const zw_real b_breaks[2] = {ZW_DELTA_B, ZW_DELTA0};
@@ -228,4 +286,18 @@ zw_status zw_device_influence(const zw_device *d, zw_influence *out)
     out->B_vs_b = piecewise_trend(d->co.delta, beta_breaks, 2, ZW_RISES);
     out->best_m_for_K = out->K_vs_m == ZW_FALLS ? out->m_K2 : d->m;
     return ZW_OK;
+}
+
+zw_status zw_device_influence(const zw_device *d, zw_influence *out)
+{
+    zw_status st = influence(d, out);
+    if (st != ZW_OK && out != NULL) {
+        out->K_mmax = out->B_mmax = out->K_mmax_at_m_K2 = out->K_mmax_at_m_K1 = ZW_R(0.0);
+        out->delta = out->m_K1 = out->m_K2 = out->m_K_match = ZW_NAN;
+        out->T_B = out->T_0 = out->m_0 = out->m_B = out->b_0 = out->b_BB = ZW_NAN;
+        out->best_m_for_K = ZW_NAN;
+        out->K_vs_m = out->K_vs_b = out->K_vs_T = ZW_TREND_UNKNOWN;
+        out->B_vs_m = out->B_vs_b = out->B_vs_T = ZW_TREND_UNKNOWN;
+    }
+    return st;
 }

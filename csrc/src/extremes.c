@@ -35,10 +35,15 @@ static zw_real hyperbola_scaled(const zw_coeffs *c, zw_real beta)
     return room / (c->g + ZW_R(1.0) / x);
 }
 
+/* Each function below first writes its fail-safe outputs (status.h: limits 0, ranges
+ * empty), which every error return leaves and success overwrites. */
+
 zw_status zw_hyperbola_top(const zw_coeffs *c, zw_real *alpha1, zw_real *beta1)
 {
     zw_real h, q, ratio, y, a1, b1;
-    zw_status st = zw_require_coeffs(c, true);
+    zw_status st;
+    zw_fail_interval(alpha1, beta1, NULL);
+    st = zw_require_coeffs(c, true);
     if (st != ZW_OK) return st;
     if (alpha1 == NULL || beta1 == NULL) return ZW_ERR_NULL;
     h = c->hs * c->sigma;
@@ -56,7 +61,9 @@ zw_status zw_hyperbola_top(const zw_coeffs *c, zw_real *alpha1, zw_real *beta1)
 zw_status zw_corner(const zw_coeffs *c, zw_real *alpha2, zw_real *beta2)
 {
     zw_real d, e, r, a2, b2;
-    zw_status st = zw_require_coeffs(c, true);
+    zw_status st;
+    zw_fail_interval(alpha2, beta2, NULL);
+    st = zw_require_coeffs(c, true);
     if (st != ZW_OK) return st;
     if (alpha2 == NULL || beta2 == NULL) return ZW_ERR_NULL;
     d = c->delta;
@@ -84,14 +91,13 @@ static zw_real beta_sup(const zw_coeffs *c)
 zw_status zw_alpha_max(const zw_coeffs *c, zw_real beta, zw_real *alpha_max)
 {
     zw_real lambda, f;
-    zw_status st = zw_require_coeffs(c, true);
+    zw_status st;
+    zw_fail_real(alpha_max, ZW_R(0.0)); /* also the answer outside (-delta, beta_mmax) */
+    st = zw_require_coeffs(c, true);
     if (st != ZW_OK) return st;
     if (alpha_max == NULL) return ZW_ERR_NULL;
     if ((st = zw_require_finite(beta)) != ZW_OK) return st;
-    if (!(beta + c->delta > ZW_R(0.0)) || !(beta < beta_sup(c))) {
-        *alpha_max = ZW_R(0.0);
-        return ZW_OK;
-    }
+    if (!(beta + c->delta > ZW_R(0.0)) || !(beta < beta_sup(c))) return ZW_OK;
     f = hyperbola_scaled(c, beta);
     if (line_crossing(c, &lambda)) {
         zw_real line_scaled = ZW_R(2.0) * (lambda / c->sigma - beta / c->sigma);
@@ -107,12 +113,12 @@ zw_status zw_beta_interval(const zw_coeffs *c, zw_real alpha, zw_real *lo, zw_re
                            bool *nonempty)
 {
     zw_real half_p, a_s2, disc, x_plus_s, x_plus, x_minus, blo, bhi, lambda;
-    zw_status st = zw_require_coeffs(c, true);
+    zw_status st;
+    zw_fail_interval(lo, hi, nonempty); /* also the answer when no beta is stable */
+    st = zw_require_coeffs(c, true);
     if (st != ZW_OK) return st;
     if (lo == NULL || hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
     if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
-    *nonempty = false;
-    *lo = *hi = ZW_R(0.0);
     if (!(alpha > ZW_R(0.0))) return ZW_OK;
     /* Hyperbola in x = beta + delta: x^2 - P x + alpha < 0 with P = h + delta - alpha g;
      * everything divided by sigma (x by sigma, alpha by sigma^2). */
@@ -137,7 +143,13 @@ zw_status zw_beta_interval(const zw_coeffs *c, zw_real alpha, zw_real *lo, zw_re
 zw_status zw_extremes_compute(const zw_coeffs *c, zw_extremes *out)
 {
     zw_extremes x;
-    zw_status st = zw_require_coeffs(c, true);
+    zw_status st;
+    if (out != NULL) {
+        out->alpha_mmax = out->beta_at_alpha_mmax = out->alpha_p_max = ZW_R(0.0);
+        out->beta_mmax = out->beta_mmin = out->alpha_mmin = ZW_R(0.0);
+        out->at_corner = false;
+    }
+    st = zw_require_coeffs(c, true);
     if (st != ZW_OK) return st;
     if (out == NULL) return ZW_ERR_NULL;
     x.at_corner = c->delta > ZW_DELTA1;

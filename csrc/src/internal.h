@@ -143,6 +143,59 @@ static inline zw_real zw_coef_e_abserr(const zw_coeffs *c)
     return zw_coef_relerr(c) * c->e + ZW_R(0.5) * c->delta_relerr + ZW_ETA;
 }
 
+/* ---- Fail-safe outputs (status.h): what a failed call writes ------------------------ */
+
+/* A quiet NaN: unknown values (coefficients, normalized gains, advice) that every check
+ * refuses with ZW_ERR_NAN.  NAN is optional in C99; the fallback is 0/0 at run time. */
+#ifdef NAN
+#define ZW_NAN ((zw_real)NAN)
+#else
+static inline zw_real zw_nan_fallback(void)
+{
+    volatile zw_real zero = ZW_R(0.0); /* volatile: no constant folding of 0/0 */
+    return zero / zero;
+}
+#define ZW_NAN (zw_nan_fallback())
+#endif
+/* +inf: a spectral radius that certifies nothing (rho >= 1). */
+#define ZW_INF ((zw_real)HUGE_VAL)
+
+/* The verdict of a failed check: not stable, not marginal, no constraint blamed. */
+static inline void zw_fail_verdict(zw_verdict *out)
+{
+    if (out == NULL) return;
+    out->stable = false;
+    out->marginal = false;
+    out->deciding = ZW_BOUND_INVALID;
+    out->violated = (uint_least16_t)ZW_BOUND_INVALID;
+}
+
+static inline void zw_fail_real(zw_real *out, zw_real value)
+{
+    if (out != NULL) *out = value;
+}
+
+static inline void zw_fail_bool(bool *out)
+{
+    if (out != NULL) *out = false;
+}
+
+/* An empty interval: lo = hi = 0, nonempty false. */
+static inline void zw_fail_interval(zw_real *lo, zw_real *hi, bool *nonempty)
+{
+    zw_fail_real(lo, ZW_R(0.0));
+    zw_fail_real(hi, ZW_R(0.0));
+    zw_fail_bool(nonempty);
+}
+
+/* Every field NaN: a later check on it answers ZW_ERR_NAN. */
+static inline void zw_fail_coeffs(zw_coeffs *out)
+{
+    if (out == NULL) return;
+    out->delta = out->e = out->c1 = out->c2 = out->d12 = ZW_NAN;
+    out->s = out->g = out->sigma = out->hs = out->delta_relerr = ZW_NAN;
+}
+
 /* Validate one finite real input: ZW_ERR_NAN / ZW_ERR_INF, else ZW_OK. */
 static inline zw_status zw_require_finite(zw_real x)
 {

@@ -42,7 +42,7 @@ static zw_status check_inputs(const zw_coeffs *c, zw_real alpha, zw_real beta)
     return zw_require_finite(beta);
 }
 
-zw_status zw_char_poly(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real p[4])
+static zw_status char_poly_checked(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real p[4])
 {
     zw_eb a[3];
     zw_gains g = zw_gains_exact(alpha, beta);
@@ -56,6 +56,13 @@ zw_status zw_char_poly(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real 
     p[2] = a[1].v;
     p[3] = a[2].v;
     return ZW_OK;
+}
+
+zw_status zw_char_poly(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real p[4])
+{
+    zw_status st = char_poly_checked(c, alpha, beta, p);
+    if (st != ZW_OK && p != NULL) p[0] = p[1] = p[2] = p[3] = ZW_NAN;
+    return st;
 }
 
 /* ---- spectral radius --------------------------------------------------------------- */
@@ -111,7 +118,7 @@ static zw_real quadratic_radius(zw_real p, zw_real q)
     return big >= ZW_FABS(q) / big ? big : ZW_FABS(q) / big;
 }
 
-zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real *rho)
+static zw_status spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real *rho)
 {
     zw_eb a[3];
     zw_real A, B, C, r, p, q, rq; /* rq: largest modulus found so far */
@@ -138,6 +145,13 @@ zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw
     return ZW_OK;
 }
 
+zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real *rho)
+{
+    zw_status st = spectral_radius(c, alpha, beta, rho);
+    if (st != ZW_OK) zw_fail_real(rho, ZW_INF);
+    return st;
+}
+
 /* ---- Jury test on p(r z) ------------------------------------------------------------- */
 
 /* The four Jury conditions on q(z) = 2 z^3 + b2 z^2 + b1 z + b0, each required surely:
@@ -162,8 +176,7 @@ static bool jury_surely(const zw_eb b[3])
     return zw_eb_compare(lhs, rhs) == ZW_CMP_LT;
 }
 
-zw_status zw_radius_within_bounded(const zw_coeffs *c, const zw_gains *g, zw_real r,
-                                   bool *within)
+static zw_status radius_within(const zw_coeffs *c, const zw_gains *g, zw_real r, bool *within)
 {
     zw_eb b[3], r_eb;
     zw_status st = check_inputs(c, g->alpha.v, g->beta.v);
@@ -179,6 +192,14 @@ zw_status zw_radius_within_bounded(const zw_coeffs *c, const zw_gains *g, zw_rea
     b[2] = zw_eb_div(zw_eb_div(zw_eb_div(b[2], r_eb), r_eb), r_eb);
     *within = jury_surely(b);
     return ZW_OK;
+}
+
+zw_status zw_radius_within_bounded(const zw_coeffs *c, const zw_gains *g, zw_real r,
+                                   bool *within)
+{
+    zw_status st = radius_within(c, g, r, within);
+    if (st != ZW_OK) zw_fail_bool(within);
+    return st;
 }
 
 zw_status zw_radius_within(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real r,

@@ -86,8 +86,8 @@ static const zw_coeffs k_delta_zero = {
     .delta = ZW_R(0.0), .e = ZW_R(1.0), .c1 = ZW_R(1.0), .c2 = ZW_R(1.0), .d12 = ZW_R(0.0),
     .s = ZW_R(2.0), .g = ZW_R(0.5), .sigma = ZW_R(1.0), .hs = ZW_R(2.0), .delta_relerr = ZW_R(0.0)};
 
-zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, const zw_gains *g,
-                           zw_verdict *out)
+static zw_status check_bounded(zw_region region, const zw_coeffs *c, const zw_gains *g,
+                               zw_verdict *out)
 {
     verdict_builder vb = {0, 0};
     zw_status st;
@@ -117,6 +117,15 @@ zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, const zw_gains 
     }
     finish(&vb, out);
     return ZW_OK;
+}
+
+/* Every public check ends here: the one place the fail-safe verdict is written. */
+zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, const zw_gains *g,
+                           zw_verdict *out)
+{
+    zw_status st = check_bounded(region, c, g, out);
+    if (st != ZW_OK) zw_fail_verdict(out);
+    return st;
 }
 
 zw_status zw_check_region(zw_region region, const zw_coeffs *c, zw_real alpha, zw_real beta,

@@ -360,8 +360,15 @@ static zw_reason seal_staged(zw_regmap *rm)
         staged_float(rm, F_B_MAX) < -staged_float(rm, F_DB_MAX))
         return ZW_REASON_BAD_POLICY;
     if (zw_device_init(&rm->device, (zw_real)staged_float(rm, F_M), (zw_real)staged_float(rm, F_B),
-                       (zw_real)staged_float(rm, F_T)) != ZW_OK)
+                       (zw_real)staged_float(rm, F_T)) != ZW_OK) {
+        /* zw_device_init wrote a NaN plant (fail-safe); the sealed block stays in force, so
+         * its plant is put back (it was valid when it was sealed) */
+        if (rm->is_sealed)
+            (void)zw_device_init(&rm->device, (zw_real)zw_cert_field(&rm->sealed, F_M),
+                                 (zw_real)zw_cert_field(&rm->sealed, F_B),
+                                 (zw_real)zw_cert_field(&rm->sealed, F_T));
         return ZW_REASON_BAD_POLICY;
+    }
     for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, staged_float(rm, i));
     rm->is_sealed = 1u;
     rm->mode = 0u;

@@ -542,7 +542,7 @@ static zw_real peak_to_peak(const zw_real *x, size_t n) {
     return hi - lo;
 }
 
-zw_status zw_sim_judge(const zw_real *x, size_t n, size_t window, size_t windows,
+static zw_status judge(const zw_real *x, size_t n, size_t window, size_t windows,
                        zw_real tolerance, zw_sim_verdict *out) {
     zw_sim_verdict r;
     size_t i;
@@ -585,4 +585,15 @@ zw_status zw_sim_judge(const zw_real *x, size_t n, size_t window, size_t windows
     }
     *out = r;
     return ZW_OK;
+}
+
+zw_status zw_sim_judge(const zw_real *x, size_t n, size_t window, size_t windows,
+                       zw_real tolerance, zw_sim_verdict *out) {
+    const zw_status st = judge(x, n, window, windows, tolerance, out);
+    if (st != ZW_OK && out != NULL) { /* fail-safe (sim.h): no answer, never "stable" */
+        out->outcome = ZW_SIM_UNDECIDED;
+        out->amplitude_first = out->amplitude_last = out->growth = ZW_SIM_INF;
+        out->first_nonfinite = 0;
+    }
+    return st;
 }

@@ -259,8 +259,8 @@ static void test_delta_infinite(void **state)
 }
 
 /* Errors: NaN -> ZW_ERR_NAN, negative -> ZW_ERR_DELTA, NULL -> ZW_ERR_NULL; the output is
- * left byte-for-byte untouched. */
-static void test_errors_leave_output_untouched(void **state)
+ * fail-safe: every field NaN, and a check on it refuses with ZW_ERR_NAN. */
+static void test_errors_leave_output_nan(void **state)
 {
     static const struct {
         zw_real delta;
@@ -274,11 +274,12 @@ static void test_errors_leave_output_untouched(void **state)
     size_t i;
     (void)state;
     for (i = 0; i < ZWT_ARRAY_LEN(cases); ++i) {
-        zw_coeffs out, before;
-        memset(&out, ZWT_SENTINEL, sizeof out);
-        memcpy(&before, &out, sizeof out);
+        zw_coeffs out = zwt_coeffs(R(1.0)); /* a valid plant must not survive */
+        zw_verdict v;
         EXPECT_STATUS(zw_coeffs_init(&out, cases[i].delta), cases[i].want);
-        assert_memory_equal(&out, &before, sizeof out);
+        assert_true(zwt_all_nan_coeffs(&out));
+        EXPECT_STATUS(zw_check(&out, R(0.1), R(0.1), &v), ZW_ERR_NAN);
+        assert_true(zwt_failsafe_verdict(&v));
     }
     EXPECT_STATUS(zw_coeffs_init(NULL, R(1.0)), ZW_ERR_NULL);
     EXPECT_STATUS(zw_coeffs_init(NULL, (zw_real)NAN), ZW_ERR_NULL);
@@ -303,8 +304,10 @@ static void test_literal(void **state)
     }
     c1 = c2 = d12 = R(7.0);
     EXPECT_STATUS(zw_coeffs_literal((zw_real)NAN, &c1, &c2, &d12), ZW_ERR_NAN);
+    assert_true(isnan(c1) && isnan(c2) && isnan(d12));
+    c1 = c2 = d12 = R(7.0);
     EXPECT_STATUS(zw_coeffs_literal(R(-1.0), &c1, &c2, &d12), ZW_ERR_DELTA);
-    assert_true(c1 == R(7.0) && c2 == R(7.0) && d12 == R(7.0));
+    assert_true(isnan(c1) && isnan(c2) && isnan(d12));
     EXPECT_STATUS(zw_coeffs_literal(R(1.0), NULL, &c2, &d12), ZW_ERR_NULL);
     EXPECT_STATUS(zw_coeffs_literal(R(1.0), &c1, NULL, &d12), ZW_ERR_NULL);
     EXPECT_STATUS(zw_coeffs_literal(R(1.0), &c1, &c2, NULL), ZW_ERR_NULL);
@@ -396,7 +399,7 @@ int main(void)
         cmocka_unit_test(test_large_delta),
         cmocka_unit_test(test_finite_fields),
         cmocka_unit_test(test_delta_infinite),
-        cmocka_unit_test(test_errors_leave_output_untouched),
+        cmocka_unit_test(test_errors_leave_output_nan),
         cmocka_unit_test(test_literal),
         cmocka_unit_test(test_switch_continuity),
         cmocka_unit_test(test_reentrancy),

@@ -86,10 +86,9 @@ static void test_char_poly_definition(void **state)
 static void test_char_poly_errors(void **state)
 {
     zw_coeffs c = zwt_coeffs(R(1.0)), cinf = zwt_coeffs((zw_real)INFINITY);
-    zw_real p[4], before[4];
+    zw_real p[4];
     (void)state;
     memset(p, ZWT_SENTINEL, sizeof p);
-    memcpy(before, p, sizeof p);
     EXPECT_STATUS(zw_char_poly(NULL, R(1.0), R(0.0), p), ZW_ERR_NULL);
     EXPECT_STATUS(zw_char_poly(&c, R(1.0), R(0.0), NULL), ZW_ERR_NULL);
     EXPECT_STATUS(zw_char_poly(&c, (zw_real)NAN, R(0.0), p), ZW_ERR_NAN);
@@ -99,7 +98,7 @@ static void test_char_poly_errors(void **state)
     EXPECT_STATUS(zw_char_poly(&cinf, R(1.0), R(0.0), p), ZW_ERR_INF);
     /* alpha + beta overflows: a1 is not finite */
     EXPECT_STATUS(zw_char_poly(&c, ZW_REAL_MAX, ZW_REAL_MAX, p), ZW_ERR_RANGE);
-    assert_memory_equal(p, before, sizeof p);
+    assert_true(isnan(p[0]) && isnan(p[1]) && isnan(p[2]) && isnan(p[3])); /* fail-safe */
 }
 
 /* ---- spectral radius on known roots ------------------------------------------------------- */
@@ -194,7 +193,7 @@ static void test_radius_errors(void **state)
     EXPECT_STATUS(zw_spectral_radius(&c, R(0.0), -(zw_real)INFINITY, &rho), ZW_ERR_INF);
     EXPECT_STATUS(zw_spectral_radius(&cinf, R(1.0), R(0.0), &rho), ZW_ERR_INF);
     EXPECT_STATUS(zw_spectral_radius(&c, ZW_REAL_MAX, ZW_REAL_MAX, &rho), ZW_ERR_RANGE);
-    assert_true(rho == R(7.0));
+    assert_true(isinf(rho) && rho > R(0.0)); /* fail-safe: certifies nothing */
 }
 
 /* ---- Jury test on p(r z) ------------------------------------------------------------------ */
@@ -290,7 +289,7 @@ static void test_radius_within_errors(void **state)
     EXPECT_STATUS(zw_radius_within(&c, R(1.0), (zw_real)INFINITY, R(1.0), &within), ZW_ERR_INF);
     EXPECT_STATUS(zw_radius_within(NULL, R(1.0), R(0.0), R(1.0), &within), ZW_ERR_NULL);
     EXPECT_STATUS(zw_radius_within(&c, R(1.0), R(0.0), R(1.0), NULL), ZW_ERR_NULL);
-    assert_true(within); /* untouched */
+    assert_false(within); /* fail-safe */
     within = false;
     EXPECT_STATUS(zw_radius_within(&c, R(1.0), R(0.0), R(-1.0), &within), ZW_ERR_ARG);
     assert_false(within);

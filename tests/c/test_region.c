@@ -412,12 +412,11 @@ static void test_proportional_is_beta_zero(void **state)
 
 static void expect_check_error(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_status want)
 {
-    zw_verdict out, before;
+    zw_verdict out;
     int r;
     memset(&out, ZWT_SENTINEL, sizeof out);
-    memcpy(&before, &out, sizeof out);
     EXPECT_STATUS(zw_check(c, alpha, beta, &out), want);
-    assert_memory_equal(&out, &before, sizeof out);
+    assert_true(zwt_failsafe_verdict(&out));
     for (r = ZW_REGION_EXACT; r <= ZW_REGION_SMALL; ++r) {
         /* hs = +inf (ZW_ERR_RANGE) matters only to the regions that use it, exact and legacy */
         if (want == ZW_ERR_RANGE && r != ZW_REGION_EXACT && r != ZW_REGION_LEGACY) {
@@ -425,12 +424,14 @@ static void expect_check_error(const zw_coeffs *c, zw_real alpha, zw_real beta, 
             EXPECT_OK(zw_check_region((zw_region)r, c, alpha, beta, &other));
             continue;
         }
+        memset(&out, ZWT_SENTINEL, sizeof out);
         EXPECT_STATUS(zw_check_region((zw_region)r, c, alpha, beta, &out), want);
-        assert_memory_equal(&out, &before, sizeof out);
+        assert_true(zwt_failsafe_verdict(&out));
     }
     if (beta == R(0.0)) {
+        memset(&out, ZWT_SENTINEL, sizeof out);
         EXPECT_STATUS(zw_check_proportional(c, alpha, &out), want);
-        assert_memory_equal(&out, &before, sizeof out);
+        assert_true(zwt_failsafe_verdict(&out));
     }
 }
 
@@ -475,15 +476,14 @@ static void test_bad_delta_relerr(void **state)
 static void test_bad_region(void **state)
 {
     zw_coeffs c = zwt_coeffs(R(1.0));
-    zw_verdict out, before;
+    zw_verdict out;
     static const int bad[] = {ZW_REGION_SMALL + 1, 42, -1};
     size_t i;
     (void)state;
     for (i = 0; i < ZWT_ARRAY_LEN(bad); ++i) {
         memset(&out, ZWT_SENTINEL, sizeof out);
-        memcpy(&before, &out, sizeof out);
         EXPECT_STATUS(zw_check_region((zw_region)bad[i], &c, R(0.5), R(0.5), &out), ZW_ERR_ARG);
-        assert_memory_equal(&out, &before, sizeof out);
+        assert_true(zwt_failsafe_verdict(&out));
     }
 }
 

@@ -1236,28 +1236,45 @@ static void test_judge_nonfinite(void **state)
     }
 }
 
-/* Argument errors, *out untouched (NaN / inf tolerances: ZW_ERR_NAN / ZW_ERR_INF). */
+/* The fail-safe verdict of a failed zw_sim_judge (sim.h): never STABLE. */
+static void expect_judge_failsafe(const zw_sim_verdict *v)
+{
+    assert_int_equal(v->outcome, ZW_SIM_UNDECIDED);
+    assert_true(isinf(v->amplitude_first) && isinf(v->amplitude_last) && isinf(v->growth));
+    assert_true(v->first_nonfinite == 0u);
+}
+
+/* Argument errors (NaN / inf tolerances: ZW_ERR_NAN / ZW_ERR_INF); each writes the
+ * fail-safe verdict over a STABLE one. */
 static void test_judge_errors(void **state)
 {
     zw_real x[100];
-    zw_sim_verdict v, before;
+    zw_sim_verdict v, stable;
     size_t k;
     (void)state;
+    for (k = 0; k < 100; ++k) x[k] = R(0.0);
+    EXPECT_OK(zw_sim_judge(x, 100, 10, 2, R(0.0), &stable)); /* motionless: STABLE */
+    assert_int_equal(stable.outcome, ZW_SIM_STABLE);
     for (k = 0; k < 100; ++k) x[k] = (zw_real)k;
-    memset(&v, ZWT_SENTINEL, sizeof v);
-    before = v;
-    EXPECT_STATUS(zw_sim_judge(NULL, 100, 10, 2, R(0.0), &v), ZW_ERR_NULL);
+#define ZWT_JUDGE_ERROR(call, want)                                                              \
+    do {                                                                                         \
+        v = stable;                                                                              \
+        EXPECT_STATUS(call, want);                                                               \
+        expect_judge_failsafe(&v);                                                               \
+    } while (0)
+    ZWT_JUDGE_ERROR(zw_sim_judge(NULL, 100, 10, 2, R(0.0), &v), ZW_ERR_NULL);
     EXPECT_STATUS(zw_sim_judge(x, 100, 10, 2, R(0.0), NULL), ZW_ERR_NULL);
-    EXPECT_STATUS(zw_sim_judge(x, 100, 0, 2, R(0.0), &v), ZW_ERR_ARG);
-    EXPECT_STATUS(zw_sim_judge(x, 100, 10, 1, R(0.0), &v), ZW_ERR_ARG);
-    EXPECT_STATUS(zw_sim_judge(x, 100, 10, 0, R(0.0), &v), ZW_ERR_ARG);
-    EXPECT_STATUS(zw_sim_judge(x, 100, 34, 3, R(0.0), &v), ZW_ERR_ARG);  /* 102 > 100 */
-    EXPECT_STATUS(zw_sim_judge(x, 0, 1, 2, R(0.0), &v), ZW_ERR_ARG);
-    EXPECT_STATUS(zw_sim_judge(x, 100, (size_t)-1, 2, R(0.0), &v), ZW_ERR_ARG); /* overflow */
-    EXPECT_STATUS(zw_sim_judge(x, 100, 10, 2, R(-1e-30), &v), ZW_ERR_ARG);
-    EXPECT_STATUS(zw_sim_judge(x, 100, 10, 2, R(NAN), &v), ZW_ERR_NAN);
-    EXPECT_STATUS(zw_sim_judge(x, 100, 10, 2, (zw_real)INFINITY, &v), ZW_ERR_INF);
-    assert_memory_equal(&v, &before, sizeof v);
+    ZWT_JUDGE_ERROR(zw_sim_judge(x, 100, 0, 2, R(0.0), &v), ZW_ERR_ARG);
+    ZWT_JUDGE_ERROR(zw_sim_judge(x, 100, 10, 1, R(0.0), &v), ZW_ERR_ARG);
+    ZWT_JUDGE_ERROR(zw_sim_judge(x, 100, 10, 0, R(0.0), &v), ZW_ERR_ARG);
+    ZWT_JUDGE_ERROR(zw_sim_judge(x, 100, 34, 3, R(0.0), &v), ZW_ERR_ARG);  /* 102 > 100 */
+    ZWT_JUDGE_ERROR(zw_sim_judge(x, 0, 1, 2, R(0.0), &v), ZW_ERR_ARG);
+    ZWT_JUDGE_ERROR(zw_sim_judge(x, 100, (size_t)-1, 2, R(0.0), &v), ZW_ERR_ARG); /* overflow */
+    ZWT_JUDGE_ERROR(zw_sim_judge(x, 100, 10, 2, R(-1e-30), &v), ZW_ERR_ARG);
+    ZWT_JUDGE_ERROR(zw_sim_judge(x, 100, 10, 2, R(NAN), &v), ZW_ERR_NAN);
+    ZWT_JUDGE_ERROR(zw_sim_judge(x, 100, 10, 2, (zw_real)INFINITY, &v), ZW_ERR_INF);
+    ZWT_JUDGE_ERROR(zw_sim_judge(x, 100, 10, 2, -(zw_real)INFINITY, &v), ZW_ERR_INF);
+#undef ZWT_JUDGE_ERROR
     EXPECT_OK(zw_sim_judge(x, 100, 50, 2, R(0.0), &v)); /* exactly n */
     assert_int_equal(v.outcome, ZW_SIM_UNSTABLE);      /* a drift */
 }

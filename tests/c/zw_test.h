@@ -184,6 +184,26 @@ static inline bool zwt_same_verdict(const zw_verdict *a, const zw_verdict *b)
            a->violated == b->violated;
 }
 
+/* ---- fail-safe outputs (status.h) ------------------------------------------------- */
+
+/* The verdict every failed check writes. */
+static inline bool zwt_failsafe_verdict(const zw_verdict *v)
+{
+    return !v->stable && !v->marginal && v->deciding == ZW_BOUND_INVALID &&
+           v->violated == (uint_least16_t)ZW_BOUND_INVALID;
+}
+
+/* Every field of a coefficient set a failed zw_coeffs_init writes is NaN. */
+static inline bool zwt_all_nan_coeffs(const zw_coeffs *c)
+{
+    const zw_real f[] = {c->delta, c->e, c->c1, c->c2, c->d12, c->s, c->g, c->sigma, c->hs,
+                         c->delta_relerr};
+    size_t i;
+    for (i = 0; i < ZWT_ARRAY_LEN(f); ++i)
+        if (!isnan(f[i])) return false;
+    return true;
+}
+
 /* The deltas the brief and shared/notes/math.md single out, for sweeps. */
 #define ZWT_SWEEP_DELTAS                                                                          \
     {                                                                                            \

@@ -7,12 +7,14 @@ uint_least16_t is c_uint16, enums are c_int).  The libraries are looked up in $Z
 that the tests never restate them.
 
 Every wrapper returns (status, outputs...) and pre-fills its output buffers with the byte
-pattern SENTINEL, so `zw.untouched()` can tell whether the last call wrote anything (the
-"outputs untouched on error" contract of status.h).
+pattern SENTINEL, so `zw.untouched()` can tell whether the last call wrote anything, and
+`zw.failsafe()` whether it wrote the fail-safe values status.h promises on error (verdicts
+not stable, limits 0, ranges empty, rho +inf, plants and gains NaN).
 """
 from __future__ import annotations
 
 import ctypes
+import math
 import os
 import re
 from ctypes import POINTER, byref, c_bool, c_char_p, c_int, c_uint16
@@ -91,6 +93,55 @@ def _structs(real):
                     + [("best_m_for_K", real)])
 
     return Coeffs, Verdict, Extremes, Device, DeviceExtremes, Influence
+
+
+_INFLUENCE_LIMITS = ("K_mmax", "B_mmax", "K_mmax_at_m_K2", "K_mmax_at_m_K1")
+
+
+def _leaves(obj):
+    """(name, value) of every scalar in a ctypes struct, array or simple value."""
+    if isinstance(obj, ctypes.Structure):
+        for name, _ in obj._fields_:
+            v = getattr(obj, name)
+            if isinstance(v, (ctypes.Structure, ctypes.Array)):
+                yield from ((f"{name}.{n}", x) for n, x in _leaves(v))
+            else:
+                yield name, v
+    elif isinstance(obj, ctypes.Array):
+        yield from ((str(i), x) for i, x in enumerate(obj))
+    else:
+        yield "", obj.value
+
+
+def _is_failsafe(obj, kind):
+    """Does obj hold the fail-safe value of its kind (see ZW._out)?"""
+    if kind == "verdict":
+        bad = E["ZW_BOUND_INVALID"]
+        return (obj.stable, obj.marginal, obj.deciding, obj.violated) == (False, False, bad, bad)
+    if kind == "influence":
+        unknown = E["ZW_TREND_UNKNOWN"]
+        for name, v in _leaves(obj):
+            if name in _INFLUENCE_LIMITS:
+                ok = v == 0
+            elif name.endswith("_vs_m") or name.endswith("_vs_b") or name.endswith("_vs_T"):
+                ok = v == unknown
+            else:
+                ok = math.isnan(v)
+            if not ok:
+                return False
+        return True
+    for _, v in _leaves(obj):
+        if isinstance(v, bool):
+            ok = v is False
+        elif kind == "nan":
+            ok = math.isnan(v)
+        elif kind == "inf":
+            ok = v == math.inf
+        else:
+            ok = v == 0 and kind in ("zero", "false")
+        if not ok:
+            return False
+    return True
 
 
 def as_dict(s):
@@ -183,10 +234,12 @@ class ZW:
         with np.errstate(over="ignore"):
             return float(self.np(x))
 
-    def _out(self, ctype):
+    def _out(self, ctype, failsafe):
+        """A sentinel-filled output whose fail-safe value is `failsafe`: "nan", "zero" (every
+        real 0, every flag false), "inf", "false", "verdict" or "influence"."""
         obj = ctype()
         ctypes.memset(byref(obj), SENTINEL, ctypes.sizeof(obj))
-        self._outs.append(obj)
+        self._outs.append((obj, failsafe))
         return obj
 
     def _begin(self):
@@ -194,7 +247,11 @@ class ZW:
 
     def untouched(self):
         """True iff every output buffer of the last call still holds the sentinel bytes."""
-        return all(bytes(memoryview(o).cast("B")) == bytes([SENTINEL]) * ctypes.sizeof(o) for o in self._outs)
+        return all(bytes(memoryview(o).cast("B")) == bytes([SENTINEL]) * ctypes.sizeof(o) for o, _ in self._outs)
+
+    def failsafe(self):
+        """True iff every output of the last call holds its fail-safe value (status.h)."""
+        return all(_is_failsafe(o, kind) for o, kind in self._outs)
 
     def status_name(self, st):
         return self.lib.zw_status_name(st).decode()
@@ -203,12 +260,12 @@ class ZW:
 
     def coeffs(self, delta):
         self._begin()
-        co = self._out(self.Coeffs)
+        co = self._out(self.Coeffs, "nan")
         return self.lib.zw_coeffs_init(byref(co), delta), co
 
     def coeffs_literal(self, delta):
         self._begin()
-        a, b, c = self._out(self.real), self._out(self.real), self._out(self.real)
+        a, b, c = (self._out(self.real, "nan") for _ in range(3))
         st = self.lib.zw_coeffs_literal(delta, byref(a), byref(b), byref(c))
         return st, a.value, b.value, c.value
 
@@ -216,17 +273,17 @@ class ZW:
 
     def check(self, co, alpha, beta):
         self._begin()
-        v = self._out(self.Verdict)
+        v = self._out(self.Verdict, "verdict")
         return self.lib.zw_check(byref(co), alpha, beta, byref(v)), v
 
     def check_region(self, region, co, alpha, beta):
         self._begin()
-        v = self._out(self.Verdict)
+        v = self._out(self.Verdict, "verdict")
         return self.lib.zw_check_region(region, byref(co), alpha, beta, byref(v)), v
 
     def check_proportional(self, co, alpha):
         self._begin()
-        v = self._out(self.Verdict)
+        v = self._out(self.Verdict, "verdict")
         return self.lib.zw_check_proportional(byref(co), alpha, byref(v)), v
 
     def check_many(self, co, alphas, betas, region=None):
@@ -257,44 +314,44 @@ class ZW:
 
     def char_poly(self, co, alpha, beta):
         self._begin()
-        p = self._out(self.real * 4)
+        p = self._out(self.real * 4, "nan")
         return self.lib.zw_char_poly(byref(co), alpha, beta, p), list(p)
 
     def spectral_radius(self, co, alpha, beta):
         self._begin()
-        rho = self._out(self.real)
+        rho = self._out(self.real, "inf")
         return self.lib.zw_spectral_radius(byref(co), alpha, beta, byref(rho)), rho.value
 
     def radius_within(self, co, alpha, beta, r):
         self._begin()
-        w = self._out(c_bool)
+        w = self._out(c_bool, "false")
         return self.lib.zw_radius_within(byref(co), alpha, beta, r, byref(w)), w.value
 
     # -- extremes.h ----------------------------------------------------------------------
 
     def extremes(self, co):
         self._begin()
-        x = self._out(self.Extremes)
+        x = self._out(self.Extremes, "zero")
         return self.lib.zw_extremes_compute(byref(co), byref(x)), x
 
     def hyperbola_top(self, co):
         self._begin()
-        a, b = self._out(self.real), self._out(self.real)
+        a, b = self._out(self.real, "zero"), self._out(self.real, "zero")
         return self.lib.zw_hyperbola_top(byref(co), byref(a), byref(b)), a.value, b.value
 
     def corner(self, co):
         self._begin()
-        a, b = self._out(self.real), self._out(self.real)
+        a, b = self._out(self.real, "zero"), self._out(self.real, "zero")
         return self.lib.zw_corner(byref(co), byref(a), byref(b)), a.value, b.value
 
     def alpha_max(self, co, beta):
         self._begin()
-        a = self._out(self.real)
+        a = self._out(self.real, "zero")
         return self.lib.zw_alpha_max(byref(co), beta, byref(a)), a.value
 
     def beta_interval(self, co, alpha):
         self._begin()
-        lo, hi, ne = self._out(self.real), self._out(self.real), self._out(c_bool)
+        lo, hi, ne = self._out(self.real, "zero"), self._out(self.real, "zero"), self._out(c_bool, "false")
         st = self.lib.zw_beta_interval(byref(co), alpha, byref(lo), byref(hi), byref(ne))
         return st, lo.value, hi.value, ne.value
 
@@ -302,53 +359,53 @@ class ZW:
 
     def device(self, m, b, T):
         self._begin()
-        d = self._out(self.Device)
+        d = self._out(self.Device, "nan")
         return self.lib.zw_device_init(byref(d), m, b, T), d
 
     def device_normalize(self, d, K, B):
         self._begin()
-        a, b = self._out(self.real), self._out(self.real)
+        a, b = self._out(self.real, "nan"), self._out(self.real, "nan")
         return self.lib.zw_device_normalize(byref(d), K, B, byref(a), byref(b)), a.value, b.value
 
     def device_check(self, d, K, B):
         self._begin()
-        v = self._out(self.Verdict)
+        v = self._out(self.Verdict, "verdict")
         return self.lib.zw_device_check(byref(d), K, B, byref(v)), v
 
     def device_check_region(self, region, d, K, B):
         self._begin()
-        v = self._out(self.Verdict)
+        v = self._out(self.Verdict, "verdict")
         return self.lib.zw_device_check_region(region, byref(d), K, B, byref(v)), v
 
     def device_spectral_radius(self, d, K, B):
         self._begin()
-        rho = self._out(self.real)
+        rho = self._out(self.real, "inf")
         return self.lib.zw_device_spectral_radius(byref(d), K, B, byref(rho)), rho.value
 
     def device_radius_within(self, d, K, B, r):
         self._begin()
-        w = self._out(c_bool)
+        w = self._out(c_bool, "false")
         return self.lib.zw_device_radius_within(byref(d), K, B, r, byref(w)), w.value
 
     def device_extremes(self, d):
         self._begin()
-        x = self._out(self.DeviceExtremes)
+        x = self._out(self.DeviceExtremes, "zero")
         return self.lib.zw_device_extremes_compute(byref(d), byref(x)), x
 
     def device_k_max(self, d, B):
         self._begin()
-        k = self._out(self.real)
+        k = self._out(self.real, "zero")
         return self.lib.zw_device_k_max(byref(d), B, byref(k)), k.value
 
     def device_b_range(self, d, K):
         self._begin()
-        lo, hi, ne = self._out(self.real), self._out(self.real), self._out(c_bool)
+        lo, hi, ne = self._out(self.real, "zero"), self._out(self.real, "zero"), self._out(c_bool, "false")
         st = self.lib.zw_device_b_range(byref(d), K, byref(lo), byref(hi), byref(ne))
         return st, lo.value, hi.value, ne.value
 
     def device_influence(self, d):
         self._begin()
-        x = self._out(self.Influence)
+        x = self._out(self.Influence, "influence")
         return self.lib.zw_device_influence(byref(d), byref(x)), x
 
 

@@ -178,15 +178,18 @@ def test_zero_delta_exact_values(zw):
 
 @pytest.mark.parametrize("delta,status", [(math.nan, "ZW_ERR_NAN"), (-1.0, "ZW_ERR_DELTA"), (-1e-300, "ZW_ERR_DELTA"),
                                           (-math.inf, "ZW_ERR_DELTA"), (-1e30, "ZW_ERR_DELTA")])
-def test_invalid_delta_rejected_and_output_untouched(zw, delta, status):
-    """NaN -> ZW_ERR_NAN (2), negative -> ZW_ERR_DELTA (7); the output struct is not written."""
+def test_invalid_delta_rejected_and_output_failsafe(zw, delta, status):
+    """NaN -> ZW_ERR_NAN (2), negative -> ZW_ERR_DELTA (7); every output is NaN (fail-safe:
+    a check on the struct refuses with ZW_ERR_NAN)."""
     if zw.name == "float" and delta == -1e-300:
         delta = -zw.fmt.tiny
     st, _ = zw.coeffs(delta)
     assert st == E[status], (delta, zw.status_name(st))
-    assert zw.untouched()
+    assert zw.failsafe()
+    st, co = zw.coeffs(delta)
+    assert zw.check(co, 0.1, 0.0)[0] == E["ZW_ERR_NAN"] and zw.failsafe()
     st, *_ = zw.coeffs_literal(delta)
-    assert st == E[status] and zw.untouched()
+    assert st == E[status] and zw.failsafe()
 
 
 def test_null_output_rejected(zw):

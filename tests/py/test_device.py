@@ -432,7 +432,7 @@ def test_influence_trends(zw):
 def test_device_init_error_paths(zw):
     """NaN -> ZW_ERR_NAN, inf -> ZW_ERR_INF, m <= 0 -> ZW_ERR_MASS, T <= 0 -> ZW_ERR_PERIOD,
     b < 0 -> ZW_ERR_DAMPING, delta / m/T / m/T^2 not a finite normal number ->
-    ZW_ERR_RANGE; the device struct is left untouched."""
+    ZW_ERR_RANGE; the device struct is all NaN (fail-safe: later calls refuse it)."""
     big = 1e300 if zw.name == "double" else 1e30
     cases = [((math.nan, 1.0, 1.0), "ZW_ERR_NAN"), ((1.0, math.nan, 1.0), "ZW_ERR_NAN"), ((1.0, 1.0, math.nan), "ZW_ERR_NAN"),
              ((math.inf, 1.0, 1.0), "ZW_ERR_INF"), ((1.0, math.inf, 1.0), "ZW_ERR_INF"), ((1.0, 1.0, math.inf), "ZW_ERR_INF"),
@@ -443,14 +443,20 @@ def test_device_init_error_paths(zw):
              ((big, 0.0, 1 / big), "ZW_ERR_RANGE"),          # m / T^2 overflows
              ((1 / big, 0.0, big), "ZW_ERR_RANGE")]          # m / T underflows
     for (m, b, T), s in cases:
-        st, _ = zw.device(zw.r(m), zw.r(b), zw.r(T))
-        assert st == E[s] and zw.untouched(), ((m, b, T), zw.status_name(st), s)
+        st, d = zw.device(zw.r(m), zw.r(b), zw.r(T))
+        assert st == E[s] and zw.failsafe(), ((m, b, T), zw.status_name(st), s)
+        # a caller that ignored the status is refused at the next call, fail-safe
+        for call in (lambda: zw.device_check(d, 1.0, 0.0), lambda: zw.device_k_max(d, 0.0),
+                     lambda: zw.device_extremes(d), lambda: zw.device_influence(d)):
+            st, *_ = call()
+            assert st == E["ZW_ERR_NAN"] and zw.failsafe(), ((m, b, T), zw.status_name(st))
     assert zw.lib.zw_device_init(None, 1.0, 1.0, 1.0) == E["ZW_ERR_NULL"]
 
 
 def test_device_call_error_paths(zw):
     """NaN / infinite gains -> ZW_ERR_NAN / ZW_ERR_INF, overflowing normalization ->
-    ZW_ERR_RANGE, r <= 0 -> ZW_ERR_ARG; outputs untouched."""
+    ZW_ERR_RANGE, r <= 0 -> ZW_ERR_ARG; outputs fail-safe (verdict not stable, gains NaN, rho
+    +inf, within false, limits 0, ranges empty)."""
     st, d = zw.device(zw.r(1e-3), zw.r(0.5), zw.r(1e-3))  # k_scale = 1e3, b_scale = 1
     assert st == E["ZW_OK"]
     big = zw.fmt.max
@@ -460,14 +466,14 @@ def test_device_call_error_paths(zw):
                      lambda: zw.device_check_region(E["ZW_REGION_LEGACY"], d, K, B),
                      lambda: zw.device_spectral_radius(d, K, B), lambda: zw.device_radius_within(d, K, B, 0.9)):
             st, *_ = call()
-            assert st == E[s] and zw.untouched(), (K, B, zw.status_name(st))
+            assert st == E[s] and zw.failsafe(), (K, B, zw.status_name(st))
     st, d2 = zw.device(zw.r(1e-3), zw.r(0.5), zw.r(10.0))  # k_scale = 1e-5: K / k_scale overflows
     st, *_ = zw.device_normalize(d2, big, 0.0)
-    assert st == E["ZW_ERR_RANGE"] and zw.untouched()
+    assert st == E["ZW_ERR_RANGE"] and zw.failsafe()
     st, *_ = zw.device_radius_within(d, 1.0, 0.0, 0.0)
-    assert st == E["ZW_ERR_ARG"] and zw.untouched()
+    assert st == E["ZW_ERR_ARG"] and zw.failsafe()
     for call in (lambda: zw.device_k_max(d, math.nan), lambda: zw.device_b_range(d, math.nan)):
         st, *_ = call()
-        assert st == E["ZW_ERR_NAN"] and zw.untouched()
+        assert st == E["ZW_ERR_NAN"] and zw.failsafe()
     assert zw.lib.zw_device_check(None, 1.0, 1.0, None) == E["ZW_ERR_NULL"]
     assert zw.lib.zw_device_influence(None, None) == E["ZW_ERR_NULL"]

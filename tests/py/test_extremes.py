@@ -108,8 +108,8 @@ def test_hyperbola_top_and_corner(zw):
         _, co = zw.coeffs(d)
         st, a1, b1 = zw.hyperbola_top(co)
         ra1, rb1 = ref.hyperbola_top(d)
-        if ra1 > fmt.max:  # alpha1 ~ 2 delta^2 does not fit: ZW_ERR_RANGE, outputs untouched
-            assert st == E["ZW_ERR_RANGE"] and zw.untouched(), (d, zw.status_name(st))
+        if ra1 > fmt.max:  # alpha1 ~ 2 delta^2 does not fit: ZW_ERR_RANGE, outputs fail-safe 0
+            assert st == E["ZW_ERR_RANGE"] and zw.failsafe(), (d, zw.status_name(st))
             continue
         assert st == E["ZW_OK"], (d, zw.status_name(st))
         e1, e2 = ulps(a1, ra1, fmt), ulps(b1, rb1, fmt)
@@ -142,13 +142,13 @@ def test_hyperbola_top_and_corner(zw):
 
 
 def test_corner_domain_error(zw):
-    """zw_corner gives ZW_ERR_DOMAIN for delta <= delta0 (outputs untouched), ZW_OK above."""
+    """zw_corner gives ZW_ERR_DOMAIN for delta <= delta0 (outputs fail-safe 0), ZW_OK above."""
     fmt = zw.fmt
     d0 = ref.round_to(ZW_DELTA0(), fmt)
     for d in (0.0, fmt.tiny, 0.5, 1.0, 2.3, ref.step(d0, -1, fmt), d0):
         _, co = zw.coeffs(d)
         st, _, _ = zw.corner(co)
-        assert st == E["ZW_ERR_DOMAIN"] and zw.untouched(), (d, zw.status_name(st))
+        assert st == E["ZW_ERR_DOMAIN"] and zw.failsafe(), (d, zw.status_name(st))
     for d in (ref.step(d0, 2, fmt), 2.4, 5.0, 1e6):
         _, co = zw.coeffs(d)
         assert zw.corner(co)[0] == E["ZW_OK"], d
@@ -352,16 +352,16 @@ def test_beta_interval(zw):
 
 def test_extremes_error_paths(zw):
     """delta = inf -> ZW_ERR_INF, NaN/inf beta or alpha -> ZW_ERR_NAN/ZW_ERR_INF, NULL ->
-    ZW_ERR_NULL; outputs untouched."""
+    ZW_ERR_NULL; outputs fail-safe (limits 0, ranges empty)."""
     _, co = zw.coeffs(1.0)
     _, co_inf = zw.coeffs(math.inf)
     for call in (lambda: zw.extremes(co_inf), lambda: zw.hyperbola_top(co_inf), lambda: zw.corner(co_inf),
                  lambda: zw.alpha_max(co_inf, 0.1), lambda: zw.beta_interval(co_inf, 0.1)):
         st, *_ = call()
-        assert st == E["ZW_ERR_INF"] and zw.untouched(), zw.status_name(st)
+        assert st == E["ZW_ERR_INF"] and zw.failsafe(), zw.status_name(st)
     for call, s in ((lambda: zw.alpha_max(co, math.nan), "ZW_ERR_NAN"), (lambda: zw.alpha_max(co, math.inf), "ZW_ERR_INF"),
                     (lambda: zw.beta_interval(co, math.nan), "ZW_ERR_NAN"),
                     (lambda: zw.beta_interval(co, math.inf), "ZW_ERR_INF")):
         st, *_ = call()
-        assert st == E[s] and zw.untouched(), zw.status_name(st)
+        assert st == E[s] and zw.failsafe(), zw.status_name(st)
     assert zw.lib.zw_extremes_compute(None, None) == E["ZW_ERR_NULL"]

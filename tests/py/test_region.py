@@ -548,7 +548,8 @@ def test_proportional_agrees_with_beta_zero(zw):
 
 def test_check_error_paths(zw):
     """NaN -> ZW_ERR_NAN, infinite alpha/beta or delta -> ZW_ERR_INF, NULL -> ZW_ERR_NULL,
-    an unknown region -> ZW_ERR_ARG; the verdict is left untouched."""
+    an unknown region -> ZW_ERR_ARG; the verdict is fail-safe (not stable,
+    ZW_BOUND_INVALID)."""
     _, co = zw.coeffs(1.0)
     _, co_inf = zw.coeffs(math.inf)
     cases = [((co, math.nan, 0.1), "ZW_ERR_NAN"), ((co, 0.1, math.nan), "ZW_ERR_NAN"),
@@ -556,13 +557,13 @@ def test_check_error_paths(zw):
              ((co_inf, 0.1, 0.1), "ZW_ERR_INF")]
     for args, status in cases:
         st, _ = zw.check(*args)
-        assert st == E[status] and zw.untouched(), (args[1:], zw.status_name(st))
+        assert st == E[status] and zw.failsafe(), (args[1:], zw.status_name(st))
         st, _ = zw.check_region(E["ZW_REGION_LEGACY"], *args)
-        assert st == E[status] and zw.untouched(), (args[1:], zw.status_name(st))
+        assert st == E[status] and zw.failsafe(), (args[1:], zw.status_name(st))
     st, _ = zw.check_proportional(co, math.nan)
-    assert st == E["ZW_ERR_NAN"] and zw.untouched()
+    assert st == E["ZW_ERR_NAN"] and zw.failsafe()
     st, _ = zw.check_region(99, co, 0.1, 0.1)
-    assert st == E["ZW_ERR_ARG"] and zw.untouched()
+    assert st == E["ZW_ERR_ARG"] and zw.failsafe()
     assert zw.lib.zw_check(None, 0.1, 0.1, ctypes.byref(zw.Verdict())) == E["ZW_ERR_NULL"]
     assert zw.lib.zw_check(co, 0.1, 0.1, None) == E["ZW_ERR_NULL"]
 

@@ -6,11 +6,12 @@
  * host, and the Python bindings.
  *
  * Pair i reads alpha[i * alpha_stride] and beta[i * beta_stride] (strides in elements; 0
- * repeats one value).  Errors: ZW_ERR_NULL (a NULL pointer with n > 0; *first_invalid
- * untouched); the errors zw_check / zw_device_check would give for the coefficients
- * (*first_invalid = 0: they concern every pair); and, for the first pair those functions
+ * repeats one value).  Errors: ZW_ERR_NULL (a NULL pointer with n > 0) and the errors
+ * zw_check / zw_device_check would give for the coefficients or the device (both with
+ * *first_invalid = 0: they concern every pair); and, for the first pair those functions
  * would refuse, its status with its index in *first_invalid.  first_invalid may be NULL.
- * On any error nothing is written to stable.  n = 0 is ZW_OK and reads nothing.
+ * Fail-safe (status.h): on any error stable[0 .. n-1] (when stable is not NULL) are all
+ * false, whichever pair was refused.  n = 0 is ZW_OK and reads and writes nothing.
  */
 #ifndef ZWIDTH_BATCH_H
 #define ZWIDTH_BATCH_H

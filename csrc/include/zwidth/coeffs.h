@@ -50,11 +50,15 @@ typedef struct zw_coeffs {
 
 /* Fill *out for delta in [0, +inf].  delta = +inf gives the limits (e = c1 = c2 = d12 =
  * s = 0, g = 1, sigma = hs = +inf); the checks reject it with ZW_ERR_INF.
- * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_DELTA (delta < 0). */
+ * Errors: ZW_ERR_NULL (out), ZW_ERR_NAN, ZW_ERR_DELTA (delta < 0).  Fail-safe: on
+ * ZW_ERR_NAN / ZW_ERR_DELTA every field of *out is NaN, so a check on it (status
+ * ignored) answers ZW_ERR_NAN and a not-stable verdict instead of using an older plant. */
 zw_status zw_coeffs_init(zw_coeffs *out, zw_real delta);
 
 /* The literal (cancelling) formulas of eqs (3), (4), kept only so that tests and
- * benchmarks can show what the careful ones buy.  Never used by the checks. */
+ * benchmarks can show what the careful ones buy.  Never used by the checks.
+ * Errors: ZW_ERR_NULL (any output; the others are still written), ZW_ERR_NAN,
+ * ZW_ERR_DELTA; on each, every non-NULL output is NaN. */
 zw_status zw_coeffs_literal(zw_real delta, zw_real *c1, zw_real *c2, zw_real *d12);
 
 #ifdef __cplusplus

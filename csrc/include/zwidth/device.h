@@ -30,14 +30,24 @@ typedef struct zw_device {
 /* Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_MASS (m <= 0), ZW_ERR_PERIOD (T <= 0),
  * ZW_ERR_DAMPING (b < 0), ZW_ERR_RANGE (m, T, a positive b, T/m, delta, m/T or m/T^2 not
  * a normal number: a subnormal carries an unbounded relative error that the checks could
- * not budget for). */
+ * not budget for).  Fail-safe (status.h): on each error but ZW_ERR_NULL every field of
+ * *out is NaN (an older plant in *out is overwritten, not kept), and every function below
+ * refuses such a device with ZW_ERR_NAN and its own fail-safe outputs. */
 zw_status zw_device_init(zw_device *out, zw_real m, zw_real b, zw_real T);
+
+/* Errors of every function below: ZW_ERR_NULL (d or an output), ZW_ERR_NAN (K, B, or a
+ * device left NaN by a failed zw_device_init), ZW_ERR_INF (K, B), ZW_ERR_ARG (d->co's
+ * delta_relerr negative or not finite), ZW_ERR_RANGE (a normalized gain or a result
+ * overflows, or a zeroed device), and as stated.  Fail-safe (status.h): on each error every
+ * non-NULL output is written, whichever other pointer is NULL, as one that certifies
+ * nothing: a verdict not stable (region.h: ZW_BOUND_INVALID), *within false, *rho +inf,
+ * a limit 0, a range empty (lo = hi = 0, nonempty false), a normalized gain NaN. */
 
 /* Normalize gains: alpha = K / k_scale, beta = B / b_scale (ZW_ERR_RANGE on overflow). */
 zw_status zw_device_normalize(const zw_device *d, zw_real K, zw_real B, zw_real *alpha,
                               zw_real *beta);
 
-/* Verdicts in real units (exact region, or any zw_region). */
+/* Verdicts in real units (exact region, or any zw_region: ZW_ERR_ARG for an unknown one). */
 zw_status zw_device_check(const zw_device *d, zw_real K, zw_real B, zw_verdict *out);
 zw_status zw_device_check_region(zw_region region, const zw_device *d, zw_real K, zw_real B,
                                  zw_verdict *out);
@@ -55,15 +65,21 @@ typedef struct zw_device_extremes {
     zw_real K_mmin;        /* 0, not attained */
 } zw_device_extremes;
 
+/* On error every real of *out is 0 (the K and B ranges empty) and at_corner false. */
 zw_status zw_device_extremes_compute(const zw_device *d, zw_device_extremes *out);
 /* sup K stable at this B (0 when none). */
 zw_status zw_device_k_max(const zw_device *d, zw_real B, zw_real *K_max);
-/* The open interval of B stable at this K. */
+/* The open interval of B stable at this K (nonempty false and B_lo = B_hi = 0 if none). */
 zw_status zw_device_b_range(const zw_device *d, zw_real K, zw_real *B_lo, zw_real *B_hi,
                             bool *nonempty);
 
 /* Direction in which a limit moves when a parameter grows (the others fixed). */
-typedef enum zw_trend { ZW_FALLS = -1, ZW_FLAT = 0, ZW_RISES = 1 } zw_trend;
+typedef enum zw_trend {
+    ZW_FALLS = -1,
+    ZW_FLAT = 0,
+    ZW_RISES = 1,
+    ZW_TREND_UNKNOWN = 2 /* only from a failed zw_device_influence */
+} zw_trend;
 
 /* Where the plant sits on the (non-monotonic) curves of K_mmax and B_mmax against m, b, T,
  * paper Section IV and Table 1.  When b = 0, delta = 0 for every m and T and the curves
@@ -91,6 +107,9 @@ typedef struct zw_influence {
     zw_real best_m_for_K;
 } zw_influence;
 
+/* Fail-safe on error: the limits (K_mmax, B_mmax, K_mmax_at_m_K1/K2) 0, every parameter
+ * value (delta, the critical m, T, b, best_m_for_K) NaN, so a device built from one is
+ * refused, and every trend ZW_TREND_UNKNOWN. */
 zw_status zw_device_influence(const zw_device *d, zw_influence *out);
 
 #ifdef __cplusplus

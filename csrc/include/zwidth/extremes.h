@@ -39,6 +39,12 @@ typedef struct zw_extremes {
     zw_real alpha_mmin;         /* 0 (not attained) */
 } zw_extremes;
 
+/* Errors of every function below: ZW_ERR_NULL (c or an output), ZW_ERR_NAN / ZW_ERR_INF
+ * (c->delta, the gain), ZW_ERR_ARG (c->delta_relerr negative or not finite), ZW_ERR_RANGE
+ * (hs = +inf, or a result overflows), and as stated.  Fail-safe (status.h): on each error
+ * every non-NULL output is written as a limit that certifies nothing: every real 0 (so
+ * the alpha and beta ranges are empty) and every flag false. */
+
 zw_status zw_extremes_compute(const zw_coeffs *c, zw_extremes *out);
 
 /* Top of the hyperbola alpha = f(beta), eqs (19), (20) (exists for every delta). */
@@ -53,7 +59,7 @@ zw_status zw_corner(const zw_coeffs *c, zw_real *alpha2, zw_real *beta2);
 zw_status zw_alpha_max(const zw_coeffs *c, zw_real beta, zw_real *alpha_max);
 
 /* The open interval (lo, hi) of beta that is stable at this alpha; *nonempty false (and
- * lo = hi = 0) when there is none (alpha <= 0 or alpha >= alpha_mmax). */
+ * lo = hi = 0) when there is none (alpha <= 0 or alpha >= alpha_mmax), and on error. */
 zw_status zw_beta_interval(const zw_coeffs *c, zw_real alpha, zw_real *lo, zw_real *hi,
                            bool *nonempty);
 

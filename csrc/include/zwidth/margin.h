@@ -14,12 +14,19 @@
 extern "C" {
 #endif
 
-/* Coefficients of p(z), highest power first: p[0] = 2, p[1] = a1, p[2] = a2, p[3] = -c2 beta. */
+/* Errors of every function here: ZW_ERR_NULL (c or the output), ZW_ERR_NAN / ZW_ERR_INF
+ * (alpha, beta, c->delta), ZW_ERR_ARG (c->delta_relerr negative or not finite), and as
+ * stated below.  Fail-safe (status.h): on each error every non-NULL output is written as
+ * one that certifies nothing: p all NaN, *rho = +inf, *within = false. */
+
+/* Coefficients of p(z), highest power first: p[0] = 2, p[1] = a1, p[2] = a2, p[3] = -c2 beta
+ * (ZW_ERR_RANGE when one overflows). */
 zw_status zw_char_poly(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real p[4]);
 
 /* Spectral radius rho = max |z| over the three closed-loop poles (stable iff rho < 1).
  * Real root by safeguarded Newton on a bracket, the other two from the deflated
- * quadratic by the cancellation-free formulas.  Accuracy: see tests/py/test_margin.py. */
+ * quadratic by the cancellation-free formulas.  Accuracy: see tests/py/test_margin.py.
+ * ZW_ERR_RANGE when a coefficient or the radius overflows. */
 zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real *rho);
 
 /* "Every pole has |z| < r", decided without root finding by the Jury conditions on

@@ -31,7 +31,8 @@ typedef enum zw_bound {
     ZW_BOUND_STIFFNESS = 2,  /* alpha <= 0 (K <= 0) */
     ZW_BOUND_HYPERBOLA = 4,  /* alpha >= f(beta), including beta >= 2/c2 */
     ZW_BOUND_LINE = 8,       /* alpha >= L(beta), the bound the legacy region lacks */
-    ZW_BOUND_PASSIVITY = 16  /* K T / 2 >= b - |B| (passivity region only) */
+    ZW_BOUND_PASSIVITY = 16, /* K T / 2 >= b - |B| (passivity region only) */
+    ZW_BOUND_INVALID = 32    /* no verdict: the call failed (never set with ZW_OK) */
 } zw_bound;
 
 typedef struct zw_verdict {
@@ -40,6 +41,11 @@ typedef struct zw_verdict {
     zw_bound deciding;        /* first violated constraint in the order of the enum; NONE if stable */
     uint_least16_t violated;  /* every violated (or unprovable) constraint, as zw_bound bits */
 } zw_verdict;
+
+/* Fail-safe verdict (status.h): on every error, *out (when not NULL, whichever other
+ * argument is NULL) is written as stable = false, marginal = false, deciding = violated =
+ * ZW_BOUND_INVALID, so that neither "stable" nor "violated == 0" reads as stable and no
+ * real constraint is blamed. */
 
 /* The regions zw_check_region can evaluate. */
 typedef enum zw_region {
@@ -51,20 +57,22 @@ typedef enum zw_region {
     ZW_REGION_SMALL = 5       /* eq (18): small delta and beta: 0 < alpha / 2 < delta + beta */
 } zw_region;
 
-/* Exact verdict, eq (10).  Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF (alpha, beta or
+/* Exact verdict, eq (10).  Errors: ZW_ERR_NULL (c or out), ZW_ERR_NAN (alpha, beta or
+ * c->delta, e.g. coefficients of a failed zw_coeffs_init), ZW_ERR_INF (alpha, beta or
  * c->delta infinite), ZW_ERR_ARG (c->delta_relerr negative or not finite), ZW_ERR_RANGE
- * (delta so large that hs = +inf, above ~max/2). */
+ * (delta so large that hs = +inf, above ~max/2); on each, the fail-safe verdict above. */
 zw_status zw_check(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_verdict *out);
 
 /* Verdict of one of the regions above (each guarded against its own boundary; errors as
- * zw_check, and ZW_ERR_ARG for an unknown region).  For every region but EXACT, "stable"
- * means "inside that region": the legacy, delta = 0, delta -> inf and small-delta regions
- * are the paper's comparisons and approximations, and the legacy one contains unstable
- * points for delta > delta0.  Only EXACT (and PASSIVITY, which lies inside it) certify. */
+ * zw_check, and ZW_ERR_ARG for an unknown region; fail-safe verdict on each).  For every
+ * region but EXACT, "stable" means "inside that region": the legacy, delta = 0, delta ->
+ * inf and small-delta regions are the paper's comparisons and approximations, and the
+ * legacy one contains unstable points for delta > delta0.  Only EXACT (and PASSIVITY,
+ * which lies inside it) certify. */
 zw_status zw_check_region(zw_region region, const zw_coeffs *c, zw_real alpha, zw_real beta,
                           zw_verdict *out);
 
-/* Proportional (stiffness-only) control, beta = 0, eqs (27), (29). */
+/* Proportional (stiffness-only) control, beta = 0, eqs (27), (29) (errors as zw_check). */
 zw_status zw_check_proportional(const zw_coeffs *c, zw_real alpha, zw_verdict *out);
 
 #ifdef __cplusplus

@@ -220,8 +220,10 @@ zw_status zw_sim_run(zw_sim *sim, size_t n, const zw_sim_trace *trace);
  * growth = (A_w / A_1)^(1 / ((w - 1) window)) is the envelope's factor per sample (0 when
  * A_1 = A_w = 0, +inf when A_1 = 0 < A_w or x is not finite); for a linear scene it
  * estimates the spectral radius.
- * Errors: ZW_ERR_NULL; ZW_ERR_NAN / ZW_ERR_INF (tolerance); ZW_ERR_ARG (window < 1,
- * windows < 2, windows * window > n, tolerance < 0). */
+ * Errors: ZW_ERR_NULL (x or out); ZW_ERR_NAN / ZW_ERR_INF (tolerance); ZW_ERR_ARG
+ * (window < 1, windows < 2, windows * window > n, tolerance < 0).  Fail-safe (status.h): on
+ * each error *out (when not NULL) is UNDECIDED (no answer: never STABLE, whose value is 0),
+ * with amplitudes and growth +inf and first_nonfinite 0 (no sample vouched for). */
 typedef enum zw_sim_outcome {
     ZW_SIM_STABLE = 0,
     ZW_SIM_UNSTABLE = 1,

@@ -1,8 +1,17 @@
 /* zwidth/status.h - status codes shared by every zwidth function.
  *
- * Every function returns a zw_status and writes its results through pointers.  On any
- * status other than ZW_OK the outputs are left untouched: invalid input never produces a
- * number.
+ * Every function returns a zw_status and writes its results through pointers.  Invalid
+ * input gives a named error, never a wrong number.
+ *
+ * Fail-safe outputs: a caller that ignores the status must never read "stable".  On every
+ * status other than ZW_OK each non-NULL output (also when another pointer argument is
+ * NULL) is written with a value that certifies nothing: a verdict as not stable
+ * (ZW_BOUND_INVALID, region.h), a "within" flag or per-pair flag as false, a limit (K_max,
+ * alpha_max, extremes) as 0, a range as empty (lo = hi = 0, nonempty false), a spectral
+ * radius as +inf, and a plant, coefficient set or normalized gain as NaN (every later
+ * check on it answers ZW_ERR_NAN).  Each header states its functions' fail-safe values
+ * (and the few outputs that are no verdict, limit or plant and stay untouched, such as
+ * zw_sim_init's *sim).
  */
 #ifndef ZWIDTH_STATUS_H
 #define ZWIDTH_STATUS_H
