@@ -136,17 +136,17 @@ def test_poly_is_affine_sum_of_parts(zw):
 
 # ---- (b) labelled boundary points -----------------------------------------------------------
 
-# Stated false-unstable band, in ulps of the stepped gain, by loop degree; beyond it a
-# stable point is never called unstable.  Measured maxima are well inside (see the report
-# printed with -s); the moving average over many samples is the ill-conditioned case (its
-# boundary moves the spectral radius by ~1e-2 per unit relative change of alpha, so a
-# guard of a few hundred u in the radius is 1e4..1e6 ulps of alpha).
-def band_ulps(degree):
-    if degree <= 6:
-        return 1e3
-    if degree <= 12:
-        return 1e4
-    return 1e5
+# Stated false-unstable band, in ulps of the stepped gain, by precision and loop degree
+# (measured maxima of the ZW_LOOP_FULL sweep, rounded up to the next power of ten; beyond
+# it a stable point is never called unstable).  The Routh array decides most points; near
+# the boundary the root-inclusion test takes over, whose band is the roots' own condition
+# times the degree.  High degrees in float are the weak case: a moving average over many
+# samples puts ~n roots near |z| = alpha^(1/n), and their product of distances makes the
+# inclusion disks wide.
+def band_ulps(precision, degree):
+    if precision == "double":
+        return 1e4 if degree <= 12 else 1e6
+    return 1e4 if degree <= 8 else 1e7
 
 
 # Points nearer the boundary than this (relative margin of the Schur-Cohn recursion at 60
@@ -259,7 +259,7 @@ def test_boundary_labels(zw, delta, spec):
     false_stable, unmarked, worst, total = sweep(zw, delta, spec, rng, 6 if FULL else 2)
     assert not false_stable, f"false stable: {false_stable}"
     assert not unmarked, f"unstable verdicts on stable points without marginal: {unmarked}"
-    assert worst <= band_ulps(lp.degree), f"false-unstable band {worst} ulps > stated"
+    assert worst <= band_ulps(zw.name, lp.degree), f"false-unstable band {worst} ulps > stated"
     print(f"{zw.name} delta={delta:g} {spec_id(spec)} degree {lp.degree}: {total} points, "
           f"false-unstable band {worst} ulps")
 
