@@ -91,14 +91,14 @@ def main():
     rng = np.random.default_rng(3)
     with tempfile.TemporaryDirectory() as tmp:
         exe = build_driver(tmp)
-        print(f"{'loop':44s} {'deg':>3s} {'C ns/call':>10s} {'C Ir/call':>10s} {'eig ns/loop':>11s} "
-              f"{'ratio':>6s} {'stable%':>7s} {'marg%':>7s} | {'pts':>4s} {'FS C':>5s} {'FS eig':>6s}")
+        print(f"{'loop':34s} {'deg':>3s} {'C ns/call':>9s} {'(stable)':>9s} {'C Ir/call':>9s} {'eig ns':>7s} "
+              f"{'ratio':>5s} {'(stable)':>8s} {'stable%':>7s} {'marg%':>6s} | {'pts':>4s} {'FS C':>4s} {'FS eig':>6s}")
         for spec in SPECS:
             st, lp = tlr.make_loop(zw, DELTA, spec), None
             lp = st
             box = box_for(zw, lp)
             n_time = 20000 if QUICK else 100000
-            ns, stable_frac, marg_frac = map(float, subprocess.run(
+            ns, stable_frac, marg_frac, ns_stable = map(float, subprocess.run(
                 [str(exe)] + driver_args(spec, n_time, box), check=True, capture_output=True,
                 text=True).stdout.split())
             n_cg = 2000
@@ -132,9 +132,9 @@ def main():
                     pts += 1
                     fs_c += int(zw.loop_check(lp, a_, b_)[1].stable and not t)
                     fs_e += int(bool(e) and not t)
-            print(f"{tlr.spec_id(spec):44s} {n:3d} {ns:10.0f} {ir:10.0f} {eig_s * 1e9:11.0f} "
-                  f"{eig_s * 1e9 / ns:6.1f} {100 * stable_frac:7.1f} {100 * marg_frac:7.3f} | "
-                  f"{pts:4d} {fs_c:5d} {fs_e:6d}", flush=True)
+            print(f"{tlr.spec_id(spec):34s} {n:3d} {ns:9.0f} {ns_stable:9.0f} {ir:9.0f} {eig_s * 1e9:7.0f} "
+                  f"{eig_s * 1e9 / ns:5.1f} {eig_s * 1e9 / ns_stable:8.1f} {100 * stable_frac:7.1f} "
+                  f"{100 * marg_frac:6.2f} | {pts:4d} {fs_c:4d} {fs_e:6d}", flush=True)
 
 
 if __name__ == "__main__":

@@ -582,118 +582,95 @@ static ceb ceb_make(cplx v, zw_real e)
     return r;
 }
 
-/* |fl(a b) - a b| <= sqrt(2) gamma_2 |a||b| < 4 u |a||b| for complex products */
-static ceb ceb_mul(ceb a, ceb b)
+/* acc *= f (f with absolute error fe); |fl(a b) - a b| <= sqrt(2) gamma_2 |a||b| < 5 u |a||b|
+ * for complex products.  In place, through pointers: small frames on an MCU. */
+static void ceb_times(ceb *acc, cplx f, zw_real fe)
 {
-    const zw_real aa = c_abs(a.v), ab = c_abs(b.v);
-    ceb r;
-    r.v = c_mul(a.v, b.v);
-    r.e = aa * b.e + ab * a.e + a.e * b.e + ZW_R(5.0) * ZW_U * aa * ab + ZW_R(2.0) * ZW_ETA;
-    return r;
+    const zw_real aa = c_abs(acc->v), af = c_abs(f);
+    acc->e = aa * fe + af * acc->e + acc->e * fe + ZW_R(5.0) * ZW_U * aa * af + ZW_R(2.0) * ZW_ETA;
+    acc->v = c_mul(acc->v, f);
 }
 
-static ceb ceb_add(ceb a, ceb b)
-{
-    ceb r;
-    r.v = c_add(a.v, b.v);
-    r.e = a.e + b.e + ZW_R(2.0) * ZW_U * c_abs(r.v) + ZW_R(2.0) * ZW_ETA;
-    return r;
-}
-
-/* x z + y for bounded real x, y (the z coefficients of a linear factor). */
-static ceb ceb_linear(zw_eb x, zw_eb y, cplx z)
-{
-    ceb r;
-    const zw_real az = c_abs(z);
-    r.v = c_make(x.v * z.re + y.v, x.v * z.im);
-    r.e = x.e * az + y.e + ZW_R(4.0) * ZW_U * (ZW_FABS(x.v) * az + ZW_FABS(y.v)) + ZW_R(2.0) * ZW_ETA;
-    return r;
-}
-
-static ceb ceb_pow(ceb z, unsigned k)
-{
-    ceb r = ceb_make(c_make(ZW_R(1.0), ZW_R(0.0)), ZW_R(0.0));
-    unsigned i;
-    for (i = 0u; i < k; ++i) r = ceb_mul(r, z);
-    return r;
-}
-
-static ceb ceb_factor(const zw_loop *loop, factor_kind kind, cplx z)
+/* acc *= the loop's linear factor of that kind at z (its z coefficients carry bounds). */
+static void ceb_times_factor(ceb *acc, const zw_loop *loop, factor_kind kind, cplx z)
 {
     build_ctx ctx;
     zw_eb f1, f0;
+    zw_real az = c_abs(z);
     ctx.c = &loop->c;
     ctx.a = loop->spec.filter_pole;
     ctx.bilinear = false;
     factor(&ctx, kind, &f1, &f0);
-    return ceb_linear(f1, f0, z);
+    ceb_times(acc, c_make(f1.v * z.re + f0.v, f1.v * z.im),
+              f1.e * az + f0.e + ZW_R(4.0) * ZW_U * (ZW_FABS(f1.v) * az + ZW_FABS(f0.v)) + ZW_R(2.0) * ZW_ETA);
 }
 
-static ceb ceb_scale(ceb x, zw_eb k)
+static void ceb_times_real(ceb *acc, zw_real k, zw_real ke)
 {
-    ceb r;
-    const zw_real ax = c_abs(x.v);
-    r.v = c_make(k.v * x.v.re, k.v * x.v.im);
-    r.e = ZW_FABS(k.v) * x.e + k.e * ax + k.e * x.e + ZW_R(2.0) * ZW_U * ZW_FABS(k.v) * ax + ZW_ETA;
-    return r;
+    ceb_times(acc, c_make(k, ZW_R(0.0)), ke);
 }
 
-/* D(z), Na(z), Nb(z) from their factors (loop.h), each with an error bound: far tighter
- * than the expanded coefficients near z = 1 and where the expansion cancels. */
-static void eval_parts(const zw_loop *loop, cplx z, ceb *d, ceb *na, ceb *nb)
+static void ceb_times_power(ceb *acc, cplx z, unsigned k)
+{
+    unsigned i;
+    for (i = 0u; i < k; ++i) ceb_times(acc, z, ZW_R(0.0));
+}
+
+/* acc = x + y */
+static void ceb_add_into(ceb *x, const ceb *y)
+{
+    x->v = c_add(x->v, y->v);
+    x->e = x->e + y->e + ZW_R(2.0) * ZW_U * c_abs(x->v) + ZW_R(2.0) * ZW_ETA;
+}
+
+/* p(z) = D + alpha Na + beta Nb from the factors (loop.h), with a bound on its error: far
+ * tighter than the expanded coefficients near z = 1 and where the expansion cancels. */
+static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
 {
     const zw_loop_spec *spec = &loop->spec;
     const bool tustin = spec->differentiator == ZW_DIFF_TUSTIN;
-    const ceb zz = ceb_make(z, ZW_R(0.0));
-    ceb dv, nv, plant;
+    ceb dv, nv, d;
+    dv = ceb_make(c_make(ZW_R(1.0), ZW_R(0.0)), ZW_R(0.0));
+    nv = dv;
     switch (spec->filter) {
-    case ZW_VFILTER_AVERAGE: {
-        const unsigned n = spec->average;
-        ceb zn = ceb_pow(zz, tustin ? n - 1u : n);
-        dv = ceb_scale(zn, zw_eb_exact((zw_real)n));
-        if (tustin) {
-            dv = ceb_mul(dv, ceb_factor(loop, F_ZP1, z));
-            zn = ceb_mul(zn, zz);
-        }
-        nv = ceb_add(zn, ceb_make(c_make(ZW_R(-1.0), ZW_R(0.0)), ZW_R(0.0)));
-        if (tustin) nv = ceb_scale(nv, zw_eb_exact(ZW_R(2.0)));
+    case ZW_VFILTER_AVERAGE: /* (z^n - 1) / (n z^n);  2 (z^n - 1) / (n z^(n-1) (z + 1)) */
+        ceb_times_power(&dv, z, tustin ? spec->average - 1u : spec->average);
+        ceb_times_real(&dv, (zw_real)spec->average, ZW_R(0.0));
+        if (tustin) ceb_times_factor(&dv, loop, F_ZP1, z);
+        ceb_times_power(&nv, z, spec->average);
+        nv.v.re -= ZW_R(1.0);
+        nv.e += ZW_R(2.0) * ZW_U * c_abs(nv.v) + ZW_ETA;
+        if (tustin) ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
         break;
-    }
-    case ZW_VFILTER_LOWPASS: {
-        const zw_real one_minus_a = ZW_R(1.0) - spec->filter_pole;
-        zw_eb gain = eb_make(one_minus_a, ZW_U * one_minus_a);
-        dv = ceb_factor(loop, F_ZMA, z);
-        nv = ceb_factor(loop, F_ZM1, z);
+    case ZW_VFILTER_LOWPASS: /* (1 - a)(z - 1) / (z - a);  2 (1 - a) z (z - 1) / ((z + 1)(z - a)) */
+        ceb_times_factor(&dv, loop, F_ZMA, z);
+        ceb_times_factor(&nv, loop, F_ZM1, z);
         if (tustin) {
-            dv = ceb_mul(dv, ceb_factor(loop, F_ZP1, z));
-            nv = ceb_mul(nv, zz);
-            gain.v = ZW_R(2.0) * gain.v;
-            gain.e = ZW_R(2.0) * gain.e;
+            ceb_times_factor(&dv, loop, F_ZP1, z);
+            ceb_times_power(&nv, z, 1u);
         }
-        nv = ceb_scale(nv, gain);
+        ceb_times_real(&nv, (tustin ? ZW_R(2.0) : ZW_R(1.0)) * (ZW_R(1.0) - spec->filter_pole),
+                       ZW_R(2.0) * ZW_U * (ZW_R(1.0) - spec->filter_pole));
         break;
-    }
     case ZW_VFILTER_NONE:
-    default:
-        dv = tustin ? ceb_factor(loop, F_ZP1, z) : zz;
-        nv = ceb_factor(loop, F_ZM1, z);
-        if (tustin) nv = ceb_scale(nv, zw_eb_exact(ZW_R(2.0)));
+    default: /* (z - 1) / z;  2 (z - 1) / (z + 1) */
+        if (tustin) ceb_times_factor(&dv, loop, F_ZP1, z);
+        else ceb_times_power(&dv, z, 1u);
+        ceb_times_factor(&nv, loop, F_ZM1, z);
+        if (tustin) ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
         break;
     }
-    plant = ceb_factor(loop, F_PLANT, z);
-    *d = ceb_mul(ceb_mul(ceb_factor(loop, F_ZM1, z), ceb_factor(loop, F_ZME, z)),
-                 ceb_mul(ceb_pow(zz, spec->delay), dv));
-    *d = ceb_scale(*d, zw_eb_exact(ZW_R(2.0)));
-    *na = ceb_mul(plant, dv);
-    *nb = ceb_mul(plant, nv);
-}
-
-/* p(z) = D + alpha Na + beta Nb from the factors, with its bound. */
-static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
-{
-    ceb d, na, nb;
-    eval_parts(loop, z, &d, &na, &nb);
-    return ceb_add(ceb_add(d, ceb_scale(na, zw_eb_exact(alpha))), ceb_scale(nb, zw_eb_exact(beta)));
+    d = dv; /* D = 2 z^d (z - 1)(z - e) Dv */
+    ceb_times_factor(&d, loop, F_ZM1, z);
+    ceb_times_factor(&d, loop, F_ZME, z);
+    ceb_times_power(&d, z, spec->delay);
+    ceb_times_real(&d, ZW_R(2.0), ZW_R(0.0));
+    ceb_times_real(&dv, alpha, ZW_R(0.0)); /* (c1 z + c2)(alpha Dv + beta Nv) */
+    ceb_times_real(&nv, beta, ZW_R(0.0));
+    ceb_add_into(&nv, &dv);
+    ceb_times_factor(&nv, loop, F_PLANT, z);
+    ceb_add_into(&d, &nv);
+    return d;
 }
 
 /* Newton correction p(z) / p'(z) of the degree-m polynomial p[0..m] (coefficients read
@@ -782,9 +759,15 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
                 step = c_make(ZW_R(1e-3) * (ZW_R(1.0) + c_abs(z[i])), ZW_R(1e-3));
             }
             z[i] = c_sub(z[i], step);
-            /* converged once the step is down to the evaluation's own noise */
-            if (c_abs(step) <= ZW_R(2.0) * noise + ZW_R(8.0) * ZW_U * c_abs(z[i]))
-                done |= (uint_least32_t)1u << i;
+            /* converged once the step is down to the evaluation's own noise, or small
+             * against the root's distance to the unit circle (all that the verdicts need:
+             * a cluster deep inside converges slowly and matters little) */
+            {
+                const zw_real st = c_abs(step), az = c_abs(z[i]);
+                if (st <= ZW_R(2.0) * noise + ZW_R(8.0) * ZW_U * az ||
+                    st * (zw_real)(64u * m) <= ZW_R(1e-3) * ZW_FABS(ZW_R(1.0) - az))
+                    done |= (uint_least32_t)1u << i;
+            }
         }
     }
     for (i = 0u; i < m; ++i)

@@ -23,7 +23,7 @@ import pytest
 from mpmath import mp, mpf
 
 import loop_reference as lr
-from conftest import E
+from conftest import load as cf_load
 
 FULL = os.environ.get("ZW_LOOP_FULL") == "1"
 
@@ -120,6 +120,31 @@ def test_parts_match_state_space(zw, delta, spec):
             assert max(getattr(lp, name + "_err")[: n + 1]) <= 1e3 * zw.u * float(scale) + 1e-300
 
 
+@pytest.mark.parametrize("spec", [SPECS[2], SPECS[5], SPECS[8], SPECS[9], SPECS[12]], ids=spec_id)
+def test_poly_annihilates_simulation(spec):
+    """A direct simulation of the sampled loop (the state-space step, from a random state)
+    satisfies the C polynomial's recurrence sum_j p_j x_(k+n-j) = 0: an independent check of
+    the C polynomial that does not go through a determinant."""
+    zw = cf_load("double")
+    delta, alpha, beta = 0.5, zw.r(0.0625), zw.r(0.375)
+    lp = make_loop(zw, delta, spec)
+    st, p = zw.loop_poly(lp, alpha, beta)
+    n = lp.degree
+    with mp.workdps(50):
+        a = lr.closed_loop_matrix(delta, alpha, beta, **spec)
+        rng = np.random.default_rng(2)
+        x = mpmath.matrix([mpf(float(v)) for v in rng.normal(size=a.rows)])
+        ys = []
+        for _ in range(a.rows + n + 6):
+            ys.append(x[0])  # position
+            x = a * x
+        scale = max(abs(y) for y in ys)
+        for k in range(a.rows - n, len(ys) - n):
+            res = sum(mpf(p[j]) * ys[k + n - j] for j in range(n + 1))
+            mag = sum(abs(mpf(p[j]) * ys[k + n - j]) for j in range(n + 1))
+            assert abs(res) <= 64 * zw.u * mag + mpf(10) ** -40 * scale
+
+
 def test_poly_is_affine_sum_of_parts(zw):
     """zw_loop_poly is D + alpha Na + beta Nb, against the reference at a generic point."""
     spec = dict(delay=2, differentiator="tustin", filter="lowpass", pole=0.3)
@@ -145,8 +170,8 @@ def test_poly_is_affine_sum_of_parts(zw):
 # inclusion disks wide.
 def band_ulps(precision, degree):
     if precision == "double":
-        return 1e4 if degree <= 12 else 1e6
-    return 1e4 if degree <= 8 else 1e7
+        return 1e5 if degree <= 12 else 1e6
+    return 1e4 if degree <= 12 else 1e7
 
 
 # Points nearer the boundary than this (relative margin of the Schur-Cohn recursion at 60
