@@ -415,7 +415,7 @@ static void test_verdicts_against_roots(void **state)
         {8u, ZW_DIFF_TUSTIN, ZW_VFILTER_AVERAGE, R(0.0), 15u}, {8u, ZW_DIFF_BACKWARD, ZW_VFILTER_AVERAGE, R(0.0), 16u}};
     static const zw_real ds[] = {R(1e-3), R(0.5), R(5.0)};
     size_t k, j;
-    unsigned seed = 777u, i, stable = 0u, unstable = 0u;
+    unsigned seed = 777u, i, stable = 0u, unstable = 0u, radius_checked = 0u, radius_proved = 0u;
     (void)state;
     for (k = 0; k < ZWT_ARRAY_LEN(specs); ++k)
         for (j = 0; j < ZWT_ARRAY_LEN(ds); ++j) {
@@ -440,11 +440,24 @@ static void test_verdicts_against_roots(void **state)
                                 k, (double)ds[j], (double)a, (double)b, ref, v.stable);
                 assert_true(within == v.stable);
                 EXPECT_REL(rho, ref, PREC(1e-9, 3e-3));
+                {   /* |z| < r for other radii: never claimed when rho >= r, and not vacuous */
+                    static const zw_real rs[] = {R(0.8), R(0.95), R(1.25)};
+                    size_t q;
+                    for (q = 0; q < ZWT_ARRAY_LEN(rs); ++q) {
+                        EXPECT_OK(zw_loop_radius_within(loop, a, b, rs[q], &within));
+                        if (fabsl(ref - rs[q]) < 1e-3L) continue;
+                        if (within) EXPECT_TRUE_MSG(ref < rs[q], "rho %.12Lg, r %g", ref, (double)rs[q]);
+                        radius_checked++;
+                        radius_proved += (ref < rs[q]) == within ? 1u : 0u;
+                    }
+                }
                 if (v.stable) stable++;
                 else unstable++;
             }
         }
     assert_true(stable > 100u && unstable > 100u);
+    /* the radius test decides at least 90 % of the points off its band */
+    EXPECT_TRUE_MSG(radius_proved * 10u >= radius_checked * 9u, "%u of %u", radius_proved, radius_checked);
 }
 
 /* Hand-derivable boundaries: z = 1 is alpha = 0 whatever the loop (p(1) = alpha Na(1));
