@@ -715,7 +715,8 @@ static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsign
     }
 }
 
-#define LOOP_ABERTH_ITER 100u
+#define LOOP_ABERTH_ITER 100u  /* sweeps on the expanded coefficients */
+#define LOOP_ABERTH_POLISH 8u /* then sweeps with p from its factors */
 
 /* Is coefficient i of p exactly zero (value and every part's bound)? */
 static bool coef_exact_zero(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i)
@@ -731,7 +732,7 @@ static bool coef_exact_zero(const zw_loop *loop, zw_real alpha, zw_real beta, un
 static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], unsigned *m_out,
                    bool accurate)
 {
-    unsigned m = loop->degree, i, j, it;
+    unsigned m = loop->degree, i, j, it, pass;
     uint_least32_t done = 0u, all;
     zw_real lead = poly_coef(loop, alpha, beta, 0u), r0;
     while (m > 0u && coef_exact_zero(loop, alpha, beta, m)) --m;
@@ -745,28 +746,33 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
         zw_real ang = ZW_R(2.0) * LOOP_PI * (zw_real)i / (zw_real)m + ZW_R(0.7);
         z[i] = c_make(r0 * LOOP_COS(ang), r0 * LOOP_SIN(ang));
     }
-    for (it = 0u; it < LOOP_ABERTH_ITER && done != all; ++it) {
-        for (i = 0u; i < m; ++i) {
-            cplx n, s = c_make(ZW_R(0.0), ZW_R(0.0)), step;
-            zw_real noise = ZW_R(0.0);
-            if ((done & ((uint_least32_t)1u << i)) != 0u) continue; /* converged: frozen */
-            n = newton_step(loop, alpha, beta, m, z[i], accurate, &noise);
-            for (j = 0u; j < m; ++j)
-                if (j != i) s = c_add(s, c_div(c_make(ZW_R(1.0), ZW_R(0.0)), c_sub(z[i], z[j])));
-            step = c_div(n, c_sub(c_make(ZW_R(1.0), ZW_R(0.0)), c_mul(n, s)));
-            if (!ZW_IS_FINITE(step.re) || !ZW_IS_FINITE(step.im)) {
-                /* p' = 0 or coincident estimates: nudge */
-                step = c_make(ZW_R(1e-3) * (ZW_R(1.0) + c_abs(z[i])), ZW_R(1e-3));
-            }
-            z[i] = c_sub(z[i], step);
-            /* converged once the step is down to the evaluation's own noise, or small
-             * against the root's distance to the unit circle (all that the verdicts need:
-             * a cluster deep inside converges slowly and matters little) */
-            {
-                const zw_real st = c_abs(step), az = c_abs(z[i]);
-                if (st <= ZW_R(2.0) * noise + ZW_R(8.0) * ZW_U * az ||
-                    st * (zw_real)(64u * m) <= ZW_R(1e-3) * ZW_FABS(ZW_R(1.0) - az))
-                    done |= (uint_least32_t)1u << i;
+    /* pass 0 on the expanded coefficients (cheap); with accurate, pass 1 polishes with p
+     * from its factors, from that good start */
+    for (pass = 0u; pass < (accurate ? 2u : 1u); ++pass) {
+        done = 0u;
+        for (it = 0u; it < (pass == 0u ? LOOP_ABERTH_ITER : LOOP_ABERTH_POLISH) && done != all; ++it) {
+            for (i = 0u; i < m; ++i) {
+                cplx n, s = c_make(ZW_R(0.0), ZW_R(0.0)), step;
+                zw_real noise = ZW_R(0.0);
+                if ((done & ((uint_least32_t)1u << i)) != 0u) continue; /* converged: frozen */
+                n = newton_step(loop, alpha, beta, m, z[i], pass == 1u, &noise);
+                for (j = 0u; j < m; ++j)
+                    if (j != i) s = c_add(s, c_div(c_make(ZW_R(1.0), ZW_R(0.0)), c_sub(z[i], z[j])));
+                step = c_div(n, c_sub(c_make(ZW_R(1.0), ZW_R(0.0)), c_mul(n, s)));
+                if (!ZW_IS_FINITE(step.re) || !ZW_IS_FINITE(step.im)) {
+                    /* p' = 0 or coincident estimates: nudge */
+                    step = c_make(ZW_R(1e-3) * (ZW_R(1.0) + c_abs(z[i])), ZW_R(1e-3));
+                }
+                z[i] = c_sub(z[i], step);
+                /* converged once the step is down to the evaluation's own noise, or small
+                 * against the root's distance to the unit circle (all that the verdicts need:
+                 * a cluster deep inside converges slowly and matters little) */
+                {
+                    const zw_real st = c_abs(step), az = c_abs(z[i]);
+                    if (st <= ZW_R(2.0) * noise + ZW_R(8.0) * ZW_U * az ||
+                        st * (zw_real)(64u * m) <= ZW_R(1e-3) * ZW_FABS(ZW_R(1.0) - az))
+                        done |= (uint_least32_t)1u << i;
+                }
             }
         }
     }
