@@ -171,7 +171,7 @@ def test_poly_is_affine_sum_of_parts(zw):
 def band_ulps(precision, degree):
     if precision == "double":
         return 1e5 if degree <= 12 else 1e6
-    return 1e4 if degree <= 12 else 1e7
+    return 1e5 if degree <= 12 else 1e7
 
 
 # Points nearer the boundary than this (relative margin of the Schur-Cohn recursion at 60

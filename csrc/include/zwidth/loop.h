@@ -134,8 +134,8 @@ typedef struct zw_loop_verdict {
  * root inside" or "one root surely outside"; otherwise marginal.  Stable only if proved;
  * a stable point is called unstable only within the band below, and then marginal = true.
  * Band (tests/py/test_loop_reference.py, 1..1e7-ulp steps from labelled boundary points,
- * delta 2^-20..1e3, a up to 0.999, d up to 8): double: <= 1e5 ulps of the stepped gain up
- * to degree 12, <= 1e6 to degree 26; float: <= 1e4 ulps to degree 12, <= 1e7 above (the
+ * delta 2^-20..1e3, a up to 0.999, d up to 8): <= 1e5 ulps of the stepped gain up
+ * to degree 12 (both precisions); above, <= 1e6 (double), <= 1e7 (float: the
  * long moving averages are ill-conditioned there).  z = 1 is alpha = 0 and, with Tustin,
  * z = -1 is beta = 0 for every loop: both decided by the gain's exact sign.
  * deciding: z = 1 if alpha is not surely > 0, else z = -1 if p(-1) has the wrong sign
