@@ -68,8 +68,8 @@ typedef struct zw_loop_spec {
 } zw_loop_spec;
 
 /* a = exp(-2 pi f_c T) for a cut-off f_c [Hz] at period T [s].  Errors: ZW_ERR_NULL,
- * ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_PERIOD (T <= 0), ZW_ERR_FILTER (f_c <= 0 or
- * f_c >= 1 / (2 T), the Nyquist frequency).  *a = 0 on error. */
+ * ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_PERIOD (T <= 0), ZW_ERR_FILTER (f_c <= 0,
+ * f_c >= 1 / (2 T), the Nyquist frequency, or so low that a rounds to 1).  *a = 0 on error. */
 zw_status zw_loop_lowpass_pole(zw_real f_c, zw_real T, zw_real *a);
 
 /* The loop for one plant: the three polynomial parts, each coefficient with a bound on
@@ -79,16 +79,29 @@ zw_status zw_loop_lowpass_pole(zw_real f_c, zw_real T, zw_real *a);
 typedef struct zw_loop {
     zw_coeffs c;
     zw_loop_spec spec;
-    unsigned degree;                        /* 3 + d for the ideal velocity estimate, ... */
+    unsigned degree; /* 3 + d (backward, Tustin, backward + low-pass), 4 + d (Tustin +
+                        low-pass), 2 + d + n (moving average over n) */
     zw_real D[ZW_LOOP_MAX_DEGREE + 1u], D_err[ZW_LOOP_MAX_DEGREE + 1u];
     zw_real Na[ZW_LOOP_MAX_DEGREE + 1u], Na_err[ZW_LOOP_MAX_DEGREE + 1u];
     zw_real Nb[ZW_LOOP_MAX_DEGREE + 1u], Nb_err[ZW_LOOP_MAX_DEGREE + 1u];
+    /* The same parts after the bilinear map z = (1 + s)/(1 - s), times (1 - s)^degree
+     * (highest power of s first): p is Schur stable iff P = Ds + alpha Nas + beta Nbs is
+     * Hurwitz of full degree.  Each factor is formed without cancellation (z - e becomes
+     * (1 + e) s + (1 - e) with 1 - e = delta (c1 + c2)/2, c1 z + c2 becomes d12 s + c1 + c2),
+     * so small delta keeps full relative accuracy here, unlike in the z coefficients. */
+    zw_real Ds[ZW_LOOP_MAX_DEGREE + 1u], Ds_err[ZW_LOOP_MAX_DEGREE + 1u];
+    zw_real Nas[ZW_LOOP_MAX_DEGREE + 1u], Nas_err[ZW_LOOP_MAX_DEGREE + 1u];
+    zw_real Nbs[ZW_LOOP_MAX_DEGREE + 1u], Nbs_err[ZW_LOOP_MAX_DEGREE + 1u];
 } zw_loop;
 
 /* Build the loop of spec for the plant c (a copy of *c is kept).  Errors: ZW_ERR_NULL,
- * ZW_ERR_DELAY, ZW_ERR_FILTER, ZW_ERR_NAN, ZW_ERR_INF / ZW_ERR_RANGE (delta too large to
- * bound), ZW_ERR_ARG (bad delta_relerr).  On error *out is an empty loop (degree 0) that
- * every function below refuses with ZW_ERR_ARG. */
+ * ZW_ERR_DELAY, ZW_ERR_FILTER (pole outside [0, 1), n outside 1..16, unknown kind),
+ * ZW_ERR_NAN (delta or the pole), ZW_ERR_INF (delta) / ZW_ERR_RANGE (a part overflows),
+ * ZW_ERR_ARG (bad delta_relerr).  On error *out is an empty loop (degree 0) that every
+ * function below refuses with ZW_ERR_ARG (as it refuses a loop whose degree does not
+ * match its spec, e.g. one never initialized).  Tustin with an even-length average is
+ * accepted but never stable: the Tustin mode (-1)^k averages out of the estimate, so
+ * z = -1 is a root for every gain. */
 zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spec);
 
 /* p(z) = D + alpha Na + beta Nb, highest power first, p[0..*degree].  On error every
@@ -115,17 +128,38 @@ typedef struct zw_loop_verdict {
 } zw_loop_verdict;
 
 /* Guarded verdict of the general loop (always the general path; the ideal loop's closed
- * form is zw_check).  Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an
- * uninitialized loop).  On error *out = {stable = false, marginal = false, NONE, 0}. */
+ * form is zw_check).  How: a Routh test with running error bounds on the bilinear parts
+ * decides most points; where it cannot tell, an a-posteriori root-inclusion test
+ * (Braess-Hadeler disks around Aberth roots, p evaluated from its factors) proves "every
+ * root inside" or "one root surely outside"; otherwise marginal.  Stable only if proved;
+ * a stable point is called unstable only within the band below, and then marginal = true.
+ * Band (tests/py/test_loop_reference.py, 1..1e7-ulp steps from labelled boundary points,
+ * delta 2^-20..1e3, a up to 0.999, d up to 8): <= 1e5 ulps of the stepped gain up
+ * to degree 12 (both precisions); above, <= 1e6 (double), <= 1e7 (float: the
+ * long moving averages are ill-conditioned there).  z = 1 is alpha = 0 and, with Tustin,
+ * z = -1 is beta = 0 for every loop: both decided by the gain's exact sign.
+ * deciding: z = 1 if alpha is not surely > 0, else z = -1 if p(-1) has the wrong sign
+ * (or cannot be told), else where the root of largest modulus is (real: +-1; a pair
+ * within ~sqrt(u) of the real axis counts as real).
+ * Cost: a few hundred ns for points the Routh test settles; the root test and the
+ * deciding root of an unstable point cost an Aberth run (tens of us at degree 10,
+ * hundreds at 26: bench/loop).  Stack (worst chain, bench/loop/stack_chain.py): Routh path
+ * ~440 B on Cortex-M4F float; with the root test ~950 B (M4F float), ~1.5 KB (x86-64 double).
+ * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an uninitialized loop).  On
+ * error *out = {stable = false, marginal = false, NONE, 0}. */
 zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta,
                         zw_loop_verdict *out);
 
-/* "Every root has |z| < r" with the same guard (never true when rho >= r); r finite > 0. */
+/* "Every root has |z| < r" with the same guard (never true when rho >= r); r finite > 0.
+ * Routh on (1 - s)^n p(r (1 + s)/(1 - s)) formed from the z coefficients (wider band than
+ * zw_loop_check at r = 1), then the root-inclusion test.  Errors as zw_loop_check, and
+ * ZW_ERR_ARG for r <= 0 or infinite; *within = false on error. */
 zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
                                 bool *within);
 
-/* Spectral radius rho (largest root modulus), with the angle in [0, pi] of that root.
- * Informational (plots, reports): verdicts never rest on it.  *rho = +inf on error. */
+/* Spectral radius rho (largest root modulus), with the angle in [0, pi] of that root, by
+ * Aberth-Ehrlich iteration (at most 100 sweeps, no heap).  Informational (plots,
+ * reports): verdicts never rest on it.  *rho = +inf, *theta = 0 on error. */
 zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real beta,
                                   zw_real *rho, zw_real *theta);
 

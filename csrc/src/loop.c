@@ -1,0 +1,1038 @@
+/* The loop a real drive runs (loop.h): delay, velocity filters, Tustin.
+ *
+ * The characteristic polynomial p = D + alpha Na + beta Nb is built once per plant as a
+ * product of linear factors, each coefficient with a running error bound (internal.h's
+ * zw_eb).  Two versions are kept: the z coefficients (zw_loop_poly, roots) and the
+ * bilinear ones (z = (1 + s)/(1 - s)), in which every factor has non-negative
+ * coefficients formed without cancellation; the guarded verdict is a Routh test on the
+ * latter (see zw_loop_check below).
+ */
+#include "zwidth/loop.h"
+
+#include <float.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "internal.h"
+
+#ifdef ZW_REAL_FLOAT
+#define LOOP_ATAN2 atan2f
+#define LOOP_COS cosf
+#define LOOP_SIN sinf
+#else
+#define LOOP_ATAN2 atan2
+#define LOOP_COS cos
+#define LOOP_SIN sin
+#endif
+
+#define LOOP_PI ZW_R(3.14159265358979323846)
+#define LOOP_N (ZW_LOOP_MAX_DEGREE + 1u)
+
+/* ---- input checks ---------------------------------------------------------------------- */
+
+zw_status zw_loop_lowpass_pole(zw_real f_c, zw_real T, zw_real *a)
+{
+    zw_status st;
+    zw_real x;
+    if (a == NULL) return ZW_ERR_NULL;
+    *a = ZW_R(0.0);
+    if ((st = zw_require_finite(f_c)) != ZW_OK) return st;
+    if ((st = zw_require_finite(T)) != ZW_OK) return st;
+    if (!(T > ZW_R(0.0))) return ZW_ERR_PERIOD;
+    /* f_c T >= 1/2 exactly iff fl(f_c T) >= 1/2 (rounding is monotone, 1/2 representable) */
+    x = f_c * T;
+    if (!(f_c > ZW_R(0.0)) || !(x < ZW_R(0.5))) return ZW_ERR_FILTER;
+    x = ZW_EXP(-(ZW_R(2.0) * LOOP_PI) * x);
+    /* a cut-off so low that the pole rounds to 1 is an integrator, not a filter */
+    if (!(x < ZW_R(1.0))) return ZW_ERR_FILTER;
+    *a = x;
+    return ZW_OK;
+}
+
+/* Degree of the velocity estimate Nv / Dv (numerator and denominator). */
+static unsigned estimate_degree(const zw_loop_spec *spec)
+{
+    if (spec->filter == ZW_VFILTER_AVERAGE) return spec->average;
+    if (spec->filter == ZW_VFILTER_LOWPASS && spec->differentiator == ZW_DIFF_TUSTIN) return 2u;
+    return 1u;
+}
+
+static zw_status check_spec(const zw_loop_spec *spec)
+{
+    if (spec == NULL) return ZW_ERR_NULL;
+    if (spec->delay > ZW_LOOP_MAX_DELAY) return ZW_ERR_DELAY;
+    if (spec->differentiator != ZW_DIFF_BACKWARD && spec->differentiator != ZW_DIFF_TUSTIN)
+        return ZW_ERR_FILTER;
+    switch (spec->filter) {
+    case ZW_VFILTER_NONE: break;
+    case ZW_VFILTER_LOWPASS:
+        if (ZW_IS_NAN(spec->filter_pole)) return ZW_ERR_NAN;
+        if (!(spec->filter_pole >= ZW_R(0.0) && spec->filter_pole < ZW_R(1.0))) return ZW_ERR_FILTER;
+        break;
+    case ZW_VFILTER_AVERAGE:
+        if (spec->average < 1u || spec->average > ZW_LOOP_MAX_AVERAGE) return ZW_ERR_FILTER;
+        break;
+    default: return ZW_ERR_FILTER;
+    }
+    return ZW_OK;
+}
+
+/* An initialized loop: its degree matches its spec (a zeroed or garbage struct fails). */
+static zw_status check_loop(const zw_loop *loop)
+{
+    if (loop == NULL) return ZW_ERR_NULL;
+    if (check_spec(&loop->spec) != ZW_OK) return ZW_ERR_ARG;
+    if (loop->degree != 2u + loop->spec.delay + estimate_degree(&loop->spec)) return ZW_ERR_ARG;
+    return ZW_OK;
+}
+
+/* ---- polynomial construction -------------------------------------------------------------- */
+
+/* Linear factors of the loop, as z polynomials; mapped to s by z = (1 + s)/(1 - s) times
+ * (1 - s).  PAD is the constant 1 counted as degree one (it lifts a part of lower degree
+ * to the loop's degree: a leading zero in z, a factor 1 - s in s). */
+typedef enum factor_kind {
+    F_Z,     /* z             s: s + 1 */
+    F_ZM1,   /* z - 1         s: 2 s */
+    F_ZP1,   /* z + 1         s: 2 */
+    F_ZMA,   /* z - a         s: (1 + a) s + (1 - a) */
+    F_ZME,   /* z - e         s: (1 + e) s + (1 - e), 1 - e = delta (c1 + c2) / 2 */
+    F_PLANT, /* c1 z + c2     s: d12 s + (c1 + c2) */
+    F_PAD    /* 1             s: 1 - s */
+} factor_kind;
+
+typedef struct build_ctx {
+    const zw_coeffs *c;
+    zw_real a;       /* filter pole (exact) */
+    bool bilinear;   /* build the s polynomial */
+} build_ctx;
+
+static zw_eb eb_make(zw_real v, zw_real e)
+{
+    zw_eb r;
+    r.v = v;
+    r.e = e;
+    return r;
+}
+
+/* A coefficient field with its relative bound and the subnormal floor. */
+static zw_eb coef_field(const zw_coeffs *c, zw_real v)
+{
+    return eb_make(v, zw_coef_relerr(c) * ZW_FABS(v) + zw_coef_floor(v));
+}
+
+/* f1 x + f0 for the factor in the context's variable. */
+static void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
+{
+    const zw_coeffs *c = ctx->c;
+    const bool s = ctx->bilinear;
+    zw_real v;
+    switch (kind) {
+    case F_Z:
+        *f1 = zw_eb_exact(ZW_R(1.0));
+        *f0 = zw_eb_exact(s ? ZW_R(1.0) : ZW_R(0.0));
+        break;
+    case F_ZM1:
+        *f1 = zw_eb_exact(s ? ZW_R(2.0) : ZW_R(1.0));
+        *f0 = zw_eb_exact(s ? ZW_R(0.0) : ZW_R(-1.0));
+        break;
+    case F_ZP1:
+        *f1 = zw_eb_exact(s ? ZW_R(0.0) : ZW_R(1.0));
+        *f0 = zw_eb_exact(s ? ZW_R(2.0) : ZW_R(1.0));
+        break;
+    case F_ZMA:
+        if (s) {
+            v = ZW_R(1.0) + ctx->a;
+            *f1 = eb_make(v, ZW_U * v);
+            v = ZW_R(1.0) - ctx->a;
+            *f0 = eb_make(v, ZW_U * v);
+        } else {
+            *f1 = zw_eb_exact(ZW_R(1.0));
+            *f0 = zw_eb_exact(-ctx->a);
+        }
+        break;
+    case F_ZME:
+        if (s) {
+            const zw_real e_err = zw_coef_e_abserr(c);
+            v = ZW_R(1.0) + c->e;
+            *f1 = eb_make(v, e_err + ZW_U * v);
+            /* 1 - e = delta s / 2: s's own bound (which covers its sensitivity to delta),
+             * delta's uncertainty, one rounding (the halving is exact but for underflow) */
+            v = ZW_R(0.5) * (c->delta * c->s);
+            *f0 = eb_make(v, (zw_coef_relerr(c) + c->delta_relerr + ZW_R(2.0) * ZW_U) * v +
+                                 zw_coef_floor(c->s) * c->delta + ZW_R(2.0) * ZW_ETA);
+        } else {
+            *f1 = zw_eb_exact(ZW_R(1.0));
+            *f0 = eb_make(-c->e, zw_coef_e_abserr(c));
+        }
+        break;
+    case F_PLANT:
+        if (s) {
+            *f1 = coef_field(c, c->d12);
+            *f0 = coef_field(c, c->s);
+        } else {
+            *f1 = coef_field(c, c->c1);
+            *f0 = coef_field(c, c->c2);
+        }
+        break;
+    case F_PAD:
+    default:
+        *f1 = zw_eb_exact(s ? ZW_R(-1.0) : ZW_R(0.0));
+        *f0 = zw_eb_exact(ZW_R(1.0));
+        break;
+    }
+}
+
+/* Product of two bounded values whose error is exactly zero when both are exact and one
+ * of them is 0, +-1 or +-2 (factors of that form are common and must not add rounding). */
+static zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
+{
+    if (a.e == ZW_R(0.0) && b.e == ZW_R(0.0)) {
+        zw_real m = ZW_FABS(a.v) < ZW_FABS(b.v) ? ZW_FABS(a.v) : ZW_FABS(b.v);
+        if (m == ZW_R(0.0) || m == ZW_R(1.0) || m == ZW_R(2.0)) return zw_eb_exact(a.v * b.v);
+    }
+    return zw_eb_mul(a, b);
+}
+
+/* Sum whose error is the inputs' when one of them is an exact zero. */
+static zw_eb eb_add_exactish(zw_eb a, zw_eb b)
+{
+    if (a.v == ZW_R(0.0) && a.e == ZW_R(0.0)) return b;
+    if (b.v == ZW_R(0.0) && b.e == ZW_R(0.0)) return a;
+    return zw_eb_add(a, b);
+}
+
+/* v (degree deg, highest power first) *= f1 x + f0, in place; the result has degree
+ * deg + 1 (v must hold deg + 2 entries). */
+static void mul_linear(zw_real v[], zw_real e[], unsigned deg, zw_eb f1, zw_eb f0)
+{
+    unsigned i;
+    for (i = deg + 1u; i > 0u; --i) {
+        zw_eb lo = eb_mul_exactish(f0, eb_make(v[i - 1u], e[i - 1u]));
+        zw_eb hi = i <= deg ? eb_mul_exactish(f1, eb_make(v[i], e[i])) : zw_eb_exact(ZW_R(0.0));
+        zw_eb sum = eb_add_exactish(hi, lo);
+        v[i] = sum.v;
+        e[i] = sum.e;
+    }
+    {
+        zw_eb top = eb_mul_exactish(f1, eb_make(v[0], e[0]));
+        v[0] = top.v;
+        e[0] = top.e;
+    }
+}
+
+static void mul_factor(const build_ctx *ctx, zw_real v[], zw_real e[], unsigned *deg,
+                       factor_kind kind, unsigned times)
+{
+    unsigned k;
+    zw_eb f1, f0;
+    factor(ctx, kind, &f1, &f0);
+    for (k = 0u; k < times; ++k) {
+        mul_linear(v, e, *deg, f1, f0);
+        *deg += 1u;
+    }
+}
+
+static void mul_scalar(zw_real v[], zw_real e[], unsigned deg, zw_eb k)
+{
+    unsigned i;
+    for (i = 0u; i <= deg; ++i) {
+        zw_eb r = eb_mul_exactish(k, eb_make(v[i], e[i]));
+        v[i] = r.v;
+        e[i] = r.e;
+    }
+}
+
+static void set_one(zw_real v[], zw_real e[], unsigned *deg)
+{
+    v[0] = ZW_R(1.0);
+    e[0] = ZW_R(0.0);
+    *deg = 0u;
+}
+
+/* z^n - 1 (degree n): in s, (1 + s)^n - (1 - s)^n = 2 sum_{k odd} C(n, k) s^k (exact
+ * integers: at most 2 C(16, 8) = 25740). */
+static void set_power_minus_one(const build_ctx *ctx, zw_real v[], zw_real e[], unsigned n)
+{
+    unsigned i;
+    zw_real binom = ZW_R(1.0); /* C(n, k), k = n - i */
+    for (i = 0u; i <= n; ++i) {
+        e[i] = ZW_R(0.0);
+        v[i] = ZW_R(0.0);
+    }
+    if (!ctx->bilinear) {
+        v[0] = ZW_R(1.0);
+        v[n] = ZW_R(-1.0);
+        return;
+    }
+    for (i = 0u; i <= n; ++i) {
+        unsigned k = n - i; /* power of s at index i */
+        if (i > 0u) binom = binom * (zw_real)(k + 1u) / (zw_real)(n - k); /* C(n,k) from C(n,k+1) */
+        if ((k & 1u) != 0u) v[i] = ZW_R(2.0) * binom;
+    }
+}
+
+/* Dv (into dv) and Nv (into nv) of the velocity estimate, both of degree m. */
+static void velocity_estimate(const build_ctx *ctx, const zw_loop_spec *spec, zw_real dv[],
+                              zw_real dv_e[], zw_real nv[], zw_real nv_e[])
+{
+    const bool tustin = spec->differentiator == ZW_DIFF_TUSTIN;
+    unsigned dd, nd;
+    set_one(dv, dv_e, &dd);
+    set_one(nv, nv_e, &nd);
+    switch (spec->filter) {
+    case ZW_VFILTER_AVERAGE: {
+        /* backward: (z^n - 1) / (n z^n);  Tustin: 2 (z^n - 1) / (n z^(n-1) (z + 1)) */
+        const unsigned n = spec->average;
+        set_power_minus_one(ctx, nv, nv_e, n);
+        mul_factor(ctx, dv, dv_e, &dd, F_Z, tustin ? n - 1u : n);
+        if (tustin) {
+            mul_factor(ctx, dv, dv_e, &dd, F_ZP1, 1u);
+            mul_scalar(nv, nv_e, n, zw_eb_exact(ZW_R(2.0)));
+        }
+        mul_scalar(dv, dv_e, dd, zw_eb_exact((zw_real)n));
+        break;
+    }
+    case ZW_VFILTER_LOWPASS: {
+        /* backward: (1 - a)(z - 1) / (z - a);  Tustin: 2 (1 - a) z (z - 1) / ((z + 1)(z - a)) */
+        zw_real one_minus_a = ZW_R(1.0) - ctx->a;
+        zw_eb gain = eb_make(one_minus_a, ZW_U * one_minus_a);
+        mul_factor(ctx, dv, dv_e, &dd, F_ZMA, 1u);
+        mul_factor(ctx, nv, nv_e, &nd, F_ZM1, 1u);
+        if (tustin) {
+            mul_factor(ctx, dv, dv_e, &dd, F_ZP1, 1u);
+            mul_factor(ctx, nv, nv_e, &nd, F_Z, 1u);
+            gain.v = ZW_R(2.0) * gain.v; /* exact */
+            gain.e = ZW_R(2.0) * gain.e;
+        }
+        mul_scalar(nv, nv_e, nd, gain);
+        break;
+    }
+    case ZW_VFILTER_NONE:
+    default:
+        /* backward: (z - 1) / z;  Tustin: 2 (z - 1) / (z + 1) */
+        mul_factor(ctx, dv, dv_e, &dd, tustin ? F_ZP1 : F_Z, 1u);
+        mul_factor(ctx, nv, nv_e, &nd, F_ZM1, 1u);
+        if (tustin) mul_scalar(nv, nv_e, nd, zw_eb_exact(ZW_R(2.0)));
+        break;
+    }
+}
+
+/* D = 2 z^d (z - 1)(z - e) Dv,  Na = (c1 z + c2) Dv,  Nb = (c1 z + c2) Nv, the last two
+ * lifted to degree n, in the context's variable. */
+static void build_parts(const build_ctx *ctx, const zw_loop_spec *spec, unsigned n, zw_real D[],
+                        zw_real De[], zw_real Na[], zw_real Nae[], zw_real Nb[], zw_real Nbe[])
+{
+    const unsigned m = estimate_degree(spec);
+    unsigned i, dd = m, da, db;
+    velocity_estimate(ctx, spec, Na, Nae, Nb, Nbe);
+    for (i = 0u; i <= m; ++i) {
+        D[i] = Na[i];
+        De[i] = Nae[i];
+    }
+    mul_scalar(D, De, dd, zw_eb_exact(ZW_R(2.0)));
+    mul_factor(ctx, D, De, &dd, F_ZM1, 1u);
+    mul_factor(ctx, D, De, &dd, F_ZME, 1u);
+    mul_factor(ctx, D, De, &dd, F_Z, spec->delay);
+    da = m;
+    db = m;
+    mul_factor(ctx, Na, Nae, &da, F_PLANT, 1u);
+    mul_factor(ctx, Nb, Nbe, &db, F_PLANT, 1u);
+    mul_factor(ctx, Na, Nae, &da, F_PAD, n - da);
+    mul_factor(ctx, Nb, Nbe, &db, F_PAD, n - db);
+}
+
+static bool all_finite(const zw_real v[], const zw_real e[], unsigned n)
+{
+    unsigned i;
+    for (i = 0u; i <= n; ++i)
+        if (!ZW_IS_FINITE(v[i]) || !ZW_IS_FINITE(e[i])) return false;
+    return true;
+}
+
+static const zw_loop k_empty_loop; /* zero: degree 0, refused by check_loop */
+
+zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spec)
+{
+    zw_status st;
+    build_ctx ctx;
+    unsigned n;
+    if (out == NULL) return ZW_ERR_NULL;
+    *out = k_empty_loop;
+    if (spec == NULL) return ZW_ERR_NULL;
+    if ((st = zw_require_coeffs(c, false)) != ZW_OK) return st;
+    if ((st = check_spec(spec)) != ZW_OK) return st;
+    n = 2u + spec->delay + estimate_degree(spec);
+    ctx.c = c;
+    ctx.a = spec->filter == ZW_VFILTER_LOWPASS ? spec->filter_pole : ZW_R(0.0);
+    ctx.bilinear = false;
+    build_parts(&ctx, spec, n, out->D, out->D_err, out->Na, out->Na_err, out->Nb, out->Nb_err);
+    ctx.bilinear = true;
+    build_parts(&ctx, spec, n, out->Ds, out->Ds_err, out->Nas, out->Nas_err, out->Nbs,
+                out->Nbs_err);
+    if (!all_finite(out->D, out->D_err, n) || !all_finite(out->Na, out->Na_err, n) ||
+        !all_finite(out->Nb, out->Nb_err, n) || !all_finite(out->Ds, out->Ds_err, n) ||
+        !all_finite(out->Nas, out->Nas_err, n) || !all_finite(out->Nbs, out->Nbs_err, n)) {
+        *out = k_empty_loop;
+        return ZW_ERR_RANGE;
+    }
+    out->c = *c;
+    out->spec = *spec;
+    if (spec->filter != ZW_VFILTER_LOWPASS) out->spec.filter_pole = ZW_R(0.0);
+    if (spec->filter != ZW_VFILTER_AVERAGE) out->spec.average = 0u;
+    out->degree = n;
+    return ZW_OK;
+}
+
+static zw_status check_gains(const zw_loop *loop, zw_real alpha, zw_real beta)
+{
+    zw_status st;
+    if ((st = check_loop(loop)) != ZW_OK) return st;
+    if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
+    return zw_require_finite(beta);
+}
+
+zw_status zw_loop_poly(const zw_loop *loop, zw_real alpha, zw_real beta,
+                       zw_real p[ZW_LOOP_MAX_DEGREE + 1u], unsigned *degree)
+{
+    zw_status st;
+    unsigned i;
+    if (p == NULL || degree == NULL) {
+        if (degree != NULL) *degree = 0u;
+        if (p != NULL)
+            for (i = 0u; i < LOOP_N; ++i) p[i] = ZW_R(0.0);
+        return ZW_ERR_NULL;
+    }
+    for (i = 0u; i < LOOP_N; ++i) p[i] = ZW_R(0.0);
+    *degree = 0u;
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    for (i = 0u; i <= loop->degree; ++i) {
+        p[i] = (loop->D[i] + alpha * loop->Na[i]) + beta * loop->Nb[i];
+        if (!ZW_IS_FINITE(p[i])) {
+            for (i = 0u; i < LOOP_N; ++i) p[i] = ZW_R(0.0);
+            return ZW_ERR_RANGE;
+        }
+    }
+    *degree = loop->degree;
+    return ZW_OK;
+}
+
+/* ---- stored error bounds --------------------------------------------------------------------- */
+
+/* The working arrays of the tests keep their error bounds in float (rounded up), which
+ * halves their stack in the double build; a bound needs no more than a few digits. */
+typedef float loop_err;
+
+static loop_err err_up(zw_real e)
+{
+    float f;
+    if (!(e <= (zw_real)FLT_MAX)) return (float)INFINITY; /* also NaN: "cannot tell" */
+    f = (float)e;
+#ifndef ZW_REAL_FLOAT
+    if ((zw_real)f < e) f = nextafterf(f, (float)INFINITY);
+#endif
+    return f;
+}
+
+static zw_eb eb_stored(zw_real v, loop_err e)
+{
+    return eb_make(v, (zw_real)e);
+}
+
+/* ---- guarded Hurwitz test (Routh) ---------------------------------------------------------- */
+
+typedef enum routh_result { ROUTH_STABLE, ROUTH_UNSURE, ROUTH_UNSTABLE } routh_result;
+
+static routh_result sign_result(zw_real v, zw_real err)
+{
+    zw_cmp cmp = zw_compare(ZW_R(0.0), v, err);
+    if (cmp == ZW_CMP_LT) return ROUTH_STABLE;
+    return cmp == ZW_CMP_GE ? ROUTH_UNSTABLE : ROUTH_UNSURE;
+}
+
+/* Is P(s) = w[0] s^n + ... + w[n] (errors we[]) surely Hurwitz?  Every coefficient must be
+ * surely positive (necessary), then the first column of the division-free Routh array:
+ *   row k, entry j = B0 A[j+1] - A0 B[j+1]  (A = row k-2, B = row k-1),
+ * which has the sign of the classical entry when B0 > 0 (checked first).  Rows are
+ * rescaled by powers of two (exact) against overflow.  The last row is the constant
+ * coefficient times positive factors and is not recomputed.  Row k lives in the slots
+ * (k mod 2) + 2 j of w, overwriting row k - 2 (whose entry j + 1 is read before entry j
+ * is written).  UNSTABLE is certain: the first entry that is not surely positive is
+ * surely non-positive while all before it are surely positive. */
+static routh_result routh(zw_real w[], loop_err we[], unsigned n)
+{
+    unsigned i, k;
+    routh_result res = ROUTH_STABLE;
+    for (i = 0u; i <= n; ++i) {
+        routh_result r = sign_result(w[i], (zw_real)we[i]);
+        if (r == ROUTH_UNSTABLE) return r;
+        if (r == ROUTH_UNSURE) res = r;
+    }
+    if (res != ROUTH_STABLE) return res;
+    for (k = 2u; k < n; ++k) {
+        const unsigned off = k & 1u, len = (n - k) / 2u + 1u;
+        const unsigned len_a = (n - k + 2u) / 2u + 1u, len_b = (n - k + 1u) / 2u + 1u;
+        const zw_eb a0 = eb_stored(w[off], we[off]);
+        const zw_eb b0 = eb_stored(w[1u - off], we[1u - off]);
+        zw_real big = ZW_R(0.0);
+        int ex = 0;
+        unsigned j;
+        for (j = 0u; j < len; ++j) {
+            const unsigned ia = off + 2u * (j + 1u), ib = (1u - off) + 2u * (j + 1u);
+            zw_eb a1 = j + 1u < len_a ? eb_stored(w[ia], we[ia]) : zw_eb_exact(ZW_R(0.0));
+            zw_eb b1 = j + 1u < len_b ? eb_stored(w[ib], we[ib]) : zw_eb_exact(ZW_R(0.0));
+            zw_eb c = zw_eb_sub(zw_eb_mul(b0, a1), zw_eb_mul(a0, b1));
+            w[off + 2u * j] = c.v;
+            we[off + 2u * j] = err_up(c.e);
+            if (ZW_FABS(c.v) > big) big = ZW_FABS(c.v);
+        }
+        if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
+        if (big > ZW_R(0.0)) {
+            (void)ZW_FREXP(big, &ex);
+            for (j = 0u; j < len; ++j) {
+                w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
+                we[off + 2u * j] = err_up(ZW_LDEXP((zw_real)we[off + 2u * j], -ex) + ZW_ETA);
+            }
+        }
+        res = sign_result(w[off], (zw_real)we[off]);
+        if (res != ROUTH_STABLE) return res;
+    }
+    return ROUTH_STABLE;
+}
+
+/* P = Ds + alpha Nas + beta Nbs with bounds, then Routh.  *lead / *trail: the results of
+ * the leading (z = -1) and constant (z = 1) coefficients alone. */
+static routh_result check_bilinear(const zw_loop *loop, zw_real alpha, zw_real beta,
+                                   routh_result *lead, routh_result *trail)
+{
+    zw_real w[LOOP_N];
+    loop_err we[LOOP_N];
+    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
+    const unsigned n = loop->degree;
+    unsigned i;
+    for (i = 0u; i <= n; ++i) {
+        zw_eb v = eb_add_exactish(eb_make(loop->Ds[i], loop->Ds_err[i]),
+                                  eb_mul_exactish(ga, eb_make(loop->Nas[i], loop->Nas_err[i])));
+        v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nbs[i], loop->Nbs_err[i])));
+        w[i] = v.v;
+        we[i] = err_up(v.e);
+    }
+    *lead = sign_result(w[0], (zw_real)we[0]);
+    *trail = sign_result(w[n], (zw_real)we[n]);
+    return routh(w, we, n);
+}
+
+/* ---- roots (informational) ------------------------------------------------------------------ */
+
+typedef struct cplx {
+    zw_real re, im;
+} cplx;
+
+static cplx c_make(zw_real re, zw_real im)
+{
+    cplx r;
+    r.re = re;
+    r.im = im;
+    return r;
+}
+static cplx c_add(cplx a, cplx b) { return c_make(a.re + b.re, a.im + b.im); }
+static cplx c_sub(cplx a, cplx b) { return c_make(a.re - b.re, a.im - b.im); }
+static cplx c_mul(cplx a, cplx b)
+{
+    return c_make(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re);
+}
+/* Smith's division; b = 0 gives an infinite quotient. */
+static cplx c_div(cplx a, cplx b)
+{
+    zw_real t, den;
+    if (ZW_FABS(b.re) >= ZW_FABS(b.im)) {
+        if (b.re == ZW_R(0.0)) return c_make(ZW_REAL_MAX * ZW_R(2.0), ZW_R(0.0));
+        t = b.im / b.re;
+        den = b.re + b.im * t;
+        return c_make((a.re + a.im * t) / den, (a.im - a.re * t) / den);
+    }
+    t = b.re / b.im;
+    den = b.re * t + b.im;
+    return c_make((a.re * t + a.im) / den, (a.im * t - a.re) / den);
+}
+static zw_real c_abs(cplx a)
+{
+    zw_real x = ZW_FABS(a.re), y = ZW_FABS(a.im), big = x > y ? x : y, small = x > y ? y : x;
+    if (big == ZW_R(0.0)) return ZW_R(0.0);
+    small /= big;
+    return big * ZW_SQRT(ZW_R(1.0) + small * small);
+}
+
+static zw_real poly_coef(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i)
+{
+    return (loop->D[i] + alpha * loop->Na[i]) + beta * loop->Nb[i];
+}
+
+/* A complex value with a bound on its absolute error. */
+typedef struct ceb {
+    cplx v;
+    zw_real e;
+} ceb;
+
+static ceb ceb_make(cplx v, zw_real e)
+{
+    ceb r;
+    r.v = v;
+    r.e = e;
+    return r;
+}
+
+/* acc *= f (f with absolute error fe); |fl(a b) - a b| <= sqrt(2) gamma_2 |a||b| < 5 u |a||b|
+ * for complex products.  In place, through pointers: small frames on an MCU. */
+static void ceb_times(ceb *acc, cplx f, zw_real fe)
+{
+    const zw_real aa = c_abs(acc->v), af = c_abs(f);
+    acc->e = aa * fe + af * acc->e + acc->e * fe + ZW_R(5.0) * ZW_U * aa * af + ZW_R(2.0) * ZW_ETA;
+    acc->v = c_mul(acc->v, f);
+}
+
+/* acc *= the loop's linear factor of that kind at z (its z coefficients carry bounds). */
+static void ceb_times_factor(ceb *acc, const zw_loop *loop, factor_kind kind, cplx z)
+{
+    build_ctx ctx;
+    zw_eb f1, f0;
+    zw_real az = c_abs(z);
+    ctx.c = &loop->c;
+    ctx.a = loop->spec.filter_pole;
+    ctx.bilinear = false;
+    factor(&ctx, kind, &f1, &f0);
+    ceb_times(acc, c_make(f1.v * z.re + f0.v, f1.v * z.im),
+              f1.e * az + f0.e + ZW_R(4.0) * ZW_U * (ZW_FABS(f1.v) * az + ZW_FABS(f0.v)) + ZW_R(2.0) * ZW_ETA);
+}
+
+static void ceb_times_real(ceb *acc, zw_real k, zw_real ke)
+{
+    ceb_times(acc, c_make(k, ZW_R(0.0)), ke);
+}
+
+static void ceb_times_power(ceb *acc, cplx z, unsigned k)
+{
+    unsigned i;
+    for (i = 0u; i < k; ++i) ceb_times(acc, z, ZW_R(0.0));
+}
+
+/* acc = x + y */
+static void ceb_add_into(ceb *x, const ceb *y)
+{
+    x->v = c_add(x->v, y->v);
+    x->e = x->e + y->e + ZW_R(2.0) * ZW_U * c_abs(x->v) + ZW_R(2.0) * ZW_ETA;
+}
+
+/* p(z) = D + alpha Na + beta Nb from the factors (loop.h), with a bound on its error: far
+ * tighter than the expanded coefficients near z = 1 and where the expansion cancels. */
+static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
+{
+    const zw_loop_spec *spec = &loop->spec;
+    const bool tustin = spec->differentiator == ZW_DIFF_TUSTIN;
+    ceb dv, nv, d;
+    dv = ceb_make(c_make(ZW_R(1.0), ZW_R(0.0)), ZW_R(0.0));
+    nv = dv;
+    switch (spec->filter) {
+    case ZW_VFILTER_AVERAGE: /* (z^n - 1) / (n z^n);  2 (z^n - 1) / (n z^(n-1) (z + 1)) */
+        ceb_times_power(&dv, z, tustin ? spec->average - 1u : spec->average);
+        ceb_times_real(&dv, (zw_real)spec->average, ZW_R(0.0));
+        if (tustin) ceb_times_factor(&dv, loop, F_ZP1, z);
+        ceb_times_power(&nv, z, spec->average);
+        nv.v.re -= ZW_R(1.0);
+        nv.e += ZW_R(2.0) * ZW_U * c_abs(nv.v) + ZW_ETA;
+        if (tustin) ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
+        break;
+    case ZW_VFILTER_LOWPASS: /* (1 - a)(z - 1) / (z - a);  2 (1 - a) z (z - 1) / ((z + 1)(z - a)) */
+        ceb_times_factor(&dv, loop, F_ZMA, z);
+        ceb_times_factor(&nv, loop, F_ZM1, z);
+        if (tustin) {
+            ceb_times_factor(&dv, loop, F_ZP1, z);
+            ceb_times_power(&nv, z, 1u);
+        }
+        ceb_times_real(&nv, (tustin ? ZW_R(2.0) : ZW_R(1.0)) * (ZW_R(1.0) - spec->filter_pole),
+                       ZW_R(2.0) * ZW_U * (ZW_R(1.0) - spec->filter_pole));
+        break;
+    case ZW_VFILTER_NONE:
+    default: /* (z - 1) / z;  2 (z - 1) / (z + 1) */
+        if (tustin) ceb_times_factor(&dv, loop, F_ZP1, z);
+        else ceb_times_power(&dv, z, 1u);
+        ceb_times_factor(&nv, loop, F_ZM1, z);
+        if (tustin) ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
+        break;
+    }
+    d = dv; /* D = 2 z^d (z - 1)(z - e) Dv */
+    ceb_times_factor(&d, loop, F_ZM1, z);
+    ceb_times_factor(&d, loop, F_ZME, z);
+    ceb_times_power(&d, z, spec->delay);
+    ceb_times_real(&d, ZW_R(2.0), ZW_R(0.0));
+    ceb_times_real(&dv, alpha, ZW_R(0.0)); /* (c1 z + c2)(alpha Dv + beta Nv) */
+    ceb_times_real(&nv, beta, ZW_R(0.0));
+    ceb_add_into(&nv, &dv);
+    ceb_times_factor(&nv, loop, F_PLANT, z);
+    ceb_add_into(&d, &nv);
+    return d;
+}
+
+/* Newton correction p(z) / p'(z) of the degree-m polynomial p[0..m] (coefficients read
+ * through poly_coef); for |z| > 1 through the reversed polynomial (no overflow):
+ * p / p' = z q(w) / (m q(w) - w q'(w)), w = 1/z, q(w) = sum p_i w^i. */
+static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned m, cplx z,
+                        bool accurate, zw_real *noise)
+{
+    cplx v = c_make(ZW_R(0.0), ZW_R(0.0)), dv = v;
+    zw_real mag = ZW_R(0.0), az = c_abs(z);
+    unsigned i;
+    if (az <= ZW_R(1.0)) {
+        for (i = 0u; i <= m; ++i) {
+            const zw_real pk = poly_coef(loop, alpha, beta, i);
+            dv = c_add(c_mul(dv, z), v);
+            v = c_add(c_mul(v, z), c_make(pk, ZW_R(0.0)));
+            mag = mag * az + ZW_FABS(pk);
+        }
+        mag *= ZW_R(8.0) * (zw_real)(m + 1u) * ZW_U;
+        /* the value from the factors where it is accurate (the deflated polynomial is
+         * p / z^(n - m)); the derivative needs no such accuracy */
+        if (accurate && m == loop->degree) {
+            ceb pz = eval_p(loop, alpha, beta, z);
+            v = pz.v;
+            mag = pz.e;
+        }
+        *noise = mag / c_abs(dv);
+        return c_div(v, dv);
+    } else {
+        cplx w = c_div(c_make(ZW_R(1.0), ZW_R(0.0)), z), den;
+        const zw_real aw = c_abs(w);
+        for (i = m + 1u; i > 0u; --i) {
+            const zw_real pk = poly_coef(loop, alpha, beta, i - 1u);
+            dv = c_add(c_mul(dv, w), v);
+            v = c_add(c_mul(v, w), c_make(pk, ZW_R(0.0)));
+            mag = mag * aw + ZW_FABS(pk);
+        }
+        /* v = q(w), dv = q'(w) */
+        den = c_sub(c_mul(c_make((zw_real)m, ZW_R(0.0)), v), c_mul(w, dv));
+        *noise = ZW_R(8.0) * (zw_real)(m + 1u) * ZW_U * mag * az / c_abs(den);
+        return c_div(c_mul(z, v), den);
+    }
+}
+
+#define LOOP_ABERTH_ITER 100u  /* sweeps on the expanded coefficients */
+#define LOOP_ABERTH_POLISH 8u /* then sweeps with p from its factors */
+
+/* Is coefficient i of p exactly zero (value and every part's bound)? */
+static bool coef_exact_zero(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i)
+{
+    return loop->D[i] == ZW_R(0.0) && loop->D_err[i] == ZW_R(0.0) &&
+           (alpha == ZW_R(0.0) || (loop->Na[i] == ZW_R(0.0) && loop->Na_err[i] == ZW_R(0.0))) &&
+           (beta == ZW_R(0.0) || (loop->Nb[i] == ZW_R(0.0) && loop->Nb_err[i] == ZW_R(0.0)));
+}
+
+/* The roots of p by Aberth-Ehrlich iteration (simultaneous, no deflation) into z[0..*m-1];
+ * exact zero roots (trailing coefficients that are exactly zero) are set aside, so *m may
+ * be below the degree.  False when the iteration produced something non-finite. */
+static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], unsigned *m_out,
+                   bool accurate)
+{
+    unsigned m = loop->degree, i, j, it, pass;
+    uint_least32_t done = 0u, all;
+    zw_real lead = poly_coef(loop, alpha, beta, 0u), r0;
+    while (m > 0u && coef_exact_zero(loop, alpha, beta, m)) --m;
+    *m_out = m;
+    if (m == 0u) return true;
+    all = (uint_least32_t)(((uint_least32_t)1u << (m - 1u)) * 2u - 1u); /* m <= 26 bits */
+    /* start on the circle of the roots' geometric mean, off the real axis */
+    r0 = ZW_POW(ZW_FABS(poly_coef(loop, alpha, beta, m) / lead), ZW_R(1.0) / (zw_real)m);
+    if (!(r0 > ZW_R(0.0)) || !ZW_IS_FINITE(r0)) r0 = ZW_R(1.0);
+    for (i = 0u; i < m; ++i) {
+        zw_real ang = ZW_R(2.0) * LOOP_PI * (zw_real)i / (zw_real)m + ZW_R(0.7);
+        z[i] = c_make(r0 * LOOP_COS(ang), r0 * LOOP_SIN(ang));
+    }
+    /* pass 0 on the expanded coefficients (cheap); with accurate, pass 1 polishes with p
+     * from its factors, from that good start */
+    for (pass = 0u; pass < (accurate ? 2u : 1u); ++pass) {
+        done = 0u;
+        for (it = 0u; it < (pass == 0u ? LOOP_ABERTH_ITER : LOOP_ABERTH_POLISH) && done != all; ++it) {
+            for (i = 0u; i < m; ++i) {
+                cplx n, s = c_make(ZW_R(0.0), ZW_R(0.0)), step;
+                zw_real noise = ZW_R(0.0);
+                if ((done & ((uint_least32_t)1u << i)) != 0u) continue; /* converged: frozen */
+                n = newton_step(loop, alpha, beta, m, z[i], pass == 1u, &noise);
+                for (j = 0u; j < m; ++j)
+                    if (j != i) s = c_add(s, c_div(c_make(ZW_R(1.0), ZW_R(0.0)), c_sub(z[i], z[j])));
+                step = c_div(n, c_sub(c_make(ZW_R(1.0), ZW_R(0.0)), c_mul(n, s)));
+                if (!ZW_IS_FINITE(step.re) || !ZW_IS_FINITE(step.im)) {
+                    /* p' = 0 or coincident estimates: nudge */
+                    step = c_make(ZW_R(1e-3) * (ZW_R(1.0) + c_abs(z[i])), ZW_R(1e-3));
+                }
+                z[i] = c_sub(z[i], step);
+                /* converged once the step is down to the evaluation's own noise, or small
+                 * against the root's distance to the unit circle (all that the verdicts need:
+                 * a cluster deep inside converges slowly and matters little) */
+                {
+                    const zw_real st = c_abs(step), az = c_abs(z[i]);
+                    if (st <= ZW_R(2.0) * noise + ZW_R(8.0) * ZW_U * az ||
+                        st * (zw_real)(64u * m) <= ZW_R(1e-3) * ZW_FABS(ZW_R(1.0) - az))
+                        done |= (uint_least32_t)1u << i;
+                }
+            }
+        }
+    }
+    for (i = 0u; i < m; ++i)
+        if (!ZW_IS_FINITE(c_abs(z[i]))) return false;
+    return true;
+}
+
+/* The root of largest modulus (0 when every root is an exact zero). */
+static cplx largest_root(const zw_loop *loop, zw_real alpha, zw_real beta, bool accurate, bool *ok)
+{
+    cplx z[ZW_LOOP_MAX_DEGREE];
+    cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
+    zw_real best = -ZW_R(1.0);
+    unsigned m = 0u, i;
+    *ok = aberth(loop, alpha, beta, z, &m, accurate);
+    for (i = 0u; i < m; ++i) {
+        zw_real a = c_abs(z[i]);
+        if (a > best) {
+            best = a;
+            top = z[i];
+        }
+    }
+    return top;
+}
+
+/* A rigorous a-posteriori test "every root has |z| < r" from approximate roots z_i
+ * (Braess-Hadeler): with W_i = p(z_i) / (p_0 prod_{j != i} (z_i - z_j)), every root of p
+ * lies in a disk |z - z_i| <= m |W_i|.  (Proof: p / p_0 = prod (z - z_j) +
+ * sum_i W_i prod_{j != i} (z - z_j) by interpolation at the z_i, so a root zeta outside
+ * every disk would give 1 + sum_i W_i / (zeta - z_i) = 0 with the sum below 1 in modulus.)
+ * |p(z_i)| is bounded above by the computed value plus the Horner rounding and the
+ * coefficients' own bounds; the denominator below, with its roundings.  The roots are
+ * only a guess: the test is as rigorous as its bounds, whatever they are.  Its band is
+ * the roots' own condition, unlike the Routh array, whose entries lose accuracy on the
+ * cluster of roots that a delay line and a moving average put near z = 0. */
+/* m |W_i| bounded above (+inf when it cannot be bounded). */
+static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta, const cplx z[],
+                                unsigned m, unsigned i, zw_real lead_low)
+{
+    const zw_real az = c_abs(z[i]) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+    zw_real num, den = lead_low;
+    unsigned j, k;
+    if (m == loop->degree) {
+        /* from the factors */
+        ceb pz = eval_p(loop, alpha, beta, z[i]);
+        num = (c_abs(pz.v) + pz.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+    } else {
+        /* exact zero roots set aside: p = z^(n-m) p_m; Horner on p_m, whose complex steps err
+         * by at most ~(2 sqrt 2 + 1) u of |v||z| + |p_k| each */
+        cplx v = c_make(ZW_R(0.0), ZW_R(0.0));
+        zw_real mag = ZW_R(0.0), unc = ZW_R(0.0);
+        for (k = 0u; k <= m; ++k) {
+            const zw_real pk = poly_coef(loop, alpha, beta, k);
+            const zw_real ek = loop->D_err[k] + ZW_FABS(alpha) * loop->Na_err[k] +
+                               ZW_FABS(beta) * loop->Nb_err[k] +
+                               ZW_R(4.0) * ZW_U * (ZW_FABS(loop->D[k]) + ZW_FABS(alpha * loop->Na[k]) +
+                                                   ZW_FABS(beta * loop->Nb[k])) + ZW_R(4.0) * ZW_ETA;
+            v = c_add(c_mul(v, z[i]), c_make(pk, ZW_R(0.0)));
+            mag = mag * az + ZW_FABS(pk);
+            unc = unc * az + ek;
+        }
+        num = c_abs(v) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) +
+              ((ZW_R(8.0) * (zw_real)m + ZW_R(8.0)) * ZW_U * mag + unc) * (ZW_R(1.0) + ZW_R(4.0) * (zw_real)m * ZW_U) +
+              ZW_R(8.0) * (zw_real)(m + 1u) * ZW_ETA;
+    }
+    for (j = 0u; j < m; ++j)
+        if (j != i) den *= c_abs(c_sub(z[i], z[j]));
+    den *= ZW_R(1.0) - (ZW_R(8.0) * (zw_real)m + ZW_R(8.0)) * ZW_U;
+    if (!(den > ZW_REAL_MIN) || !ZW_IS_FINITE(num)) return (zw_real)INFINITY;
+    return (zw_real)m * (num / den) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+}
+
+/* Every root inside |z| < r (STABLE), one surely outside (UNSTABLE: a disk wholly outside
+ * and disjoint from all others holds exactly one root, by the continuity argument of
+ * Braess and Hadeler on p_t = prod (z - z_j) + t sum_i W_i prod_{j != i} (z - z_j)), or
+ * UNSURE.  *top: the root of largest modulus, for the deciding boundary. */
+static routh_result roots_test(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
+                               cplx *top, bool *top_ok)
+{
+    cplx z[ZW_LOOP_MAX_DEGREE];
+    unsigned m = 0u, i, j;
+    zw_real lead_low, best = -ZW_R(1.0);
+    bool all_inside = true;
+    *top = c_make(ZW_R(0.0), ZW_R(0.0));
+    *top_ok = aberth(loop, alpha, beta, z, &m, true);
+    if (!*top_ok) return ROUTH_UNSURE;
+    for (i = 0u; i < m; ++i)
+        if (c_abs(z[i]) > best) {
+            best = c_abs(z[i]);
+            *top = z[i];
+        }
+    {
+        const zw_real p0 = poly_coef(loop, alpha, beta, 0u);
+        const zw_real e0 = loop->D_err[0] + ZW_FABS(alpha) * loop->Na_err[0] +
+                           ZW_FABS(beta) * loop->Nb_err[0] +
+                           ZW_R(4.0) * ZW_U * (ZW_FABS(loop->D[0]) + ZW_FABS(alpha * loop->Na[0]) +
+                                               ZW_FABS(beta * loop->Nb[0])) + ZW_R(4.0) * ZW_ETA;
+        lead_low = (ZW_FABS(p0) - e0) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U);
+        if (!(lead_low > ZW_R(0.0))) return ROUTH_UNSURE;
+    }
+    for (i = 0u; i < m; ++i) {
+        const zw_real az = c_abs(z[i]);
+        const zw_real ri = inclusion_radius(loop, alpha, beta, z, m, i, lead_low);
+        if (all_inside && !((az * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + ri) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U) < r))
+            all_inside = false;
+        if ((az * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) - ri) * (ZW_R(1.0) - ZW_R(2.0) * ZW_U) > r) {
+            bool isolated = true;
+            for (j = 0u; j < m && isolated; ++j)
+                if (j != i &&
+                    !(c_abs(c_sub(z[i], z[j])) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) >
+                      (ri + inclusion_radius(loop, alpha, beta, z, m, j, lead_low)) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U)))
+                    isolated = false;
+            if (isolated) return ROUTH_UNSTABLE;
+        }
+    }
+    return all_inside ? ROUTH_STABLE : ROUTH_UNSURE;
+}
+
+/* Angle in [0, pi] of a root; within ~sqrt(u) of the real axis counts as real (a double
+ * real root is only resolved to that accuracy). */
+static zw_real root_angle(cplx z)
+{
+    const zw_real tol = ZW_R(8.0) * ZW_SQRT(ZW_U);
+    if (ZW_FABS(z.im) <= tol * c_abs(z)) return z.re >= ZW_R(0.0) ? ZW_R(0.0) : LOOP_PI;
+    return LOOP_ATAN2(ZW_FABS(z.im), z.re);
+}
+
+zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real beta,
+                                  zw_real *rho, zw_real *theta)
+{
+    zw_status st;
+    bool ok;
+    cplx top;
+    if (rho != NULL) *rho = (zw_real)INFINITY;
+    if (theta != NULL) *theta = ZW_R(0.0);
+    if (rho == NULL || theta == NULL) return ZW_ERR_NULL;
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    {
+        unsigned i;
+        for (i = 0u; i <= loop->degree; ++i)
+            if (!ZW_IS_FINITE(poly_coef(loop, alpha, beta, i))) return ZW_ERR_RANGE;
+    }
+    top = largest_root(loop, alpha, beta, true, &ok);
+    if (!ok) return ZW_ERR_RANGE;
+    *rho = c_abs(top);
+    *theta = root_angle(top);
+    return ZW_OK;
+}
+
+/* ---- verdicts ------------------------------------------------------------------------------ */
+
+static void verdict_fail_safe(zw_loop_verdict *out)
+{
+    out->stable = false;
+    out->marginal = false;
+    out->deciding = ZW_LOOP_BOUNDARY_NONE;
+    out->theta = ZW_R(0.0);
+}
+
+zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loop_verdict *out)
+{
+    zw_status st;
+    routh_result res, lead, trail;
+    cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
+    bool ok = true;
+    if (out == NULL) return ZW_ERR_NULL;
+    verdict_fail_safe(out);
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    res = check_bilinear(loop, alpha, beta, &lead, &trail);
+    if (res == ROUTH_STABLE) {
+        out->stable = true;
+        return ZW_OK;
+    }
+    /* the boundary: z = 1 (p(1) = alpha Na(1)), z = -1 (the leading coefficient of P),
+     * else where the root of largest modulus is */
+    if (res == ROUTH_UNSURE || (trail == ROUTH_STABLE && lead == ROUTH_STABLE)) {
+        if (res == ROUTH_UNSURE) res = roots_test(loop, alpha, beta, ZW_R(1.0), &top, &ok);
+        else top = largest_root(loop, alpha, beta, false, &ok);
+    }
+    if (res == ROUTH_STABLE) {
+        out->stable = true;
+        return ZW_OK;
+    }
+    out->marginal = res == ROUTH_UNSURE;
+    if (trail != ROUTH_STABLE) {
+        out->deciding = ZW_LOOP_BOUNDARY_Z_PLUS1;
+    } else if (lead != ROUTH_STABLE) {
+        out->deciding = ZW_LOOP_BOUNDARY_Z_MINUS1;
+    } else {
+        const zw_real th = root_angle(top);
+        if (!ok) {
+            out->deciding = ZW_LOOP_BOUNDARY_COMPLEX; /* unknown: not stable all the same */
+        } else if (th == ZW_R(0.0)) {
+            out->deciding = ZW_LOOP_BOUNDARY_Z_PLUS1;
+        } else if (th == LOOP_PI) {
+            out->deciding = ZW_LOOP_BOUNDARY_Z_MINUS1;
+        } else {
+            out->deciding = ZW_LOOP_BOUNDARY_COMPLEX;
+            out->theta = th;
+        }
+    }
+    return ZW_OK;
+}
+
+/* (1 - s)^n p(r (1 + s)/(1 - s)) = sum_k p_k (r (1 + s))^(n-k) (1 - s)^k by Horner in
+ * r (1 + s), with running bounds, then the Routh test. */
+zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
+                                bool *within)
+{
+    zw_real w[LOOP_N];
+    loop_err we[LOOP_N];
+    zw_status st;
+    unsigned k, i, deg = 0u;
+    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta), re = zw_eb_exact(r);
+    if (within == NULL) return ZW_ERR_NULL;
+    *within = false;
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
+    if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
+    for (k = 0u; k <= loop->degree; ++k) {
+        zw_eb pk = eb_add_exactish(eb_make(loop->D[k], loop->D_err[k]),
+                                   eb_mul_exactish(ga, eb_make(loop->Na[k], loop->Na_err[k])));
+        uint_least32_t binom = 1u; /* C(k, i): at most C(26, 13) < 2^24, exact in zw_real */
+        pk = eb_add_exactish(pk, eb_mul_exactish(gb, eb_make(loop->Nb[k], loop->Nb_err[k])));
+        if (k > 0u) {
+            /* w *= r (1 + s), in place, highest power first */
+            for (i = deg + 1u; i > 0u; --i) {
+                zw_eb sum = i <= deg ? zw_eb_add(eb_stored(w[i], we[i]), eb_stored(w[i - 1u], we[i - 1u]))
+                                     : eb_stored(w[i - 1u], we[i - 1u]);
+                sum = eb_mul_exactish(re, sum);
+                w[i] = sum.v;
+                we[i] = err_up(sum.e);
+            }
+            {
+                zw_eb top = eb_mul_exactish(re, eb_stored(w[0], we[0]));
+                w[0] = top.v;
+                we[0] = err_up(top.e);
+            }
+            deg += 1u;
+        } else {
+            w[0] = ZW_R(0.0);
+            we[0] = 0.0f;
+        }
+        /* + p_k (1 - s)^k: s^i at index k - i */
+        for (i = 0u; i <= k; ++i) {
+            zw_real coef = (i & 1u) != 0u ? -(zw_real)binom : (zw_real)binom;
+            zw_eb t = eb_add_exactish(eb_stored(w[k - i], we[k - i]),
+                                      eb_mul_exactish(pk, zw_eb_exact(coef)));
+            w[k - i] = t.v;
+            we[k - i] = err_up(t.e);
+            binom = binom * (uint_least32_t)(k - i) / (uint_least32_t)(i + 1u);
+        }
+    }
+    {
+        routh_result res = routh(w, we, loop->degree);
+        cplx top;
+        bool ok;
+        *within = res == ROUTH_STABLE ||
+                  (res == ROUTH_UNSURE && roots_test(loop, alpha, beta, r, &top, &ok) == ROUTH_STABLE);
+    }
+    return ZW_OK;
+}
