@@ -268,6 +268,21 @@ static void offer(ll_scan *x, zw_real est, zw_real lo, zw_real hi)
     }
 }
 
+/* A root of the crossing condition between theta_lo and theta_hi (certified: f's sign is
+ * certain on both sides).  Roots the evaluation cannot resolve next to the structural zeros
+ * of the condition are dropped: at theta = pi (modes FIX_ALPHA, ALPHA_ZERO: there Re S and
+ * Im(R0 conj S) vanish together, the value is 0/0, and the crossing is the z = -1 line's,
+ * offered separately) and at theta = 0 (ALPHA_ZERO: the double root at z = 1, offered
+ * separately as theta = 0). */
+static void offer_root(ll_scan *x, zw_real theta_lo, zw_real theta_hi, bool certified,
+                       zw_real est, zw_real lo, zw_real hi)
+{
+    bool unbounded = !(lo > -ZW_REAL_MAX && hi < ZW_REAL_MAX);
+    if (x->mode != LL_FIX_BETA && unbounded && theta_hi > LL_PI - x->p.grid_h) return;
+    if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p.grid_h) return;
+    offer(x, est, lo, hi);
+}
+
 /* Widen [lo, hi] by the value bounds at pt. */
 static void widen(const ll_point *pt, zw_real *lo, zw_real *hi)
 {
@@ -319,7 +334,7 @@ static void refine(ll_scan *x, zw_real a, zw_real b)
     widen(&pm, &lo, &hi);
     widen(&pl, &lo, &hi);
     widen(&pr, &lo, &hi);
-    offer(x, pm.v, lo, hi);
+    offer_root(x, pl.theta, pr.theta, certain(&pl) && certain(&pr), pm.v, lo, hi);
 }
 
 /* f keeps its sign at a, m, b but |f(m)| is a local minimum of the grid: look for a hidden
@@ -368,7 +383,7 @@ static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
         widen(&best, &lo, &hi);
         widen(&pc, &lo, &hi);
         widen(&pd, &lo, &hi);
-        offer(x, best.v, lo, hi);
+        offer_root(x, a, b, false, best.v, lo, hi);
     }
 }
 
