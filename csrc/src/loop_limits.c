@@ -26,6 +26,13 @@
 #endif
 
 #define LL_PI ZW_R(3.14159265358979323846)
+/* The largest zw_real below pi (float's nearest is above it: a grid point there would pass
+ * beyond z = -1 and see the asymptote of a Tustin loop from the other side). */
+#ifdef ZW_REAL_FLOAT
+#define LL_PI_BELOW ZW_R(3.1415925)
+#else
+#define LL_PI_BELOW ZW_R(3.141592653589793)
+#endif
 #define LL_INVPHI ZW_R(0.6180339887498948482) /* golden section */
 #define LL_GRID_PER_DEGREE 48u                 /* uniform theta grid points per degree */
 #define LL_MAX_CROSSINGS (4u * ZW_LOOP_MAX_DEGREE + 8u) /* bound on the steps of a walk */
@@ -272,13 +279,14 @@ static void offer(ll_scan *x, zw_real est, zw_real lo, zw_real hi)
  * certain on both sides).  Roots the evaluation cannot resolve next to the structural zeros
  * of the condition are dropped: at theta = pi (modes FIX_ALPHA, ALPHA_ZERO: there Re S and
  * Im(R0 conj S) vanish together, the value is 0/0, and the crossing is the z = -1 line's,
- * offered separately) and at theta = 0 (ALPHA_ZERO: the double root at z = 1, offered
+ * offered separately; FIX_BETA: a sign change through the asymptote of Tustin or of
+ * delta = 0 at z = -1, where the value is unbounded) and at theta = 0 (ALPHA_ZERO: the double root at z = 1, offered
  * separately as theta = 0). */
 static void offer_root(ll_scan *x, zw_real theta_lo, zw_real theta_hi, bool certified,
                        zw_real est, zw_real lo, zw_real hi)
 {
     bool unbounded = !(lo > -ZW_REAL_MAX && hi < ZW_REAL_MAX);
-    if (x->mode != LL_FIX_BETA && unbounded && theta_hi > LL_PI - x->p.grid_h) return;
+    if (unbounded && theta_hi > LL_PI - x->p.grid_h) return;
     if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p.grid_h) return;
     offer(x, est, lo, hi);
 }
@@ -394,7 +402,7 @@ static zw_real grid_theta(const ll_plant *p, unsigned j)
     unsigned n = p->grid_n;
     if (j < LL_GEO) return ZW_LDEXP(p->grid_h, -(int)(LL_GEO - j));
     if (j < LL_GEO + n - 1u) return (zw_real)(j - LL_GEO + 1u) * p->grid_h;
-    return LL_PI - ZW_LDEXP(p->grid_h, -(int)(j - (LL_GEO + n - 1u) + 1u));
+    return LL_PI_BELOW - ZW_LDEXP(p->grid_h, -(int)(j - (LL_GEO + n - 1u) + 1u));
 }
 
 /* Every crossing in (0, pi) offered to x. */
@@ -507,7 +515,9 @@ static zw_status alpha_max_of(const ll_plant *p, zw_real beta, zw_real *alpha_ma
     offer_line(&x, &degenerate);
     if (degenerate) return ZW_OK;
     scan(&x);
-    if (!x.found) return ZW_ERR_RANGE;
+    /* No crossing above 0: the half-line alpha > 0 is one cell, and it is unstable (d + 2
+     * roots go to infinity with alpha), so nothing is certified. */
+    if (!x.found) return ZW_OK;
     a1 = x.lo;
     if (!(a1 > ZW_R(0.0))) return ZW_OK;
     /* the cell (0, a1): every interior point must check stable, a1 itself not unstable */
@@ -742,7 +752,7 @@ zw_status zw_loop_boundary_point(const zw_loop *loop, zw_real theta, zw_real *al
     *alpha = *beta = ZW_R(0.0);
     if ((st = plant_init(&p, loop)) != ZW_OK) return st;
     if ((st = zw_require_finite(theta)) != ZW_OK) return st;
-    if (!(theta > ZW_R(0.0) && theta < LL_PI)) return ZW_ERR_ARG;
+    if (!(theta > ZW_R(0.0) && theta <= LL_PI_BELOW)) return ZW_ERR_ARG;
     response(&p, theta, &r0, &s);
     if (!(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) return ZW_ERR_DOMAIN;
     b = r0.re / s.re;

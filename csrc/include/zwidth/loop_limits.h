@@ -49,7 +49,7 @@ extern "C" {
  * in (0, *alpha_max) is stable (certified), and *alpha_max is never above the true sup.
  * 0 when alpha just above 0 is not stable (or cannot be proved so).
  * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF (beta), ZW_ERR_ARG (uninitialized loop),
- * ZW_ERR_RANGE (no crossing found: cannot happen for a valid loop).  *alpha_max = 0 on error. */
+ * ZW_ERR_RANGE (delta too large for the factored response).  *alpha_max = 0 on error. */
 zw_status zw_loop_alpha_max(const zw_loop *loop, zw_real beta, zw_real *alpha_max);
 
 /* The stable beta intervals on the horizontal line alpha = const (> 0), in increasing
