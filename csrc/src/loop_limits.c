@@ -578,11 +578,14 @@ static void clear_set(zw_loop_beta_set *out)
 }
 
 /* Stable cells of the walk, in increasing beta.  ALPHA_ZERO labels a cell by
- * alpha_max(mid) > 0 (stable just above alpha = 0), FIX_ALPHA by the check at mid. */
-static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_beta_set *out)
+ * alpha_max(mid) > 0 (stable just above alpha = 0), FIX_ALPHA by the check at mid.
+ * outer[0], outer[1]: the far bounds of the crossings that open the first and close the
+ * last stable cell (the exact ends lie between them and the cell's certified ends). */
+static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_beta_set *out,
+                      zw_real outer[2])
 {
     bool have_prev = false, degenerate = false;
-    zw_real prev_est = ZW_R(0.0), prev_hi = ZW_R(0.0), floor = -ZW_REAL_MAX;
+    zw_real prev_est = ZW_R(0.0), prev_hi = ZW_R(0.0), prev_lo = ZW_R(0.0), floor = -ZW_REAL_MAX;
     unsigned step;
     zw_status st;
     for (step = 0u; step < LL_MAX_CROSSINGS; ++step) {
@@ -603,6 +606,8 @@ static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_be
             }
             if (stable) {
                 if (out->count < ZW_LOOP_MAX_INTERVALS) {
+                    if (out->count == 0u) outer[0] = prev_lo;
+                    outer[1] = hi;
                     out->lo[out->count] = prev_hi;
                     out->hi[out->count] = lo;
                     out->count++;
@@ -613,6 +618,7 @@ static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_be
         }
         have_prev = true;
         prev_est = est;
+        prev_lo = lo;
         prev_hi = hi;
         floor = est;
     }
@@ -621,6 +627,7 @@ static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_be
 
 zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_real alpha, zw_loop_beta_set *out)
 {
+    zw_real outer[2];
     ll_plant p;
     zw_status st;
     if (out == NULL) return ZW_ERR_NULL;
@@ -628,7 +635,7 @@ zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_real alpha, zw_loop_bet
     if ((st = plant_init(&p, loop)) != ZW_OK) return st;
     if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
     if (!(alpha > ZW_R(0.0))) return ZW_OK;
-    st = walk(&p, LL_FIX_ALPHA, alpha, out);
+    st = walk(&p, LL_FIX_ALPHA, alpha, out, outer);
     if (st != ZW_OK) clear_set(out);
     return st;
 }
@@ -704,6 +711,24 @@ static zw_status maximise(const ll_plant *p, zw_real bl, zw_real bh, zw_real *be
     return ZW_OK;
 }
 
+/* Move the certified end *end towards the bound far (exclusive) while alpha_max > 0. */
+static zw_status push_end(const ll_plant *p, zw_real *end, zw_real far)
+{
+    zw_real a = *end, b = far, v;
+    unsigned it;
+    zw_status st;
+    if (!ZW_IS_FINITE(far) || !ZW_IS_FINITE(far - a)) return ZW_OK;
+    for (it = 0u; it < LL_ITER / 2u; ++it) {
+        zw_real m = a + ZW_R(0.5) * (b - a);
+        if (!(m != a && m != b)) break;
+        if ((st = alpha_max_of(p, m, &v)) != ZW_OK) return st;
+        if (v > ZW_R(0.0)) a = m;
+        else b = m;
+    }
+    *end = a;
+    return ZW_OK;
+}
+
 static void clear_extremes(zw_loop_extremes *out)
 {
     out->alpha_mmax = out->beta_at_alpha_mmax = out->alpha_p_max = ZW_R(0.0);
@@ -715,6 +740,7 @@ zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_extremes *out)
     ll_plant p;
     zw_loop_beta_set cells;
     zw_loop_extremes x;
+    zw_real outer[2] = {ZW_R(0.0), ZW_R(0.0)};
     zw_status st;
     unsigned i;
     if (out == NULL) return ZW_ERR_NULL;
@@ -722,10 +748,15 @@ zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_extremes *out)
     if ((st = plant_init(&p, loop)) != ZW_OK) return st;
     clear_set(&cells);
     clear_extremes(&x);
-    if ((st = walk(&p, LL_ALPHA_ZERO, ZW_R(0.0), &cells)) != ZW_OK) return st;
+    if ((st = walk(&p, LL_ALPHA_ZERO, ZW_R(0.0), &cells, outer)) != ZW_OK) return st;
     if (cells.count == 0u) return ZW_ERR_DOMAIN;
+    /* Where a closing crossing is poorly resolved (its pair next to z = -1, e.g. near
+     * delta0), push the ends outwards by bisection on "alpha_max(beta) > 0": every beta
+     * where it holds is in the stable range at alpha -> 0+ (certified by alpha_max). */
     x.beta_mmin = cells.lo[0];
     x.beta_mmax = cells.hi[cells.count - 1u];
+    if ((st = push_end(&p, &x.beta_mmax, outer[1])) != ZW_OK) return st;
+    if ((st = push_end(&p, &x.beta_mmin, outer[0])) != ZW_OK) return st;
     for (i = 0u; i < cells.count; ++i) {
         zw_real a, b;
         if ((st = maximise(&p, cells.lo[i], cells.hi[i], &a, &b)) != ZW_OK) return st;
