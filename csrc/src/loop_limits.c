@@ -661,17 +661,63 @@ zw_status zw_loop_beta_interval(const zw_loop *loop, zw_real alpha, zw_real *lo,
 
 /* ---- extremes -------------------------------------------------------------------------- */
 
+/* Where the complex-pair curve ends on the z = -1 line (the pair merges into a double root
+ * at z = -1): a corner of the region, where the extremes of delayed or filtered loops
+ * (and the ideal loop above delta1) sit.  With theta = pi - phi, Re R0 and Re S both
+ * vanish like phi, and their ratio tends to
+ *     beta* = (Q0(-1)/2 - Q0'(-1)) / (Vt(-1)/2 - Vt'(-1)),   alpha* = -2 (Q0(-1) - beta* Vt(-1)),
+ * from the logarithmic derivatives of the factors at z = -1.  False where the curve has
+ * an asymptote there instead (Tustin, delta = 0) or the ratio is undefined. */
+static bool corner_minus1(const ll_plant *p, zw_real *alpha_c, zw_real *beta_c)
+{
+    const zw_loop_spec *sp = &p->loop->spec;
+    const zw_coeffs *c = &p->loop->c;
+    zw_real q, dq, v, dv, den, b;
+    if (sp->differentiator == ZW_DIFF_TUSTIN || !(c->d12 > ZW_R(0.0))) return false;
+    /* Q0 = -2 z^d (z - e) / (c1 z + c2) */
+    q = -ZW_R(2.0) * ((sp->delay % 2u) == 0u ? ZW_R(1.0) : ZW_R(-1.0)) * (ZW_R(1.0) + c->e) / c->d12;
+    dq = q * (-(zw_real)sp->delay - ZW_R(1.0) / (ZW_R(1.0) + c->e) + c->c1 / c->d12);
+    v = -ZW_R(1.0); /* backward: Vt = 1/z */
+    dv = -ZW_R(1.0);
+    if (sp->filter == ZW_VFILTER_LOWPASS) {
+        zw_real a = sp->filter_pole, f = p->one_minus_a / (ZW_R(1.0) + a);
+        zw_real dlog = -ZW_R(1.0) + ZW_R(1.0) / (ZW_R(1.0) + a);
+        dv = dv * f + v * f * dlog;
+        v *= f;
+    } else if (sp->filter == ZW_VFILTER_AVERAGE) {
+        zw_real sum = ZW_R(0.0), dsum = ZW_R(0.0), sign = ZW_R(1.0), n = (zw_real)sp->average;
+        unsigned i;
+        for (i = 0u; i < sp->average; ++i) { /* z^-i at -1 and its derivative -i z^(-i-1) */
+            sum += sign;
+            dsum += (zw_real)i * sign;
+            sign = -sign;
+        }
+        sum /= n;
+        dsum /= n;
+        dv = dv * sum + v * dsum;
+        v *= sum;
+    } else {
+        /* backward alone */
+    }
+    den = ZW_R(0.5) * v - dv;
+    if (!(ZW_FABS(den) > ZW_R(64.0) * ZW_U * (ZW_FABS(v) + ZW_FABS(dv)))) return false;
+    b = (ZW_R(0.5) * q - dq) / den;
+    *beta_c = b;
+    *alpha_c = -ZW_R(2.0) * (q - b * v);
+    return ZW_IS_FINITE(b) && ZW_IS_FINITE(*alpha_c);
+}
+
 /* max of alpha_max over (bl, bh): grid, then golden section around the best grid point. */
 static zw_status maximise(const ll_plant *p, zw_real bl, zw_real bh, zw_real *best_a,
                           zw_real *best_b)
 {
-    zw_real w = bh - bl, a, b, c, d, fc, fd, v;
+    zw_real w = bh - bl, a, b, c, d, fc, fd, v, t;
     unsigned i, ibest = 0u, it;
     zw_status st;
     *best_a = ZW_R(0.0);
     *best_b = ZW_R(0.5) * bl + ZW_R(0.5) * bh;
     for (i = 0u; i < LL_EXT_GRID; ++i) {
-        zw_real t = bl + w * ((zw_real)(i + 1u) / (zw_real)(LL_EXT_GRID + 1u));
+        t = bl + w * ((zw_real)(i + 1u) / (zw_real)(LL_EXT_GRID + 1u));
         if ((st = alpha_max_of(p, t, &v)) != ZW_OK) return st;
         if (v > *best_a) {
             *best_a = v;
@@ -706,6 +752,18 @@ static zw_status maximise(const ll_plant *p, zw_real bl, zw_real bh, zw_real *be
             fc = fd;
             d = a + LL_INVPHI * (b - a);
             if ((st = alpha_max_of(p, d, &fd)) != ZW_OK) return st;
+        }
+    }
+    /* The corner at z = -1, if in this cell: the golden section only approaches it from
+     * the side it happens to sample, where the pair next to z = -1 is poorly resolved. */
+    if (corner_minus1(p, &v, &t) && t > bl && t < bh) {
+        for (i = 0u; i < 5u; ++i) {
+            zw_real bt = t + (zw_real)((int)i - 2) * (ZW_R(4.0) * ZW_U) * (ZW_FABS(t) + w);
+            if ((st = alpha_max_of(p, bt, &v)) != ZW_OK) return st;
+            if (v > *best_a) {
+                *best_a = v;
+                *best_b = bt;
+            }
         }
     }
     return ZW_OK;
