@@ -405,12 +405,23 @@ static zw_real grid_theta(const ll_plant *p, unsigned j)
     return LL_PI_BELOW - ZW_LDEXP(p->grid_h, -(int)(j - (LL_GEO + n - 1u) + 1u));
 }
 
-/* Every crossing in (0, pi) offered to x. */
+/* Every crossing in (0, pi) offered to x.  On a vertical line the scan starts at theta = 0
+ * itself: there the condition is -(delta + beta) (the double root at z = 1), and a crossing
+ * below the first grid angle has alpha near 0; where its sign is uncertain (beta within
+ * the error of -delta, where the region's corner is) a crossing at alpha = 0 is assumed. */
 static void scan(ll_scan *x)
 {
     ll_point p2, p1, p0;
     unsigned j, total = 2u * LL_GEO + x->p.grid_n - 1u;
     eval_point(x, grid_theta(&x->p, 0u), &p1);
+    if (x->mode == LL_FIX_BETA) {
+        eval_point(x, ZW_R(0.0), &p0);
+        if (!certain(&p0)) offer(x, ZW_R(0.0), ZW_R(0.0), p1.v + p1.v_err);
+        else if (is_neg(p0.f) != is_neg(p1.f)) refine(x, ZW_R(0.0), p1.theta);
+        else {
+            /* no crossing below the first grid angle */
+        }
+    }
     p2 = p1;
     for (j = 1u; j < total; ++j) {
         eval_point(x, grid_theta(&x->p, j), &p0);
