@@ -200,7 +200,7 @@ typedef enum ll_take {
 } ll_take;
 
 typedef struct ll_scan {
-    ll_plant p;
+    const ll_plant *p;
     ll_mode mode;
     zw_real fixed; /* beta (FIX_BETA) or alpha (FIX_ALPHA) */
     ll_take take;
@@ -216,8 +216,8 @@ typedef struct ll_point {
 static void eval_point(const ll_scan *x, zw_real theta, ll_point *pt)
 {
     ll_cplx r0, s;
-    zw_real a0, as, eps = x->p.eps, two_sh;
-    response(&x->p, theta, &r0, &s);
+    zw_real a0, as, eps = x->p->eps, two_sh;
+    response(x->p, theta, &r0, &s);
     a0 = cabs1(r0);
     as = cabs1(s);
     two_sh = ZW_R(2.0) * LL_SIN(ZW_R(0.5) * theta);
@@ -286,8 +286,8 @@ static void offer_root(ll_scan *x, zw_real theta_lo, zw_real theta_hi, bool cert
                        zw_real est, zw_real lo, zw_real hi)
 {
     bool unbounded = !(lo > -ZW_REAL_MAX && hi < ZW_REAL_MAX);
-    if (unbounded && theta_hi > LL_PI - x->p.grid_h) return;
-    if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p.grid_h) return;
+    if (unbounded && theta_hi > LL_PI - x->p->grid_h) return;
+    if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p->grid_h) return;
     offer(x, est, lo, hi);
 }
 
@@ -305,93 +305,111 @@ static void widen(const ll_point *pt, zw_real *lo, zw_real *hi)
 
 /* A root of f between a and b (f(a), f(b) of opposite computed signs): bisect, then step
  * outwards to the nearest points where f's sign is certain (the exact root lies between
- * them), and offer the value there with its bounds. */
+ * them), and offer the value there with its bounds.  One point at a time (small stack). */
 static void refine(ll_scan *x, zw_real a, zw_real b)
 {
-    ll_point pa, pm, pl, pr;
-    bool neg_a;
-    zw_real a0 = a, b0 = b, h, t, lo, hi;
+    ll_point pt;
+    bool neg_a, certified;
+    zw_real a0 = a, b0 = b, h, t, lo, hi, est, th_lo, th_hi;
     unsigned it;
-    eval_point(x, a, &pa);
-    neg_a = is_neg(pa.f);
+    eval_point(x, a, &pt);
+    neg_a = is_neg(pt.f);
     for (it = 0u; it < LL_ITER; ++it) {
         zw_real m = a + ZW_R(0.5) * (b - a);
         if (!(m > a && m < b)) break;
-        eval_point(x, m, &pm);
-        if (is_neg(pm.f) == neg_a) a = m;
+        eval_point(x, m, &pt);
+        if (is_neg(pt.f) == neg_a) a = m;
         else b = m;
     }
-    eval_point(x, a + ZW_R(0.5) * (b - a), &pm);
+    eval_point(x, a + ZW_R(0.5) * (b - a), &pt);
+    est = lo = hi = pt.v;
+    widen(&pt, &lo, &hi);
     h = b - a;
-    pl.theta = a;
+    t = a;
     for (it = 0u; it < LL_ITER; ++it) {
         t = a - h > a0 ? a - h : a0;
-        eval_point(x, t, &pl);
-        if ((certain(&pl) && is_neg(pl.f) == neg_a) || !(t > a0)) break;
+        eval_point(x, t, &pt);
+        if ((certain(&pt) && is_neg(pt.f) == neg_a) || !(t > a0)) break;
         h *= ZW_R(4.0);
     }
+    certified = certain(&pt);
+    th_lo = t;
+    widen(&pt, &lo, &hi);
     h = b - a;
+    t = b;
     for (it = 0u; it < LL_ITER; ++it) {
         t = b + h < b0 ? b + h : b0;
-        eval_point(x, t, &pr);
-        if ((certain(&pr) && is_neg(pr.f) != neg_a) || !(t < b0)) break;
+        eval_point(x, t, &pt);
+        if ((certain(&pt) && is_neg(pt.f) != neg_a) || !(t < b0)) break;
         h *= ZW_R(4.0);
     }
-    lo = pm.v;
-    hi = pm.v;
-    widen(&pm, &lo, &hi);
-    widen(&pl, &lo, &hi);
-    widen(&pr, &lo, &hi);
-    offer_root(x, pl.theta, pr.theta, certain(&pl) && certain(&pr), pm.v, lo, hi);
+    certified = certified && certain(&pt);
+    th_hi = t;
+    widen(&pt, &lo, &hi);
+    offer_root(x, th_lo, th_hi, certified, est, lo, hi);
 }
 
 /* f keeps its sign at a, m, b but |f(m)| is a local minimum of the grid: look for a hidden
  * pair of roots by golden-section minimisation of sign * f on [a, b]. */
 static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
 {
-    ll_point pc, pd, best;
+    ll_point pt;
     bool neg;
-    zw_real c, d, lo, hi;
+    zw_real c, d, fc, fd, best_t, best_f, lo, hi;
     unsigned it;
-    eval_point(x, m, &best);
-    neg = is_neg(best.f);
+    eval_point(x, m, &pt);
+    neg = is_neg(pt.f);
+    best_t = m;
+    best_f = ZW_FABS(pt.f);
     c = b - LL_INVPHI * (b - a);
     d = a + LL_INVPHI * (b - a);
-    eval_point(x, c, &pc);
-    eval_point(x, d, &pd);
+    eval_point(x, c, &pt);
+    fc = pt.f;
+    eval_point(x, d, &pt);
+    fd = pt.f;
     for (it = 0u; it < LL_ITER && d > c; ++it) {
-        zw_real fc = neg ? -pc.f : pc.f, fd = neg ? -pd.f : pd.f;
-        if (is_neg(pc.f) != neg || is_neg(pd.f) != neg) break;
-        if (fc < fd) {
+        if (is_neg(fc) != neg || is_neg(fd) != neg) break;
+        if (ZW_FABS(fc) < best_f) {
+            best_f = ZW_FABS(fc);
+            best_t = c;
+        }
+        if (ZW_FABS(fd) < best_f) {
+            best_f = ZW_FABS(fd);
+            best_t = d;
+        }
+        if (ZW_FABS(fc) < ZW_FABS(fd)) {
             b = d;
-            pd = pc;
             d = c;
+            fd = fc;
             c = b - LL_INVPHI * (b - a);
-            eval_point(x, c, &pc);
+            eval_point(x, c, &pt);
+            fc = pt.f;
         } else {
             a = c;
-            pc = pd;
             c = d;
+            fc = fd;
             d = a + LL_INVPHI * (b - a);
-            eval_point(x, d, &pd);
+            eval_point(x, d, &pt);
+            fd = pt.f;
         }
     }
-    if (is_neg(pc.f) != neg || is_neg(pd.f) != neg) {
-        zw_real t = is_neg(pc.f) != neg ? pc.theta : pd.theta;
+    if (is_neg(fc) != neg || is_neg(fd) != neg) {
+        zw_real t = is_neg(fc) != neg ? c : d;
         refine(x, a < t ? a : t, t);
         refine(x, t, b > t ? b : t);
         return;
     }
-    if (ZW_FABS(pc.f) < ZW_FABS(best.f)) best = pc;
-    if (ZW_FABS(pd.f) < ZW_FABS(best.f)) best = pd;
-    if (!certain(&best)) {
-        /* a near-tangency within the rounding band: keep it as a crossing */
-        lo = best.v;
-        hi = best.v;
-        widen(&best, &lo, &hi);
-        widen(&pc, &lo, &hi);
-        widen(&pd, &lo, &hi);
-        offer_root(x, a, b, false, best.v, lo, hi);
+    eval_point(x, best_t, &pt);
+    if (!certain(&pt)) {
+        /* a near-tangency within the rounding band: keep it as a crossing, with the values
+         * over the whole bracket */
+        lo = hi = pt.v;
+        widen(&pt, &lo, &hi);
+        eval_point(x, a, &pt);
+        widen(&pt, &lo, &hi);
+        eval_point(x, b, &pt);
+        widen(&pt, &lo, &hi);
+        offer_root(x, a, b, false, lo + ZW_R(0.5) * (hi - lo), lo, hi);
     }
 }
 
@@ -411,30 +429,39 @@ static zw_real grid_theta(const ll_plant *p, unsigned j)
  * the error of -delta, where the region's corner is) a crossing at alpha = 0 is assumed. */
 static void scan(ll_scan *x)
 {
-    ll_point p2, p1, p0;
-    unsigned j, total = 2u * LL_GEO + x->p.grid_n - 1u;
-    eval_point(x, grid_theta(&x->p, 0u), &p1);
+    ll_point pt;
+    zw_real t2, t1, f2, f1;
+    unsigned j, total = 2u * LL_GEO + x->p->grid_n - 1u;
+    t1 = grid_theta(x->p, 0u);
+    eval_point(x, t1, &pt);
+    f1 = pt.f;
     if (x->mode == LL_FIX_BETA) {
-        eval_point(x, ZW_R(0.0), &p0);
-        if (!certain(&p0)) offer(x, ZW_R(0.0), ZW_R(0.0), p1.v + p1.v_err);
-        else if (is_neg(p0.f) != is_neg(p1.f)) refine(x, ZW_R(0.0), p1.theta);
+        zw_real v1 = pt.v + pt.v_err;
+        eval_point(x, ZW_R(0.0), &pt);
+        if (!certain(&pt)) offer(x, ZW_R(0.0), ZW_R(0.0), v1);
+        else if (is_neg(pt.f) != is_neg(f1)) refine(x, ZW_R(0.0), t1);
         else {
             /* no crossing below the first grid angle */
         }
     }
-    p2 = p1;
+    t2 = t1;
+    f2 = f1;
     for (j = 1u; j < total; ++j) {
-        eval_point(x, grid_theta(&x->p, j), &p0);
-        if (is_neg(p0.f) != is_neg(p1.f)) {
-            refine(x, p1.theta, p0.theta);
-        } else if (j >= 2u && is_neg(p2.f) == is_neg(p1.f) && ZW_FABS(p1.f) < ZW_FABS(p2.f) &&
-                   ZW_FABS(p1.f) <= ZW_FABS(p0.f)) {
-            hidden_pair(x, p2.theta, p1.theta, p0.theta);
+        zw_real t0 = grid_theta(x->p, j), f0;
+        eval_point(x, t0, &pt);
+        f0 = pt.f;
+        if (is_neg(f0) != is_neg(f1)) {
+            refine(x, t1, t0);
+        } else if (j >= 2u && is_neg(f2) == is_neg(f1) && ZW_FABS(f1) < ZW_FABS(f2) &&
+                   ZW_FABS(f1) <= ZW_FABS(f0)) {
+            hidden_pair(x, t2, t1, t0);
         } else {
-            /* nothing between p1 and p0 */
+            /* nothing between t1 and t0 */
         }
-        p2 = p1;
-        p1 = p0;
+        t2 = t1;
+        f2 = f1;
+        t1 = t0;
+        f1 = f0;
     }
 }
 
@@ -472,7 +499,7 @@ static void line_minus1(const ll_plant *p, zw_real *c0, zw_real *ca, zw_real *cb
 static void offer_line(ll_scan *x, bool *degenerate)
 {
     zw_real c0, ca, cb, rel, num, num_mag, den, v, err;
-    line_minus1(&x->p, &c0, &ca, &cb, &rel);
+    line_minus1(x->p, &c0, &ca, &cb, &rel);
     *degenerate = false;
     if (x->mode == LL_FIX_BETA) { /* alpha = -(c0 + cb beta) / ca */
         num = c0 + cb * x->fixed;
@@ -516,7 +543,7 @@ static zw_status alpha_max_of(const ll_plant *p, zw_real beta, zw_real *alpha_ma
     unsigned k;
     zw_real a1;
     *alpha_max = ZW_R(0.0);
-    x.p = *p;
+    x.p = p;
     x.mode = LL_FIX_BETA;
     x.fixed = beta;
     x.take = LL_TAKE_MIN_LO;
@@ -560,7 +587,7 @@ static bool next_crossing(const ll_plant *p, ll_mode mode, zw_real alpha, zw_rea
                           bool *degenerate, zw_real *est, zw_real *lo, zw_real *hi)
 {
     ll_scan x;
-    x.p = *p;
+    x.p = p;
     x.mode = mode;
     x.fixed = alpha;
     x.take = LL_TAKE_NEXT_ABOVE;
