@@ -331,6 +331,32 @@ static void test_outside_range_is_zero(void **state)
     assert_true(a == R(0.0));
 }
 
+/* A moving average opens the region's corner at (alpha, beta) = (0, -delta) to the left:
+ * just below beta = -delta some alpha > 0 are stable, but not those next to 0, so the
+ * interval (0, alpha_max) is empty (a scan that starts at its first grid angle instead of
+ * theta = 0 misses that crossing and claims the whole (0, 44)). */
+static void test_average_corner_below_minus_delta(void **state)
+{
+    zw_coeffs c = zwt_coeffs(R(20.0));
+    zw_loop loop;
+    zw_loop_spec spec;
+    zw_loop_verdict v;
+    zw_real a, beta = ZWT_DOWN(R(-20.0)); /* 1 ulp below -delta */
+    (void)state;
+    memset(&spec, 0, sizeof spec);
+    spec.filter = ZW_VFILTER_AVERAGE;
+    spec.average = 8u;
+    EXPECT_OK(zw_loop_init(&loop, &c, &spec));
+    EXPECT_OK(zw_loop_check(&loop, R(20.0), beta, &v));
+    assert_true(v.stable);
+    EXPECT_OK(zw_loop_alpha_max(&loop, beta, &a));
+    assert_true(a == R(0.0));
+    EXPECT_OK(zw_loop_alpha_max(&loop, R(-20.0), &a)); /* on the corner itself */
+    assert_true(a == R(0.0));
+    EXPECT_OK(zw_loop_alpha_max(&loop, R(-19.0), &a));
+    assert_true(a > R(40.0));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -342,6 +368,7 @@ int main(void)
         cmocka_unit_test(test_tustin_even_average_is_never_stable),
         cmocka_unit_test(test_errors_are_fail_safe),
         cmocka_unit_test(test_outside_range_is_zero),
+        cmocka_unit_test(test_average_corner_below_minus_delta),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
