@@ -97,6 +97,10 @@ zw_status zw_loop_beta_interval(const zw_loop *loop, zw_real alpha, zw_real *lo,
  *   alpha_mmax: max over beta of zw_loop_alpha_max, attained (as a certified limit) at
  *     beta_at_alpha_mmax (golden-section search on a grid over each stable beta range,
  *     so a maximum between grid humps could be missed: the value is still certified);
+ *     searched over the beta stable as alpha -> 0+ only: a filtered loop's region can lean
+ *     past beta = -delta where the stable alphas no longer reach down to 0 (measured:
+ *     delta = 5.12241, d = 1, low-pass at f_c T = 0.05: stable at (6, -5.62)); such parts
+ *     are not limits of the form (0, K_max) and are not searched (conservative);
  *   alpha_p_max: zw_loop_alpha_max(0) (proportional control);
  *   beta_mmax, beta_mmin: sup and inf of the beta stable as alpha -> 0+
  *     (beta_mmin >= true inf, beta_mmax <= true sup; ideal loop: -delta and eq (32)). */
