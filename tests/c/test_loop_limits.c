@@ -71,7 +71,7 @@ static void test_ideal_alpha_max_matches_closed_form(void **state)
             /* never above (the closed form itself is within a few ulps of the truth) */
             EXPECT_TRUE_MSG(got <= want * (R(1.0) + TOL(8)), "delta %g beta %g: %.17g > %.17g",
                             (double)c.delta, (double)beta, (double)got, (double)want);
-            gap = ((long double)want - (long double)got) / alpha_scale(c.delta, beta) / TOLL(1);
+            gap = ((long double)want - (long double)got) / alpha_scale((long double)c.delta, (long double)beta) / TOLL(1);
             if (gap > worst) worst = gap;
             EXPECT_TRUE_MSG(gap <= GAP_U, "delta %g beta %g: gap %.0Lf u x scale", (double)c.delta,
                             (double)beta, gap);
@@ -95,19 +95,19 @@ static void test_ideal_extremes_match_closed_form(void **state)
         ideal_loop(deltas[i], &c, &loop);
         EXPECT_OK(zw_extremes_compute(&c, &want));
         EXPECT_OK(zw_loop_extremes_compute(&loop, &got));
-        s = alpha_scale(c.delta, want.beta_at_alpha_mmax);
+        s = alpha_scale((long double)c.delta, (long double)want.beta_at_alpha_mmax);
         EXPECT_TRUE_MSG(got.alpha_mmax <= want.alpha_mmax * (R(1.0) + TOL(8)), "delta %g",
                         (double)c.delta);
         /* At delta1 the hyperbola's flat top is the corner: alpha_max(beta) is flat on one
          * side within its own noise, so the golden section stops ~sqrt(noise) off in beta
          * (measured 3e-11 relative in double). */
-        amax_tol = ZW_FABS(c.delta - ZW_DELTA1) < R(0.01) ? PREC(1e-9L, 1e-3L) * want.alpha_mmax
+        amax_tol = ZW_FABS(c.delta - ZW_DELTA1) < R(0.01) ? PREC(1e-9L, 1e-3L) * (long double)want.alpha_mmax
                                                            : GAP_U * TOLL(1) * s;
-        EXPECT_TRUE_MSG((long double)want.alpha_mmax - got.alpha_mmax <= amax_tol,
+        EXPECT_TRUE_MSG((long double)want.alpha_mmax - (long double)got.alpha_mmax <= amax_tol,
                         "delta %g: alpha_mmax %.17g vs %.17g", (double)c.delta,
                         (double)got.alpha_mmax, (double)want.alpha_mmax);
         EXPECT_TRUE_MSG(got.alpha_p_max <= want.alpha_p_max * (R(1.0) + TOL(8)) &&
-                            (long double)want.alpha_p_max - got.alpha_p_max <= GAP_U * TOLL(1) * s,
+                            (long double)want.alpha_p_max - (long double)got.alpha_p_max <= GAP_U * TOLL(1) * s,
                         "delta %g: alpha_p_max %.17g vs %.17g", (double)c.delta,
                         (double)got.alpha_p_max, (double)want.alpha_p_max);
         /* the beta range at alpha -> 0+: inside (-delta, beta_mmax), and close */
@@ -118,16 +118,16 @@ static void test_ideal_extremes_match_closed_form(void **state)
          * delta0 the line and the hyperbola meet there): the crossing condition vanishes
          * structurally at z = -1; the end is then pushed out by bisection on alpha_max > 0
          * (measured, relative: 4e-9 in double at delta0 - 2 ulps, 1e-3 in float). */
-        bmax_tol = ZW_FABS(c.delta - ZW_DELTA0) < R(0.01) ? PREC(1e-8L, 3e-3L) * want.beta_mmax
+        bmax_tol = ZW_FABS(c.delta - ZW_DELTA0) < R(0.01) ? PREC(1e-8L, 3e-3L) * (long double)want.beta_mmax
                                                            : GAP_U * TOLL(1) * s;
-        EXPECT_TRUE_MSG((long double)got.beta_mmin + c.delta <= GAP_U * TOLL(1) * s &&
-                            (long double)want.beta_mmax - got.beta_mmax <= bmax_tol,
+        EXPECT_TRUE_MSG((long double)got.beta_mmin + (long double)c.delta <= GAP_U * TOLL(1) * s &&
+                            (long double)want.beta_mmax - (long double)got.beta_mmax <= bmax_tol,
                         "delta %g: (%.17g, %.17g) vs (-delta, %.17g)", (double)c.delta,
                         (double)got.beta_mmin, (double)got.beta_mmax, (double)want.beta_mmax);
         /* where the max sits: the smooth top is flat (beta known to ~sqrt(gap)), a corner
          * is sharp; 1e-3 of the range covers both in float */
         EXPECT_NEAR(got.beta_at_alpha_mmax, want.beta_at_alpha_mmax,
-                    (long double)PREC(1e-5, 1e-2) * ((long double)want.beta_mmax + c.delta), 0);
+                    (long double)PREC(1e-5, 1e-2) * ((long double)want.beta_mmax + (long double)c.delta), 0);
     }
 }
 
@@ -146,7 +146,7 @@ static void test_ideal_beta_interval_matches_closed_form(void **state)
             zw_real alpha = x.alpha_mmax * ((zw_real)k / R(6.0));
             zw_real lo, hi, wlo, whi;
             bool ne, wne;
-            long double s = alpha_scale(c.delta, x.beta_mmax) * (1.0L + c.delta);
+            long double s = alpha_scale((long double)c.delta, (long double)x.beta_mmax) * (1.0L + (long double)c.delta);
             EXPECT_OK(zw_loop_beta_interval(&loop, alpha, &lo, &hi, &ne));
             EXPECT_OK(zw_beta_interval(&c, alpha, &wlo, &whi, &wne));
             EXPECT_TRUE_MSG(ne && wne, "delta %g alpha %g", (double)c.delta, (double)alpha);
@@ -155,8 +155,8 @@ static void test_ideal_beta_interval_matches_closed_form(void **state)
                                 hi <= whi + TOL(8) * ZW_FABS(whi),
                             "delta %g alpha %g: (%.17g, %.17g) vs (%.17g, %.17g)", (double)c.delta,
                             (double)alpha, (double)lo, (double)hi, (double)wlo, (double)whi);
-            EXPECT_TRUE_MSG((long double)lo - wlo <= GAP_U * TOLL(1) * s &&
-                                (long double)whi - hi <= GAP_U * TOLL(1) * s,
+            EXPECT_TRUE_MSG((long double)lo - (long double)wlo <= GAP_U * TOLL(1) * s &&
+                                (long double)whi - (long double)hi <= GAP_U * TOLL(1) * s,
                             "delta %g alpha %g: (%.17g, %.17g) vs (%.17g, %.17g)", (double)c.delta,
                             (double)alpha, (double)lo, (double)hi, (double)wlo, (double)whi);
         }
@@ -178,19 +178,20 @@ static void test_ideal_boundary_is_line_and_hyperbola(void **state)
         ideal_loop(test_deltas[i], &c, &loop);
         r = zwt_reference((long double)c.delta);
         EXPECT_OK(zw_loop_boundary_line(&loop, ZW_LOOP_BOUNDARY_Z_MINUS1, &c0, &ca, &cb));
-        EXPECT_REL((long double)cb / ca, 2.0L, TOLL(4));
-        EXPECT_REL(-(long double)c0 / ca, 4.0L * (1.0L + r.e) / r.d12, TOLL(64));
+        EXPECT_REL((long double)cb / (long double)ca, 2.0L, TOLL(4));
+        EXPECT_REL(-(long double)c0 / (long double)ca, 4.0L * (1.0L + r.e) / r.d12, TOLL(64));
         EXPECT_OK(zw_loop_boundary_line(&loop, ZW_LOOP_BOUNDARY_Z_PLUS1, &c0, &ca, &cb));
         assert_true(c0 == R(0.0) && cb == R(0.0) && ca != R(0.0));
         for (k = 1; k < 16; ++k) {
             zw_real th = R(3.14159265358979) * ((zw_real)k / R(16.0)), a, b;
-            long double f, x;
+            long double f, x, bl;
             EXPECT_OK(zw_loop_boundary_point(&loop, th, &a, &b));
-            f = r.s * ((long double)b + c.delta) * (2.0L - r.c2 * b) / ((r.c1 * b + 2.0L) * r.c2);
+            bl = (long double)b;
+            x = bl + (long double)c.delta;
+            f = r.s * x * (2.0L - r.c2 * bl) / ((r.c1 * bl + 2.0L) * r.c2);
             /* f is proportional to beta + delta: an error of b near -delta moves it by f / x */
-            x = (long double)b + c.delta;
-            EXPECT_TRUE_MSG(fabsl(a - f) <= TOLL(2000) * (1.0L + fabsl(f) + fabsl((long double)b) *
-                                                                               (1.0L + fabsl(f / x))),
+            EXPECT_TRUE_MSG(fabsl((long double)a - f) <=
+                                TOLL(2000) * (1.0L + fabsl(f) + fabsl(bl) * (1.0L + fabsl(f / x))),
                             "delta %g theta %g: (%.17g, %.17g), f = %.17Lg", (double)c.delta, (double)th, (double)a, (double)b, f);
         }
     }
