@@ -9,6 +9,7 @@
  */
 #include "zwidth/loop.h"
 
+#include <float.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -416,6 +417,28 @@ zw_status zw_loop_poly(const zw_loop *loop, zw_real alpha, zw_real beta,
     return ZW_OK;
 }
 
+/* ---- stored error bounds --------------------------------------------------------------------- */
+
+/* The working arrays of the tests keep their error bounds in float (rounded up), which
+ * halves their stack in the double build; a bound needs no more than a few digits. */
+typedef float loop_err;
+
+static loop_err err_up(zw_real e)
+{
+    float f;
+    if (!(e <= (zw_real)FLT_MAX)) return (float)INFINITY; /* also NaN: "cannot tell" */
+    f = (float)e;
+#ifndef ZW_REAL_FLOAT
+    if ((zw_real)f < e) f = nextafterf(f, (float)INFINITY);
+#endif
+    return f;
+}
+
+static zw_eb eb_stored(zw_real v, loop_err e)
+{
+    return eb_make(v, (zw_real)e);
+}
+
 /* ---- guarded Hurwitz test (Routh) ---------------------------------------------------------- */
 
 typedef enum routh_result { ROUTH_STABLE, ROUTH_UNSURE, ROUTH_UNSTABLE } routh_result;
@@ -436,12 +459,12 @@ static routh_result sign_result(zw_real v, zw_real err)
  * (k mod 2) + 2 j of w, overwriting row k - 2 (whose entry j + 1 is read before entry j
  * is written).  UNSTABLE is certain: the first entry that is not surely positive is
  * surely non-positive while all before it are surely positive. */
-static routh_result routh(zw_real w[], zw_real we[], unsigned n)
+static routh_result routh(zw_real w[], loop_err we[], unsigned n)
 {
     unsigned i, k;
     routh_result res = ROUTH_STABLE;
     for (i = 0u; i <= n; ++i) {
-        routh_result r = sign_result(w[i], we[i]);
+        routh_result r = sign_result(w[i], (zw_real)we[i]);
         if (r == ROUTH_UNSTABLE) return r;
         if (r == ROUTH_UNSURE) res = r;
     }
@@ -449,18 +472,18 @@ static routh_result routh(zw_real w[], zw_real we[], unsigned n)
     for (k = 2u; k < n; ++k) {
         const unsigned off = k & 1u, len = (n - k) / 2u + 1u;
         const unsigned len_a = (n - k + 2u) / 2u + 1u, len_b = (n - k + 1u) / 2u + 1u;
-        const zw_eb a0 = eb_make(w[off], we[off]);
-        const zw_eb b0 = eb_make(w[1u - off], we[1u - off]);
+        const zw_eb a0 = eb_stored(w[off], we[off]);
+        const zw_eb b0 = eb_stored(w[1u - off], we[1u - off]);
         zw_real big = ZW_R(0.0);
         int ex = 0;
         unsigned j;
         for (j = 0u; j < len; ++j) {
             const unsigned ia = off + 2u * (j + 1u), ib = (1u - off) + 2u * (j + 1u);
-            zw_eb a1 = j + 1u < len_a ? eb_make(w[ia], we[ia]) : zw_eb_exact(ZW_R(0.0));
-            zw_eb b1 = j + 1u < len_b ? eb_make(w[ib], we[ib]) : zw_eb_exact(ZW_R(0.0));
+            zw_eb a1 = j + 1u < len_a ? eb_stored(w[ia], we[ia]) : zw_eb_exact(ZW_R(0.0));
+            zw_eb b1 = j + 1u < len_b ? eb_stored(w[ib], we[ib]) : zw_eb_exact(ZW_R(0.0));
             zw_eb c = zw_eb_sub(zw_eb_mul(b0, a1), zw_eb_mul(a0, b1));
             w[off + 2u * j] = c.v;
-            we[off + 2u * j] = c.e;
+            we[off + 2u * j] = err_up(c.e);
             if (ZW_FABS(c.v) > big) big = ZW_FABS(c.v);
         }
         if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
@@ -468,10 +491,10 @@ static routh_result routh(zw_real w[], zw_real we[], unsigned n)
             (void)ZW_FREXP(big, &ex);
             for (j = 0u; j < len; ++j) {
                 w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
-                we[off + 2u * j] = ZW_LDEXP(we[off + 2u * j], -ex) + ZW_ETA;
+                we[off + 2u * j] = err_up(ZW_LDEXP((zw_real)we[off + 2u * j], -ex) + ZW_ETA);
             }
         }
-        res = sign_result(w[off], we[off]);
+        res = sign_result(w[off], (zw_real)we[off]);
         if (res != ROUTH_STABLE) return res;
     }
     return ROUTH_STABLE;
@@ -482,7 +505,8 @@ static routh_result routh(zw_real w[], zw_real we[], unsigned n)
 static routh_result check_bilinear(const zw_loop *loop, zw_real alpha, zw_real beta,
                                    routh_result *lead, routh_result *trail)
 {
-    zw_real w[LOOP_N], we[LOOP_N];
+    zw_real w[LOOP_N];
+    loop_err we[LOOP_N];
     const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
     const unsigned n = loop->degree;
     unsigned i;
@@ -491,10 +515,10 @@ static routh_result check_bilinear(const zw_loop *loop, zw_real alpha, zw_real b
                                   eb_mul_exactish(ga, eb_make(loop->Nas[i], loop->Nas_err[i])));
         v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nbs[i], loop->Nbs_err[i])));
         w[i] = v.v;
-        we[i] = v.e;
+        we[i] = err_up(v.e);
     }
-    *lead = sign_result(w[0], we[0]);
-    *trail = sign_result(w[n], we[n]);
+    *lead = sign_result(w[0], (zw_real)we[0]);
+    *trail = sign_result(w[n], (zw_real)we[n]);
     return routh(w, we, n);
 }
 
@@ -675,31 +699,46 @@ static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
 /* Newton correction p(z) / p'(z) of the degree-m polynomial p[0..m] (coefficients read
  * through poly_coef); for |z| > 1 through the reversed polynomial (no overflow):
  * p / p' = z q(w) / (m q(w) - w q'(w)), w = 1/z, q(w) = sum p_i w^i. */
-static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned m, cplx z)
+static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned m, cplx z,
+                        bool accurate, zw_real *noise)
 {
     cplx v = c_make(ZW_R(0.0), ZW_R(0.0)), dv = v;
+    zw_real mag = ZW_R(0.0), az = c_abs(z);
     unsigned i;
-    if (c_abs(z) <= ZW_R(1.0)) {
+    if (az <= ZW_R(1.0)) {
         for (i = 0u; i <= m; ++i) {
+            const zw_real pk = poly_coef(loop, alpha, beta, i);
             dv = c_add(c_mul(dv, z), v);
-            v = c_add(c_mul(v, z), c_make(poly_coef(loop, alpha, beta, i), ZW_R(0.0)));
+            v = c_add(c_mul(v, z), c_make(pk, ZW_R(0.0)));
+            mag = mag * az + ZW_FABS(pk);
         }
+        mag *= ZW_R(8.0) * (zw_real)(m + 1u) * ZW_U;
         /* the value from the factors where it is accurate (the deflated polynomial is
          * p / z^(n - m)); the derivative needs no such accuracy */
-        if (m == loop->degree) v = eval_p(loop, alpha, beta, z).v;
+        if (accurate && m == loop->degree) {
+            ceb pz = eval_p(loop, alpha, beta, z);
+            v = pz.v;
+            mag = pz.e;
+        }
+        *noise = mag / c_abs(dv);
         return c_div(v, dv);
     } else {
-        cplx w = c_div(c_make(ZW_R(1.0), ZW_R(0.0)), z);
+        cplx w = c_div(c_make(ZW_R(1.0), ZW_R(0.0)), z), den;
+        const zw_real aw = c_abs(w);
         for (i = m + 1u; i > 0u; --i) {
+            const zw_real pk = poly_coef(loop, alpha, beta, i - 1u);
             dv = c_add(c_mul(dv, w), v);
-            v = c_add(c_mul(v, w), c_make(poly_coef(loop, alpha, beta, i - 1u), ZW_R(0.0)));
+            v = c_add(c_mul(v, w), c_make(pk, ZW_R(0.0)));
+            mag = mag * aw + ZW_FABS(pk);
         }
         /* v = q(w), dv = q'(w) */
-        return c_div(c_mul(z, v), c_sub(c_mul(c_make((zw_real)m, ZW_R(0.0)), v), c_mul(w, dv)));
+        den = c_sub(c_mul(c_make((zw_real)m, ZW_R(0.0)), v), c_mul(w, dv));
+        *noise = ZW_R(8.0) * (zw_real)(m + 1u) * ZW_U * mag * az / c_abs(den);
+        return c_div(c_mul(z, v), den);
     }
 }
 
-#define LOOP_ABERTH_ITER 400u
+#define LOOP_ABERTH_ITER 100u
 
 /* Is coefficient i of p exactly zero (value and every part's bound)? */
 static bool coef_exact_zero(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i)
@@ -712,13 +751,16 @@ static bool coef_exact_zero(const zw_loop *loop, zw_real alpha, zw_real beta, un
 /* The roots of p by Aberth-Ehrlich iteration (simultaneous, no deflation) into z[0..*m-1];
  * exact zero roots (trailing coefficients that are exactly zero) are set aside, so *m may
  * be below the degree.  False when the iteration produced something non-finite. */
-static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], unsigned *m_out)
+static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], unsigned *m_out,
+                   bool accurate)
 {
     unsigned m = loop->degree, i, j, it;
+    uint_least32_t done = 0u, all;
     zw_real lead = poly_coef(loop, alpha, beta, 0u), r0;
     while (m > 0u && coef_exact_zero(loop, alpha, beta, m)) --m;
     *m_out = m;
     if (m == 0u) return true;
+    all = (uint_least32_t)(((uint_least32_t)1u << (m - 1u)) * 2u - 1u); /* m <= 26 bits */
     /* start on the circle of the roots' geometric mean, off the real axis */
     r0 = ZW_POW(ZW_FABS(poly_coef(loop, alpha, beta, m) / lead), ZW_R(1.0) / (zw_real)m);
     if (!(r0 > ZW_R(0.0)) || !ZW_IS_FINITE(r0)) r0 = ZW_R(1.0);
@@ -726,10 +768,12 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
         zw_real ang = ZW_R(2.0) * LOOP_PI * (zw_real)i / (zw_real)m + ZW_R(0.7);
         z[i] = c_make(r0 * LOOP_COS(ang), r0 * LOOP_SIN(ang));
     }
-    for (it = 0u; it < LOOP_ABERTH_ITER; ++it) {
-        bool moved = false;
+    for (it = 0u; it < LOOP_ABERTH_ITER && done != all; ++it) {
         for (i = 0u; i < m; ++i) {
-            cplx n = newton_step(loop, alpha, beta, m, z[i]), s = c_make(ZW_R(0.0), ZW_R(0.0)), step;
+            cplx n, s = c_make(ZW_R(0.0), ZW_R(0.0)), step;
+            zw_real noise = ZW_R(0.0);
+            if ((done & ((uint_least32_t)1u << i)) != 0u) continue; /* converged: frozen */
+            n = newton_step(loop, alpha, beta, m, z[i], accurate, &noise);
             for (j = 0u; j < m; ++j)
                 if (j != i) s = c_add(s, c_div(c_make(ZW_R(1.0), ZW_R(0.0)), c_sub(z[i], z[j])));
             step = c_div(n, c_sub(c_make(ZW_R(1.0), ZW_R(0.0)), c_mul(n, s)));
@@ -738,9 +782,10 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
                 step = c_make(ZW_R(1e-3) * (ZW_R(1.0) + c_abs(z[i])), ZW_R(1e-3));
             }
             z[i] = c_sub(z[i], step);
-            if (c_abs(step) > ZW_R(4.0) * ZW_U * c_abs(z[i])) moved = true;
+            /* converged once the step is down to the evaluation's own noise */
+            if (c_abs(step) <= ZW_R(2.0) * noise + ZW_R(8.0) * ZW_U * c_abs(z[i]))
+                done |= (uint_least32_t)1u << i;
         }
-        if (!moved) break;
     }
     for (i = 0u; i < m; ++i)
         if (!ZW_IS_FINITE(c_abs(z[i]))) return false;
@@ -748,13 +793,13 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
 }
 
 /* The root of largest modulus (0 when every root is an exact zero). */
-static cplx largest_root(const zw_loop *loop, zw_real alpha, zw_real beta, bool *ok)
+static cplx largest_root(const zw_loop *loop, zw_real alpha, zw_real beta, bool accurate, bool *ok)
 {
     cplx z[ZW_LOOP_MAX_DEGREE];
     cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
     zw_real best = -ZW_R(1.0);
     unsigned m = 0u, i;
-    *ok = aberth(loop, alpha, beta, z, &m);
+    *ok = aberth(loop, alpha, beta, z, &m, accurate);
     for (i = 0u; i < m; ++i) {
         zw_real a = c_abs(z[i]);
         if (a > best) {
@@ -775,31 +820,22 @@ static cplx largest_root(const zw_loop *loop, zw_real alpha, zw_real beta, bool 
  * only a guess: the test is as rigorous as its bounds, whatever they are.  Its band is
  * the roots' own condition, unlike the Routh array, whose entries lose accuracy on the
  * cluster of roots that a delay line and a moving average put near z = 0. */
-static bool roots_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r)
+/* m |W_i| bounded above (+inf when it cannot be bounded). */
+static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta, const cplx z[],
+                                unsigned m, unsigned i, zw_real lead_low)
 {
-    cplx z[ZW_LOOP_MAX_DEGREE];
-    unsigned m = 0u, i, j, k;
-    zw_real lead_low;
-    if (!aberth(loop, alpha, beta, z, &m)) return false;
-    {
-        const zw_real p0 = poly_coef(loop, alpha, beta, 0u);
-        const zw_real e0 = loop->D_err[0] + ZW_FABS(alpha) * loop->Na_err[0] +
-                           ZW_FABS(beta) * loop->Nb_err[0] +
-                           ZW_R(4.0) * ZW_U * (ZW_FABS(loop->D[0]) + ZW_FABS(alpha * loop->Na[0]) +
-                                               ZW_FABS(beta * loop->Nb[0])) + ZW_R(4.0) * ZW_ETA;
-        lead_low = (ZW_FABS(p0) - e0) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U);
-        if (!(lead_low > ZW_R(0.0))) return false;
-    }
-    for (i = 0u; i < m; ++i) {
-        const zw_real az = c_abs(z[i]) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+    const zw_real az = c_abs(z[i]) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+    zw_real num, den = lead_low;
+    unsigned j, k;
+    if (m == loop->degree) {
+        /* from the factors */
+        ceb pz = eval_p(loop, alpha, beta, z[i]);
+        num = (c_abs(pz.v) + pz.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+    } else {
+        /* exact zero roots set aside: p = z^(n-m) p_m; Horner on p_m, whose complex steps err
+         * by at most ~(2 sqrt 2 + 1) u of |v||z| + |p_k| each */
         cplx v = c_make(ZW_R(0.0), ZW_R(0.0));
-        zw_real mag = ZW_R(0.0), unc = ZW_R(0.0), num, den = lead_low, radius;
-        if (!(az < r)) return false;
-        if (m == loop->degree) {
-            /* from the factors */
-            ceb pz = eval_p(loop, alpha, beta, z[i]);
-            num = c_abs(pz.v) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + pz.e * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
-        } else {
+        zw_real mag = ZW_R(0.0), unc = ZW_R(0.0);
         for (k = 0u; k <= m; ++k) {
             const zw_real pk = poly_coef(loop, alpha, beta, k);
             const zw_real ek = loop->D_err[k] + ZW_FABS(alpha) * loop->Na_err[k] +
@@ -810,20 +846,61 @@ static bool roots_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_re
             mag = mag * az + ZW_FABS(pk);
             unc = unc * az + ek;
         }
-        /* deflated exact zero roots: p = z^(n-m) p_m, and those roots are 0 < r */
-        /* complex Horner: each step errs by at most ~(2 sqrt 2 + 1) u of |v||z| + |p_k| */
         num = c_abs(v) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) +
               ((ZW_R(8.0) * (zw_real)m + ZW_R(8.0)) * ZW_U * mag + unc) * (ZW_R(1.0) + ZW_R(4.0) * (zw_real)m * ZW_U) +
               ZW_R(8.0) * (zw_real)(m + 1u) * ZW_ETA;
-        }
-        for (j = 0u; j < m; ++j)
-            if (j != i) den *= c_abs(c_sub(z[i], z[j]));
-        den *= ZW_R(1.0) - (ZW_R(8.0) * (zw_real)m + ZW_R(8.0)) * ZW_U;
-        if (!(den > ZW_REAL_MIN)) return false;
-        radius = (zw_real)m * (num / den) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
-        if (!((az + radius) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U) < r)) return false;
     }
-    return true;
+    for (j = 0u; j < m; ++j)
+        if (j != i) den *= c_abs(c_sub(z[i], z[j]));
+    den *= ZW_R(1.0) - (ZW_R(8.0) * (zw_real)m + ZW_R(8.0)) * ZW_U;
+    if (!(den > ZW_REAL_MIN) || !ZW_IS_FINITE(num)) return (zw_real)INFINITY;
+    return (zw_real)m * (num / den) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+}
+
+/* Every root inside |z| < r (STABLE), one surely outside (UNSTABLE: a disk wholly outside
+ * and disjoint from all others holds exactly one root, by the continuity argument of
+ * Braess and Hadeler on p_t = prod (z - z_j) + t sum_i W_i prod_{j != i} (z - z_j)), or
+ * UNSURE.  *top: the root of largest modulus, for the deciding boundary. */
+static routh_result roots_test(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
+                               cplx *top, bool *top_ok)
+{
+    cplx z[ZW_LOOP_MAX_DEGREE];
+    unsigned m = 0u, i, j;
+    zw_real lead_low, best = -ZW_R(1.0);
+    bool all_inside = true;
+    *top = c_make(ZW_R(0.0), ZW_R(0.0));
+    *top_ok = aberth(loop, alpha, beta, z, &m, true);
+    if (!*top_ok) return ROUTH_UNSURE;
+    for (i = 0u; i < m; ++i)
+        if (c_abs(z[i]) > best) {
+            best = c_abs(z[i]);
+            *top = z[i];
+        }
+    {
+        const zw_real p0 = poly_coef(loop, alpha, beta, 0u);
+        const zw_real e0 = loop->D_err[0] + ZW_FABS(alpha) * loop->Na_err[0] +
+                           ZW_FABS(beta) * loop->Nb_err[0] +
+                           ZW_R(4.0) * ZW_U * (ZW_FABS(loop->D[0]) + ZW_FABS(alpha * loop->Na[0]) +
+                                               ZW_FABS(beta * loop->Nb[0])) + ZW_R(4.0) * ZW_ETA;
+        lead_low = (ZW_FABS(p0) - e0) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U);
+        if (!(lead_low > ZW_R(0.0))) return ROUTH_UNSURE;
+    }
+    for (i = 0u; i < m; ++i) {
+        const zw_real az = c_abs(z[i]);
+        const zw_real ri = inclusion_radius(loop, alpha, beta, z, m, i, lead_low);
+        if (all_inside && !((az * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + ri) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U) < r))
+            all_inside = false;
+        if ((az * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) - ri) * (ZW_R(1.0) - ZW_R(2.0) * ZW_U) > r) {
+            bool isolated = true;
+            for (j = 0u; j < m && isolated; ++j)
+                if (j != i &&
+                    !(c_abs(c_sub(z[i], z[j])) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) >
+                      (ri + inclusion_radius(loop, alpha, beta, z, m, j, lead_low)) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U)))
+                    isolated = false;
+            if (isolated) return ROUTH_UNSTABLE;
+        }
+    }
+    return all_inside ? ROUTH_STABLE : ROUTH_UNSURE;
 }
 
 /* Angle in [0, pi] of a root; within ~sqrt(u) of the real axis counts as real (a double
@@ -850,7 +927,7 @@ zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real be
         for (i = 0u; i <= loop->degree; ++i)
             if (!ZW_IS_FINITE(poly_coef(loop, alpha, beta, i))) return ZW_ERR_RANGE;
     }
-    top = largest_root(loop, alpha, beta, &ok);
+    top = largest_root(loop, alpha, beta, true, &ok);
     if (!ok) return ZW_ERR_RANGE;
     *rho = c_abs(top);
     *theta = root_angle(top);
@@ -871,26 +948,33 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
 {
     zw_status st;
     routh_result res, lead, trail;
+    cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
+    bool ok = true;
     if (out == NULL) return ZW_ERR_NULL;
     verdict_fail_safe(out);
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
     res = check_bilinear(loop, alpha, beta, &lead, &trail);
-    if (res == ROUTH_UNSURE && roots_within(loop, alpha, beta, ZW_R(1.0))) res = ROUTH_STABLE;
+    if (res == ROUTH_STABLE) {
+        out->stable = true;
+        return ZW_OK;
+    }
+    /* the boundary: z = 1 (p(1) = alpha Na(1)), z = -1 (the leading coefficient of P),
+     * else where the root of largest modulus is */
+    if (res == ROUTH_UNSURE || (trail == ROUTH_STABLE && lead == ROUTH_STABLE)) {
+        if (res == ROUTH_UNSURE) res = roots_test(loop, alpha, beta, ZW_R(1.0), &top, &ok);
+        else top = largest_root(loop, alpha, beta, false, &ok);
+    }
     if (res == ROUTH_STABLE) {
         out->stable = true;
         return ZW_OK;
     }
     out->marginal = res == ROUTH_UNSURE;
-    /* the boundary: z = 1 (p(1) = alpha Na(1)), z = -1 (the leading coefficient of P),
-     * else where the root of largest modulus is */
     if (trail != ROUTH_STABLE) {
         out->deciding = ZW_LOOP_BOUNDARY_Z_PLUS1;
     } else if (lead != ROUTH_STABLE) {
         out->deciding = ZW_LOOP_BOUNDARY_Z_MINUS1;
     } else {
-        bool ok;
-        cplx top = largest_root(loop, alpha, beta, &ok);
-        zw_real th = root_angle(top);
+        const zw_real th = root_angle(top);
         if (!ok) {
             out->deciding = ZW_LOOP_BOUNDARY_COMPLEX; /* unknown: not stable all the same */
         } else if (th == ZW_R(0.0)) {
@@ -910,7 +994,8 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
 zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
                                 bool *within)
 {
-    zw_real w[LOOP_N], we[LOOP_N];
+    zw_real w[LOOP_N];
+    loop_err we[LOOP_N];
     zw_status st;
     unsigned k, i, deg = 0u;
     const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta), re = zw_eb_exact(r);
@@ -925,26 +1010,40 @@ zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta
         uint_least32_t binom = 1u; /* C(k, i): at most C(26, 13) < 2^24, exact in zw_real */
         pk = eb_add_exactish(pk, eb_mul_exactish(gb, eb_make(loop->Nb[k], loop->Nb_err[k])));
         if (k > 0u) {
-            mul_linear(w, we, deg, re, re);
+            /* w *= r (1 + s), in place, highest power first */
+            for (i = deg + 1u; i > 0u; --i) {
+                zw_eb sum = i <= deg ? zw_eb_add(eb_stored(w[i], we[i]), eb_stored(w[i - 1u], we[i - 1u]))
+                                     : eb_stored(w[i - 1u], we[i - 1u]);
+                sum = eb_mul_exactish(re, sum);
+                w[i] = sum.v;
+                we[i] = err_up(sum.e);
+            }
+            {
+                zw_eb top = eb_mul_exactish(re, eb_stored(w[0], we[0]));
+                w[0] = top.v;
+                we[0] = err_up(top.e);
+            }
             deg += 1u;
         } else {
             w[0] = ZW_R(0.0);
-            we[0] = ZW_R(0.0);
+            we[0] = 0.0f;
         }
         /* + p_k (1 - s)^k: s^i at index k - i */
         for (i = 0u; i <= k; ++i) {
             zw_real coef = (i & 1u) != 0u ? -(zw_real)binom : (zw_real)binom;
-            zw_eb t = eb_add_exactish(eb_make(w[k - i], we[k - i]),
+            zw_eb t = eb_add_exactish(eb_stored(w[k - i], we[k - i]),
                                       eb_mul_exactish(pk, zw_eb_exact(coef)));
             w[k - i] = t.v;
-            we[k - i] = t.e;
+            we[k - i] = err_up(t.e);
             binom = binom * (uint_least32_t)(k - i) / (uint_least32_t)(i + 1u);
         }
     }
     {
         routh_result res = routh(w, we, loop->degree);
+        cplx top;
+        bool ok;
         *within = res == ROUTH_STABLE ||
-                  (res == ROUTH_UNSURE && roots_within(loop, alpha, beta, r));
+                  (res == ROUTH_UNSURE && roots_test(loop, alpha, beta, r, &top, &ok) == ROUTH_STABLE);
     }
     return ZW_OK;
 }
