@@ -13,14 +13,17 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <string>
 #include <thread>
 #include <vector>
 
 extern "C" {
+#include "zwidth/loop.h"
 #include "zwidth/zwidth.h"
 }
 
@@ -598,6 +601,301 @@ py::dict device_influence(f64array m, f64array b, f64array T) {
     return r.finish(errors);
 }
 
+
+// No plant: for kernels whose inputs are all per-element arguments.
+struct NoPlant {
+    using plant_type = void;
+    template <std::size_t N>
+    zw_status get(const std::array<double, N> &, const void **out) {
+        *out = nullptr;
+        return ZW_OK;
+    }
+};
+
+// ---- the general loop (loop.h): delay, velocity filter, differentiator ----------------
+//
+// The loop's kind (delay, differentiator, filter kind, average length) is one per call;
+// the filter's parameter broadcasts like a plant parameter: the pole a in the normalized
+// space, the cut-off f_c [Hz] in real units (a = zw_loop_lowpass_pole(f_c, T) per
+// element).  A zw_loop is built once per (delta, a) or (m, b, T, f_c) and reused.
+
+struct LoopKind {
+    unsigned delay;
+    zw_differentiator differentiator;
+    zw_velocity_filter filter;
+    unsigned average;
+    bool pole_given = false;  // devices: the filter input is the pole a, not the cut-off f_c
+};
+
+// Range checks are the C core's (ZW_ERR_DELAY, ZW_ERR_FILTER per element); here only
+// what cannot be represented in the enums.
+LoopKind loop_kind(long delay, int differentiator, int filter, long average) {
+    if (differentiator != ZW_DIFF_BACKWARD && differentiator != ZW_DIFF_TUSTIN)
+        throw py::value_error("unknown differentiator " + std::to_string(differentiator));
+    if (filter != ZW_VFILTER_NONE && filter != ZW_VFILTER_LOWPASS && filter != ZW_VFILTER_AVERAGE)
+        throw py::value_error("unknown velocity filter " + std::to_string(filter));
+    LoopKind k;
+    // Negative or huge values become a value zw_loop_init refuses (ZW_ERR_DELAY / FILTER).
+    k.delay = delay < 0 || delay > 1000 ? 1000u : static_cast<unsigned>(delay);
+    k.average = average < 0 || average > 1000 ? 1000u : static_cast<unsigned>(average);
+    k.differentiator = static_cast<zw_differentiator>(differentiator);
+    k.filter = static_cast<zw_velocity_filter>(filter);
+    return k;
+}
+
+zw_loop_spec loop_spec(const LoopKind &k, double pole) {
+    zw_loop_spec s{};
+    s.delay = k.delay;
+    s.differentiator = k.differentiator;
+    s.filter = k.filter;
+    s.filter_pole = k.filter == ZW_VFILTER_LOWPASS ? pole : 0.0;
+    s.average = k.filter == ZW_VFILTER_AVERAGE ? k.average : 0u;
+    return s;
+}
+
+// The loop of one (delta, pole) element.
+class NormalizedLoopCache {
+  public:
+    using plant_type = zw_loop;
+    explicit NormalizedLoopCache(const LoopKind &kind) : kind_(kind) {}
+
+    template <std::size_t N>
+    zw_status get(const std::array<double, N> &x, const zw_loop **out) {
+        if (!valid_ || std::memcmp(key_.data(), x.data(), sizeof key_) != 0) {
+            std::memcpy(key_.data(), x.data(), sizeof key_);
+            valid_ = true;
+            zw_coeffs c;
+            const zw_loop_spec spec = loop_spec(kind_, key_[1]);
+            status_ = zw_coeffs_init(&c, key_[0]);
+            if (status_ == ZW_OK && kind_.filter == ZW_VFILTER_LOWPASS && std::isnan(key_[1])) status_ = ZW_ERR_NAN;
+            if (status_ == ZW_OK) status_ = zw_loop_init(&loop_, &c, &spec);
+        }
+        *out = &loop_;
+        return status_;
+    }
+
+  private:
+    LoopKind kind_;
+    bool valid_ = false;
+    std::array<double, 2> key_{};
+    zw_status status_ = ZW_OK;
+    zw_loop loop_{};
+};
+
+// The loop of one (m, b, T, f_c) element, with the rounding of K / (m/T^2) and B / (m/T)
+// carried into the loop's error bounds: alpha Na is computed from alpha(1 + e_a), which is
+// (alpha)(Na(1 + e_a)), so widening each |Na| bound by |Na| e_a makes the loop's guard cover
+// it (and Nb likewise for beta).  delta's rounding is in the device's coefficients
+// (delta_relerr), which zw_loop_init reads.
+class DeviceLoopCache {
+  public:
+    struct Plant {
+        zw_device dev;
+        zw_loop loop;
+    };
+    using plant_type = Plant;
+    explicit DeviceLoopCache(const LoopKind &kind) : kind_(kind) {}
+
+    template <std::size_t N>
+    zw_status get(const std::array<double, N> &x, const Plant **out) {
+        if (!valid_ || std::memcmp(key_.data(), x.data(), sizeof key_) != 0) {
+            std::memcpy(key_.data(), x.data(), sizeof key_);
+            valid_ = true;
+            status_ = build();
+        }
+        *out = &plant_;
+        return status_;
+    }
+
+  private:
+    zw_status build() {
+        zw_status s = zw_device_init(&plant_.dev, key_[0], key_[1], key_[2]);
+        double pole = 0.0;
+        if (s == ZW_OK && kind_.filter == ZW_VFILTER_LOWPASS) {
+            if (!kind_.pole_given) s = zw_loop_lowpass_pole(key_[3], key_[2], &pole);
+            else if (std::isnan(key_[3])) s = ZW_ERR_NAN;
+            else pole = key_[3];  // zw_loop_init checks 0 <= a < 1
+        }
+        if (s != ZW_OK) return s;
+        const zw_loop_spec spec = loop_spec(kind_, pole);
+        s = zw_loop_init(&plant_.loop, &plant_.dev.co, &spec);
+        if (s != ZW_OK) return s;
+        // device.c normalizes with relative errors 4u (alpha) and 3u (beta); 8u and 6u
+        // cover them and the rounding of these products with room to spare.
+        constexpr double u = std::numeric_limits<double>::epsilon() / 2;
+        for (unsigned i = 0; i <= plant_.loop.degree; ++i) {
+            plant_.loop.Na_err[i] += std::fabs(plant_.loop.Na[i]) * (8 * u);
+            plant_.loop.Nb_err[i] += std::fabs(plant_.loop.Nb[i]) * (6 * u);
+        }
+        return ZW_OK;
+    }
+
+    LoopKind kind_;
+    bool valid_ = false;
+    std::array<double, 4> key_{};
+    zw_status status_ = ZW_OK;
+    Plant plant_{};
+};
+
+const zw_loop *loop_of(const zw_loop *l) { return l; }
+const zw_loop *loop_of(const DeviceLoopCache::Plant *p) { return &p->loop; }
+
+// Gains of an element: (alpha, beta) as given, or normalized from (K, B) by the device.
+zw_status gains_of(const zw_loop *, double a, double b, double *alpha, double *beta) {
+    *alpha = a;
+    *beta = b;
+    return ZW_OK;
+}
+zw_status gains_of(const DeviceLoopCache::Plant *p, double K, double B, double *alpha, double *beta) {
+    return zw_device_normalize(&p->dev, K, B, alpha, beta);
+}
+
+// Inputs: 2 plant keys (delta, pole) or 4 (m, b, T, f_c), then the two gains, then extras.
+template <class Cache, std::size_t Keys, std::size_t N, class Fn, class Setup>
+py::dict loop_kernel(const std::array<f64array, N> &inputs, const LoopKind &kind, Fn fn, Setup setup) {
+    Broadcast<N> bc(inputs);
+    Result r(bc);
+    setup(r, bc);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = Cache(kind)](ssize i, const std::array<double, N> &x) mutable {
+            const typename Cache::plant_type *p;
+            zw_status s = cache.get(x, &p);
+            double alpha = 0.0, beta = 0.0;
+            if (s == ZW_OK) s = gains_of(p, x[Keys], x[Keys + 1], &alpha, &beta);
+            return s != ZW_OK ? s : fn(loop_of(p), i, alpha, beta, x);
+        };
+    });
+    return r.finish(errors);
+}
+
+struct LoopVerdictOut {
+    bool *stable = nullptr, *marginal = nullptr;
+    uint8_t *boundary = nullptr;
+    double *theta = nullptr;
+};
+
+template <class Cache, std::size_t Keys>
+py::dict loop_check_kernel(const std::array<f64array, Keys + 2> &inputs, const LoopKind &kind, bool full) {
+    constexpr std::size_t N = Keys + 2;
+    LoopVerdictOut out;
+    return loop_kernel<Cache, Keys, N>(inputs, kind,
+        [&out](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &) {
+            zw_loop_verdict v;
+            const zw_status s = zw_loop_check(l, alpha, beta, &v);
+            if (s != ZW_OK) return s;
+            out.stable[i] = v.stable;
+            if (out.marginal) {
+                out.marginal[i] = v.marginal;
+                out.boundary[i] = static_cast<uint8_t>(v.deciding);
+                out.theta[i] = v.theta;
+            }
+            return s;
+        },
+        [&out, full](Result &r, const Broadcast<N> &bc) {
+            out.stable = r.add<bool>(bc, "stable");
+            if (!full) return;
+            out.marginal = r.add<bool>(bc, "marginal");
+            out.boundary = r.add<uint8_t>(bc, "boundary");
+            out.theta = r.add<double>(bc, "theta");
+        });
+}
+
+template <class Cache, std::size_t Keys>
+py::dict loop_radius_kernel(const std::array<f64array, Keys + 2> &inputs, const LoopKind &kind) {
+    constexpr std::size_t N = Keys + 2;
+    double *rho = nullptr, *theta = nullptr;
+    return loop_kernel<Cache, Keys, N>(inputs, kind,
+        [&](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &) {
+            return zw_loop_spectral_radius(l, alpha, beta, &rho[i], &theta[i]);
+        },
+        [&](Result &r, const Broadcast<N> &bc) {
+            rho = r.add<double>(bc, "rho");
+            theta = r.add<double>(bc, "theta");
+        });
+}
+
+template <class Cache, std::size_t Keys>
+py::dict loop_within_kernel(const std::array<f64array, Keys + 3> &inputs, const LoopKind &kind) {
+    constexpr std::size_t N = Keys + 3;
+    bool *within = nullptr;
+    return loop_kernel<Cache, Keys, N>(inputs, kind,
+        [&](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &x) {
+            return zw_loop_radius_within(l, alpha, beta, x[Keys + 2], &within[i]);
+        },
+        [&](Result &r, const Broadcast<N> &bc) { within = r.add<bool>(bc, "within"); });
+}
+
+// p(z) right-aligned in ZW_LOOP_MAX_DEGREE + 1 entries (leading zeros above the degree),
+// so every element has the same layout; "degree" per element.
+template <class Cache, std::size_t Keys>
+py::dict loop_poly_kernel(const std::array<f64array, Keys + 2> &inputs, const LoopKind &kind) {
+    constexpr std::size_t N = Keys + 2;
+    constexpr ssize width = ZW_LOOP_MAX_DEGREE + 1;
+    double *coef = nullptr;
+    uint8_t *degree = nullptr;
+    return loop_kernel<Cache, Keys, N>(inputs, kind,
+        [&](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &) {
+            double p[ZW_LOOP_MAX_DEGREE + 1u];
+            unsigned deg = 0;
+            const zw_status s = zw_loop_poly(l, alpha, beta, p, &deg);
+            if (s != ZW_OK) return s;
+            double *row = coef + width * i;
+            std::fill(row, row + width, 0.0);
+            std::copy(p, p + deg + 1, row + (width - 1 - static_cast<ssize>(deg)));
+            degree[i] = static_cast<uint8_t>(deg);
+            return s;
+        },
+        [&](Result &r, const Broadcast<N> &bc) {
+            coef = r.add<double>(bc, "coefficients", {width});
+            degree = r.add<uint8_t>(bc, "degree");
+        });
+}
+
+using NLC = NormalizedLoopCache;
+using DLC = DeviceLoopCache;
+
+py::dict loop_check(f64array delta, f64array pole, f64array alpha, f64array beta, long delay, int diff, int filter,
+                    long average, bool full) {
+    return loop_check_kernel<NLC, 2>({delta, pole, alpha, beta}, loop_kind(delay, diff, filter, average), full);
+}
+py::dict loop_spectral_radius(f64array delta, f64array pole, f64array alpha, f64array beta, long delay, int diff,
+                              int filter, long average) {
+    return loop_radius_kernel<NLC, 2>({delta, pole, alpha, beta}, loop_kind(delay, diff, filter, average));
+}
+py::dict loop_radius_within(f64array delta, f64array pole, f64array alpha, f64array beta, f64array radius,
+                            long delay, int diff, int filter, long average) {
+    return loop_within_kernel<NLC, 2>({delta, pole, alpha, beta, radius}, loop_kind(delay, diff, filter, average));
+}
+py::dict loop_poly(f64array delta, f64array pole, f64array alpha, f64array beta, long delay, int diff, int filter,
+                   long average) {
+    return loop_poly_kernel<NLC, 2>({delta, pole, alpha, beta}, loop_kind(delay, diff, filter, average));
+}
+LoopKind device_kind(long delay, int diff, int filter, long average, bool pole_given) {
+    LoopKind k = loop_kind(delay, diff, filter, average);
+    k.pole_given = pole_given;
+    return k;
+}
+
+py::dict device_loop_check(f64array m, f64array b, f64array T, f64array cutoff, f64array K, f64array B, long delay,
+                           int diff, int filter, long average, bool pole_given, bool full) {
+    return loop_check_kernel<DLC, 4>({m, b, T, cutoff, K, B}, device_kind(delay, diff, filter, average, pole_given),
+                                     full);
+}
+py::dict device_loop_spectral_radius(f64array m, f64array b, f64array T, f64array cutoff, f64array K, f64array B,
+                                     long delay, int diff, int filter, long average, bool pole_given) {
+    return loop_radius_kernel<DLC, 4>({m, b, T, cutoff, K, B}, device_kind(delay, diff, filter, average, pole_given));
+}
+py::dict device_loop_radius_within(f64array m, f64array b, f64array T, f64array cutoff, f64array K, f64array B,
+                                   f64array radius, long delay, int diff, int filter, long average, bool pole_given) {
+    return loop_within_kernel<DLC, 4>({m, b, T, cutoff, K, B, radius},
+                                      device_kind(delay, diff, filter, average, pole_given));
+}
+
+py::dict loop_lowpass_pole(f64array cutoff, f64array T) {
+    return one_output<double, NoPlant, 2>({cutoff, T}, "pole",
+        [](const void *, const std::array<double, 2> &x, double *a) { return zw_loop_lowpass_pole(x[0], x[1], a); });
+}
+
 }  // namespace
 
 void zw_register_sim(py::module_ &mod);  // zwidth_sim.cpp: Simulator, sim_judge, SIM_EFFECTS
@@ -665,5 +963,40 @@ PYBIND11_MODULE(_core, mod) {
     mod.def("device_k_max", &device_k_max, m, b, T, B, "zw_device_k_max per element.");
     mod.def("device_b_range", &device_b_range, m, b, T, K, "zw_device_b_range per element.");
     mod.def("device_influence", &device_influence, m, b, T, "zw_device_influence per element.");
+    py::dict boundaries;
+    boundaries["none"] = int{ZW_LOOP_BOUNDARY_NONE};
+    boundaries["z=1"] = int{ZW_LOOP_BOUNDARY_Z_PLUS1};
+    boundaries["z=-1"] = int{ZW_LOOP_BOUNDARY_Z_MINUS1};
+    boundaries["complex"] = int{ZW_LOOP_BOUNDARY_COMPLEX};
+    mod.attr("LOOP_BOUNDARIES") = boundaries;
+    py::dict differentiators;
+    differentiators["backward"] = int{ZW_DIFF_BACKWARD};
+    differentiators["tustin"] = int{ZW_DIFF_TUSTIN};
+    mod.attr("LOOP_DIFFERENTIATORS") = differentiators;
+    py::dict filters;
+    filters["none"] = int{ZW_VFILTER_NONE};
+    filters["lowpass"] = int{ZW_VFILTER_LOWPASS};
+    filters["average"] = int{ZW_VFILTER_AVERAGE};
+    mod.attr("LOOP_FILTERS") = filters;
+    mod.attr("LOOP_MAX_DELAY") = int{ZW_LOOP_MAX_DELAY};
+    mod.attr("LOOP_MAX_AVERAGE") = int{ZW_LOOP_MAX_AVERAGE};
+    mod.attr("LOOP_MAX_DEGREE") = int{ZW_LOOP_MAX_DEGREE};
+    const auto pole = py::arg("pole"), fc = py::arg("cutoff"), dl = py::arg("delay"), df = py::arg("differentiator"),
+               fl = py::arg("filter"), av = py::arg("average");
+    mod.def("loop_check", &loop_check, d, pole, a, be, dl, df, fl, av, py::arg("full"), "zw_loop_check per element.");
+    mod.def("loop_spectral_radius", &loop_spectral_radius, d, pole, a, be, dl, df, fl, av,
+            "zw_loop_spectral_radius per element (rho, theta).");
+    mod.def("loop_radius_within", &loop_radius_within, d, pole, a, be, py::arg("radius"), dl, df, fl, av,
+            "zw_loop_radius_within per element.");
+    mod.def("loop_poly", &loop_poly, d, pole, a, be, dl, df, fl, av,
+            "zw_loop_poly per element (right-aligned in LOOP_MAX_DEGREE + 1 entries, and the degree).");
+    const auto pg = py::arg("pole_given");
+    mod.def("device_loop_check", &device_loop_check, m, b, T, fc, K, B, dl, df, fl, av, pg, py::arg("full"),
+            "zw_loop_check of the device's loop per element (gain rounding in the guard).");
+    mod.def("device_loop_spectral_radius", &device_loop_spectral_radius, m, b, T, fc, K, B, dl, df, fl, av, pg,
+            "zw_loop_spectral_radius of the device's loop per element.");
+    mod.def("device_loop_radius_within", &device_loop_radius_within, m, b, T, fc, K, B, py::arg("radius"), dl, df, fl,
+            av, pg, "zw_loop_radius_within of the device's loop per element.");
+    mod.def("loop_lowpass_pole", &loop_lowpass_pole, py::arg("cutoff"), T, "zw_loop_lowpass_pole per element.");
     zw_register_sim(mod);
 }

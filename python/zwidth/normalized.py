@@ -7,19 +7,45 @@ input raises :class:`zwidth.ZwidthError` naming the parameter, or, with
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Optional, Union
 
+import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _core
 from ._kernels import Errors, _as_result, call, region_code
-from .results import BoundaryPoint, Coefficients, Extremes, Interval, Verdict
+from .loop import Loop, normalized_loop
+from .results import BoundaryPoint, Coefficients, Extremes, Interval, LoopVerdict, Verdict
 
 _DAB = ("delta", "alpha", "beta")
+_DPAB = ("delta", "filter_pole", "alpha", "beta")
+
+_LOOP_DOC = """
+    The loop: ``delay`` samples between measuring x_k and applying its force (0..8),
+    ``filter_pole`` a in [0, 1) of a first-order low-pass on the velocity
+    (a = exp(-2 pi f_c T); 0: none; broadcasts like delta) or ``average`` n (1..16) for a
+    moving average instead, ``differentiator`` 'backward' (the paper's) or 'tustin'.  The
+    defaults are the paper's loop, decided by the closed form (10); any other loop by the
+    guarded test of its characteristic polynomial (zw_loop_check), as safe: never stable
+    for an unstable point."""
+
+
+def _loop(function: str, region: str, delay: Any, filter_pole: ArrayLike, average: Any,
+          differentiator: Any) -> Loop:
+    loop = normalized_loop(function, delay, filter_pole, average, differentiator)
+    if not loop.ideal and region != "exact":
+        raise ValueError(f"zwidth.{function}: region {region!r} is one of the paper's regions of its ideal "
+                         f"loop; a loop with {loop.describe()} has only its exact region")
+    return loop
+
+
+def _pole(loop: Loop) -> ArrayLike:
+    return 0.0 if loop.pole is None else loop.pole
 
 
 def check(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, region: str = "exact",
-          errors: Errors = "raise") -> Any:
+          delay: int = 0, filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+          differentiator: str = "backward", errors: Errors = "raise") -> Any:
     """Is (alpha, beta) stable for a plant with normalized damping delta? (bool)
 
     The exact region, paper eq (10), with a rounding-error guard: True only if the point
@@ -30,36 +56,83 @@ def check(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, region: str = 
     'delta0' (eq (17)), 'delta_inf' (eqs (14), (15)), 'small' (eq (18)).  Only 'exact' and
     'passivity' certify stability.
     """
+    loop = _loop("check", region, delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("check", _core.loop_check, _DPAB, (delta, _pole(loop), alpha, beta), errors,
+                      full=False, **loop.kernel_options())
+        return out["stable"]
     out, _ = call("check", _core.check, _DAB, (delta, alpha, beta), errors,
                   region=region_code("check", region), full=False)
     return out["stable"]
 
 
 def verdict(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, region: str = "exact",
-            errors: Errors = "raise") -> Verdict:
-    """Like :func:`check`, with the reasons: stable, marginal, deciding, violated, status."""
+            delay: int = 0, filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+            differentiator: str = "backward", errors: Errors = "raise") -> Union[Verdict, LoopVerdict]:
+    """Like :func:`check`, with the reasons: a :class:`Verdict` (stable, marginal,
+    deciding, violated, status) for the paper's loop, a :class:`LoopVerdict` (stable,
+    marginal, the deciding boundary 'z=1' / 'z=-1' / complex pair and its frequency in
+    cycles per sample, status) for any other."""
+    loop = _loop("verdict", region, delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, status = call("verdict", _core.loop_check, _DPAB, (delta, _pole(loop), alpha, beta), errors,
+                           full=True, **loop.kernel_options())
+        return LoopVerdict.from_outputs(out, frequency=out["theta"] / (2.0 * np.pi),
+                                        status=_as_result(status))
     out, status = call("verdict", _core.check, _DAB, (delta, alpha, beta), errors,
                        region=region_code("verdict", region), full=True)
     return Verdict.from_outputs(out, status=_as_result(status))
 
 
-def spectral_radius(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *,
-                    errors: Errors = "raise") -> Any:
-    """Largest pole modulus of the closed loop, paper eqs (7), (8) (stable iff < 1)."""
+def spectral_radius(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, delay: int = 0,
+                    filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+                    differentiator: str = "backward", errors: Errors = "raise") -> Any:
+    """Largest pole modulus of the closed loop, paper eqs (7), (8) (stable iff < 1).
+    Informational: verdicts never rest on it (use :func:`check`)."""
+    loop = _loop("spectral_radius", "exact", delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("spectral_radius", _core.loop_spectral_radius, _DPAB, (delta, _pole(loop), alpha, beta),
+                      errors, **loop.kernel_options())
+        return out["rho"]
     out, _ = call("spectral_radius", _core.spectral_radius, _DAB, (delta, alpha, beta), errors)
     return out["rho"]
 
 
 def radius_within(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, radius: ArrayLike, *,
-                  errors: Errors = "raise") -> Any:
+                  delay: int = 0, filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+                  differentiator: str = "backward", errors: Errors = "raise") -> Any:
     """Do all closed-loop poles lie strictly inside |z| < radius? (bool, guarded)
 
     Decided by the Jury conditions on p(radius z) without root finding; True only if it
     holds for every value within the rounding bound.  radius must be finite and > 0.
     """
+    loop = _loop("radius_within", "exact", delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("radius_within", _core.loop_radius_within, _DPAB + ("radius",),
+                      (delta, _pole(loop), alpha, beta, radius), errors, **loop.kernel_options())
+        return out["within"]
     out, _ = call("radius_within", _core.radius_within, _DAB + ("radius",),
                   (delta, alpha, beta, radius), errors)
     return out["within"]
+
+
+for _f in (check, verdict, spectral_radius, radius_within):
+    _f.__doc__ = (_f.__doc__ or "") + _LOOP_DOC
+
+
+def loop_poly(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, delay: int = 0,
+              filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+              differentiator: str = "backward", errors: Errors = "raise") -> Any:
+    """The loop's characteristic polynomial p(z) = D + alpha Na + beta Nb (loop.h),
+    highest power first, along a new trailing axis of length degree + 1 (the degree is
+    fixed by delay, average and differentiator, and 1 more with a low-pass)."""
+    loop = normalized_loop("loop_poly", delay, filter_pole, average, differentiator)
+    out, _ = call("loop_poly", _core.loop_poly, _DPAB, (delta, _pole(loop), alpha, beta), errors,
+                  **loop.kernel_options())
+    degree = np.asarray(out["degree"])
+    coefficients = np.asarray(out["coefficients"])
+    top = int(degree.max()) if degree.size else 0
+    return _as_result(coefficients[..., coefficients.shape[-1] - 1 - top:])
 
 
 def char_poly(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, errors: Errors = "raise") -> Any:

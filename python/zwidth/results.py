@@ -259,3 +259,61 @@ class Influence(Result):
             return (f"raising {M} toward {M}_K2 = {float(self.m_K2):.4g} raises K_mmax up to "
                     f"{float(self.K_mmax_at_m_K2):.4g}.")
         return f"raising {M} raises K_mmax; so does shortening T."
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class LoopVerdict(Result):
+    """A guarded stability verdict of a general loop (delay, velocity filter,
+    differentiator: :mod:`zwidth.loop`).
+
+    stable:    True only if every root of the loop's characteristic polynomial is inside
+               the unit circle for every value within the rounding-error bound.
+    marginal:  within the rounding band of a boundary: could not be proved stable.
+    boundary:  where the root of largest modulus crosses (or nearly does): a
+               ``zwidth.LOOP_BOUNDARIES`` code, 0 ('none') when stable; see ``deciding_name``.
+    theta:     for a complex pair, its angle in (0, pi) rad per sample, else 0.
+    frequency: theta / (2 pi T) [Hz] for a Device; theta / (2 pi) [cycles per sample] in
+               the normalized space.
+    status:    the C core's status code per element (0 = ok).
+    """
+
+    stable: Any
+    marginal: Any
+    boundary: Any
+    theta: Any
+    frequency: Any
+    status: Any
+    #: "Hz" (a Device) or "cycles/sample" (normalized): the unit of frequency
+    frequency_unit: str = dataclasses.field(default="cycles/sample", repr=False, metadata={"result": False})
+
+    @property
+    def word(self) -> Any:
+        """'stable', 'marginal' (within the rounding band: not proved stable) or 'unstable'."""
+        words = np.where(np.asarray(self.stable), "stable",
+                         np.where(np.asarray(self.marginal), "marginal", "unstable"))
+        return str(words[()]) if words.ndim == 0 else words.astype(object)
+
+    @property
+    def deciding_name(self) -> Any:
+        """The deciding boundary: 'z=1' (static divergence), 'z=-1' (oscillation at the
+        Nyquist frequency), 'complex pair at X Hz' (or cycles/sample), '' when stable."""
+        def name(code: Any, freq: Any) -> str:
+            kind = _LOOP_BOUNDARY_NAMES.get(int(code), "")
+            if kind == "complex":
+                return f"complex pair at {float(freq):.6g} {self.frequency_unit}"
+            return "" if kind == "none" else kind
+        names = np.vectorize(name, otypes=[object])(np.asarray(self.boundary), np.asarray(self.frequency))
+        return str(names[()]) if names.ndim == 0 else names
+
+    def __repr__(self) -> str:
+        if np.ndim(self.stable) == 0:
+            if self.status:
+                return f"LoopVerdict(invalid: {_core.STATUS_NAMES[int(self.status)]})"
+            text = f"LoopVerdict(stable={bool(self.stable)}, marginal={bool(self.marginal)}"
+            if not self.stable:
+                text += f", deciding={self.deciding_name!r}"
+            return text + ")"
+        return super().__repr__()
+
+
+_LOOP_BOUNDARY_NAMES = {int(code): name for name, code in _core.LOOP_BOUNDARIES.items()}
