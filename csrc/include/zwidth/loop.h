@@ -79,10 +79,19 @@ zw_status zw_loop_lowpass_pole(zw_real f_c, zw_real T, zw_real *a);
 typedef struct zw_loop {
     zw_coeffs c;
     zw_loop_spec spec;
-    unsigned degree;                        /* 3 + d for the ideal velocity estimate, ... */
+    unsigned degree; /* 3 + d (backward, Tustin, backward + low-pass), 4 + d (Tustin +
+                        low-pass), 2 + d + n (moving average over n) */
     zw_real D[ZW_LOOP_MAX_DEGREE + 1u], D_err[ZW_LOOP_MAX_DEGREE + 1u];
     zw_real Na[ZW_LOOP_MAX_DEGREE + 1u], Na_err[ZW_LOOP_MAX_DEGREE + 1u];
     zw_real Nb[ZW_LOOP_MAX_DEGREE + 1u], Nb_err[ZW_LOOP_MAX_DEGREE + 1u];
+    /* The same parts after the bilinear map z = (1 + s)/(1 - s), times (1 - s)^degree
+     * (highest power of s first): p is Schur stable iff P = Ds + alpha Nas + beta Nbs is
+     * Hurwitz of full degree.  Each factor is formed without cancellation (z - e becomes
+     * (1 + e) s + (1 - e) with 1 - e = delta (c1 + c2)/2, c1 z + c2 becomes d12 s + c1 + c2),
+     * so small delta keeps full relative accuracy here, unlike in the z coefficients. */
+    zw_real Ds[ZW_LOOP_MAX_DEGREE + 1u], Ds_err[ZW_LOOP_MAX_DEGREE + 1u];
+    zw_real Nas[ZW_LOOP_MAX_DEGREE + 1u], Nas_err[ZW_LOOP_MAX_DEGREE + 1u];
+    zw_real Nbs[ZW_LOOP_MAX_DEGREE + 1u], Nbs_err[ZW_LOOP_MAX_DEGREE + 1u];
 } zw_loop;
 
 /* Build the loop of spec for the plant c (a copy of *c is kept).  Errors: ZW_ERR_NULL,

@@ -6,6 +6,7 @@
 #include "zwidth/coeffs.h"
 #include "zwidth/device.h"
 #include "zwidth/extremes.h"
+#include "zwidth/loop.h"
 #include "zwidth/margin.h"
 #include "zwidth/real.h"
 #include "zwidth/region.h"
