@@ -19,6 +19,8 @@ import numpy as np
 
 from . import (BOUNDS, DELTA0, REGIONS, Device, ZwidthError, __version__, alpha_max, beta_interval,
                corner, extremes, hyperbola_top, spectral_radius, verdict)
+from .device import LoopNotSupported
+from .loop import DIFFERENTIATORS, Loop, normalized_loop, parse_velocity_filter
 
 EXIT_OK = 0        #: stable, or the command succeeded
 EXIT_UNSTABLE = 1  #: the checked gains are not (provably) stable
@@ -249,6 +251,7 @@ class _Plant:
     B: Optional[float] = None
     alpha: Optional[float] = None  # gains as given (normalized mode) or normalized image
     beta: Optional[float] = None
+    loop: Loop = dataclasses.field(default_factory=Loop)  # what the drive runs (--delay, ...)
 
     @property
     def real(self) -> bool:
@@ -272,15 +275,23 @@ class _Plant:
     def summary(self) -> Dict[str, Any]:
         dev = self.device
         return {"m": None if dev is None else dev.m, "b": None if dev is None else dev.b,
-                "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta}
+                "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta,
+                "loop": self.loop.as_dict()}
+
+    def loop_kwargs(self) -> Dict[str, Any]:
+        """The normalized functions' loop keywords."""
+        lp = self.loop
+        return {"delay": lp.delay, "differentiator": lp.differentiator,
+                "filter_pole": 0.0 if lp.pole is None else lp.pole, "average": lp.average}
 
     def header(self) -> str:
+        loop = "" if self.loop.ideal else f"\nLoop: {self.loop.describe()}"
         if self.device is None:
-            return f"Plant (normalized): delta = bT/m = {_fmt(self.delta)}"
+            return f"Plant (normalized): delta = bT/m = {_fmt(self.delta)}" + loop
         u = self.units() or {}
         d = self.device
         return (f"Plant: {self.mass} = {_fmt(d.m)} {u['m']}, b = {_fmt(d.b)} {u['b']}, "
-                f"T = {_fmt(d.T)} s  ->  delta = bT/{self.mass} = {_fmt(self.delta)}")
+                f"T = {_fmt(d.T)} s  ->  delta = bT/{self.mass} = {_fmt(self.delta)}" + loop)
 
     def gains_text(self) -> str:
         if self.device is None:
@@ -306,7 +317,8 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
         if (args.alpha is None) != (args.beta is None):
             raise _Usage("give both --alpha and --beta (or neither)")
         extremes(args.delta)  # validates delta (ZwidthError naming it)
-        return _Plant(delta=float(args.delta), device=None, alpha=args.alpha, beta=args.beta)
+        return _Plant(delta=float(args.delta), device=None, alpha=args.alpha, beta=args.beta,
+                      loop=_normalized_loop(args))
     missing = [name for name, ok in (("--m (or --J)", args.m is not None or args.J is not None),
                                      ("--b", args.b is not None), ("--T", args.T is not None))
                if not ok]
@@ -314,16 +326,45 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
         raise _Usage(f"the plant needs {', '.join(missing)}")
     if (args.K is None) != (args.B is None):
         raise _Usage("give both --K and --B (or neither)")
-    dev = Device.rotary(args.J, args.b, args.T) if args.J is not None else Device(args.m, args.b, args.T)
-    plant = _Plant(delta=float(dev.delta), device=dev, K=args.K, B=args.B)
+    loop_options = _device_loop_options(args)
+    dev = (Device.rotary(args.J, args.b, args.T, **loop_options) if args.J is not None
+           else Device(args.m, args.b, args.T, **loop_options))
+    plant = _Plant(delta=float(dev.delta), device=dev, K=args.K, B=args.B, loop=dev.loop)
     if args.K is not None:
         n = dev.normalize(args.K, args.B)
         plant.alpha, plant.beta = float(n.alpha), float(n.beta)
     return plant
 
 
+def _velocity_filter(args: argparse.Namespace) -> Optional[Tuple[str, Any]]:
+    if args.velocity_filter is None:
+        return None
+    try:
+        kind, value = parse_velocity_filter(args.velocity_filter)
+    except ValueError as exc:
+        raise _Usage(f"argument --velocity-filter: {exc}") from None
+    return None if kind == "none" else (kind, value)
+
+
+def _device_loop_options(args: argparse.Namespace) -> Dict[str, Any]:
+    return {"delay": args.delay, "velocity_filter": _velocity_filter(args),
+            "differentiator": args.differentiator}
+
+
+def _normalized_loop(args: argparse.Namespace) -> Loop:
+    vf = _velocity_filter(args)
+    if vf is not None and vf[0] == "lowpass":
+        raise _Usage("argument --velocity-filter: a cut-off in Hz needs the period: give a real-unit plant "
+                     "(--m, --b, --T), or the pole in the normalized space (pole:A, A = exp(-2 pi f_c T))")
+    pole = vf[1] if vf is not None and vf[0] == "pole" else 0.0
+    average = vf[1] if vf is not None and vf[0] == "average" else None
+    return normalized_loop("check", args.delay, pole, average, args.differentiator)
+
+
 def _option_of(exc: ZwidthError) -> Optional[str]:
     """The command-line option of the parameter an error names (J for a rotary plant)."""
+    if exc.parameter in ("velocity_filter", "filter_pole", "average", "cutoff"):
+        return "--velocity-filter"
     return None if exc.parameter is None else f"--{exc.parameter}"
 
 
@@ -340,8 +381,74 @@ def _violated(v: Any) -> List[str]:
     return [name for name, bit in BOUNDS.items() if int(v.violated) & bit]
 
 
+_LOOP_BOUNDARY_TEXT = {
+    "z=1": "a real root leaves the unit circle at z = 1 (static divergence: the stiffness drifts away)",
+    "z=-1": "a real root leaves the unit circle at z = -1 (oscillation at the Nyquist frequency 1/(2T))",
+    "complex": "a complex pair of roots leaves the unit circle (oscillation at {f})",
+}
+
+
+def _loop_deciding_text(v: Any) -> Optional[str]:
+    name = str(v.deciding_name)
+    if not name:
+        return None
+    if name.startswith("complex"):
+        return _LOOP_BOUNDARY_TEXT["complex"].format(f=name[len("complex pair at "):])
+    return _LOOP_BOUNDARY_TEXT.get(name, name)
+
+
+def cmd_check_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
+    """check for a loop other than the paper's: the guarded verdict of that loop, the
+    deciding boundary, its spectral radius, and the ideal loop's verdict beside it."""
+    if args.region != "exact":
+        raise _Usage(f"--region {args.region} is one of the paper's regions of its ideal loop; a loop with "
+                     f"{plant.loop.describe()} has only its exact region")
+    dev, d = plant.device, plant.delta
+    alpha, beta = float(plant.alpha), float(plant.beta)  # type: ignore[arg-type]
+    if dev is not None:
+        K, B = float(plant.K), float(plant.B)  # type: ignore[arg-type]
+        v = dev.verdict(K, B)
+        rho = dev.spectral_radius(K, B)
+        ideal_v = dev.ideal().verdict(K, B)
+        ideal_rho = dev.ideal().spectral_radius(K, B)
+    else:
+        kw = plant.loop_kwargs()
+        v = verdict(d, alpha, beta, **kw)
+        rho = spectral_radius(d, alpha, beta, **kw)
+        ideal_v = verdict(d, alpha, beta)
+        ideal_rho = spectral_radius(d, alpha, beta)
+    word = v.word
+    deciding = str(v.deciding_name) or None
+    text = _loop_deciding_text(v)
+    data = {
+        "region": "exact", "loop": plant.loop.as_dict(), "verdict": word, "stable": bool(v.stable),
+        "marginal": bool(v.marginal), "deciding": deciding, "deciding_text": text, "violated": [],
+        "exact_stable": bool(v.stable), "spectral_radius": rho,
+        "K": plant.K, "B": plant.B, "alpha": alpha, "beta": beta,
+        "K_max": None, "B_range": None, "alpha_max": None, "beta_range": None,
+        "ideal_loop": {"verdict": ideal_v.word, "stable": bool(ideal_v.stable), "spectral_radius": ideal_rho},
+    }
+    lines = [plant.header(), f"Gains: {plant.gains_text()}"
+             + (f"  ->  alpha = {_fmt(alpha)}, beta = {_fmt(beta)}" if plant.real else "")]
+    lines.append(f"Verdict (exact, this loop): {word.upper()}")
+    if text:
+        lines += textwrap.wrap(f"deciding boundary: {text}", 92, initial_indent="  ", subsequent_indent="    ")
+    if word == "marginal":
+        lines.append("  marginal: within rounding error of the boundary, so not proved stable")
+    lines.append(f"  spectral radius = {_fmt(rho)} (stable iff < 1)")
+    lines.append(f"  the paper's ideal loop (no delay, no filter) would be {ideal_v.word} here "
+                 f"(spectral radius {_fmt(ideal_rho)})")
+    if bool(ideal_v.stable) and not bool(v.stable):
+        lines.append(f"  warning: the ideal-loop analysis calls these gains stable; the loop the drive runs "
+                     f"({plant.loop.describe()}) does not")
+    lines.append("  K_max / B range for this loop: not in this build yet (needs the loop's boundary)")
+    return _Outcome(EXIT_OK if bool(v.stable) else EXIT_UNSTABLE, data, lines)
+
+
 def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Verdict of one gain pair, with the deciding constraint, radius and local limits."""
+    if not plant.loop.ideal:
+        return cmd_check_loop(args, plant)
     region = args.region
     dev, d = plant.device, plant.delta
     alpha, beta = float(plant.alpha), float(plant.beta)  # type: ignore[arg-type]
@@ -398,8 +505,18 @@ def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     return _Outcome(EXIT_OK if bool(v.stable) else EXIT_UNSTABLE, data, lines)
 
 
+def _refuse_loop(command: str, plant: Optional[_Plant]) -> None:
+    if plant is not None and not plant.loop.ideal:
+        raise LoopNotSupported(
+            f"zwidth {command}: the limits of a loop with {plant.loop.describe()} need its boundary "
+            f"(loop_limits.h), not in this build; 'zwidth check' with the same loop options decides "
+            f"gains exactly, and without them '{command}' gives the paper's ideal loop, whose limits "
+            f"are larger", "ZW_ERR_ARG", None, (), {})
+
+
 def cmd_limits(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Largest stable K and B, the B range and what the legacy region would claim."""
+    _refuse_loop("limits", plant)
     d, dev = plant.delta, plant.device
     ext = extremes(d)
     top = hyperbola_top(d)
@@ -494,6 +611,7 @@ def _plant_changes(plant: _Plant, K: float, B: float) -> List[Dict[str, Any]]:
 
 def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Influence of m, b, T on the limits, critical values, advice; gains: what to change."""
+    _refuse_loop("advise", plant)
     dev = _advise_device(plant)
     inf = dev.influence()
     fields = {k: v for k, v in inf.as_dict().items() if k != "m"}
@@ -642,18 +760,23 @@ def _simulation_json(sim: Any, rotary: bool) -> Dict[str, Any]:
     analytic = None
     p = sim.params
     if sim.analytic is not None:
-        dev = Device(p["m"], p["b"], p["T"], rotary=rotary)
+        dev = sim.device
+        ideal = dev.loop.ideal
         analytic = {"verdict": sim.analytic.word, "stable": bool(sim.analytic.stable),
                     "marginal": bool(sim.analytic.marginal),
                     "deciding": str(sim.analytic.deciding_name) or None,
                     "spectral_radius": dev.spectral_radius(p["K"], p["B"]),
-                    "legacy_stable": bool(dev.is_stable(p["K"], p["B"], region="legacy"))}
+                    "loop": dev.loop.as_dict(),
+                    "legacy_stable": bool(dev.is_stable(p["K"], p["B"], region="legacy")) if ideal else None,
+                    "ideal_loop": None if sim.ideal is None else {
+                        "verdict": sim.ideal.word, "stable": bool(sim.ideal.stable)}}
     norm = sim.case.normalized
     params = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in p.items()}
     return {"label": sim.label, "description": sim.case.description, "samples": len(sim.t),
             "T": p["T"], "duration": sim.case.duration, "params": params,
             "normalized": None if norm is None else dict(zip(("delta", "alpha", "beta"), norm)),
-            "verdict": sim.verdict.as_dict(), "analytic": analytic, "agrees": sim.agrees}
+            "verdict": sim.verdict.as_dict(), "analytic": analytic, "agrees": sim.agrees,
+            "note": sim.note}
 
 
 def _growth(v: Any) -> str:
@@ -698,9 +821,10 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
              + (", ".join(scene.effects) if scene.effects else "none (the ideal loop: exact solution)")
              + f"; {len(sims)} case{plural}, {_fmt(scene.duration)} s each", ""]
     width = max([4] + [len(s.label) for s in sims])
+    last_column = "legacy region" if scene.ideal else "ideal loop"
     if scene.linear:
         lines.append(f"  {'case':<{width}}  {'delta':>7} {'alpha':>8} {'beta':>8}  {'simulated':<10} "
-                     f"{'growth/sample':>13}  {'exact region':<12} {'agrees':<6}  legacy region")
+                     f"{'growth/sample':>13}  {'exact region':<12} {'agrees':<6}  {last_column}")
     else:
         lines.append(f"  {'case':<{width}}  {'simulated':<10} {'growth/sample':>13}  "
                      f"{'final x [' + pos + ']':>16}")
@@ -710,14 +834,24 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
             d, a, b = s.case.normalized or (math.nan, math.nan, math.nan)
             exact = s.analytic.word if s.analytic is not None else "-"
             agrees = {True: "yes", False: "NO", None: "-"}[s.agrees]
-            legacy = data["cases"][sims.index(s)]["analytic"]["legacy_stable"]
+            analytic = data["cases"][sims.index(s)]["analytic"] or {}
+            if scene.ideal:
+                other = "stable" if analytic.get("legacy_stable") else "unstable"
+            else:
+                other = (analytic.get("ideal_loop") or {}).get("verdict", "-")
             lines.append(f"  {s.label:<{width}}  {_fmt(d):>7} {_fmt(a):>8} {_fmt(b):>8}  {v.outcome:<10} "
-                         f"{_growth(v):>13}  {exact:<12} {agrees:<6}  {'stable' if legacy else 'unstable'}")
+                         f"{_growth(v):>13}  {exact:<12} {agrees:<6}  {other}")
         else:
             lines.append(f"  {s.label:<{width}}  {v.outcome:<10} {_growth(v):>13}  {_fmt(s.x[-1]):>16}")
+    if scene.linear and not scene.ideal and sims and sims[0].device is not None:
+        lines.append(f"  loop analysed: {sims[0].device.loop.describe()} (the simulator's own filter pole); "
+                         f"'ideal loop' is what zwidth check says without the loop options")
     for s in sims:
         if s.verdict.outcome != "stable" or not scene.linear:
             lines += textwrap.wrap(f"{s.label}: {s.verdict.reason}", 92, initial_indent="  ",
+                                   subsequent_indent="      ")
+        if s.note:
+            lines += textwrap.wrap(f"warning: {s.label}: {s.note}", 92, initial_indent="  ",
                                    subsequent_indent="      ")
     summary = ", ".join(f"{c} {o}" for o, c in counts.items() if c)
     if compared:
@@ -760,6 +894,16 @@ def _add_plant_options(p: argparse.ArgumentParser) -> None:
     norm.add_argument("--delta", type=_number, metavar="DELTA", help="normalized damping bT/m (>= 0)")
     norm.add_argument("--alpha", type=_number, metavar="ALPHA", help="normalized stiffness K T^2/m")
     norm.add_argument("--beta", type=_number, metavar="BETA", help="normalized damping B T/m")
+    lp = p.add_argument_group(
+        "the loop the drive runs (default: the paper's: no delay, no filter, backward difference)")
+    lp.add_argument("--delay", type=int, default=0, metavar="N",
+                    help="samples between measuring x_k and applying its force, 0..8 (1: computed "
+                         "during the period, applied at the next tick)")
+    lp.add_argument("--velocity-filter", metavar="SPEC",
+                    help="lowpass:30Hz (first-order, cut-off in Hz; real units), pole:0.83 (its pole "
+                         "a = exp(-2 pi f_c T)), average:4 (moving average over n = 1..16 samples)")
+    lp.add_argument("--differentiator", choices=DIFFERENTIATORS, default="backward",
+                    help="velocity estimate: backward difference (the paper's) or tustin")
     p.add_argument("--json", action="store_true", help="print one JSON object (keys below)")
 
 
@@ -902,6 +1046,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         outcome = args.handler(args, plant)
     except _Usage as exc:
         sub.error(str(exc))  # exits 2
+    except LoopNotSupported as exc:
+        print(f"zwidth {args.command}: error: not available: {exc}", file=sys.stderr)
+        return EXIT_INVALID
     except ZwidthError as exc:
         option = _option_of(exc)
         where = f"invalid value of {option}: " if option else "invalid input: "

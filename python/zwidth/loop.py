@@ -160,7 +160,8 @@ _FREQUENCY = re.compile(r"^\s*([0-9.eE+-]+)\s*(hz|khz)?\s*$", re.IGNORECASE)
 
 def parse_velocity_filter(text: str) -> Tuple[str, Any]:
     """'lowpass:30Hz' -> ('lowpass', 30.0), 'lowpass:1.5kHz' -> ('lowpass', 1500.0),
-    'average:4' -> ('average', 4); 'none' -> ('none', None).  ValueError otherwise."""
+    'pole:0.83' -> ('pole', 0.83), 'average:4' -> ('average', 4); 'none' -> ('none', None).
+    ValueError otherwise."""
     kind, _, value = text.partition(":")
     kind = kind.strip().lower()
     if kind == "none" and not value:
@@ -171,13 +172,18 @@ def parse_velocity_filter(text: str) -> Tuple[str, Any]:
             raise ValueError(f"a low-pass needs a cut-off in Hz, e.g. lowpass:30Hz, got {text!r}")
         f = float(m.group(1)) * (1e3 if (m.group(2) or "").lower() == "khz" else 1.0)
         return ("lowpass", f)
+    if kind == "pole":
+        try:
+            return ("pole", float(value))
+        except ValueError:
+            raise ValueError(f"a pole needs a number in [0, 1), e.g. pole:0.83, got {text!r}") from None
     if kind == "average":
         try:
             return ("average", int(value))
         except ValueError:
             raise ValueError(f"a moving average needs a whole number of samples, e.g. average:4, got {text!r}") from None
-    raise ValueError(f"unknown velocity filter {text!r}: use lowpass:F_CHz (e.g. lowpass:30Hz) or average:N "
-                     f"(e.g. average:4)")
+    raise ValueError(f"unknown velocity filter {text!r}: use lowpass:F_CHz (e.g. lowpass:30Hz), pole:A "
+                     f"(e.g. pole:0.83) or average:N (e.g. average:4)")
 
 
 def device_loop(function: str, delay: Any, velocity_filter: VelocityFilter, differentiator: Any) -> Loop:

@@ -612,8 +612,8 @@ def _verdict_lines(sim: "Simulation", legacy: Optional[bool]) -> Tuple[str, str]
 
 
 def _legacy_verdict(sim: "Simulation", rotary: bool) -> Optional[bool]:
-    if sim.analytic is None:
-        return None
+    if sim.analytic is None or sim.ideal is not None or int(sim.params["effects"]):
+        return None  # the legacy region is one of the ideal loop's
     p = sim.params
     dev = Device(p["m"], p["b"], p["T"], rotary=rotary)
     return bool(dev.is_stable(p["K"], p["B"], region="legacy"))
