@@ -116,7 +116,9 @@ exit status 1 when gains are given and are not stable."""
 _PLOT_EPILOG = """\
 kinds:
   region     the region in the (beta, alpha) plane with the legacy and passivity
-             regions (needs the plant; gains, if given, are marked)
+             regions (needs the plant; gains, if given, are marked); with --delay,
+             --velocity-filter or --differentiator: the ideal loop's region and the one
+             your loop keeps (each grid point decided by the guarded check of that loop)
   extremes   alpha_mmax, beta_mmax and ratios against delta (no plant; --delta-min/max)
   influence  K_mmax and B_mmax against m, b and T around a real-unit plant
   device     a real-unit plant's stable (K, B) region, its limits and the advice
@@ -711,8 +713,14 @@ def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
         if kind == "region":
             assert plant is not None
             point = None if not plant.has_gains else (float(plant.beta), float(plant.alpha))  # type: ignore[arg-type]
+            if not plant.loop.ideal:
+                kw = plant.loop_kwargs()
+                if plant.device is not None and plant.device.filter_pole is not None:
+                    kw["filter_pole"] = float(plant.device.filter_pole)
+                return plot.loop_region(plant.delta, point=point, **kw)
             return plot.region(plant.delta, point=point)
         assert plant is not None and plant.device is not None
+        _refuse_loop(f"plot {kind}", plant)
         if kind == "influence":
             return plot.influence(plant.device)
         return plot.device(plant.device, plant.K, plant.B)

@@ -156,7 +156,7 @@ class Simulation:
     force: NDArray[np.float64] = dataclasses.field(repr=False)
     signals: Dict[str, NDArray[np.float64]] = dataclasses.field(repr=False)
     verdict: SimVerdict
-    analytic: Optional[Verdict]
+    analytic: Optional[Union[Verdict, LoopVerdict]]
     agrees: Optional[bool]
     params: Dict[str, Any] = dataclasses.field(repr=False)
     units: Dict[str, str] = dataclasses.field(repr=False)
