@@ -7,6 +7,7 @@
 #include "zwidth/device.h"
 #include "zwidth/extremes.h"
 #include "zwidth/loop.h"
+#include "zwidth/loop_limits.h"
 #include "zwidth/margin.h"
 #include "zwidth/real.h"
 #include "zwidth/region.h"

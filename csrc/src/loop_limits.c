@@ -1,0 +1,786 @@
+/* Limits of the general loop by D-decomposition (loop_limits.h has the maths).
+ *
+ * Everything is a search for crossings of a straight line (beta fixed, alpha fixed, or
+ * alpha = 0+) with the boundary curves, on the factored frequency response (R0, S) of the
+ * loop.  A crossing is reported as (est, lo, hi): its estimate and an interval certain to
+ * hold it, given an evaluation error bound eps (relative, per factor product) that covers
+ * rounding and the coefficients' error; limits take the inner ends.  The cell a limit
+ * bounds is labelled by the guarded zw_loop_check.
+ */
+#include "zwidth/loop_limits.h"
+
+#include <stddef.h>
+
+#include "internal.h"
+
+#ifdef ZW_REAL_FLOAT
+#define LL_SIN sinf
+#define LL_COS cosf
+#define LL_ITER 40u    /* bisection / golden-section steps: enough for float's 24 bits */
+#define LL_GEO 24u     /* geometric grid points towards 0 and pi */
+#else
+#define LL_SIN sin
+#define LL_COS cos
+#define LL_ITER 80u
+#define LL_GEO 44u
+#endif
+
+#define LL_PI ZW_R(3.14159265358979323846)
+/* The largest zw_real below pi (float's nearest is above it: a grid point there would pass
+ * beyond z = -1 and see the asymptote of a Tustin loop from the other side). */
+#ifdef ZW_REAL_FLOAT
+#define LL_PI_BELOW ZW_R(3.1415925)
+#else
+#define LL_PI_BELOW ZW_R(3.141592653589793)
+#endif
+#define LL_INVPHI ZW_R(0.6180339887498948482) /* golden section */
+#define LL_GRID_PER_DEGREE 48u                 /* uniform theta grid points per degree */
+#define LL_MAX_CROSSINGS (4u * ZW_LOOP_MAX_DEGREE + 8u) /* bound on the steps of a walk */
+#define LL_CELL_CHECKS 7u                      /* interior checks of an alpha_max cell */
+#define LL_EXT_GRID 24u                        /* beta grid before the golden section */
+
+typedef struct ll_cplx {
+    zw_real re, im;
+} ll_cplx;
+
+static ll_cplx cmul(ll_cplx a, ll_cplx b)
+{
+    ll_cplx r;
+    r.re = a.re * b.re - a.im * b.im;
+    r.im = a.re * b.im + a.im * b.re;
+    return r;
+}
+
+/* a / b by Smith's method (no overflow or underflow of |b|^2). */
+static ll_cplx cdiv(ll_cplx a, ll_cplx b)
+{
+    ll_cplx r;
+    zw_real t, den;
+    if (ZW_FABS(b.re) >= ZW_FABS(b.im)) {
+        t = b.im / b.re;
+        den = b.re + b.im * t;
+        r.re = (a.re + a.im * t) / den;
+        r.im = (a.im - a.re * t) / den;
+    } else {
+        t = b.re / b.im;
+        den = b.im + b.re * t;
+        r.re = (a.re * t + a.im) / den;
+        r.im = (a.im * t - a.re) / den;
+    }
+    return r;
+}
+
+/* |z|_1 >= |z|: a cheap magnitude bound. */
+static zw_real cabs1(ll_cplx a)
+{
+    return ZW_FABS(a.re) + ZW_FABS(a.im);
+}
+
+/* ---- the loop's factored frequency response ----------------------------------------- */
+
+typedef struct ll_plant {
+    const zw_loop *loop;
+    zw_real one_minus_e; /* 1 - e = delta (c1 + c2) / 2, accurate for small delta */
+    zw_real r12;         /* d12 / c1: (c1 z + c2) / c1 = (z + 1) - r12 */
+    zw_real two_c1;      /* 2 / c1 */
+    zw_real phase;       /* d + 1/2 */
+    zw_real one_minus_a; /* low-pass */
+    zw_real eps;         /* relative error bound of R0 and S (and of the line coefficients) */
+    zw_real grid_h;      /* uniform grid step in theta */
+    unsigned grid_n;     /* uniform grid intervals */
+} ll_plant;
+
+/* The loop's own consistency (loop.c keeps the same rule): degree matches the spec. */
+static zw_status plant_init(ll_plant *p, const zw_loop *loop)
+{
+    const zw_loop_spec *sp;
+    unsigned est_deg;
+    zw_real u = ZW_U, rel, filt;
+    zw_status st;
+    if (loop == NULL) return ZW_ERR_NULL;
+    sp = &loop->spec;
+    if (sp->delay > ZW_LOOP_MAX_DELAY) return ZW_ERR_ARG;
+    if (sp->differentiator != ZW_DIFF_BACKWARD && sp->differentiator != ZW_DIFF_TUSTIN)
+        return ZW_ERR_ARG;
+    switch (sp->filter) {
+    case ZW_VFILTER_NONE:
+        est_deg = 1u;
+        filt = ZW_R(0.0);
+        break;
+    case ZW_VFILTER_LOWPASS:
+        if (!(sp->filter_pole >= ZW_R(0.0) && sp->filter_pole < ZW_R(1.0))) return ZW_ERR_ARG;
+        est_deg = sp->differentiator == ZW_DIFF_TUSTIN ? 2u : 1u;
+        filt = ZW_R(16.0) * u;
+        break;
+    case ZW_VFILTER_AVERAGE:
+        if (sp->average < 1u || sp->average > ZW_LOOP_MAX_AVERAGE) return ZW_ERR_ARG;
+        est_deg = sp->average;
+        filt = (ZW_R(8.0) + ZW_R(4.0) * (zw_real)sp->average) * u;
+        break;
+    default: return ZW_ERR_ARG;
+    }
+    if (loop->degree != 2u + sp->delay + est_deg) return ZW_ERR_ARG;
+    if ((st = zw_require_coeffs(&loop->c, false)) != ZW_OK) return st;
+    if (!(loop->c.c1 > ZW_R(0.0))) return ZW_ERR_RANGE;
+    p->loop = loop;
+    p->one_minus_e = ZW_R(0.5) * (loop->c.s * loop->c.delta);
+    p->r12 = loop->c.d12 / loop->c.c1;
+    p->two_c1 = ZW_R(2.0) / loop->c.c1;
+    if (!ZW_IS_FINITE(p->two_c1) || !ZW_IS_FINITE(p->one_minus_e)) return ZW_ERR_RANGE;
+    p->phase = (zw_real)sp->delay + ZW_R(0.5);
+    p->one_minus_a = ZW_R(1.0) - sp->filter_pole;
+    /* z - e and (c1 z + c2)/c1 lose at most a factor 3 to cancellation (|z - e| >= 1 - e,
+     * |z + 1 - r12| >= r12 on the circle); the phase e^{j(d+1/2)theta} errs by the
+     * rounding of its argument; a few roundings for the products; 3/2 for slack. */
+    rel = zw_coef_relerr(&loop->c);
+    p->eps = ZW_R(1.5) * (ZW_R(3.0) * (rel + ZW_R(4.0) * u) + ZW_R(3.0) * (ZW_R(2.0) * rel + ZW_R(4.0) * u) +
+                          rel + ZW_R(4.0) * (p->phase + ZW_R(1.0)) * u + ZW_R(16.0) * u + filt) +
+             ZW_ETA;
+    p->grid_n = LL_GRID_PER_DEGREE * (loop->degree + 1u);
+    p->grid_h = LL_PI / (zw_real)p->grid_n;
+    return ZW_OK;
+}
+
+/* R0 = e^{j theta/2} Q0 and S = e^{j theta/2} Vt at z = e^{j theta} (loop_limits.h). */
+static void response(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
+{
+    const zw_loop_spec *sp = &p->loop->spec;
+    zw_real sh = LL_SIN(ZW_R(0.5) * theta), ch = LL_COS(ZW_R(0.5) * theta);
+    zw_real sin_t = ZW_R(2.0) * sh * ch, vers = ZW_R(2.0) * sh * sh; /* sin, 1 - cos */
+    ll_cplx ze, cz, rot, f;
+    ze.re = p->one_minus_e - vers;
+    ze.im = sin_t;
+    cz.re = ZW_R(2.0) * ch * ch - p->r12;
+    cz.im = sin_t;
+    rot.re = LL_COS(p->phase * theta);
+    rot.im = LL_SIN(p->phase * theta);
+    *r0 = cdiv(cmul(rot, ze), cz);
+    r0->re *= -p->two_c1;
+    r0->im *= -p->two_c1;
+    if (sp->differentiator == ZW_DIFF_TUSTIN) {
+        s->re = ZW_R(1.0) / ch;
+        s->im = ZW_R(0.0);
+    } else {
+        s->re = ch;
+        s->im = -sh;
+    }
+    if (sp->filter == ZW_VFILTER_LOWPASS) {
+        ll_cplx z, za;
+        z.re = ZW_R(1.0) - vers;
+        z.im = sin_t;
+        za.re = p->one_minus_a - vers;
+        za.im = sin_t;
+        f = cdiv(z, za);
+        f.re *= p->one_minus_a;
+        f.im *= p->one_minus_a;
+        *s = cmul(*s, f);
+    } else if (sp->filter == ZW_VFILTER_AVERAGE) {
+        zw_real n = (zw_real)sp->average;
+        zw_real dn = sh == ZW_R(0.0) ? ZW_R(1.0) : LL_SIN(ZW_R(0.5) * n * theta) / (n * sh);
+        zw_real ang = -ZW_R(0.5) * (n - ZW_R(1.0)) * theta;
+        f.re = dn * LL_COS(ang);
+        f.im = dn * LL_SIN(ang);
+        *s = cmul(*s, f);
+    } else {
+        /* backward or Tustin alone */
+    }
+}
+
+/* ---- crossing conditions --------------------------------------------------------------- */
+
+typedef enum ll_mode {
+    LL_FIX_BETA = 0,  /* f = Re R0 - beta Re S,  value alpha = -2 sin(theta/2) Im(R0 - beta S) */
+    LL_FIX_ALPHA = 1, /* f = -2 sin(theta/2) Im(R0 conj S) - alpha Re S,  value beta = Re R0 / Re S */
+    LL_ALPHA_ZERO = 2 /* f = Im(R0 conj S),  value beta = Re R0 / Re S */
+} ll_mode;
+
+typedef enum ll_take {
+    LL_TAKE_MIN_LO = 0,    /* keep the crossing with the least lower bound above floor */
+    LL_TAKE_NEXT_ABOVE = 1 /* keep the least estimate above floor */
+} ll_take;
+
+typedef struct ll_scan {
+    ll_plant p;
+    ll_mode mode;
+    zw_real fixed; /* beta (FIX_BETA) or alpha (FIX_ALPHA) */
+    ll_take take;
+    zw_real floor;
+    bool found;
+    zw_real est, lo, hi; /* the crossing kept */
+} ll_scan;
+
+typedef struct ll_point {
+    zw_real theta, f, f_err, v, v_err;
+} ll_point;
+
+static void eval_point(const ll_scan *x, zw_real theta, ll_point *pt)
+{
+    ll_cplx r0, s;
+    zw_real a0, as, eps = x->p.eps, two_sh;
+    response(&x->p, theta, &r0, &s);
+    a0 = cabs1(r0);
+    as = cabs1(s);
+    two_sh = ZW_R(2.0) * LL_SIN(ZW_R(0.5) * theta);
+    pt->theta = theta;
+    if (x->mode == LL_FIX_BETA) {
+        zw_real b = x->fixed, mag = a0 + ZW_FABS(b) * as;
+        pt->f = r0.re - b * s.re;
+        pt->f_err = eps * mag + ZW_ETA;
+        pt->v = -two_sh * (r0.im - b * s.im);
+        pt->v_err = two_sh * (eps * mag) + ZW_R(4.0) * ZW_U * ZW_FABS(pt->v) + ZW_ETA;
+    } else {
+        zw_real cross = r0.im * s.re - r0.re * s.im; /* Im(R0 conj S) */
+        zw_real den = ZW_FABS(s.re) - eps * as;
+        if (x->mode == LL_FIX_ALPHA) {
+            pt->f = -two_sh * cross - x->fixed * s.re;
+            pt->f_err = two_sh * (ZW_R(2.0) * eps * a0 * as) + x->fixed * (eps * as) + ZW_R(4.0) * ZW_U * (two_sh * ZW_FABS(cross)) + ZW_ETA;
+        } else {
+            pt->f = cross;
+            pt->f_err = ZW_R(2.0) * eps * a0 * as + ZW_ETA;
+        }
+        pt->v = r0.re / s.re;
+        pt->v_err = den > ZW_R(0.0)
+                        ? (eps * a0 + ZW_FABS(pt->v) * eps * as) / den + ZW_R(4.0) * ZW_U * ZW_FABS(pt->v) + ZW_ETA
+                        : ZW_REAL_MAX;
+    }
+    if (!ZW_IS_FINITE(pt->v) || !ZW_IS_FINITE(pt->v_err)) pt->v_err = ZW_REAL_MAX;
+}
+
+static bool is_neg(zw_real f)
+{
+    return f < ZW_R(0.0);
+}
+
+static bool certain(const ll_point *pt)
+{
+    return ZW_FABS(pt->f) > pt->f_err;
+}
+
+static void offer(ll_scan *x, zw_real est, zw_real lo, zw_real hi)
+{
+    if (x->take == LL_TAKE_MIN_LO) {
+        if (hi > x->floor && (!x->found || lo < x->lo)) {
+            x->found = true;
+            x->est = est;
+            x->lo = lo;
+            x->hi = hi;
+        }
+    } else if (est > x->floor && (!x->found || est < x->est)) {
+        x->found = true;
+        x->est = est;
+        x->lo = lo;
+        x->hi = hi;
+    } else {
+        /* not wanted */
+    }
+}
+
+/* A root of the crossing condition between theta_lo and theta_hi (certified: f's sign is
+ * certain on both sides).  Roots the evaluation cannot resolve next to the structural zeros
+ * of the condition are dropped: at theta = pi (modes FIX_ALPHA, ALPHA_ZERO: there Re S and
+ * Im(R0 conj S) vanish together, the value is 0/0, and the crossing is the z = -1 line's,
+ * offered separately; FIX_BETA: a sign change through the asymptote of Tustin or of
+ * delta = 0 at z = -1, where the value is unbounded) and at theta = 0 (ALPHA_ZERO: the double root at z = 1, offered
+ * separately as theta = 0). */
+static void offer_root(ll_scan *x, zw_real theta_lo, zw_real theta_hi, bool certified,
+                       zw_real est, zw_real lo, zw_real hi)
+{
+    bool unbounded = !(lo > -ZW_REAL_MAX && hi < ZW_REAL_MAX);
+    if (unbounded && theta_hi > LL_PI - x->p.grid_h) return;
+    if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p.grid_h) return;
+    offer(x, est, lo, hi);
+}
+
+/* Widen [lo, hi] by the value bounds at pt. */
+static void widen(const ll_point *pt, zw_real *lo, zw_real *hi)
+{
+    zw_real l = pt->v - pt->v_err, h = pt->v + pt->v_err;
+    if (pt->v_err >= ZW_REAL_MAX) {
+        l = -ZW_REAL_MAX;
+        h = ZW_REAL_MAX;
+    }
+    if (l < *lo) *lo = l;
+    if (h > *hi) *hi = h;
+}
+
+/* A root of f between a and b (f(a), f(b) of opposite computed signs): bisect, then step
+ * outwards to the nearest points where f's sign is certain (the exact root lies between
+ * them), and offer the value there with its bounds. */
+static void refine(ll_scan *x, zw_real a, zw_real b)
+{
+    ll_point pa, pm, pl, pr;
+    bool neg_a;
+    zw_real a0 = a, b0 = b, h, t, lo, hi;
+    unsigned it;
+    eval_point(x, a, &pa);
+    neg_a = is_neg(pa.f);
+    for (it = 0u; it < LL_ITER; ++it) {
+        zw_real m = a + ZW_R(0.5) * (b - a);
+        if (!(m > a && m < b)) break;
+        eval_point(x, m, &pm);
+        if (is_neg(pm.f) == neg_a) a = m;
+        else b = m;
+    }
+    eval_point(x, a + ZW_R(0.5) * (b - a), &pm);
+    h = b - a;
+    pl.theta = a;
+    for (it = 0u; it < LL_ITER; ++it) {
+        t = a - h > a0 ? a - h : a0;
+        eval_point(x, t, &pl);
+        if ((certain(&pl) && is_neg(pl.f) == neg_a) || !(t > a0)) break;
+        h *= ZW_R(4.0);
+    }
+    h = b - a;
+    for (it = 0u; it < LL_ITER; ++it) {
+        t = b + h < b0 ? b + h : b0;
+        eval_point(x, t, &pr);
+        if ((certain(&pr) && is_neg(pr.f) != neg_a) || !(t < b0)) break;
+        h *= ZW_R(4.0);
+    }
+    lo = pm.v;
+    hi = pm.v;
+    widen(&pm, &lo, &hi);
+    widen(&pl, &lo, &hi);
+    widen(&pr, &lo, &hi);
+    offer_root(x, pl.theta, pr.theta, certain(&pl) && certain(&pr), pm.v, lo, hi);
+}
+
+/* f keeps its sign at a, m, b but |f(m)| is a local minimum of the grid: look for a hidden
+ * pair of roots by golden-section minimisation of sign * f on [a, b]. */
+static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
+{
+    ll_point pc, pd, best;
+    bool neg;
+    zw_real c, d, lo, hi;
+    unsigned it;
+    eval_point(x, m, &best);
+    neg = is_neg(best.f);
+    c = b - LL_INVPHI * (b - a);
+    d = a + LL_INVPHI * (b - a);
+    eval_point(x, c, &pc);
+    eval_point(x, d, &pd);
+    for (it = 0u; it < LL_ITER && d > c; ++it) {
+        zw_real fc = neg ? -pc.f : pc.f, fd = neg ? -pd.f : pd.f;
+        if (is_neg(pc.f) != neg || is_neg(pd.f) != neg) break;
+        if (fc < fd) {
+            b = d;
+            pd = pc;
+            d = c;
+            c = b - LL_INVPHI * (b - a);
+            eval_point(x, c, &pc);
+        } else {
+            a = c;
+            pc = pd;
+            c = d;
+            d = a + LL_INVPHI * (b - a);
+            eval_point(x, d, &pd);
+        }
+    }
+    if (is_neg(pc.f) != neg || is_neg(pd.f) != neg) {
+        zw_real t = is_neg(pc.f) != neg ? pc.theta : pd.theta;
+        refine(x, a < t ? a : t, t);
+        refine(x, t, b > t ? b : t);
+        return;
+    }
+    if (ZW_FABS(pc.f) < ZW_FABS(best.f)) best = pc;
+    if (ZW_FABS(pd.f) < ZW_FABS(best.f)) best = pd;
+    if (!certain(&best)) {
+        /* a near-tangency within the rounding band: keep it as a crossing */
+        lo = best.v;
+        hi = best.v;
+        widen(&best, &lo, &hi);
+        widen(&pc, &lo, &hi);
+        widen(&pd, &lo, &hi);
+        offer_root(x, a, b, false, best.v, lo, hi);
+    }
+}
+
+/* The j-th grid angle: LL_GEO points geometrically towards 0, the uniform grid, LL_GEO
+ * points geometrically towards pi (0 and pi themselves are structural roots). */
+static zw_real grid_theta(const ll_plant *p, unsigned j)
+{
+    unsigned n = p->grid_n;
+    if (j < LL_GEO) return ZW_LDEXP(p->grid_h, -(int)(LL_GEO - j));
+    if (j < LL_GEO + n - 1u) return (zw_real)(j - LL_GEO + 1u) * p->grid_h;
+    return LL_PI_BELOW - ZW_LDEXP(p->grid_h, -(int)(j - (LL_GEO + n - 1u) + 1u));
+}
+
+/* Every crossing in (0, pi) offered to x. */
+static void scan(ll_scan *x)
+{
+    ll_point p2, p1, p0;
+    unsigned j, total = 2u * LL_GEO + x->p.grid_n - 1u;
+    eval_point(x, grid_theta(&x->p, 0u), &p1);
+    p2 = p1;
+    for (j = 1u; j < total; ++j) {
+        eval_point(x, grid_theta(&x->p, j), &p0);
+        if (is_neg(p0.f) != is_neg(p1.f)) {
+            refine(x, p1.theta, p0.theta);
+        } else if (j >= 2u && is_neg(p2.f) == is_neg(p1.f) && ZW_FABS(p1.f) < ZW_FABS(p2.f) &&
+                   ZW_FABS(p1.f) <= ZW_FABS(p0.f)) {
+            hidden_pair(x, p2.theta, p1.theta, p0.theta);
+        } else {
+            /* nothing between p1 and p0 */
+        }
+        p2 = p1;
+        p1 = p0;
+    }
+}
+
+/* ---- the z = -1 line ------------------------------------------------------------------- */
+
+/* c0 + ca alpha + cb beta = 0 with a relative error bound rel of each coefficient:
+ * p(-1) / (c1 z + c2 at -1) scaled by Dv(-1) / Nv(-1) as pair (dv, nv) up to a factor. */
+static void line_minus1(const ll_plant *p, zw_real *c0, zw_real *ca, zw_real *cb, zw_real *rel)
+{
+    const zw_loop_spec *sp = &p->loop->spec;
+    const zw_coeffs *c = &p->loop->c;
+    zw_real nv = ZW_R(2.0), dv = ZW_R(1.0); /* backward: V(-1) = 2 */
+    zw_real sign = (sp->delay % 2u) == 0u ? ZW_R(1.0) : ZW_R(-1.0);
+    if (sp->differentiator == ZW_DIFF_TUSTIN) {
+        nv = ZW_R(1.0);
+        dv = ZW_R(0.0); /* V has its pole at z = -1 */
+    }
+    if (sp->filter == ZW_VFILTER_LOWPASS) {
+        nv *= p->one_minus_a;
+        dv *= ZW_R(1.0) + sp->filter_pole;
+    } else if (sp->filter == ZW_VFILTER_AVERAGE) {
+        if ((sp->average % 2u) == 0u) nv = ZW_R(0.0);
+        dv *= (zw_real)sp->average;
+    } else {
+        /* no filter */
+    }
+    *c0 = -ZW_R(4.0) * sign * (ZW_R(1.0) + c->e) * dv;
+    *ca = c->d12 * dv;
+    *cb = c->d12 * nv;
+    *rel = ZW_R(2.0) * zw_coef_relerr(c) + ZW_R(8.0) * ZW_U + zw_coef_floor(c->d12);
+}
+
+/* The z = -1 crossing of the current line, offered to x (no crossing: nothing offered;
+ * *degenerate set when the line is the boundary itself within the error bound). */
+static void offer_line(ll_scan *x, bool *degenerate)
+{
+    zw_real c0, ca, cb, rel, num, num_mag, den, v, err;
+    line_minus1(&x->p, &c0, &ca, &cb, &rel);
+    *degenerate = false;
+    if (x->mode == LL_FIX_BETA) { /* alpha = -(c0 + cb beta) / ca */
+        num = c0 + cb * x->fixed;
+        num_mag = ZW_FABS(c0) + ZW_FABS(cb * x->fixed);
+        den = ca;
+    } else {
+        zw_real a = x->mode == LL_FIX_ALPHA ? x->fixed : ZW_R(0.0);
+        num = c0 + ca * a;
+        num_mag = ZW_FABS(c0) + ZW_FABS(ca * a);
+        den = cb;
+    }
+    if (ZW_FABS(den) <= rel * ZW_FABS(den) + ZW_ETA) {
+        /* the line is parallel to the search line: a crossing everywhere or nowhere */
+        if (ZW_FABS(num) <= ZW_R(2.0) * rel * num_mag + ZW_ETA) *degenerate = true;
+        return;
+    }
+    v = -num / den;
+    err = ZW_R(2.0) * rel * (num_mag / ZW_FABS(den) + ZW_FABS(v)) + ZW_R(4.0) * ZW_U * ZW_FABS(v) + ZW_ETA;
+    if (!ZW_IS_FINITE(v) || !ZW_IS_FINITE(err)) return;
+    offer(x, v, v - err, v + err);
+}
+
+/* ---- alpha_max ------------------------------------------------------------------------- */
+
+static bool checked_stable(const zw_loop *loop, zw_real alpha, zw_real beta)
+{
+    zw_loop_verdict v;
+    return zw_loop_check(loop, alpha, beta, &v) == ZW_OK && v.stable;
+}
+
+static bool checked_unstable(const zw_loop *loop, zw_real alpha, zw_real beta)
+{
+    zw_loop_verdict v;
+    return zw_loop_check(loop, alpha, beta, &v) == ZW_OK && !v.stable && !v.marginal;
+}
+
+static zw_status alpha_max_of(const ll_plant *p, zw_real beta, zw_real *alpha_max)
+{
+    ll_scan x;
+    bool degenerate;
+    unsigned k;
+    zw_real a1;
+    *alpha_max = ZW_R(0.0);
+    x.p = *p;
+    x.mode = LL_FIX_BETA;
+    x.fixed = beta;
+    x.take = LL_TAKE_MIN_LO;
+    x.floor = ZW_R(0.0);
+    x.found = false;
+    x.est = x.lo = x.hi = ZW_R(0.0);
+    offer_line(&x, &degenerate);
+    if (degenerate) return ZW_OK;
+    scan(&x);
+    /* No crossing above 0: the half-line alpha > 0 is one cell, and it is unstable (d + 2
+     * roots go to infinity with alpha), so nothing is certified. */
+    if (!x.found) return ZW_OK;
+    a1 = x.lo;
+    if (!(a1 > ZW_R(0.0))) return ZW_OK;
+    /* the cell (0, a1): every interior point must check stable, a1 itself not unstable */
+    for (k = 1u; k <= LL_CELL_CHECKS; ++k) {
+        zw_real t = a1 * ((zw_real)k / (zw_real)(LL_CELL_CHECKS + 1u));
+        if (!checked_stable(p->loop, t, beta)) return ZW_OK;
+    }
+    if (checked_unstable(p->loop, a1, beta)) return ZW_OK;
+    *alpha_max = a1;
+    return ZW_OK;
+}
+
+zw_status zw_loop_alpha_max(const zw_loop *loop, zw_real beta, zw_real *alpha_max)
+{
+    ll_plant p;
+    zw_status st;
+    if (alpha_max == NULL) return ZW_ERR_NULL;
+    *alpha_max = ZW_R(0.0);
+    if ((st = plant_init(&p, loop)) != ZW_OK) return st;
+    if ((st = zw_require_finite(beta)) != ZW_OK) return st;
+    return alpha_max_of(&p, beta, alpha_max);
+}
+
+/* ---- walks along a horizontal line ----------------------------------------------------- */
+
+/* The next crossing above floor on the line alpha = const (mode FIX_ALPHA) or alpha = 0+
+ * (ALPHA_ZERO, where theta = 0 adds the double root at z = 1: beta = R0(1) / S(1)). */
+static bool next_crossing(const ll_plant *p, ll_mode mode, zw_real alpha, zw_real floor,
+                          bool *degenerate, zw_real *est, zw_real *lo, zw_real *hi)
+{
+    ll_scan x;
+    x.p = *p;
+    x.mode = mode;
+    x.fixed = alpha;
+    x.take = LL_TAKE_NEXT_ABOVE;
+    x.floor = floor;
+    x.found = false;
+    x.est = x.lo = x.hi = ZW_R(0.0);
+    offer_line(&x, degenerate);
+    if (mode == LL_ALPHA_ZERO) {
+        ll_point pt;
+        eval_point(&x, ZW_R(0.0), &pt);
+        offer(&x, pt.v, pt.v - pt.v_err, pt.v + pt.v_err);
+    }
+    scan(&x);
+    *est = x.est;
+    *lo = x.lo;
+    *hi = x.hi;
+    return x.found;
+}
+
+static void clear_set(zw_loop_beta_set *out)
+{
+    unsigned i;
+    out->count = 0u;
+    out->truncated = false;
+    for (i = 0u; i < ZW_LOOP_MAX_INTERVALS; ++i) out->lo[i] = out->hi[i] = ZW_R(0.0);
+}
+
+/* Stable cells of the walk, in increasing beta.  ALPHA_ZERO labels a cell by
+ * alpha_max(mid) > 0 (stable just above alpha = 0), FIX_ALPHA by the check at mid. */
+static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_beta_set *out)
+{
+    bool have_prev = false, degenerate = false;
+    zw_real prev_est = ZW_R(0.0), prev_hi = ZW_R(0.0), floor = -ZW_REAL_MAX;
+    unsigned step;
+    zw_status st;
+    for (step = 0u; step < LL_MAX_CROSSINGS; ++step) {
+        zw_real est, lo, hi;
+        if (!next_crossing(p, mode, alpha, floor, &degenerate, &est, &lo, &hi)) break;
+        if (degenerate) {
+            clear_set(out);
+            return ZW_OK;
+        }
+        if (have_prev && prev_hi < lo) {
+            zw_real mid = ZW_R(0.5) * prev_est + ZW_R(0.5) * est, am = ZW_R(0.0);
+            bool stable;
+            if (mode == LL_ALPHA_ZERO) {
+                if ((st = alpha_max_of(p, mid, &am)) != ZW_OK) return st;
+                stable = am > ZW_R(0.0);
+            } else {
+                stable = checked_stable(p->loop, alpha, mid);
+            }
+            if (stable) {
+                if (out->count < ZW_LOOP_MAX_INTERVALS) {
+                    out->lo[out->count] = prev_hi;
+                    out->hi[out->count] = lo;
+                    out->count++;
+                } else {
+                    out->truncated = true;
+                }
+            }
+        }
+        have_prev = true;
+        prev_est = est;
+        prev_hi = hi;
+        floor = est;
+    }
+    return ZW_OK;
+}
+
+zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_real alpha, zw_loop_beta_set *out)
+{
+    ll_plant p;
+    zw_status st;
+    if (out == NULL) return ZW_ERR_NULL;
+    clear_set(out);
+    if ((st = plant_init(&p, loop)) != ZW_OK) return st;
+    if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
+    if (!(alpha > ZW_R(0.0))) return ZW_OK;
+    st = walk(&p, LL_FIX_ALPHA, alpha, out);
+    if (st != ZW_OK) clear_set(out);
+    return st;
+}
+
+zw_status zw_loop_beta_interval(const zw_loop *loop, zw_real alpha, zw_real *lo, zw_real *hi,
+                                bool *nonempty)
+{
+    zw_loop_beta_set set;
+    zw_status st;
+    unsigned i, best = 0u;
+    if (lo == NULL || hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
+    *lo = *hi = ZW_R(0.0);
+    *nonempty = false;
+    st = zw_loop_beta_intervals(loop, alpha, &set);
+    if (st != ZW_OK || set.count == 0u) return st;
+    for (i = 1u; i < set.count; ++i)
+        if (set.hi[i] - set.lo[i] > set.hi[best] - set.lo[best]) best = i;
+    *lo = set.lo[best];
+    *hi = set.hi[best];
+    *nonempty = true;
+    return ZW_OK;
+}
+
+/* ---- extremes -------------------------------------------------------------------------- */
+
+/* max of alpha_max over (bl, bh): grid, then golden section around the best grid point. */
+static zw_status maximise(const ll_plant *p, zw_real bl, zw_real bh, zw_real *best_a,
+                          zw_real *best_b)
+{
+    zw_real w = bh - bl, a, b, c, d, fc, fd, v;
+    unsigned i, ibest = 0u, it;
+    zw_status st;
+    *best_a = ZW_R(0.0);
+    *best_b = ZW_R(0.5) * bl + ZW_R(0.5) * bh;
+    for (i = 0u; i < LL_EXT_GRID; ++i) {
+        zw_real t = bl + w * ((zw_real)(i + 1u) / (zw_real)(LL_EXT_GRID + 1u));
+        if ((st = alpha_max_of(p, t, &v)) != ZW_OK) return st;
+        if (v > *best_a) {
+            *best_a = v;
+            *best_b = t;
+            ibest = i;
+        }
+    }
+    a = bl + w * ((zw_real)ibest / (zw_real)(LL_EXT_GRID + 1u));
+    b = bl + w * ((zw_real)(ibest + 2u) / (zw_real)(LL_EXT_GRID + 1u));
+    c = b - LL_INVPHI * (b - a);
+    d = a + LL_INVPHI * (b - a);
+    if ((st = alpha_max_of(p, c, &fc)) != ZW_OK) return st;
+    if ((st = alpha_max_of(p, d, &fd)) != ZW_OK) return st;
+    for (it = 0u; it < LL_ITER && c < d; ++it) {
+        if (fc > *best_a) {
+            *best_a = fc;
+            *best_b = c;
+        }
+        if (fd > *best_a) {
+            *best_a = fd;
+            *best_b = d;
+        }
+        if (fc >= fd) {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - LL_INVPHI * (b - a);
+            if ((st = alpha_max_of(p, c, &fc)) != ZW_OK) return st;
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + LL_INVPHI * (b - a);
+            if ((st = alpha_max_of(p, d, &fd)) != ZW_OK) return st;
+        }
+    }
+    return ZW_OK;
+}
+
+static void clear_extremes(zw_loop_extremes *out)
+{
+    out->alpha_mmax = out->beta_at_alpha_mmax = out->alpha_p_max = ZW_R(0.0);
+    out->beta_mmax = out->beta_mmin = ZW_R(0.0);
+}
+
+zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_extremes *out)
+{
+    ll_plant p;
+    zw_loop_beta_set cells;
+    zw_loop_extremes x;
+    zw_status st;
+    unsigned i;
+    if (out == NULL) return ZW_ERR_NULL;
+    clear_extremes(out);
+    if ((st = plant_init(&p, loop)) != ZW_OK) return st;
+    clear_set(&cells);
+    clear_extremes(&x);
+    if ((st = walk(&p, LL_ALPHA_ZERO, ZW_R(0.0), &cells)) != ZW_OK) return st;
+    if (cells.count == 0u) return ZW_ERR_DOMAIN;
+    x.beta_mmin = cells.lo[0];
+    x.beta_mmax = cells.hi[cells.count - 1u];
+    for (i = 0u; i < cells.count; ++i) {
+        zw_real a, b;
+        if ((st = maximise(&p, cells.lo[i], cells.hi[i], &a, &b)) != ZW_OK) return st;
+        if (a > x.alpha_mmax) {
+            x.alpha_mmax = a;
+            x.beta_at_alpha_mmax = b;
+        }
+    }
+    if ((st = alpha_max_of(&p, ZW_R(0.0), &x.alpha_p_max)) != ZW_OK) return st;
+    *out = x;
+    return ZW_OK;
+}
+
+/* ---- boundary for plots ---------------------------------------------------------------- */
+
+zw_status zw_loop_boundary_point(const zw_loop *loop, zw_real theta, zw_real *alpha,
+                                 zw_real *beta)
+{
+    ll_plant p;
+    ll_cplx r0, s;
+    zw_status st;
+    zw_real b;
+    if (alpha == NULL || beta == NULL) return ZW_ERR_NULL;
+    *alpha = *beta = ZW_R(0.0);
+    if ((st = plant_init(&p, loop)) != ZW_OK) return st;
+    if ((st = zw_require_finite(theta)) != ZW_OK) return st;
+    if (!(theta > ZW_R(0.0) && theta <= LL_PI_BELOW)) return ZW_ERR_ARG;
+    response(&p, theta, &r0, &s);
+    if (!(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) return ZW_ERR_DOMAIN;
+    b = r0.re / s.re;
+    *alpha = -ZW_R(2.0) * LL_SIN(ZW_R(0.5) * theta) * (r0.im - b * s.im);
+    *beta = b;
+    if (!ZW_IS_FINITE(*alpha) || !ZW_IS_FINITE(b)) {
+        *alpha = *beta = ZW_R(0.0);
+        return ZW_ERR_DOMAIN;
+    }
+    return ZW_OK;
+}
+
+zw_status zw_loop_boundary_line(const zw_loop *loop, zw_loop_boundary which, zw_real *c0,
+                                zw_real *ca, zw_real *cb)
+{
+    ll_plant p;
+    zw_status st;
+    zw_real rel;
+    if (c0 == NULL || ca == NULL || cb == NULL) return ZW_ERR_NULL;
+    *c0 = *ca = *cb = ZW_R(0.0);
+    if ((st = plant_init(&p, loop)) != ZW_OK) return st;
+    switch (which) {
+    case ZW_LOOP_BOUNDARY_Z_PLUS1:
+        *ca = ZW_R(1.0); /* p(1) = alpha (c1 + c2) Dv(1) */
+        return ZW_OK;
+    case ZW_LOOP_BOUNDARY_Z_MINUS1:
+        line_minus1(&p, c0, ca, cb, &rel);
+        return ZW_OK;
+    default: return ZW_ERR_ARG;
+    }
+}
