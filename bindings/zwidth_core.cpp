@@ -24,6 +24,7 @@
 
 extern "C" {
 #include "zwidth/loop.h"
+#include "zwidth/loop_limits.h"
 #include "zwidth/zwidth.h"
 }
 
@@ -896,6 +897,193 @@ py::dict loop_lowpass_pole(f64array cutoff, f64array T) {
         [](const void *, const std::array<double, 2> &x, double *a) { return zw_loop_lowpass_pole(x[0], x[1], a); });
 }
 
+
+// ---- limits of the general loop (loop_limits.h) --------------------------------------
+//
+// Device limits: the loop of DeviceLoopCache (gain rounding in its error bounds) gives the
+// normalized limit, which is converted and pulled inward by kInward (relative) so that the
+// rounding of B / (m/T) and of the scaling back cannot lift it above the true one; alpha_max
+// is also taken at beta (1 -+ 4u), B's rounding, and the smallest kept.
+constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
+constexpr double kInward = 16 * kU;
+
+// An upper limit pulled down, a lower one pulled up, by kInward of its size.
+double upper_inward(double x) { return x - std::fabs(x) * kInward; }
+double lower_inward(double x) { return x + std::fabs(x) * kInward; }
+
+zw_status alpha_max_guarded(const zw_loop *l, double beta, bool rounded_beta, double *out) {
+    double a = 0.0;
+    zw_status s = zw_loop_alpha_max(l, beta, &a);
+    if (s != ZW_OK || !rounded_beta) {
+        *out = a;
+        return s;
+    }
+    for (double f : {1 - 4 * kU, 1 + 4 * kU}) {
+        double b = 0.0;
+        s = zw_loop_alpha_max(l, beta * f, &b);
+        if (s != ZW_OK) return s;
+        a = std::min(a, b);
+    }
+    *out = a;
+    return ZW_OK;
+}
+
+py::dict loop_alpha_max(f64array delta, f64array pole, f64array beta, long delay, int diff, int filter, long average) {
+    const LoopKind kind = loop_kind(delay, diff, filter, average);
+    Broadcast<3> bc({delta, pole, beta});
+    Result r(bc);
+    double *out = r.add<double>(bc, "alpha_max");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = NLC(kind)](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_loop *l;
+            const zw_status s = cache.get(x, &l);
+            return s != ZW_OK ? s : zw_loop_alpha_max(l, x[2], &out[i]);
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict loop_beta_interval(f64array delta, f64array pole, f64array alpha, long delay, int diff, int filter,
+                            long average) {
+    const LoopKind kind = loop_kind(delay, diff, filter, average);
+    Broadcast<3> bc({delta, pole, alpha});
+    Result r(bc);
+    double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
+    bool *nonempty = r.add<bool>(bc, "nonempty");
+    uint8_t *count = r.add<uint8_t>(bc, "count");
+    bool *truncated = r.add<bool>(bc, "truncated");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = NLC(kind)](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_loop *l;
+            zw_status s = cache.get(x, &l);
+            zw_loop_beta_set set;
+            if (s == ZW_OK) s = zw_loop_beta_intervals(l, x[2], &set);
+            if (s == ZW_OK) s = zw_loop_beta_interval(l, x[2], &lo[i], &hi[i], &nonempty[i]);
+            if (s == ZW_OK) count[i] = static_cast<uint8_t>(set.count), truncated[i] = set.truncated;
+            return s;
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict loop_extremes(f64array delta, f64array pole, long delay, int diff, int filter, long average) {
+    const LoopKind kind = loop_kind(delay, diff, filter, average);
+    Broadcast<2> bc({delta, pole});
+    Result r(bc);
+    double *amax = r.add<double>(bc, "alpha_mmax"), *bat = r.add<double>(bc, "beta_at_alpha_mmax");
+    double *apmax = r.add<double>(bc, "alpha_p_max"), *bmax = r.add<double>(bc, "beta_mmax");
+    double *bmin = r.add<double>(bc, "beta_mmin");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = NLC(kind)](ssize i, const std::array<double, 2> &x) mutable {
+            const zw_loop *l;
+            zw_status s = cache.get(x, &l);
+            zw_loop_extremes ex;
+            if (s == ZW_OK) s = zw_loop_extremes_compute(l, &ex);
+            if (s == ZW_OK)
+                amax[i] = ex.alpha_mmax, bat[i] = ex.beta_at_alpha_mmax, apmax[i] = ex.alpha_p_max,
+                bmax[i] = ex.beta_mmax, bmin[i] = ex.beta_mmin;
+            return s;
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict loop_boundary_point(f64array delta, f64array pole, f64array theta, long delay, int diff, int filter,
+                             long average) {
+    const LoopKind kind = loop_kind(delay, diff, filter, average);
+    Broadcast<3> bc({delta, pole, theta});
+    Result r(bc);
+    double *alpha = r.add<double>(bc, "alpha"), *beta = r.add<double>(bc, "beta");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = NLC(kind)](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_loop *l;
+            const zw_status s = cache.get(x, &l);
+            return s != ZW_OK ? s : zw_loop_boundary_point(l, x[2], &alpha[i], &beta[i]);
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict device_loop_k_max(f64array m, f64array b, f64array T, f64array cutoff, f64array B, long delay, int diff,
+                           int filter, long average, bool pole_given) {
+    const LoopKind kind = device_kind(delay, diff, filter, average, pole_given);
+    Broadcast<5> bc({m, b, T, cutoff, B});
+    Result r(bc);
+    double *out = r.add<double>(bc, "K_max");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DLC(kind)](ssize i, const std::array<double, 5> &x) mutable {
+            const DLC::Plant *p;
+            zw_status s = cache.get(x, &p);
+            double alpha = 0.0, beta = 0.0, amax = 0.0;
+            if (s == ZW_OK) s = zw_device_normalize(&p->dev, 0.0, x[4], &alpha, &beta);
+            if (s == ZW_OK) s = alpha_max_guarded(&p->loop, beta, true, &amax);
+            if (s != ZW_OK) return s;
+            const double K = upper_inward(amax * p->dev.k_scale);
+            if (!std::isfinite(K)) return ZW_ERR_RANGE;
+            out[i] = K;
+            return s;
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict device_loop_b_range(f64array m, f64array b, f64array T, f64array cutoff, f64array K, long delay, int diff,
+                             int filter, long average, bool pole_given) {
+    const LoopKind kind = device_kind(delay, diff, filter, average, pole_given);
+    Broadcast<5> bc({m, b, T, cutoff, K});
+    Result r(bc);
+    double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
+    bool *nonempty = r.add<bool>(bc, "nonempty");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DLC(kind)](ssize i, const std::array<double, 5> &x) mutable {
+            const DLC::Plant *p;
+            zw_status s = cache.get(x, &p);
+            double alpha = 0.0, beta = 0.0, l = 0.0, h = 0.0;
+            bool ok = false;
+            if (s == ZW_OK) s = zw_device_normalize(&p->dev, x[4], 0.0, &alpha, &beta);
+            if (s == ZW_OK) s = zw_loop_beta_interval(&p->loop, alpha, &l, &h, &ok);
+            if (s != ZW_OK) return s;
+            // B = beta m/T, pulled inward: lo up, hi down (each by kInward of its size)
+            double Bl = l * p->dev.b_scale, Bh = h * p->dev.b_scale;
+            Bl = lower_inward(Bl);
+            Bh = upper_inward(Bh);
+            if (!std::isfinite(Bl) || !std::isfinite(Bh)) return ZW_ERR_RANGE;
+            ok = ok && Bl < Bh;
+            lo[i] = ok ? Bl : 0.0, hi[i] = ok ? Bh : 0.0, nonempty[i] = ok;
+            return s;
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict device_loop_extremes(f64array m, f64array b, f64array T, f64array cutoff, long delay, int diff, int filter,
+                              long average, bool pole_given) {
+    const LoopKind kind = device_kind(delay, diff, filter, average, pole_given);
+    Broadcast<4> bc({m, b, T, cutoff});
+    Result r(bc);
+    double *K_mmax = r.add<double>(bc, "K_mmax"), *B_at = r.add<double>(bc, "B_at_K_mmax");
+    double *K_p_max = r.add<double>(bc, "K_p_max"), *B_mmax = r.add<double>(bc, "B_mmax");
+    double *B_mmin = r.add<double>(bc, "B_mmin");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DLC(kind)](ssize i, const std::array<double, 4> &x) mutable {
+            const DLC::Plant *p;
+            zw_status s = cache.get(x, &p);
+            zw_loop_extremes ex;
+            if (s == ZW_OK) s = zw_loop_extremes_compute(&p->loop, &ex);
+            if (s != ZW_OK) return s;
+            const double ks = p->dev.k_scale, bs = p->dev.b_scale;
+            const double v[] = {upper_inward(ex.alpha_mmax * ks), ex.beta_at_alpha_mmax * bs,
+                                upper_inward(ex.alpha_p_max * ks), upper_inward(ex.beta_mmax * bs),
+                                lower_inward(ex.beta_mmin * bs)};
+            for (double y : v)
+                if (!std::isfinite(y)) return ZW_ERR_RANGE;
+            K_mmax[i] = v[0], B_at[i] = v[1], K_p_max[i] = v[2], B_mmax[i] = v[3], B_mmin[i] = v[4];
+            return s;
+        };
+    });
+    return r.finish(errors);
+}
+
 }  // namespace
 
 void zw_register_sim(py::module_ &mod);  // zwidth_sim.cpp: Simulator, sim_judge, SIM_EFFECTS
@@ -998,5 +1186,17 @@ PYBIND11_MODULE(_core, mod) {
     mod.def("device_loop_radius_within", &device_loop_radius_within, m, b, T, fc, K, B, py::arg("radius"), dl, df, fl,
             av, pg, "zw_loop_radius_within of the device's loop per element.");
     mod.def("loop_lowpass_pole", &loop_lowpass_pole, py::arg("cutoff"), T, "zw_loop_lowpass_pole per element.");
+    mod.def("loop_alpha_max", &loop_alpha_max, d, pole, be, dl, df, fl, av, "zw_loop_alpha_max per element.");
+    mod.def("loop_beta_interval", &loop_beta_interval, d, pole, a, dl, df, fl, av,
+            "zw_loop_beta_interval (the widest) and the count of zw_loop_beta_intervals per element.");
+    mod.def("loop_extremes", &loop_extremes, d, pole, dl, df, fl, av, "zw_loop_extremes_compute per element.");
+    mod.def("loop_boundary_point", &loop_boundary_point, d, pole, py::arg("theta"), dl, df, fl, av,
+            "zw_loop_boundary_point per element.");
+    mod.def("device_loop_k_max", &device_loop_k_max, m, b, T, fc, B, dl, df, fl, av, pg,
+            "K_max of the device's loop per element (certified, pulled inward for the conversions).");
+    mod.def("device_loop_b_range", &device_loop_b_range, m, b, T, fc, K, dl, df, fl, av, pg,
+            "the widest stable B interval of the device's loop per element.");
+    mod.def("device_loop_extremes", &device_loop_extremes, m, b, T, fc, dl, df, fl, av, pg,
+            "zw_loop_extremes_compute of the device's loop, real units, per element.");
     zw_register_sim(mod);
 }

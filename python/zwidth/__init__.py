@@ -30,10 +30,10 @@ from ._kernels import STATUS_NAMES, ZwidthError
 from .device import Device, LoopNotSupported
 from .loop import Loop
 from .normalized import (alpha_max, beta_interval, char_poly, check, coefficients,
-                         coefficients_literal, corner, extremes, hyperbola_top, loop_poly,
+                         coefficients_literal, corner, extremes, hyperbola_top, loop_boundary, loop_poly,
                          radius_within, spectral_radius, verdict)
-from .results import (BoundaryPoint, Coefficients, DeviceExtremes, Extremes, Influence, Interval,
-                      LoopVerdict, Normalized, Verdict)
+from .results import (BoundaryPoint, Coefficients, DeviceExtremes, DeviceLoopExtremes, Extremes, Influence,
+                      Interval, LoopExtremes, LoopInfluence, LoopVerdict, Normalized, Verdict)
 from .scene import Scene, SceneError, load_scene
 from .sim import Simulation, SimulationSet, SimVerdict, simulate
 
@@ -59,7 +59,8 @@ REGIONS = tuple(_core.REGIONS)
 __all__ = [
     "__version__", "ZwidthError", "STATUS_NAMES", "CONSTANTS", "BOUNDS", "REGIONS",
     "DELTA0", "DELTA1", "DELTA2", "DELTA_K1", "DELTA_K2", "DELTA_B", "DELTA_BB", "DELTA_KM",
-    "LOOP_BOUNDARIES", "Loop", "LoopVerdict", "LoopNotSupported", "loop_poly",
+    "LOOP_BOUNDARIES", "Loop", "LoopVerdict", "LoopNotSupported", "loop_poly", "loop_boundary",
+    "LoopExtremes", "DeviceLoopExtremes", "LoopInfluence",
     "check", "verdict", "spectral_radius", "radius_within", "char_poly", "coefficients",
     "coefficients_literal", "extremes", "hyperbola_top", "corner", "alpha_max", "beta_interval",
     "Device", "Verdict", "Coefficients", "Extremes", "BoundaryPoint", "Interval", "Normalized",

@@ -20,6 +20,7 @@ import numpy as np
 from . import (BOUNDS, DELTA0, REGIONS, Device, ZwidthError, __version__, alpha_max, beta_interval,
                corner, extremes, hyperbola_top, spectral_radius, verdict)
 from .device import LoopNotSupported
+from .results import Extremes
 from .loop import DIFFERENTIATORS, Loop, normalized_loop, parse_velocity_filter
 
 EXIT_OK = 0        #: stable, or the command succeeded
@@ -228,6 +229,8 @@ def _jsonable(value: Any) -> Any:
         return {k: _jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return [_jsonable(v) for v in value.tolist()]
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
     if isinstance(value, (int, np.integer)):
@@ -422,12 +425,20 @@ def cmd_check_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     word = v.word
     deciding = str(v.deciding_name) or None
     text = _loop_deciding_text(v)
+    k_max: Any = None
+    b_range: Any = None
+    if dev is not None:
+        k_max = dev.k_max(B)
+        b_range = _interval(dev.b_range(K))
+    kw = plant.loop_kwargs() if dev is None else _device_pole_kwargs(plant)
+    a_max = alpha_max(d, beta, **kw)
+    beta_range = _interval(beta_interval(d, alpha, **kw))
     data = {
         "region": "exact", "loop": plant.loop.as_dict(), "verdict": word, "stable": bool(v.stable),
         "marginal": bool(v.marginal), "deciding": deciding, "deciding_text": text, "violated": [],
         "exact_stable": bool(v.stable), "spectral_radius": rho,
         "K": plant.K, "B": plant.B, "alpha": alpha, "beta": beta,
-        "K_max": None, "B_range": None, "alpha_max": None, "beta_range": None,
+        "K_max": k_max, "B_range": b_range, "alpha_max": a_max, "beta_range": beta_range,
         "ideal_loop": {"verdict": ideal_v.word, "stable": bool(ideal_v.stable), "spectral_radius": ideal_rho},
     }
     lines = [plant.header(), f"Gains: {plant.gains_text()}"
@@ -443,8 +454,69 @@ def cmd_check_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     if bool(ideal_v.stable) and not bool(v.stable):
         lines.append(f"  warning: the ideal-loop analysis calls these gains stable; the loop the drive runs "
                      f"({plant.loop.describe()}) does not")
-    lines.append("  K_max / B range for this loop: not in this build yet (needs the loop's boundary)")
+    if dev is not None:
+        u = plant.units() or {}
+        lines.append(f"  K_max at this B = {_fmt(k_max)} {u['K']} (this loop)")
+        lines.append("  B range at this K: " + (f"{_fmt(b_range['lo'])} < B < {_fmt(b_range['hi'])} {u['B']}"
+                                                 if b_range["nonempty"] else "none (no B is stable at this K)")
+                     + " (this loop; the widest stable interval)")
+    else:
+        lines.append(f"  alpha_max at this beta = {_fmt(a_max)} (this loop)")
+        lines.append("  beta range at this alpha: " + (
+            f"{_fmt(beta_range['lo'])} < beta < {_fmt(beta_range['hi'])}"
+            if beta_range["nonempty"] else "none (no beta is stable at this alpha)") + " (this loop)")
     return _Outcome(EXIT_OK if bool(v.stable) else EXIT_UNSTABLE, data, lines)
+
+
+def _device_pole_kwargs(plant: _Plant) -> Dict[str, Any]:
+    """The normalized loop keywords of a real-unit plant (its low-pass as the pole a)."""
+    kw = plant.loop_kwargs()
+    if plant.device is not None and plant.device.filter_pole is not None:
+        kw["filter_pole"] = float(plant.device.filter_pole)
+    return kw
+
+
+def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
+    """limits of a loop other than the paper's, beside the ideal loop's."""
+    d, dev = plant.delta, plant.device
+    kw = _device_pole_kwargs(plant)
+    ext = extremes(d, **kw)
+    ideal = extremes(d)
+    real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_at_K_mmax", "K_p_max", "B_mmax", "B_mmin"))
+    ideal_real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_mmax"))
+    if dev is not None:
+        lim = dev.extremes()
+        real = {k: getattr(lim, k) for k in real}
+        il = dev.ideal().extremes()
+        ideal_real = {"K_mmax": il.K_mmax, "B_mmax": il.B_mmax}
+    kept = float(ext.alpha_mmax) / float(ideal.alpha_mmax)
+    data = {
+        **real, "loop": plant.loop.as_dict(),
+        "alpha_mmax": ext.alpha_mmax, "beta_at_alpha_mmax": ext.beta_at_alpha_mmax,
+        "alpha_p_max": ext.alpha_p_max, "beta_mmax": ext.beta_mmax, "beta_mmin": ext.beta_mmin,
+        "at_corner": None, "corner": None, "delta0": DELTA0, "above_delta0": d > DELTA0, "legacy": None,
+        "ideal_loop": {**ideal_real, "alpha_mmax": ideal.alpha_mmax, "beta_mmax": ideal.beta_mmax},
+        "K_mmax_kept": kept,
+    }
+    lines = [plant.header(), "", f"Limits of this loop ({plant.loop.describe()}; certified, D-decomposition)"]
+    if dev is not None:
+        u = plant.units() or {}
+        lines += [
+            f"  K_mmax   = {_fmt(real['K_mmax'])} {u['K']} at B = {_fmt(real['B_at_K_mmax'])} {u['B']}",
+            f"  K with B = 0 (stiffness only): K < {_fmt(real['K_p_max'])} {u['K']}",
+            f"  B range  : {_fmt(real['B_mmin'])} < B < {_fmt(real['B_mmax'])} {u['B']} (as K -> 0+)",
+            f"  the paper's ideal loop: K_mmax = {_fmt(ideal_real['K_mmax'])} {u['K']}, "
+            f"B_mmax = {_fmt(ideal_real['B_mmax'])} {u['B']}",
+        ]
+    else:
+        lines += [
+            f"  alpha_mmax = {_fmt(ext.alpha_mmax)} at beta = {_fmt(ext.beta_at_alpha_mmax)}",
+            f"  alpha with beta = 0 (stiffness only): alpha < {_fmt(ext.alpha_p_max)}",
+            f"  beta range : {_fmt(ext.beta_mmin)} < beta < {_fmt(ext.beta_mmax)} (as alpha -> 0+)",
+            f"  the paper's ideal loop: alpha_mmax = {_fmt(ideal.alpha_mmax)}, beta_mmax = {_fmt(ideal.beta_mmax)}",
+        ]
+    lines.append(f"  this loop keeps {100 * kept:.4g} % of the ideal loop's largest stiffness")
+    return _Outcome(EXIT_OK, data, lines)
 
 
 def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
@@ -510,17 +582,18 @@ def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
 def _refuse_loop(command: str, plant: Optional[_Plant]) -> None:
     if plant is not None and not plant.loop.ideal:
         raise LoopNotSupported(
-            f"zwidth {command}: the limits of a loop with {plant.loop.describe()} need its boundary "
-            f"(loop_limits.h), not in this build; 'zwidth check' with the same loop options decides "
-            f"gains exactly, and without them '{command}' gives the paper's ideal loop, whose limits "
-            f"are larger", "ZW_ERR_ARG", None, (), {})
+            f"zwidth {command}: this figure is about the paper's ideal loop; for a loop with "
+            f"{plant.loop.describe()} use 'zwidth plot region' (the region it keeps) or 'zwidth limits' "
+            f"/ 'zwidth advise' with the same options", "ZW_ERR_ARG", None, (), {})
 
 
 def cmd_limits(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Largest stable K and B, the B range and what the legacy region would claim."""
-    _refuse_loop("limits", plant)
+    if not plant.loop.ideal:
+        return cmd_limits_loop(args, plant)
     d, dev = plant.delta, plant.device
     ext = extremes(d)
+    assert isinstance(ext, Extremes)  # the paper's loop
     top = hyperbola_top(d)
     cor = corner(d)
     real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_at_K_mmax", "K_p_max", "B_mmax", "B_mmin"))
@@ -575,6 +648,55 @@ def cmd_limits(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     return _Outcome(EXIT_OK, data, lines)
 
 
+def cmd_advise_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
+    """advise for a loop other than the paper's: what the loop costs, how delay and the
+    low-pass cut-off move K_mmax, and for gains what to change (this loop's limits)."""
+    if plant.device is not None:
+        dev = plant.device
+    else:
+        lp = plant.loop
+        vf: Any = None if lp.filter == "none" else (("pole", lp.pole) if lp.filter == "lowpass" else ("average", lp.average))
+        dev = Device(1.0, plant.delta, 1.0, delay=lp.delay, velocity_filter=vf, differentiator=lp.differentiator)
+    inf = dev.loop_influence()
+    ku = f" {plant.units()['K']}" if plant.real else ""  # type: ignore[index]
+    fu = " Hz" if plant.real else " cycles/sample"
+    data: Dict[str, Any] = {"loop": plant.loop.as_dict(), "loop_influence": inf.as_dict(), "advice": inf.advice,
+                            "influence": None, "trends": None, "gains": None}
+    lines = [plant.header(), "", f"What the loop costs (K_mmax certified for each loop{'' if plant.real else '; normalized: m = T = 1'})"]
+    lines.append(f"  ideal loop K_mmax = {_fmt(inf.K_mmax_ideal)}{ku}; this loop {_fmt(inf.K_mmax)}{ku} "
+                 f"({100 * float(inf.K_mmax_kept):.4g} % kept)")
+    lines.append("  by delay: " + ", ".join(f"{int(d)} sample{'s' if int(d) != 1 else ''}: {_fmt(k)}{ku}"
+                                           for d, k in zip(inf.delays, inf.K_mmax_by_delay)))
+    if inf.cutoffs is not None and math.isfinite(float(inf.K_mmax_at_best_cutoff)):
+        lines.append(f"  low-pass: of {len(inf.cutoffs)} cut-offs up to Nyquist, {_fmt(inf.best_cutoff)}{fu} keeps "
+                     f"most: K_mmax = {_fmt(inf.K_mmax_at_best_cutoff)}{ku}")
+    status = EXIT_OK
+    if plant.has_gains:
+        K = float(plant.K) if plant.real else float(plant.alpha)  # type: ignore[arg-type]
+        B = float(plant.B) if plant.real else float(plant.beta)  # type: ignore[arg-type]
+        v = dev.verdict(K, B)
+        k_max, b_range = dev.k_max(B), dev.b_range(K)
+        Kn, Bn = ("K", "B") if plant.real else ("alpha", "beta")
+        suggestions: List[Dict[str, Any]] = []
+        if not bool(v.stable):
+            status = EXIT_UNSTABLE
+            if float(k_max) > 0.0:
+                suggestions.append({"change": "K", "lo": 0.0, "hi": k_max, "value": None,
+                                    "text": f"set {Kn} in (0, {_fmt(k_max)}){ku}: stable at this {Bn} with this loop"})
+            if bool(b_range.nonempty):
+                suggestions.append({"change": "B", "lo": b_range.lo, "hi": b_range.hi, "value": None,
+                                    "text": f"set {Bn} in ({_fmt(b_range.lo)}, {_fmt(b_range.hi)}): stable at "
+                                            f"this {Kn} with this loop"})
+        data["gains"] = {"K": plant.K, "B": plant.B, "alpha": plant.alpha, "beta": plant.beta,
+                         "verdict": v.word, "stable": bool(v.stable), "marginal": bool(v.marginal),
+                         "deciding": str(v.deciding_name) or None, "spectral_radius": dev.spectral_radius(K, B),
+                         "K_max": k_max, "B_range": _interval(b_range), "suggestions": suggestions}
+        lines += ["", f"Gains {plant.gains_text()}: {v.word.upper()}"
+                  + (f" ({v.deciding_name})" if v.deciding_name else "")]
+        lines += [f"   - {x['text']}" for x in suggestions]
+    return _Outcome(status, data, lines)
+
+
 def _advise_device(plant: _Plant) -> Device:
     if plant.device is not None:
         return plant.device
@@ -613,7 +735,8 @@ def _plant_changes(plant: _Plant, K: float, B: float) -> List[Dict[str, Any]]:
 
 def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Influence of m, b, T on the limits, critical values, advice; gains: what to change."""
-    _refuse_loop("advise", plant)
+    if not plant.loop.ideal:
+        return cmd_advise_loop(args, plant)
     dev = _advise_device(plant)
     inf = dev.influence()
     fields = {k: v for k, v in inf.as_dict().items() if k != "m"}

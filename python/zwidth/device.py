@@ -9,7 +9,8 @@ verdict is as safe as a normalized one.
 """
 from __future__ import annotations
 
-from typing import Any, Dict, Tuple, Union
+import math
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -17,7 +18,8 @@ from numpy.typing import ArrayLike, NDArray
 from . import _core
 from ._kernels import Errors, ZwidthError, _as_result, call, region_code
 from .loop import Loop, VelocityFilter, device_loop
-from .results import DeviceExtremes, Influence, Interval, LoopVerdict, Normalized, Verdict
+from .results import (DeviceExtremes, DeviceLoopExtremes, Influence, Interval, LoopInfluence, LoopVerdict,
+                      Normalized, Verdict)
 
 _PLANT = ("m", "b", "T")
 
@@ -127,14 +129,14 @@ class Device:
                     **loop.kernel_options(), **options)
 
     def _ideal_only(self, function: str, what: str) -> None:
-        """Limits of a non-ideal loop come from the boundary curves (not yet in this
-        build): refuse rather than give the ideal loop's numbers."""
+        """The paper's closed forms (Section IV) hold for its loop only: refuse rather than
+        give the ideal loop's numbers for another."""
         if not self.loop.ideal:
             raise LoopNotSupported(
-                f"zwidth.Device.{function}: {what} of a loop with {self.loop.describe()} needs the general "
-                f"loop's boundary (loop_limits.h), not in this build; is_stable, verdict, spectral_radius, "
-                f"margin and radius_within honour the loop.  Device(...).ideal().{function}() gives the "
-                f"paper's loop, whose limits are larger than this loop's", "ZW_ERR_ARG", None, (), {})
+                f"zwidth.Device.{function}: {what} of a loop with {self.loop.describe()} has no closed "
+                f"form (the paper's Section IV is about its ideal loop); Device.loop_influence() gives "
+                f"what the loop costs and which filter cut-off keeps most, and "
+                f"Device(...).ideal().{function}() the paper's loop", "ZW_ERR_ARG", None, (), {})
 
     def normalize(self, K: ArrayLike, B: ArrayLike) -> Normalized:
         """(delta, alpha, beta) = (b T/m, K T^2/m, B T/m) for gains K [N/m], B [N s/m]."""
@@ -191,20 +193,31 @@ class Device:
         return out["within"]
 
     def k_max(self, B: ArrayLike) -> Any:
-        """sup K [N/m] stable at damping B [N s/m] (0 where no K is)."""
-        self._ideal_only("k_max", "K_max")
+        """sup K [N/m] stable at damping B [N s/m] (0 where no K is).  For a loop other
+        than the paper's: the end of the stable interval (0, K_max) of that loop, certified
+        (zw_loop_alpha_max, pulled inward for the unit conversions)."""
+        if not self.loop.ideal:
+            out, _ = self._loop_call("k_max", _core.device_loop_k_max, ("B",), (B,))
+            return out["K_max"]
         out, _ = self._call("k_max", _core.device_k_max, ("B",), (B,))
         return out["K_max"]
 
     def b_range(self, K: ArrayLike) -> Interval:
-        """The open interval (lo, hi) of B [N s/m] stable at stiffness K [N/m]."""
-        self._ideal_only("b_range", "the B range")
+        """The open interval (lo, hi) of B [N s/m] stable at stiffness K [N/m].  For a loop
+        other than the paper's: the widest such interval, certified (inside the true one)."""
+        if not self.loop.ideal:
+            out, _ = self._loop_call("b_range", _core.device_loop_b_range, ("K",), (K,))
+            return Interval.from_outputs(out)
         out, _ = self._call("b_range", _core.device_b_range, ("K",), (K,))
         return Interval.from_outputs(out)
 
-    def extremes(self) -> DeviceExtremes:
-        """K_mmax, the B at it, K with B = 0, B_mmax and the lower extremes, real units."""
-        self._ideal_only("extremes", "the extremes")
+    def extremes(self) -> Union[DeviceExtremes, DeviceLoopExtremes]:
+        """K_mmax, the B at it, K with B = 0, B_mmax and the lower extremes, real units.
+        For a loop other than the paper's a :class:`zwidth.DeviceLoopExtremes` of that loop
+        (certified, never beyond the true values)."""
+        if not self.loop.ideal:
+            out, _ = self._loop_call("extremes", _core.device_loop_extremes, (), ())
+            return DeviceLoopExtremes.from_outputs(out)
         out, _ = self._call("extremes", _core.device_extremes, (), ())
         return DeviceExtremes.from_outputs(out)
 
@@ -213,6 +226,50 @@ class Device:
         self._ideal_only("influence", "the influence analysis")
         out, _ = self._call("influence", _core.device_influence, (), ())
         return Influence.from_outputs(out, m=self.m, mass_symbol=self.mass_symbol)
+
+    def loop_influence(self, *, cutoffs: Optional[ArrayLike] = None, delays: Sequence[int] = (0, 1, 2, 3)
+                       ) -> LoopInfluence:
+        """What this Device's loop costs against the paper's loop, and how delay and the
+        low-pass cut-off move K_mmax (one plant: scalar m, b, T).
+
+        K_mmax of this loop with each of ``delays``; with a low-pass, K_mmax against the
+        cut-off on ``cutoffs`` [Hz] (default: 40 cut-offs on a log grid from Nyquist/200 to
+        0.95 Nyquist, plus this one) and the cut-off that keeps most.  Every K_mmax is the
+        certified one of zw_loop_extremes_compute; NaN where no gains are stable."""
+        if np.ndim(self.delta) != 0:
+            raise ValueError("Device.loop_influence is about one plant; build a Device with scalar m, b, T")
+        lp = self.loop
+
+        def make(delay: int = 0, velocity_filter: VelocityFilter = None, differentiator: str = "backward") -> Device:
+            return Device(self._m, self._b, self._T, rotary=self.is_rotary, errors="mask", delay=delay,
+                          velocity_filter=velocity_filter, differentiator=differentiator)
+
+        ideal = make().extremes()
+        vf: Any = None
+        if lp.filter == "lowpass":
+            vf = ("lowpass", lp.cutoff) if lp.cutoff is not None else ("pole", lp.pole)
+        elif lp.filter == "average":
+            vf = ("average", lp.average)
+        mine = make(lp.delay, vf, lp.differentiator).extremes()
+        by_delay = [float(make(d, vf, lp.differentiator).extremes().K_mmax) for d in delays]
+        grid: Any = None
+        by_cutoff: Any = None
+        best, at_best = math.nan, math.nan
+        if lp.filter == "lowpass" or cutoffs is not None:
+            nyquist = 0.5 / float(self._T)
+            grid = (np.geomspace(nyquist / 200, 0.95 * nyquist, 40) if cutoffs is None
+                    else np.asarray(cutoffs, dtype=np.float64).ravel())
+            if lp.cutoff is not None and cutoffs is None:
+                grid = np.unique(np.append(grid, float(lp.cutoff)))
+            by_cutoff = np.asarray(make(lp.delay, ("lowpass", grid), lp.differentiator).extremes().K_mmax)
+            if np.isfinite(by_cutoff).any():
+                i = int(np.nanargmax(by_cutoff))
+                best, at_best = float(grid[i]), float(by_cutoff[i])
+        return LoopInfluence(
+            K_mmax_ideal=ideal.K_mmax, B_mmax_ideal=ideal.B_mmax, K_mmax=mine.K_mmax, B_mmax=mine.B_mmax,
+            K_mmax_kept=float(mine.K_mmax) / float(ideal.K_mmax), delays=np.asarray(delays),
+            K_mmax_by_delay=np.asarray(by_delay), cutoffs=grid, K_mmax_by_cutoff=by_cutoff,
+            best_cutoff=best, K_mmax_at_best_cutoff=at_best, loop_text=f"this loop ({lp.describe()})")
 
     def _exact_only(self, function: str, region: str) -> None:
         if region != "exact":

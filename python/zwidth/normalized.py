@@ -15,7 +15,7 @@ from numpy.typing import ArrayLike
 from . import _core
 from ._kernels import Errors, _as_result, call, region_code
 from .loop import Loop, normalized_loop
-from .results import BoundaryPoint, Coefficients, Extremes, Interval, LoopVerdict, Verdict
+from .results import BoundaryPoint, Coefficients, Extremes, Interval, LoopExtremes, LoopVerdict, Verdict
 
 _DAB = ("delta", "alpha", "beta")
 _DPAB = ("delta", "filter_pole", "alpha", "beta")
@@ -156,8 +156,18 @@ def coefficients_literal(delta: ArrayLike, *, errors: Errors = "raise") -> Coeff
     return Coefficients(e=nan, c1=out["c1"], c2=out["c2"], d12=out["d12"], s=nan, g=nan)
 
 
-def extremes(delta: ArrayLike, *, errors: Errors = "raise") -> Extremes:
-    """alpha_mmax (and the beta at it), alpha with beta = 0, beta_mmax, lower extremes."""
+def extremes(delta: ArrayLike, *, delay: int = 0, filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+             differentiator: str = "backward", errors: Errors = "raise") -> Union[Extremes, LoopExtremes]:
+    """alpha_mmax (and the beta at it), alpha with beta = 0, beta_mmax, lower extremes.
+
+    For a loop other than the paper's (the keywords of :func:`check`) a
+    :class:`LoopExtremes` of that loop, by D-decomposition (zw_loop_extremes_compute):
+    certified, never beyond the true values."""
+    loop = normalized_loop("extremes", delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("extremes", _core.loop_extremes, ("delta", "filter_pole"), (delta, _pole(loop)), errors,
+                      **loop.kernel_options())
+        return LoopExtremes.from_outputs(out)
     out, _ = call("extremes", _core.extremes, ("delta",), (delta,), errors)
     return Extremes.from_outputs(out)
 
@@ -176,13 +186,45 @@ def corner(delta: ArrayLike, *, errors: Errors = "raise") -> BoundaryPoint:
     return BoundaryPoint.from_outputs(out)
 
 
-def alpha_max(delta: ArrayLike, beta: ArrayLike, *, errors: Errors = "raise") -> Any:
-    """sup alpha stable at this beta: min(f(beta), L(beta)), 0 outside (-delta, beta_mmax)."""
+def alpha_max(delta: ArrayLike, beta: ArrayLike, *, delay: int = 0, filter_pole: ArrayLike = 0.0,
+              average: Optional[int] = None, differentiator: str = "backward", errors: Errors = "raise") -> Any:
+    """sup alpha stable at this beta: min(f(beta), L(beta)), 0 outside (-delta, beta_mmax).
+
+    For a loop other than the paper's (the keywords of :func:`check`): the end of the
+    stable interval (0, alpha_max) on the line beta = const of that loop, certified (every
+    alpha below it is stable, and it is never above the true one; zw_loop_alpha_max)."""
+    loop = normalized_loop("alpha_max", delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("alpha_max", _core.loop_alpha_max, ("delta", "filter_pole", "beta"),
+                      (delta, _pole(loop), beta), errors, **loop.kernel_options())
+        return out["alpha_max"]
     out, _ = call("alpha_max", _core.alpha_max, ("delta", "beta"), (delta, beta), errors)
     return out["alpha_max"]
 
 
-def beta_interval(delta: ArrayLike, alpha: ArrayLike, *, errors: Errors = "raise") -> Interval:
-    """The open interval of beta stable at this alpha (nonempty False where none)."""
+def beta_interval(delta: ArrayLike, alpha: ArrayLike, *, delay: int = 0, filter_pole: ArrayLike = 0.0,
+                  average: Optional[int] = None, differentiator: str = "backward",
+                  errors: Errors = "raise") -> Interval:
+    """The open interval of beta stable at this alpha (nonempty False where none).
+
+    For a loop other than the paper's the stable set of beta may be several intervals;
+    this is the widest, certified (inside the true one; zw_loop_beta_interval)."""
+    loop = normalized_loop("beta_interval", delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("beta_interval", _core.loop_beta_interval, ("delta", "filter_pole", "alpha"),
+                      (delta, _pole(loop), alpha), errors, **loop.kernel_options())
+        return Interval.from_outputs(out)
     out, _ = call("beta_interval", _core.beta_interval, ("delta", "alpha"), (delta, alpha), errors)
     return Interval.from_outputs(out)
+
+
+def loop_boundary(delta: float, *, delay: int = 0, filter_pole: float = 0.0, average: Optional[int] = None,
+                  differentiator: str = "backward", points: int = 2001) -> BoundaryPoint:
+    """The complex-pair boundary curve (alpha(theta), beta(theta)) of a loop for theta on a
+    grid of ``points`` in (0, pi) (zw_loop_boundary_point; NaN where the curve has an
+    asymptote).  Informational (plots): limits come from :func:`alpha_max`."""
+    loop = normalized_loop("loop_boundary", delay, filter_pole, average, differentiator)
+    theta = np.linspace(0.0, np.pi, int(points) + 2)[1:-1]
+    out, _ = call("loop_boundary", _core.loop_boundary_point, ("delta", "filter_pole", "theta"),
+                  (delta, _pole(loop), theta), "mask", **loop.kernel_options())
+    return BoundaryPoint.from_outputs(out)

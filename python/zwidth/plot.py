@@ -28,7 +28,7 @@ from . import (DELTA0, DELTA1, DELTA2, DELTA_B, DELTA_BB, DELTA_K1, DELTA_K2, al
 from . import check as _check
 from . import extremes as _extremes
 from .device import Device
-from .results import LoopVerdict, Verdict
+from .results import DeviceExtremes, Extremes, LoopVerdict, Verdict
 from .scene import EFFECTS
 
 if TYPE_CHECKING:
@@ -178,6 +178,7 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
     """
     delta = _scalar("delta", delta)
     ext = _extremes(delta)  # validates delta (ZwidthError)
+    assert isinstance(ext, Extremes)  # the paper's loop (no loop keywords)
     top = hyperbola_top(delta)
     cor = corner(delta)
     lo, hi = -delta, float(ext.beta_mmax)
@@ -514,7 +515,11 @@ def device(device: Device, K: Optional[float] = None, B: Optional[float] = None,
     """
     m, b, T = _scalar_device(device, "device")
     u = _units(device)
+    if not device.loop.ideal:
+        raise ValueError(f"zwidth.plot.device draws the paper's ideal loop; for a loop with "
+                         f"{device.loop.describe()} use zwidth.plot.loop_region")
     lim = device.extremes()
+    assert isinstance(lim, DeviceExtremes)
     lo, hi = float(lim.B_mmin), float(lim.B_mmax)
     bs = np.unique(np.concatenate([np.linspace(lo, hi, 2001), [float(lim.B_at_K_mmax), 0.0]]))
     bs = bs[(bs >= lo) & (bs <= hi)]

@@ -317,3 +317,75 @@ class LoopVerdict(Result):
 
 
 _LOOP_BOUNDARY_NAMES = {int(code): name for name, code in _core.LOOP_BOUNDARIES.items()}
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class LoopExtremes(Result):
+    """Impedance extremes of a general loop in the normalized space (loop_limits.h), all
+    certified: never beyond the true values.
+
+    alpha_mmax: largest stable alpha = K T^2/m found (a certified limit), at
+    beta_at_alpha_mmax; alpha_p_max: largest alpha with beta = 0; beta_mmax, beta_mmin: the
+    stable beta range as alpha -> 0+.
+    """
+
+    alpha_mmax: Any
+    beta_at_alpha_mmax: Any
+    alpha_p_max: Any
+    beta_mmax: Any
+    beta_mmin: Any
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class DeviceLoopExtremes(Result):
+    """Impedance extremes of a Device's loop in real units (N/m, N s/m; rotary N m/rad,
+    N m s/rad), certified and pulled inward for the unit conversions.
+
+    K_mmax: largest stable K found, at B_at_K_mmax; K_p_max: largest K with B = 0;
+    B_mmax, B_mmin: the stable B range as K -> 0+.
+    """
+
+    K_mmax: Any
+    B_at_K_mmax: Any
+    K_p_max: Any
+    B_mmax: Any
+    B_mmin: Any
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class LoopInfluence(Result):
+    """What a Device's loop costs, and which filter cut-off keeps most (real units: N/m,
+    N s/m, Hz; every K_mmax certified, NaN where no gains are stable).
+
+    K_mmax_ideal, B_mmax_ideal: the paper's loop (no delay, no filter, backward difference);
+    K_mmax, B_mmax: this loop; K_mmax_kept: K_mmax / K_mmax_ideal.
+    delays, K_mmax_by_delay: K_mmax with each delay (this loop's filter and differentiator).
+    cutoffs, K_mmax_by_cutoff: with a low-pass, K_mmax against its cut-off (this delay), on a
+    log grid below the Nyquist frequency; best_cutoff, K_mmax_at_best_cutoff: the grid's best.
+    """
+
+    K_mmax_ideal: Any
+    B_mmax_ideal: Any
+    K_mmax: Any
+    B_mmax: Any
+    K_mmax_kept: Any
+    delays: Any
+    K_mmax_by_delay: Any
+    cutoffs: Any
+    K_mmax_by_cutoff: Any
+    best_cutoff: Any
+    K_mmax_at_best_cutoff: Any
+    #: the loop in words
+    loop_text: str = dataclasses.field(default="", repr=False, metadata={"result": False})
+
+    @property
+    def advice(self) -> str:
+        """The cost and the filter advice in words."""
+        text = (f"{self.loop_text} keeps {100 * float(self.K_mmax_kept):.3g} % of the ideal loop's K_mmax "
+                f"({float(self.K_mmax):.4g} of {float(self.K_mmax_ideal):.4g})")
+        by_delay = ", ".join(f"{int(d)}: {float(k):.4g}" for d, k in zip(self.delays, self.K_mmax_by_delay))
+        text += f"; K_mmax by delay in samples: {by_delay}"
+        if self.cutoffs is not None and np.isfinite(float(self.K_mmax_at_best_cutoff)):
+            text += (f"; of the low-pass cut-offs tried, {float(self.best_cutoff):.4g} Hz keeps most: "
+                     f"K_mmax {float(self.K_mmax_at_best_cutoff):.4g}")
+        return text

@@ -22,7 +22,8 @@ def test_new_user_case_is_unstable_with_one_sample_of_delay():
                                   "spectral_radius": pytest.approx(ideal["spectral_radius"], rel=0, abs=0)}
     dev = zwidth.Device(0.12, 0.8, 1e-3, delay=1)
     assert late["spectral_radius"] == float(dev.spectral_radius(5e4, 50.0))
-    assert late["K_max"] is None and late["B_range"] is None    # never the ideal loop's limits
+    assert late["K_max"] == float(dev.k_max(50.0)) and late["B_range"]["nonempty"] is False
+    assert late["K_max"] < zwidth.Device(0.12, 0.8, 1e-3).k_max(50.0)   # the loop's, not the ideal's
     text = run("check", *USER, "--delay", "1")
     assert text.returncode == 1
     assert "Loop: 1 sample delay" in text.stdout and "warning: the ideal-loop analysis" in text.stdout
@@ -85,11 +86,39 @@ def test_hz_needs_a_real_plant():
     assert r.returncode == 2 and "needs the period" in r.stderr
 
 
-@pytest.mark.parametrize("command", ["limits", "advise"])
-def test_limits_of_a_loop_are_refused(command):
-    r = run(command, "--m", "0.12", "--b", "0.8", "--T", "1e-3", "--delay", "1")
-    assert r.returncode == 3 and "not available" in r.stderr and "1 sample delay" in r.stderr
-    assert r.stdout == ""
+def test_limits_of_a_loop():
+    obj = run_json("limits", "--m", "0.12", "--b", "0.8", "--T", "1e-3", "--delay", "1")
+    dev = zwidth.Device(0.12, 0.8, 1e-3, delay=1)
+    ex = dev.extremes()
+    assert obj["K_mmax"] == float(ex.K_mmax) and obj["B_mmax"] == float(ex.B_mmax)
+    assert obj["ideal_loop"]["K_mmax"] == float(dev.ideal().extremes().K_mmax)
+    assert obj["legacy"] is None and obj["loop"]["delay"] == 1 and 0 < obj["K_mmax_kept"] < 1
+    text = run("limits", "--m", "0.12", "--b", "0.8", "--T", "1e-3", "--delay", "1").stdout
+    assert "Limits of this loop (1 sample delay" in text and "% of the ideal loop" in text
+
+
+def test_advise_a_loop():
+    r = run("advise", *USER, "--delay", "1", "--velocity-filter", "lowpass:100Hz")
+    assert r.returncode == 1, r.stderr
+    assert "What the loop costs" in r.stdout and "by delay:" in r.stdout and "keeps most" in r.stdout
+    assert "set B in" not in r.stdout          # no B is stable at K = 50 kN/m with this loop
+    obj = run_json("advise", *USER, "--delay", "1", "--velocity-filter", "lowpass:100Hz", code=1)
+    inf = zwidth.Device(0.12, 0.8, 1e-3, delay=1, velocity_filter=("lowpass", 100.0)).loop_influence()
+    assert obj["loop_influence"]["K_mmax"] == float(inf.K_mmax)
+    assert obj["gains"]["verdict"] == "unstable" and obj["gains"]["suggestions"][0]["change"] == "K"
+
+
+@pytest.mark.parametrize("kind", ["device", "influence"])
+def test_paper_figures_refuse_a_loop(kind, tmp_path):
+    r = run("plot", kind, "--m", "0.12", "--b", "0.8", "--T", "1e-3", "--delay", "1", "-o", tmp_path / "x.png")
+    assert r.returncode == 3 and "plot region" in r.stderr
+
+
+def test_plot_region_of_a_loop(tmp_path):
+    out = tmp_path / "loop.png"
+    r = run("plot", "region", *USER, "--delay", "1", "--velocity-filter", "lowpass:100Hz", "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 20000
 
 
 def test_region_option_with_a_loop_is_a_usage_error():

@@ -302,16 +302,85 @@ def test_nyquist_named_in_the_message():
     assert np.isnan(dev.spectral_radius(100.0, 1.0)[1])
 
 
-def test_limits_of_a_loop_are_refused_not_faked():
+def test_closed_forms_of_the_paper_are_refused_for_a_loop():
     dev = zwidth.Device(0.12, 0.8, 1e-3, delay=1)
-    for call in (lambda: dev.k_max(50.0), lambda: dev.b_range(5e4), dev.extremes, dev.influence):
-        with pytest.raises(zwidth.LoopNotSupported) as info:
-            call()
-        assert isinstance(info.value, NotImplementedError) and isinstance(info.value, zwidth.ZwidthError)
-        assert "1 sample delay" in str(info.value)
-    assert dev.ideal().k_max(50.0) > 0 and dev.ideal().loop.ideal
+    with pytest.raises(zwidth.LoopNotSupported) as info:
+        dev.influence()
+    assert isinstance(info.value, NotImplementedError) and isinstance(info.value, zwidth.ZwidthError)
+    assert "1 sample delay" in str(info.value)
+    assert dev.ideal().influence().K_mmax > 0 and dev.ideal().loop.ideal
     with pytest.raises(ValueError, match="ideal loop"):
         dev.is_stable(5e4, 50.0, region="legacy")
+
+
+@pytest.mark.parametrize("spec", [dict(delay=1), dict(delay=2, pole=0.5), dict(delay=1, average=3),
+                                  dict(delay=0, pole=0.9)],
+                         ids=lambda s: ",".join(f"{k}={v}" for k, v in s.items()))
+def test_alpha_max_is_certified_and_tight(spec):
+    for delta in (0.05, 1.0, 4.0):
+        betas = np.linspace(-0.5 * delta, 1.0, 5)
+        amax = zwidth.alpha_max(delta, betas, **kw(spec))
+        for beta, a in zip(betas, amax):
+            if a == 0.0:
+                assert float(ref_radius(delta, 1e-6, beta, **spec)) >= 1 - 1e-9 or \
+                    not zwidth.check(delta, 1e-6, beta, **kw(spec))
+                continue
+            for f in (1e-3, 0.25, 0.5, 0.75, 0.999):
+                assert float(ref_radius(delta, f * a, beta, **spec)) < 1, (delta, beta, a, f)
+            assert float(ref_radius(delta, a * (1 + 1e-4), beta, **spec)) > 1 - 1e-6, (delta, beta, a)
+
+
+def test_beta_interval_and_extremes_of_a_loop():
+    spec = dict(delay=1, pole=0.5)
+    delta = 1.0
+    iv = zwidth.beta_interval(delta, 0.2, **kw(spec))
+    assert iv.nonempty and iv.lo < iv.hi
+    for f in (0.001, 0.3, 0.7, 0.999):
+        assert float(ref_radius(delta, 0.2, iv.lo + f * (iv.hi - iv.lo), **spec)) < 1
+    w = iv.hi - iv.lo
+    assert float(ref_radius(delta, 0.2, iv.hi + 1e-4 * w, **spec)) > 1 - 1e-6
+    ex = zwidth.extremes(delta, **kw(spec))
+    assert isinstance(ex, zwidth.LoopExtremes)
+    ideal = zwidth.extremes(delta)
+    assert 0 < ex.alpha_mmax < ideal.alpha_mmax and ex.beta_mmax <= ideal.beta_mmax
+    assert float(ref_radius(delta, 0.999 * ex.alpha_mmax, ex.beta_at_alpha_mmax, **spec)) < 1
+    assert ex.alpha_p_max == zwidth.alpha_max(delta, 0.0, **kw(spec))
+
+
+def test_device_limits_of_a_loop():
+    m, b, T = 0.12, 0.8, 1e-3
+    dev = zwidth.Device(m, b, T, delay=1)
+    ex = dev.extremes()
+    assert isinstance(ex, zwidth.DeviceLoopExtremes)
+    n = zwidth.extremes(b * T / m, delay=1)
+    k = m / T ** 2
+    assert ex.K_mmax <= n.alpha_mmax * k and ex.K_mmax == pytest.approx(n.alpha_mmax * k, rel=1e-12)
+    assert 0 < ex.K_mmax < dev.ideal().extremes().K_mmax
+    K_max = dev.k_max([0.0, 20.0, 50.0])
+    assert K_max[0] == pytest.approx(ex.K_p_max, rel=1e-12)
+    with mp.workdps(DPS):
+        for B, K in zip([0.0, 20.0, 50.0], K_max):
+            a = mp.mpf(K) * mp.mpf(T) ** 2 / mp.mpf(m)
+            r = ref_radius(mp.mpf(b) * mp.mpf(T) / mp.mpf(m), a * (1 - mp.mpf("1e-9")), mp.mpf(B) * mp.mpf(T) / mp.mpf(m),
+                           delay=1)
+            assert r < 1
+    rng = dev.b_range(2000.0)
+    assert rng.nonempty and rng.lo < 20 < rng.hi
+    assert dev.is_stable(2000.0, np.linspace(rng.lo, rng.hi, 50)[1:-1]).all()
+    assert not dev.b_range(5e4).nonempty            # the new user's K: no B works with the delay
+
+
+def test_loop_influence_of_the_new_users_plant():
+    dev = zwidth.Device(0.12, 0.8, 1e-3, delay=1, velocity_filter=("lowpass", 100.0))
+    inf = dev.loop_influence()
+    assert inf.K_mmax_ideal == dev.ideal().extremes().K_mmax
+    assert inf.K_mmax == dev.extremes().K_mmax and 0 < inf.K_mmax_kept < 1
+    assert list(inf.delays) == [0, 1, 2, 3] and np.all(np.diff(inf.K_mmax_by_delay) < 0)
+    assert 100.0 in inf.cutoffs and inf.K_mmax_at_best_cutoff >= inf.K_mmax
+    assert inf.best_cutoff < 500.0 and inf.K_mmax_at_best_cutoff == np.nanmax(inf.K_mmax_by_cutoff)
+    assert "keeps" in inf.advice and "Hz keeps most" in inf.advice
+    with pytest.raises(ValueError, match="one plant"):
+        zwidth.Device([0.1, 0.2], 0.8, 1e-3, delay=1).loop_influence()
 
 
 def test_device_rounding_is_guarded_near_the_boundary():
