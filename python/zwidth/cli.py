@@ -67,7 +67,15 @@ _PLANT_KEYS = """\
   mode     "real" or "normalized" (--delta)
   plant    {m, b, T: number|null (null in normalized mode; m is J with --J),
             rotary: bool, delta: number}
-  units    {m, b, T, K, B: unit strings} or null in normalized mode"""
+  units    {m, b, T, K, B: unit strings} or null in normalized mode
+  loop     the loop analysed (--delay, --velocity-filter, --differentiator): {delay,
+           differentiator, filter: "none"|"lowpass"|"average", cutoff (Hz) | null,
+           pole | null, average | null, ideal: bool, text}
+  With a loop other than the paper's (ideal false) every verdict and limit is that
+  loop's; check adds ideal_loop {verdict, stable, spectral_radius}, limits adds
+  ideal_loop {K_mmax, B_mmax, alpha_mmax, beta_mmax} and K_mmax_kept (legacy, corner,
+  at_corner null), advise gives loop_influence (Device.loop_influence) instead of
+  influence and trends (null)."""
 
 _CHECK_EPILOG = _PLANT_KEYS + """
 check keys:
@@ -280,8 +288,7 @@ class _Plant:
     def summary(self) -> Dict[str, Any]:
         dev = self.device
         return {"m": None if dev is None else dev.m, "b": None if dev is None else dev.b,
-                "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta,
-                "loop": self.loop.as_dict()}
+                "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta}
 
     def loop_kwargs(self) -> Dict[str, Any]:
         """The normalized functions' loop keywords."""
@@ -434,7 +441,7 @@ def cmd_check_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     a_max = alpha_max(d, beta, **kw)
     beta_range = _interval(beta_interval(d, alpha, **kw))
     data = {
-        "region": "exact", "loop": plant.loop.as_dict(), "verdict": word, "stable": bool(v.stable),
+        "region": "exact", "verdict": word, "stable": bool(v.stable),
         "marginal": bool(v.marginal), "deciding": deciding, "deciding_text": text, "violated": [],
         "exact_stable": bool(v.stable), "spectral_radius": rho,
         "K": plant.K, "B": plant.B, "alpha": alpha, "beta": beta,
@@ -491,7 +498,7 @@ def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         ideal_real = {"K_mmax": il.K_mmax, "B_mmax": il.B_mmax}
     kept = float(ext.alpha_mmax) / float(ideal.alpha_mmax)
     data = {
-        **real, "loop": plant.loop.as_dict(),
+        **real,
         "alpha_mmax": ext.alpha_mmax, "beta_at_alpha_mmax": ext.beta_at_alpha_mmax,
         "alpha_p_max": ext.alpha_p_max, "beta_mmax": ext.beta_mmax, "beta_mmin": ext.beta_mmin,
         "at_corner": None, "corner": None, "delta0": DELTA0, "above_delta0": d > DELTA0, "legacy": None,
@@ -660,7 +667,7 @@ def cmd_advise_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     inf = dev.loop_influence()
     ku = f" {plant.units()['K']}" if plant.real else ""  # type: ignore[index]
     fu = " Hz" if plant.real else " cycles/sample"
-    data: Dict[str, Any] = {"loop": plant.loop.as_dict(), "loop_influence": inf.as_dict(), "advice": inf.advice,
+    data: Dict[str, Any] = {"loop_influence": inf.as_dict(), "advice": inf.advice,
                             "influence": None, "trends": None, "gains": None}
     lines = [plant.header(), "", f"What the loop costs (K_mmax certified for each loop{'' if plant.real else '; normalized: m = T = 1'})"]
     lines.append(f"  ideal loop K_mmax = {_fmt(inf.K_mmax_ideal)}{ku}; this loop {_fmt(inf.K_mmax)}{ku} "
@@ -1110,7 +1117,7 @@ def _emit(outcome: _Outcome, command: str, plant: Optional[_Plant], as_json: boo
         head: Dict[str, Any] = {"command": command}
         if plant is not None and command != "plot":
             head.update(mode="real" if plant.real else "normalized", plant=plant.summary(),
-                        units=plant.units())
+                        units=plant.units(), loop=plant.loop.as_dict())
         print(json.dumps(_jsonable({**head, **outcome.data}), allow_nan=False), file=stream)
     else:
         print("\n".join(outcome.lines), file=stream)

@@ -14,7 +14,7 @@ USER = ("--m", "0.12", "--b", "0.8", "--T", "1e-3", "--K", "5e4", "--B", "50")
 
 def test_new_user_case_is_unstable_with_one_sample_of_delay():
     ideal = run_json("check", *USER, code=0)
-    assert ideal["verdict"] == "stable" and ideal["plant"]["loop"]["ideal"] is True
+    assert ideal["verdict"] == "stable" and ideal["loop"]["ideal"] is True
     late = run_json("check", *USER, "--delay", "1", code=1)
     assert late["verdict"] == "unstable" and late["loop"]["delay"] == 1
     assert late["deciding"].startswith("complex pair at ") and late["deciding"].endswith(" Hz")
