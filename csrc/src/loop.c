@@ -10,6 +10,7 @@
 #include "zwidth/loop.h"
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "internal.h"
 
@@ -412,5 +413,538 @@ zw_status zw_loop_poly(const zw_loop *loop, zw_real alpha, zw_real beta,
         }
     }
     *degree = loop->degree;
+    return ZW_OK;
+}
+
+/* ---- guarded Hurwitz test (Routh) ---------------------------------------------------------- */
+
+typedef enum routh_result { ROUTH_STABLE, ROUTH_UNSURE, ROUTH_UNSTABLE } routh_result;
+
+static routh_result sign_result(zw_real v, zw_real err)
+{
+    zw_cmp cmp = zw_compare(ZW_R(0.0), v, err);
+    if (cmp == ZW_CMP_LT) return ROUTH_STABLE;
+    return cmp == ZW_CMP_GE ? ROUTH_UNSTABLE : ROUTH_UNSURE;
+}
+
+/* Is P(s) = w[0] s^n + ... + w[n] (errors we[]) surely Hurwitz?  Every coefficient must be
+ * surely positive (necessary), then the first column of the division-free Routh array:
+ *   row k, entry j = B0 A[j+1] - A0 B[j+1]  (A = row k-2, B = row k-1),
+ * which has the sign of the classical entry when B0 > 0 (checked first).  Rows are
+ * rescaled by powers of two (exact) against overflow.  The last row is the constant
+ * coefficient times positive factors and is not recomputed.  Row k lives in the slots
+ * (k mod 2) + 2 j of w, overwriting row k - 2 (whose entry j + 1 is read before entry j
+ * is written).  UNSTABLE is certain: the first entry that is not surely positive is
+ * surely non-positive while all before it are surely positive. */
+static routh_result routh(zw_real w[], zw_real we[], unsigned n)
+{
+    unsigned i, k;
+    routh_result res = ROUTH_STABLE;
+    for (i = 0u; i <= n; ++i) {
+        routh_result r = sign_result(w[i], we[i]);
+        if (r == ROUTH_UNSTABLE) return r;
+        if (r == ROUTH_UNSURE) res = r;
+    }
+    if (res != ROUTH_STABLE) return res;
+    for (k = 2u; k < n; ++k) {
+        const unsigned off = k & 1u, len = (n - k) / 2u + 1u;
+        const unsigned len_a = (n - k + 2u) / 2u + 1u, len_b = (n - k + 1u) / 2u + 1u;
+        const zw_eb a0 = eb_make(w[off], we[off]);
+        const zw_eb b0 = eb_make(w[1u - off], we[1u - off]);
+        zw_real big = ZW_R(0.0);
+        int ex = 0;
+        unsigned j;
+        for (j = 0u; j < len; ++j) {
+            const unsigned ia = off + 2u * (j + 1u), ib = (1u - off) + 2u * (j + 1u);
+            zw_eb a1 = j + 1u < len_a ? eb_make(w[ia], we[ia]) : zw_eb_exact(ZW_R(0.0));
+            zw_eb b1 = j + 1u < len_b ? eb_make(w[ib], we[ib]) : zw_eb_exact(ZW_R(0.0));
+            zw_eb c = zw_eb_sub(zw_eb_mul(b0, a1), zw_eb_mul(a0, b1));
+            w[off + 2u * j] = c.v;
+            we[off + 2u * j] = c.e;
+            if (ZW_FABS(c.v) > big) big = ZW_FABS(c.v);
+        }
+        if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
+        if (big > ZW_R(0.0)) {
+            (void)ZW_FREXP(big, &ex);
+            for (j = 0u; j < len; ++j) {
+                w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
+                we[off + 2u * j] = ZW_LDEXP(we[off + 2u * j], -ex) + ZW_ETA;
+            }
+        }
+        res = sign_result(w[off], we[off]);
+        if (res != ROUTH_STABLE) return res;
+    }
+    return ROUTH_STABLE;
+}
+
+/* P = Ds + alpha Nas + beta Nbs with bounds, then Routh.  *lead / *trail: the results of
+ * the leading (z = -1) and constant (z = 1) coefficients alone. */
+static routh_result check_bilinear(const zw_loop *loop, zw_real alpha, zw_real beta,
+                                   routh_result *lead, routh_result *trail)
+{
+    zw_real w[LOOP_N], we[LOOP_N];
+    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
+    const unsigned n = loop->degree;
+    unsigned i;
+    for (i = 0u; i <= n; ++i) {
+        zw_eb v = eb_add_exactish(eb_make(loop->Ds[i], loop->Ds_err[i]),
+                                  eb_mul_exactish(ga, eb_make(loop->Nas[i], loop->Nas_err[i])));
+        v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nbs[i], loop->Nbs_err[i])));
+        w[i] = v.v;
+        we[i] = v.e;
+    }
+    *lead = sign_result(w[0], we[0]);
+    *trail = sign_result(w[n], we[n]);
+    return routh(w, we, n);
+}
+
+/* ---- roots (informational) ------------------------------------------------------------------ */
+
+typedef struct cplx {
+    zw_real re, im;
+} cplx;
+
+static cplx c_make(zw_real re, zw_real im)
+{
+    cplx r;
+    r.re = re;
+    r.im = im;
+    return r;
+}
+static cplx c_add(cplx a, cplx b) { return c_make(a.re + b.re, a.im + b.im); }
+static cplx c_sub(cplx a, cplx b) { return c_make(a.re - b.re, a.im - b.im); }
+static cplx c_mul(cplx a, cplx b)
+{
+    return c_make(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re);
+}
+/* Smith's division; b = 0 gives an infinite quotient. */
+static cplx c_div(cplx a, cplx b)
+{
+    zw_real t, den;
+    if (ZW_FABS(b.re) >= ZW_FABS(b.im)) {
+        if (b.re == ZW_R(0.0)) return c_make(ZW_REAL_MAX * ZW_R(2.0), ZW_R(0.0));
+        t = b.im / b.re;
+        den = b.re + b.im * t;
+        return c_make((a.re + a.im * t) / den, (a.im - a.re * t) / den);
+    }
+    t = b.re / b.im;
+    den = b.re * t + b.im;
+    return c_make((a.re * t + a.im) / den, (a.im * t - a.re) / den);
+}
+static zw_real c_abs(cplx a)
+{
+    zw_real x = ZW_FABS(a.re), y = ZW_FABS(a.im), big = x > y ? x : y, small = x > y ? y : x;
+    if (big == ZW_R(0.0)) return ZW_R(0.0);
+    small /= big;
+    return big * ZW_SQRT(ZW_R(1.0) + small * small);
+}
+
+static zw_real poly_coef(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i)
+{
+    return (loop->D[i] + alpha * loop->Na[i]) + beta * loop->Nb[i];
+}
+
+/* A complex value with a bound on its absolute error. */
+typedef struct ceb {
+    cplx v;
+    zw_real e;
+} ceb;
+
+static ceb ceb_make(cplx v, zw_real e)
+{
+    ceb r;
+    r.v = v;
+    r.e = e;
+    return r;
+}
+
+/* |fl(a b) - a b| <= sqrt(2) gamma_2 |a||b| < 4 u |a||b| for complex products */
+static ceb ceb_mul(ceb a, ceb b)
+{
+    const zw_real aa = c_abs(a.v), ab = c_abs(b.v);
+    ceb r;
+    r.v = c_mul(a.v, b.v);
+    r.e = aa * b.e + ab * a.e + a.e * b.e + ZW_R(5.0) * ZW_U * aa * ab + ZW_R(2.0) * ZW_ETA;
+    return r;
+}
+
+static ceb ceb_add(ceb a, ceb b)
+{
+    ceb r;
+    r.v = c_add(a.v, b.v);
+    r.e = a.e + b.e + ZW_R(2.0) * ZW_U * c_abs(r.v) + ZW_R(2.0) * ZW_ETA;
+    return r;
+}
+
+/* x z + y for bounded real x, y (the z coefficients of a linear factor). */
+static ceb ceb_linear(zw_eb x, zw_eb y, cplx z)
+{
+    ceb r;
+    const zw_real az = c_abs(z);
+    r.v = c_make(x.v * z.re + y.v, x.v * z.im);
+    r.e = x.e * az + y.e + ZW_R(4.0) * ZW_U * (ZW_FABS(x.v) * az + ZW_FABS(y.v)) + ZW_R(2.0) * ZW_ETA;
+    return r;
+}
+
+static ceb ceb_pow(ceb z, unsigned k)
+{
+    ceb r = ceb_make(c_make(ZW_R(1.0), ZW_R(0.0)), ZW_R(0.0));
+    unsigned i;
+    for (i = 0u; i < k; ++i) r = ceb_mul(r, z);
+    return r;
+}
+
+static ceb ceb_factor(const zw_loop *loop, factor_kind kind, cplx z)
+{
+    build_ctx ctx;
+    zw_eb f1, f0;
+    ctx.c = &loop->c;
+    ctx.a = loop->spec.filter_pole;
+    ctx.bilinear = false;
+    factor(&ctx, kind, &f1, &f0);
+    return ceb_linear(f1, f0, z);
+}
+
+static ceb ceb_scale(ceb x, zw_eb k)
+{
+    ceb r;
+    const zw_real ax = c_abs(x.v);
+    r.v = c_make(k.v * x.v.re, k.v * x.v.im);
+    r.e = ZW_FABS(k.v) * x.e + k.e * ax + k.e * x.e + ZW_R(2.0) * ZW_U * ZW_FABS(k.v) * ax + ZW_ETA;
+    return r;
+}
+
+/* D(z), Na(z), Nb(z) from their factors (loop.h), each with an error bound: far tighter
+ * than the expanded coefficients near z = 1 and where the expansion cancels. */
+static void eval_parts(const zw_loop *loop, cplx z, ceb *d, ceb *na, ceb *nb)
+{
+    const zw_loop_spec *spec = &loop->spec;
+    const bool tustin = spec->differentiator == ZW_DIFF_TUSTIN;
+    const ceb zz = ceb_make(z, ZW_R(0.0));
+    ceb dv, nv, plant;
+    switch (spec->filter) {
+    case ZW_VFILTER_AVERAGE: {
+        const unsigned n = spec->average;
+        ceb zn = ceb_pow(zz, tustin ? n - 1u : n);
+        dv = ceb_scale(zn, zw_eb_exact((zw_real)n));
+        if (tustin) {
+            dv = ceb_mul(dv, ceb_factor(loop, F_ZP1, z));
+            zn = ceb_mul(zn, zz);
+        }
+        nv = ceb_add(zn, ceb_make(c_make(ZW_R(-1.0), ZW_R(0.0)), ZW_R(0.0)));
+        if (tustin) nv = ceb_scale(nv, zw_eb_exact(ZW_R(2.0)));
+        break;
+    }
+    case ZW_VFILTER_LOWPASS: {
+        const zw_real one_minus_a = ZW_R(1.0) - spec->filter_pole;
+        zw_eb gain = eb_make(one_minus_a, ZW_U * one_minus_a);
+        dv = ceb_factor(loop, F_ZMA, z);
+        nv = ceb_factor(loop, F_ZM1, z);
+        if (tustin) {
+            dv = ceb_mul(dv, ceb_factor(loop, F_ZP1, z));
+            nv = ceb_mul(nv, zz);
+            gain.v = ZW_R(2.0) * gain.v;
+            gain.e = ZW_R(2.0) * gain.e;
+        }
+        nv = ceb_scale(nv, gain);
+        break;
+    }
+    case ZW_VFILTER_NONE:
+    default:
+        dv = tustin ? ceb_factor(loop, F_ZP1, z) : zz;
+        nv = ceb_factor(loop, F_ZM1, z);
+        if (tustin) nv = ceb_scale(nv, zw_eb_exact(ZW_R(2.0)));
+        break;
+    }
+    plant = ceb_factor(loop, F_PLANT, z);
+    *d = ceb_mul(ceb_mul(ceb_factor(loop, F_ZM1, z), ceb_factor(loop, F_ZME, z)),
+                 ceb_mul(ceb_pow(zz, spec->delay), dv));
+    *d = ceb_scale(*d, zw_eb_exact(ZW_R(2.0)));
+    *na = ceb_mul(plant, dv);
+    *nb = ceb_mul(plant, nv);
+}
+
+/* p(z) = D + alpha Na + beta Nb from the factors, with its bound. */
+static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
+{
+    ceb d, na, nb;
+    eval_parts(loop, z, &d, &na, &nb);
+    return ceb_add(ceb_add(d, ceb_scale(na, zw_eb_exact(alpha))), ceb_scale(nb, zw_eb_exact(beta)));
+}
+
+/* Newton correction p(z) / p'(z) of the degree-m polynomial p[0..m] (coefficients read
+ * through poly_coef); for |z| > 1 through the reversed polynomial (no overflow):
+ * p / p' = z q(w) / (m q(w) - w q'(w)), w = 1/z, q(w) = sum p_i w^i. */
+static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned m, cplx z)
+{
+    cplx v = c_make(ZW_R(0.0), ZW_R(0.0)), dv = v;
+    unsigned i;
+    if (c_abs(z) <= ZW_R(1.0)) {
+        for (i = 0u; i <= m; ++i) {
+            dv = c_add(c_mul(dv, z), v);
+            v = c_add(c_mul(v, z), c_make(poly_coef(loop, alpha, beta, i), ZW_R(0.0)));
+        }
+        /* the value from the factors where it is accurate (the deflated polynomial is
+         * p / z^(n - m)); the derivative needs no such accuracy */
+        if (m == loop->degree) v = eval_p(loop, alpha, beta, z).v;
+        return c_div(v, dv);
+    } else {
+        cplx w = c_div(c_make(ZW_R(1.0), ZW_R(0.0)), z);
+        for (i = m + 1u; i > 0u; --i) {
+            dv = c_add(c_mul(dv, w), v);
+            v = c_add(c_mul(v, w), c_make(poly_coef(loop, alpha, beta, i - 1u), ZW_R(0.0)));
+        }
+        /* v = q(w), dv = q'(w) */
+        return c_div(c_mul(z, v), c_sub(c_mul(c_make((zw_real)m, ZW_R(0.0)), v), c_mul(w, dv)));
+    }
+}
+
+#define LOOP_ABERTH_ITER 400u
+
+/* Is coefficient i of p exactly zero (value and every part's bound)? */
+static bool coef_exact_zero(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i)
+{
+    return loop->D[i] == ZW_R(0.0) && loop->D_err[i] == ZW_R(0.0) &&
+           (alpha == ZW_R(0.0) || (loop->Na[i] == ZW_R(0.0) && loop->Na_err[i] == ZW_R(0.0))) &&
+           (beta == ZW_R(0.0) || (loop->Nb[i] == ZW_R(0.0) && loop->Nb_err[i] == ZW_R(0.0)));
+}
+
+/* The roots of p by Aberth-Ehrlich iteration (simultaneous, no deflation) into z[0..*m-1];
+ * exact zero roots (trailing coefficients that are exactly zero) are set aside, so *m may
+ * be below the degree.  False when the iteration produced something non-finite. */
+static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], unsigned *m_out)
+{
+    unsigned m = loop->degree, i, j, it;
+    zw_real lead = poly_coef(loop, alpha, beta, 0u), r0;
+    while (m > 0u && coef_exact_zero(loop, alpha, beta, m)) --m;
+    *m_out = m;
+    if (m == 0u) return true;
+    /* start on the circle of the roots' geometric mean, off the real axis */
+    r0 = ZW_POW(ZW_FABS(poly_coef(loop, alpha, beta, m) / lead), ZW_R(1.0) / (zw_real)m);
+    if (!(r0 > ZW_R(0.0)) || !ZW_IS_FINITE(r0)) r0 = ZW_R(1.0);
+    for (i = 0u; i < m; ++i) {
+        zw_real ang = ZW_R(2.0) * LOOP_PI * (zw_real)i / (zw_real)m + ZW_R(0.7);
+        z[i] = c_make(r0 * LOOP_COS(ang), r0 * LOOP_SIN(ang));
+    }
+    for (it = 0u; it < LOOP_ABERTH_ITER; ++it) {
+        bool moved = false;
+        for (i = 0u; i < m; ++i) {
+            cplx n = newton_step(loop, alpha, beta, m, z[i]), s = c_make(ZW_R(0.0), ZW_R(0.0)), step;
+            for (j = 0u; j < m; ++j)
+                if (j != i) s = c_add(s, c_div(c_make(ZW_R(1.0), ZW_R(0.0)), c_sub(z[i], z[j])));
+            step = c_div(n, c_sub(c_make(ZW_R(1.0), ZW_R(0.0)), c_mul(n, s)));
+            if (!ZW_IS_FINITE(step.re) || !ZW_IS_FINITE(step.im)) {
+                /* p' = 0 or coincident estimates: nudge */
+                step = c_make(ZW_R(1e-3) * (ZW_R(1.0) + c_abs(z[i])), ZW_R(1e-3));
+            }
+            z[i] = c_sub(z[i], step);
+            if (c_abs(step) > ZW_R(4.0) * ZW_U * c_abs(z[i])) moved = true;
+        }
+        if (!moved) break;
+    }
+    for (i = 0u; i < m; ++i)
+        if (!ZW_IS_FINITE(c_abs(z[i]))) return false;
+    return true;
+}
+
+/* The root of largest modulus (0 when every root is an exact zero). */
+static cplx largest_root(const zw_loop *loop, zw_real alpha, zw_real beta, bool *ok)
+{
+    cplx z[ZW_LOOP_MAX_DEGREE];
+    cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
+    zw_real best = -ZW_R(1.0);
+    unsigned m = 0u, i;
+    *ok = aberth(loop, alpha, beta, z, &m);
+    for (i = 0u; i < m; ++i) {
+        zw_real a = c_abs(z[i]);
+        if (a > best) {
+            best = a;
+            top = z[i];
+        }
+    }
+    return top;
+}
+
+/* A rigorous a-posteriori test "every root has |z| < r" from approximate roots z_i
+ * (Braess-Hadeler): with W_i = p(z_i) / (p_0 prod_{j != i} (z_i - z_j)), every root of p
+ * lies in a disk |z - z_i| <= m |W_i|.  (Proof: p / p_0 = prod (z - z_j) +
+ * sum_i W_i prod_{j != i} (z - z_j) by interpolation at the z_i, so a root zeta outside
+ * every disk would give 1 + sum_i W_i / (zeta - z_i) = 0 with the sum below 1 in modulus.)
+ * |p(z_i)| is bounded above by the computed value plus the Horner rounding and the
+ * coefficients' own bounds; the denominator below, with its roundings.  The roots are
+ * only a guess: the test is as rigorous as its bounds, whatever they are.  Its band is
+ * the roots' own condition, unlike the Routh array, whose entries lose accuracy on the
+ * cluster of roots that a delay line and a moving average put near z = 0. */
+static bool roots_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r)
+{
+    cplx z[ZW_LOOP_MAX_DEGREE];
+    unsigned m = 0u, i, j, k;
+    zw_real lead_low;
+    if (!aberth(loop, alpha, beta, z, &m)) return false;
+    {
+        const zw_real p0 = poly_coef(loop, alpha, beta, 0u);
+        const zw_real e0 = loop->D_err[0] + ZW_FABS(alpha) * loop->Na_err[0] +
+                           ZW_FABS(beta) * loop->Nb_err[0] +
+                           ZW_R(4.0) * ZW_U * (ZW_FABS(loop->D[0]) + ZW_FABS(alpha * loop->Na[0]) +
+                                               ZW_FABS(beta * loop->Nb[0])) + ZW_R(4.0) * ZW_ETA;
+        lead_low = (ZW_FABS(p0) - e0) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U);
+        if (!(lead_low > ZW_R(0.0))) return false;
+    }
+    for (i = 0u; i < m; ++i) {
+        const zw_real az = c_abs(z[i]) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+        cplx v = c_make(ZW_R(0.0), ZW_R(0.0));
+        zw_real mag = ZW_R(0.0), unc = ZW_R(0.0), num, den = lead_low, radius;
+        if (!(az < r)) return false;
+        if (m == loop->degree) {
+            /* from the factors */
+            ceb pz = eval_p(loop, alpha, beta, z[i]);
+            num = c_abs(pz.v) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + pz.e * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+        } else {
+        for (k = 0u; k <= m; ++k) {
+            const zw_real pk = poly_coef(loop, alpha, beta, k);
+            const zw_real ek = loop->D_err[k] + ZW_FABS(alpha) * loop->Na_err[k] +
+                               ZW_FABS(beta) * loop->Nb_err[k] +
+                               ZW_R(4.0) * ZW_U * (ZW_FABS(loop->D[k]) + ZW_FABS(alpha * loop->Na[k]) +
+                                                   ZW_FABS(beta * loop->Nb[k])) + ZW_R(4.0) * ZW_ETA;
+            v = c_add(c_mul(v, z[i]), c_make(pk, ZW_R(0.0)));
+            mag = mag * az + ZW_FABS(pk);
+            unc = unc * az + ek;
+        }
+        /* deflated exact zero roots: p = z^(n-m) p_m, and those roots are 0 < r */
+        /* complex Horner: each step errs by at most ~(2 sqrt 2 + 1) u of |v||z| + |p_k| */
+        num = c_abs(v) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) +
+              ((ZW_R(8.0) * (zw_real)m + ZW_R(8.0)) * ZW_U * mag + unc) * (ZW_R(1.0) + ZW_R(4.0) * (zw_real)m * ZW_U) +
+              ZW_R(8.0) * (zw_real)(m + 1u) * ZW_ETA;
+        }
+        for (j = 0u; j < m; ++j)
+            if (j != i) den *= c_abs(c_sub(z[i], z[j]));
+        den *= ZW_R(1.0) - (ZW_R(8.0) * (zw_real)m + ZW_R(8.0)) * ZW_U;
+        if (!(den > ZW_REAL_MIN)) return false;
+        radius = (zw_real)m * (num / den) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+        if (!((az + radius) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U) < r)) return false;
+    }
+    return true;
+}
+
+/* Angle in [0, pi] of a root; within ~sqrt(u) of the real axis counts as real (a double
+ * real root is only resolved to that accuracy). */
+static zw_real root_angle(cplx z)
+{
+    const zw_real tol = ZW_R(8.0) * ZW_SQRT(ZW_U);
+    if (ZW_FABS(z.im) <= tol * c_abs(z)) return z.re >= ZW_R(0.0) ? ZW_R(0.0) : LOOP_PI;
+    return LOOP_ATAN2(ZW_FABS(z.im), z.re);
+}
+
+zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real beta,
+                                  zw_real *rho, zw_real *theta)
+{
+    zw_status st;
+    bool ok;
+    cplx top;
+    if (rho != NULL) *rho = (zw_real)INFINITY;
+    if (theta != NULL) *theta = ZW_R(0.0);
+    if (rho == NULL || theta == NULL) return ZW_ERR_NULL;
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    {
+        unsigned i;
+        for (i = 0u; i <= loop->degree; ++i)
+            if (!ZW_IS_FINITE(poly_coef(loop, alpha, beta, i))) return ZW_ERR_RANGE;
+    }
+    top = largest_root(loop, alpha, beta, &ok);
+    if (!ok) return ZW_ERR_RANGE;
+    *rho = c_abs(top);
+    *theta = root_angle(top);
+    return ZW_OK;
+}
+
+/* ---- verdicts ------------------------------------------------------------------------------ */
+
+static void verdict_fail_safe(zw_loop_verdict *out)
+{
+    out->stable = false;
+    out->marginal = false;
+    out->deciding = ZW_LOOP_BOUNDARY_NONE;
+    out->theta = ZW_R(0.0);
+}
+
+zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loop_verdict *out)
+{
+    zw_status st;
+    routh_result res, lead, trail;
+    if (out == NULL) return ZW_ERR_NULL;
+    verdict_fail_safe(out);
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    res = check_bilinear(loop, alpha, beta, &lead, &trail);
+    if (res == ROUTH_UNSURE && roots_within(loop, alpha, beta, ZW_R(1.0))) res = ROUTH_STABLE;
+    if (res == ROUTH_STABLE) {
+        out->stable = true;
+        return ZW_OK;
+    }
+    out->marginal = res == ROUTH_UNSURE;
+    /* the boundary: z = 1 (p(1) = alpha Na(1)), z = -1 (the leading coefficient of P),
+     * else where the root of largest modulus is */
+    if (trail != ROUTH_STABLE) {
+        out->deciding = ZW_LOOP_BOUNDARY_Z_PLUS1;
+    } else if (lead != ROUTH_STABLE) {
+        out->deciding = ZW_LOOP_BOUNDARY_Z_MINUS1;
+    } else {
+        bool ok;
+        cplx top = largest_root(loop, alpha, beta, &ok);
+        zw_real th = root_angle(top);
+        if (!ok) {
+            out->deciding = ZW_LOOP_BOUNDARY_COMPLEX; /* unknown: not stable all the same */
+        } else if (th == ZW_R(0.0)) {
+            out->deciding = ZW_LOOP_BOUNDARY_Z_PLUS1;
+        } else if (th == LOOP_PI) {
+            out->deciding = ZW_LOOP_BOUNDARY_Z_MINUS1;
+        } else {
+            out->deciding = ZW_LOOP_BOUNDARY_COMPLEX;
+            out->theta = th;
+        }
+    }
+    return ZW_OK;
+}
+
+/* (1 - s)^n p(r (1 + s)/(1 - s)) = sum_k p_k (r (1 + s))^(n-k) (1 - s)^k by Horner in
+ * r (1 + s), with running bounds, then the Routh test. */
+zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
+                                bool *within)
+{
+    zw_real w[LOOP_N], we[LOOP_N];
+    zw_status st;
+    unsigned k, i, deg = 0u;
+    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta), re = zw_eb_exact(r);
+    if (within == NULL) return ZW_ERR_NULL;
+    *within = false;
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
+    if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
+    for (k = 0u; k <= loop->degree; ++k) {
+        zw_eb pk = eb_add_exactish(eb_make(loop->D[k], loop->D_err[k]),
+                                   eb_mul_exactish(ga, eb_make(loop->Na[k], loop->Na_err[k])));
+        uint_least32_t binom = 1u; /* C(k, i): at most C(26, 13) < 2^24, exact in zw_real */
+        pk = eb_add_exactish(pk, eb_mul_exactish(gb, eb_make(loop->Nb[k], loop->Nb_err[k])));
+        if (k > 0u) {
+            mul_linear(w, we, deg, re, re);
+            deg += 1u;
+        } else {
+            w[0] = ZW_R(0.0);
+            we[0] = ZW_R(0.0);
+        }
+        /* + p_k (1 - s)^k: s^i at index k - i */
+        for (i = 0u; i <= k; ++i) {
+            zw_real coef = (i & 1u) != 0u ? -(zw_real)binom : (zw_real)binom;
+            zw_eb t = eb_add_exactish(eb_make(w[k - i], we[k - i]),
+                                      eb_mul_exactish(pk, zw_eb_exact(coef)));
+            w[k - i] = t.v;
+            we[k - i] = t.e;
+            binom = binom * (uint_least32_t)(k - i) / (uint_least32_t)(i + 1u);
+        }
+    }
+    {
+        routh_result res = routh(w, we, loop->degree);
+        *within = res == ROUTH_STABLE ||
+                  (res == ROUTH_UNSURE && roots_within(loop, alpha, beta, r));
+    }
     return ZW_OK;
 }

@@ -259,6 +259,252 @@ static void test_poly_errors(void **state)
     EXPECT_STATUS(zw_loop_poly(&zeroed, R(1.0), R(0.0), p, &deg), ZW_ERR_ARG);
 }
 
+
+/* ---- verdicts --------------------------------------------------------------------------- */
+
+#include <complex.h>
+
+/* max |root| of p (degree n, highest first) by Durand-Kerner in long double complex. */
+static long double dk_radius(const zw_real *p, unsigned n, long double *angle)
+{
+    long double complex z[ZW_LOOP_MAX_DEGREE];
+    long double scale = 0.0L, best = -1.0L;
+    unsigned i, j, it, m = n;
+    while (m > 0u && p[m] == R(0.0)) --m;
+    *angle = 0.0L;
+    if (m == 0u) return 0.0L;
+    for (i = 1; i <= m; ++i)
+        if (powl(fabsl((long double)p[i] / p[0]), 1.0L / i) > scale) scale = powl(fabsl((long double)p[i] / p[0]), 1.0L / i);
+    for (i = 0; i < m; ++i) z[i] = scale * cexpl(I * (6.283185307179586L * i / m + 0.4L));
+    for (it = 0; it < 3000; ++it) {
+        long double change = 0.0L;
+        for (i = 0; i < m; ++i) {
+            long double complex num = 0.0L, den = (long double)p[0], step;
+            for (j = 0; j <= m; ++j) num = num * z[i] + (long double)p[j];
+            for (j = 0; j < m; ++j)
+                if (j != i) den *= z[i] - z[j];
+            step = num / den;
+            z[i] -= step;
+            if (cabsl(step) > change) change = cabsl(step);
+        }
+        if (change <= 8.0L * LDBL_EPSILON * scale) break;
+    }
+    for (i = 0; i < m; ++i)
+        if (cabsl(z[i]) > best) {
+            best = cabsl(z[i]);
+            *angle = fabsl(cargl(z[i]));
+        }
+    return best;
+}
+
+static void fail_safe_verdict(const zw_loop_verdict *v)
+{
+    assert_false(v->stable);
+    assert_false(v->marginal);
+    assert_int_equal(v->deciding, ZW_LOOP_BOUNDARY_NONE);
+    assert_true(v->theta == R(0.0));
+}
+
+static void test_check_errors(void **state)
+{
+    zw_loop_spec s = spec_of(2u, ZW_DIFF_TUSTIN, ZW_VFILTER_NONE, R(0.0), 0u);
+    const zw_loop *loop = new_loop(R(1.0), &s);
+    static zw_loop zeroed, garbage;
+    zw_loop_verdict v;
+    zw_real rho = R(0.0), theta = R(3.0);
+    bool within = true;
+    (void)state;
+    memset(&garbage, ZWT_SENTINEL, sizeof garbage);
+#define CHECK_FAILS(l, a, b, want)                                                                 \
+    do {                                                                                         \
+        memset(&v, ZWT_SENTINEL, sizeof v);                                                      \
+        EXPECT_STATUS(zw_loop_check((l), (a), (b), &v), (want));                                  \
+        fail_safe_verdict(&v);                                                                   \
+        within = true;                                                                           \
+        EXPECT_STATUS(zw_loop_radius_within((l), (a), (b), R(1.0), &within), (want));             \
+        assert_false(within);                                                                    \
+        rho = R(0.0);                                                                            \
+        EXPECT_STATUS(zw_loop_spectral_radius((l), (a), (b), &rho, &theta), (want));              \
+        assert_true(rho == (zw_real)INFINITY);                                                   \
+    } while (0)
+    CHECK_FAILS(loop, (zw_real)NAN, R(0.1), ZW_ERR_NAN);
+    CHECK_FAILS(loop, R(0.1), (zw_real)NAN, ZW_ERR_NAN);
+    CHECK_FAILS(loop, (zw_real)INFINITY, R(0.1), ZW_ERR_INF);
+    CHECK_FAILS(loop, R(0.1), -(zw_real)INFINITY, ZW_ERR_INF);
+    CHECK_FAILS(NULL, R(0.1), R(0.1), ZW_ERR_NULL);
+    CHECK_FAILS(&zeroed, R(0.1), R(0.1), ZW_ERR_ARG);
+    CHECK_FAILS(&garbage, R(0.1), R(0.1), ZW_ERR_ARG);
+#undef CHECK_FAILS
+    EXPECT_STATUS(zw_loop_check(loop, R(0.1), R(0.1), NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), R(1.0), NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), R(0.0), &within), ZW_ERR_ARG);
+    assert_false(within);
+    within = true;
+    EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), R(-1.0), &within), ZW_ERR_ARG);
+    EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), (zw_real)INFINITY, &within), ZW_ERR_ARG);
+    EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), (zw_real)NAN, &within), ZW_ERR_NAN);
+    assert_false(within);
+    EXPECT_STATUS(zw_loop_spectral_radius(loop, R(0.1), R(0.1), NULL, &theta), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_spectral_radius(loop, R(0.1), R(0.1), &rho, NULL), ZW_ERR_NULL);
+    assert_true(rho == (zw_real)INFINITY);
+}
+
+/* The ideal loop through the general path gives zw_check's verdicts outside both bands, in
+ * every form that reduces to it (backward d = 0, low-pass a = 0, average n = 1), and the
+ * deciding boundary matches the closed form's constraint. */
+static void test_ideal_matches_closed_form(void **state)
+{
+    static const zw_real ds[] = {R(0.0), R(1e-6), R(0.013), R(1.0), R(2.049), R(5.1224), R(20.0), R(1e3)};
+    static const zw_loop_spec specs[] = {{0u, ZW_DIFF_BACKWARD, ZW_VFILTER_NONE, R(0.0), 0u},
+                                         {0u, ZW_DIFF_BACKWARD, ZW_VFILTER_LOWPASS, R(0.0), 0u},
+                                         {0u, ZW_DIFF_BACKWARD, ZW_VFILTER_AVERAGE, R(0.0), 1u}};
+    size_t k, j;
+    unsigned seed = 12345u, compared = 0u, marginal = 0u, i;
+    (void)state;
+    for (k = 0; k < ZWT_ARRAY_LEN(ds); ++k) {
+        zw_coeffs c = zwt_coeffs(ds[k]);
+        zw_extremes x;
+        EXPECT_OK(zw_extremes_compute(&c, &x));
+        for (j = 0; j < ZWT_ARRAY_LEN(specs); ++j) {
+            const zw_loop *loop = new_loop(ds[k], &specs[j]);
+            for (i = 0; i < 1500u; ++i) {
+                zw_verdict ref;
+                zw_loop_verdict v;
+                zw_real a, b;
+                seed = seed * 1103515245u + 12345u;
+                a = (zw_real)((double)(seed >> 8) / 16777216.0 * 1.3 - 0.1) * x.alpha_mmax;
+                seed = seed * 1103515245u + 12345u;
+                b = (zw_real)((double)(seed >> 8) / 16777216.0) * (x.beta_mmax + ds[k] + R(0.5)) - ds[k] - R(0.25);
+                EXPECT_OK(zw_check(&c, a, b, &ref));
+                EXPECT_OK(zw_loop_check(loop, a, b, &v));
+                if (ref.marginal || v.marginal) {
+                    marginal++;
+                    assert_false(v.stable && !ref.stable && !ref.marginal);
+                    continue;
+                }
+                compared++;
+                EXPECT_TRUE_MSG(v.stable == ref.stable, "delta %g alpha %.17g beta %.17g: loop %d, closed form %d",
+                                (double)ds[k], (double)a, (double)b, v.stable, ref.stable);
+                if (!v.stable && ref.deciding == ZW_BOUND_STIFFNESS)
+                    assert_int_equal(v.deciding, ZW_LOOP_BOUNDARY_Z_PLUS1);
+                if (!v.stable && ref.violated == ZW_BOUND_LINE)
+                    assert_int_equal(v.deciding, ZW_LOOP_BOUNDARY_Z_MINUS1);
+                /* beyond the hyperbola alone, the largest root is a complex pair or (two
+                 * real roots past -1, the sign of p(-1) unchanged) real */
+                if (!v.stable) assert_true(v.deciding != ZW_LOOP_BOUNDARY_NONE);
+                if (v.deciding == ZW_LOOP_BOUNDARY_COMPLEX)
+                    assert_true(v.theta > R(0.0) && v.theta < R(3.1415927));
+                else
+                    assert_true(v.theta == R(0.0));
+                if (v.stable) assert_int_equal(v.deciding, ZW_LOOP_BOUNDARY_NONE);
+            }
+        }
+    }
+    assert_true(compared > 30000u);
+    EXPECT_TRUE_MSG(marginal * 200u < compared, "%u marginal of %u", marginal, compared);
+}
+
+/* Every kind at random points: "stable" only when the long double roots are inside, and
+ * the spectral radius and the radius test agree with those roots. */
+static void test_verdicts_against_roots(void **state)
+{
+    static const zw_loop_spec specs[] = {
+        {1u, ZW_DIFF_BACKWARD, ZW_VFILTER_NONE, R(0.0), 0u},   {8u, ZW_DIFF_BACKWARD, ZW_VFILTER_NONE, R(0.0), 0u},
+        {2u, ZW_DIFF_TUSTIN, ZW_VFILTER_NONE, R(0.0), 0u},     {1u, ZW_DIFF_BACKWARD, ZW_VFILTER_LOWPASS, R(0.8), 0u},
+        {3u, ZW_DIFF_TUSTIN, ZW_VFILTER_LOWPASS, R(0.999), 0u}, {2u, ZW_DIFF_BACKWARD, ZW_VFILTER_AVERAGE, R(0.0), 5u},
+        {8u, ZW_DIFF_TUSTIN, ZW_VFILTER_AVERAGE, R(0.0), 15u}, {8u, ZW_DIFF_BACKWARD, ZW_VFILTER_AVERAGE, R(0.0), 16u}};
+    static const zw_real ds[] = {R(1e-3), R(0.5), R(5.0)};
+    size_t k, j;
+    unsigned seed = 777u, i, stable = 0u, unstable = 0u;
+    (void)state;
+    for (k = 0; k < ZWT_ARRAY_LEN(specs); ++k)
+        for (j = 0; j < ZWT_ARRAY_LEN(ds); ++j) {
+            const zw_loop *loop = new_loop(ds[j], &specs[k]);
+            for (i = 0; i < 60u; ++i) {
+                zw_real p[ZW_LOOP_MAX_DEGREE + 1u], rho, theta, a, b;
+                long double ref, ang;
+                unsigned deg;
+                zw_loop_verdict v;
+                bool within;
+                seed = seed * 1103515245u + 12345u;
+                a = (zw_real)((double)(seed >> 8) / 16777216.0) * R(0.3) * (ds[j] + R(0.05));
+                seed = seed * 1103515245u + 12345u;
+                b = (zw_real)((double)(seed >> 8) / 16777216.0) * R(1.5) - R(0.5) * ds[j];
+                EXPECT_OK(zw_loop_poly(loop, a, b, p, &deg));
+                ref = dk_radius(p, deg, &ang);
+                EXPECT_OK(zw_loop_check(loop, a, b, &v));
+                EXPECT_OK(zw_loop_spectral_radius(loop, a, b, &rho, &theta));
+                EXPECT_OK(zw_loop_radius_within(loop, a, b, R(1.0), &within));
+                if (fabsl(ref - 1.0L) < 1e-3L) continue; /* the polynomial's own rounding */
+                EXPECT_TRUE_MSG(v.stable == (ref < 1.0L), "spec %zu delta %g a %.9g b %.9g: rho %.12Lg, verdict %d",
+                                k, (double)ds[j], (double)a, (double)b, ref, v.stable);
+                assert_true(within == v.stable);
+                EXPECT_REL(rho, ref, PREC(1e-9, 3e-3));
+                if (v.stable) stable++;
+                else unstable++;
+            }
+        }
+    assert_true(stable > 100u && unstable > 100u);
+}
+
+/* Hand-derivable boundaries: z = 1 is alpha = 0 whatever the loop (p(1) = alpha Na(1));
+ * with Tustin z = -1 is beta = 0 (p(-1) = beta Nb(-1)); both decided by the gain's exact
+ * sign down to tiny gains, not marginal. */
+static void test_exact_real_boundaries(void **state)
+{
+    zw_loop_spec s = spec_of(2u, ZW_DIFF_BACKWARD, ZW_VFILTER_LOWPASS, R(0.5), 0u);
+    const zw_loop *loop = new_loop(R(0.5), &s);
+    zw_loop_verdict v;
+    (void)state;
+    EXPECT_OK(zw_loop_check(loop, R(-1e-30), R(0.1), &v));
+    assert_false(v.stable);
+    assert_false(v.marginal);
+    assert_int_equal(v.deciding, ZW_LOOP_BOUNDARY_Z_PLUS1);
+    EXPECT_OK(zw_loop_check(loop, R(0.0), R(0.1), &v));
+    assert_false(v.stable);
+    assert_int_equal(v.deciding, ZW_LOOP_BOUNDARY_Z_PLUS1);
+    EXPECT_OK(zw_loop_check(loop, R(1e-6), R(0.1), &v));
+    assert_true(v.stable);
+    /* Tustin, d = 0, delta = 0.5: the side of beta = 0 that is stable, by its roots */
+    s = spec_of(0u, ZW_DIFF_TUSTIN, ZW_VFILTER_NONE, R(0.0), 0u);
+    loop = new_loop(R(0.5), &s);
+    {
+        zw_loop_verdict pos, neg;
+        EXPECT_OK(zw_loop_check(loop, R(0.05), R(1e-25), &pos));
+        EXPECT_OK(zw_loop_check(loop, R(0.05), R(-1e-25), &neg));
+        assert_true(pos.stable != neg.stable);
+        assert_false(pos.marginal || neg.marginal);
+        assert_int_equal((pos.stable ? neg : pos).deciding, ZW_LOOP_BOUNDARY_Z_MINUS1);
+        EXPECT_OK(zw_loop_check(loop, R(0.05), R(0.0), &v));
+        assert_false(v.stable); /* a root exactly at -1 */
+    }
+    /* Tustin with an even-length average: the Tustin mode (-1)^k averages out of the
+     * estimate, so z = -1 is a root for every gain: never stable */
+    s = spec_of(1u, ZW_DIFF_TUSTIN, ZW_VFILTER_AVERAGE, R(0.0), 4u);
+    loop = new_loop(R(0.5), &s);
+    EXPECT_OK(zw_loop_check(loop, R(0.01), R(0.2), &v));
+    assert_false(v.stable);
+}
+
+/* Known approximation (sanity only): small delta and beta, delay d:
+ * alpha_max ~ (delta + beta) / (1/2 + d). */
+static void test_small_delta_approximation(void **state)
+{
+    unsigned d;
+    (void)state;
+    for (d = 0u; d <= ZW_LOOP_MAX_DELAY; ++d) {
+        zw_loop_spec s = spec_of(d, ZW_DIFF_BACKWARD, ZW_VFILTER_NONE, R(0.0), 0u);
+        const zw_loop *loop = new_loop(R(1e-4), &s);
+        zw_real approx = R(2e-4) / (R(0.5) + (zw_real)d);
+        zw_loop_verdict v;
+        EXPECT_OK(zw_loop_check(loop, R(0.9) * approx, R(1e-4), &v));
+        assert_true(v.stable);
+        EXPECT_OK(zw_loop_check(loop, R(1.1) * approx, R(1e-4), &v));
+        assert_false(v.stable);
+        assert_false(v.marginal);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -269,6 +515,11 @@ int main(void)
         cmocka_unit_test(test_lowpass_pole),
         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_poly_errors),
+        cmocka_unit_test(test_check_errors),
+        cmocka_unit_test(test_ideal_matches_closed_form),
+        cmocka_unit_test(test_verdicts_against_roots),
+        cmocka_unit_test(test_exact_real_boundaries),
+        cmocka_unit_test(test_small_delta_approximation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

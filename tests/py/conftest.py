@@ -93,6 +93,33 @@ def _structs(real):
     return Coeffs, Verdict, Extremes, Device, DeviceExtremes, Influence
 
 
+def _loop_limit(name):
+    return int(re.search(rf"#define\s+{name}\s+(\d+)u", _header_text()).group(1))
+
+
+LOOP_MAX_DELAY = _loop_limit("ZW_LOOP_MAX_DELAY")
+LOOP_MAX_AVERAGE = _loop_limit("ZW_LOOP_MAX_AVERAGE")
+LOOP_N = 2 + LOOP_MAX_DELAY + LOOP_MAX_AVERAGE + 1  # ZW_LOOP_MAX_DEGREE + 1 entries
+
+
+def _loop_structs(real, Coeffs):
+    """Mirrors of loop.h."""
+
+    class LoopSpec(ctypes.Structure):
+        _fields_ = [("delay", ctypes.c_uint), ("differentiator", c_int), ("filter", c_int),
+                    ("filter_pole", real), ("average", ctypes.c_uint)]
+
+    class Loop(ctypes.Structure):
+        _fields_ = ([("c", Coeffs), ("spec", LoopSpec), ("degree", ctypes.c_uint)]
+                    + [(n, real * LOOP_N) for n in ("D", "D_err", "Na", "Na_err", "Nb", "Nb_err",
+                                                    "Ds", "Ds_err", "Nas", "Nas_err", "Nbs", "Nbs_err")])
+
+    class LoopVerdict(ctypes.Structure):
+        _fields_ = [("stable", c_bool), ("marginal", c_bool), ("deciding", c_int), ("theta", real)]
+
+    return LoopSpec, Loop, LoopVerdict
+
+
 def as_dict(s):
     """A ctypes struct as a plain dict (nested structs as dicts)."""
     out = {}
@@ -157,6 +184,25 @@ class ZW:
         for fname, (res, args) in sigs.items():
             fn = getattr(self.lib, fname)
             fn.restype, fn.argtypes = res, args
+        self.LoopSpec, self.Loop, self.LoopVerdict = _loop_structs(R, C)
+        L = self.Loop
+        loop_sigs = {
+            "zw_loop_lowpass_pole": (c_int, [R, R, P(R)]),
+            "zw_loop_init": (c_int, [P(L), P(C), P(self.LoopSpec)]),
+            "zw_loop_poly": (c_int, [P(L), R, R, P(R), P(ctypes.c_uint)]),
+            "zw_loop_check": (c_int, [P(L), R, R, P(self.LoopVerdict)]),
+            "zw_loop_radius_within": (c_int, [P(L), R, R, R, P(c_bool)]),
+            "zw_loop_spectral_radius": (c_int, [P(L), R, R, P(R), P(R)]),
+        }
+        self.loop_fn = {}
+        for fname, (res, args) in loop_sigs.items():
+            fn = self.symbol(fname)
+            fn.restype, fn.argtypes = res, args
+            self.loop_fn[fname] = fn
+
+    def symbol(self, fname):
+        """The library's function fname (the one place that knows the symbol naming)."""
+        return getattr(self.lib, fname)
 
     # -- helpers -------------------------------------------------------------------------
 
@@ -254,6 +300,60 @@ class ZW:
         self._begin()
         w = self._out(c_bool)
         return self.lib.zw_radius_within(byref(co), alpha, beta, r, byref(w)), w.value
+
+    # -- loop.h --------------------------------------------------------------------------
+
+    def loop_spec(self, delay=0, differentiator="backward", filter="none", pole=0.0, average=0):
+        kinds = {"backward": E["ZW_DIFF_BACKWARD"], "tustin": E["ZW_DIFF_TUSTIN"]}
+        filters = {"none": E["ZW_VFILTER_NONE"], "lowpass": E["ZW_VFILTER_LOWPASS"],
+                   "average": E["ZW_VFILTER_AVERAGE"]}
+        return self.LoopSpec(delay, kinds.get(differentiator, differentiator),
+                             filters.get(filter, filter), pole, average)
+
+    def lowpass_pole(self, f_c, T):
+        a = self.real(7.0)
+        return self.loop_fn["zw_loop_lowpass_pole"](f_c, T, byref(a)), a.value
+
+    def loop(self, co, spec):
+        """(status, zw_loop) for coefficients co and a LoopSpec."""
+        lp = self.Loop()
+        ctypes.memset(byref(lp), SENTINEL, ctypes.sizeof(lp))
+        return self.loop_fn["zw_loop_init"](byref(lp), byref(co), byref(spec)), lp
+
+    def loop_poly(self, lp, alpha, beta):
+        p = (self.real * LOOP_N)()
+        deg = ctypes.c_uint(99)
+        st = self.loop_fn["zw_loop_poly"](byref(lp), alpha, beta, p, byref(deg))
+        return st, list(p)[: deg.value + 1]
+
+    def loop_check(self, lp, alpha, beta):
+        v = self.LoopVerdict()
+        ctypes.memset(byref(v), SENTINEL, ctypes.sizeof(v))
+        return self.loop_fn["zw_loop_check"](byref(lp), alpha, beta, byref(v)), v
+
+    def loop_check_many(self, lp, alphas, betas):
+        """zw_loop_check over arrays: (status, stable, marginal, deciding, theta) arrays."""
+        n = len(alphas)
+        st = np.empty(n, np.int32)
+        stab = np.empty(n, bool)
+        marg = np.empty(n, bool)
+        dec = np.empty(n, np.int32)
+        th = np.empty(n)
+        v = self.LoopVerdict()
+        pv, pl, fn = byref(v), byref(lp), self.loop_fn["zw_loop_check"]
+        for i, (a, b) in enumerate(zip(np.asarray(alphas).tolist(), np.asarray(betas).tolist())):
+            st[i] = fn(pl, a, b, pv)
+            stab[i], marg[i], dec[i], th[i] = v.stable, v.marginal, v.deciding, v.theta
+        return st, stab, marg, dec, th
+
+    def loop_radius_within(self, lp, alpha, beta, r):
+        w = c_bool(True)
+        return self.loop_fn["zw_loop_radius_within"](byref(lp), alpha, beta, r, byref(w)), w.value
+
+    def loop_spectral_radius(self, lp, alpha, beta):
+        rho, th = self.real(-1.0), self.real(-1.0)
+        st = self.loop_fn["zw_loop_spectral_radius"](byref(lp), alpha, beta, byref(rho), byref(th))
+        return st, rho.value, th.value
 
     # -- extremes.h ----------------------------------------------------------------------
 
