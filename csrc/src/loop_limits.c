@@ -200,7 +200,7 @@ typedef enum ll_take {
 } ll_take;
 
 typedef struct ll_scan {
-    ll_plant p;
+    const ll_plant *p;
     ll_mode mode;
     zw_real fixed; /* beta (FIX_BETA) or alpha (FIX_ALPHA) */
     ll_take take;
@@ -216,8 +216,8 @@ typedef struct ll_point {
 static void eval_point(const ll_scan *x, zw_real theta, ll_point *pt)
 {
     ll_cplx r0, s;
-    zw_real a0, as, eps = x->p.eps, two_sh;
-    response(&x->p, theta, &r0, &s);
+    zw_real a0, as, eps = x->p->eps, two_sh;
+    response(x->p, theta, &r0, &s);
     a0 = cabs1(r0);
     as = cabs1(s);
     two_sh = ZW_R(2.0) * LL_SIN(ZW_R(0.5) * theta);
@@ -286,8 +286,8 @@ static void offer_root(ll_scan *x, zw_real theta_lo, zw_real theta_hi, bool cert
                        zw_real est, zw_real lo, zw_real hi)
 {
     bool unbounded = !(lo > -ZW_REAL_MAX && hi < ZW_REAL_MAX);
-    if (unbounded && theta_hi > LL_PI - x->p.grid_h) return;
-    if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p.grid_h) return;
+    if (unbounded && theta_hi > LL_PI - x->p->grid_h) return;
+    if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p->grid_h) return;
     offer(x, est, lo, hi);
 }
 
@@ -305,93 +305,111 @@ static void widen(const ll_point *pt, zw_real *lo, zw_real *hi)
 
 /* A root of f between a and b (f(a), f(b) of opposite computed signs): bisect, then step
  * outwards to the nearest points where f's sign is certain (the exact root lies between
- * them), and offer the value there with its bounds. */
+ * them), and offer the value there with its bounds.  One point at a time (small stack). */
 static void refine(ll_scan *x, zw_real a, zw_real b)
 {
-    ll_point pa, pm, pl, pr;
-    bool neg_a;
-    zw_real a0 = a, b0 = b, h, t, lo, hi;
+    ll_point pt;
+    bool neg_a, certified;
+    zw_real a0 = a, b0 = b, h, t, lo, hi, est, th_lo, th_hi;
     unsigned it;
-    eval_point(x, a, &pa);
-    neg_a = is_neg(pa.f);
+    eval_point(x, a, &pt);
+    neg_a = is_neg(pt.f);
     for (it = 0u; it < LL_ITER; ++it) {
         zw_real m = a + ZW_R(0.5) * (b - a);
         if (!(m > a && m < b)) break;
-        eval_point(x, m, &pm);
-        if (is_neg(pm.f) == neg_a) a = m;
+        eval_point(x, m, &pt);
+        if (is_neg(pt.f) == neg_a) a = m;
         else b = m;
     }
-    eval_point(x, a + ZW_R(0.5) * (b - a), &pm);
+    eval_point(x, a + ZW_R(0.5) * (b - a), &pt);
+    est = lo = hi = pt.v;
+    widen(&pt, &lo, &hi);
     h = b - a;
-    pl.theta = a;
+    t = a;
     for (it = 0u; it < LL_ITER; ++it) {
         t = a - h > a0 ? a - h : a0;
-        eval_point(x, t, &pl);
-        if ((certain(&pl) && is_neg(pl.f) == neg_a) || !(t > a0)) break;
+        eval_point(x, t, &pt);
+        if ((certain(&pt) && is_neg(pt.f) == neg_a) || !(t > a0)) break;
         h *= ZW_R(4.0);
     }
+    certified = certain(&pt);
+    th_lo = t;
+    widen(&pt, &lo, &hi);
     h = b - a;
+    t = b;
     for (it = 0u; it < LL_ITER; ++it) {
         t = b + h < b0 ? b + h : b0;
-        eval_point(x, t, &pr);
-        if ((certain(&pr) && is_neg(pr.f) != neg_a) || !(t < b0)) break;
+        eval_point(x, t, &pt);
+        if ((certain(&pt) && is_neg(pt.f) != neg_a) || !(t < b0)) break;
         h *= ZW_R(4.0);
     }
-    lo = pm.v;
-    hi = pm.v;
-    widen(&pm, &lo, &hi);
-    widen(&pl, &lo, &hi);
-    widen(&pr, &lo, &hi);
-    offer_root(x, pl.theta, pr.theta, certain(&pl) && certain(&pr), pm.v, lo, hi);
+    certified = certified && certain(&pt);
+    th_hi = t;
+    widen(&pt, &lo, &hi);
+    offer_root(x, th_lo, th_hi, certified, est, lo, hi);
 }
 
 /* f keeps its sign at a, m, b but |f(m)| is a local minimum of the grid: look for a hidden
  * pair of roots by golden-section minimisation of sign * f on [a, b]. */
 static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
 {
-    ll_point pc, pd, best;
+    ll_point pt;
     bool neg;
-    zw_real c, d, lo, hi;
+    zw_real c, d, fc, fd, best_t, best_f, lo, hi;
     unsigned it;
-    eval_point(x, m, &best);
-    neg = is_neg(best.f);
+    eval_point(x, m, &pt);
+    neg = is_neg(pt.f);
+    best_t = m;
+    best_f = ZW_FABS(pt.f);
     c = b - LL_INVPHI * (b - a);
     d = a + LL_INVPHI * (b - a);
-    eval_point(x, c, &pc);
-    eval_point(x, d, &pd);
+    eval_point(x, c, &pt);
+    fc = pt.f;
+    eval_point(x, d, &pt);
+    fd = pt.f;
     for (it = 0u; it < LL_ITER && d > c; ++it) {
-        zw_real fc = neg ? -pc.f : pc.f, fd = neg ? -pd.f : pd.f;
-        if (is_neg(pc.f) != neg || is_neg(pd.f) != neg) break;
-        if (fc < fd) {
+        if (is_neg(fc) != neg || is_neg(fd) != neg) break;
+        if (ZW_FABS(fc) < best_f) {
+            best_f = ZW_FABS(fc);
+            best_t = c;
+        }
+        if (ZW_FABS(fd) < best_f) {
+            best_f = ZW_FABS(fd);
+            best_t = d;
+        }
+        if (ZW_FABS(fc) < ZW_FABS(fd)) {
             b = d;
-            pd = pc;
             d = c;
+            fd = fc;
             c = b - LL_INVPHI * (b - a);
-            eval_point(x, c, &pc);
+            eval_point(x, c, &pt);
+            fc = pt.f;
         } else {
             a = c;
-            pc = pd;
             c = d;
+            fc = fd;
             d = a + LL_INVPHI * (b - a);
-            eval_point(x, d, &pd);
+            eval_point(x, d, &pt);
+            fd = pt.f;
         }
     }
-    if (is_neg(pc.f) != neg || is_neg(pd.f) != neg) {
-        zw_real t = is_neg(pc.f) != neg ? pc.theta : pd.theta;
+    if (is_neg(fc) != neg || is_neg(fd) != neg) {
+        zw_real t = is_neg(fc) != neg ? c : d;
         refine(x, a < t ? a : t, t);
         refine(x, t, b > t ? b : t);
         return;
     }
-    if (ZW_FABS(pc.f) < ZW_FABS(best.f)) best = pc;
-    if (ZW_FABS(pd.f) < ZW_FABS(best.f)) best = pd;
-    if (!certain(&best)) {
-        /* a near-tangency within the rounding band: keep it as a crossing */
-        lo = best.v;
-        hi = best.v;
-        widen(&best, &lo, &hi);
-        widen(&pc, &lo, &hi);
-        widen(&pd, &lo, &hi);
-        offer_root(x, a, b, false, best.v, lo, hi);
+    eval_point(x, best_t, &pt);
+    if (!certain(&pt)) {
+        /* a near-tangency within the rounding band: keep it as a crossing, with the values
+         * over the whole bracket */
+        lo = hi = pt.v;
+        widen(&pt, &lo, &hi);
+        eval_point(x, a, &pt);
+        widen(&pt, &lo, &hi);
+        eval_point(x, b, &pt);
+        widen(&pt, &lo, &hi);
+        offer_root(x, a, b, false, lo + ZW_R(0.5) * (hi - lo), lo, hi);
     }
 }
 
@@ -405,25 +423,45 @@ static zw_real grid_theta(const ll_plant *p, unsigned j)
     return LL_PI_BELOW - ZW_LDEXP(p->grid_h, -(int)(j - (LL_GEO + n - 1u) + 1u));
 }
 
-/* Every crossing in (0, pi) offered to x. */
+/* Every crossing in (0, pi) offered to x.  On a vertical line the scan starts at theta = 0
+ * itself: there the condition is -(delta + beta) (the double root at z = 1), and a crossing
+ * below the first grid angle has alpha near 0; where its sign is uncertain (beta within
+ * the error of -delta, where the region's corner is) a crossing at alpha = 0 is assumed. */
 static void scan(ll_scan *x)
 {
-    ll_point p2, p1, p0;
-    unsigned j, total = 2u * LL_GEO + x->p.grid_n - 1u;
-    eval_point(x, grid_theta(&x->p, 0u), &p1);
-    p2 = p1;
-    for (j = 1u; j < total; ++j) {
-        eval_point(x, grid_theta(&x->p, j), &p0);
-        if (is_neg(p0.f) != is_neg(p1.f)) {
-            refine(x, p1.theta, p0.theta);
-        } else if (j >= 2u && is_neg(p2.f) == is_neg(p1.f) && ZW_FABS(p1.f) < ZW_FABS(p2.f) &&
-                   ZW_FABS(p1.f) <= ZW_FABS(p0.f)) {
-            hidden_pair(x, p2.theta, p1.theta, p0.theta);
-        } else {
-            /* nothing between p1 and p0 */
+    ll_point pt;
+    zw_real t2, t1, f2, f1;
+    unsigned j, total = 2u * LL_GEO + x->p->grid_n - 1u;
+    t1 = grid_theta(x->p, 0u);
+    eval_point(x, t1, &pt);
+    f1 = pt.f;
+    if (x->mode == LL_FIX_BETA) {
+        zw_real v1 = pt.v + pt.v_err;
+        eval_point(x, ZW_R(0.0), &pt);
+        if (!certain(&pt)) offer(x, ZW_R(0.0), ZW_R(0.0), v1);
+        else if (is_neg(pt.f) != is_neg(f1)) refine(x, ZW_R(0.0), t1);
+        else {
+            /* no crossing below the first grid angle */
         }
-        p2 = p1;
-        p1 = p0;
+    }
+    t2 = t1;
+    f2 = f1;
+    for (j = 1u; j < total; ++j) {
+        zw_real t0 = grid_theta(x->p, j), f0;
+        eval_point(x, t0, &pt);
+        f0 = pt.f;
+        if (is_neg(f0) != is_neg(f1)) {
+            refine(x, t1, t0);
+        } else if (j >= 2u && is_neg(f2) == is_neg(f1) && ZW_FABS(f1) < ZW_FABS(f2) &&
+                   ZW_FABS(f1) <= ZW_FABS(f0)) {
+            hidden_pair(x, t2, t1, t0);
+        } else {
+            /* nothing between t1 and t0 */
+        }
+        t2 = t1;
+        f2 = f1;
+        t1 = t0;
+        f1 = f0;
     }
 }
 
@@ -461,7 +499,7 @@ static void line_minus1(const ll_plant *p, zw_real *c0, zw_real *ca, zw_real *cb
 static void offer_line(ll_scan *x, bool *degenerate)
 {
     zw_real c0, ca, cb, rel, num, num_mag, den, v, err;
-    line_minus1(&x->p, &c0, &ca, &cb, &rel);
+    line_minus1(x->p, &c0, &ca, &cb, &rel);
     *degenerate = false;
     if (x->mode == LL_FIX_BETA) { /* alpha = -(c0 + cb beta) / ca */
         num = c0 + cb * x->fixed;
@@ -505,7 +543,7 @@ static zw_status alpha_max_of(const ll_plant *p, zw_real beta, zw_real *alpha_ma
     unsigned k;
     zw_real a1;
     *alpha_max = ZW_R(0.0);
-    x.p = *p;
+    x.p = p;
     x.mode = LL_FIX_BETA;
     x.fixed = beta;
     x.take = LL_TAKE_MIN_LO;
@@ -549,7 +587,7 @@ static bool next_crossing(const ll_plant *p, ll_mode mode, zw_real alpha, zw_rea
                           bool *degenerate, zw_real *est, zw_real *lo, zw_real *hi)
 {
     ll_scan x;
-    x.p = *p;
+    x.p = p;
     x.mode = mode;
     x.fixed = alpha;
     x.take = LL_TAKE_NEXT_ABOVE;
@@ -578,11 +616,14 @@ static void clear_set(zw_loop_beta_set *out)
 }
 
 /* Stable cells of the walk, in increasing beta.  ALPHA_ZERO labels a cell by
- * alpha_max(mid) > 0 (stable just above alpha = 0), FIX_ALPHA by the check at mid. */
-static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_beta_set *out)
+ * alpha_max(mid) > 0 (stable just above alpha = 0), FIX_ALPHA by the check at mid.
+ * outer[0], outer[1]: the far bounds of the crossings that open the first and close the
+ * last stable cell (the exact ends lie between them and the cell's certified ends). */
+static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_beta_set *out,
+                      zw_real outer[2])
 {
     bool have_prev = false, degenerate = false;
-    zw_real prev_est = ZW_R(0.0), prev_hi = ZW_R(0.0), floor = -ZW_REAL_MAX;
+    zw_real prev_est = ZW_R(0.0), prev_hi = ZW_R(0.0), prev_lo = ZW_R(0.0), floor = -ZW_REAL_MAX;
     unsigned step;
     zw_status st;
     for (step = 0u; step < LL_MAX_CROSSINGS; ++step) {
@@ -603,6 +644,8 @@ static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_be
             }
             if (stable) {
                 if (out->count < ZW_LOOP_MAX_INTERVALS) {
+                    if (out->count == 0u) outer[0] = prev_lo;
+                    outer[1] = hi;
                     out->lo[out->count] = prev_hi;
                     out->hi[out->count] = lo;
                     out->count++;
@@ -613,6 +656,7 @@ static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_be
         }
         have_prev = true;
         prev_est = est;
+        prev_lo = lo;
         prev_hi = hi;
         floor = est;
     }
@@ -621,6 +665,7 @@ static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_be
 
 zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_real alpha, zw_loop_beta_set *out)
 {
+    zw_real outer[2];
     ll_plant p;
     zw_status st;
     if (out == NULL) return ZW_ERR_NULL;
@@ -628,7 +673,7 @@ zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_real alpha, zw_loop_bet
     if ((st = plant_init(&p, loop)) != ZW_OK) return st;
     if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
     if (!(alpha > ZW_R(0.0))) return ZW_OK;
-    st = walk(&p, LL_FIX_ALPHA, alpha, out);
+    st = walk(&p, LL_FIX_ALPHA, alpha, out, outer);
     if (st != ZW_OK) clear_set(out);
     return st;
 }
@@ -654,17 +699,63 @@ zw_status zw_loop_beta_interval(const zw_loop *loop, zw_real alpha, zw_real *lo,
 
 /* ---- extremes -------------------------------------------------------------------------- */
 
+/* Where the complex-pair curve ends on the z = -1 line (the pair merges into a double root
+ * at z = -1): a corner of the region, where the extremes of delayed or filtered loops
+ * (and the ideal loop above delta1) sit.  With theta = pi - phi, Re R0 and Re S both
+ * vanish like phi, and their ratio tends to
+ *     beta* = (Q0(-1)/2 - Q0'(-1)) / (Vt(-1)/2 - Vt'(-1)),   alpha* = -2 (Q0(-1) - beta* Vt(-1)),
+ * from the logarithmic derivatives of the factors at z = -1.  False where the curve has
+ * an asymptote there instead (Tustin, delta = 0) or the ratio is undefined. */
+static bool corner_minus1(const ll_plant *p, zw_real *alpha_c, zw_real *beta_c)
+{
+    const zw_loop_spec *sp = &p->loop->spec;
+    const zw_coeffs *c = &p->loop->c;
+    zw_real q, dq, v, dv, den, b;
+    if (sp->differentiator == ZW_DIFF_TUSTIN || !(c->d12 > ZW_R(0.0))) return false;
+    /* Q0 = -2 z^d (z - e) / (c1 z + c2) */
+    q = -ZW_R(2.0) * ((sp->delay % 2u) == 0u ? ZW_R(1.0) : ZW_R(-1.0)) * (ZW_R(1.0) + c->e) / c->d12;
+    dq = q * (-(zw_real)sp->delay - ZW_R(1.0) / (ZW_R(1.0) + c->e) + c->c1 / c->d12);
+    v = -ZW_R(1.0); /* backward: Vt = 1/z */
+    dv = -ZW_R(1.0);
+    if (sp->filter == ZW_VFILTER_LOWPASS) {
+        zw_real a = sp->filter_pole, f = p->one_minus_a / (ZW_R(1.0) + a);
+        zw_real dlog = -ZW_R(1.0) + ZW_R(1.0) / (ZW_R(1.0) + a);
+        dv = dv * f + v * f * dlog;
+        v *= f;
+    } else if (sp->filter == ZW_VFILTER_AVERAGE) {
+        zw_real sum = ZW_R(0.0), dsum = ZW_R(0.0), sign = ZW_R(1.0), n = (zw_real)sp->average;
+        unsigned i;
+        for (i = 0u; i < sp->average; ++i) { /* z^-i at -1 and its derivative -i z^(-i-1) */
+            sum += sign;
+            dsum += (zw_real)i * sign;
+            sign = -sign;
+        }
+        sum /= n;
+        dsum /= n;
+        dv = dv * sum + v * dsum;
+        v *= sum;
+    } else {
+        /* backward alone */
+    }
+    den = ZW_R(0.5) * v - dv;
+    if (!(ZW_FABS(den) > ZW_R(64.0) * ZW_U * (ZW_FABS(v) + ZW_FABS(dv)))) return false;
+    b = (ZW_R(0.5) * q - dq) / den;
+    *beta_c = b;
+    *alpha_c = -ZW_R(2.0) * (q - b * v);
+    return ZW_IS_FINITE(b) && ZW_IS_FINITE(*alpha_c);
+}
+
 /* max of alpha_max over (bl, bh): grid, then golden section around the best grid point. */
 static zw_status maximise(const ll_plant *p, zw_real bl, zw_real bh, zw_real *best_a,
                           zw_real *best_b)
 {
-    zw_real w = bh - bl, a, b, c, d, fc, fd, v;
+    zw_real w = bh - bl, a, b, c, d, fc, fd, v, t;
     unsigned i, ibest = 0u, it;
     zw_status st;
     *best_a = ZW_R(0.0);
     *best_b = ZW_R(0.5) * bl + ZW_R(0.5) * bh;
     for (i = 0u; i < LL_EXT_GRID; ++i) {
-        zw_real t = bl + w * ((zw_real)(i + 1u) / (zw_real)(LL_EXT_GRID + 1u));
+        t = bl + w * ((zw_real)(i + 1u) / (zw_real)(LL_EXT_GRID + 1u));
         if ((st = alpha_max_of(p, t, &v)) != ZW_OK) return st;
         if (v > *best_a) {
             *best_a = v;
@@ -701,6 +792,36 @@ static zw_status maximise(const ll_plant *p, zw_real bl, zw_real bh, zw_real *be
             if ((st = alpha_max_of(p, d, &fd)) != ZW_OK) return st;
         }
     }
+    /* The corner at z = -1, if in this cell: the golden section only approaches it from
+     * the side it happens to sample, where the pair next to z = -1 is poorly resolved. */
+    if (corner_minus1(p, &v, &t) && t > bl && t < bh) {
+        for (i = 0u; i < 5u; ++i) {
+            zw_real bt = t + (zw_real)((int)i - 2) * (ZW_R(4.0) * ZW_U) * (ZW_FABS(t) + w);
+            if ((st = alpha_max_of(p, bt, &v)) != ZW_OK) return st;
+            if (v > *best_a) {
+                *best_a = v;
+                *best_b = bt;
+            }
+        }
+    }
+    return ZW_OK;
+}
+
+/* Move the certified end *end towards the bound far (exclusive) while alpha_max > 0. */
+static zw_status push_end(const ll_plant *p, zw_real *end, zw_real far)
+{
+    zw_real a = *end, b = far, v;
+    unsigned it;
+    zw_status st;
+    if (!ZW_IS_FINITE(far) || !ZW_IS_FINITE(far - a)) return ZW_OK;
+    for (it = 0u; it < LL_ITER / 2u; ++it) {
+        zw_real m = a + ZW_R(0.5) * (b - a);
+        if (!(m != a && m != b)) break;
+        if ((st = alpha_max_of(p, m, &v)) != ZW_OK) return st;
+        if (v > ZW_R(0.0)) a = m;
+        else b = m;
+    }
+    *end = a;
     return ZW_OK;
 }
 
@@ -715,6 +836,7 @@ zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_extremes *out)
     ll_plant p;
     zw_loop_beta_set cells;
     zw_loop_extremes x;
+    zw_real outer[2] = {ZW_R(0.0), ZW_R(0.0)};
     zw_status st;
     unsigned i;
     if (out == NULL) return ZW_ERR_NULL;
@@ -722,10 +844,15 @@ zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_extremes *out)
     if ((st = plant_init(&p, loop)) != ZW_OK) return st;
     clear_set(&cells);
     clear_extremes(&x);
-    if ((st = walk(&p, LL_ALPHA_ZERO, ZW_R(0.0), &cells)) != ZW_OK) return st;
+    if ((st = walk(&p, LL_ALPHA_ZERO, ZW_R(0.0), &cells, outer)) != ZW_OK) return st;
     if (cells.count == 0u) return ZW_ERR_DOMAIN;
+    /* Where a closing crossing is poorly resolved (its pair next to z = -1, e.g. near
+     * delta0), push the ends outwards by bisection on "alpha_max(beta) > 0": every beta
+     * where it holds is in the stable range at alpha -> 0+ (certified by alpha_max). */
     x.beta_mmin = cells.lo[0];
     x.beta_mmax = cells.hi[cells.count - 1u];
+    if ((st = push_end(&p, &x.beta_mmax, outer[1])) != ZW_OK) return st;
+    if ((st = push_end(&p, &x.beta_mmin, outer[0])) != ZW_OK) return st;
     for (i = 0u; i < cells.count; ++i) {
         zw_real a, b;
         if ((st = maximise(&p, cells.lo[i], cells.hi[i], &a, &b)) != ZW_OK) return st;
