@@ -137,8 +137,10 @@ _SIMULATE_DESCRIPTION = """\
 Simulate a scene in the time domain (paper Fig. 13): the plant behind a zero-order hold,
 sampled every T, the impedance controller and only the effects the scene file asks for
 (quantization, friction, delay, saturation, velocity filter, hand, wall, knob, schedule).
-Prints each case's simulated verdict and, for linear scenes (no effect), the exact
-region's verdict and whether they agree; optionally writes the arrays and a figure."""
+Prints each case's simulated verdict and, for linear scenes (no effect, or only [delay]
+of up to 8 samples and [velocity_filter]), the exact verdict of the loop simulated and
+whether they agree; with a delay or filter also the paper's ideal loop's verdict, and a
+warning where the two differ.  Optionally writes the arrays and a figure."""
 
 _SIMULATE_EPILOG = """\
 the scene file (TOML; every key, unit and default in docs/scenes.md):
@@ -170,8 +172,9 @@ output files:
              units; infinities as null), normalized: {delta, alpha, beta} | null,
              verdict: {outcome, amplitude_first, amplitude_last, growth, reason, window,
              windows, tolerance, first_nonfinite}, analytic: {verdict, stable, marginal,
-             deciding, spectral_radius, legacy_stable} | null (nonlinear scenes),
-             agrees: bool | null}]
+             deciding, spectral_radius, loop (as in 'zwidth check --help'), legacy_stable
+             (null with a delay or filter), ideal_loop: {verdict, stable} | null} | null
+             (nonlinear scenes), agrees: bool | null, note: a warning | null}]
   summary   {cases, stable, unstable, undecided, compared, agree}
   out, plot  the files written, or null
 
@@ -847,7 +850,8 @@ def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
                 kw = plant.loop_kwargs()
                 if plant.device is not None and plant.device.filter_pole is not None:
                     kw["filter_pole"] = float(plant.device.filter_pole)
-                return plot.loop_region(plant.delta, point=point, **kw)
+                T = None if plant.device is None else float(plant.device.T)
+                return plot.loop_region(plant.delta, point=point, T=T, loop_text=plant.loop.describe(), **kw)
             return plot.region(plant.delta, point=point)
         assert plant is not None and plant.device is not None
         _refuse_loop(f"plot {kind}", plant)

@@ -15,6 +15,7 @@ returns the matplotlib Figure (created with pyplot, so ``plt.show()`` works; pas
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import textwrap
 from pathlib import Path
@@ -801,16 +802,20 @@ def simulation(sims: "SimulationSet", *, fig: Optional["Figure"] = None,
 
 def loop_region(delta: float, *, delay: int = 0, filter_pole: float = 0.0, average: Optional[int] = None,
                 differentiator: str = "backward", point: Union[Point, Sequence[Point], None] = None,
-                ax: Optional["Axes"] = None, resolution: Tuple[int, int] = (400, 300)) -> "Figure":
+                ax: Optional["Axes"] = None, resolution: Tuple[int, int] = (400, 300),
+                T: Optional[float] = None, loop_text: Optional[str] = None) -> "Figure":
     """How much of the ideal loop's region a real loop keeps, in the (beta, alpha) plane.
 
     The paper's exact region at delta (grey, its boundary alpha_max) under the region of
-    the loop with ``delay``, ``filter_pole`` / ``average`` and ``differentiator`` (blue),
-    each grid point of ``resolution`` decided by the guarded check of that loop
+    the loop with ``delay``, ``filter_pole`` / ``average`` and ``differentiator`` (blue,
+    with its certified alpha_max as a dark blue line), each grid point of ``resolution``
+    decided by the guarded check of that loop
     (zwidth.check with the same keywords: exact per point, so the blue area is never larger
     than the true one at the grid's points).  The title gives the share of the ideal
     region's grid points the loop keeps, and the largest alpha on the grid for each.
-    ``point`` = (beta, alpha) pairs are marked with the loop's verdict.
+    ``point`` = (beta, alpha) pairs are marked with the loop's verdict (its oscillation in
+    Hz when the period ``T`` [s] is given, else in cycles per sample); ``loop_text``
+    replaces the loop's description in the legend (e.g. the cut-off in Hz).
     """
     delta = _scalar("delta", delta)
     kw: Dict[str, Any] = {"delay": delay, "filter_pole": filter_pole, "average": average,
@@ -835,12 +840,17 @@ def loop_region(delta: float, *, delay: int = 0, filter_pole: float = 0.0, avera
               alpha=0.85, interpolation="nearest")
     curve = np.linspace(lo, hi, 1001)
     ax.plot(curve, np.asarray(alpha_max(delta, curve), dtype=float), color="black", linewidth=1.2)
+    # the loop's certified alpha_max (loop_limits.h): the top of its stable interval above alpha = 0
+    ax.plot(curve, np.asarray(alpha_max(delta, curve, errors="mask", **kw), dtype=float), color="#1f4e99",
+            linewidth=1.2)
     handles = [_proxy(color="0.6", linewidth=8, label="ideal loop (paper eq (10))"),
-               _proxy(color="#4a90d9", linewidth=8, label=f"this loop: {_loop_text(kw)}")]
+               _proxy(color="#4a90d9", linewidth=8, label=f"this loop: {loop_text or _loop_text(kw)}")]
     points = [] if point is None else np.asarray(point, dtype=float).reshape(-1, 2).tolist()
     for pb, pa in points:
-        handles += _mark_verdict(ax, pb, pa, verdict(delta, pa, pb, **kw),
-                                 rf"($\beta$, $\alpha$) = ({pb:.4g}, {pa:.4g})")
+        v = verdict(delta, pa, pb, **kw)
+        if T is not None and isinstance(v, LoopVerdict):
+            v = dataclasses.replace(v, frequency=v.theta / (2 * math.pi * float(T)), frequency_unit="Hz")
+        handles += _mark_verdict(ax, pb, pa, v, rf"($\beta$, $\alpha$) = ({pb:.4g}, {pa:.4g})")
     kept = loop.sum() / max(1, ideal.sum())
     top_ideal = float(alphas[ideal.any(axis=1)].max()) if ideal.any() else 0.0
     top_loop = float(alphas[loop.any(axis=1)].max()) if loop.any() else 0.0
@@ -848,7 +858,7 @@ def loop_region(delta: float, *, delay: int = 0, filter_pole: float = 0.0, avera
                  rf"(grid); largest $\alpha$ {top_loop:.4g} vs {top_ideal:.4g}", fontsize=10)
     ax.set_xlabel(r"$\beta$ = B T/m")
     ax.set_ylabel(r"$\alpha$ = K T$^2$/m")
-    ax.legend(handles=handles, loc="upper right", fontsize=8)
+    ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
     return fig
 
 
