@@ -686,7 +686,10 @@ class NormalizedLoopCache {
 // The loop of one (m, b, T, f_c) element, with the rounding of K / (m/T^2) and B / (m/T)
 // carried into the loop's error bounds: alpha Na is computed from alpha(1 + e_a), which is
 // (alpha)(Na(1 + e_a)), so widening each |Na| bound by |Na| e_a makes the loop's guard cover
-// it (and Nb likewise for beta).  delta's rounding is in the device's coefficients
+// it (and Nb likewise for beta; also their bilinear images Nas, Nbs, which the Routh test
+// reads).  This relies on every verdict reading the gains only through these parts with
+// their bounds (loop.h: "each coefficient with a bound on its absolute error"); a
+// zw_loop_check taking gain error bounds would make it explicit (asked of loop-core).  delta's rounding is in the device's coefficients
 // (delta_relerr), which zw_loop_init reads.
 class DeviceLoopCache {
   public:
@@ -724,9 +727,12 @@ class DeviceLoopCache {
         // device.c normalizes with relative errors 4u (alpha) and 3u (beta); 8u and 6u
         // cover them and the rounding of these products with room to spare.
         constexpr double u = std::numeric_limits<double>::epsilon() / 2;
-        for (unsigned i = 0; i <= plant_.loop.degree; ++i) {
-            plant_.loop.Na_err[i] += std::fabs(plant_.loop.Na[i]) * (8 * u);
-            plant_.loop.Nb_err[i] += std::fabs(plant_.loop.Nb[i]) * (6 * u);
+        zw_loop &l = plant_.loop;
+        for (unsigned i = 0; i <= l.degree; ++i) {  // the z parts and their bilinear images
+            l.Na_err[i] += std::fabs(l.Na[i]) * (8 * u);
+            l.Nb_err[i] += std::fabs(l.Nb[i]) * (6 * u);
+            l.Nas_err[i] += std::fabs(l.Nas[i]) * (8 * u);
+            l.Nbs_err[i] += std::fabs(l.Nbs[i]) * (6 * u);
         }
         return ZW_OK;
     }
