@@ -403,3 +403,31 @@ def test_device_rounding_is_guarded_near_the_boundary():
             pole = 0.0 if vf is None else vf[1]
             r = ref_radius(delta, alpha, beta, delay=delay, pole=pole)
         assert r < 1, (delay, lo, r)
+
+
+def test_device_k_max_never_above_the_exact_inputs_limit():
+    """Random plants and loops: K_max from real units, normalized exactly (mpmath): just
+    below it every root is inside, a little above one is not (the limit is also tight)."""
+    rng = np.random.default_rng(11)
+    checked = 0
+    for _ in range(12):
+        m = float(10 ** rng.uniform(-2, 0))
+        T = float(10 ** rng.uniform(-4, -2))
+        b = float(10 ** rng.uniform(-1, 0.5)) * m / T * 0.5
+        B = float(rng.uniform(0.0, 0.8)) * m / T
+        delay = int(rng.integers(1, 3))
+        cutoff = float(rng.uniform(0.05, 0.4) / T)
+        dev = zwidth.Device(m, b, T, delay=delay, velocity_filter=("lowpass", cutoff))
+        K = float(dev.k_max(B))
+        if K == 0.0:
+            continue
+        checked += 1
+        with mp.workdps(DPS):
+            delta = mp.mpf(b) * mp.mpf(T) / mp.mpf(m)
+            beta = mp.mpf(B) * mp.mpf(T) / mp.mpf(m)
+            alpha = mp.mpf(K) * mp.mpf(T) ** 2 / mp.mpf(m)
+            pole = float(dev.filter_pole)
+            assert ref_radius(delta, alpha * (1 - mp.mpf("1e-12")), beta, delay=delay, pole=pole) < 1
+            assert ref_radius(delta, alpha * mp.mpf("0.5"), beta, delay=delay, pole=pole) < 1
+            assert ref_radius(delta, alpha * (1 + mp.mpf("1e-4")), beta, delay=delay, pole=pole) > 1 - mp.mpf("1e-6")
+    assert checked >= 8
