@@ -986,8 +986,9 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
         else:
             lines.append(f"  {s.label:<{width}}  {v.outcome:<10} {_growth(v):>13}  {_fmt(s.x[-1]):>16}")
     if scene.linear and not scene.ideal and sims and sims[0].device is not None:
-        lines.append(f"  loop analysed: {sims[0].device.loop.describe()} (the simulator's own filter pole); "
-                         f"'ideal loop' is what zwidth check says without the loop options")
+        from .sim import loop_words
+        lines.append(f"  loop analysed: {loop_words(sims[0].params, sims[0].device)}; 'ideal loop' is what "
+                     f"zwidth check says without the loop options")
     for s in sims:
         if s.verdict.outcome != "stable" or not scene.linear:
             lines += textwrap.wrap(f"{s.label}: {s.verdict.reason}", 92, initial_indent="  ",

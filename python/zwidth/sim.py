@@ -86,6 +86,15 @@ def analysis_device(params: Mapping[str, Any], rotary: bool, filter_pole: float)
     return Device(params["m"], params["b"], params["T"], rotary=rotary, delay=delay, velocity_filter=vf)
 
 
+def loop_words(params: Mapping[str, Any], dev: Device) -> str:
+    """The simulated loop in words, its low-pass by the scene's cut-off (and the pole used)."""
+    text = dev.loop.describe()
+    if dev.loop.filter == "lowpass" and "cutoff_hz" in params:
+        text = text.replace(f"low-pass pole {float(dev.loop.pole):g}",
+                            f"low-pass {float(params['cutoff_hz']):g} Hz, pole {float(dev.loop.pole):.6g}")
+    return text
+
+
 # Work per Simulator.run call when reporting progress (about 0.1 s; see work()).
 _CHUNK_WORK = 30_000_000
 
@@ -354,16 +363,15 @@ def _run_case(case: Case, scene: Scene, bar: Any) -> Simulation:
         if verdict.outcome != "undecided":
             agrees = verdict.stable == bool(analytic.stable)
         if not dev.loop.ideal:
+            words = loop_words(params, dev)
             ideal_verdict = dev.ideal().verdict(params["K"], params["B"])
             assert isinstance(ideal_verdict, Verdict)
             ideal = ideal_verdict
             if bool(ideal.stable) and not bool(analytic.stable):
                 note = (f"the paper's ideal loop (zwidth check without the loop options) is stable at these "
-                        f"gains, but this loop ({dev.loop.describe()}) is {analytic.word}: "
-                        f"{analytic.deciding_name}")
+                        f"gains, but this loop ({words}) is {analytic.word}: {analytic.deciding_name}")
             elif not bool(ideal.stable) and bool(analytic.stable):
-                note = (f"the paper's ideal loop is not stable at these gains; this loop "
-                        f"({dev.loop.describe()}) is stable")
+                note = f"the paper's ideal loop is not stable at these gains; this loop ({words}) is stable"
     elif int(params["effects"]) & _LINEAR_BITS and not int(params["effects"]) & ~_LINEAR_BITS:
         note = (f"no analytic verdict: a delay of {int(params.get('delay_samples', 0))} samples is beyond the "
                 f"{MAX_DELAY} the loop analysis covers")
