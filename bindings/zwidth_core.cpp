@@ -13,14 +13,18 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <string>
 #include <thread>
 #include <vector>
 
 extern "C" {
+#include "zwidth/loop.h"
+#include "zwidth/loop_limits.h"
 #include "zwidth/zwidth.h"
 }
 
@@ -598,6 +602,494 @@ py::dict device_influence(f64array m, f64array b, f64array T) {
     return r.finish(errors);
 }
 
+
+// No plant: for kernels whose inputs are all per-element arguments.
+struct NoPlant {
+    using plant_type = void;
+    template <std::size_t N>
+    zw_status get(const std::array<double, N> &, const void **out) {
+        *out = nullptr;
+        return ZW_OK;
+    }
+};
+
+// ---- the general loop (loop.h): delay, velocity filter, differentiator ----------------
+//
+// The loop's kind (delay, differentiator, filter kind, average length) is one per call;
+// the filter's parameter broadcasts like a plant parameter: the pole a in the normalized
+// space, the cut-off f_c [Hz] in real units (a = zw_loop_lowpass_pole(f_c, T) per
+// element).  A zw_loop is built once per (delta, a) or (m, b, T, f_c) and reused.
+
+struct LoopKind {
+    unsigned delay;
+    zw_differentiator differentiator;
+    zw_velocity_filter filter;
+    unsigned average;
+    bool pole_given = false;  // devices: the filter input is the pole a, not the cut-off f_c
+};
+
+// Range checks are the C core's (ZW_ERR_DELAY, ZW_ERR_FILTER per element); here only
+// what cannot be represented in the enums.
+LoopKind loop_kind(long delay, int differentiator, int filter, long average) {
+    if (differentiator != ZW_DIFF_BACKWARD && differentiator != ZW_DIFF_TUSTIN)
+        throw py::value_error("unknown differentiator " + std::to_string(differentiator));
+    if (filter != ZW_VFILTER_NONE && filter != ZW_VFILTER_LOWPASS && filter != ZW_VFILTER_AVERAGE)
+        throw py::value_error("unknown velocity filter " + std::to_string(filter));
+    LoopKind k;
+    // Negative or huge values become a value zw_loop_init refuses (ZW_ERR_DELAY / FILTER).
+    k.delay = delay < 0 || delay > 1000 ? 1000u : static_cast<unsigned>(delay);
+    k.average = average < 0 || average > 1000 ? 1000u : static_cast<unsigned>(average);
+    k.differentiator = static_cast<zw_differentiator>(differentiator);
+    k.filter = static_cast<zw_velocity_filter>(filter);
+    return k;
+}
+
+zw_loop_spec loop_spec(const LoopKind &k, double pole) {
+    zw_loop_spec s{};
+    s.delay = k.delay;
+    s.differentiator = k.differentiator;
+    s.filter = k.filter;
+    s.filter_pole = k.filter == ZW_VFILTER_LOWPASS ? pole : 0.0;
+    s.average = k.filter == ZW_VFILTER_AVERAGE ? k.average : 0u;
+    return s;
+}
+
+// The loop of one (delta, pole) element.
+class NormalizedLoopCache {
+  public:
+    using plant_type = zw_loop;
+    explicit NormalizedLoopCache(const LoopKind &kind) : kind_(kind) {}
+
+    template <std::size_t N>
+    zw_status get(const std::array<double, N> &x, const zw_loop **out) {
+        if (!valid_ || std::memcmp(key_.data(), x.data(), sizeof key_) != 0) {
+            std::memcpy(key_.data(), x.data(), sizeof key_);
+            valid_ = true;
+            zw_coeffs c;
+            const zw_loop_spec spec = loop_spec(kind_, key_[1]);
+            status_ = zw_coeffs_init(&c, key_[0]);
+            if (status_ == ZW_OK && kind_.filter == ZW_VFILTER_LOWPASS && std::isnan(key_[1])) status_ = ZW_ERR_NAN;
+            if (status_ == ZW_OK) status_ = zw_loop_init(&loop_, &c, &spec);
+        }
+        *out = &loop_;
+        return status_;
+    }
+
+  private:
+    LoopKind kind_;
+    bool valid_ = false;
+    std::array<double, 2> key_{};
+    zw_status status_ = ZW_OK;
+    zw_loop loop_{};
+};
+
+// The loop of one (m, b, T, f_c) element, with the rounding of K / (m/T^2) and B / (m/T)
+// carried into the loop's error bounds: alpha Na is computed from alpha(1 + e_a), which is
+// (alpha)(Na(1 + e_a)), so widening each |Na| bound by |Na| e_a makes the loop's guard cover
+// it (and Nb likewise for beta; also their bilinear images Nas, Nbs, which the Routh test
+// reads).  This relies on every verdict reading the gains only through these parts with
+// their bounds (loop.h: "each coefficient with a bound on its absolute error"); a
+// zw_loop_check taking gain error bounds would make it explicit (asked of loop-core).  delta's rounding is in the device's coefficients
+// (delta_relerr), which zw_loop_init reads.
+class DeviceLoopCache {
+  public:
+    struct Plant {
+        zw_device dev;
+        zw_loop loop;
+    };
+    using plant_type = Plant;
+    explicit DeviceLoopCache(const LoopKind &kind) : kind_(kind) {}
+
+    template <std::size_t N>
+    zw_status get(const std::array<double, N> &x, const Plant **out) {
+        if (!valid_ || std::memcmp(key_.data(), x.data(), sizeof key_) != 0) {
+            std::memcpy(key_.data(), x.data(), sizeof key_);
+            valid_ = true;
+            status_ = build();
+        }
+        *out = &plant_;
+        return status_;
+    }
+
+  private:
+    zw_status build() {
+        zw_status s = zw_device_init(&plant_.dev, key_[0], key_[1], key_[2]);
+        double pole = 0.0;
+        if (s == ZW_OK && kind_.filter == ZW_VFILTER_LOWPASS) {
+            if (!kind_.pole_given) s = zw_loop_lowpass_pole(key_[3], key_[2], &pole);
+            else if (std::isnan(key_[3])) s = ZW_ERR_NAN;
+            else pole = key_[3];  // zw_loop_init checks 0 <= a < 1
+        }
+        if (s != ZW_OK) return s;
+        const zw_loop_spec spec = loop_spec(kind_, pole);
+        s = zw_loop_init(&plant_.loop, &plant_.dev.co, &spec);
+        if (s != ZW_OK) return s;
+        // device.c normalizes with relative errors 4u (alpha) and 3u (beta); 8u and 6u
+        // cover them and the rounding of these products with room to spare.
+        constexpr double u = std::numeric_limits<double>::epsilon() / 2;
+        zw_loop &l = plant_.loop;
+        for (unsigned i = 0; i <= l.degree; ++i) {  // the z parts and their bilinear images
+            l.Na_err[i] += std::fabs(l.Na[i]) * (8 * u);
+            l.Nb_err[i] += std::fabs(l.Nb[i]) * (6 * u);
+            l.Nas_err[i] += std::fabs(l.Nas[i]) * (8 * u);
+            l.Nbs_err[i] += std::fabs(l.Nbs[i]) * (6 * u);
+        }
+        return ZW_OK;
+    }
+
+    LoopKind kind_;
+    bool valid_ = false;
+    std::array<double, 4> key_{};
+    zw_status status_ = ZW_OK;
+    Plant plant_{};
+};
+
+const zw_loop *loop_of(const zw_loop *l) { return l; }
+const zw_loop *loop_of(const DeviceLoopCache::Plant *p) { return &p->loop; }
+
+// Gains of an element: (alpha, beta) as given, or normalized from (K, B) by the device.
+zw_status gains_of(const zw_loop *, double a, double b, double *alpha, double *beta) {
+    *alpha = a;
+    *beta = b;
+    return ZW_OK;
+}
+zw_status gains_of(const DeviceLoopCache::Plant *p, double K, double B, double *alpha, double *beta) {
+    return zw_device_normalize(&p->dev, K, B, alpha, beta);
+}
+
+// Inputs: 2 plant keys (delta, pole) or 4 (m, b, T, f_c), then the two gains, then extras.
+template <class Cache, std::size_t Keys, std::size_t N, class Fn, class Setup>
+py::dict loop_kernel(const std::array<f64array, N> &inputs, const LoopKind &kind, Fn fn, Setup setup) {
+    Broadcast<N> bc(inputs);
+    Result r(bc);
+    setup(r, bc);
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = Cache(kind)](ssize i, const std::array<double, N> &x) mutable {
+            const typename Cache::plant_type *p;
+            zw_status s = cache.get(x, &p);
+            double alpha = 0.0, beta = 0.0;
+            if (s == ZW_OK) s = gains_of(p, x[Keys], x[Keys + 1], &alpha, &beta);
+            return s != ZW_OK ? s : fn(loop_of(p), i, alpha, beta, x);
+        };
+    });
+    return r.finish(errors);
+}
+
+struct LoopVerdictOut {
+    bool *stable = nullptr, *marginal = nullptr;
+    uint8_t *boundary = nullptr;
+    double *theta = nullptr;
+};
+
+template <class Cache, std::size_t Keys>
+py::dict loop_check_kernel(const std::array<f64array, Keys + 2> &inputs, const LoopKind &kind, bool full) {
+    constexpr std::size_t N = Keys + 2;
+    LoopVerdictOut out;
+    return loop_kernel<Cache, Keys, N>(inputs, kind,
+        [&out](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &) {
+            zw_loop_verdict v;
+            const zw_status s = zw_loop_check(l, alpha, beta, &v);
+            if (s != ZW_OK) return s;
+            out.stable[i] = v.stable;
+            if (out.marginal) {
+                out.marginal[i] = v.marginal;
+                out.boundary[i] = static_cast<uint8_t>(v.deciding);
+                out.theta[i] = v.theta;
+            }
+            return s;
+        },
+        [&out, full](Result &r, const Broadcast<N> &bc) {
+            out.stable = r.add<bool>(bc, "stable");
+            if (!full) return;
+            out.marginal = r.add<bool>(bc, "marginal");
+            out.boundary = r.add<uint8_t>(bc, "boundary");
+            out.theta = r.add<double>(bc, "theta");
+        });
+}
+
+template <class Cache, std::size_t Keys>
+py::dict loop_radius_kernel(const std::array<f64array, Keys + 2> &inputs, const LoopKind &kind) {
+    constexpr std::size_t N = Keys + 2;
+    double *rho = nullptr, *theta = nullptr;
+    return loop_kernel<Cache, Keys, N>(inputs, kind,
+        [&](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &) {
+            return zw_loop_spectral_radius(l, alpha, beta, &rho[i], &theta[i]);
+        },
+        [&](Result &r, const Broadcast<N> &bc) {
+            rho = r.add<double>(bc, "rho");
+            theta = r.add<double>(bc, "theta");
+        });
+}
+
+template <class Cache, std::size_t Keys>
+py::dict loop_within_kernel(const std::array<f64array, Keys + 3> &inputs, const LoopKind &kind) {
+    constexpr std::size_t N = Keys + 3;
+    bool *within = nullptr;
+    return loop_kernel<Cache, Keys, N>(inputs, kind,
+        [&](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &x) {
+            return zw_loop_radius_within(l, alpha, beta, x[Keys + 2], &within[i]);
+        },
+        [&](Result &r, const Broadcast<N> &bc) { within = r.add<bool>(bc, "within"); });
+}
+
+// p(z) right-aligned in ZW_LOOP_MAX_DEGREE + 1 entries (leading zeros above the degree),
+// so every element has the same layout; "degree" per element.
+template <class Cache, std::size_t Keys>
+py::dict loop_poly_kernel(const std::array<f64array, Keys + 2> &inputs, const LoopKind &kind) {
+    constexpr std::size_t N = Keys + 2;
+    constexpr ssize width = ZW_LOOP_MAX_DEGREE + 1;
+    double *coef = nullptr;
+    uint8_t *degree = nullptr;
+    return loop_kernel<Cache, Keys, N>(inputs, kind,
+        [&](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &) {
+            double p[ZW_LOOP_MAX_DEGREE + 1u];
+            unsigned deg = 0;
+            const zw_status s = zw_loop_poly(l, alpha, beta, p, &deg);
+            if (s != ZW_OK) return s;
+            double *row = coef + width * i;
+            std::fill(row, row + width, 0.0);
+            std::copy(p, p + deg + 1, row + (width - 1 - static_cast<ssize>(deg)));
+            degree[i] = static_cast<uint8_t>(deg);
+            return s;
+        },
+        [&](Result &r, const Broadcast<N> &bc) {
+            coef = r.add<double>(bc, "coefficients", {width});
+            degree = r.add<uint8_t>(bc, "degree");
+        });
+}
+
+using NLC = NormalizedLoopCache;
+using DLC = DeviceLoopCache;
+
+py::dict loop_check(f64array delta, f64array pole, f64array alpha, f64array beta, long delay, int diff, int filter,
+                    long average, bool full) {
+    return loop_check_kernel<NLC, 2>({delta, pole, alpha, beta}, loop_kind(delay, diff, filter, average), full);
+}
+py::dict loop_spectral_radius(f64array delta, f64array pole, f64array alpha, f64array beta, long delay, int diff,
+                              int filter, long average) {
+    return loop_radius_kernel<NLC, 2>({delta, pole, alpha, beta}, loop_kind(delay, diff, filter, average));
+}
+py::dict loop_radius_within(f64array delta, f64array pole, f64array alpha, f64array beta, f64array radius,
+                            long delay, int diff, int filter, long average) {
+    return loop_within_kernel<NLC, 2>({delta, pole, alpha, beta, radius}, loop_kind(delay, diff, filter, average));
+}
+py::dict loop_poly(f64array delta, f64array pole, f64array alpha, f64array beta, long delay, int diff, int filter,
+                   long average) {
+    return loop_poly_kernel<NLC, 2>({delta, pole, alpha, beta}, loop_kind(delay, diff, filter, average));
+}
+LoopKind device_kind(long delay, int diff, int filter, long average, bool pole_given) {
+    LoopKind k = loop_kind(delay, diff, filter, average);
+    k.pole_given = pole_given;
+    return k;
+}
+
+py::dict device_loop_check(f64array m, f64array b, f64array T, f64array cutoff, f64array K, f64array B, long delay,
+                           int diff, int filter, long average, bool pole_given, bool full) {
+    return loop_check_kernel<DLC, 4>({m, b, T, cutoff, K, B}, device_kind(delay, diff, filter, average, pole_given),
+                                     full);
+}
+py::dict device_loop_spectral_radius(f64array m, f64array b, f64array T, f64array cutoff, f64array K, f64array B,
+                                     long delay, int diff, int filter, long average, bool pole_given) {
+    return loop_radius_kernel<DLC, 4>({m, b, T, cutoff, K, B}, device_kind(delay, diff, filter, average, pole_given));
+}
+py::dict device_loop_radius_within(f64array m, f64array b, f64array T, f64array cutoff, f64array K, f64array B,
+                                   f64array radius, long delay, int diff, int filter, long average, bool pole_given) {
+    return loop_within_kernel<DLC, 4>({m, b, T, cutoff, K, B, radius},
+                                      device_kind(delay, diff, filter, average, pole_given));
+}
+
+py::dict loop_lowpass_pole(f64array cutoff, f64array T) {
+    return one_output<double, NoPlant, 2>({cutoff, T}, "pole",
+        [](const void *, const std::array<double, 2> &x, double *a) { return zw_loop_lowpass_pole(x[0], x[1], a); });
+}
+
+
+// ---- limits of the general loop (loop_limits.h) --------------------------------------
+//
+// Device limits: the loop of DeviceLoopCache (gain rounding in its error bounds) gives the
+// normalized limit, which is converted and pulled inward by kInward (relative) so that the
+// rounding of B / (m/T) and of the scaling back cannot lift it above the true one; alpha_max
+// is also taken at beta (1 -+ 4u), B's rounding, and the smallest kept.
+constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
+constexpr double kInward = 16 * kU;
+
+// An upper limit pulled down, a lower one pulled up, by kInward of its size.
+double upper_inward(double x) { return x - std::fabs(x) * kInward; }
+double lower_inward(double x) { return x + std::fabs(x) * kInward; }
+
+zw_status alpha_max_guarded(const zw_loop *l, double beta, bool rounded_beta, double *out) {
+    double a = 0.0;
+    zw_status s = zw_loop_alpha_max(l, beta, &a);
+    if (s != ZW_OK || !rounded_beta) {
+        *out = a;
+        return s;
+    }
+    for (double f : {1 - 4 * kU, 1 + 4 * kU}) {
+        double b = 0.0;
+        s = zw_loop_alpha_max(l, beta * f, &b);
+        if (s != ZW_OK) return s;
+        a = std::min(a, b);
+    }
+    *out = a;
+    return ZW_OK;
+}
+
+py::dict loop_alpha_max(f64array delta, f64array pole, f64array beta, long delay, int diff, int filter, long average) {
+    const LoopKind kind = loop_kind(delay, diff, filter, average);
+    Broadcast<3> bc({delta, pole, beta});
+    Result r(bc);
+    double *out = r.add<double>(bc, "alpha_max");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = NLC(kind)](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_loop *l;
+            const zw_status s = cache.get(x, &l);
+            return s != ZW_OK ? s : zw_loop_alpha_max(l, x[2], &out[i]);
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict loop_beta_interval(f64array delta, f64array pole, f64array alpha, long delay, int diff, int filter,
+                            long average) {
+    const LoopKind kind = loop_kind(delay, diff, filter, average);
+    Broadcast<3> bc({delta, pole, alpha});
+    Result r(bc);
+    double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
+    bool *nonempty = r.add<bool>(bc, "nonempty");
+    uint8_t *count = r.add<uint8_t>(bc, "count");
+    bool *truncated = r.add<bool>(bc, "truncated");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = NLC(kind)](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_loop *l;
+            zw_status s = cache.get(x, &l);
+            zw_loop_beta_set set;
+            if (s == ZW_OK) s = zw_loop_beta_intervals(l, x[2], &set);
+            if (s == ZW_OK) s = zw_loop_beta_interval(l, x[2], &lo[i], &hi[i], &nonempty[i]);
+            if (s == ZW_OK) count[i] = static_cast<uint8_t>(set.count), truncated[i] = set.truncated;
+            return s;
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict loop_extremes(f64array delta, f64array pole, long delay, int diff, int filter, long average) {
+    const LoopKind kind = loop_kind(delay, diff, filter, average);
+    Broadcast<2> bc({delta, pole});
+    Result r(bc);
+    double *amax = r.add<double>(bc, "alpha_mmax"), *bat = r.add<double>(bc, "beta_at_alpha_mmax");
+    double *apmax = r.add<double>(bc, "alpha_p_max"), *bmax = r.add<double>(bc, "beta_mmax");
+    double *bmin = r.add<double>(bc, "beta_mmin");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = NLC(kind)](ssize i, const std::array<double, 2> &x) mutable {
+            const zw_loop *l;
+            zw_status s = cache.get(x, &l);
+            zw_loop_extremes ex;
+            if (s == ZW_OK) s = zw_loop_extremes_compute(l, &ex);
+            if (s == ZW_OK)
+                amax[i] = ex.alpha_mmax, bat[i] = ex.beta_at_alpha_mmax, apmax[i] = ex.alpha_p_max,
+                bmax[i] = ex.beta_mmax, bmin[i] = ex.beta_mmin;
+            return s;
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict loop_boundary_point(f64array delta, f64array pole, f64array theta, long delay, int diff, int filter,
+                             long average) {
+    const LoopKind kind = loop_kind(delay, diff, filter, average);
+    Broadcast<3> bc({delta, pole, theta});
+    Result r(bc);
+    double *alpha = r.add<double>(bc, "alpha"), *beta = r.add<double>(bc, "beta");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = NLC(kind)](ssize i, const std::array<double, 3> &x) mutable {
+            const zw_loop *l;
+            const zw_status s = cache.get(x, &l);
+            return s != ZW_OK ? s : zw_loop_boundary_point(l, x[2], &alpha[i], &beta[i]);
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict device_loop_k_max(f64array m, f64array b, f64array T, f64array cutoff, f64array B, long delay, int diff,
+                           int filter, long average, bool pole_given) {
+    const LoopKind kind = device_kind(delay, diff, filter, average, pole_given);
+    Broadcast<5> bc({m, b, T, cutoff, B});
+    Result r(bc);
+    double *out = r.add<double>(bc, "K_max");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DLC(kind)](ssize i, const std::array<double, 5> &x) mutable {
+            const DLC::Plant *p;
+            zw_status s = cache.get(x, &p);
+            double alpha = 0.0, beta = 0.0, amax = 0.0;
+            if (s == ZW_OK) s = zw_device_normalize(&p->dev, 0.0, x[4], &alpha, &beta);
+            if (s == ZW_OK) s = alpha_max_guarded(&p->loop, beta, true, &amax);
+            if (s != ZW_OK) return s;
+            const double K = upper_inward(amax * p->dev.k_scale);
+            if (!std::isfinite(K)) return ZW_ERR_RANGE;
+            out[i] = K;
+            return s;
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict device_loop_b_range(f64array m, f64array b, f64array T, f64array cutoff, f64array K, long delay, int diff,
+                             int filter, long average, bool pole_given) {
+    const LoopKind kind = device_kind(delay, diff, filter, average, pole_given);
+    Broadcast<5> bc({m, b, T, cutoff, K});
+    Result r(bc);
+    double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
+    bool *nonempty = r.add<bool>(bc, "nonempty");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DLC(kind)](ssize i, const std::array<double, 5> &x) mutable {
+            const DLC::Plant *p;
+            zw_status s = cache.get(x, &p);
+            double alpha = 0.0, beta = 0.0, l = 0.0, h = 0.0;
+            bool ok = false;
+            if (s == ZW_OK) s = zw_device_normalize(&p->dev, x[4], 0.0, &alpha, &beta);
+            if (s == ZW_OK) s = zw_loop_beta_interval(&p->loop, alpha, &l, &h, &ok);
+            if (s != ZW_OK) return s;
+            // B = beta m/T, pulled inward: lo up, hi down (each by kInward of its size)
+            double Bl = l * p->dev.b_scale, Bh = h * p->dev.b_scale;
+            Bl = lower_inward(Bl);
+            Bh = upper_inward(Bh);
+            if (!std::isfinite(Bl) || !std::isfinite(Bh)) return ZW_ERR_RANGE;
+            ok = ok && Bl < Bh;
+            lo[i] = ok ? Bl : 0.0, hi[i] = ok ? Bh : 0.0, nonempty[i] = ok;
+            return s;
+        };
+    });
+    return r.finish(errors);
+}
+
+py::dict device_loop_extremes(f64array m, f64array b, f64array T, f64array cutoff, long delay, int diff, int filter,
+                              long average, bool pole_given) {
+    const LoopKind kind = device_kind(delay, diff, filter, average, pole_given);
+    Broadcast<4> bc({m, b, T, cutoff});
+    Result r(bc);
+    double *K_mmax = r.add<double>(bc, "K_mmax"), *B_at = r.add<double>(bc, "B_at_K_mmax");
+    double *K_p_max = r.add<double>(bc, "K_p_max"), *B_mmax = r.add<double>(bc, "B_mmax");
+    double *B_mmin = r.add<double>(bc, "B_mmin");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&, cache = DLC(kind)](ssize i, const std::array<double, 4> &x) mutable {
+            const DLC::Plant *p;
+            zw_status s = cache.get(x, &p);
+            zw_loop_extremes ex;
+            if (s == ZW_OK) s = zw_loop_extremes_compute(&p->loop, &ex);
+            if (s != ZW_OK) return s;
+            const double ks = p->dev.k_scale, bs = p->dev.b_scale;
+            const double v[] = {upper_inward(ex.alpha_mmax * ks), ex.beta_at_alpha_mmax * bs,
+                                upper_inward(ex.alpha_p_max * ks), upper_inward(ex.beta_mmax * bs),
+                                lower_inward(ex.beta_mmin * bs)};
+            for (double y : v)
+                if (!std::isfinite(y)) return ZW_ERR_RANGE;
+            K_mmax[i] = v[0], B_at[i] = v[1], K_p_max[i] = v[2], B_mmax[i] = v[3], B_mmin[i] = v[4];
+            return s;
+        };
+    });
+    return r.finish(errors);
+}
+
 }  // namespace
 
 void zw_register_sim(py::module_ &mod);  // zwidth_sim.cpp: Simulator, sim_judge, SIM_EFFECTS
@@ -665,5 +1157,52 @@ PYBIND11_MODULE(_core, mod) {
     mod.def("device_k_max", &device_k_max, m, b, T, B, "zw_device_k_max per element.");
     mod.def("device_b_range", &device_b_range, m, b, T, K, "zw_device_b_range per element.");
     mod.def("device_influence", &device_influence, m, b, T, "zw_device_influence per element.");
+    py::dict boundaries;
+    boundaries["none"] = int{ZW_LOOP_BOUNDARY_NONE};
+    boundaries["z=1"] = int{ZW_LOOP_BOUNDARY_Z_PLUS1};
+    boundaries["z=-1"] = int{ZW_LOOP_BOUNDARY_Z_MINUS1};
+    boundaries["complex"] = int{ZW_LOOP_BOUNDARY_COMPLEX};
+    mod.attr("LOOP_BOUNDARIES") = boundaries;
+    py::dict differentiators;
+    differentiators["backward"] = int{ZW_DIFF_BACKWARD};
+    differentiators["tustin"] = int{ZW_DIFF_TUSTIN};
+    mod.attr("LOOP_DIFFERENTIATORS") = differentiators;
+    py::dict filters;
+    filters["none"] = int{ZW_VFILTER_NONE};
+    filters["lowpass"] = int{ZW_VFILTER_LOWPASS};
+    filters["average"] = int{ZW_VFILTER_AVERAGE};
+    mod.attr("LOOP_FILTERS") = filters;
+    mod.attr("LOOP_MAX_DELAY") = int{ZW_LOOP_MAX_DELAY};
+    mod.attr("LOOP_MAX_AVERAGE") = int{ZW_LOOP_MAX_AVERAGE};
+    mod.attr("LOOP_MAX_DEGREE") = int{ZW_LOOP_MAX_DEGREE};
+    const auto pole = py::arg("pole"), fc = py::arg("cutoff"), dl = py::arg("delay"), df = py::arg("differentiator"),
+               fl = py::arg("filter"), av = py::arg("average");
+    mod.def("loop_check", &loop_check, d, pole, a, be, dl, df, fl, av, py::arg("full"), "zw_loop_check per element.");
+    mod.def("loop_spectral_radius", &loop_spectral_radius, d, pole, a, be, dl, df, fl, av,
+            "zw_loop_spectral_radius per element (rho, theta).");
+    mod.def("loop_radius_within", &loop_radius_within, d, pole, a, be, py::arg("radius"), dl, df, fl, av,
+            "zw_loop_radius_within per element.");
+    mod.def("loop_poly", &loop_poly, d, pole, a, be, dl, df, fl, av,
+            "zw_loop_poly per element (right-aligned in LOOP_MAX_DEGREE + 1 entries, and the degree).");
+    const auto pg = py::arg("pole_given");
+    mod.def("device_loop_check", &device_loop_check, m, b, T, fc, K, B, dl, df, fl, av, pg, py::arg("full"),
+            "zw_loop_check of the device's loop per element (gain rounding in the guard).");
+    mod.def("device_loop_spectral_radius", &device_loop_spectral_radius, m, b, T, fc, K, B, dl, df, fl, av, pg,
+            "zw_loop_spectral_radius of the device's loop per element.");
+    mod.def("device_loop_radius_within", &device_loop_radius_within, m, b, T, fc, K, B, py::arg("radius"), dl, df, fl,
+            av, pg, "zw_loop_radius_within of the device's loop per element.");
+    mod.def("loop_lowpass_pole", &loop_lowpass_pole, py::arg("cutoff"), T, "zw_loop_lowpass_pole per element.");
+    mod.def("loop_alpha_max", &loop_alpha_max, d, pole, be, dl, df, fl, av, "zw_loop_alpha_max per element.");
+    mod.def("loop_beta_interval", &loop_beta_interval, d, pole, a, dl, df, fl, av,
+            "zw_loop_beta_interval (the widest) and the count of zw_loop_beta_intervals per element.");
+    mod.def("loop_extremes", &loop_extremes, d, pole, dl, df, fl, av, "zw_loop_extremes_compute per element.");
+    mod.def("loop_boundary_point", &loop_boundary_point, d, pole, py::arg("theta"), dl, df, fl, av,
+            "zw_loop_boundary_point per element.");
+    mod.def("device_loop_k_max", &device_loop_k_max, m, b, T, fc, B, dl, df, fl, av, pg,
+            "K_max of the device's loop per element (certified, pulled inward for the conversions).");
+    mod.def("device_loop_b_range", &device_loop_b_range, m, b, T, fc, K, dl, df, fl, av, pg,
+            "the widest stable B interval of the device's loop per element.");
+    mod.def("device_loop_extremes", &device_loop_extremes, m, b, T, fc, dl, df, fl, av, pg,
+            "zw_loop_extremes_compute of the device's loop, real units, per element.");
     zw_register_sim(mod);
 }

@@ -165,6 +165,10 @@ class Simulator {
 
     py::dict scene() const { return scene_dict_.attr("copy")(); }
 
+    // The low-pass pole the run uses (sim.c: exp(-2 pi f_c T)), 0 without the filter: the
+    // analytic verdict of a linear scene must be that of the loop actually simulated.
+    double filter_pole() const { return static_cast<double>(sim_.filter_a); }
+
     std::string repr() const {
         char buf[160];
         std::snprintf(buf, sizeof buf, "<zwidth._core.Simulator k=%zu effects=0x%x T=%.6g>", sim_.k,
@@ -270,6 +274,8 @@ void zw_register_sim(py::module_ &mod) {
              "Advance `samples` samples; returns {signal: float64 array} (zw_sim_trace fields).")
         .def_property_readonly("k", &Simulator::k, "Samples simulated so far.")
         .def_property_readonly("scene", &Simulator::scene, "The scene dict given (a copy).")
+        .def_property_readonly("filter_pole", &Simulator::filter_pole,
+                               "The velocity low-pass pole a of the run (0 without the filter).")
         .def("__repr__", &Simulator::repr);
 
     mod.def("sim_judge", &sim_judge, py::arg("x"), py::arg("window"), py::arg("windows"), py::arg("tolerance"),

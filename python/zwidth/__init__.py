@@ -12,6 +12,9 @@ Normalized space (delta = b T/m, alpha = K T^2/m, beta = B T/m):
 Real units:
     Device(m, b, T) / Device.rotary(J, b, T) with is_stable, verdict, margin,
     spectral_radius, radius_within, k_max, b_range, extremes, influence, normalize
+The loop a real drive runs (delay, velocity filter, Tustin differentiator; zwidth.loop):
+    check(..., delay=1, filter_pole=a), Device(..., delay=1, velocity_filter=("lowpass", 30.0)),
+    LoopVerdict (the deciding boundary: z=1, z=-1 or a complex pair at X Hz), loop_poly
 Simulation (time domain, paper Fig. 13; scenes as TOML files, docs/scenes.md):
     load_scene -> Scene, simulate -> SimulationSet of Simulation (numpy arrays, SimVerdict,
     the analytic verdict for linear scenes), SceneError
@@ -24,12 +27,13 @@ from typing import Dict
 
 from . import _core
 from ._kernels import STATUS_NAMES, ZwidthError
-from .device import Device
+from .device import Device, LoopNotSupported
+from .loop import Loop
 from .normalized import (alpha_max, beta_interval, char_poly, check, coefficients,
-                         coefficients_literal, corner, extremes, hyperbola_top, radius_within,
-                         spectral_radius, verdict)
-from .results import (BoundaryPoint, Coefficients, DeviceExtremes, Extremes, Influence, Interval,
-                      Normalized, Verdict)
+                         coefficients_literal, corner, extremes, hyperbola_top, loop_boundary, loop_poly,
+                         radius_within, spectral_radius, verdict)
+from .results import (BoundaryPoint, Coefficients, DeviceExtremes, DeviceLoopExtremes, Extremes, Influence,
+                      Interval, LoopExtremes, LoopInfluence, LoopVerdict, Normalized, Verdict)
 from .scene import Scene, SceneError, load_scene
 from .sim import Simulation, SimulationSet, SimVerdict, simulate
 
@@ -47,12 +51,16 @@ DELTA_BB: float = CONSTANTS["DELTA_BB"]    #: local min of beta_mmax
 DELTA_KM: float = CONSTANTS["DELTA_KM"]    #: below delta_K1, where alpha_mmax/delta regains its local max
 #: Constraint bits of Verdict.deciding / Verdict.violated ('damping', 'stiffness', ...).
 BOUNDS: Dict[str, int] = dict(_core.BOUNDS)
+#: Deciding boundaries of a LoopVerdict ('none', 'z=1', 'z=-1', 'complex').
+LOOP_BOUNDARIES: Dict[str, int] = dict(_core.LOOP_BOUNDARIES)
 #: Region names accepted by check(..., region=...).
 REGIONS = tuple(_core.REGIONS)
 
 __all__ = [
     "__version__", "ZwidthError", "STATUS_NAMES", "CONSTANTS", "BOUNDS", "REGIONS",
     "DELTA0", "DELTA1", "DELTA2", "DELTA_K1", "DELTA_K2", "DELTA_B", "DELTA_BB", "DELTA_KM",
+    "LOOP_BOUNDARIES", "Loop", "LoopVerdict", "LoopNotSupported", "loop_poly", "loop_boundary",
+    "LoopExtremes", "DeviceLoopExtremes", "LoopInfluence",
     "check", "verdict", "spectral_radius", "radius_within", "char_poly", "coefficients",
     "coefficients_literal", "extremes", "hyperbola_top", "corner", "alpha_max", "beta_interval",
     "Device", "Verdict", "Coefficients", "Extremes", "BoundaryPoint", "Interval", "Normalized",

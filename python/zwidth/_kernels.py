@@ -69,6 +69,14 @@ def _describe(function: str, status: str, names: Sequence[str], values: Sequence
     elif status == "ZW_ERR_INF":
         parameter = next((n for n, v in given.items() if np.isinf(v)), None)
         what = f"{parameter} must be finite, got {given.get(parameter or '', float('inf'))!r}"
+    elif status == "ZW_ERR_FILTER" and "filter_pole" in given:
+        parameter = "filter_pole"
+        what = f"filter_pole must be in [0, 1), got {given['filter_pole']!r}"
+    elif status == "ZW_ERR_FILTER" and "cutoff" in given:
+        parameter = "velocity_filter"
+        f_c, T = given["cutoff"], given.get("T", float("nan"))
+        what = (f"the low-pass cut-off must be > 0 and below the Nyquist frequency 1/(2T) = "
+                f"{0.5 / T:.6g} Hz, got {f_c!r} Hz")
     elif status == "ZW_ERR_ARG" and "radius" in given:
         parameter = "radius"
         what = f"radius must be finite and > 0, got {given['radius']!r}"

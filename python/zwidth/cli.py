@@ -19,6 +19,9 @@ import numpy as np
 
 from . import (BOUNDS, DELTA0, REGIONS, Device, ZwidthError, __version__, alpha_max, beta_interval,
                corner, extremes, hyperbola_top, spectral_radius, verdict)
+from .device import LoopNotSupported
+from .results import Extremes
+from .loop import DIFFERENTIATORS, Loop, normalized_loop, parse_velocity_filter
 
 EXIT_OK = 0        #: stable, or the command succeeded
 EXIT_UNSTABLE = 1  #: the checked gains are not (provably) stable
@@ -64,7 +67,15 @@ _PLANT_KEYS = """\
   mode     "real" or "normalized" (--delta)
   plant    {m, b, T: number|null (null in normalized mode; m is J with --J),
             rotary: bool, delta: number}
-  units    {m, b, T, K, B: unit strings} or null in normalized mode"""
+  units    {m, b, T, K, B: unit strings} or null in normalized mode
+  loop     the loop analysed (--delay, --velocity-filter, --differentiator): {delay,
+           differentiator, filter: "none"|"lowpass"|"average", cutoff (Hz) | null,
+           pole | null, average | null, ideal: bool, text}
+  With a loop other than the paper's (ideal false) every verdict and limit is that
+  loop's; check adds ideal_loop {verdict, stable, spectral_radius}, limits adds
+  ideal_loop {K_mmax, B_mmax, alpha_mmax, beta_mmax} and K_mmax_kept (legacy, corner,
+  at_corner null), advise gives loop_influence (Device.loop_influence) instead of
+  influence and trends (null)."""
 
 _CHECK_EPILOG = _PLANT_KEYS + """
 check keys:
@@ -114,7 +125,9 @@ exit status 1 when gains are given and are not stable."""
 _PLOT_EPILOG = """\
 kinds:
   region     the region in the (beta, alpha) plane with the legacy and passivity
-             regions (needs the plant; gains, if given, are marked)
+             regions (needs the plant; gains, if given, are marked); with --delay,
+             --velocity-filter or --differentiator: the ideal loop's region and the one
+             your loop keeps (each grid point decided by the guarded check of that loop)
   extremes   alpha_mmax, beta_mmax and ratios against delta (no plant; --delta-min/max)
   influence  K_mmax and B_mmax against m, b and T around a real-unit plant
   device     a real-unit plant's stable (K, B) region, its limits and the advice
@@ -124,8 +137,10 @@ _SIMULATE_DESCRIPTION = """\
 Simulate a scene in the time domain (paper Fig. 13): the plant behind a zero-order hold,
 sampled every T, the impedance controller and only the effects the scene file asks for
 (quantization, friction, delay, saturation, velocity filter, hand, wall, knob, schedule).
-Prints each case's simulated verdict and, for linear scenes (no effect), the exact
-region's verdict and whether they agree; optionally writes the arrays and a figure."""
+Prints each case's simulated verdict and, for linear scenes (no effect, or only [delay]
+of up to 8 samples and [velocity_filter]), the exact verdict of the loop simulated and
+whether they agree; with a delay or filter also the paper's ideal loop's verdict, and a
+warning where the two differ.  Optionally writes the arrays and a figure."""
 
 _SIMULATE_EPILOG = """\
 the scene file (TOML; every key, unit and default in docs/scenes.md):
@@ -157,8 +172,9 @@ output files:
              units; infinities as null), normalized: {delta, alpha, beta} | null,
              verdict: {outcome, amplitude_first, amplitude_last, growth, reason, window,
              windows, tolerance, first_nonfinite}, analytic: {verdict, stable, marginal,
-             deciding, spectral_radius, legacy_stable} | null (nonlinear scenes),
-             agrees: bool | null}]
+             deciding, spectral_radius, loop (as in 'zwidth check --help'), legacy_stable
+             (null with a delay or filter), ideal_loop: {verdict, stable} | null} | null
+             (nonlinear scenes), agrees: bool | null, note: a warning | null}]
   summary   {cases, stable, unstable, undecided, compared, agree}
   out, plot  the files written, or null
 
@@ -224,6 +240,8 @@ def _jsonable(value: Any) -> Any:
         return {k: _jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return [_jsonable(v) for v in value.tolist()]
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
     if isinstance(value, (int, np.integer)):
@@ -249,6 +267,7 @@ class _Plant:
     B: Optional[float] = None
     alpha: Optional[float] = None  # gains as given (normalized mode) or normalized image
     beta: Optional[float] = None
+    loop: Loop = dataclasses.field(default_factory=Loop)  # what the drive runs (--delay, ...)
 
     @property
     def real(self) -> bool:
@@ -274,13 +293,20 @@ class _Plant:
         return {"m": None if dev is None else dev.m, "b": None if dev is None else dev.b,
                 "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta}
 
+    def loop_kwargs(self) -> Dict[str, Any]:
+        """The normalized functions' loop keywords."""
+        lp = self.loop
+        return {"delay": lp.delay, "differentiator": lp.differentiator,
+                "filter_pole": 0.0 if lp.pole is None else lp.pole, "average": lp.average}
+
     def header(self) -> str:
+        loop = "" if self.loop.ideal else f"\nLoop: {self.loop.describe()}"
         if self.device is None:
-            return f"Plant (normalized): delta = bT/m = {_fmt(self.delta)}"
+            return f"Plant (normalized): delta = bT/m = {_fmt(self.delta)}" + loop
         u = self.units() or {}
         d = self.device
         return (f"Plant: {self.mass} = {_fmt(d.m)} {u['m']}, b = {_fmt(d.b)} {u['b']}, "
-                f"T = {_fmt(d.T)} s  ->  delta = bT/{self.mass} = {_fmt(self.delta)}")
+                f"T = {_fmt(d.T)} s  ->  delta = bT/{self.mass} = {_fmt(self.delta)}" + loop)
 
     def gains_text(self) -> str:
         if self.device is None:
@@ -306,7 +332,8 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
         if (args.alpha is None) != (args.beta is None):
             raise _Usage("give both --alpha and --beta (or neither)")
         extremes(args.delta)  # validates delta (ZwidthError naming it)
-        return _Plant(delta=float(args.delta), device=None, alpha=args.alpha, beta=args.beta)
+        return _Plant(delta=float(args.delta), device=None, alpha=args.alpha, beta=args.beta,
+                      loop=_normalized_loop(args))
     missing = [name for name, ok in (("--m (or --J)", args.m is not None or args.J is not None),
                                      ("--b", args.b is not None), ("--T", args.T is not None))
                if not ok]
@@ -314,16 +341,45 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
         raise _Usage(f"the plant needs {', '.join(missing)}")
     if (args.K is None) != (args.B is None):
         raise _Usage("give both --K and --B (or neither)")
-    dev = Device.rotary(args.J, args.b, args.T) if args.J is not None else Device(args.m, args.b, args.T)
-    plant = _Plant(delta=float(dev.delta), device=dev, K=args.K, B=args.B)
+    loop_options = _device_loop_options(args)
+    dev = (Device.rotary(args.J, args.b, args.T, **loop_options) if args.J is not None
+           else Device(args.m, args.b, args.T, **loop_options))
+    plant = _Plant(delta=float(dev.delta), device=dev, K=args.K, B=args.B, loop=dev.loop)
     if args.K is not None:
         n = dev.normalize(args.K, args.B)
         plant.alpha, plant.beta = float(n.alpha), float(n.beta)
     return plant
 
 
+def _velocity_filter(args: argparse.Namespace) -> Optional[Tuple[str, Any]]:
+    if args.velocity_filter is None:
+        return None
+    try:
+        kind, value = parse_velocity_filter(args.velocity_filter)
+    except ValueError as exc:
+        raise _Usage(f"argument --velocity-filter: {exc}") from None
+    return None if kind == "none" else (kind, value)
+
+
+def _device_loop_options(args: argparse.Namespace) -> Dict[str, Any]:
+    return {"delay": args.delay, "velocity_filter": _velocity_filter(args),
+            "differentiator": args.differentiator}
+
+
+def _normalized_loop(args: argparse.Namespace) -> Loop:
+    vf = _velocity_filter(args)
+    if vf is not None and vf[0] == "lowpass":
+        raise _Usage("argument --velocity-filter: a cut-off in Hz needs the period: give a real-unit plant "
+                     "(--m, --b, --T), or the pole in the normalized space (pole:A, A = exp(-2 pi f_c T))")
+    pole = vf[1] if vf is not None and vf[0] == "pole" else 0.0
+    average = vf[1] if vf is not None and vf[0] == "average" else None
+    return normalized_loop("check", args.delay, pole, average, args.differentiator)
+
+
 def _option_of(exc: ZwidthError) -> Optional[str]:
     """The command-line option of the parameter an error names (J for a rotary plant)."""
+    if exc.parameter in ("velocity_filter", "filter_pole", "average", "cutoff"):
+        return "--velocity-filter"
     return None if exc.parameter is None else f"--{exc.parameter}"
 
 
@@ -340,8 +396,143 @@ def _violated(v: Any) -> List[str]:
     return [name for name, bit in BOUNDS.items() if int(v.violated) & bit]
 
 
+_LOOP_BOUNDARY_TEXT = {
+    "z=1": "a real root leaves the unit circle at z = 1 (static divergence: the stiffness drifts away)",
+    "z=-1": "a real root leaves the unit circle at z = -1 (oscillation at the Nyquist frequency 1/(2T))",
+    "complex": "a complex pair of roots leaves the unit circle (oscillation at {f})",
+}
+
+
+def _loop_deciding_text(v: Any) -> Optional[str]:
+    name = str(v.deciding_name)
+    if not name:
+        return None
+    if name.startswith("complex"):
+        return _LOOP_BOUNDARY_TEXT["complex"].format(f=name[len("complex pair at "):])
+    return _LOOP_BOUNDARY_TEXT.get(name, name)
+
+
+def cmd_check_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
+    """check for a loop other than the paper's: the guarded verdict of that loop, the
+    deciding boundary, its spectral radius, and the ideal loop's verdict beside it."""
+    if args.region != "exact":
+        raise _Usage(f"--region {args.region} is one of the paper's regions of its ideal loop; a loop with "
+                     f"{plant.loop.describe()} has only its exact region")
+    dev, d = plant.device, plant.delta
+    alpha, beta = float(plant.alpha), float(plant.beta)  # type: ignore[arg-type]
+    if dev is not None:
+        K, B = float(plant.K), float(plant.B)  # type: ignore[arg-type]
+        v = dev.verdict(K, B)
+        rho = dev.spectral_radius(K, B)
+        ideal_v = dev.ideal().verdict(K, B)
+        ideal_rho = dev.ideal().spectral_radius(K, B)
+    else:
+        kw = plant.loop_kwargs()
+        v = verdict(d, alpha, beta, **kw)
+        rho = spectral_radius(d, alpha, beta, **kw)
+        ideal_v = verdict(d, alpha, beta)
+        ideal_rho = spectral_radius(d, alpha, beta)
+    word = v.word
+    deciding = str(v.deciding_name) or None
+    text = _loop_deciding_text(v)
+    k_max: Any = None
+    b_range: Any = None
+    if dev is not None:
+        k_max = dev.k_max(B)
+        b_range = _interval(dev.b_range(K))
+    kw = plant.loop_kwargs() if dev is None else _device_pole_kwargs(plant)
+    a_max = alpha_max(d, beta, **kw)
+    beta_range = _interval(beta_interval(d, alpha, **kw))
+    data = {
+        "region": "exact", "verdict": word, "stable": bool(v.stable),
+        "marginal": bool(v.marginal), "deciding": deciding, "deciding_text": text, "violated": [],
+        "exact_stable": bool(v.stable), "spectral_radius": rho,
+        "K": plant.K, "B": plant.B, "alpha": alpha, "beta": beta,
+        "K_max": k_max, "B_range": b_range, "alpha_max": a_max, "beta_range": beta_range,
+        "ideal_loop": {"verdict": ideal_v.word, "stable": bool(ideal_v.stable), "spectral_radius": ideal_rho},
+    }
+    lines = [plant.header(), f"Gains: {plant.gains_text()}"
+             + (f"  ->  alpha = {_fmt(alpha)}, beta = {_fmt(beta)}" if plant.real else "")]
+    lines.append(f"Verdict (exact, this loop): {word.upper()}")
+    if text:
+        lines += textwrap.wrap(f"deciding boundary: {text}", 92, initial_indent="  ", subsequent_indent="    ")
+    if word == "marginal":
+        lines.append("  marginal: within rounding error of the boundary, so not proved stable")
+    lines.append(f"  spectral radius = {_fmt(rho)} (stable iff < 1)")
+    lines.append(f"  the paper's ideal loop (no delay, no filter) would be {ideal_v.word} here "
+                 f"(spectral radius {_fmt(ideal_rho)})")
+    if bool(ideal_v.stable) and not bool(v.stable):
+        lines.append(f"  warning: the ideal-loop analysis calls these gains stable; the loop the drive runs "
+                     f"({plant.loop.describe()}) does not")
+    if dev is not None:
+        u = plant.units() or {}
+        lines.append(f"  K_max at this B = {_fmt(k_max)} {u['K']} (this loop)")
+        lines.append("  B range at this K: " + (f"{_fmt(b_range['lo'])} < B < {_fmt(b_range['hi'])} {u['B']}"
+                                                 if b_range["nonempty"] else "none (no B is stable at this K)")
+                     + " (this loop; the widest stable interval)")
+    else:
+        lines.append(f"  alpha_max at this beta = {_fmt(a_max)} (this loop)")
+        lines.append("  beta range at this alpha: " + (
+            f"{_fmt(beta_range['lo'])} < beta < {_fmt(beta_range['hi'])}"
+            if beta_range["nonempty"] else "none (no beta is stable at this alpha)") + " (this loop)")
+    return _Outcome(EXIT_OK if bool(v.stable) else EXIT_UNSTABLE, data, lines)
+
+
+def _device_pole_kwargs(plant: _Plant) -> Dict[str, Any]:
+    """The normalized loop keywords of a real-unit plant (its low-pass as the pole a)."""
+    kw = plant.loop_kwargs()
+    if plant.device is not None and plant.device.filter_pole is not None:
+        kw["filter_pole"] = float(plant.device.filter_pole)
+    return kw
+
+
+def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
+    """limits of a loop other than the paper's, beside the ideal loop's."""
+    d, dev = plant.delta, plant.device
+    kw = _device_pole_kwargs(plant)
+    ext = extremes(d, **kw)
+    ideal = extremes(d)
+    real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_at_K_mmax", "K_p_max", "B_mmax", "B_mmin"))
+    ideal_real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_mmax"))
+    if dev is not None:
+        lim = dev.extremes()
+        real = {k: getattr(lim, k) for k in real}
+        il = dev.ideal().extremes()
+        ideal_real = {"K_mmax": il.K_mmax, "B_mmax": il.B_mmax}
+    kept = float(ext.alpha_mmax) / float(ideal.alpha_mmax)
+    data = {
+        **real,
+        "alpha_mmax": ext.alpha_mmax, "beta_at_alpha_mmax": ext.beta_at_alpha_mmax,
+        "alpha_p_max": ext.alpha_p_max, "beta_mmax": ext.beta_mmax, "beta_mmin": ext.beta_mmin,
+        "at_corner": None, "corner": None, "delta0": DELTA0, "above_delta0": d > DELTA0, "legacy": None,
+        "ideal_loop": {**ideal_real, "alpha_mmax": ideal.alpha_mmax, "beta_mmax": ideal.beta_mmax},
+        "K_mmax_kept": kept,
+    }
+    lines = [plant.header(), "", f"Limits of this loop ({plant.loop.describe()}; certified, D-decomposition)"]
+    if dev is not None:
+        u = plant.units() or {}
+        lines += [
+            f"  K_mmax   = {_fmt(real['K_mmax'])} {u['K']} at B = {_fmt(real['B_at_K_mmax'])} {u['B']}",
+            f"  K with B = 0 (stiffness only): K < {_fmt(real['K_p_max'])} {u['K']}",
+            f"  B range  : {_fmt(real['B_mmin'])} < B < {_fmt(real['B_mmax'])} {u['B']} (as K -> 0+)",
+            f"  the paper's ideal loop: K_mmax = {_fmt(ideal_real['K_mmax'])} {u['K']}, "
+            f"B_mmax = {_fmt(ideal_real['B_mmax'])} {u['B']}",
+        ]
+    else:
+        lines += [
+            f"  alpha_mmax = {_fmt(ext.alpha_mmax)} at beta = {_fmt(ext.beta_at_alpha_mmax)}",
+            f"  alpha with beta = 0 (stiffness only): alpha < {_fmt(ext.alpha_p_max)}",
+            f"  beta range : {_fmt(ext.beta_mmin)} < beta < {_fmt(ext.beta_mmax)} (as alpha -> 0+)",
+            f"  the paper's ideal loop: alpha_mmax = {_fmt(ideal.alpha_mmax)}, beta_mmax = {_fmt(ideal.beta_mmax)}",
+        ]
+    lines.append(f"  this loop keeps {100 * kept:.4g} % of the ideal loop's largest stiffness")
+    return _Outcome(EXIT_OK, data, lines)
+
+
 def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Verdict of one gain pair, with the deciding constraint, radius and local limits."""
+    if not plant.loop.ideal:
+        return cmd_check_loop(args, plant)
     region = args.region
     dev, d = plant.device, plant.delta
     alpha, beta = float(plant.alpha), float(plant.beta)  # type: ignore[arg-type]
@@ -398,10 +589,21 @@ def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     return _Outcome(EXIT_OK if bool(v.stable) else EXIT_UNSTABLE, data, lines)
 
 
+def _refuse_loop(command: str, plant: Optional[_Plant]) -> None:
+    if plant is not None and not plant.loop.ideal:
+        raise LoopNotSupported(
+            f"zwidth {command}: this figure is about the paper's ideal loop; for a loop with "
+            f"{plant.loop.describe()} use 'zwidth plot region' (the region it keeps) or 'zwidth limits' "
+            f"/ 'zwidth advise' with the same options", "ZW_ERR_ARG", None, (), {})
+
+
 def cmd_limits(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Largest stable K and B, the B range and what the legacy region would claim."""
+    if not plant.loop.ideal:
+        return cmd_limits_loop(args, plant)
     d, dev = plant.delta, plant.device
     ext = extremes(d)
+    assert isinstance(ext, Extremes)  # the paper's loop
     top = hyperbola_top(d)
     cor = corner(d)
     real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_at_K_mmax", "K_p_max", "B_mmax", "B_mmin"))
@@ -456,6 +658,55 @@ def cmd_limits(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     return _Outcome(EXIT_OK, data, lines)
 
 
+def cmd_advise_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
+    """advise for a loop other than the paper's: what the loop costs, how delay and the
+    low-pass cut-off move K_mmax, and for gains what to change (this loop's limits)."""
+    if plant.device is not None:
+        dev = plant.device
+    else:
+        lp = plant.loop
+        vf: Any = None if lp.filter == "none" else (("pole", lp.pole) if lp.filter == "lowpass" else ("average", lp.average))
+        dev = Device(1.0, plant.delta, 1.0, delay=lp.delay, velocity_filter=vf, differentiator=lp.differentiator)
+    inf = dev.loop_influence()
+    ku = f" {plant.units()['K']}" if plant.real else ""  # type: ignore[index]
+    fu = " Hz" if plant.real else " cycles/sample"
+    data: Dict[str, Any] = {"loop_influence": inf.as_dict(), "advice": inf.advice,
+                            "influence": None, "trends": None, "gains": None}
+    lines = [plant.header(), "", f"What the loop costs (K_mmax certified for each loop{'' if plant.real else '; normalized: m = T = 1'})"]
+    lines.append(f"  ideal loop K_mmax = {_fmt(inf.K_mmax_ideal)}{ku}; this loop {_fmt(inf.K_mmax)}{ku} "
+                 f"({100 * float(inf.K_mmax_kept):.4g} % kept)")
+    lines.append("  by delay: " + ", ".join(f"{int(d)} sample{'s' if int(d) != 1 else ''}: {_fmt(k)}{ku}"
+                                           for d, k in zip(inf.delays, inf.K_mmax_by_delay)))
+    if inf.cutoffs is not None and math.isfinite(float(inf.K_mmax_at_best_cutoff)):
+        lines.append(f"  low-pass: of {len(inf.cutoffs)} cut-offs up to Nyquist, {_fmt(inf.best_cutoff)}{fu} keeps "
+                     f"most: K_mmax = {_fmt(inf.K_mmax_at_best_cutoff)}{ku}")
+    status = EXIT_OK
+    if plant.has_gains:
+        K = float(plant.K) if plant.real else float(plant.alpha)  # type: ignore[arg-type]
+        B = float(plant.B) if plant.real else float(plant.beta)  # type: ignore[arg-type]
+        v = dev.verdict(K, B)
+        k_max, b_range = dev.k_max(B), dev.b_range(K)
+        Kn, Bn = ("K", "B") if plant.real else ("alpha", "beta")
+        suggestions: List[Dict[str, Any]] = []
+        if not bool(v.stable):
+            status = EXIT_UNSTABLE
+            if float(k_max) > 0.0:
+                suggestions.append({"change": "K", "lo": 0.0, "hi": k_max, "value": None,
+                                    "text": f"set {Kn} in (0, {_fmt(k_max)}){ku}: stable at this {Bn} with this loop"})
+            if bool(b_range.nonempty):
+                suggestions.append({"change": "B", "lo": b_range.lo, "hi": b_range.hi, "value": None,
+                                    "text": f"set {Bn} in ({_fmt(b_range.lo)}, {_fmt(b_range.hi)}): stable at "
+                                            f"this {Kn} with this loop"})
+        data["gains"] = {"K": plant.K, "B": plant.B, "alpha": plant.alpha, "beta": plant.beta,
+                         "verdict": v.word, "stable": bool(v.stable), "marginal": bool(v.marginal),
+                         "deciding": str(v.deciding_name) or None, "spectral_radius": dev.spectral_radius(K, B),
+                         "K_max": k_max, "B_range": _interval(b_range), "suggestions": suggestions}
+        lines += ["", f"Gains {plant.gains_text()}: {v.word.upper()}"
+                  + (f" ({v.deciding_name})" if v.deciding_name else "")]
+        lines += [f"   - {x['text']}" for x in suggestions]
+    return _Outcome(status, data, lines)
+
+
 def _advise_device(plant: _Plant) -> Device:
     if plant.device is not None:
         return plant.device
@@ -494,6 +745,8 @@ def _plant_changes(plant: _Plant, K: float, B: float) -> List[Dict[str, Any]]:
 
 def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Influence of m, b, T on the limits, critical values, advice; gains: what to change."""
+    if not plant.loop.ideal:
+        return cmd_advise_loop(args, plant)
     dev = _advise_device(plant)
     inf = dev.influence()
     fields = {k: v for k, v in inf.as_dict().items() if k != "m"}
@@ -593,8 +846,15 @@ def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
         if kind == "region":
             assert plant is not None
             point = None if not plant.has_gains else (float(plant.beta), float(plant.alpha))  # type: ignore[arg-type]
+            if not plant.loop.ideal:
+                kw = plant.loop_kwargs()
+                if plant.device is not None and plant.device.filter_pole is not None:
+                    kw["filter_pole"] = float(plant.device.filter_pole)
+                T = None if plant.device is None else float(plant.device.T)
+                return plot.loop_region(plant.delta, point=point, T=T, loop_text=plant.loop.describe(), **kw)
             return plot.region(plant.delta, point=point)
         assert plant is not None and plant.device is not None
+        _refuse_loop(f"plot {kind}", plant)
         if kind == "influence":
             return plot.influence(plant.device)
         return plot.device(plant.device, plant.K, plant.B)
@@ -642,18 +902,23 @@ def _simulation_json(sim: Any, rotary: bool) -> Dict[str, Any]:
     analytic = None
     p = sim.params
     if sim.analytic is not None:
-        dev = Device(p["m"], p["b"], p["T"], rotary=rotary)
+        dev = sim.device
+        ideal = dev.loop.ideal
         analytic = {"verdict": sim.analytic.word, "stable": bool(sim.analytic.stable),
                     "marginal": bool(sim.analytic.marginal),
                     "deciding": str(sim.analytic.deciding_name) or None,
                     "spectral_radius": dev.spectral_radius(p["K"], p["B"]),
-                    "legacy_stable": bool(dev.is_stable(p["K"], p["B"], region="legacy"))}
+                    "loop": dev.loop.as_dict(),
+                    "legacy_stable": bool(dev.is_stable(p["K"], p["B"], region="legacy")) if ideal else None,
+                    "ideal_loop": None if sim.ideal is None else {
+                        "verdict": sim.ideal.word, "stable": bool(sim.ideal.stable)}}
     norm = sim.case.normalized
     params = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in p.items()}
     return {"label": sim.label, "description": sim.case.description, "samples": len(sim.t),
             "T": p["T"], "duration": sim.case.duration, "params": params,
             "normalized": None if norm is None else dict(zip(("delta", "alpha", "beta"), norm)),
-            "verdict": sim.verdict.as_dict(), "analytic": analytic, "agrees": sim.agrees}
+            "verdict": sim.verdict.as_dict(), "analytic": analytic, "agrees": sim.agrees,
+            "note": sim.note}
 
 
 def _growth(v: Any) -> str:
@@ -698,9 +963,10 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
              + (", ".join(scene.effects) if scene.effects else "none (the ideal loop: exact solution)")
              + f"; {len(sims)} case{plural}, {_fmt(scene.duration)} s each", ""]
     width = max([4] + [len(s.label) for s in sims])
+    last_column = "legacy region" if scene.ideal else "ideal loop"
     if scene.linear:
         lines.append(f"  {'case':<{width}}  {'delta':>7} {'alpha':>8} {'beta':>8}  {'simulated':<10} "
-                     f"{'growth/sample':>13}  {'exact region':<12} {'agrees':<6}  legacy region")
+                     f"{'growth/sample':>13}  {'exact region':<12} {'agrees':<6}  {last_column}")
     else:
         lines.append(f"  {'case':<{width}}  {'simulated':<10} {'growth/sample':>13}  "
                      f"{'final x [' + pos + ']':>16}")
@@ -710,14 +976,25 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
             d, a, b = s.case.normalized or (math.nan, math.nan, math.nan)
             exact = s.analytic.word if s.analytic is not None else "-"
             agrees = {True: "yes", False: "NO", None: "-"}[s.agrees]
-            legacy = data["cases"][sims.index(s)]["analytic"]["legacy_stable"]
+            analytic = data["cases"][sims.index(s)]["analytic"] or {}
+            if scene.ideal:
+                other = "stable" if analytic.get("legacy_stable") else "unstable"
+            else:
+                other = (analytic.get("ideal_loop") or {}).get("verdict", "-")
             lines.append(f"  {s.label:<{width}}  {_fmt(d):>7} {_fmt(a):>8} {_fmt(b):>8}  {v.outcome:<10} "
-                         f"{_growth(v):>13}  {exact:<12} {agrees:<6}  {'stable' if legacy else 'unstable'}")
+                         f"{_growth(v):>13}  {exact:<12} {agrees:<6}  {other}")
         else:
             lines.append(f"  {s.label:<{width}}  {v.outcome:<10} {_growth(v):>13}  {_fmt(s.x[-1]):>16}")
+    if scene.linear and not scene.ideal and sims and sims[0].device is not None:
+        from .sim import loop_words
+        lines.append(f"  loop analysed: {loop_words(sims[0].params, sims[0].device)}; 'ideal loop' is what "
+                     f"zwidth check says without the loop options")
     for s in sims:
         if s.verdict.outcome != "stable" or not scene.linear:
             lines += textwrap.wrap(f"{s.label}: {s.verdict.reason}", 92, initial_indent="  ",
+                                   subsequent_indent="      ")
+        if s.note:
+            lines += textwrap.wrap(f"warning: {s.label}: {s.note}", 92, initial_indent="  ",
                                    subsequent_indent="      ")
     summary = ", ".join(f"{c} {o}" for o, c in counts.items() if c)
     if compared:
@@ -760,6 +1037,16 @@ def _add_plant_options(p: argparse.ArgumentParser) -> None:
     norm.add_argument("--delta", type=_number, metavar="DELTA", help="normalized damping bT/m (>= 0)")
     norm.add_argument("--alpha", type=_number, metavar="ALPHA", help="normalized stiffness K T^2/m")
     norm.add_argument("--beta", type=_number, metavar="BETA", help="normalized damping B T/m")
+    lp = p.add_argument_group(
+        "the loop the drive runs (default: the paper's: no delay, no filter, backward difference)")
+    lp.add_argument("--delay", type=int, default=0, metavar="N",
+                    help="samples between measuring x_k and applying its force, 0..8 (1: computed "
+                         "during the period, applied at the next tick)")
+    lp.add_argument("--velocity-filter", metavar="SPEC",
+                    help="lowpass:30Hz (first-order, cut-off in Hz; real units), pole:0.83 (its pole "
+                         "a = exp(-2 pi f_c T)), average:4 (moving average over n = 1..16 samples)")
+    lp.add_argument("--differentiator", choices=DIFFERENTIATORS, default="backward",
+                    help="velocity estimate: backward difference (the paper's) or tustin")
     p.add_argument("--json", action="store_true", help="print one JSON object (keys below)")
 
 
@@ -835,7 +1122,7 @@ def _emit(outcome: _Outcome, command: str, plant: Optional[_Plant], as_json: boo
         head: Dict[str, Any] = {"command": command}
         if plant is not None and command != "plot":
             head.update(mode="real" if plant.real else "normalized", plant=plant.summary(),
-                        units=plant.units())
+                        units=plant.units(), loop=plant.loop.as_dict())
         print(json.dumps(_jsonable({**head, **outcome.data}), allow_nan=False), file=stream)
     else:
         print("\n".join(outcome.lines), file=stream)
@@ -902,6 +1189,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         outcome = args.handler(args, plant)
     except _Usage as exc:
         sub.error(str(exc))  # exits 2
+    except LoopNotSupported as exc:
+        print(f"zwidth {args.command}: error: not available: {exc}", file=sys.stderr)
+        return EXIT_INVALID
     except ZwidthError as exc:
         option = _option_of(exc)
         where = f"invalid value of {option}: " if option else "invalid input: "

@@ -9,14 +9,17 @@ verdict is as safe as a normalized one.
 """
 from __future__ import annotations
 
-from typing import Any, Dict, Tuple
+import math
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from ._kernels import Errors, _as_result, call, region_code
-from .results import DeviceExtremes, Influence, Interval, Normalized, Verdict
+from ._kernels import Errors, ZwidthError, _as_result, call, region_code
+from .loop import Loop, VelocityFilter, device_loop
+from .results import (DeviceExtremes, DeviceLoopExtremes, Influence, Interval, LoopInfluence, LoopVerdict,
+                      Normalized, Verdict)
 
 _PLANT = ("m", "b", "T")
 
@@ -36,21 +39,43 @@ class Device:
     """
 
     def __init__(self, m: ArrayLike, b: ArrayLike, T: ArrayLike, *, errors: Errors = "raise",
-                 rotary: bool = False) -> None:
+                 rotary: bool = False, delay: int = 0, velocity_filter: VelocityFilter = None,
+                 differentiator: str = "backward") -> None:
         self._m: NDArray[np.float64] = np.asarray(m, dtype=np.float64)
         self._b: NDArray[np.float64] = np.asarray(b, dtype=np.float64)
         self._T: NDArray[np.float64] = np.asarray(T, dtype=np.float64)
         self.errors: Errors = errors
         self.is_rotary = rotary  #: J, N m/rad, N m s/rad instead of m, N/m, N s/m
         self._names = ("J", "b", "T") if rotary else _PLANT  # how errors name the parameters
+        #: The loop the drive runs (:class:`zwidth.loop.Loop`): delay, velocity filter,
+        #: differentiator.  The default is the paper's loop.
+        self.loop: Loop = device_loop("Device", delay, velocity_filter, differentiator)
         out, _ = call("Device", _core.device_normalize, self._names, self._plant(), errors, K=0.0, B=0.0)
         self.delta: Any = out["delta"]  #: normalized damping b T / m
+        #: The low-pass pole a = exp(-2 pi f_c T) per element (None without a low-pass).
+        self.filter_pole: Any = None
+        if self.loop.filter == "lowpass" and self.loop.cutoff is not None:
+            pole, _ = call("Device", _core.loop_lowpass_pole, ("cutoff", "T"), (self.loop.cutoff, self._T), errors)
+            self.filter_pole = pole["pole"]
+        elif self.loop.filter == "lowpass":
+            a = np.asarray(self.loop.pole, dtype=np.float64)
+            if errors == "raise" and not np.all((a >= 0.0) & (a < 1.0)):
+                bad = float(a.flat[int(np.flatnonzero(~((a >= 0.0) & (a < 1.0)))[0])])
+                raise ZwidthError(f"zwidth.Device: the velocity filter's pole must be in [0, 1), got {bad!r} "
+                                  f"[ZW_ERR_FILTER]", "ZW_ERR_FILTER", "velocity_filter", (), {"pole": bad})
+            self.filter_pole = _as_result(a)
 
     @classmethod
-    def rotary(cls, J: ArrayLike, b: ArrayLike, T: ArrayLike, *, errors: Errors = "raise") -> "Device":
+    def rotary(cls, J: ArrayLike, b: ArrayLike, T: ArrayLike, *, errors: Errors = "raise", delay: int = 0,
+               velocity_filter: VelocityFilter = None, differentiator: str = "backward") -> "Device":
         """A rotary plant: inertia J [kg m^2], damping b [N m s/rad], period T [s];
         gains then are K [N m/rad] and B [N m s/rad]."""
-        return cls(J, b, T, errors=errors, rotary=True)
+        return cls(J, b, T, errors=errors, rotary=True, delay=delay, velocity_filter=velocity_filter,
+                   differentiator=differentiator)
+
+    def ideal(self) -> "Device":
+        """The same plant with the paper's loop (no delay, no filter, backward difference)."""
+        return Device(self._m, self._b, self._T, errors=self.errors, rotary=self.is_rotary)
 
     @property
     def m(self) -> Any:
@@ -82,8 +107,9 @@ class Device:
     def __repr__(self) -> str:
         def show(a: NDArray[np.float64]) -> str:
             return f"{float(a):.6g}" if a.ndim == 0 else f"array(shape={a.shape})"
+        loop = "" if self.loop.ideal else f", loop={self.loop.describe()!r}"
         return (f"Device({self.mass_symbol}={show(self._m)}, b={show(self._b)}, T={show(self._T)}, "
-                f"delta={show(np.asarray(self.delta))})")
+                f"delta={show(np.asarray(self.delta))}{loop})")
 
     def _plant(self) -> Tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         return self._m, self._b, self._T
@@ -93,6 +119,25 @@ class Device:
         return call(f"Device.{function}", kernel, self._names + names, self._plant() + gains, self.errors,
                     **options)
 
+    def _loop_call(self, function: str, kernel: Any, names: Tuple[str, ...], gains: Tuple[ArrayLike, ...],
+                   **options: Any) -> Tuple[Any, Any]:
+        loop = self.loop
+        pole_given = loop.cutoff is None and loop.pole is not None
+        name, value = ("filter_pole", loop.pole) if pole_given else ("cutoff", 0.0 if loop.cutoff is None else loop.cutoff)
+        return call(f"Device.{function}", kernel, self._names + (name,) + names,
+                    self._plant() + (value,) + gains, self.errors, pole_given=pole_given,
+                    **loop.kernel_options(), **options)
+
+    def _ideal_only(self, function: str, what: str) -> None:
+        """The paper's closed forms (Section IV) hold for its loop only: refuse rather than
+        give the ideal loop's numbers for another."""
+        if not self.loop.ideal:
+            raise LoopNotSupported(
+                f"zwidth.Device.{function}: {what} of a loop with {self.loop.describe()} has no closed "
+                f"form (the paper's Section IV is about its ideal loop); Device.loop_influence() gives "
+                f"what the loop costs and which filter cut-off keeps most, and "
+                f"Device(...).ideal().{function}() the paper's loop", "ZW_ERR_ARG", None, (), {})
+
     def normalize(self, K: ArrayLike, B: ArrayLike) -> Normalized:
         """(delta, alpha, beta) = (b T/m, K T^2/m, B T/m) for gains K [N/m], B [N s/m]."""
         out, _ = self._call("normalize", _core.device_normalize, ("K", "B"), (K, B))
@@ -101,18 +146,33 @@ class Device:
     def is_stable(self, K: ArrayLike, B: ArrayLike, *, region: str = "exact") -> Any:
         """Is the gain pair K [N/m], B [N s/m] stable? (bool; guarded: never True for an
         unstable pair).  ``region`` as in :func:`zwidth.check`."""
+        if not self.loop.ideal:
+            self._exact_only("is_stable", region)
+            out, _ = self._loop_call("is_stable", _core.device_loop_check, ("K", "B"), (K, B), full=False)
+            return out["stable"]
         out, _ = self._call("is_stable", _core.device_check, ("K", "B"), (K, B),
                             region=region_code("Device.is_stable", region), full=False)
         return out["stable"]
 
-    def verdict(self, K: ArrayLike, B: ArrayLike, *, region: str = "exact") -> Verdict:
-        """:meth:`is_stable` with the reasons (marginal, deciding, violated, status)."""
+    def verdict(self, K: ArrayLike, B: ArrayLike, *, region: str = "exact") -> Union[Verdict, LoopVerdict]:
+        """:meth:`is_stable` with the reasons: a :class:`zwidth.Verdict` (marginal, deciding,
+        violated, status) for the paper's loop, a :class:`zwidth.LoopVerdict` (marginal, the
+        deciding boundary 'z=1' / 'z=-1' / 'complex pair at X Hz', status) for any other."""
+        if not self.loop.ideal:
+            self._exact_only("verdict", region)
+            out, status = self._loop_call("verdict", _core.device_loop_check, ("K", "B"), (K, B), full=True)
+            frequency = out["theta"] / (2.0 * np.pi * self._T)
+            return LoopVerdict.from_outputs(out, frequency=_as_result(np.asarray(frequency)),
+                                            status=_as_result(status), frequency_unit="Hz")
         out, status = self._call("verdict", _core.device_check, ("K", "B"), (K, B),
                                  region=region_code("Device.verdict", region), full=True)
         return Verdict.from_outputs(out, status=_as_result(status))
 
     def spectral_radius(self, K: ArrayLike, B: ArrayLike) -> Any:
-        """Largest closed-loop pole modulus at K, B (stable iff < 1)."""
+        """Largest closed-loop pole modulus at K, B (stable iff < 1; informational)."""
+        if not self.loop.ideal:
+            out, _ = self._loop_call("spectral_radius", _core.device_loop_spectral_radius, ("K", "B"), (K, B))
+            return out["rho"]
         out, _ = self._call("spectral_radius", _core.device_spectral_radius, ("K", "B"), (K, B))
         return out["rho"]
 
@@ -124,26 +184,99 @@ class Device:
 
     def radius_within(self, K: ArrayLike, B: ArrayLike, radius: ArrayLike) -> Any:
         """Do all closed-loop poles lie inside |z| < radius? (bool, guarded, no roots)."""
+        if not self.loop.ideal:
+            out, _ = self._loop_call("radius_within", _core.device_loop_radius_within, ("K", "B", "radius"),
+                                     (K, B, radius))
+            return out["within"]
         out, _ = self._call("radius_within", _core.device_radius_within, ("K", "B", "radius"),
                             (K, B, radius))
         return out["within"]
 
     def k_max(self, B: ArrayLike) -> Any:
-        """sup K [N/m] stable at damping B [N s/m] (0 where no K is)."""
+        """sup K [N/m] stable at damping B [N s/m] (0 where no K is).  For a loop other
+        than the paper's: the end of the stable interval (0, K_max) of that loop, certified
+        (zw_loop_alpha_max, pulled inward for the unit conversions)."""
+        if not self.loop.ideal:
+            out, _ = self._loop_call("k_max", _core.device_loop_k_max, ("B",), (B,))
+            return out["K_max"]
         out, _ = self._call("k_max", _core.device_k_max, ("B",), (B,))
         return out["K_max"]
 
     def b_range(self, K: ArrayLike) -> Interval:
-        """The open interval (lo, hi) of B [N s/m] stable at stiffness K [N/m]."""
+        """The open interval (lo, hi) of B [N s/m] stable at stiffness K [N/m].  For a loop
+        other than the paper's: the widest such interval, certified (inside the true one)."""
+        if not self.loop.ideal:
+            out, _ = self._loop_call("b_range", _core.device_loop_b_range, ("K",), (K,))
+            return Interval.from_outputs(out)
         out, _ = self._call("b_range", _core.device_b_range, ("K",), (K,))
         return Interval.from_outputs(out)
 
-    def extremes(self) -> DeviceExtremes:
-        """K_mmax, the B at it, K with B = 0, B_mmax and the lower extremes, real units."""
+    def extremes(self) -> Union[DeviceExtremes, DeviceLoopExtremes]:
+        """K_mmax, the B at it, K with B = 0, B_mmax and the lower extremes, real units.
+        For a loop other than the paper's a :class:`zwidth.DeviceLoopExtremes` of that loop
+        (certified, never beyond the true values)."""
+        if not self.loop.ideal:
+            out, _ = self._loop_call("extremes", _core.device_loop_extremes, (), ())
+            return DeviceLoopExtremes.from_outputs(out)
         out, _ = self._call("extremes", _core.device_extremes, (), ())
         return DeviceExtremes.from_outputs(out)
 
     def influence(self) -> Influence:
         """Critical masses, periods and dampings, trends, and advice (paper Section IV)."""
+        self._ideal_only("influence", "the influence analysis")
         out, _ = self._call("influence", _core.device_influence, (), ())
         return Influence.from_outputs(out, m=self.m, mass_symbol=self.mass_symbol)
+
+    def loop_influence(self, *, cutoffs: Optional[ArrayLike] = None, delays: Sequence[int] = (0, 1, 2, 3)
+                       ) -> LoopInfluence:
+        """What this Device's loop costs against the paper's loop, and how delay and the
+        low-pass cut-off move K_mmax (one plant: scalar m, b, T).
+
+        K_mmax of this loop with each of ``delays``; with a low-pass, K_mmax against the
+        cut-off on ``cutoffs`` [Hz] (default: 40 cut-offs on a log grid from Nyquist/200 to
+        0.95 Nyquist, plus this one) and the cut-off that keeps most.  Every K_mmax is the
+        certified one of zw_loop_extremes_compute; NaN where no gains are stable."""
+        if np.ndim(self.delta) != 0:
+            raise ValueError("Device.loop_influence is about one plant; build a Device with scalar m, b, T")
+        lp = self.loop
+
+        def make(delay: int = 0, velocity_filter: VelocityFilter = None, differentiator: str = "backward") -> Device:
+            return Device(self._m, self._b, self._T, rotary=self.is_rotary, errors="mask", delay=delay,
+                          velocity_filter=velocity_filter, differentiator=differentiator)
+
+        ideal = make().extremes()
+        vf: Any = None
+        if lp.filter == "lowpass":
+            vf = ("lowpass", lp.cutoff) if lp.cutoff is not None else ("pole", lp.pole)
+        elif lp.filter == "average":
+            vf = ("average", lp.average)
+        mine = make(lp.delay, vf, lp.differentiator).extremes()
+        by_delay = [float(make(d, vf, lp.differentiator).extremes().K_mmax) for d in delays]
+        grid: Any = None
+        by_cutoff: Any = None
+        best, at_best = math.nan, math.nan
+        if lp.filter == "lowpass" or cutoffs is not None:
+            nyquist = 0.5 / float(self._T)
+            grid = (np.geomspace(nyquist / 200, 0.95 * nyquist, 40) if cutoffs is None
+                    else np.asarray(cutoffs, dtype=np.float64).ravel())
+            if lp.cutoff is not None and cutoffs is None:
+                grid = np.unique(np.append(grid, float(lp.cutoff)))
+            by_cutoff = np.asarray(make(lp.delay, ("lowpass", grid), lp.differentiator).extremes().K_mmax)
+            if np.isfinite(by_cutoff).any():
+                i = int(np.nanargmax(by_cutoff))
+                best, at_best = float(grid[i]), float(by_cutoff[i])
+        return LoopInfluence(
+            K_mmax_ideal=ideal.K_mmax, B_mmax_ideal=ideal.B_mmax, K_mmax=mine.K_mmax, B_mmax=mine.B_mmax,
+            K_mmax_kept=float(mine.K_mmax) / float(ideal.K_mmax), delays=np.asarray(delays),
+            K_mmax_by_delay=np.asarray(by_delay), cutoffs=grid, K_mmax_by_cutoff=by_cutoff,
+            best_cutoff=best, K_mmax_at_best_cutoff=at_best, loop_text=f"this loop ({lp.describe()})")
+
+    def _exact_only(self, function: str, region: str) -> None:
+        if region != "exact":
+            raise ValueError(f"zwidth.Device.{function}: region {region!r} is one of the paper's regions of "
+                             f"its ideal loop; a loop with {self.loop.describe()} has only its exact region")
+
+
+class LoopNotSupported(ZwidthError, NotImplementedError):
+    """A result of the paper's loop asked of another loop, which this build cannot give
+    yet (status 'ZW_ERR_ARG', parameter None)."""

@@ -7,19 +7,45 @@ input raises :class:`zwidth.ZwidthError` naming the parameter, or, with
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Optional, Union
 
+import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _core
 from ._kernels import Errors, _as_result, call, region_code
-from .results import BoundaryPoint, Coefficients, Extremes, Interval, Verdict
+from .loop import Loop, normalized_loop
+from .results import BoundaryPoint, Coefficients, Extremes, Interval, LoopExtremes, LoopVerdict, Verdict
 
 _DAB = ("delta", "alpha", "beta")
+_DPAB = ("delta", "filter_pole", "alpha", "beta")
+
+_LOOP_DOC = """
+    The loop: ``delay`` samples between measuring x_k and applying its force (0..8),
+    ``filter_pole`` a in [0, 1) of a first-order low-pass on the velocity
+    (a = exp(-2 pi f_c T); 0: none; broadcasts like delta) or ``average`` n (1..16) for a
+    moving average instead, ``differentiator`` 'backward' (the paper's) or 'tustin'.  The
+    defaults are the paper's loop, decided by the closed form (10); any other loop by the
+    guarded test of its characteristic polynomial (zw_loop_check), as safe: never stable
+    for an unstable point."""
+
+
+def _loop(function: str, region: str, delay: Any, filter_pole: ArrayLike, average: Any,
+          differentiator: Any) -> Loop:
+    loop = normalized_loop(function, delay, filter_pole, average, differentiator)
+    if not loop.ideal and region != "exact":
+        raise ValueError(f"zwidth.{function}: region {region!r} is one of the paper's regions of its ideal "
+                         f"loop; a loop with {loop.describe()} has only its exact region")
+    return loop
+
+
+def _pole(loop: Loop) -> ArrayLike:
+    return 0.0 if loop.pole is None else loop.pole
 
 
 def check(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, region: str = "exact",
-          errors: Errors = "raise") -> Any:
+          delay: int = 0, filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+          differentiator: str = "backward", errors: Errors = "raise") -> Any:
     """Is (alpha, beta) stable for a plant with normalized damping delta? (bool)
 
     The exact region, paper eq (10), with a rounding-error guard: True only if the point
@@ -30,36 +56,83 @@ def check(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, region: str = 
     'delta0' (eq (17)), 'delta_inf' (eqs (14), (15)), 'small' (eq (18)).  Only 'exact' and
     'passivity' certify stability.
     """
+    loop = _loop("check", region, delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("check", _core.loop_check, _DPAB, (delta, _pole(loop), alpha, beta), errors,
+                      full=False, **loop.kernel_options())
+        return out["stable"]
     out, _ = call("check", _core.check, _DAB, (delta, alpha, beta), errors,
                   region=region_code("check", region), full=False)
     return out["stable"]
 
 
 def verdict(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, region: str = "exact",
-            errors: Errors = "raise") -> Verdict:
-    """Like :func:`check`, with the reasons: stable, marginal, deciding, violated, status."""
+            delay: int = 0, filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+            differentiator: str = "backward", errors: Errors = "raise") -> Union[Verdict, LoopVerdict]:
+    """Like :func:`check`, with the reasons: a :class:`Verdict` (stable, marginal,
+    deciding, violated, status) for the paper's loop, a :class:`LoopVerdict` (stable,
+    marginal, the deciding boundary 'z=1' / 'z=-1' / complex pair and its frequency in
+    cycles per sample, status) for any other."""
+    loop = _loop("verdict", region, delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, status = call("verdict", _core.loop_check, _DPAB, (delta, _pole(loop), alpha, beta), errors,
+                           full=True, **loop.kernel_options())
+        return LoopVerdict.from_outputs(out, frequency=out["theta"] / (2.0 * np.pi),
+                                        status=_as_result(status))
     out, status = call("verdict", _core.check, _DAB, (delta, alpha, beta), errors,
                        region=region_code("verdict", region), full=True)
     return Verdict.from_outputs(out, status=_as_result(status))
 
 
-def spectral_radius(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *,
-                    errors: Errors = "raise") -> Any:
-    """Largest pole modulus of the closed loop, paper eqs (7), (8) (stable iff < 1)."""
+def spectral_radius(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, delay: int = 0,
+                    filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+                    differentiator: str = "backward", errors: Errors = "raise") -> Any:
+    """Largest pole modulus of the closed loop, paper eqs (7), (8) (stable iff < 1).
+    Informational: verdicts never rest on it (use :func:`check`)."""
+    loop = _loop("spectral_radius", "exact", delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("spectral_radius", _core.loop_spectral_radius, _DPAB, (delta, _pole(loop), alpha, beta),
+                      errors, **loop.kernel_options())
+        return out["rho"]
     out, _ = call("spectral_radius", _core.spectral_radius, _DAB, (delta, alpha, beta), errors)
     return out["rho"]
 
 
 def radius_within(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, radius: ArrayLike, *,
-                  errors: Errors = "raise") -> Any:
+                  delay: int = 0, filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+                  differentiator: str = "backward", errors: Errors = "raise") -> Any:
     """Do all closed-loop poles lie strictly inside |z| < radius? (bool, guarded)
 
     Decided by the Jury conditions on p(radius z) without root finding; True only if it
     holds for every value within the rounding bound.  radius must be finite and > 0.
     """
+    loop = _loop("radius_within", "exact", delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("radius_within", _core.loop_radius_within, _DPAB + ("radius",),
+                      (delta, _pole(loop), alpha, beta, radius), errors, **loop.kernel_options())
+        return out["within"]
     out, _ = call("radius_within", _core.radius_within, _DAB + ("radius",),
                   (delta, alpha, beta, radius), errors)
     return out["within"]
+
+
+for _f in (check, verdict, spectral_radius, radius_within):
+    _f.__doc__ = (_f.__doc__ or "") + _LOOP_DOC
+
+
+def loop_poly(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, delay: int = 0,
+              filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+              differentiator: str = "backward", errors: Errors = "raise") -> Any:
+    """The loop's characteristic polynomial p(z) = D + alpha Na + beta Nb (loop.h),
+    highest power first, along a new trailing axis of length degree + 1 (the degree is
+    fixed by delay, average and differentiator, and 1 more with a low-pass)."""
+    loop = normalized_loop("loop_poly", delay, filter_pole, average, differentiator)
+    out, _ = call("loop_poly", _core.loop_poly, _DPAB, (delta, _pole(loop), alpha, beta), errors,
+                  **loop.kernel_options())
+    degree = np.asarray(out["degree"])
+    coefficients = np.asarray(out["coefficients"])
+    top = int(degree.max()) if degree.size else 0
+    return _as_result(coefficients[..., coefficients.shape[-1] - 1 - top:])
 
 
 def char_poly(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, errors: Errors = "raise") -> Any:
@@ -83,8 +156,18 @@ def coefficients_literal(delta: ArrayLike, *, errors: Errors = "raise") -> Coeff
     return Coefficients(e=nan, c1=out["c1"], c2=out["c2"], d12=out["d12"], s=nan, g=nan)
 
 
-def extremes(delta: ArrayLike, *, errors: Errors = "raise") -> Extremes:
-    """alpha_mmax (and the beta at it), alpha with beta = 0, beta_mmax, lower extremes."""
+def extremes(delta: ArrayLike, *, delay: int = 0, filter_pole: ArrayLike = 0.0, average: Optional[int] = None,
+             differentiator: str = "backward", errors: Errors = "raise") -> Union[Extremes, LoopExtremes]:
+    """alpha_mmax (and the beta at it), alpha with beta = 0, beta_mmax, lower extremes.
+
+    For a loop other than the paper's (the keywords of :func:`check`) a
+    :class:`LoopExtremes` of that loop, by D-decomposition (zw_loop_extremes_compute):
+    certified, never beyond the true values."""
+    loop = normalized_loop("extremes", delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("extremes", _core.loop_extremes, ("delta", "filter_pole"), (delta, _pole(loop)), errors,
+                      **loop.kernel_options())
+        return LoopExtremes.from_outputs(out)
     out, _ = call("extremes", _core.extremes, ("delta",), (delta,), errors)
     return Extremes.from_outputs(out)
 
@@ -103,13 +186,45 @@ def corner(delta: ArrayLike, *, errors: Errors = "raise") -> BoundaryPoint:
     return BoundaryPoint.from_outputs(out)
 
 
-def alpha_max(delta: ArrayLike, beta: ArrayLike, *, errors: Errors = "raise") -> Any:
-    """sup alpha stable at this beta: min(f(beta), L(beta)), 0 outside (-delta, beta_mmax)."""
+def alpha_max(delta: ArrayLike, beta: ArrayLike, *, delay: int = 0, filter_pole: ArrayLike = 0.0,
+              average: Optional[int] = None, differentiator: str = "backward", errors: Errors = "raise") -> Any:
+    """sup alpha stable at this beta: min(f(beta), L(beta)), 0 outside (-delta, beta_mmax).
+
+    For a loop other than the paper's (the keywords of :func:`check`): the end of the
+    stable interval (0, alpha_max) on the line beta = const of that loop, certified (every
+    alpha below it is stable, and it is never above the true one; zw_loop_alpha_max)."""
+    loop = normalized_loop("alpha_max", delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("alpha_max", _core.loop_alpha_max, ("delta", "filter_pole", "beta"),
+                      (delta, _pole(loop), beta), errors, **loop.kernel_options())
+        return out["alpha_max"]
     out, _ = call("alpha_max", _core.alpha_max, ("delta", "beta"), (delta, beta), errors)
     return out["alpha_max"]
 
 
-def beta_interval(delta: ArrayLike, alpha: ArrayLike, *, errors: Errors = "raise") -> Interval:
-    """The open interval of beta stable at this alpha (nonempty False where none)."""
+def beta_interval(delta: ArrayLike, alpha: ArrayLike, *, delay: int = 0, filter_pole: ArrayLike = 0.0,
+                  average: Optional[int] = None, differentiator: str = "backward",
+                  errors: Errors = "raise") -> Interval:
+    """The open interval of beta stable at this alpha (nonempty False where none).
+
+    For a loop other than the paper's the stable set of beta may be several intervals;
+    this is the widest, certified (inside the true one; zw_loop_beta_interval)."""
+    loop = normalized_loop("beta_interval", delay, filter_pole, average, differentiator)
+    if not loop.ideal:
+        out, _ = call("beta_interval", _core.loop_beta_interval, ("delta", "filter_pole", "alpha"),
+                      (delta, _pole(loop), alpha), errors, **loop.kernel_options())
+        return Interval.from_outputs(out)
     out, _ = call("beta_interval", _core.beta_interval, ("delta", "alpha"), (delta, alpha), errors)
     return Interval.from_outputs(out)
+
+
+def loop_boundary(delta: float, *, delay: int = 0, filter_pole: float = 0.0, average: Optional[int] = None,
+                  differentiator: str = "backward", points: int = 2001) -> BoundaryPoint:
+    """The complex-pair boundary curve (alpha(theta), beta(theta)) of a loop for theta on a
+    grid of ``points`` in (0, pi) (zw_loop_boundary_point; NaN where the curve has an
+    asymptote).  Informational (plots): limits come from :func:`alpha_max`."""
+    loop = normalized_loop("loop_boundary", delay, filter_pole, average, differentiator)
+    theta = np.linspace(0.0, np.pi, int(points) + 2)[1:-1]
+    out, _ = call("loop_boundary", _core.loop_boundary_point, ("delta", "filter_pole", "theta"),
+                  (delta, _pole(loop), theta), "mask", **loop.kernel_options())
+    return BoundaryPoint.from_outputs(out)

@@ -15,6 +15,7 @@ returns the matplotlib Figure (created with pyplot, so ``plt.show()`` works; pas
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import textwrap
 from pathlib import Path
@@ -28,7 +29,7 @@ from . import (DELTA0, DELTA1, DELTA2, DELTA_B, DELTA_BB, DELTA_K1, DELTA_K2, al
 from . import check as _check
 from . import extremes as _extremes
 from .device import Device
-from .results import Verdict
+from .results import DeviceExtremes, Extremes, LoopVerdict, Verdict
 from .scene import EFFECTS
 
 if TYPE_CHECKING:
@@ -38,7 +39,8 @@ if TYPE_CHECKING:
     from .scene import Scene
     from .sim import Simulation, SimulationSet
 
-__all__ = ["region", "extremes", "influence", "device", "simulation", "save", "CRITICAL_DELTAS"]
+__all__ = ["region", "loop_region", "extremes", "influence", "device", "simulation", "save",
+           "CRITICAL_DELTAS"]
 
 _INSTALL_HINT = "zwidth.plot needs matplotlib: pip install zwidth[plot]"
 
@@ -116,7 +118,7 @@ def _scalar(name: str, value: Any) -> float:
     return float(value)
 
 
-def _mark_verdict(ax: "Axes", x: float, y: float, v: Verdict, what: str) -> List[Any]:
+def _mark_verdict(ax: "Axes", x: float, y: float, v: Union[Verdict, LoopVerdict], what: str) -> List[Any]:
     """A diamond at (x, y) coloured by the verdict, labelled "what: verdict, deciding"."""
     word = v.word
     why = f", {v.deciding_name}" if word != "stable" and v.deciding_name else ""
@@ -177,6 +179,7 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
     """
     delta = _scalar("delta", delta)
     ext = _extremes(delta)  # validates delta (ZwidthError)
+    assert isinstance(ext, Extremes)  # the paper's loop (no loop keywords)
     top = hyperbola_top(delta)
     cor = corner(delta)
     lo, hi = -delta, float(ext.beta_mmax)
@@ -513,7 +516,11 @@ def device(device: Device, K: Optional[float] = None, B: Optional[float] = None,
     """
     m, b, T = _scalar_device(device, "device")
     u = _units(device)
+    if not device.loop.ideal:
+        raise ValueError(f"zwidth.plot.device draws the paper's ideal loop; for a loop with "
+                         f"{device.loop.describe()} use zwidth.plot.loop_region")
     lim = device.extremes()
+    assert isinstance(lim, DeviceExtremes)
     lo, hi = float(lim.B_mmin), float(lim.B_mmax)
     bs = np.unique(np.concatenate([np.linspace(lo, hi, 2001), [float(lim.B_at_K_mmax), 0.0]]))
     bs = bs[(bs >= lo) & (bs <= hi)]
@@ -612,8 +619,8 @@ def _verdict_lines(sim: "Simulation", legacy: Optional[bool]) -> Tuple[str, str]
 
 
 def _legacy_verdict(sim: "Simulation", rotary: bool) -> Optional[bool]:
-    if sim.analytic is None:
-        return None
+    if sim.analytic is None or sim.ideal is not None or int(sim.params["effects"]):
+        return None  # the legacy region is one of the ideal loop's
     p = sim.params
     dev = Device(p["m"], p["b"], p["T"], rotary=rotary)
     return bool(dev.is_stable(p["K"], p["B"], region="legacy"))
@@ -790,6 +797,75 @@ def simulation(sims: "SimulationSet", *, fig: Optional["Figure"] = None,
     fig.suptitle(f"{scene.name}: {scene.description or 'simulated responses'}\n({summary})",
                  fontsize="medium")
     return fig
+
+
+
+def loop_region(delta: float, *, delay: int = 0, filter_pole: float = 0.0, average: Optional[int] = None,
+                differentiator: str = "backward", point: Union[Point, Sequence[Point], None] = None,
+                ax: Optional["Axes"] = None, resolution: Tuple[int, int] = (400, 300),
+                T: Optional[float] = None, loop_text: Optional[str] = None) -> "Figure":
+    """How much of the ideal loop's region a real loop keeps, in the (beta, alpha) plane.
+
+    The paper's exact region at delta (grey, its boundary alpha_max) under the region of
+    the loop with ``delay``, ``filter_pole`` / ``average`` and ``differentiator`` (blue,
+    with its certified alpha_max as a dark blue line), each grid point of ``resolution``
+    decided by the guarded check of that loop
+    (zwidth.check with the same keywords: exact per point, so the blue area is never larger
+    than the true one at the grid's points).  The title gives the share of the ideal
+    region's grid points the loop keeps, and the largest alpha on the grid for each.
+    ``point`` = (beta, alpha) pairs are marked with the loop's verdict (its oscillation in
+    Hz when the period ``T`` [s] is given, else in cycles per sample); ``loop_text``
+    replaces the loop's description in the legend (e.g. the cut-off in Hz).
+    """
+    delta = _scalar("delta", delta)
+    kw: Dict[str, Any] = {"delay": delay, "filter_pole": filter_pole, "average": average,
+                          "differentiator": differentiator}
+    probe = _check(delta, 0.0, 0.0, **kw)  # validates the loop's keywords (ZwidthError)
+    del probe
+    ext = _extremes(delta)
+    lo, hi = -delta, float(ext.beta_mmax)
+    width = hi - lo
+    nb, na = resolution
+    betas = np.linspace(lo - 0.05 * width, hi + 0.05 * width, nb)
+    alphas = np.linspace(0.0, 1.1 * float(ext.alpha_mmax), na)
+    B, A = np.meshgrid(betas, alphas)
+    ideal = np.asarray(_check(delta, A, B), dtype=bool)
+    loop = np.asarray(_check(delta, A, B, **kw), dtype=bool)
+    fig, ax = _own_axes(ax, (8.0, 5.5))
+    extent = (betas[0], betas[-1], alphas[0], alphas[-1])
+    ax.imshow(np.where(ideal, 0.85, 1.0), origin="lower", extent=extent, aspect="auto", cmap="gray",
+              vmin=0.0, vmax=1.0, interpolation="nearest")
+    shown = np.ma.masked_where(~loop, np.ones_like(A))
+    ax.imshow(shown, origin="lower", extent=extent, aspect="auto", cmap="Blues", vmin=0.0, vmax=1.6,
+              alpha=0.85, interpolation="nearest")
+    curve = np.linspace(lo, hi, 1001)
+    ax.plot(curve, np.asarray(alpha_max(delta, curve), dtype=float), color="black", linewidth=1.2)
+    # the loop's certified alpha_max (loop_limits.h): the top of its stable interval above alpha = 0
+    ax.plot(curve, np.asarray(alpha_max(delta, curve, errors="mask", **kw), dtype=float), color="#1f4e99",
+            linewidth=1.2)
+    handles = [_proxy(color="0.6", linewidth=8, label="ideal loop (paper eq (10))"),
+               _proxy(color="#4a90d9", linewidth=8, label=f"this loop: {loop_text or _loop_text(kw)}")]
+    points = [] if point is None else np.asarray(point, dtype=float).reshape(-1, 2).tolist()
+    for pb, pa in points:
+        v = verdict(delta, pa, pb, **kw)
+        if T is not None and isinstance(v, LoopVerdict):
+            v = dataclasses.replace(v, frequency=v.theta / (2 * math.pi * float(T)), frequency_unit="Hz")
+        handles += _mark_verdict(ax, pb, pa, v, rf"($\beta$, $\alpha$) = ({pb:.4g}, {pa:.4g})")
+    kept = loop.sum() / max(1, ideal.sum())
+    top_ideal = float(alphas[ideal.any(axis=1)].max()) if ideal.any() else 0.0
+    top_loop = float(alphas[loop.any(axis=1)].max()) if loop.any() else 0.0
+    ax.set_title(rf"$\delta$ = {delta:.4g}: the loop keeps {100 * kept:.3g} % of the ideal region "
+                 rf"(grid); largest $\alpha$ {top_loop:.4g} vs {top_ideal:.4g}", fontsize=10)
+    ax.set_xlabel(r"$\beta$ = B T/m")
+    ax.set_ylabel(r"$\alpha$ = K T$^2$/m")
+    ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
+    return fig
+
+
+def _loop_text(kw: Dict[str, Any]) -> str:
+    from .loop import normalized_loop
+    return normalized_loop("plot.loop_region", kw["delay"], kw["filter_pole"], kw["average"],
+                           kw["differentiator"]).describe()
 
 
 def save(fig: "Figure", path: Union[str, Path], *, dpi: float = 100.0) -> Path:

@@ -259,3 +259,133 @@ class Influence(Result):
             return (f"raising {M} toward {M}_K2 = {float(self.m_K2):.4g} raises K_mmax up to "
                     f"{float(self.K_mmax_at_m_K2):.4g}.")
         return f"raising {M} raises K_mmax; so does shortening T."
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class LoopVerdict(Result):
+    """A guarded stability verdict of a general loop (delay, velocity filter,
+    differentiator: :mod:`zwidth.loop`).
+
+    stable:    True only if every root of the loop's characteristic polynomial is inside
+               the unit circle for every value within the rounding-error bound.
+    marginal:  within the rounding band of a boundary: could not be proved stable.
+    boundary:  where the root of largest modulus crosses (or nearly does): a
+               ``zwidth.LOOP_BOUNDARIES`` code, 0 ('none') when stable; see ``deciding_name``.
+    theta:     for a complex pair, its angle in (0, pi) rad per sample, else 0.
+    frequency: theta / (2 pi T) [Hz] for a Device; theta / (2 pi) [cycles per sample] in
+               the normalized space.
+    status:    the C core's status code per element (0 = ok).
+    """
+
+    stable: Any
+    marginal: Any
+    boundary: Any
+    theta: Any
+    frequency: Any
+    status: Any
+    #: "Hz" (a Device) or "cycles/sample" (normalized): the unit of frequency
+    frequency_unit: str = dataclasses.field(default="cycles/sample", repr=False, metadata={"result": False})
+
+    @property
+    def word(self) -> Any:
+        """'stable', 'marginal' (within the rounding band: not proved stable) or 'unstable'."""
+        words = np.where(np.asarray(self.stable), "stable",
+                         np.where(np.asarray(self.marginal), "marginal", "unstable"))
+        return str(words[()]) if words.ndim == 0 else words.astype(object)
+
+    @property
+    def deciding_name(self) -> Any:
+        """The deciding boundary: 'z=1' (static divergence), 'z=-1' (oscillation at the
+        Nyquist frequency), 'complex pair at X Hz' (or cycles/sample), '' when stable."""
+        def name(code: Any, freq: Any) -> str:
+            kind = _LOOP_BOUNDARY_NAMES.get(int(code), "")
+            if kind == "complex":
+                return f"complex pair at {float(freq):.6g} {self.frequency_unit}"
+            return "" if kind == "none" else kind
+        names = np.vectorize(name, otypes=[object])(np.asarray(self.boundary), np.asarray(self.frequency))
+        return str(names[()]) if names.ndim == 0 else names
+
+    def __repr__(self) -> str:
+        if np.ndim(self.stable) == 0:
+            if self.status:
+                return f"LoopVerdict(invalid: {_core.STATUS_NAMES[int(self.status)]})"
+            text = f"LoopVerdict(stable={bool(self.stable)}, marginal={bool(self.marginal)}"
+            if not self.stable:
+                text += f", deciding={self.deciding_name!r}"
+            return text + ")"
+        return super().__repr__()
+
+
+_LOOP_BOUNDARY_NAMES = {int(code): name for name, code in _core.LOOP_BOUNDARIES.items()}
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class LoopExtremes(Result):
+    """Impedance extremes of a general loop in the normalized space (loop_limits.h), all
+    certified: never beyond the true values.
+
+    alpha_mmax: largest stable alpha = K T^2/m found (a certified limit), at
+    beta_at_alpha_mmax; alpha_p_max: largest alpha with beta = 0; beta_mmax, beta_mmin: the
+    stable beta range as alpha -> 0+.
+    """
+
+    alpha_mmax: Any
+    beta_at_alpha_mmax: Any
+    alpha_p_max: Any
+    beta_mmax: Any
+    beta_mmin: Any
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class DeviceLoopExtremes(Result):
+    """Impedance extremes of a Device's loop in real units (N/m, N s/m; rotary N m/rad,
+    N m s/rad), certified and pulled inward for the unit conversions.
+
+    K_mmax: largest stable K found, at B_at_K_mmax; K_p_max: largest K with B = 0;
+    B_mmax, B_mmin: the stable B range as K -> 0+.
+    """
+
+    K_mmax: Any
+    B_at_K_mmax: Any
+    K_p_max: Any
+    B_mmax: Any
+    B_mmin: Any
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class LoopInfluence(Result):
+    """What a Device's loop costs, and which filter cut-off keeps most (real units: N/m,
+    N s/m, Hz; every K_mmax certified, NaN where no gains are stable).
+
+    K_mmax_ideal, B_mmax_ideal: the paper's loop (no delay, no filter, backward difference);
+    K_mmax, B_mmax: this loop; K_mmax_kept: K_mmax / K_mmax_ideal.
+    delays, K_mmax_by_delay: K_mmax with each delay (this loop's filter and differentiator).
+    cutoffs, K_mmax_by_cutoff: with a low-pass, K_mmax against its cut-off (this delay), on a
+    log grid below the Nyquist frequency; best_cutoff, K_mmax_at_best_cutoff: the grid's best.
+    """
+
+    K_mmax_ideal: Any
+    B_mmax_ideal: Any
+    K_mmax: Any
+    B_mmax: Any
+    K_mmax_kept: Any
+    delays: Any
+    K_mmax_by_delay: Any
+    cutoffs: Any
+    K_mmax_by_cutoff: Any
+    best_cutoff: Any
+    K_mmax_at_best_cutoff: Any
+    #: the loop in words
+    loop_text: str = dataclasses.field(default="", repr=False, metadata={"result": False})
+
+    @property
+    def advice(self) -> str:
+        """The cost and the filter advice in words."""
+        text = (f"{self.loop_text} keeps {100 * float(self.K_mmax_kept):.3g} % of the ideal loop's K_mmax "
+                f"({float(self.K_mmax):.4g} of {float(self.K_mmax_ideal):.4g})")
+        by_delay = ", ".join(f"{int(d)}: {float(k):.4g}" for d, k in zip(self.delays, self.K_mmax_by_delay))
+        text += f"; K_mmax by delay in samples: {by_delay}"
+        if self.cutoffs is not None and np.isfinite(float(self.K_mmax_at_best_cutoff)):
+            text += (f"; of the low-pass cut-offs tried, {float(self.best_cutoff):.4g} Hz keeps most: "
+                     f"K_mmax {float(self.K_mmax_at_best_cutoff):.4g}")
+        return text

@@ -44,6 +44,8 @@ __all__ = ["SceneError", "Scene", "Case", "load_scene", "parse_quantity", "EFFEC
            "SUBSTEP_ACCURACY", "MIN_SUBSTEPS", "DEFAULT_DURATION", "DEFAULT_WINDOWS",
            "DEFAULT_RELATIVE_TOLERANCE", "MAX_SAMPLES", "MAX_KNOB_COUNT"]
 
+#: Effects that keep the loop linear and time-invariant, so zwidth.loop decides it exactly.
+LINEAR_EFFECTS = ("delay", "velocity_filter")
 #: Effect name -> bit of ``zw_sim_scene.effects`` (sim.h).
 EFFECTS: Dict[str, int] = dict(_core.SIM_EFFECTS)
 #: Effects that need the state between samples (they bring the RK4 integrator).
@@ -460,7 +462,14 @@ class Scene:
 
     @property
     def linear(self) -> bool:
-        """No effect: the ideal sampled loop that zwidth's analysis covers."""
+        """Every effect is linear (a delay, a velocity low-pass, or none): zwidth's analysis
+        covers the loop simulated (:mod:`zwidth.loop`), so each case gets its analytic
+        verdict."""
+        return all(e in LINEAR_EFFECTS for e in self.effects)
+
+    @property
+    def ideal(self) -> bool:
+        """No effect: the paper's ideal sampled loop."""
         return not self.effects
 
     @property

@@ -18,8 +18,10 @@ DEFAULT_WINDOWS, covering the run's second half), their peak-to-peak amplitudes 
                cycle or a drift is not dying out
     undecided  otherwise: shrinking in every window but not settled yet: run longer
 
-For a linear scene (no effect) the analysis covers the loop: ``Simulation.analytic`` is
-zwidth's exact verdict for the case's plant and gains and ``agrees`` compares the two.
+For a linear scene (no effect, or only a delay of up to 8 samples and a velocity low-pass)
+the analysis covers the loop: ``Simulation.analytic`` is zwidth's exact verdict of the loop
+simulated (zwidth.loop, with the simulator's own filter pole) and ``agrees`` compares the
+two; ``Simulation.note`` warns when the paper's ideal loop would say otherwise.
 """
 from __future__ import annotations
 
@@ -36,9 +38,10 @@ from numpy.typing import NDArray
 
 from . import _core
 from .device import Device
-from .results import Verdict
-from .scene import (DEFAULT_RELATIVE_TOLERANCE, EFFECTS, Case, Scene, SceneError, load_scene,
-                    signal_units)
+from .loop import MAX_DELAY
+from .results import LoopVerdict, Verdict
+from .scene import (DEFAULT_RELATIVE_TOLERANCE, EFFECTS, LINEAR_EFFECTS, Case, Scene, SceneError,
+                    load_scene, signal_units)
 
 __all__ = ["simulate", "Simulation", "SimulationSet", "SimVerdict", "SIGNALS", "EFFECT_SIGNALS", "work"]
 
@@ -59,6 +62,38 @@ EFFECT_SIGNALS: Dict[str, Tuple[str, ...]] = {
     "knob": ("stiffness", "stiffness_planned", "damping"),
     "schedule": ("stiffness", "damping"),
 }
+
+_LINEAR_BITS = sum(EFFECTS[e] for e in LINEAR_EFFECTS)
+
+
+def analysis_device(params: Mapping[str, Any], rotary: bool, filter_pole: float) -> Optional[Device]:
+    """The Device whose loop is the one a case simulates, or None when the analysis does
+    not cover it (a nonlinear or time-varying effect, or a delay beyond loop.MAX_DELAY).
+
+    Timing (sim.c against loop.h): the force computed from x_k is applied over
+    [(k + d)T, (k + d + 1)T) in both; the simulator's low-pass vf_k = a vf_{k-1} +
+    (1 - a)(x_k - x_{k-1})/T is the loop's, with a the simulator's own pole
+    (``filter_pole``, exp(-2 pi f_c T) as sim.c rounds it), so the verdict is that of the
+    loop run, bit for bit in a (also above the Nyquist frequency, which a drive may do).
+    """
+    effects = int(params["effects"])
+    if effects & ~_LINEAR_BITS:
+        return None
+    delay = int(params.get("delay_samples", 0)) if effects & EFFECTS["delay"] else 0
+    if delay > MAX_DELAY:
+        return None
+    vf = ("pole", float(filter_pole)) if effects & EFFECTS["velocity_filter"] else None
+    return Device(params["m"], params["b"], params["T"], rotary=rotary, delay=delay, velocity_filter=vf)
+
+
+def loop_words(params: Mapping[str, Any], dev: Device) -> str:
+    """The simulated loop in words, its low-pass by the scene's cut-off (and the pole used)."""
+    text = dev.loop.describe()
+    if dev.loop.filter == "lowpass" and "cutoff_hz" in params:
+        text = text.replace(f"low-pass pole {float(dev.loop.pole):g}",
+                            f"low-pass {float(params['cutoff_hz']):g} Hz, pole {float(dev.loop.pole):.6g}")
+    return text
+
 
 # Work per Simulator.run call when reporting progress (about 0.1 s; see work()).
 _CHUNK_WORK = 30_000_000
@@ -108,13 +143,18 @@ class Simulation:
                 hand_force, hand_target, wall_force, force_command, stiffness, stiffness_planned,
                 damping, velocity_estimate
     verdict:    the simulated verdict (:class:`SimVerdict`)
-    analytic:   zwidth's exact verdict (:class:`zwidth.Verdict`) of the case's plant and
-                gains for a linear scene, else None
+    analytic:   zwidth's exact verdict of the loop simulated, for a linear scene (no effect:
+                a :class:`zwidth.Verdict`; a delay and/or velocity low-pass: a
+                :class:`zwidth.LoopVerdict` of that loop), else None
     agrees:     simulated and analytic verdicts agree (None: no analytic verdict, or the
                 simulation is undecided)
     params:     the flat scene dict simulated (SI units; see zwidth._core.Simulator)
     units:      unit of each signal
     case:       the :class:`zwidth.scene.Case`
+    ideal:      for a delay / low-pass scene, the paper's ideal loop's verdict at the same
+                gains (what ``zwidth check`` without loop options says), else None
+    note:       a warning in words when the ideal loop's verdict and this loop's differ (or
+                when the analysis does not cover the loop), else None
     """
 
     label: str
@@ -125,11 +165,15 @@ class Simulation:
     force: NDArray[np.float64] = dataclasses.field(repr=False)
     signals: Dict[str, NDArray[np.float64]] = dataclasses.field(repr=False)
     verdict: SimVerdict
-    analytic: Optional[Verdict]
+    analytic: Optional[Union[Verdict, LoopVerdict]]
     agrees: Optional[bool]
     params: Dict[str, Any] = dataclasses.field(repr=False)
     units: Dict[str, str] = dataclasses.field(repr=False)
     case: Case = dataclasses.field(repr=False)
+    ideal: Optional[Verdict] = dataclasses.field(default=None, repr=False)
+    note: Optional[str] = dataclasses.field(default=None, repr=False)
+    #: the Device (plant and loop) whose verdict ``analytic`` is, else None
+    device: Optional[Device] = dataclasses.field(default=None, repr=False)
 
     def __repr__(self) -> str:
         analytic = "None" if self.analytic is None else self.analytic.word
@@ -309,18 +353,33 @@ def _run_case(case: Case, scene: Scene, bar: Any) -> Simulation:
     rotary = scene.rotary
     units = signal_units(rotary)
     verdict = judge(data["x"], case, case.T, units["x"])
-    analytic: Optional[Verdict] = None
+    analytic: Optional[Union[Verdict, LoopVerdict]] = None
+    ideal: Optional[Verdict] = None
     agrees: Optional[bool] = None
-    if int(params["effects"]) == 0:
-        dev = Device(params["m"], params["b"], params["T"], rotary=rotary)
+    note: Optional[str] = None
+    dev = analysis_device(params, rotary, sim.filter_pole)
+    if dev is not None:
         analytic = dev.verdict(params["K"], params["B"])
         if verdict.outcome != "undecided":
             agrees = verdict.stable == bool(analytic.stable)
+        if not dev.loop.ideal:
+            words = loop_words(params, dev)
+            ideal_verdict = dev.ideal().verdict(params["K"], params["B"])
+            assert isinstance(ideal_verdict, Verdict)
+            ideal = ideal_verdict
+            if bool(ideal.stable) and not bool(analytic.stable):
+                note = (f"the paper's ideal loop (zwidth check without the loop options) is stable at these "
+                        f"gains, but this loop ({words}) is {analytic.word}: {analytic.deciding_name}")
+            elif not bool(ideal.stable) and bool(analytic.stable):
+                note = f"the paper's ideal loop is not stable at these gains; this loop ({words}) is stable"
+    elif int(params["effects"]) & _LINEAR_BITS and not int(params["effects"]) & ~_LINEAR_BITS:
+        note = (f"no analytic verdict: a delay of {int(params.get('delay_samples', 0))} samples is beyond the "
+                f"{MAX_DELAY} the loop analysis covers")
     signals = {k: data[k] for k in names if k not in _BASIC}
     return Simulation(label=case.label, t=data["t"], x=data["x"], v=data["v"],
                       x_measured=data["x_measured"], force=data["force"], signals=signals,
                       verdict=verdict, analytic=analytic, agrees=agrees, params=dict(params),
-                      units={k: units[k] for k in names}, case=case)
+                      units={k: units[k] for k in names}, case=case, ideal=ideal, note=note, device=dev)
 
 
 def simulate(scene: Union[Scene, str, Path, Mapping[str, Any]], *, progress: bool = False,

@@ -116,6 +116,7 @@ COMMON = {
     "command": str, "mode": str,
     "plant": {"m": NUM, "b": NUM, "T": NUM, "rotary": bool, "delta": float},
     "units": (dict, type(None)),
+    "loop": dict,   # the loop analysed (test_loop_cli.py)
 }
 SCHEMAS = {
     "check": {**COMMON, "region": str, "verdict": str, "stable": bool, "marginal": bool,
@@ -200,6 +201,7 @@ def test_check_json_normalized_line():
     assert same(obj["beta_range"]["lo"], iv.lo) and same(obj["beta_range"]["hi"], iv.hi)
     assert obj["K"] is obj["K_max"] is obj["B_range"] is obj["units"] is None
     assert obj["plant"] == {"m": None, "b": None, "T": None, "rotary": False, "delta": 5.122}
+    assert obj["loop"]["ideal"] is True
 
 
 @pytest.mark.parametrize("K, stable", [(0.39, True), (0.5, False)])
