@@ -45,6 +45,13 @@
 #define zw_loop_check zw_loop_check_f
 #define zw_loop_radius_within zw_loop_radius_within_f
 #define zw_loop_spectral_radius zw_loop_spectral_radius_f
+/* loop_limits.h */
+#define zw_loop_alpha_max zw_loop_alpha_max_f
+#define zw_loop_beta_intervals zw_loop_beta_intervals_f
+#define zw_loop_beta_interval zw_loop_beta_interval_f
+#define zw_loop_extremes_compute zw_loop_extremes_compute_f
+#define zw_loop_boundary_point zw_loop_boundary_point_f
+#define zw_loop_boundary_line zw_loop_boundary_line_f
 /* margin.h */
 #define zw_char_poly zw_char_poly_f
 #define zw_spectral_radius zw_spectral_radius_f
