@@ -39,18 +39,14 @@ ALPHA_U = 4000  # gap below the truth, in u times alpha_scale(); measured worst 
 EXT_REL = {"double": 1e-9, "float": 2e-3}
 
 # ---------------------------------------------------------------------------------------
-# ctypes: the loop structs (zw_loop itself is opaque here: a generous buffer)
+# ctypes: zw_loop, its spec and verdict, zw_loop_init and zw_loop_check come from conftest
+# (one prototype per library function: setting argtypes here would change them for every
+# other test); only loop_limits.h is declared here.
 # ---------------------------------------------------------------------------------------
-
-LOOP_BYTES = 1 << 16
 
 
 def _types(zw):
     R = zw.real
-
-    class Spec(ctypes.Structure):
-        _fields_ = [("delay", c_uint), ("differentiator", c_int), ("filter", c_int),
-                    ("filter_pole", R), ("average", c_uint)]
 
     class Ext(ctypes.Structure):
         _fields_ = [(n, R) for n in ("alpha_mmax", "beta_at_alpha_mmax", "alpha_p_max",
@@ -59,18 +55,18 @@ def _types(zw):
     class BetaSet(ctypes.Structure):
         _fields_ = [("count", c_uint), ("truncated", c_bool), ("lo", R * 4), ("hi", R * 4)]
 
-    lib = zw.lib
-    P = POINTER
-    lib.zw_loop_init.argtypes = [ctypes.c_void_p, P(zw.Coeffs), P(Spec)]
-    lib.zw_loop_alpha_max.argtypes = [ctypes.c_void_p, R, P(R)]
-    lib.zw_loop_beta_intervals.argtypes = [ctypes.c_void_p, R, P(BetaSet)]
-    lib.zw_loop_extremes_compute.argtypes = [ctypes.c_void_p, P(Ext)]
-    lib.zw_loop_boundary_point.argtypes = [ctypes.c_void_p, R, P(R), P(R)]
-    lib.zw_loop_boundary_line.argtypes = [ctypes.c_void_p, c_int, P(R), P(R), P(R)]
-    for f in ("zw_loop_init", "zw_loop_alpha_max", "zw_loop_beta_intervals",
-              "zw_loop_extremes_compute", "zw_loop_boundary_point", "zw_loop_boundary_line"):
-        getattr(lib, f).restype = c_int
-    return Spec, Ext, BetaSet
+    P, L = POINTER, POINTER(zw.Loop)
+    sigs = {
+        "zw_loop_alpha_max": [L, R, P(R)],
+        "zw_loop_beta_intervals": [L, R, P(BetaSet)],
+        "zw_loop_extremes_compute": [L, P(Ext)],
+        "zw_loop_boundary_point": [L, R, P(R), P(R)],
+        "zw_loop_boundary_line": [L, c_int, P(R), P(R), P(R)],
+    }
+    for f, args in sigs.items():
+        fn = zw.symbol(f)
+        fn.argtypes, fn.restype = args, c_int
+    return Ext, BetaSet
 
 
 class Loop:
@@ -78,28 +74,22 @@ class Loop:
 
     def __init__(self, zw, delta, delay=0, tustin=False, pole=None, average=None):
         self.zw = zw
-        self.Spec, self.Ext, self.BetaSet = _types(zw)
+        self.Ext, self.BetaSet = _types(zw)
         st, self.co = zw.coeffs(delta)
         assert st == E["ZW_OK"]
         self.delta = self.co.delta  # the binary delta the library holds
-        filt = 0 if pole is None and average is None else (1 if pole is not None else 2)
+        filt = "none" if pole is None and average is None else ("lowpass" if pole is not None else "average")
         self.spec_args = dict(delay=delay, tustin=tustin, pole=pole, average=average)
         self.pole = zw.r(pole) if pole is not None else 0.0
-        spec = self.Spec(delay, 1 if tustin else 0, filt, self.pole, average or 0)
-        self.buf = ctypes.create_string_buffer(LOOP_BYTES)
-        st = zw.lib.zw_loop_init(self.buf, byref(self.co), byref(spec))
+        spec = zw.loop_spec(delay, "tustin" if tustin else "backward", filt, self.pole, average or 0)
+        st, self.buf = zw.loop(self.co, spec)
         assert st == E["ZW_OK"], zw.status_name(st)
 
     def check_stable(self, alpha, beta):
         """zw_loop_check's verdict (loop.h) is stable."""
-        class Verdict(ctypes.Structure):
-            _fields_ = [("stable", c_bool), ("marginal", c_bool), ("deciding", c_int),
-                        ("theta", self.zw.real)]
-        v = Verdict()
-        fn = self.zw.lib.zw_loop_check
-        fn.argtypes = [ctypes.c_void_p, self.zw.real, self.zw.real, POINTER(Verdict)]
-        fn.restype = c_int
-        return fn(self.buf, alpha, beta, byref(v)) == E["ZW_OK"] and v.stable
+        v = self.zw.LoopVerdict()
+        st = self.zw.loop_fn["zw_loop_check"](byref(self.buf), alpha, beta, byref(v))
+        return st == E["ZW_OK"] and v.stable
 
     def alpha_max(self, beta):
         a = self.zw.real()
