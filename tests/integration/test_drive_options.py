@@ -33,7 +33,7 @@ MAGIC_ANSWER = b"\x03\x04\x5a\x57\x00\x01"
 
 @pytest.mark.skipif(SOCAT is None, reason="socat not installed")
 @pytest.mark.parametrize("baud", ["19200", "115200"])
-def test_rtu_request_after_another_slave_within_10ms_is_served(start_drive, pty_pair, baud):
+def test_rtu_request_after_another_slave_within_10ms_is_served(pty_pair, start_drive, baud):
     drive_tty, client_tty = pty_pair
     d = start_drive("--rtu", drive_tty, "--baud", baud, "--slave", "1", "-v", rtu=True)
     raw = RawRTU(client_tty)

@@ -36,7 +36,9 @@ def rtu_frame(slave, pdu):
 
 @pytest.fixture
 def pty_pair(tmp_path):
-    """(drive side, client side) device paths of a socat pty pair."""
+    """(drive side, client side) device paths of a socat pty pair.  Tests take it before
+    start_drive, so the drive is stopped before socat is (fixtures tear down in reverse):
+    a drive that sees its tty hang up first rightly exits 1, "lost the serial device"."""
     a, b = tmp_path / "drive-tty", tmp_path / "client-tty"
     proc = subprocess.Popen([SOCAT, "-d", "-d", f"pty,raw,echo=0,link={a}", f"pty,raw,echo=0,link={b}"],
                             stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -97,7 +99,7 @@ def tune_rtu(dev, *args):
                           text=True, timeout=15, stdin=subprocess.DEVNULL)
 
 
-def test_rtu_tune_and_raw_frames(start_drive, pty_pair):
+def test_rtu_tune_and_raw_frames(pty_pair, start_drive):
     drive_tty, client_tty = pty_pair
     d = start_drive("--rtu", drive_tty, "--slave", "1", "-v", rtu=True)
 
@@ -143,7 +145,7 @@ def test_rtu_tune_and_raw_frames(start_drive, pty_pair):
     assert "bad CRC" in log and "broadcast" in log
 
 
-def test_rtu_mbpoll(start_drive, pty_pair):
+def test_rtu_mbpoll(pty_pair, start_drive):
     mbpoll = shutil.which("mbpoll")
     if mbpoll is None:
         pytest.skip("mbpoll not installed (apt-get install mbpoll)")
