@@ -392,6 +392,7 @@ static zw_reason build_loop(zw_regmap *rm, bool staged)
     spec.cutoff_hz = spec.filter == ZW_VFILTER_LOWPASS ? (zw_real)f[F_VF_PARAM] : ZW_R(0.0);
     spec.pole = ZW_R(0.0);
     spec.average = spec.filter == ZW_VFILTER_AVERAGE ? (unsigned)f[F_VF_PARAM] : 0u;
+    rm->kmax_cached = 0u;
     st = zw_device_loop_init(&rm->loop, (zw_real)f[F_M], (zw_real)f[F_B], (zw_real)f[F_T], &spec);
     if (st == ZW_OK) return ZW_REASON_NONE;
     return st == ZW_ERR_FILTER ? ZW_REASON_BAD_FILTER_PARAM : ZW_REASON_BAD_POLICY;
@@ -514,18 +515,32 @@ static bool radius_ok(const zw_regmap *rm, float K, float B)
     return st == ZW_OK && within;
 }
 
-/* K_max at B of the drive's loop (certified; 0 on error, by the core's fail-safe). */
+/* K_max at B of the drive's loop (certified; 0 on error, by the core's fail-safe).  The
+ * general loop's is taken from the cache when B is the one it holds. */
 static zw_status k_max_at(const zw_regmap *rm, float B, zw_real *k_max)
 {
-    return ideal_loop(rm) ? zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max)
-                          : zw_device_loop_k_max(&rm->loop, (zw_real)B, k_max);
+    if (ideal_loop(rm)) return zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max);
+    if (rm->kmax_cached != 0u && rm->kmax_B == B) {
+        *k_max = rm->kmax_value;
+        return ZW_OK;
+    }
+    return zw_device_loop_k_max(&rm->loop, (zw_real)B, k_max);
+}
+
+/* Keep K_max(B) for the gains now in force (general loop; the ideal one is cheap). */
+static void cache_k_max(zw_regmap *rm, float B, zw_real k_max)
+{
+    rm->kmax_B = B;
+    rm->kmax_value = k_max;
+    rm->kmax_cached = (uint_least16_t)(ideal_loop(rm) ? 0u : 1u);
 }
 
 /* The rules of regmap.h, in its order; the first that fails is the reason. */
-static zw_reason certify(const zw_regmap *rm, float K, float B)
+static zw_reason certify(const zw_regmap *rm, float K, float B, zw_real *k_max_out)
 {
     const zw_cert *c = &rm->sealed;
     zw_real k_max;
+    *k_max_out = ZW_R(0.0);
     if (!finite_f(K) || !finite_f(B)) return ZW_REASON_NOT_FINITE;
     if (K == 0.0f && B == 0.0f) return ZW_REASON_NONE; /* output off: always allowed */
     if (K < c->k_min) return ZW_REASON_K_BELOW_MIN;
@@ -537,6 +552,7 @@ static zw_reason certify(const zw_regmap *rm, float K, float B)
     if (!stable_ok(rm, K, B)) return ZW_REASON_UNSTABLE;
     if (k_max_at(rm, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max)
         return ZW_REASON_ABOVE_SIGMA;
+    *k_max_out = k_max;
     if (!radius_ok(rm, K, B)) return ZW_REASON_RADIUS;
     return ZW_REASON_NONE;
 }
@@ -544,8 +560,12 @@ static zw_reason certify(const zw_regmap *rm, float K, float B)
 /* A gain write: certified as a pair, then stored (K and B the values after the write). */
 ZW_NOINLINE static zw_reason apply_gains(zw_regmap *rm, float K, float B)
 {
-    zw_reason why = certify(rm, K, B);
+    zw_real k_max;
+    zw_reason why = certify(rm, K, B, &k_max);
     if (why != ZW_REASON_NONE) return why;
+    /* (0, 0) skips the rules: k_max is then not known */
+    if (K == 0.0f && B == 0.0f) rm->kmax_cached = 0u;
+    else cache_k_max(rm, B, k_max);
     publish_gains(rm, K, B);
     rm->accepted = (rm->accepted + 1u) & 0xFFFFFFFFu;
     return ZW_REASON_NONE;
@@ -628,10 +648,11 @@ ZW_NOINLINE static void live_refresh(zw_regmap *rm)
         return;
     }
     st = k_max_at(rm, rm->B, &x);
+    if (st == ZW_OK && !(rm->K == 0.0f && rm->B == 0.0f)) cache_k_max(rm, rm->B, x);
     rm->live[L_K_MAX] = value_or_nan(st, x);
     /* both report (0, 0) when the interval is empty, which covers K = 0 */
-    st = ideal_loop(rm) ? zw_device_b_range(d, (zw_real)rm->K, &x, &y, &any)
-                        : zw_device_loop_b_range(&rm->loop, (zw_real)rm->K, &x, &y, &any);
+    /* the general loop's B range is not computed per write (regmap.h): NaN */
+    st = ideal_loop(rm) ? zw_device_b_range(d, (zw_real)rm->K, &x, &y, &any) : ZW_ERR_ARG;
     rm->live[L_B_LO] = value_or_nan(st, x);
     rm->live[L_B_HI] = value_or_nan(st, y);
     st = ideal_loop(rm) ? zw_device_spectral_radius(d, (zw_real)rm->K, (zw_real)rm->B, &x)

@@ -42,7 +42,10 @@
  *                                           the k_max, stability, sigma and radius rules;
  *                                           the k_min and step rules are not applied.
  *   0x0024  ZW_REG_LIVE_B_LO (f32)      r   stable B interval at the current K (lower end)
- *   0x0026  ZW_REG_LIVE_B_HI (f32)      r   ... upper end (both 0 when K = 0)
+ *   0x0026  ZW_REG_LIVE_B_HI (f32)      r   ... upper end (both 0 when K = 0).  Ideal loop
+ *                                           only: with any other loop both read NaN (the
+ *                                           general B range costs ~1.2 M instructions, too
+ *                                           slow for every write; hosts compute it)
  *   0x0028  ZW_REG_LIVE_K_MMAX (f32)    r   K_mmax of the plant and loop (computed at SEAL)
  *   0x002A  ZW_REG_LIVE_B_AT_KMMAX (f32) r  the B that attains it (computed at SEAL)
  *   0x002C  ZW_REG_LIVE_RHO (f32)       r   spectral radius at the current gains
@@ -344,6 +347,12 @@ typedef struct zw_regmap {
     uint_least16_t unlock_armed;    /* UNLOCK1 seen as the previous request */
     float live[8];                  /* registers 0x0020..0x002F, recomputed on every accepted
                                        write and seal (so a read never runs the core) */
+    /* K_max(B) at the B of the gains in force, general loop only (two zw_loop_alpha_max,
+     * ~0.3 M instructions): stored by an accepted write, so a write that keeps B (the
+     * usual stiffness change) reuses it.  kmax_cached 0: none (cleared by every seal). */
+    float kmax_B;
+    zw_real kmax_value;
+    uint_least16_t kmax_cached;
 } zw_regmap;
 
 /* Power-up (init context: before the control loop and the Modbus task run): with cert
