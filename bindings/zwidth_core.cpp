@@ -23,6 +23,7 @@
 #include <vector>
 
 extern "C" {
+#include "zwidth/device_loop.h"
 #include "zwidth/loop.h"
 #include "zwidth/loop_limits.h"
 #include "zwidth/zwidth.h"
@@ -683,20 +684,12 @@ class NormalizedLoopCache {
     zw_loop loop_{};
 };
 
-// The loop of one (m, b, T, f_c) element, with the rounding of K / (m/T^2) and B / (m/T)
-// carried into the loop's error bounds: alpha Na is computed from alpha(1 + e_a), which is
-// (alpha)(Na(1 + e_a)), so widening each |Na| bound by |Na| e_a makes the loop's guard cover
-// it (and Nb likewise for beta; also their bilinear images Nas, Nbs, which the Routh test
-// reads).  This relies on every verdict reading the gains only through these parts with
-// their bounds (loop.h: "each coefficient with a bound on its absolute error"); a
-// zw_loop_check taking gain error bounds would make it explicit (asked of loop-core).  delta's rounding is in the device's coefficients
-// (delta_relerr), which zw_loop_init reads.
+// The loop of one (m, b, T, f_c) element: zw_device_loop, whose loop carries the rounding
+// of K / (m/T^2) and B / (m/T) in its guard (zw_loop_carry_gain_rounding), so zw_loop_check
+// on it at the normalized gains is zw_device_loop_check.
 class DeviceLoopCache {
   public:
-    struct Plant {
-        zw_device dev;
-        zw_loop loop;
-    };
+    using Plant = zw_device_loop;
     using plant_type = Plant;
     explicit DeviceLoopCache(const LoopKind &kind) : kind_(kind) {}
 
@@ -713,28 +706,18 @@ class DeviceLoopCache {
 
   private:
     zw_status build() {
-        zw_status s = zw_device_init(&plant_.dev, key_[0], key_[1], key_[2]);
-        double pole = 0.0;
-        if (s == ZW_OK && kind_.filter == ZW_VFILTER_LOWPASS) {
-            if (!kind_.pole_given) s = zw_loop_lowpass_pole(key_[3], key_[2], &pole);
-            else if (std::isnan(key_[3])) s = ZW_ERR_NAN;
-            else pole = key_[3];  // zw_loop_init checks 0 <= a < 1
-        }
-        if (s != ZW_OK) return s;
-        const zw_loop_spec spec = loop_spec(kind_, pole);
-        s = zw_loop_init(&plant_.loop, &plant_.dev.co, &spec);
-        if (s != ZW_OK) return s;
-        // device.c normalizes with relative errors 4u (alpha) and 3u (beta); 8u and 6u
-        // cover them and the rounding of these products with room to spare.
-        constexpr double u = std::numeric_limits<double>::epsilon() / 2;
-        zw_loop &l = plant_.loop;
-        for (unsigned i = 0; i <= l.degree; ++i) {  // the z parts and their bilinear images
-            l.Na_err[i] += std::fabs(l.Na[i]) * (8 * u);
-            l.Nb_err[i] += std::fabs(l.Nb[i]) * (6 * u);
-            l.Nas_err[i] += std::fabs(l.Nas[i]) * (8 * u);
-            l.Nbs_err[i] += std::fabs(l.Nbs[i]) * (6 * u);
-        }
-        return ZW_OK;
+        zw_device_loop_spec spec{};
+        spec.delay = kind_.delay;
+        spec.differentiator = kind_.differentiator;
+        spec.filter = kind_.filter;
+        spec.average = kind_.filter == ZW_VFILTER_AVERAGE ? kind_.average : 0u;
+        const bool lowpass = kind_.filter == ZW_VFILTER_LOWPASS;
+        if (lowpass && kind_.pole_given) spec.pole = key_[3];  // zw_loop_init checks 0 <= a < 1, NaN
+        if (lowpass && !kind_.pole_given) spec.cutoff_hz = key_[3];
+        const zw_status s = zw_device_loop_init(&plant_, key_[0], key_[1], key_[2], &spec);
+        // cut-off 0 would mean "take the pole" in C; here it is a bad cut-off
+        if (s == ZW_OK && lowpass && !kind_.pole_given && key_[3] == 0.0) return ZW_ERR_FILTER;
+        return s;
     }
 
     LoopKind kind_;
@@ -745,7 +728,7 @@ class DeviceLoopCache {
 };
 
 const zw_loop *loop_of(const zw_loop *l) { return l; }
-const zw_loop *loop_of(const DeviceLoopCache::Plant *p) { return &p->loop; }
+const zw_loop *loop_of(const zw_device_loop *p) { return &p->loop; }
 
 // Gains of an element: (alpha, beta) as given, or normalized from (K, B) by the device.
 zw_status gains_of(const zw_loop *, double a, double b, double *alpha, double *beta) {
@@ -753,7 +736,7 @@ zw_status gains_of(const zw_loop *, double a, double b, double *alpha, double *b
     *beta = b;
     return ZW_OK;
 }
-zw_status gains_of(const DeviceLoopCache::Plant *p, double K, double B, double *alpha, double *beta) {
+zw_status gains_of(const zw_device_loop *p, double K, double B, double *alpha, double *beta) {
     return zw_device_normalize(&p->dev, K, B, alpha, beta);
 }
 
@@ -906,33 +889,7 @@ py::dict loop_lowpass_pole(f64array cutoff, f64array T) {
 
 // ---- limits of the general loop (loop_limits.h) --------------------------------------
 //
-// Device limits: the loop of DeviceLoopCache (gain rounding in its error bounds) gives the
-// normalized limit, which is converted and pulled inward by kInward (relative) so that the
-// rounding of B / (m/T) and of the scaling back cannot lift it above the true one; alpha_max
-// is also taken at beta (1 -+ 4u), B's rounding, and the smallest kept.
-constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
-constexpr double kInward = 16 * kU;
-
-// An upper limit pulled down, a lower one pulled up, by kInward of its size.
-double upper_inward(double x) { return x - std::fabs(x) * kInward; }
-double lower_inward(double x) { return x + std::fabs(x) * kInward; }
-
-zw_status alpha_max_guarded(const zw_loop *l, double beta, bool rounded_beta, double *out) {
-    double a = 0.0;
-    zw_status s = zw_loop_alpha_max(l, beta, &a);
-    if (s != ZW_OK || !rounded_beta) {
-        *out = a;
-        return s;
-    }
-    for (double f : {1 - 4 * kU, 1 + 4 * kU}) {
-        double b = 0.0;
-        s = zw_loop_alpha_max(l, beta * f, &b);
-        if (s != ZW_OK) return s;
-        a = std::min(a, b);
-    }
-    *out = a;
-    return ZW_OK;
-}
+// Device limits: zw_device_loop's certified real-unit limits (device_loop.h).
 
 py::dict loop_alpha_max(f64array delta, f64array pole, f64array beta, long delay, int diff, int filter, long average) {
     const LoopKind kind = loop_kind(delay, diff, filter, average);
@@ -1018,16 +975,9 @@ py::dict device_loop_k_max(f64array m, f64array b, f64array T, f64array cutoff, 
     double *out = r.add<double>(bc, "K_max");
     const ssize errors = bc.run(r.status(), [&] {
         return [&, cache = DLC(kind)](ssize i, const std::array<double, 5> &x) mutable {
-            const DLC::Plant *p;
-            zw_status s = cache.get(x, &p);
-            double alpha = 0.0, beta = 0.0, amax = 0.0;
-            if (s == ZW_OK) s = zw_device_normalize(&p->dev, 0.0, x[4], &alpha, &beta);
-            if (s == ZW_OK) s = alpha_max_guarded(&p->loop, beta, true, &amax);
-            if (s != ZW_OK) return s;
-            const double K = upper_inward(amax * p->dev.k_scale);
-            if (!std::isfinite(K)) return ZW_ERR_RANGE;
-            out[i] = K;
-            return s;
+            const zw_device_loop *p;
+            const zw_status s = cache.get(x, &p);
+            return s != ZW_OK ? s : zw_device_loop_k_max(p, x[4], &out[i]);
         };
     });
     return r.finish(errors);
@@ -1042,21 +992,9 @@ py::dict device_loop_b_range(f64array m, f64array b, f64array T, f64array cutoff
     bool *nonempty = r.add<bool>(bc, "nonempty");
     const ssize errors = bc.run(r.status(), [&] {
         return [&, cache = DLC(kind)](ssize i, const std::array<double, 5> &x) mutable {
-            const DLC::Plant *p;
-            zw_status s = cache.get(x, &p);
-            double alpha = 0.0, beta = 0.0, l = 0.0, h = 0.0;
-            bool ok = false;
-            if (s == ZW_OK) s = zw_device_normalize(&p->dev, x[4], 0.0, &alpha, &beta);
-            if (s == ZW_OK) s = zw_loop_beta_interval(&p->loop, alpha, &l, &h, &ok);
-            if (s != ZW_OK) return s;
-            // B = beta m/T, pulled inward: lo up, hi down (each by kInward of its size)
-            double Bl = l * p->dev.b_scale, Bh = h * p->dev.b_scale;
-            Bl = lower_inward(Bl);
-            Bh = upper_inward(Bh);
-            if (!std::isfinite(Bl) || !std::isfinite(Bh)) return ZW_ERR_RANGE;
-            ok = ok && Bl < Bh;
-            lo[i] = ok ? Bl : 0.0, hi[i] = ok ? Bh : 0.0, nonempty[i] = ok;
-            return s;
+            const zw_device_loop *p;
+            const zw_status s = cache.get(x, &p);
+            return s != ZW_OK ? s : zw_device_loop_b_range(p, x[4], &lo[i], &hi[i], &nonempty[i]);
         };
     });
     return r.finish(errors);
@@ -1072,18 +1010,13 @@ py::dict device_loop_extremes(f64array m, f64array b, f64array T, f64array cutof
     double *B_mmin = r.add<double>(bc, "B_mmin");
     const ssize errors = bc.run(r.status(), [&] {
         return [&, cache = DLC(kind)](ssize i, const std::array<double, 4> &x) mutable {
-            const DLC::Plant *p;
+            const zw_device_loop *p;
             zw_status s = cache.get(x, &p);
-            zw_loop_extremes ex;
-            if (s == ZW_OK) s = zw_loop_extremes_compute(&p->loop, &ex);
-            if (s != ZW_OK) return s;
-            const double ks = p->dev.k_scale, bs = p->dev.b_scale;
-            const double v[] = {upper_inward(ex.alpha_mmax * ks), ex.beta_at_alpha_mmax * bs,
-                                upper_inward(ex.alpha_p_max * ks), upper_inward(ex.beta_mmax * bs),
-                                lower_inward(ex.beta_mmin * bs)};
-            for (double y : v)
-                if (!std::isfinite(y)) return ZW_ERR_RANGE;
-            K_mmax[i] = v[0], B_at[i] = v[1], K_p_max[i] = v[2], B_mmax[i] = v[3], B_mmin[i] = v[4];
+            zw_device_loop_extremes ex;
+            if (s == ZW_OK) s = zw_device_loop_extremes_compute(p, &ex);
+            if (s == ZW_OK)
+                K_mmax[i] = ex.K_mmax, B_at[i] = ex.B_at_K_mmax, K_p_max[i] = ex.K_p_max, B_mmax[i] = ex.B_mmax,
+                B_mmin[i] = ex.B_mmin;
             return s;
         };
     });

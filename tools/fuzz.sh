@@ -68,14 +68,19 @@ def fwords(*xs):
 def gains(K, B):
     return writen(0x0010, fwords(K, B))
 
-status = read(0x0000, 10) + read(0x0010, 4) + read(0x0020, 16) + read(0x0030, 8) + read(0x0040, 23)
-# Up to the edge of the harness's block (steps under dk_max 0.1 and db_max 1e-3): 0.44 at
-# B = -1.36e-3 is below 0.9 K_max(B) = 0.4435 with a spectral radius 0.972 < r = 0.98.
+status = read(0x0000, 10) + read(0x0010, 4) + read(0x0020, 16) + read(0x0030, 10) + read(0x0040, 31)
+# A ramp over the ideal loop's region (steps under dk_max 0.1 and db_max 1e-3): 0.44 at
+# B = -1.36e-3 is below 0.9 K_max(B) = 0.4435 with a spectral radius 0.972 < r = 0.98; the
+# harness's block delays by one sample, which refuses the upper part of it.
 ramp = b"".join(gains(K, B) for K, B in [(0.05, -2e-4), (0.13, -5e-4), (0.21, -8e-4),
                                           (0.29, -1.1e-3), (0.37, -1.3e-3), (0.44, -1.36e-3),
                                           (0.45, -1.36e-3)])
-# A block like the harness's, with sigma 0.8 and r = 1.
-block = fwords(8.578e-6, 2.197e-3, 0.02, 0.8, 1.0, 0.0, 0.45, -2.197e-3, 3.5e-3, 0.2, 2e-3)
+# A block like the harness's, with sigma 0.8 and r = 1: the ideal loop, and loops of map v2
+# (delay, filter kind, parameter, differentiator).
+policy = [8.578e-6, 2.197e-3, 0.02, 0.8, 1.0, 0.0, 0.45, -2.197e-3, 3.5e-3, 0.2, 2e-3]
+block = fwords(*policy, 0, 0, 0, 0)
+block_lowpass = fwords(*policy, 1, 1, 5.0, 0)
+block_average = fwords(*policy, 0, 2, 3, 1)
 unlock = write1(0x0060, 0xC0DE) + write1(0x0060, 0x5AFE)
 seeds = {
     "status": status,
@@ -85,7 +90,11 @@ seeds = {
                 + rec(bytes([0x04, 0, 0, 0, 1])) + writen(0x0040, fwords(1.0)),
     "commission": unlock + writen(0x0040, block + [crc16(block)]) + write1(0x0060, 0x5EA1)
                   + status + ramp,
-    "commission_split": unlock + writen(0x0040, block) + write1(0x0056, crc16(block))
+    "commission_lowpass": unlock + writen(0x0040, block_lowpass + [crc16(block_lowpass)])
+                          + write1(0x0060, 0x5EA1) + status + ramp,
+    "commission_average": unlock + writen(0x0040, block_average + [crc16(block_average)])
+                          + write1(0x0060, 0x5EA1) + status + ramp,
+    "commission_split": unlock + writen(0x0040, block) + write1(0x005E, crc16(block))
                         + write1(0x0060, 0x5EA1) + gains(0.2, -1e-3),
     "abort": ramp + unlock + writen(0x0040, block[:4]) + write1(0x0060, 0xAB07) + status,
     "bad_crc": unlock + writen(0x0040, block + [crc16(block) ^ 1]) + write1(0x0060, 0x5EA1),
@@ -103,8 +112,9 @@ tokens = {
     "seal": b"\x06\x00\x60\x5E\xA1", "abort": b"\x06\x00\x60\xAB\x07",
     "cmd_unlock1": b"\xC0\xDE", "cmd_unlock2": b"\x5A\xFE", "cmd_seal": b"\x5E\xA1",
     "cmd_abort": b"\xAB\x07", "addr_k": b"\x00\x10", "addr_b": b"\x00\x12",
-    "addr_cert": b"\x00\x40", "addr_crc": b"\x00\x56", "addr_cmd": b"\x00\x60",
-    "write_pair": b"\x10\x00\x10\x00\x04\x08", "write_block": b"\x10\x00\x40\x00\x17\x2E",
+    "addr_cert": b"\x00\x40", "addr_crc": b"\x00\x5E", "addr_cmd": b"\x00\x60",
+    "addr_loop": b"\x00\x56", "one": struct.pack(">f", 1.0), "two": struct.pack(">f", 2.0),
+    "write_pair": b"\x10\x00\x10\x00\x04\x08", "write_block": b"\x10\x00\x40\x00\x1F\x3E",
     "nan": b"\x7F\xC0\x00\x00", "inf": b"\x7F\x80\x00\x00", "k040": struct.pack(">f", 0.40),
     "b136": struct.pack(">f", -1.36e-3),
 }

@@ -9,13 +9,47 @@
 
 const char *const zw_cert_option[ZW_CERT_NFIELDS] = {
     "--m", "--b", "--T", "--sigma", "--r", "--k-min", "--k-max", "--b-min", "--b-max",
-    "--dk-max", "--db-max"};
+    "--dk-max", "--db-max", "--delay", "--velocity-filter", "--velocity-filter",
+    "--differentiator"};
 
 const char *const zw_cert_label[ZW_CERT_NFIELDS] = {
-    "m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"};
+    "m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max",
+    "delay", "vfilter", "vf_param", "differentiator"};
 
 static const double cert_default[ZW_CERT_NFIELDS] = {
-    85.78e-7, 2.197e-3, 0.02, 0.8, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01};
+    85.78e-7, 2.197e-3, 0.02, 0.8, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01, 0.0, 0.0, 0.0, 0.0};
+
+/* --velocity-filter none | lowpass:F | lowpass:FHz | average:N */
+static int parse_velocity_filter(const char *prog, const char *text, double *kind, double *param)
+{
+    long n;
+    if (strcmp(text, "none") == 0) {
+        *kind = *param = 0.0;
+        return 1;
+    }
+    if (strncmp(text, "lowpass:", 8) == 0) {
+        char num[64];
+        size_t len = strlen(text + 8);
+        if (len >= 2 && strcmp(text + 8 + len - 2, "Hz") == 0) len -= 2;
+        if (len > 0 && len < sizeof num) {
+            memcpy(num, text + 8, len);
+            num[len] = '\0';
+            if (!zw_parse_double(prog, "--velocity-filter lowpass", num, param)) return 0;
+            if (*param > 0.0 && *param <= (double)FLT_MAX) {
+                *kind = 1.0;
+                return 1;
+            }
+        }
+    } else if (strncmp(text, "average:", 8) == 0) {
+        if (!zw_parse_long(prog, "--velocity-filter average", text + 8, 1, 16, &n)) return 0;
+        *kind = 2.0;
+        *param = (double)n;
+        return 1;
+    }
+    fprintf(stderr, "%s: --velocity-filter expects none, lowpass:F[Hz] (F > 0) or average:N "
+                    "(1..16), got '%s'\n", prog, text);
+    return 0;
+}
 
 int zw_parse_double(const char *prog, const char *name, const char *text, double *out)
 {
@@ -70,11 +104,27 @@ int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv,
         fprintf(stderr, "%s: missing value for '%s'\n", prog, arg);
         return -1;
     }
-    if (!zw_parse_double(prog, arg, argv[*i + 1], &o->v[k])) return -1;
-    /* A float register cannot hold it: refuse here rather than send infinity. */
-    if (fabs(o->v[k]) > (double)FLT_MAX) {
-        fprintf(stderr, "%s: %s %s does not fit a float register\n", prog, arg, argv[*i + 1]);
-        return -1;
+    if (k == 11) { /* --delay */
+        long d;
+        if (!zw_parse_long(prog, arg, argv[*i + 1], 0, 8, &d)) return -1;
+        o->v[k] = (double)d;
+    } else if (k == 12) { /* --velocity-filter: kind and parameter */
+        if (!parse_velocity_filter(prog, argv[*i + 1], &o->v[12], &o->v[13])) return -1;
+        o->given[13] = 1;
+    } else if (k == 14) { /* --differentiator */
+        const char *v = argv[*i + 1];
+        if (strcmp(v, "backward") != 0 && strcmp(v, "tustin") != 0) {
+            fprintf(stderr, "%s: %s expects backward or tustin, got '%s'\n", prog, arg, v);
+            return -1;
+        }
+        o->v[k] = strcmp(v, "tustin") == 0 ? 1.0 : 0.0;
+    } else {
+        if (!zw_parse_double(prog, arg, argv[*i + 1], &o->v[k])) return -1;
+        /* A float register cannot hold it: refuse here rather than send infinity. */
+        if (fabs(o->v[k]) > (double)FLT_MAX) {
+            fprintf(stderr, "%s: %s %s does not fit a float register\n", prog, arg, argv[*i + 1]);
+            return -1;
+        }
     }
     o->given[k] = 1;
     *i += 1;
@@ -122,6 +172,24 @@ void zw_json_string(FILE *to, const char *s)
         else fputc(c, to);
     }
     fputc('"', to);
+}
+
+void zw_cert_loop_text(const zw_cert *c, char *buf, size_t cap)
+{
+    char filt[96];
+    const char *diff = c->differentiator == 1.0f ? "Tustin" : "backward difference";
+    if (c->delay == 0.0f && c->vfilter == 0.0f && c->differentiator == 0.0f) {
+        snprintf(buf, cap, "ideal loop (delay 0, backward difference, no filter)");
+        return;
+    }
+    if (c->vfilter == 1.0f)
+        snprintf(filt, sizeof filt, "low-pass %.6g Hz (pole %.6g)", (double)c->vf_param,
+                 exp(-2.0 * 3.14159265358979323846 * (double)c->vf_param * (double)c->T));
+    else if (c->vfilter == 2.0f)
+        snprintf(filt, sizeof filt, "moving average over %.0f", (double)c->vf_param);
+    else
+        snprintf(filt, sizeof filt, "no filter");
+    snprintf(buf, cap, "delay %.0f, %s, %s", (double)c->delay, filt, diff);
 }
 
 void zw_json_float(FILE *to, double v)

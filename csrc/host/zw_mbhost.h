@@ -26,8 +26,12 @@ int zw_parse_long(const char *prog, const char *name, const char *text, long lo,
                   long *out);
 
 /* The certified block as options: --m --b --T --sigma --r --k-min --k-max --b-min --b-max
- * --dk-max --db-max, in register order (index i is register ZW_REG_CERT_M + 2 i). */
-#define ZW_CERT_NFIELDS ((int)ZW_CERT_FIELDS) /* the block's 11 fields, as an int for loops */
+ * --dk-max --db-max (the policy, ZW_CERT_NPOLICY fields, all needed to commission), then
+ * the loop: --delay D (0..8), --velocity-filter none|lowpass:F[Hz]|average:N (fields
+ * vfilter and vf_param), --differentiator backward|tustin; the loop defaults to the ideal
+ * one (0, none, backward).  Index i is register ZW_REG_CERT_M + 2 i. */
+#define ZW_CERT_NFIELDS ((int)ZW_CERT_FIELDS) /* the block's 15 fields, as an int for loops */
+#define ZW_CERT_NPOLICY 11                    /* the first 11: plant and policy */
 
 typedef struct zw_cert_opts {
     double v[ZW_CERT_NFIELDS];
@@ -45,7 +49,7 @@ void zw_cert_opts_defaults(zw_cert_opts *o);
  * 0 if it is not one; -1 on a missing or bad value (message printed). */
 int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv, int *i);
 
-/* The numbers as the float block, and the block as its 22 register words. */
+/* The numbers as the float block. */
 void zw_cert_opts_to_cert(const zw_cert_opts *o, zw_cert *out);
 
 /* CRC-16/MODBUS of a byte string (RTU framing; the low byte goes on the wire first). */
@@ -56,6 +60,10 @@ const char *zw_exception_name(unsigned code);
 
 /* Print a string as a JSON string literal (quotes and escapes). */
 void zw_json_string(FILE *to, const char *s);
+
+/* The loop fields of a block as text: "delay 1, low-pass 30 Hz (pole 0.8282), backward
+ * difference" (pole from T; "ideal loop" when all are 0). */
+void zw_cert_loop_text(const zw_cert *c, char *buf, size_t cap);
 
 /* A float for JSON: %.9g, or null when not finite. */
 void zw_json_float(FILE *to, double v);

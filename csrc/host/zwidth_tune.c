@@ -28,7 +28,8 @@ static void usage(FILE *to)
             "       zwidth-tune [connection] set [--K K] [--B B] [--json]\n"
             "       zwidth-tune [connection] commission --m M --b B --T T --sigma S --r R\n"
             "                   --k-min K --k-max K --b-min B --b-max B --dk-max D --db-max D\n"
-            "                   [--paper-defaults] [--json]\n"
+            "                   [--delay D] [--velocity-filter none|lowpass:F[Hz]|average:N]\n"
+            "                   [--differentiator backward|tustin] [--paper-defaults] [--json]\n"
             "\n"
             "Talks to a zwidth drive (zwidth-drive, or firmware with the same register map).\n"
             "\n"
@@ -41,7 +42,10 @@ static void usage(FILE *to)
             "              last sealed block comes back).  Gains are off afterwards.\n"
             "              --paper-defaults takes omitted fields from the paper's drive\n"
             "              (J = 85.78e-7, b = 2.197e-3, T = 0.02, sigma 0.8, r 0.999, K in\n"
-            "              [0, 10], B in [-0.01, 0.01], dK 1, dB 0.01)\n"
+            "              [0, 10], B in [-0.01, 0.01], dK 1, dB 0.01).  The loop the drive\n"
+            "              runs (default: the ideal one) is part of the block: --delay D\n"
+            "              samples (0..8), --velocity-filter lowpass:30Hz or average:4,\n"
+            "              --differentiator tustin; the drive certifies gains for it\n"
             "\n"
             "Connection (Modbus TCP by default)\n"
             "  --host ADDR     drive address (default 127.0.0.1)\n"
@@ -120,7 +124,7 @@ typedef struct snapshot {
     uint_least16_t head[10];  /* 0x00..0x09 */
     uint_least16_t gains[4];  /* 0x10..0x13 */
     uint_least16_t live[24];  /* 0x20..0x37 */
-    uint_least16_t cert[23];  /* 0x40..0x56 */
+    uint_least16_t cert[ZW_CERT_WORDS + 1u];  /* 0x40..0x5E: the block and its CRC */
     int have_live, have_cert;
     unsigned cert_exc;
 } snapshot;
@@ -142,6 +146,11 @@ static int read_head(modbus_t *ctx, snapshot *s)
                 (unsigned)s->head[0], ZW_REGMAP_MAGIC);
         return ZW_EXIT_USAGE;
     }
+    if (s->head[1] != ZW_REGMAP_VERSION) { /* the block's layout differs between versions */
+        fprintf(stderr, PROG ": the drive speaks register map v%u; this tool speaks v%u "
+                        "(docs/modbus.md, map versions)\n", (unsigned)s->head[1], ZW_REGMAP_VERSION);
+        return ZW_EXIT_USAGE;
+    }
     if (read_regs(ctx, ZW_REG_K, 4, s->gains, &exc) != 0)
         return protocol_error("cannot read the gains");
     return ZW_EXIT_OK;
@@ -154,7 +163,7 @@ static int read_snapshot(modbus_t *ctx, snapshot *s)
     if (rc != ZW_EXIT_OK) return rc;
     s->have_live = read_regs(ctx, ZW_REG_LIVE_K_MAX, 24, s->live, &exc) == 0;
     if (!s->have_live) return protocol_error("cannot read the live limits");
-    s->have_cert = read_regs(ctx, ZW_REG_CERT_M, 23, s->cert, &s->cert_exc) == 0;
+    s->have_cert = read_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, s->cert, &s->cert_exc) == 0;
     if (!s->have_cert && s->cert_exc == 0) return protocol_error("cannot read the certified block");
     return ZW_EXIT_OK;
 }
@@ -166,6 +175,7 @@ static const char *const live_label[8] = {"K_max", "K_cert", "B_lo", "B_hi",
 
 static void print_snapshot_text(const snapshot *s)
 {
+    char loop[200];
     int k;
     unsigned reason = (unsigned)s->head[4], exc = (unsigned)s->head[5];
     printf("drive      : zwidth register map v%u, %s mode, %s\n", (unsigned)s->head[1],
@@ -182,7 +192,9 @@ static void print_snapshot_text(const snapshot *s)
         printf("policy     : sigma = %.9g, r = %.9g, K in [%.9g, %.9g], B in [%.9g, %.9g],\n"
                "             |dK| <= %.9g, |dB| <= %.9g per write; CRC 0x%04X\n",
                (double)c.sigma, (double)c.r, (double)c.k_min, (double)c.k_max, (double)c.b_min,
-               (double)c.b_max, (double)c.dk_max, (double)c.db_max, (unsigned)s->cert[22]);
+               (double)c.b_max, (double)c.dk_max, (double)c.db_max, (unsigned)s->cert[ZW_CERT_WORDS]);
+        zw_cert_loop_text(&c, loop, sizeof loop);
+        printf("loop       : %s\n", loop);
     } else {
         printf("plant      : certified block not readable (exception 0x%02X %s)\n", s->cert_exc,
                zw_exception_name(s->cert_exc));
@@ -237,7 +249,7 @@ static void print_snapshot_json(const snapshot *s)
         printf("{");
         for (k = 0; k < ZW_CERT_NFIELDS; ++k)
             json_kv_float(zw_cert_label[k], (double)zw_cert_field(&c, (unsigned)k), k > 0);
-        printf(", \"crc\": %u}", (unsigned)s->cert[22]);
+        printf(", \"crc\": %u}", (unsigned)s->cert[ZW_CERT_WORDS]);
     } else {
         printf("null");
     }
@@ -384,6 +396,8 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, int json)
     zw_cert_opts_to_cert(co, &cert);
     zw_cert_encode(&cert, w);
     crc = w[ZW_CERT_WORDS];
+    rc = read_head(ctx, &s); /* a drive of another map version is not written to */
+    if (rc != ZW_EXIT_OK) return rc;
 
     if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_UNLOCK1, &exc) != 0) {
         if (exc == 0) return protocol_error("cannot send the unlock commands");
@@ -581,7 +595,7 @@ int main(int argc, char **argv)
         }
     } else if (strcmp(cmd, "commission") == 0) {
         int missing = 0;
-        for (k = 0; k < ZW_CERT_NFIELDS; ++k)
+        for (k = 0; k < ZW_CERT_NPOLICY; ++k) /* the loop fields default to the ideal loop */
             if (!co.given[k] && !paper) {
                 fprintf(stderr, PROG ": commission needs %s (or --paper-defaults)\n",
                         zw_cert_option[k]);

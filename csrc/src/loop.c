@@ -384,6 +384,43 @@ zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spe
     return ZW_OK;
 }
 
+/* bound + |v| rel, rounded up: (1 + 4u) covers the three roundings of the expression */
+static zw_real widened(zw_real bound, zw_real v, zw_real rel)
+{
+    return (bound + ZW_FABS(v) * rel) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+}
+
+zw_status zw_loop_carry_gain_rounding(zw_loop *loop, zw_real alpha_relerr, zw_real beta_relerr)
+{
+    const zw_real cap = ZW_R(0.0625);
+    zw_status st = check_loop(loop);
+    unsigned i;
+    bool finite = true;
+    if (st == ZW_OK && !(alpha_relerr >= ZW_R(0.0) && alpha_relerr < cap && beta_relerr >= ZW_R(0.0) &&
+                         beta_relerr < cap))
+        st = ZW_ERR_ARG;
+    if (st != ZW_OK) {
+        if (loop != NULL) *loop = k_empty_loop;
+        return st;
+    }
+    for (i = 0u; i <= loop->degree; ++i) {
+        loop->Na_err[i] = widened(loop->Na_err[i], loop->Na[i], alpha_relerr);
+        loop->Nas_err[i] = widened(loop->Nas_err[i], loop->Nas[i], alpha_relerr);
+        loop->Nb_err[i] = widened(loop->Nb_err[i], loop->Nb[i], beta_relerr);
+        loop->Nbs_err[i] = widened(loop->Nbs_err[i], loop->Nbs[i], beta_relerr);
+        finite = finite && ZW_IS_FINITE(loop->Na_err[i]) && ZW_IS_FINITE(loop->Nas_err[i]) &&
+                 ZW_IS_FINITE(loop->Nb_err[i]) && ZW_IS_FINITE(loop->Nbs_err[i]);
+    }
+    /* eval_p multiplies |gain| by it once more: (1 + 4u) rounds that product up too */
+    loop->alpha_relerr = (loop->alpha_relerr + alpha_relerr) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+    loop->beta_relerr = (loop->beta_relerr + beta_relerr) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+    if (!finite) {
+        *loop = k_empty_loop;
+        return ZW_ERR_RANGE;
+    }
+    return ZW_OK;
+}
+
 static zw_status check_gains(const zw_loop *loop, zw_real alpha, zw_real beta)
 {
     zw_status st;
@@ -665,8 +702,9 @@ static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
     ceb_times_factor(&d, loop, F_ZME, z);
     ceb_times_power(&d, z, spec->delay);
     ceb_times_real(&d, ZW_R(2.0), ZW_R(0.0));
-    ceb_times_real(&dv, alpha, ZW_R(0.0)); /* (c1 z + c2)(alpha Dv + beta Nv) */
-    ceb_times_real(&nv, beta, ZW_R(0.0));
+    /* (c1 z + c2)(alpha Dv + beta Nv), the gains with their carried error (0 by default) */
+    ceb_times_real(&dv, alpha, ZW_FABS(alpha) * loop->alpha_relerr);
+    ceb_times_real(&nv, beta, ZW_FABS(beta) * loop->beta_relerr);
     ceb_add_into(&nv, &dv);
     ceb_times_factor(&nv, loop, F_PLANT, z);
     ceb_add_into(&d, &nv);

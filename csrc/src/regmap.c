@@ -50,8 +50,14 @@
 #define RK_CMD 8u   /* the command register */
 #define RK_PAIR 16u /* two-word values, each starting at an even address */
 
+/* Index of each live register in rm->live (register ZW_REG_LIVE_K_MAX + 2 i). */
+enum { L_K_MAX, L_K_CERT, L_B_LO, L_B_HI, L_K_MMAX, L_B_AT_KMMAX, L_RHO, L_DELTA, L_COUNT };
+
 /* Index of each field of the certified block (register ZW_REG_CERT_M + 2 i). */
-enum { F_M, F_B, F_T, F_SIGMA, F_R, F_K_MIN, F_K_MAX, F_B_MIN, F_B_MAX, F_DK_MAX, F_DB_MAX };
+enum {
+    F_M, F_B, F_T, F_SIGMA, F_R, F_K_MIN, F_K_MAX, F_B_MIN, F_B_MAX, F_DK_MAX, F_DB_MAX,
+    F_DELAY, F_VFILTER, F_VF_PARAM, F_DIFF
+};
 
 /* A quiet NaN of type float, for values that do not exist (live registers without a
  * sealed plant).  NAN is optional in C99 (only where quiet NaNs exist); the fallback is
@@ -158,6 +164,7 @@ static const reg_range k_ranges[] = {
     {ZW_REG_ACCEPTED, ZW_REG_REFUSED + 1, RK_RO | RK_PAIR},
     {ZW_REG_K, ZW_REG_B + 1, RK_GAIN | RK_PAIR},
     {ZW_REG_LIVE_K_MAX, ZW_REG_STATE_STEP + 1, RK_RO | RK_PAIR},
+    {ZW_REG_LIVE_POLE, ZW_REG_LIVE_POLE + 1, RK_RO | RK_PAIR},
     {ZW_REG_CERT_M, ZW_REG_CERT_CRC - 1, RK_CERT | RK_PAIR},
     {ZW_REG_CERT_CRC, ZW_REG_CERT_CRC, RK_CERT},
     {ZW_REG_COMMAND, ZW_REG_COMMAND, RK_CMD},
@@ -274,7 +281,11 @@ float zw_cert_field(const zw_cert *c, unsigned i)
     case F_B_MIN: return c->b_min;
     case F_B_MAX: return c->b_max;
     case F_DK_MAX: return c->dk_max;
-    default: return c->db_max;
+    case F_DB_MAX: return c->db_max;
+    case F_DELAY: return c->delay;
+    case F_VFILTER: return c->vfilter;
+    case F_VF_PARAM: return c->vf_param;
+    default: return c->differentiator;
     }
 }
 
@@ -291,7 +302,11 @@ void zw_cert_set_field(zw_cert *c, unsigned i, float v)
     case F_B_MIN: c->b_min = v; break;
     case F_B_MAX: c->b_max = v; break;
     case F_DK_MAX: c->dk_max = v; break;
-    default: c->db_max = v; break;
+    case F_DB_MAX: c->db_max = v; break;
+    case F_DELAY: c->delay = v; break;
+    case F_VFILTER: c->vfilter = v; break;
+    case F_VF_PARAM: c->vf_param = v; break;
+    default: c->differentiator = v; break;
     }
 }
 
@@ -331,14 +346,91 @@ static float staged_float(const zw_regmap *rm, unsigned field)
     return zw_words_to_float(&rm->staged[2u * field]);
 }
 
-/* SEAL: check the staged block and install it (the plant last, so that a refused block
- * leaves rm->device as it was: zw_device_init writes nothing on failure).  The fields are
- * read from the staged words one by one rather than decoded into a local zw_cert, which
- * would sit on the stack across zw_device_init. */
+/* The ideal loop (delay 0, backward difference, no filter): certified by the closed form of
+ * region.h / extremes.h, as in map version 1; any other by the general loop (loop.h). */
+static bool ideal_loop(const zw_regmap *rm)
+{
+    return rm->loop.loop.spec.delay == 0u && rm->loop.loop.spec.filter == ZW_VFILTER_NONE &&
+           rm->loop.loop.spec.differentiator == ZW_DIFF_BACKWARD;
+}
+
+/* x is a whole number in [0, max]. */
+static bool whole_in(float x, float max)
+{
+    return x >= 0.0f && x <= max && (float)(unsigned)x == x;
+}
+
+/* The loop fields of the staged block, each to its named reason (regmap.h). */
+static zw_reason check_loop_fields(const zw_regmap *rm)
+{
+    const float kind = staged_float(rm, F_VFILTER), param = staged_float(rm, F_VF_PARAM);
+    if (!whole_in(staged_float(rm, F_DELAY), (float)ZW_LOOP_MAX_DELAY)) return ZW_REASON_BAD_DELAY;
+    if (!whole_in(kind, 2.0f)) return ZW_REASON_BAD_FILTER;
+    if (kind == 0.0f ? param != 0.0f
+                     : kind == 1.0f ? !(param > 0.0f)
+                                    : !(whole_in(param, (float)ZW_LOOP_MAX_AVERAGE) && param >= 1.0f))
+        return ZW_REASON_BAD_FILTER_PARAM;
+    if (!whole_in(staged_float(rm, F_DIFF), 1.0f)) return ZW_REASON_BAD_DIFFERENTIATOR;
+    return ZW_REASON_NONE;
+}
+
+/* Build rm->loop from the staged block (staged) or the sealed one; the fields were checked.
+ * Reason: BAD_FILTER_PARAM for a cut-off the pole cannot be formed from, BAD_POLICY for
+ * the plant. */
+static zw_reason build_loop(zw_regmap *rm, bool staged)
+{
+    zw_device_loop_spec spec;
+    float f[ZW_CERT_FIELDS];
+    unsigned i;
+    zw_status st;
+    for (i = 0; i < ZW_CERT_FIELDS; ++i) f[i] = staged ? staged_float(rm, i) : zw_cert_field(&rm->sealed, i);
+    spec.delay = (unsigned)f[F_DELAY];
+    spec.differentiator = f[F_DIFF] == 1.0f ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
+    spec.filter = f[F_VFILTER] == 1.0f   ? ZW_VFILTER_LOWPASS
+                  : f[F_VFILTER] == 2.0f ? ZW_VFILTER_AVERAGE
+                                         : ZW_VFILTER_NONE;
+    spec.cutoff_hz = spec.filter == ZW_VFILTER_LOWPASS ? (zw_real)f[F_VF_PARAM] : ZW_R(0.0);
+    spec.pole = ZW_R(0.0);
+    spec.average = spec.filter == ZW_VFILTER_AVERAGE ? (unsigned)f[F_VF_PARAM] : 0u;
+    rm->kmax_cached = 0u;
+    st = zw_device_loop_init(&rm->loop, (zw_real)f[F_M], (zw_real)f[F_B], (zw_real)f[F_T], &spec);
+    if (st == ZW_OK) return ZW_REASON_NONE;
+    return st == ZW_ERR_FILTER ? ZW_REASON_BAD_FILTER_PARAM : ZW_REASON_BAD_POLICY;
+}
+
+/* K_MMAX and its B, of the plant and loop in force (the extremes in a frame of their own,
+ * only at SEAL and init: with a general loop they cost milliseconds).  *any: some gains are
+ * stable (K_mmax > 0). */
+ZW_NOINLINE static void live_extremes(zw_regmap *rm, bool *any)
+{
+    zw_status st;
+    zw_real K = ZW_R(0.0), B = ZW_R(0.0);
+    if (ideal_loop(rm)) {
+        zw_device_extremes e;
+        st = zw_device_extremes_compute(&rm->loop.dev, &e);
+        K = e.K_mmax;
+        B = e.B_at_K_mmax;
+    } else {
+        zw_device_loop_extremes e;
+        st = zw_device_loop_extremes_compute(&rm->loop, &e);
+        K = e.K_mmax;
+        B = e.B_at_K_mmax;
+    }
+    *any = st == ZW_OK && K > ZW_R(0.0);
+    rm->live[L_K_MMAX] = st == ZW_OK ? to_float(K) : QUIET_NAN_F;
+    rm->live[L_B_AT_KMMAX] = st == ZW_OK ? to_float(B) : QUIET_NAN_F;
+}
+
+/* SEAL: check the staged block and install it.  A refused block leaves the one in force
+ * as it was: the loop is rebuilt from the sealed block when building the staged one
+ * failed (zw_device_loop_init leaves a refused plant NaN), and the live extremes are only
+ * recomputed for a block that is sealed. */
 static zw_reason seal_staged(zw_regmap *rm)
 {
     unsigned i;
     float sigma, r;
+    zw_reason why;
+    bool any = false;
     /* every check below, and every certification after it, trusts the arithmetic */
     if (zw_selftest() != ZW_OK) return ZW_REASON_FPENV;
     if (zw_crc16_words(rm->staged, ZW_CERT_WORDS) != (rm->staged[CRC_INDEX] & 0xFFFFu))
@@ -359,15 +451,20 @@ static zw_reason seal_staged(zw_regmap *rm)
         staged_float(rm, F_B_MIN) > staged_float(rm, F_DB_MAX) ||
         staged_float(rm, F_B_MAX) < -staged_float(rm, F_DB_MAX))
         return ZW_REASON_BAD_POLICY;
-    if (zw_device_init(&rm->device, (zw_real)staged_float(rm, F_M), (zw_real)staged_float(rm, F_B),
-                       (zw_real)staged_float(rm, F_T)) != ZW_OK) {
-        /* zw_device_init wrote a NaN plant (fail-safe); the sealed block stays in force, so
-         * its plant is put back (it was valid when it was sealed) */
-        if (rm->is_sealed)
-            (void)zw_device_init(&rm->device, (zw_real)zw_cert_field(&rm->sealed, F_M),
-                                 (zw_real)zw_cert_field(&rm->sealed, F_B),
-                                 (zw_real)zw_cert_field(&rm->sealed, F_T));
-        return ZW_REASON_BAD_POLICY;
+    if ((why = check_loop_fields(rm)) != ZW_REASON_NONE) return why;
+    why = build_loop(rm, true);
+    if (why == ZW_REASON_NONE) {
+        live_extremes(rm, &any);
+        if (!any) why = ZW_REASON_LOOP_NEVER_STABLE;
+    }
+    if (why != ZW_REASON_NONE) {
+        /* the sealed block stays in force: its loop back (it was valid when sealed), and
+         * its extremes */
+        if (rm->is_sealed) {
+            (void)build_loop(rm, false);
+            live_extremes(rm, &any);
+        }
+        return why;
     }
     for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, staged_float(rm, i));
     rm->is_sealed = 1u;
@@ -398,23 +495,52 @@ static bool step_within(float a, float b, float limit)
  * error of the core (a normalization that overflows) counts against the pair. */
 static bool stable_ok(const zw_regmap *rm, float K, float B)
 {
-    zw_verdict v;
-    return zw_device_check(&rm->device, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
+    if (ideal_loop(rm)) {
+        zw_verdict v;
+        return zw_device_check(&rm->loop.dev, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
+    } else {
+        zw_loop_verdict v;
+        return zw_device_loop_check(&rm->loop, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
+    }
 }
 
 static bool radius_ok(const zw_regmap *rm, float K, float B)
 {
     bool within = false;
-    return zw_device_radius_within(&rm->device, (zw_real)K, (zw_real)B, (zw_real)rm->sealed.r,
-                                   &within) == ZW_OK &&
-           within;
+    zw_status st = ideal_loop(rm)
+                       ? zw_device_radius_within(&rm->loop.dev, (zw_real)K, (zw_real)B,
+                                                 (zw_real)rm->sealed.r, &within)
+                       : zw_device_loop_radius_within(&rm->loop, (zw_real)K, (zw_real)B,
+                                                      (zw_real)rm->sealed.r, &within);
+    return st == ZW_OK && within;
+}
+
+/* K_max at B of the drive's loop (certified; 0 on error, by the core's fail-safe).  The
+ * general loop's is taken from the cache when B is the one it holds. */
+static zw_status k_max_at(const zw_regmap *rm, float B, zw_real *k_max)
+{
+    if (ideal_loop(rm)) return zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max);
+    if (rm->kmax_cached != 0u && rm->kmax_B == B) {
+        *k_max = rm->kmax_value;
+        return ZW_OK;
+    }
+    return zw_device_loop_k_max(&rm->loop, (zw_real)B, k_max);
+}
+
+/* Keep K_max(B) for the gains now in force (general loop; the ideal one is cheap). */
+static void cache_k_max(zw_regmap *rm, float B, zw_real k_max)
+{
+    rm->kmax_B = B;
+    rm->kmax_value = k_max;
+    rm->kmax_cached = (uint_least16_t)(ideal_loop(rm) ? 0u : 1u);
 }
 
 /* The rules of regmap.h, in its order; the first that fails is the reason. */
-static zw_reason certify(const zw_regmap *rm, float K, float B)
+static zw_reason certify(const zw_regmap *rm, float K, float B, zw_real *k_max_out)
 {
     const zw_cert *c = &rm->sealed;
     zw_real k_max;
+    *k_max_out = ZW_R(0.0);
     if (!finite_f(K) || !finite_f(B)) return ZW_REASON_NOT_FINITE;
     if (K == 0.0f && B == 0.0f) return ZW_REASON_NONE; /* output off: always allowed */
     if (K < c->k_min) return ZW_REASON_K_BELOW_MIN;
@@ -424,9 +550,9 @@ static zw_reason certify(const zw_regmap *rm, float K, float B)
     if (!step_within(K, rm->K, c->dk_max)) return ZW_REASON_K_STEP;
     if (!step_within(B, rm->B, c->db_max)) return ZW_REASON_B_STEP;
     if (!stable_ok(rm, K, B)) return ZW_REASON_UNSTABLE;
-    if (zw_device_k_max(&rm->device, (zw_real)B, &k_max) != ZW_OK ||
-        (zw_real)K > (zw_real)c->sigma * k_max)
+    if (k_max_at(rm, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max)
         return ZW_REASON_ABOVE_SIGMA;
+    *k_max_out = k_max;
     if (!radius_ok(rm, K, B)) return ZW_REASON_RADIUS;
     return ZW_REASON_NONE;
 }
@@ -434,8 +560,12 @@ static zw_reason certify(const zw_regmap *rm, float K, float B)
 /* A gain write: certified as a pair, then stored (K and B the values after the write). */
 ZW_NOINLINE static zw_reason apply_gains(zw_regmap *rm, float K, float B)
 {
-    zw_reason why = certify(rm, K, B);
+    zw_real k_max;
+    zw_reason why = certify(rm, K, B, &k_max);
     if (why != ZW_REASON_NONE) return why;
+    /* (0, 0) skips the rules: k_max is then not known */
+    if (K == 0.0f && B == 0.0f) rm->kmax_cached = 0u;
+    else cache_k_max(rm, B, k_max);
     publish_gains(rm, K, B);
     rm->accepted = (rm->accepted + 1u) & 0xFFFFFFFFu;
     return ZW_REASON_NONE;
@@ -443,8 +573,6 @@ ZW_NOINLINE static zw_reason apply_gains(zw_regmap *rm, float K, float B)
 
 /* ---- live registers ------------------------------------------------------------------------ */
 
-/* Index of each live register in rm->live (register ZW_REG_LIVE_K_MAX + 2 i). */
-enum { L_K_MAX, L_K_CERT, L_B_LO, L_B_HI, L_K_MMAX, L_B_AT_KMMAX, L_RHO, L_DELTA, L_COUNT };
 
 /* The largest float not above x (x not NaN, at most FLT_MAX). */
 static float float_down(zw_real x)
@@ -471,7 +599,7 @@ ZW_NOINLINE static zw_mb_exception live_k_cert(zw_regmap *rm)
     int grid = K_CERT_GRID; /* scanning grid point grid/K_CERT_GRID of top; 0: bisecting */
     bool ok;
     rm->live[L_K_CERT] = QUIET_NAN_F;
-    if (!rm->is_sealed || zw_device_k_max(&rm->device, (zw_real)B, &k_max) != ZW_OK)
+    if (!rm->is_sealed || k_max_at(rm, B, &k_max) != ZW_OK)
         return ZW_MB_OK;
     top = (zw_real)rm->sealed.sigma * k_max;
     if (top > (zw_real)rm->sealed.k_max) top = (zw_real)rm->sealed.k_max;
@@ -510,8 +638,8 @@ static float value_or_nan(zw_status st, zw_real x)
  * under another one's chain into the core (stack). */
 ZW_NOINLINE static void live_refresh(zw_regmap *rm)
 {
-    const zw_device *d = &rm->device;
-    zw_real x = ZW_R(0.0), y = ZW_R(0.0);
+    const zw_device *d = &rm->loop.dev;
+    zw_real x = ZW_R(0.0), y = ZW_R(0.0), th = ZW_R(0.0);
     zw_status st;
     bool any;
     unsigned i;
@@ -519,27 +647,18 @@ ZW_NOINLINE static void live_refresh(zw_regmap *rm)
         for (i = 0; i < L_COUNT; ++i) rm->live[i] = QUIET_NAN_F;
         return;
     }
-    st = zw_device_k_max(d, (zw_real)rm->B, &x);
+    st = k_max_at(rm, rm->B, &x);
+    if (st == ZW_OK && !(rm->K == 0.0f && rm->B == 0.0f)) cache_k_max(rm, rm->B, x);
     rm->live[L_K_MAX] = value_or_nan(st, x);
-    /* zw_beta_interval reports (0, 0) when the interval is empty, which covers K = 0 */
-    st = zw_device_b_range(d, (zw_real)rm->K, &x, &y, &any);
+    /* both report (0, 0) when the interval is empty, which covers K = 0 */
+    /* the general loop's B range is not computed per write (regmap.h): NaN */
+    st = ideal_loop(rm) ? zw_device_b_range(d, (zw_real)rm->K, &x, &y, &any) : ZW_ERR_ARG;
     rm->live[L_B_LO] = value_or_nan(st, x);
     rm->live[L_B_HI] = value_or_nan(st, y);
-    st = zw_device_spectral_radius(d, (zw_real)rm->K, (zw_real)rm->B, &x);
+    st = ideal_loop(rm) ? zw_device_spectral_radius(d, (zw_real)rm->K, (zw_real)rm->B, &x)
+                        : zw_device_loop_spectral_radius(&rm->loop, (zw_real)rm->K, (zw_real)rm->B, &x, &th);
     rm->live[L_RHO] = value_or_nan(st, x);
     rm->live[L_DELTA] = to_float(d->co.delta);
-}
-
-/* K_MMAX and its B (the extremes struct in a frame of its own, see live_all). */
-ZW_NOINLINE static void live_extremes(zw_regmap *rm)
-{
-    zw_device_extremes e;
-    zw_status st;
-    rm->live[L_K_MMAX] = rm->live[L_B_AT_KMMAX] = QUIET_NAN_F;
-    if (!rm->is_sealed) return;
-    st = zw_device_extremes_compute(&rm->device, &e);
-    rm->live[L_K_MMAX] = value_or_nan(st, st == ZW_OK ? e.K_mmax : ZW_R(0.0));
-    rm->live[L_B_AT_KMMAX] = value_or_nan(st, st == ZW_OK ? e.B_at_K_mmax : ZW_R(0.0));
 }
 
 /* Every live register, after an accepted change.  Returns ZW_MB_OK so that the public
@@ -547,7 +666,6 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm)
 static zw_mb_exception live_all(zw_regmap *rm)
 {
     live_refresh(rm);
-    live_extremes(rm);
     return live_k_cert(rm);
 }
 
@@ -579,6 +697,7 @@ static void read_pair(const zw_regmap *rm, const state_sample *st, uint_least16_
     case ZW_REG_STATE_X: f = st->x; break;
     case ZW_REG_STATE_V: f = st->v; break;
     case ZW_REG_STATE_F: f = st->f; break;
+    case ZW_REG_LIVE_POLE: f = rm->is_sealed ? to_float(rm->loop.loop.spec.filter_pole) : QUIET_NAN_F; break;
     default: f = rm->live[(unsigned)(base - ZW_REG_LIVE_K_MAX) / 2u]; break;
     }
     zw_float_to_words(f, w);
@@ -998,6 +1117,11 @@ const char *zw_reason_name(zw_reason reason)
     case ZW_REASON_CRC: return "ZW_REASON_CRC";
     case ZW_REASON_BAD_POLICY: return "ZW_REASON_BAD_POLICY";
     case ZW_REASON_FPENV: return "ZW_REASON_FPENV";
+    case ZW_REASON_BAD_DELAY: return "ZW_REASON_BAD_DELAY";
+    case ZW_REASON_BAD_FILTER: return "ZW_REASON_BAD_FILTER";
+    case ZW_REASON_BAD_FILTER_PARAM: return "ZW_REASON_BAD_FILTER_PARAM";
+    case ZW_REASON_BAD_DIFFERENTIATOR: return "ZW_REASON_BAD_DIFFERENTIATOR";
+    case ZW_REASON_LOOP_NEVER_STABLE: return "ZW_REASON_LOOP_NEVER_STABLE";
     }
     return "ZW_REASON_UNKNOWN";
 }

@@ -66,6 +66,7 @@ __all__ = [
     "State",
     "Counters",
     "Refusal",
+    "Loop",
     "GainResult",
     "CommissionResult",
     "REG",
@@ -91,8 +92,8 @@ __all__ = [
 # ---------------------------------------------------------------------------------------
 
 MAGIC = 0x5A57
-MAP_VERSION = 1
-CERT_WORDS = 22  # words 0x0040..0x0055 covered by the CRC
+MAP_VERSION = 2  # 2: the certified block describes the drive's loop (docs/modbus.md)
+CERT_WORDS = 30  # words 0x0040..0x005D covered by the CRC
 
 REG: Dict[str, int] = {
     "MAGIC": 0x0000,
@@ -117,6 +118,7 @@ REG: Dict[str, int] = {
     "STATE_V": 0x0032,
     "STATE_F": 0x0034,
     "STATE_STEP": 0x0036,
+    "LIVE_POLE": 0x0038,
     "CERT_M": 0x0040,
     "CERT_B": 0x0042,
     "CERT_T": 0x0044,
@@ -128,7 +130,11 @@ REG: Dict[str, int] = {
     "CERT_B_MAX": 0x0050,
     "CERT_DK_MAX": 0x0052,
     "CERT_DB_MAX": 0x0054,
-    "CERT_CRC": 0x0056,
+    "CERT_DELAY": 0x0056,
+    "CERT_VFILTER": 0x0058,
+    "CERT_VF_PARAM": 0x005A,
+    "CERT_DIFF": 0x005C,
+    "CERT_CRC": 0x005E,
     "COMMAND": 0x0060,
     "COUNT": 0x0061,
 }
@@ -158,6 +164,11 @@ REASONS: Dict[int, str] = {
     19: "ZW_REASON_CRC",
     20: "ZW_REASON_BAD_POLICY",
     21: "ZW_REASON_FPENV",
+    22: "ZW_REASON_BAD_DELAY",
+    23: "ZW_REASON_BAD_FILTER",
+    24: "ZW_REASON_BAD_FILTER_PARAM",
+    25: "ZW_REASON_BAD_DIFFERENTIATOR",
+    26: "ZW_REASON_LOOP_NEVER_STABLE",
 }
 
 # The reason reported for a refusal whose "last refusal" registers were overwritten by
@@ -179,13 +190,41 @@ EXCEPTIONS: Dict[int, str] = {
 _BLOCK_HEAD = (0x0000, 10)   # magic .. refused counter
 _BLOCK_GAINS = (0x0010, 4)   # K, B
 _BLOCK_LIVE = (0x0020, 16)   # live limits
-_BLOCK_STATE = (0x0030, 8)   # device state
+_BLOCK_STATE = (0x0030, 10)  # device state, and the low-pass pole in force
 _BLOCK_CERT = (0x0040, CERT_WORDS + 1)  # certified block and its CRC
 
 _CERT_FIELDS = ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max",
-                "db_max")
+                "db_max", "delay", "vfilter", "vf_param", "differentiator")
+_VFILTERS = {0: "none", 1: "lowpass", 2: "average"}
+_DIFFERENTIATORS = {0: "backward", 1: "tustin"}
 
 _FLT_MAX = struct.unpack(">f", b"\x7f\x7f\xff\xff")[0]
+
+
+def _velocity_filter_fields(spec: Any) -> Tuple[float, float]:
+    """(VFILTER, VF_PARAM) of a velocity filter given as None / "none", ("lowpass", f_c),
+    "lowpass:30Hz" / "lowpass:30", ("average", n) or "average:4"."""
+    if spec is None or spec == "none":
+        return 0.0, 0.0
+    if isinstance(spec, str) and ":" in spec:
+        kind, _, param = spec.partition(":")
+        param = param[:-2] if kind == "lowpass" and param.endswith("Hz") else param
+        try:
+            spec = (kind, float(param) if kind == "lowpass" else int(param))
+        except ValueError:
+            raise ValueError(f"velocity_filter {spec!r}: cannot read its parameter") from None
+    if isinstance(spec, tuple) and len(spec) == 2 and spec[0] == "lowpass":
+        f_c = _real("velocity_filter cut-off", spec[1])
+        if not (f_c > 0 and math.isfinite(f_c)):
+            raise ValueError(f"velocity_filter cut-off must be > 0 Hz, got {spec[1]!r}")
+        return 1.0, f_c
+    if isinstance(spec, tuple) and len(spec) == 2 and spec[0] == "average":
+        n = spec[1]
+        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or not 1 <= n <= 16:
+            raise ValueError(f"velocity_filter average length must be an integer in 1..16, got {n!r}")
+        return 2.0, float(n)
+    raise ValueError("velocity_filter must be None, 'none', ('lowpass', f_c), 'lowpass:30Hz', "
+                     f"('average', n) or 'average:4', got {spec!r}")
 
 
 def unit_keyword(method: Callable[..., Any]) -> str:
@@ -255,7 +294,7 @@ def crc16_modbus(data: bytes, crc: int = 0xFFFF) -> int:
 
 def crc16_words(words: Sequence[int]) -> int:
     """CRC-16/MODBUS of 16-bit words, each fed high byte first: what the drive expects in
-    ZW_REG_CERT_CRC over the 22 words of the certified block (zw_crc16_words in C)."""
+    ZW_REG_CERT_CRC over the 30 words of the certified block (zw_crc16_words in C)."""
     data = bytearray()
     for w in words:
         if not 0 <= w <= 0xFFFF:
@@ -303,6 +342,30 @@ class Policy:
     dk_max: float
     db_max: float
     crc: int
+
+
+@dataclass(frozen=True)
+class Loop:
+    """The loop the drive runs, as its certified block describes it (map version 2).
+
+    delay: samples between the measurement and the force it produces; velocity_filter:
+    "none", "lowpass" (first order, cut-off cutoff_hz [Hz]; pole: the a = exp(-2 pi f_c T)
+    the drive certifies and applies, read from ZW_REG_LIVE_POLE, NaN unsealed) or
+    "average" (moving average over average samples); differentiator: "backward" or
+    "tustin".  A value the block holds that is none of these reads as "unknown(<value>)"
+    (a block being staged in commissioning mode)."""
+
+    delay: float
+    velocity_filter: str
+    cutoff_hz: float
+    average: int
+    differentiator: str
+    pole: float
+
+    @property
+    def ideal(self) -> bool:
+        """The paper's loop: no delay, backward difference, no filter."""
+        return self.delay == 0 and self.velocity_filter == "none" and self.differentiator == "backward"
 
 
 @dataclass(frozen=True)
@@ -387,6 +450,7 @@ class Status:
     counters: Counters
     last_refusal: Refusal
     version: int
+    loop: Loop
 
 
 @dataclass(frozen=True)
@@ -641,6 +705,16 @@ class Drive:
             last_refusal=Refusal(reason_name(head[REG["LAST_REASON"]]),
                                  head[REG["LAST_EXCEPTION"]]),
             version=head[REG["VERSION"]],
+            loop=Loop(
+                delay=block["delay"],
+                velocity_filter=_VFILTERS.get(block["vfilter"], f"unknown({block['vfilter']})"),
+                cutoff_hz=block["vf_param"] if block["vfilter"] == 1.0 else math.nan,
+                average=int(block["vf_param"]) if block["vfilter"] == 2.0 and
+                math.isfinite(block["vf_param"]) else 0,
+                differentiator=_DIFFERENTIATORS.get(block["differentiator"],
+                                                    f"unknown({block['differentiator']})"),
+                pole=_f(state, REG["LIVE_POLE"], s0),
+            ),
         )
 
     def gains(self) -> Gains:
@@ -684,8 +758,9 @@ class Drive:
 
     def commission(self, m: float, b: float, T: float, sigma: float, r: float,
                    k_min: float, k_max: float, b_min: float, b_max: float,
-                   dk_max: float, db_max: float, *, abort_on_refusal: bool = True
-                   ) -> CommissionResult:
+                   dk_max: float, db_max: float, *, delay: int = 0,
+                   velocity_filter: Any = None, differentiator: str = "backward",
+                   abort_on_refusal: bool = True) -> CommissionResult:
         """Install and seal a new certified block.
 
         m: mass [kg] or inertia J [kg m^2]; b: physical damping [N s/m or N m s/rad];
@@ -694,8 +769,17 @@ class Drive:
         B bounds [N s/m or N m s/rad]; dk_max [N/m], db_max [N s/m]: largest change of K
         and B per accepted write, > 0.
 
+        The loop the drive runs (the drive certifies every gain write for it): delay: d
+        samples (0..8); velocity_filter: None or "none", ("lowpass", f_c) / "lowpass:30Hz"
+        (first order, cut-off f_c [Hz] < 1 / (2 T); the drive applies the pole
+        exp(-2 pi f_c T), shown in status().loop.pole), ("average", n) / "average:4" (moving
+        average, n in 1..16); differentiator: "backward" or "tustin".  Defaults: the ideal
+        loop.  The drive refuses a bad description at SEAL with a named reason
+        (ZW_REASON_BAD_DELAY, _BAD_FILTER, _BAD_FILTER_PARAM, _BAD_DIFFERENTIATOR,
+        _LOOP_NEVER_STABLE).
+
         Steps: UNLOCK1 and UNLOCK2 (two single writes in a row; the drive turns the output
-        off), the 22 block words and their CRC-16/MODBUS in one write-multiple request,
+        off), the 30 block words and their CRC-16/MODBUS in one write-multiple request,
         then SEAL (the drive checks the CRC and the policy and returns to operation with
         the gains off).  The drive is the judge of the policy; the client only checks
         that every value can be sent (ValueError naming the argument otherwise).  If a
@@ -705,10 +789,17 @@ class Drive:
         After an accepted SEAL the certified block, its CRC and the SEALED flag are read
         back: another client could have replaced the staged block between our write and
         SEAL (or re-commissioned right after), so DriveError (exception 0) naming the CRC
-        sent and the CRC the drive holds is raised unless the drive holds exactly the 22
+        sent and the CRC the drive holds is raised unless the drive holds exactly the 30
         words and CRC that were written and is sealed."""
+        vkind, vparam = _velocity_filter_fields(velocity_filter)
+        if isinstance(delay, bool) or not isinstance(delay, numbers.Integral) or not 0 <= delay <= 8:
+            raise ValueError(f"delay must be an integer in 0..8, got {delay!r}")
+        if differentiator not in ("backward", "tustin"):
+            raise ValueError(f"differentiator must be 'backward' or 'tustin', got {differentiator!r}")
         values = dict(m=m, b=b, T=T, sigma=sigma, r=r, k_min=k_min, k_max=k_max,
-                      b_min=b_min, b_max=b_max, dk_max=dk_max, db_max=db_max)
+                      b_min=b_min, b_max=b_max, dk_max=dk_max, db_max=db_max,
+                      delay=float(delay), vfilter=vkind, vf_param=vparam,
+                      differentiator=1.0 if differentiator == "tustin" else 0.0)
         words: List[int] = []
         for name in _CERT_FIELDS:
             words += float_to_words(values[name], name)

@@ -36,6 +36,10 @@ static zw_cert paper_cert(void)
     c.b_max = 0.01f;
     c.dk_max = 1.0f;
     c.db_max = 0.01f;
+    c.delay = 0.0f; /* the ideal loop */
+    c.vfilter = 0.0f;
+    c.vf_param = 0.0f;
+    c.differentiator = 0.0f;
     return c;
 }
 
@@ -171,7 +175,7 @@ static void expect_outcome(outcome o, zw_mb_exception exc, zw_reason why, const 
 static const struct {
     uint_least16_t first, last;
 } k_mapped[] = {
-    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x37}, {0x40, 0x56}, {0x60, 0x60},
+    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60},
 };
 
 static bool is_mapped(unsigned addr)
@@ -296,10 +300,11 @@ static uint16_t ref_crc_words(const uint_least16_t *w, size_t n)
 /* The 22 block words of c (host bit casts) and their CRC. */
 static void block_words(const zw_cert *c, uint_least16_t w[ZW_CERT_WORDS + 1u])
 {
-    const float f[11] = {c->m,     c->b,     c->T,     c->sigma,  c->r,     c->k_min,
-                         c->k_max, c->b_min, c->b_max, c->dk_max, c->db_max};
+    const float f[15] = {c->m,     c->b,     c->T,      c->sigma,  c->r,
+                         c->k_min, c->k_max, c->b_min,  c->b_max,  c->dk_max,
+                         c->db_max, c->delay, c->vfilter, c->vf_param, c->differentiator};
     size_t i;
-    for (i = 0; i < 11; ++i) words_of(f[i], &w[2 * i]);
+    for (i = 0; i < 15; ++i) words_of(f[i], &w[2 * i]);
     w[ZW_CERT_WORDS] = ref_crc_words(w, ZW_CERT_WORDS);
 }
 
@@ -428,7 +433,7 @@ static void test_init_sealed(void **state)
     (void)state;
     rm_init(&rm, &c);
     assert_int_equal(rd(&rm, ZW_REG_MAGIC), 0x5A57u);
-    assert_int_equal(rd(&rm, ZW_REG_VERSION), 1u);
+    assert_int_equal(rd(&rm, ZW_REG_VERSION), 2u);
     assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
     assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
     assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), 0u);
@@ -550,7 +555,7 @@ static void test_access_map_reads(void **state)
     /* a range touching one unmapped word is refused as a whole */
     EXPECT_REFUSED(&rm, read_words(&rm, 0x08, 3, w), ZW_MB_ILLEGAL_ADDRESS,
                    ZW_REASON_UNMAPPED);
-    EXPECT_REFUSED(&rm, read_words(&rm, 0x56, 2, w), ZW_MB_ILLEGAL_ADDRESS,
+    EXPECT_REFUSED(&rm, read_words(&rm, 0x5E, 2, w), ZW_MB_ILLEGAL_ADDRESS,
                    ZW_REASON_UNMAPPED);
     /* past the end of the address space */
     EXPECT_REFUSED(&rm, read_words(&rm, 0xFFFF, 1, w),
@@ -592,7 +597,7 @@ static void test_access_map_writes(void **state)
         if (!is_mapped(a)) {
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_UNMAPPED);
-        } else if (a <= 0x09u || (a >= 0x20u && a <= 0x37u)) {
+        } else if (a <= 0x09u || (a >= 0x20u && a <= 0x39u)) {
             /* read-only, whether one word or a whole (aligned) value is written */
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_READ_ONLY);
@@ -602,7 +607,7 @@ static void test_access_map_writes(void **state)
         } else if (a >= 0x10u && a <= 0x13u) {
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_HALF_FLOAT);
-        } else if (a >= 0x40u && a <= 0x55u) {
+        } else if (a >= 0x40u && a <= 0x5Du) {
             /* the block: a single word is half a float; a whole float is locked */
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_HALF_FLOAT);
@@ -632,10 +637,10 @@ static void test_access_map_writes(void **state)
                        ZW_REASON_HALF_FLOAT);
         EXPECT_REFUSED(&rm, write_words(&rm, 0x41, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_HALF_FLOAT);
-        EXPECT_REFUSED(&rm, write_words(&rm, 0x54, 3, z), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
-        EXPECT_REFUSED(&rm, write_words(&rm, 0x55, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x5C, 3, z), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x5D, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_HALF_FLOAT);
-        EXPECT_REFUSED(&rm, write_words(&rm, 0x56, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x5E, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_UNMAPPED);
         EXPECT_REFUSED(&rm, write_words(&rm, 0xFFFF, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_UNMAPPED);
@@ -1209,7 +1214,7 @@ static void test_pdu_read(void **state)
     assert_int_equal(r.b[2], 0x5A);
     assert_int_equal(r.b[3], 0x57);
     assert_int_equal(r.b[4], 0x00);
-    assert_int_equal(r.b[5], 0x01);
+    assert_int_equal(r.b[5], 0x02); /* map version 2 */
     assert_int_equal(r.b[8], 0x00);
     assert_int_equal(r.b[9], 0x01); /* SEALED */
     EXPECT_ACCEPTED(write_pair(&rm, 0.25f, -0x1p-11f));
@@ -1470,6 +1475,9 @@ static void test_reason_names(void **state)
         ZWT_REASON(ZW_REASON_ABOVE_SIGMA),  ZWT_REASON(ZW_REASON_RADIUS),
         ZWT_REASON(ZW_REASON_BAD_COMMAND),  ZWT_REASON(ZW_REASON_CRC),
         ZWT_REASON(ZW_REASON_BAD_POLICY),   ZWT_REASON(ZW_REASON_FPENV),
+        ZWT_REASON(ZW_REASON_BAD_DELAY),    ZWT_REASON(ZW_REASON_BAD_FILTER),
+        ZWT_REASON(ZW_REASON_BAD_FILTER_PARAM), ZWT_REASON(ZW_REASON_BAD_DIFFERENTIATOR),
+        ZWT_REASON(ZW_REASON_LOOP_NEVER_STABLE),
     };
     size_t i;
     (void)state;
@@ -1477,7 +1485,7 @@ static void test_reason_names(void **state)
         assert_int_equal((int)k[i].reason, (int)i);
         assert_string_equal(zw_reason_name(k[i].reason), k[i].spelled);
     }
-    assert_string_equal(zw_reason_name((zw_reason)22), "ZW_REASON_UNKNOWN");
+    assert_string_equal(zw_reason_name((zw_reason)27), "ZW_REASON_UNKNOWN");
     assert_string_equal(zw_reason_name((zw_reason)-1), "ZW_REASON_UNKNOWN");
 }
 
@@ -1762,6 +1770,119 @@ static void test_fpenv_refuses_seal(void **state)
     EXPECT_ACTIVE(&rm, 0.3f, -1.2e-3f);
 }
 
+/* ---- the loop the drive runs (map version 2) ------------------------------------------------ */
+
+/* Stage c's block with its CRC and SEAL it (from operation mode). */
+static outcome seal_block(zw_regmap *rm, const zw_cert *c)
+{
+    uint_least16_t block[ZW_CERT_WORDS + 1u];
+    unlock(rm);
+    block_words(c, block);
+    EXPECT_ACCEPTED(write_words(rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
+    return command(rm, ZW_CMD_SEAL);
+}
+
+/* Each bad loop description is refused at SEAL with its own reason, the block in force is
+ * kept (its gains still certified), and the drive stays in commissioning until ABORT. */
+static void test_loop_block_refusals(void **state)
+{
+    static zw_regmap rm;
+    static const struct {
+        float delay, vfilter, param, diff;
+        zw_reason why;
+    } bad[] = {
+        {1.5f, 0.0f, 0.0f, 0.0f, ZW_REASON_BAD_DELAY},      {9.0f, 0.0f, 0.0f, 0.0f, ZW_REASON_BAD_DELAY},
+        {-1.0f, 0.0f, 0.0f, 0.0f, ZW_REASON_BAD_DELAY},     {0.0f, 3.0f, 0.0f, 0.0f, ZW_REASON_BAD_FILTER},
+        {0.0f, 0.5f, 0.0f, 0.0f, ZW_REASON_BAD_FILTER},     {0.0f, -1.0f, 0.0f, 0.0f, ZW_REASON_BAD_FILTER},
+        {0.0f, 0.0f, 1.0f, 0.0f, ZW_REASON_BAD_FILTER_PARAM}, /* no filter with a parameter */
+        {1.0f, 1.0f, 0.0f, 0.0f, ZW_REASON_BAD_FILTER_PARAM}, /* cut-off 0 */
+        {1.0f, 1.0f, -3.0f, 0.0f, ZW_REASON_BAD_FILTER_PARAM},
+        {1.0f, 1.0f, 25.5f, 0.0f, ZW_REASON_BAD_FILTER_PARAM}, /* past Nyquist at T = 20 ms */
+        {1.0f, 1.0f, 1e-30f, 0.0f, ZW_REASON_BAD_FILTER_PARAM}, /* the pole rounds to 1 */
+        {0.0f, 2.0f, 0.0f, 0.0f, ZW_REASON_BAD_FILTER_PARAM},  {0.0f, 2.0f, 17.0f, 0.0f, ZW_REASON_BAD_FILTER_PARAM},
+        {0.0f, 2.0f, 2.5f, 0.0f, ZW_REASON_BAD_FILTER_PARAM},  {0.0f, 0.0f, 0.0f, 2.0f, ZW_REASON_BAD_DIFFERENTIATOR},
+        {0.0f, 0.0f, 0.0f, 0.5f, ZW_REASON_BAD_DIFFERENTIATOR},
+        /* Tustin with an even average: z = -1 is a root for every gain */
+        {0.0f, 2.0f, 2.0f, 1.0f, ZW_REASON_LOOP_NEVER_STABLE},
+    };
+    zw_cert c = paper_cert();
+    size_t i;
+    (void)state;
+    rm_init(&rm, &c);
+    for (i = 0; i < ZWT_ARRAY_LEN(bad); ++i) {
+        zw_cert b = paper_cert();
+        b.delay = bad[i].delay;
+        b.vfilter = bad[i].vfilter;
+        b.vf_param = bad[i].param;
+        b.differentiator = bad[i].diff;
+        EXPECT_TRUE_MSG(seal_block(&rm, &b).why == bad[i].why, "case %zu: %s, expected %s", i,
+                        zw_reason_name((zw_reason)rd(&rm, ZW_REG_LAST_REASON)), zw_reason_name(bad[i].why));
+        assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+        EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+        /* the ideal block in force still certifies as before */
+        EXPECT_ACCEPTED(write_pair(&rm, 0.4f, -1.36e-3f));
+        assert_true(rdf(&rm, ZW_REG_LIVE_POLE) == 0.0f);
+    }
+}
+
+/* The certification follows the sealed loop: a pair stable for the ideal loop but not for
+ * the drive's delayed one is refused as UNSTABLE; the live registers are those of the
+ * delayed loop (device_loop.h); the low-pass pole is published. */
+static void test_loop_block_certifies_the_real_loop(void **state)
+{
+    static zw_regmap rm;
+    static zw_device_loop dl;
+    zw_cert c = paper_cert();
+    zw_device d = paper_device();
+    zw_device_loop_spec spec;
+    zw_real K_ideal = R(0.0), K_delay = R(0.0), rho = R(0.0), th = R(0.0);
+    zw_verdict v;
+    float K, k;
+    (void)state;
+    c.delay = 1.0f;
+    rm_init(&rm, &c);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+    memset(&spec, 0, sizeof spec);
+    spec.delay = 1u;
+    EXPECT_OK(zw_device_loop_init(&dl, (zw_real)J1, (zw_real)B_SHORT, (zw_real)T_20MS, &spec));
+    EXPECT_OK(zw_device_k_max(&d, R(0.0), &K_ideal));
+    EXPECT_OK(zw_device_loop_k_max(&dl, R(0.0), &K_delay));
+    assert_true(K_delay > R(0.0) && K_delay < K_ideal * R(0.9));
+    /* live registers of the delayed loop */
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_MAX) == (float)K_delay);
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_CERT) <= (float)K_delay && rdf(&rm, ZW_REG_LIVE_K_CERT) > 0.0f);
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_MMAX) < (float)K_ideal * 2.0f && rdf(&rm, ZW_REG_LIVE_K_MMAX) > 0.0f);
+    assert_true(rdf(&rm, ZW_REG_LIVE_POLE) == 0.0f);
+    /* K between the two limits: stable for the ideal loop, refused for the drive's */
+    K = (float)((K_ideal + K_delay) / R(2.0));
+    EXPECT_OK(zw_device_check(&d, (zw_real)K, R(0.0), &v));
+    assert_true(v.stable);
+    EXPECT_OK(zw_device_loop_spectral_radius(&dl, (zw_real)K, R(0.0), &rho, &th));
+    assert_true(rho > R(1.0)); /* informational: the delayed loop is unstable there */
+    for (k = 0.0f; k + 1.0f < K; k += 1.0f)
+        if (k > 0.0f && (zw_real)k < K_delay) EXPECT_ACCEPTED(write_pair(&rm, k, 0.0f));
+    while ((zw_real)rdf(&rm, ZW_REG_K) + R(1.0) < (zw_real)K) {
+        float next = rdf(&rm, ZW_REG_K) + 1.0f;
+        if ((zw_real)next >= K_delay) break;
+        EXPECT_ACCEPTED(write_pair(&rm, next, 0.0f));
+    }
+    assert_true((zw_real)K - (zw_real)rdf(&rm, ZW_REG_K) <= R(1.0)); /* one step away */
+    EXPECT_REFUSED(&rm, write_pair(&rm, K, 0.0f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_UNSTABLE);
+    /* K_CERT itself is accepted (when reachable in one step) and just above it is not */
+    {
+        const float kc = rdf(&rm, ZW_REG_LIVE_K_CERT);
+        assert_true(kc - rdf(&rm, ZW_REG_K) <= 1.0f);
+        EXPECT_ACCEPTED(write_pair(&rm, kc, 0.0f));
+    }
+    /* a low-pass by its cut-off: the pole the drive must use is published */
+    c.vfilter = 1.0f;
+    c.vf_param = 5.0f; /* Hz, at T = 20 ms */
+    EXPECT_ACCEPTED(seal_block(&rm, &c));
+    EXPECT_REL(rdf(&rm, ZW_REG_LIVE_POLE), expl(-2.0L * 3.14159265358979323846L * 5.0L * 0.02L), 1e-6);
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_CERT) > 0.0f);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.5f * rdf(&rm, ZW_REG_LIVE_K_CERT), 0.0f));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1770,6 +1891,8 @@ int main(void)
         cmocka_unit_test(test_crc),
         cmocka_unit_test(test_cert_codec),
         cmocka_unit_test(test_init_sealed),
+        cmocka_unit_test(test_loop_block_refusals),
+        cmocka_unit_test(test_loop_block_certifies_the_real_loop),
         cmocka_unit_test(test_init_unsealed),
         cmocka_unit_test(test_init_bad_policy),
         cmocka_unit_test(test_access_map_reads),

@@ -26,10 +26,14 @@
  *     register at all, refusal registers included (regmap.c: "not even counted");
  *   - the pair the control loop applies, read through zw_regmap_active_gains (ZW_OK), is bit
  *     for bit the K and B registers, and it is (0, 0), or the map is in operation mode with
- *     a sealed block and an independent re-check with the library's device functions on that block (read from
- *     its registers, plant re-initialised with zw_device_init) accepts them: finite, within
- *     [k_min, k_max] x [b_min, b_max], zw_device_check stable and not marginal,
- *     K <= sigma K_max(B) (zw_device_k_max), zw_device_radius_within(r);
+ *     a sealed block and an independent re-check with the library's device functions on that
+ *     block (read from its registers, plant and loop re-initialised with zw_device_init and
+ *     zw_device_loop_init) accepts them: finite, within [k_min, k_max] x [b_min, b_max],
+ *     stable and not marginal, K <= sigma K_max(B), spectral radius provably below r; for
+ *     the ideal loop by zw_device_check / zw_device_k_max / zw_device_radius_within, for any
+ *     other by the drive's loop: zw_device_loop_check / _k_max / _radius_within (the harness
+ *     starts from a block with a delay of one sample, so the loop path is the one fuzzed;
+ *     commissioning can switch to any loop);
  *   - a gain change to a pair other than (0, 0) moved K by <= dk_max and B by <= db_max;
  *   - ZW_REG_LIVE_K_CERT (the ceiling shown to tuning tools), when positive, passes the same
  *     re-check (k_max, stability, sigma, radius) with the current B;
@@ -77,7 +81,8 @@ static const zw_cert paper_block = {
     0.98f,                       /* r */
     0.0f, 0.5f,                  /* k_min, k_max */
     -2.2e-3f, 3.6e-3f,           /* b_min, b_max */
-    0.1f, 1.0e-3f                /* dk_max, db_max */
+    0.1f, 1.0e-3f,               /* dk_max, db_max */
+    1.0f, 0.0f, 0.0f, 0.0f       /* the loop: delay 1, no filter, backward difference */
 };
 
 /* ---------------------------------------------------------------------------------------
@@ -91,7 +96,7 @@ typedef struct snapshot {
 
 static const struct { uint16_t addr, count; bool must; } blocks[] = {
     {ZW_REG_MAGIC, 10, true},   {ZW_REG_K, 4, true},          {ZW_REG_LIVE_K_MAX, 16, true},
-    {ZW_REG_STATE_X, 8, true},  {ZW_REG_CERT_M, ZW_CERT_WORDS + 1, false},
+    {ZW_REG_STATE_X, 10, true},  {ZW_REG_CERT_M, ZW_CERT_WORDS + 1, false},
     {ZW_REG_COMMAND, 1, false},
 };
 
@@ -159,13 +164,69 @@ NO_COV static zw_cert block_of(const snapshot *s)
     c.b_max = f32_at(s, ZW_REG_CERT_B_MAX);
     c.dk_max = f32_at(s, ZW_REG_CERT_DK_MAX);
     c.db_max = f32_at(s, ZW_REG_CERT_DB_MAX);
+    c.delay = f32_at(s, ZW_REG_CERT_DELAY);
+    c.vfilter = f32_at(s, ZW_REG_CERT_VFILTER);
+    c.vf_param = f32_at(s, ZW_REG_CERT_VF_PARAM);
+    c.differentiator = f32_at(s, ZW_REG_CERT_DIFF);
     return c;
 }
 
-NO_COV static void check_policy(const zw_cert *c, zw_device *dev)
+/* The plant and the drive's loop of a sealed block (both re-initialised here). */
+typedef struct plant {
+    zw_device dev;
+    zw_device_loop dl;
+    bool ideal;
+} plant;
+
+NO_COV static bool ideal(const zw_cert *c)
 {
-    CHECK(zw_device_init(dev, (zw_real)c->m, (zw_real)c->b, (zw_real)c->T) == ZW_OK,
+    return c->delay == 0.0f && c->vfilter == 0.0f && c->differentiator == 0.0f;
+}
+
+NO_COV static bool pair_stable(const plant *p, float K, float B)
+{
+    if (p->ideal) {
+        zw_verdict v;
+        return zw_device_check(&p->dev, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable && !v.marginal;
+    }
+    zw_loop_verdict lv;
+    return zw_device_loop_check(&p->dl, (zw_real)K, (zw_real)B, &lv) == ZW_OK && lv.stable && !lv.marginal;
+}
+
+NO_COV static bool pair_k_max(const plant *p, float B, zw_real *kmax)
+{
+    return (p->ideal ? zw_device_k_max(&p->dev, (zw_real)B, kmax)
+                     : zw_device_loop_k_max(&p->dl, (zw_real)B, kmax)) == ZW_OK;
+}
+
+NO_COV static bool pair_within(const plant *p, float K, float B, float r)
+{
+    bool within = false;
+    zw_status st = p->ideal ? zw_device_radius_within(&p->dev, (zw_real)K, (zw_real)B, (zw_real)r, &within)
+                            : zw_device_loop_radius_within(&p->dl, (zw_real)K, (zw_real)B, (zw_real)r, &within);
+    return st == ZW_OK && within;
+}
+
+NO_COV static void check_policy(const zw_cert *c, plant *p)
+{
+    zw_device_loop_spec spec;
+    CHECK(zw_device_init(&p->dev, (zw_real)c->m, (zw_real)c->b, (zw_real)c->T) == ZW_OK,
           "sealed plant m=%g b=%g T=%g does not initialise", (double)c->m, (double)c->b, (double)c->T);
+    CHECK(c->delay >= 0.0f && c->delay <= 8.0f && c->delay == (float)(unsigned)c->delay,
+          "sealed delay %g", (double)c->delay);
+    CHECK(c->vfilter == 0.0f || c->vfilter == 1.0f || c->vfilter == 2.0f, "sealed filter %g", (double)c->vfilter);
+    CHECK(c->differentiator == 0.0f || c->differentiator == 1.0f, "sealed differentiator %g",
+          (double)c->differentiator);
+    memset(&spec, 0, sizeof spec);
+    spec.delay = (unsigned)c->delay;
+    spec.differentiator = c->differentiator == 1.0f ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
+    spec.filter = c->vfilter == 1.0f ? ZW_VFILTER_LOWPASS : c->vfilter == 2.0f ? ZW_VFILTER_AVERAGE : ZW_VFILTER_NONE;
+    if (spec.filter == ZW_VFILTER_LOWPASS) spec.cutoff_hz = (zw_real)c->vf_param;
+    if (spec.filter == ZW_VFILTER_AVERAGE) spec.average = (unsigned)c->vf_param;
+    CHECK(zw_device_loop_init(&p->dl, (zw_real)c->m, (zw_real)c->b, (zw_real)c->T, &spec) == ZW_OK,
+          "sealed loop (delay %g, filter %g %g, differentiator %g) does not initialise", (double)c->delay,
+          (double)c->vfilter, (double)c->vf_param, (double)c->differentiator);
+    p->ideal = ideal(c);
     CHECK(c->sigma > 0.0f && c->sigma <= 1.0f, "sealed sigma %g", (double)c->sigma);
     CHECK(c->r > 0.0f && c->r <= 1.0f, "sealed r %g", (double)c->r);
     CHECK(isfinite(c->k_min) && isfinite(c->k_max) && c->k_min <= c->k_max,
@@ -177,46 +238,39 @@ NO_COV static void check_policy(const zw_cert *c, zw_device *dev)
 }
 
 /* The re-check of an active pair other than (0, 0), against the sealed block. */
-NO_COV static void check_pair(const zw_cert *c, const zw_device *dev, float K, float B)
+NO_COV static void check_pair(const zw_cert *c, const plant *p, float K, float B)
 {
     CHECK(isfinite(K) && isfinite(B), "active gains not finite: K=%a B=%a", (double)K, (double)B);
     CHECK(c->k_min <= K && K <= c->k_max, "K=%.9g outside [%.9g, %.9g]", (double)K,
           (double)c->k_min, (double)c->k_max);
     CHECK(c->b_min <= B && B <= c->b_max, "B=%.9g outside [%.9g, %.9g]", (double)B,
           (double)c->b_min, (double)c->b_max);
-    zw_verdict v;
-    CHECK(zw_device_check(dev, (zw_real)K, (zw_real)B, &v) == ZW_OK, "zw_device_check failed");
-    CHECK(v.stable && !v.marginal, "active pair K=%.9g B=%.9g not provably stable (stable %d marginal %d deciding %d)",
-          (double)K, (double)B, (int)v.stable, (int)v.marginal, (int)v.deciding);
+    CHECK(pair_stable(p, K, B), "active pair K=%.9g B=%.9g not provably stable (ideal loop %d)",
+          (double)K, (double)B, (int)p->ideal);
     zw_real kmax = 0;
-    CHECK(zw_device_k_max(dev, (zw_real)B, &kmax) == ZW_OK, "zw_device_k_max failed");
+    CHECK(pair_k_max(p, B, &kmax), "K_max failed");
     CHECK((zw_real)K <= (zw_real)c->sigma * kmax, "K=%.9g above sigma K_max(B) = %.9g x %.9g",
           (double)K, (double)c->sigma, (double)kmax);
-    bool within = false;
-    CHECK(zw_device_radius_within(dev, (zw_real)K, (zw_real)B, (zw_real)c->r, &within) == ZW_OK && within,
-          "active pair K=%.9g B=%.9g: spectral radius not provably below r=%.9g", (double)K,
-          (double)B, (double)c->r);
+    CHECK(pair_within(p, K, B, c->r), "active pair K=%.9g B=%.9g: spectral radius not provably below r=%.9g",
+          (double)K, (double)B, (double)c->r);
 }
 
 /* ZW_REG_LIVE_K_CERT is shown to tuning tools as the certified ceiling at the current B:
  * when positive, that K with the current B must itself pass the rules that do not depend
  * on the previous gains (k_max, stability, sigma, radius). */
-NO_COV static void check_k_cert(const zw_cert *c, const zw_device *dev, float kc, float B)
+NO_COV static void check_k_cert(const zw_cert *c, const plant *p, float kc, float B)
 {
     if (!(kc > 0.0f)) {
         CHECK(kc == 0.0f, "LIVE_K_CERT = %a in operation with a sealed block", (double)kc);
         return;
     }
     CHECK(kc <= c->k_max, "LIVE_K_CERT %.9g above k_max %.9g", (double)kc, (double)c->k_max);
-    zw_verdict v;
-    CHECK(zw_device_check(dev, (zw_real)kc, (zw_real)B, &v) == ZW_OK && v.stable && !v.marginal,
-          "LIVE_K_CERT %.9g at B=%.9g is not provably stable", (double)kc, (double)B);
+    CHECK(pair_stable(p, kc, B), "LIVE_K_CERT %.9g at B=%.9g is not provably stable", (double)kc, (double)B);
     zw_real kmax = 0;
-    CHECK(zw_device_k_max(dev, (zw_real)B, &kmax) == ZW_OK && (zw_real)kc <= (zw_real)c->sigma * kmax,
+    CHECK(pair_k_max(p, B, &kmax) && (zw_real)kc <= (zw_real)c->sigma * kmax,
           "LIVE_K_CERT %.9g above sigma K_max(B) = %.9g x %.9g", (double)kc, (double)c->sigma, (double)kmax);
-    bool within = false;
-    CHECK(zw_device_radius_within(dev, (zw_real)kc, (zw_real)B, (zw_real)c->r, &within) == ZW_OK && within,
-          "LIVE_K_CERT %.9g at B=%.9g: radius not provably below r=%.9g", (double)kc, (double)B, (double)c->r);
+    CHECK(pair_within(p, kc, B, c->r), "LIVE_K_CERT %.9g at B=%.9g: radius not provably below r=%.9g",
+          (double)kc, (double)B, (double)c->r);
 }
 
 NO_COV static bool is_refusal_register(unsigned a)
@@ -371,13 +425,13 @@ NO_COV static void check_state(const snapshot *before, const snapshot *after, zw
               after->w[ZW_REG_CERT_CRC], crc);
         CHECK(zw_crc16_words(lw, ZW_CERT_WORDS) == crc, "zw_crc16_words disagrees with CRC-16/MODBUS");
         zw_cert c = block_of(after);
-        zw_device dev;
-        check_policy(&c, &dev);
+        static plant pl; /* large (the loop); the harness is single-threaded */
+        check_policy(&c, &pl);
         if (first || u32_at(before, ZW_REG_LIVE_K_CERT) != u32_at(after, ZW_REG_LIVE_K_CERT) ||
             u32_at(before, ZW_REG_B) != u32_at(after, ZW_REG_B) || before->w[ZW_REG_MODE] != 0)
-            check_k_cert(&c, &dev, f32_at(after, ZW_REG_LIVE_K_CERT), B);
+            check_k_cert(&c, &pl, f32_at(after, ZW_REG_LIVE_K_CERT), B);
         if (!off) {
-            check_pair(&c, &dev, K, B);
+            check_pair(&c, &pl, K, B);
             if (!same_bits(K, K0) || !same_bits(B, B0)) {
                 CHECK(fabs((double)K - (double)K0) <= (double)c.dk_max,
                       "K moved %.9g -> %.9g, dk_max %.9g", (double)K0, (double)K, (double)c.dk_max);

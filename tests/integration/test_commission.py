@@ -25,8 +25,11 @@ def crc16_words(words):
     return crc
 
 
-def block_words(sigma):
-    return float_words(85.78e-7, 2.197e-3, 0.02, sigma, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01)
+def block_words(sigma, delay=0.0, vfilter=0.0, vf_param=0.0, differentiator=0.0):
+    """The 30 words of the block (map v2: plant, policy, then the loop; default the ideal
+    loop)."""
+    return float_words(85.78e-7, 2.197e-3, 0.02, sigma, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01,
+                       delay, vfilter, vf_param, differentiator)
 
 
 def status(d):

@@ -107,10 +107,10 @@ def test_commission_detects_a_block_written_by_another_client(start_drive):
     assert (f"the drive sealed a different block (CRC 0x{crc16_words(theirs):04X}" in p.stderr
             and "another client wrote during commissioning" in p.stderr), p.stderr
     assert "commissioned" not in p.stdout
-    # the read-back covered SEALED and all 23 words of the block
+    # the read-back covered SEALED and all 31 words of the block (30 and the CRC)
     reads = [pdu for _, pdu in proxy.requests if pdu[0] == 3]
     assert struct.pack(">BHH", 3, E["ZW_REG_SEALED"], 1) in reads
-    assert struct.pack(">BHH", 3, E["ZW_REG_CERT_M"], 23) in reads
+    assert struct.pack(">BHH", 3, E["ZW_REG_CERT_M"], 31) in reads
     s = status(d)
     assert s["sealed"] is True and s["cert"]["sigma"] == f32(0.5)  # theirs, not ours
 
@@ -133,7 +133,7 @@ def test_commission_reads_back_the_sealed_block(start_drive):
     assert "read back and verified" in p.stdout
     pdus = [pdu for _, pdu in proxy.requests]
     seal = pdus.index(struct.pack(">BHH", 6, CMD, E["ZW_CMD_SEAL"]))
-    assert struct.pack(">BHH", 3, E["ZW_REG_CERT_M"], 23) in pdus[seal + 1:]
+    assert struct.pack(">BHH", 3, E["ZW_REG_CERT_M"], 31) in pdus[seal + 1:]
 
 
 def test_commission_lost_connection_after_unlock_sends_abort(start_drive):

@@ -65,7 +65,7 @@ def test_bad_certified_block_refused_at_startup():
 
 def test_status_of_a_fresh_drive(drive):
     s = status(drive)
-    assert s["magic"] == 0x5A57 and s["version"] == 1
+    assert s["magic"] == 0x5A57 and s["version"] == 2
     assert s["mode"] == "operation" and s["sealed"] is True
     assert s["gains"] == {"K": 0.0, "B": 0.0}
     for k, v in PAPER.items():
@@ -170,3 +170,59 @@ def test_unsealed_drive_refuses_gains(start_drive):
 def test_sigint_stops_cleanly(start_drive):
     d = start_drive("--simulate")
     assert d.stop(signal.SIGINT) == 0
+
+
+# ---------------------------------------------------------------------------------------
+# the loop the drive runs (map version 2)
+# ---------------------------------------------------------------------------------------
+
+PAPER_POLICY = ["--m", "85.78e-7", "--b", "2.197e-3", "--T", "0.02", "--sigma", "0.8",
+                "--r", "0.999", "--k-min", "0", "--k-max", "10", "--b-min", "-0.01",
+                "--b-max", "0.01", "--dk-max", "1", "--db-max", "0.01"]
+
+
+def test_drive_with_delay_1_certifies_for_its_loop(start_drive):
+    """zwidth-drive --delay 1: the pair (0.30, -1.0e-3), accepted by the ideal
+    drive, is refused as unstable; status shows the loop and the lower limits."""
+    ideal = start_drive()
+    d = start_drive("--delay", "1")
+    rc, v = set_gains(ideal, "--K", "0.30", "--B", "-1.0e-3")
+    assert rc == 0 and v["verdict"] == "accepted"
+    rc, v = set_gains(d, "--K", "0.30", "--B", "-1.0e-3")
+    assert rc == 3 and v["reason"] == "ZW_REASON_UNSTABLE" and v["exception"] == 3
+    s, s0 = status(d), status(ideal)
+    assert (s["cert"]["delay"], s["cert"]["vfilter"], s["cert"]["differentiator"]) == (1.0, 0.0, 0.0)
+    assert 0 < s["live"]["K_max"] < 0.5 * s0["live"]["K_max"]
+    assert 0 < s["live"]["K_mmax"] < s0["live"]["K_mmax"]
+    p = d.tune("status")
+    assert p.returncode == 0 and "loop       : delay 1, no filter, backward difference" in p.stdout
+    k = s["live"]["K_cert"]
+    rc, v = set_gains(d, "--K", repr(0.5 * k), "--B", "0")
+    assert rc == 0, v
+
+
+def test_commission_with_delay_and_low_pass(start_drive):
+    d = start_drive("--unsealed")
+    p = d.tune("commission", *PAPER_POLICY, "--delay", "1", "--velocity-filter", "lowpass:5Hz",
+               "--differentiator", "backward")
+    assert p.returncode == 0, (p.stdout, p.stderr)
+    assert "loop       : delay 1, low-pass 5 Hz (pole 0.533488)" in p.stdout
+    s = status(d)
+    assert (s["cert"]["delay"], s["cert"]["vfilter"], s["cert"]["vf_param"]) == (1.0, 1.0, 5.0)
+    # a bad loop: refused at SEAL with its reason, the block in force kept
+    p = d.tune("commission", *PAPER_POLICY, "--velocity-filter", "lowpass:30Hz")  # > Nyquist
+    assert p.returncode == 3 and "ZW_REASON_BAD_FILTER_PARAM" in p.stdout + p.stderr, (p.stdout, p.stderr)
+    assert status(d)["cert"]["vf_param"] == 5.0
+
+
+def test_loop_options_are_checked():
+    for opts, msg in ((["--delay", "9"], "--delay"), (["--velocity-filter", "lowpass:0"], "--velocity-filter"),
+                      (["--velocity-filter", "average:17"], "average"), (["--velocity-filter", "bessel"], "--velocity-filter"),
+                      (["--differentiator", "forward"], "--differentiator")):
+        for exe, extra in ((DRIVE, ["--port", "0"]), (TUNE, ["commission", *PAPER_POLICY])):
+            p = subprocess.run([str(exe), *extra, *opts], capture_output=True, text=True, timeout=5)
+            assert p.returncode == 2 and msg in p.stderr, (exe, opts, p.stderr)
+    # a loop the drive refuses at power-up: its reason, exit 2
+    p = subprocess.run([str(DRIVE), "--host", LOOPBACK, "--port", "0", "--velocity-filter", "average:2",
+                        "--differentiator", "tustin"], capture_output=True, text=True, timeout=20)
+    assert p.returncode == 2 and "ZW_REASON_LOOP_NEVER_STABLE" in p.stderr

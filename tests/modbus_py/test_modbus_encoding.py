@@ -187,6 +187,27 @@ def test_set_gains_arguments_checked_before_any_request():
         d.commission(8.578e-6, 2.197e-3, 0.02, 0.8, 1.0, 0.0, 1.0, -0.01, 0.01, 1.0, None)
     with pytest.raises(ValueError, match="command must be one of"):
         d.command("OPEN")
+    block = (8.578e-6, 2.197e-3, 0.02, 0.8, 1.0, 0.0, 1.0, -0.01, 0.01, 1.0, 0.01)
+    with pytest.raises(ValueError, match="^delay must be an integer in 0..8"):
+        d.commission(*block, delay=9)
+    with pytest.raises(ValueError, match="^delay must be an integer in 0..8"):
+        d.commission(*block, delay=1.0)
+    with pytest.raises(ValueError, match="^differentiator must be"):
+        d.commission(*block, differentiator="forward")
+    for bad in ("lowpass", ("lowpass", 0.0), "lowpass:abcHz", ("average", 17), "average:0",
+                ("pole", 0.5)):
+        with pytest.raises(ValueError, match="velocity_filter"):
+            d.commission(*block, velocity_filter=bad)
+
+
+def test_velocity_filter_fields():
+    assert zm._velocity_filter_fields(None) == (0.0, 0.0)
+    assert zm._velocity_filter_fields("none") == (0.0, 0.0)
+    assert zm._velocity_filter_fields("lowpass:30Hz") == (1.0, 30.0)
+    assert zm._velocity_filter_fields("lowpass:12.5") == (1.0, 12.5)
+    assert zm._velocity_filter_fields(("lowpass", 30)) == (1.0, 30.0)
+    assert zm._velocity_filter_fields("average:4") == (2.0, 4.0)
+    assert zm._velocity_filter_fields(("average", 16)) == (2.0, 16.0)
 
 
 def test_connection_error_names_host_and_port():

@@ -29,7 +29,7 @@ def drive(port: int) -> zm.Drive:
 def test_status_of_a_fresh_drive(drive_port):
     with drive(drive_port) as d:
         s = d.status()
-    assert s.mode == "operation" and s.sealed and s.version == 1
+    assert s.mode == "operation" and s.sealed and s.version == 2
     assert s.plant == zm.Plant(*(f32(PAPER_PLANT[k]) for k in ("m", "b", "T")))
     expected_policy = {k: f32(v) for k, v in POLICY.items()}
     assert {k: getattr(s.policy, k) for k in POLICY} == expected_policy
@@ -38,7 +38,9 @@ def test_status_of_a_fresh_drive(drive_port):
         words += zm.float_to_words(PAPER_PLANT[key])
     for key in ("sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
         words += zm.float_to_words(POLICY[key])
+    words += [0] * 8  # the ideal loop: delay, filter, parameter, differentiator all 0.0
     assert s.policy.crc == zm.crc16_words(words)
+    assert s.loop == zm.Loop(0.0, "none", s.loop.cutoff_hz, 0, "backward", 0.0) and s.loop.ideal
     assert s.gains == zm.Gains(0.0, 0.0)
     # The paper: K_mmax = 0.4934 N m/rad at B = -1.357e-3 N m s/rad, delta = 5.12241.
     assert s.limits.k_mmax == pytest.approx(0.493379, rel=1e-5)
@@ -179,6 +181,7 @@ def test_commission_an_unsealed_drive(start_drive):
         words = []
         for key in ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
             words += zm.float_to_words(NEW_BLOCK[key])
+        words += [0] * 8  # the ideal loop
         assert c == zm.CommissionResult(True, "ZW_REASON_NONE", 0, "done", zm.crc16_words(words), False)
         s = d.status()
         assert s.sealed and s.mode == "operation" and s.gains == zm.Gains(0.0, 0.0)
@@ -225,10 +228,13 @@ def test_commission_without_abort_stays_in_commissioning(drive_port):
 
 
 def block_words(block: dict) -> list:
-    """The 22 words of a certified block followed by its CRC, as written to 0x0040."""
+    """The 30 words of a certified block followed by its CRC, as written to 0x0040 (the
+    loop fields from delay, vfilter, vf_param, differentiator; default the ideal loop)."""
     words = []
     for key in ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
         words += zm.float_to_words(block[key])
+    for key in ("delay", "vfilter", "vf_param", "differentiator"):
+        words += zm.float_to_words(float(block.get(key, 0.0)))
     return words + [zm.crc16_words(words)]
 
 
@@ -341,7 +347,7 @@ def test_raw_read_of_the_head(raw):
     client, unit = raw
     rsp = client.read_holding_registers(0x0000, count=10, **unit)
     assert not rsp.isError()
-    assert list(rsp.registers[:4]) == [0x5A57, 1, 0, 1]
+    assert list(rsp.registers[:4]) == [0x5A57, 2, 0, 1]  # magic, map version 2, operation, sealed
 
 
 def test_raw_bad_pair_is_exception_3(raw):
@@ -385,3 +391,79 @@ def test_raw_good_pair_then_client_reads_it(raw, drive_port):
     assert not rsp.isError()
     with drive(drive_port) as d:  # a second client on the same drive
         assert d.gains() == zm.Gains(f32(0.30), f32(-1.0e-3))
+
+
+# ---------------------------------------------------------------------------------------
+# the loop the drive runs (map version 2)
+# ---------------------------------------------------------------------------------------
+
+
+def test_drive_started_with_a_delay_certifies_for_it(start_drive):
+    """The paper's example pair (K = 0.40, B = -1.36e-3) passes the ideal loop (see
+    test_status_of_a_fresh_drive's policy) but not a drive that applies its force one
+    sample late: refused as unstable; the live limits are those of the delayed loop."""
+    ideal_port = start_drive()
+    port = start_drive(extra=("--delay", "1"))
+    with drive(ideal_port) as d:
+        ideal = d.status()
+        assert d.set_gains(K=0.40, B=-1.36e-3).accepted
+    with drive(port) as d:
+        s = d.status()
+        assert s.loop == zm.Loop(1.0, "none", s.loop.cutoff_hz, 0, "backward", 0.0)
+        assert not s.loop.ideal
+        assert 0 < s.limits.k_max < 0.5 * ideal.limits.k_max
+        assert 0 < s.limits.k_mmax < ideal.limits.k_mmax
+        assert s.limits.b_lo != s.limits.b_lo  # NaN: not computed per write (regmap.h)
+        r = d.set_gains(K=0.40, B=-1.36e-3)
+        assert (r.accepted, r.reason, r.exception) == (False, "ZW_REASON_UNSTABLE", 0x03)
+        k = f32(0.5 * s.limits.k_cert)
+        assert d.set_gains(K=k, B=0.0).accepted
+
+
+def test_commission_with_a_low_pass_filter(drive_port):
+    with drive(drive_port) as d:
+        c = d.commission(**NEW_BLOCK, delay=1, velocity_filter="lowpass:5Hz")
+        assert c.accepted
+        s = d.status()
+        assert (s.loop.delay, s.loop.velocity_filter, s.loop.cutoff_hz, s.loop.differentiator) == \
+            (1.0, "lowpass", 5.0, "backward")
+        # the pole the drive applies: exp(-2 pi f_c T) at the binary32 T, to float accuracy
+        import math
+        assert s.loop.pole == pytest.approx(math.exp(-2 * math.pi * 5.0 * f32(0.02)), rel=1e-6)
+        assert s.policy.crc == c.crc == block_words({**NEW_BLOCK, "delay": 1, "vfilter": 1,
+                                                     "vf_param": 5.0})[-1]
+        assert d.set_gains(K=f32(0.5 * s.limits.k_cert), B=0.0).accepted
+
+
+@pytest.mark.parametrize("loop, reason", [
+    (dict(delay=1, velocity_filter=("lowpass", 30.0)), "ZW_REASON_BAD_FILTER_PARAM"),  # > 25 Hz
+    (dict(velocity_filter="average:2", differentiator="tustin"), "ZW_REASON_LOOP_NEVER_STABLE"),
+])
+def test_commission_refuses_a_bad_loop_with_its_reason(drive_port, loop, reason):
+    with drive(drive_port) as d:
+        before = d.status()
+        c = d.commission(**NEW_BLOCK, **loop)
+        assert (c.accepted, c.reason, c.exception, c.stage, c.aborted) == (False, reason, 0x03, "seal", True)
+        after = d.status()
+    assert after.sealed and after.mode == "operation"
+    assert after.loop == before.loop and after.policy == before.policy
+
+
+def test_an_old_client_cannot_seal_a_version_1_block(raw, drive_port):
+    """A map-v1 client writes 22 words and the CRC at 0x0056: the write splits the DELAY
+    value (refused) and a SEAL fails the CRC over 30 words."""
+    client, unit = raw
+    words = block_words(NEW_BLOCK)[:22]
+    v1 = words + [zm.crc16_words(words)]
+    for name in ("UNLOCK1", "UNLOCK2"):
+        assert not client.write_register(0x0060, zm.CMD[name], **unit).isError()
+    rsp = client.write_registers(0x0040, v1, **unit)
+    assert rsp.isError() and rsp.exception_code == 0x02
+    assert not client.write_registers(0x0040, words, **unit).isError()
+    rsp = client.write_register(0x0056, v1[-1], **unit)
+    assert rsp.isError() and rsp.exception_code == 0x02  # half of the DELAY float
+    rsp = client.write_register(0x0060, zm.CMD["SEAL"], **unit)
+    assert rsp.isError() and rsp.exception_code == 0x03
+    with drive(drive_port) as d:
+        assert d.status().last_refusal == zm.Refusal("ZW_REASON_CRC", 0x03)
+        assert d.command("ABORT") == 0

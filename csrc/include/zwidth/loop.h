@@ -92,6 +92,11 @@ typedef struct zw_loop {
     zw_real Ds[ZW_LOOP_MAX_DEGREE + 1u], Ds_err[ZW_LOOP_MAX_DEGREE + 1u];
     zw_real Nas[ZW_LOOP_MAX_DEGREE + 1u], Nas_err[ZW_LOOP_MAX_DEGREE + 1u];
     zw_real Nbs[ZW_LOOP_MAX_DEGREE + 1u], Nbs_err[ZW_LOOP_MAX_DEGREE + 1u];
+    /* Relative error bounds of the gains the checks will be given (0 from zw_loop_init:
+     * exact gains; zw_loop_carry_gain_rounding sets them, e.g. for gains converted from
+     * real units).  Read by the factored evaluation of p; the coefficient parts carry them
+     * in their own bounds. */
+    zw_real alpha_relerr, beta_relerr;
 } zw_loop;
 
 /* Build the loop of spec for the plant c (a copy of *c is kept).  Errors: ZW_ERR_NULL,
@@ -103,6 +108,15 @@ typedef struct zw_loop {
  * accepted but never stable: the Tustin mode (-1)^k averages out of the estimate, so
  * z = -1 is a root for every gain. */
 zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spec);
+
+/* Make every check on *loop hold for each gain within the given relative error of the one
+ * passed (the exact gain is alpha (1 + ea), |ea| <= alpha_relerr; beta likewise): the
+ * bounds of Na, Nb and their bilinear images widen by |part| times the error, and the
+ * factored evaluation of p (root-inclusion test) adds |gain| err |part(z)|.  Cumulative
+ * (a second call adds to the first).  Errors: ZW_ERR_NULL, ZW_ERR_ARG (uninitialized loop,
+ * an error negative, NaN or >= 1/16), ZW_ERR_RANGE (a bound overflows); on error *loop is
+ * made an empty loop, which every function refuses. */
+zw_status zw_loop_carry_gain_rounding(zw_loop *loop, zw_real alpha_relerr, zw_real beta_relerr);
 
 /* p(z) = D + alpha Na + beta Nb, highest power first, p[0..*degree].  On error every
  * entry is 0 and *degree = 0. */

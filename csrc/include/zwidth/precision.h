@@ -32,6 +32,14 @@
 #define zw_device_k_max zw_device_k_max_f
 #define zw_device_b_range zw_device_b_range_f
 #define zw_device_influence zw_device_influence_f
+/* device_loop.h */
+#define zw_device_loop_init zw_device_loop_init_f
+#define zw_device_loop_check zw_device_loop_check_f
+#define zw_device_loop_radius_within zw_device_loop_radius_within_f
+#define zw_device_loop_spectral_radius zw_device_loop_spectral_radius_f
+#define zw_device_loop_k_max zw_device_loop_k_max_f
+#define zw_device_loop_b_range zw_device_loop_b_range_f
+#define zw_device_loop_extremes_compute zw_device_loop_extremes_compute_f
 /* extremes.h */
 #define zw_extremes_compute zw_extremes_compute_f
 #define zw_hyperbola_top zw_hyperbola_top_f
@@ -41,6 +49,7 @@
 /* loop.h */
 #define zw_loop_lowpass_pole zw_loop_lowpass_pole_f
 #define zw_loop_init zw_loop_init_f
+#define zw_loop_carry_gain_rounding zw_loop_carry_gain_rounding_f
 #define zw_loop_poly zw_loop_poly_f
 #define zw_loop_check zw_loop_check_f
 #define zw_loop_radius_within zw_loop_radius_within_f

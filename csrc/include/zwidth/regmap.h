@@ -11,7 +11,8 @@
  *
  *   addr    name                    access  meaning
  *   0x0000  ZW_REG_MAGIC            r       0x5A57 ("ZW")
- *   0x0001  ZW_REG_VERSION          r       map version, 1
+ *   0x0001  ZW_REG_VERSION          r       map version, 2 (1: no loop description; see
+ *                                           docs/modbus.md for what changed)
  *   0x0002  ZW_REG_MODE             r       0 operation, 1 commissioning
  *   0x0003  ZW_REG_SEALED           r       1 when the certified block is sealed (CRC valid)
  *   0x0004  ZW_REG_LAST_REASON      r       zw_reason of the last refused request (0 none)
@@ -31,7 +32,7 @@
  *           as 0).  Writing K alone is judged with the current B, and B alone with the
  *           current K.
  *
- *   0x0020  ZW_REG_LIVE_K_MAX (f32)     r   K_max at the current B (exact region)
+ *   0x0020  ZW_REG_LIVE_K_MAX (f32)     r   K_max at the current B (of the drive's loop)
  *   0x0022  ZW_REG_LIVE_K_CERT (f32)    r   certified K ceiling at the current B: the
  *                                           largest K <= min(sigma K_max(B), k_max) that
  *                                           the stability and radius rules accept, to
@@ -41,12 +42,19 @@
  *                                           the k_max, stability, sigma and radius rules;
  *                                           the k_min and step rules are not applied.
  *   0x0024  ZW_REG_LIVE_B_LO (f32)      r   stable B interval at the current K (lower end)
- *   0x0026  ZW_REG_LIVE_B_HI (f32)      r   ... upper end (both 0 when K = 0)
- *   0x0028  ZW_REG_LIVE_K_MMAX (f32)    r   K_mmax of the plant
- *   0x002A  ZW_REG_LIVE_B_AT_KMMAX (f32) r  the B that attains it
+ *   0x0026  ZW_REG_LIVE_B_HI (f32)      r   ... upper end (both 0 when K = 0).  Ideal loop
+ *                                           only: with any other loop both read NaN (the
+ *                                           general B range costs ~1.2 M instructions, too
+ *                                           slow for every write; hosts compute it)
+ *   0x0028  ZW_REG_LIVE_K_MMAX (f32)    r   K_mmax of the plant and loop (computed at SEAL)
+ *   0x002A  ZW_REG_LIVE_B_AT_KMMAX (f32) r  the B that attains it (computed at SEAL)
  *   0x002C  ZW_REG_LIVE_RHO (f32)       r   spectral radius at the current gains
  *   0x002E  ZW_REG_LIVE_DELTA (f32)     r   delta = b T / m
- *           The live registers are recomputed after every accepted write (and at init),
+ *   0x0038  ZW_REG_LIVE_POLE (f32)      r   the low-pass pole a = exp(-2 pi f_c T) the drive's
+ *                                           velocity filter must use (the one certified);
+ *                                           0 without a low-pass, NaN unsealed
+ *           The live registers but K_MMAX, its B and POLE (plant and loop only: set at SEAL)
+ *           are recomputed after every accepted write (and at init),
  *           so a read never runs the core; they read as a quiet NaN (0x7FC0 0x0000)
  *           without a sealed block, or when the core refuses the computation.  In
  *           commissioning mode they describe the last sealed plant with the output off.
@@ -69,8 +77,20 @@
  *   0x0046  ZW_REG_CERT_SIGMA   stiffness fraction 0x0050 ZW_REG_CERT_B_MAX   B upper bound
  *   0x0048  ZW_REG_CERT_R       radius bound r     0x0052 ZW_REG_CERT_DK_MAX  max |dK| per write
  *                                                 0x0054  ZW_REG_CERT_DB_MAX  max |dB| per write
- *   0x0056  ZW_REG_CERT_CRC     CRC-16/MODBUS of the 22 words 0x0040..0x0055, each word
+ *   The loop the drive runs (map version 2; each an f32 holding the value):
+ *   0x0056  ZW_REG_CERT_DELAY   delay d in samples, an integer 0..8
+ *   0x0058  ZW_REG_CERT_VFILTER velocity filter: 0 none, 1 first-order low-pass, 2 moving
+ *                               average
+ *   0x005A  ZW_REG_CERT_VF_PARAM low-pass: cut-off f_c [Hz], 0 < f_c < 1 / (2 T); moving
+ *                               average: n, an integer 1..16; none: 0
+ *   0x005C  ZW_REG_CERT_DIFF    differentiator: 0 backward difference, 1 Tustin
+ *   0x005E  ZW_REG_CERT_CRC     CRC-16/MODBUS of the 30 words 0x0040..0x005D, each word
  *                               fed high byte first (rw in commissioning mode)
+ *           A version-1 client writes a 22-word block and its CRC at 0x0056: that write
+ *           splits the DELAY value (refused, ZW_REASON_HALF_FLOAT) and its SEAL fails the
+ *           CRC over 30 words (ZW_REASON_CRC), so it can never seal; it should read
+ *           ZW_REG_VERSION first (zwidth's clients do, and refuse a version they do not
+ *           know).
  *
  *   0x0060  ZW_REG_COMMAND      w       ZW_CMD_UNLOCK1 then ZW_CMD_UNLOCK2 (two writes in a
  *                                       row) opens commissioning mode and turns the output
@@ -96,7 +116,10 @@
  *   finite (ZW_REASON_NOT_FINITE), k_min <= K <= k_max, b_min <= B <= b_max,
  *   |K - K_now| <= dk_max, |B - B_now| <= db_max, stable by zw_device_check
  *   (ZW_REASON_UNSTABLE), K <= sigma K_max(B) (ZW_REASON_ABOVE_SIGMA), spectral radius
- *   < r by zw_device_radius_within (ZW_REASON_RADIUS).
+ *   < r by zw_device_radius_within (ZW_REASON_RADIUS).  With a loop other than the ideal one
+ *   (delay 0, backward difference, no filter) the three rules use the drive's loop:
+ *   zw_device_loop_check, zw_device_loop_k_max, zw_device_loop_radius_within
+ *   (device_loop.h), all with the gains' conversion rounding in their guard.
  * Value failures answer exception 0x03; address failures (unmapped, read-only, half a
  * float, locked block, gains not writable in this mode) answer 0x02.  The checks run over
  * the whole request in the order of zw_reason (quantity, then every address, then the
@@ -147,7 +170,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "zwidth/device.h"
+#include "zwidth/device_loop.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -177,6 +200,7 @@ enum {
     ZW_REG_STATE_V = 0x0032,
     ZW_REG_STATE_F = 0x0034,
     ZW_REG_STATE_STEP = 0x0036,
+    ZW_REG_LIVE_POLE = 0x0038,
     ZW_REG_CERT_M = 0x0040,
     ZW_REG_CERT_B = 0x0042,
     ZW_REG_CERT_T = 0x0044,
@@ -188,14 +212,18 @@ enum {
     ZW_REG_CERT_B_MAX = 0x0050,
     ZW_REG_CERT_DK_MAX = 0x0052,
     ZW_REG_CERT_DB_MAX = 0x0054,
-    ZW_REG_CERT_CRC = 0x0056,
+    ZW_REG_CERT_DELAY = 0x0056,
+    ZW_REG_CERT_VFILTER = 0x0058,
+    ZW_REG_CERT_VF_PARAM = 0x005A,
+    ZW_REG_CERT_DIFF = 0x005C,
+    ZW_REG_CERT_CRC = 0x005E,
     ZW_REG_COMMAND = 0x0060,
     ZW_REG_COUNT = 0x0061 /* registers 0 .. ZW_REG_COUNT-1 may be mapped */
 };
 
 #define ZW_REGMAP_MAGIC 0x5A57u
-#define ZW_REGMAP_VERSION 1u
-#define ZW_CERT_WORDS 22u /* words 0x0040..0x0055 covered by the CRC */
+#define ZW_REGMAP_VERSION 2u
+#define ZW_CERT_WORDS 30u /* words 0x0040..0x005D covered by the CRC */
 
 /* Command values (macros, not enum constants: an enum constant must fit a 16-bit int on
  * TI C28x, and 0xC0DE does not). */
@@ -240,8 +268,18 @@ typedef enum zw_reason {
                                      b_min > b_max, a step limit not > 0, or no pair
                                      reachable in one step from the output-off state
                                      (k_min > dk_max, b_min > db_max, b_max < -db_max) */
-    ZW_REASON_FPENV = 21          /* seal: the floating-point self-test (zw_selftest) failed;
+    ZW_REASON_FPENV = 21,         /* seal: the floating-point self-test (zw_selftest) failed;
                                      nothing can be certified on this target */
+    /* seal: the loop description (map version 2) */
+    ZW_REASON_BAD_DELAY = 22,     /* DELAY not an integer in 0..8 */
+    ZW_REASON_BAD_FILTER = 23,    /* VFILTER not 0, 1 or 2 */
+    ZW_REASON_BAD_FILTER_PARAM = 24, /* low-pass cut-off not in (0, 1/(2T)) or so low that
+                                     the pole rounds to 1; average n not an integer 1..16;
+                                     no filter with a parameter other than 0 */
+    ZW_REASON_BAD_DIFFERENTIATOR = 25, /* DIFF not 0 or 1 */
+    ZW_REASON_LOOP_NEVER_STABLE = 26   /* no gains are stable with this loop (e.g. Tustin with
+                                     an even moving average), or its limits cannot be
+                                     computed for this plant */
 } zw_reason;
 
 /* The certified block as numbers (what the CRC seals, in register order). */
@@ -252,6 +290,11 @@ typedef struct zw_cert {
     float k_min, k_max;    /* absolute K bounds */
     float b_min, b_max;    /* absolute B bounds */
     float dk_max, db_max;  /* largest change per accepted write, > 0 */
+    /* the loop the drive runs (integers held as floats, as on the wire) */
+    float delay;           /* d samples */
+    float vfilter;         /* 0 none, 1 low-pass, 2 moving average */
+    float vf_param;        /* low-pass cut-off [Hz], or the average's n, or 0 */
+    float differentiator;  /* 0 backward, 1 Tustin */
 } zw_cert;
 
 /* The fields shared between contexts (threading model above).  Under C11 with atomics
@@ -287,7 +330,10 @@ typedef struct zw_regmap_state_slot {
  * its gains from zw_regmap_active_gains. */
 typedef struct zw_regmap {
     zw_cert sealed;                 /* the block in force */
-    zw_device device;               /* derived from sealed */
+    /* derived from sealed: the plant (loop.dev) and the drive's loop, the gains' rounding
+     * in its guard.  The largest part of the map: about 1.4 KB with float zw_real (the
+     * loop's 12 coefficient arrays of ZW_LOOP_MAX_DEGREE + 1), 2.7 KB with double. */
+    zw_device_loop loop;
     uint_least16_t staged[ZW_CERT_WORDS + 1u]; /* block + CRC being written in commissioning */
     float K, B;                     /* active gains (Modbus task) */
     zw_regmap_gain_slot gains[2];   /* their publication: gains[gains_seq & 1] is in force */
@@ -301,6 +347,12 @@ typedef struct zw_regmap {
     uint_least16_t unlock_armed;    /* UNLOCK1 seen as the previous request */
     float live[8];                  /* registers 0x0020..0x002F, recomputed on every accepted
                                        write and seal (so a read never runs the core) */
+    /* K_max(B) at the B of the gains in force, general loop only (two zw_loop_alpha_max,
+     * ~0.3 M instructions): stored by an accepted write, so a write that keeps B (the
+     * usual stiffness change) reuses it.  kmax_cached 0: none (cleared by every seal). */
+    float kmax_B;
+    zw_real kmax_value;
+    uint_least16_t kmax_cached;
 } zw_regmap;
 
 /* Power-up (init context: before the control loop and the Modbus task run): with cert
@@ -356,11 +408,12 @@ zw_mb_exception zw_regmap_write(zw_regmap *rm, uint_least16_t addr, uint_least16
                                 const uint_least16_t *words, zw_reason *reason);
 
 /* The block's fields in register order (0 m, 1 b, 2 T, 3 sigma, 4 r, 5 k_min, 6 k_max,
- * 7 b_min, 8 b_max, 9 dk_max, 10 db_max): the one place that order is written down. */
-#define ZW_CERT_FIELDS 11u
+ * 7 b_min, 8 b_max, 9 dk_max, 10 db_max, 11 delay, 12 vfilter, 13 vf_param,
+ * 14 differentiator): the one place that order is written down. */
+#define ZW_CERT_FIELDS 15u
 float zw_cert_field(const zw_cert *c, unsigned field);
 void zw_cert_set_field(zw_cert *c, unsigned field, float value);
-/* The block as it is on the wire: 22 words, then its CRC (words[ZW_CERT_WORDS]). */
+/* The block as it is on the wire: 30 words, then its CRC (words[ZW_CERT_WORDS]). */
 void zw_cert_encode(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS + 1u]);
 void zw_cert_decode(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *c);
 

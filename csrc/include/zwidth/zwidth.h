@@ -5,6 +5,7 @@
 #include "zwidth/batch.h"
 #include "zwidth/coeffs.h"
 #include "zwidth/device.h"
+#include "zwidth/device_loop.h"
 #include "zwidth/extremes.h"
 #include "zwidth/loop.h"
 #include "zwidth/loop_limits.h"
