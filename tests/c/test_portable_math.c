@@ -95,21 +95,6 @@ static void test_expm1_special(void **state)
     assert_true(zw_expm1_portable(ZW_R(1000.0)) == inf);
 }
 
-/* Bit patterns of float (memcpy: the test may look at representations, the core does not). */
-static uint32_t bits_of(float f)
-{
-    uint32_t u;
-    memcpy(&u, &f, sizeof u);
-    return u;
-}
-
-static float float_of(uint32_t u)
-{
-    float f;
-    memcpy(&f, &u, sizeof f);
-    return f;
-}
-
 static void expect_same_nextafterf(float x, float toward)
 {
     const float got = zw_nextafterf_portable(x, toward), want = nextafterf(x, toward);
@@ -118,9 +103,9 @@ static void expect_same_nextafterf(float x, float toward)
                         (double)toward, (double)got);
         return;
     }
-    EXPECT_TRUE_MSG(bits_of(got) == bits_of(want), "nextafterf(%a, %a): %a (0x%08lx), libm %a (0x%08lx)",
-                    (double)x, (double)toward, (double)got, (unsigned long)bits_of(got),
-                    (double)want, (unsigned long)bits_of(want));
+    EXPECT_TRUE_MSG(zwt_bits_of(got) == zwt_bits_of(want), "nextafterf(%a, %a): %a (0x%08lx), libm %a (0x%08lx)",
+                    (double)x, (double)toward, (double)got, (unsigned long)zwt_bits_of(got),
+                    (double)want, (unsigned long)zwt_bits_of(want));
 }
 
 static void test_nextafterf_matches_libm(void **state)
@@ -128,15 +113,15 @@ static void test_nextafterf_matches_libm(void **state)
     const float inf = ZW_HUGE_VALF;
     const float specials[] = {0.0f, -0.0f, FLT_MIN, -FLT_MIN, FLT_MAX, -FLT_MAX, inf, -inf,
                               1.0f, -1.0f, 0.5f, 2.0f, 3.0f, -0.75f, 1.0e-40f, -1.0e-40f,
-                              float_of(0x00000001u), float_of(0x80000001u),
-                              float_of(0x007FFFFFu), float_of(0x00800001u), float_of(0x7F7FFFFEu)};
+                              zwt_float_of(0x00000001u), zwt_float_of(0x80000001u),
+                              zwt_float_of(0x007FFFFFu), zwt_float_of(0x00800001u), zwt_float_of(0x7F7FFFFEu)};
     const float towards[] = {inf, -inf, 0.0f, -0.0f, 1.0f, -1.0f, FLT_MAX, -FLT_MIN};
     uint32_t seed = 777u;
     size_t i, j;
     unsigned n;
     (void)state;
-    expect_same_nextafterf(float_of(0x7FC00000u), 1.0f); /* NaN in, NaN out */
-    expect_same_nextafterf(1.0f, float_of(0x7FC00000u));
+    expect_same_nextafterf(zwt_float_of(0x7FC00000u), 1.0f); /* NaN in, NaN out */
+    expect_same_nextafterf(1.0f, zwt_float_of(0x7FC00000u));
     for (i = 0; i < ZWT_ARRAY_LEN(specials); ++i) {
         for (j = 0; j < ZWT_ARRAY_LEN(towards); ++j)
             expect_same_nextafterf(specials[i], towards[j]);
@@ -145,7 +130,7 @@ static void test_nextafterf_matches_libm(void **state)
     /* random finite values (every exponent), each way */
     for (n = 0; n < 400000u; ++n) {
         const uint32_t w = next_word(&seed);
-        const float x = float_of(w);
+        const float x = zwt_float_of(w);
         if ((w & 0x7F800000u) == 0x7F800000u) continue; /* inf / NaN: covered above */
         expect_same_nextafterf(x, inf);
         expect_same_nextafterf(x, -inf);

@@ -62,23 +62,9 @@ static void rm_init(zw_regmap *rm, const zw_cert *c)
 
 /* ---- small helpers ------------------------------------------------------------------------ */
 
-static uint32_t bits_of(float f)
-{
-    uint32_t u;
-    memcpy(&u, &f, sizeof u);
-    return u;
-}
-
-static float float_of(uint32_t u)
-{
-    float f;
-    memcpy(&f, &u, sizeof f);
-    return f;
-}
-
 static void words_of(float f, uint_least16_t w[2])
 {
-    uint32_t u = bits_of(f);
+    uint32_t u = zwt_bits_of(f);
     w[0] = (uint_least16_t)(u >> 16);
     w[1] = (uint_least16_t)(u & 0xFFFFu);
 }
@@ -102,7 +88,7 @@ static uint32_t rd32(zw_regmap *rm, uint_least16_t addr)
 /* A float register, through a host bit cast (independent of zw_words_to_float). */
 static float rdf(zw_regmap *rm, uint_least16_t addr)
 {
-    return float_of(rd32(rm, addr));
+    return zwt_float_of(rd32(rm, addr));
 }
 
 typedef struct outcome {
@@ -325,9 +311,9 @@ static void check_pattern(uint32_t u)
                         (unsigned)back[0], (unsigned)back[1]);
             fail();
         }
-    } else if (bits_of(f) != u || back[0] != w[0] || back[1] != w[1]) {
+    } else if (zwt_bits_of(f) != u || back[0] != w[0] || back[1] != w[1]) {
         print_error("pattern 0x%08lX: decoded 0x%08lX, encoded back 0x%04X%04X\n",
-                    (unsigned long)u, (unsigned long)bits_of(f), (unsigned)back[0],
+                    (unsigned long)u, (unsigned long)zwt_bits_of(f), (unsigned)back[0],
                     (unsigned)back[1]);
         fail();
     }
@@ -352,7 +338,7 @@ static void test_float_words_known(void **state)
         zw_float_to_words(k[i].f, w);
         assert_int_equal(w[0], k[i].hi);
         assert_int_equal(w[1], k[i].lo);
-        assert_true(bits_of(zw_words_to_float(w)) == bits_of(k[i].f));
+        assert_true(zwt_bits_of(zw_words_to_float(w)) == zwt_bits_of(k[i].f));
     }
     zw_float_to_words(-0.0f, w);
     assert_int_equal(w[0], 0x8000u);
@@ -367,10 +353,10 @@ static void test_float_words_known(void **state)
     zw_float_to_words((float)NAN, w);
     assert_int_equal(w[0], 0x7FC0u);
     assert_int_equal(w[1], 0u);
-    zw_float_to_words(float_of(0xFFC12345u), w);
+    zw_float_to_words(zwt_float_of(0xFFC12345u), w);
     assert_int_equal(w[0], 0x7FC0u);
     assert_int_equal(w[1], 0u);
-    zw_float_to_words(float_of(0x7F800001u), w); /* signalling pattern */
+    zw_float_to_words(zwt_float_of(0x7F800001u), w); /* signalling pattern */
     assert_int_equal(w[0], 0x7FC0u);
     assert_int_equal(w[1], 0u);
     /* words wider than 16 bits are masked */
@@ -440,8 +426,8 @@ static void test_init_sealed(void **state)
     assert_int_equal(rd(&rm, ZW_REG_LAST_EXCEPTION), 0u);
     assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 0u);
     assert_int_equal(rd32(&rm, ZW_REG_REFUSED), 0u);
-    assert_true(bits_of(rdf(&rm, ZW_REG_K)) == 0u);
-    assert_true(bits_of(rdf(&rm, ZW_REG_B)) == 0u);
+    assert_true(zwt_bits_of(rdf(&rm, ZW_REG_K)) == 0u);
+    assert_true(zwt_bits_of(rdf(&rm, ZW_REG_B)) == 0u);
     for (i = ZW_REG_STATE_X; i <= ZW_REG_STATE_STEP + 1u; ++i)
         assert_int_equal(rd(&rm, (uint_least16_t)i), 0u);
     assert_int_equal(rd(&rm, ZW_REG_COMMAND), 0u);
@@ -570,11 +556,11 @@ static void test_access_map_reads(void **state)
     /* mid-value reads: the low word of K alone, and the high word of B with the low of K */
     EXPECT_ACCEPTED(write_pair(&rm, 0.1f, 1e-3f));
     assert_int_equal(zw_regmap_read(&rm, ZW_REG_K + 1, 2, w, NULL), ZW_MB_OK);
-    assert_int_equal(w[0], (uint_least16_t)(bits_of(0.1f) & 0xFFFFu));
-    assert_int_equal(w[1], (uint_least16_t)(bits_of(1e-3f) >> 16));
+    assert_int_equal(w[0], (uint_least16_t)(zwt_bits_of(0.1f) & 0xFFFFu));
+    assert_int_equal(w[1], (uint_least16_t)(zwt_bits_of(1e-3f) >> 16));
     assert_int_equal(zw_regmap_read(&rm, ZW_REG_K, 4, w, NULL), ZW_MB_OK);
-    assert_true((((uint32_t)w[0] << 16) | w[1]) == bits_of(0.1f));
-    assert_true((((uint32_t)w[2] << 16) | w[3]) == bits_of(1e-3f));
+    assert_true((((uint32_t)w[0] << 16) | w[1]) == zwt_bits_of(0.1f));
+    assert_true((((uint32_t)w[2] << 16) | w[3]) == zwt_bits_of(1e-3f));
     /* a full read of 125 registers at the end of the map is unmapped, not malformed */
     {
         uint_least16_t big[125];
@@ -1019,7 +1005,7 @@ static void test_unlock_sequence(void **state)
     assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
     assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
     /* output off; the staged block is the sealed one with its CRC */
-    assert_true(bits_of(rdf(&rm, ZW_REG_K)) == 0u && bits_of(rdf(&rm, ZW_REG_B)) == 0u);
+    assert_true(zwt_bits_of(rdf(&rm, ZW_REG_K)) == 0u && zwt_bits_of(rdf(&rm, ZW_REG_B)) == 0u);
     for (i = ZW_REG_CERT_M; i <= ZW_REG_CERT_CRC; ++i)
         assert_int_equal(rd(&rm, (uint_least16_t)i), sealed_view.w[i]);
     /* in commissioning: gains not writable, unlock again refused */
@@ -1030,7 +1016,7 @@ static void test_unlock_sequence(void **state)
     /* ABORT: back to operation with the same block, output still off */
     EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
     assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
-    assert_true(bits_of(rdf(&rm, ZW_REG_K)) == 0u);
+    assert_true(zwt_bits_of(rdf(&rm, ZW_REG_K)) == 0u);
     EXPECT_ACCEPTED(write_pair(&rm, 0.2f, 0.0f));
 }
 
@@ -1101,7 +1087,7 @@ static void test_seal(void **state)
     EXPECT_ACCEPTED(command(&rm, ZW_CMD_SEAL));
     assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
     assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
-    assert_true(bits_of(rdf(&rm, ZW_REG_K)) == 0u);
+    assert_true(zwt_bits_of(rdf(&rm, ZW_REG_K)) == 0u);
     for (i = 0; i <= ZW_CERT_WORDS; ++i)
         assert_int_equal(rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)), block[i]);
     /* the new plant is in force: delta halves, sigma = 0.9 applies */
@@ -1559,8 +1545,8 @@ static void expect_active(zw_regmap *rm, float K, float B, bool registers, const
 {
     float k = 1234.0f, b = 1234.0f;
     zw_status st = zw_regmap_active_gains(rm, &k, &b);
-    if (st != ZW_OK || bits_of(k) != bits_of(K) || bits_of(b) != bits_of(B) ||
-        (registers && (bits_of(k) != rd32(rm, ZW_REG_K) || bits_of(b) != rd32(rm, ZW_REG_B)))) {
+    if (st != ZW_OK || zwt_bits_of(k) != zwt_bits_of(K) || zwt_bits_of(b) != zwt_bits_of(B) ||
+        (registers && (zwt_bits_of(k) != rd32(rm, ZW_REG_K) || zwt_bits_of(b) != rd32(rm, ZW_REG_B)))) {
         print_error("%s:%d: active gains %s (%.9g, %.9g), expected (%.9g, %.9g); registers "
                     "0x%08lX 0x%08lX\n", file, line, zw_status_name(st), (double)k, (double)b,
                     (double)K, (double)B, (unsigned long)rd32(rm, ZW_REG_K),
@@ -1595,11 +1581,11 @@ static void test_active_gains(void **state)
         size_t len = 0;
         assert_int_equal(zw_regmap_handle_pdu(&rm, wr, sizeof wr, resp, sizeof resp, &len),
                          ZW_MB_OK);
-        EXPECT_ACTIVE(&rm, 0.25f, float_of(0xBA83126Fu));
+        EXPECT_ACTIVE(&rm, 0.25f, zwt_float_of(0xBA83126Fu));
     }
     /* commissioning turns the output off, and a seal keeps it off */
     EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
-    EXPECT_ACTIVE(&rm, 0.25f, float_of(0xBA83126Fu)); /* UNLOCK1 alone changes nothing */
+    EXPECT_ACTIVE(&rm, 0.25f, zwt_float_of(0xBA83126Fu)); /* UNLOCK1 alone changes nothing */
     EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK2));
     EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
     EXPECT_OUTCOME(write_pair(&rm, 0.3f, 0.0f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
@@ -1702,7 +1688,7 @@ static void test_read_fail_safe_words(void **state)
                    ZW_REASON_UNMAPPED);
     for (i = 0; i < 32u; ++i)
         assert_int_equal(w[i], ZW_REG_LIVE_K_MAX + i == ZW_REG_LIVE_RHO ? 0x7F80u : 0u);
-    assert_true(float_of(((uint32_t)w[ZW_REG_LIVE_RHO - ZW_REG_LIVE_K_MAX] << 16) |
+    assert_true(zwt_float_of(((uint32_t)w[ZW_REG_LIVE_RHO - ZW_REG_LIVE_K_MAX] << 16) |
                          w[ZW_REG_LIVE_RHO - ZW_REG_LIVE_K_MAX + 1u]) == (float)INFINITY);
     /* the handler's own failure (rm NULL) too */
     w[0] = w[1] = 0x1234u;

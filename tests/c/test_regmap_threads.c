@@ -60,6 +60,10 @@ static zw_cert block(void)
     c.b_max = 0.01f;
     c.dk_max = 1.0f; /* steps never bind: any pair below is reachable from any other */
     c.db_max = 0.01f;
+    c.delay = 0.0f; /* the ideal loop */
+    c.vfilter = 0.0f;
+    c.vf_param = 0.0f;
+    c.differentiator = 0.0f;
     return c;
 }
 
@@ -80,19 +84,12 @@ static const float k_refused[][2] = {
 };
 #define N_REFUSED (sizeof k_refused / sizeof k_refused[0])
 
-static uint32_t bits_of(float f)
-{
-    uint32_t u;
-    memcpy(&u, &f, sizeof u);
-    return u;
-}
-
 /* Index of (K, B) in k_certified, bit for bit, or -1. */
 static int certified_index(float K, float B)
 {
     size_t i;
     for (i = 0; i < N_CERTIFIED; ++i)
-        if (bits_of(K) == bits_of(k_certified[i][0]) && bits_of(B) == bits_of(k_certified[i][1]))
+        if (zwt_bits_of(K) == zwt_bits_of(k_certified[i][0]) && zwt_bits_of(B) == zwt_bits_of(k_certified[i][1]))
             return (int)i;
     return -1;
 }
@@ -101,7 +98,7 @@ static int certified_index(float K, float B)
 
 static void put_float(uint_least8_t *p, float f)
 {
-    uint32_t u = bits_of(f);
+    uint32_t u = zwt_bits_of(f);
     p[0] = (uint_least8_t)(u >> 24);
     p[1] = (uint_least8_t)((u >> 16) & 0xFFu);
     p[2] = (uint_least8_t)((u >> 8) & 0xFFu);
@@ -188,9 +185,9 @@ static void read_state(zw_regmap *rm, modbus_result *r, uint32_t *last_step)
     r->state_reads++;
     step = ((uint32_t)resp[14] << 24) | ((uint32_t)resp[15] << 16) | ((uint32_t)resp[16] << 8) |
            resp[17];
-    if (bits_of(float_at(resp + 2)) != bits_of(state_x(step)) ||
-        bits_of(float_at(resp + 6)) != bits_of(state_v(step)) ||
-        bits_of(float_at(resp + 10)) != bits_of(state_f(step))) {
+    if (zwt_bits_of(float_at(resp + 2)) != zwt_bits_of(state_x(step)) ||
+        zwt_bits_of(float_at(resp + 6)) != zwt_bits_of(state_v(step)) ||
+        zwt_bits_of(float_at(resp + 10)) != zwt_bits_of(state_f(step))) {
         r->torn_states++;
         note(r, "state registers mix two samples at step", (unsigned long)step);
     }
@@ -278,7 +275,7 @@ static void *control_thread(void *arg)
             atomic_fetch_add_explicit(&sh->concurrent, 1ul, memory_order_relaxed);
         if (st == ZW_ERR_BUSY) {
             r->busy++;
-            if (bits_of(K) != 0u || bits_of(B) != 0u) r->busy_not_off++;
+            if (zwt_bits_of(K) != 0u || zwt_bits_of(B) != 0u) r->busy_not_off++;
         } else if (st != ZW_OK || (idx = certified_index(K, B)) < 0) {
             if (r->mixed++ == 0u) {
                 r->mixed_K = K;

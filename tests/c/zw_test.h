@@ -54,8 +54,25 @@
 
 #define ZWT_ARRAY_LEN(a) (sizeof(a) / sizeof((a)[0]))
 
-/* The sentinel byte used to prove that an output was left untouched on error. */
+/* A byte pattern put into outputs before a call, so that a test sees which bytes the call
+ * wrote (and that nothing past an output was touched). */
 #define ZWT_SENTINEL 0x5A
+
+/* The bits of a float and back (memcpy: a test may look at representations, the core
+ * does not). */
+static inline uint32_t zwt_bits_of(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+static inline float zwt_float_of(uint32_t u)
+{
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
 
 /* ---- assertions that print the values involved ------------------------------------ */
 
