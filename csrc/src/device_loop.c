@@ -76,10 +76,19 @@ zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real
     return st;
 }
 
+/* The normalized gains of (K, B).  The loop's guard carries the conversion as a relative
+ * error (GAIN_*_RELERR), which only a normal result has: a non-zero gain whose normalized
+ * value underflows (subnormal, or 0 with beta* != 0 below) is ZW_ERR_RANGE, as in
+ * zw_device_init.  So alpha == 0 iff K == 0 and beta == 0 iff B == 0. */
 static zw_status gains(const zw_device_loop *dl, zw_real K, zw_real B, zw_real *alpha, zw_real *beta)
 {
+    zw_status st;
     if (dl == NULL) return ZW_ERR_NULL;
-    return zw_device_normalize(&dl->dev, K, B, alpha, beta);
+    if ((st = zw_device_normalize(&dl->dev, K, B, alpha, beta)) != ZW_OK) return st;
+    if ((K != ZW_R(0.0) && !(ZW_FABS(*alpha) >= ZW_REAL_MIN)) ||
+        (B != ZW_R(0.0) && !(ZW_FABS(*beta) >= ZW_REAL_MIN)))
+        return ZW_ERR_RANGE;
+    return ZW_OK;
 }
 
 zw_status zw_device_loop_check(const zw_device_loop *dl, zw_real K, zw_real B,
@@ -88,12 +97,7 @@ zw_status zw_device_loop_check(const zw_device_loop *dl, zw_real K, zw_real B,
     zw_real alpha, beta;
     zw_status st = gains(dl, K, B, &alpha, &beta);
     if (st != ZW_OK) {
-        if (out != NULL) {
-            out->stable = false;
-            out->marginal = false;
-            out->deciding = ZW_LOOP_BOUNDARY_NONE;
-            out->theta = ZW_R(0.0);
-        }
+        zw_fail_loop_verdict(out);
         return st;
     }
     return zw_loop_check(&dl->loop, alpha, beta, out);

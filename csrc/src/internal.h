@@ -14,6 +14,7 @@
 #include <stddef.h>
 
 #include "zwidth/coeffs.h"
+#include "zwidth/loop.h"
 #include "zwidth/region.h"
 
 #define ZW_U ZW_UNIT_ROUNDOFF
@@ -168,6 +169,16 @@ static inline void zw_fail_verdict(zw_verdict *out)
     out->marginal = false;
     out->deciding = ZW_BOUND_INVALID;
     out->violated = (uint_least16_t)ZW_BOUND_INVALID;
+}
+
+/* The same for the general loop (loop.h). */
+static inline void zw_fail_loop_verdict(zw_loop_verdict *out)
+{
+    if (out == NULL) return;
+    out->stable = false;
+    out->marginal = false;
+    out->deciding = ZW_LOOP_BOUNDARY_NONE;
+    out->theta = ZW_R(0.0);
 }
 
 static inline void zw_fail_real(zw_real *out, zw_real value)

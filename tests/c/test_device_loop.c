@@ -309,6 +309,15 @@ static void test_errors_are_fail_safe(void **state)
     EXPECT_STATUS(zw_device_loop_k_max(&dl, (zw_real)INFINITY, &K), ZW_ERR_INF);
     assert_true(K == R(0.0));
     EXPECT_STATUS(zw_device_loop_k_max(&dl, R(0.0), NULL), ZW_ERR_NULL);
+    /* a non-zero gain normalized to 0 (or a subnormal) has no relative error bound */
+    v.stable = true;
+    EXPECT_STATUS(zw_device_loop_check(&dl, ZWT_TRUE_MIN, R(0.0), &v), ZW_ERR_RANGE);
+    assert_false(v.stable);
+    K = R(5.0);
+    EXPECT_STATUS(zw_device_loop_k_max(&dl, ZWT_TRUE_MIN, &K), ZW_ERR_RANGE);
+    assert_true(K == R(0.0));
+    EXPECT_STATUS(zw_device_loop_k_max(&dl, -ZWT_TRUE_MIN, &K), ZW_ERR_RANGE);
+    assert_true(K == R(0.0));
     EXPECT_OK(zw_device_loop_b_range(&dl, R(-1.0), &lo, &hi, &ok)); /* K <= 0: empty */
     assert_true(!ok && lo == R(0.0) && hi == R(0.0));
     EXPECT_STATUS(zw_device_loop_check(NULL, R(1.0), R(0.0), &v), ZW_ERR_NULL);

@@ -51,8 +51,8 @@ zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real
                               const zw_device_loop_spec *spec);
 
 /* Errors of the functions below: ZW_ERR_NULL, ZW_ERR_NAN / ZW_ERR_INF (K, B, a failed
- * device), ZW_ERR_ARG (an empty loop), ZW_ERR_RANGE (a gain or result overflows), and
- * those of the loop function used. */
+ * device), ZW_ERR_ARG (an empty loop), ZW_ERR_RANGE (a gain or result overflows, or a
+ * non-zero gain's normalized value underflows), and those of the loop function used. */
 
 /* zw_loop_check of the exact (alpha, beta) of (K, B), guarded for the conversion. */
 zw_status zw_device_loop_check(const zw_device_loop *dl, zw_real K, zw_real B,
