@@ -50,7 +50,7 @@ static zw_status device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_
     if ((st = zw_device_init(&out->dev, m, b, T)) != ZW_OK) return st;
     /* zeroed padding too: the loop keeps a copy, and a map rebuilt from the same block must
      * be the same bytes (test_regmap compares the whole struct after a refused SEAL) */
-    memset(&ls, 0, sizeof ls);
+    (void)memset(&ls, 0, sizeof ls);
     ls.delay = spec->delay;
     ls.differentiator = spec->differentiator;
     ls.filter = spec->filter;

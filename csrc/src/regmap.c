@@ -903,7 +903,7 @@ ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert)
     unsigned i;
     zw_reason why = ZW_REASON_NONE;
     /* the floats are set explicitly rather than trusting all-zero bits to mean 0.0f */
-    memset(rm, 0, sizeof *rm);
+    (void)memset(rm, 0, sizeof *rm);
     for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, 0.0f);
     for (i = 0; i < 2u; ++i) { /* both slots of each double buffer */
         publish_gains(rm, 0.0f, 0.0f);

@@ -23,7 +23,7 @@
 
 static uint_least16_t flag(int failed, uint_least16_t bit)
 {
-    return failed ? bit : 0u;
+    return failed != 0 ? bit : (uint_least16_t)0u;
 }
 
 /* Round to nearest, ties to even, one rounding per operation (no excess precision). */
