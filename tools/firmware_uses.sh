@@ -9,33 +9,30 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 CROSS=${CROSS:-arm-none-eabi-}
-MODULES="status coeffs region margin extremes device batch regmap"
-[ -f csrc/src/selftest.c ] && MODULES="$MODULES selftest"
-[ -f csrc/src/loop.c ] && MODULES="$MODULES loop"
+MODULES="status coeffs region margin extremes device batch selftest portable_math loop loop_limits device_loop regmap"
 B=$(mktemp -d "${TMPDIR:-/tmp}/zw-uses.XXXXXX")
 trap 'rm -rf "$B"' EXIT
 T="-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -DZW_REAL_FLOAT"
 F="-std=c99 -Os -ffp-contract=off -ffunction-sections -fdata-sections -Wall -Wextra -Werror $T -Icsrc/include"
 
-cat >"$B/check.c" <<'C'
-#include "zwidth/zwidth.h"
-volatile zw_real in = ZW_R(1.5);
-volatile int sink;
-int main(void)
-{
+# use NAME: the main of one use, its body on stdin (inputs from volatile 'in', results
+# into volatile 'sink', so that nothing is folded or dropped)
+use() {
+    {
+        printf '#include "zwidth/zwidth.h"\nvolatile zw_real in = ZW_R(1.5);\nvolatile int sink;\n'
+        printf 'int main(void)\n{\n'
+        cat
+        printf '}\n'
+    } >"$B/$1.c"
+}
+use check <<'C'
     zw_coeffs c;
     zw_verdict v;
     if (zw_coeffs_init(&c, in) != ZW_OK || zw_check(&c, in, in, &v) != ZW_OK) return 1;
     sink = v.stable;
     return 0;
-}
 C
-cat >"$B/extremes.c" <<'C'
-#include "zwidth/zwidth.h"
-volatile zw_real in = ZW_R(1.5);
-volatile int sink;
-int main(void)
-{
+use extremes <<'C'
     zw_coeffs c;
     zw_verdict v;
     zw_extremes x;
@@ -46,14 +43,8 @@ int main(void)
     if (zw_beta_interval(&c, in, &lo, &hi, &ne) != ZW_OK) return 3;
     sink = v.stable + (x.alpha_mmax > lo) + (hi > am) + ne;
     return 0;
-}
 C
-cat >"$B/units.c" <<'C'
-#include "zwidth/zwidth.h"
-volatile zw_real in = ZW_R(1.5);
-volatile int sink;
-int main(void)
-{
+use units <<'C'
     zw_device d;
     zw_verdict v;
     zw_device_extremes x;
@@ -64,15 +55,22 @@ int main(void)
     if (zw_device_b_range(&d, in, &lo, &hi, &ne) != ZW_OK) return 3;
     sink = v.stable + (x.K_mmax > k) + (hi > lo) + ne;
     return 0;
-}
 C
-cat >"$B/regmap.c" <<'C'
-#include "zwidth/zwidth.h"
-volatile int sink;
-static zw_regmap rm;
-static zw_cert cert;
-int main(void)
-{
+use loop <<'C'
+    static zw_device_loop dl; /* 1.3 KB: not on the stack */
+    zw_device_loop_spec spec = {1u, ZW_DIFF_BACKWARD, ZW_VFILTER_NONE, ZW_R(0.0), ZW_R(0.0), 0u};
+    zw_loop_verdict v;
+    zw_real k, lo, hi;
+    bool ne;
+    if (zw_device_loop_init(&dl, in, in, in, &spec) != ZW_OK) return 1;
+    if (zw_device_loop_check(&dl, in, in, &v) != ZW_OK || zw_device_loop_k_max(&dl, in, &k) != ZW_OK) return 2;
+    if (zw_device_loop_b_range(&dl, in, &lo, &hi, &ne) != ZW_OK) return 3;
+    sink = v.stable + (hi > k) + ne;
+    return 0;
+C
+use regmap <<'C'
+    static zw_regmap rm;
+    static zw_cert cert;
     zw_reason why;
     uint_least8_t req[5] = {3u, 0u, 0u, 0u, 1u}, resp[253];
     size_t n = 0u;
@@ -80,7 +78,6 @@ int main(void)
     zw_regmap_set_state(&rm, 0.0f, 0.0f, 0.0f, 0u);
     sink = (int)zw_regmap_handle_pdu(&rm, req, sizeof req, resp, sizeof resp, &n);
     return 0;
-}
 C
 
 echo "| use | math flags | modules linked | needs from libm / libc |"
@@ -93,13 +90,13 @@ for flags in "" "-fno-math-errno"; do
     done
     rm -f "$B/libz.a"
     (cd "$B/o$flags" && ${CROSS}ar rcs "$B/libz.a" ./*.o)
-    for use in check extremes units regmap; do
+    for use in check extremes units loop regmap; do
         # shellcheck disable=SC2086
         ${CROSS}gcc $F $flags -c "$B/$use.c" -o "$B/$use.o"
         # shellcheck disable=SC2086
         ${CROSS}gcc $T -specs=nano.specs -specs=nosys.specs -Wl,--gc-sections "$B/$use.o" "$B/libz.a" -lm \
             -Wl,-Map="$B/$use.map" -o "$B/$use.elf"
-        mods=$(sed -n 's/^[^ ]*libz\.a(\([a-z]*\)\.o).*/\1/p' "$B/$use.map" | sort -u)
+        mods=$(sed -n 's/^[^ ]*libz\.a(\([a-z_]*\)\.o).*/\1/p' "$B/$use.map" | sort -u)
         needs=$(for m in $mods; do ${CROSS}nm -u "$B/o$flags/$m.o"; done | awk '{print $2}' |
             { grep -v '^zw_' || true; } | sort -u | tr '\n' ' ')
         # shellcheck disable=SC2086
