@@ -195,8 +195,9 @@ _BLOCK_CERT = (0x0040, CERT_WORDS + 1)  # certified block and its CRC
 
 _CERT_FIELDS = ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max",
                 "db_max", "delay", "vfilter", "vf_param", "differentiator")
-_VFILTERS = {0: "none", 1: "lowpass", 2: "average"}
-_DIFFERENTIATORS = {0: "backward", 1: "tustin"}
+# keyed by the block's float fields (0.0 == 0: a whole float finds its name)
+_VFILTERS: Dict[float, str] = {0.0: "none", 1.0: "lowpass", 2.0: "average"}
+_DIFFERENTIATORS: Dict[float, str] = {0.0: "backward", 1.0: "tustin"}
 
 _FLT_MAX = struct.unpack(">f", b"\x7f\x7f\xff\xff")[0]
 
@@ -220,7 +221,7 @@ def _velocity_filter_fields(spec: Any) -> Tuple[float, float]:
         return 1.0, f_c
     if isinstance(spec, tuple) and len(spec) == 2 and spec[0] == "average":
         n = spec[1]
-        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or not 1 <= n <= 16:
+        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or not 1 <= int(n) <= 16:
             raise ValueError(f"velocity_filter average length must be an integer in 1..16, got {n!r}")
         return 2.0, float(n)
     raise ValueError("velocity_filter must be None, 'none', ('lowpass', f_c), 'lowpass:30Hz', "
