@@ -682,29 +682,41 @@ def cmd_advise_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
                      f"most: K_mmax = {_fmt(inf.K_mmax_at_best_cutoff)}{ku}")
     status = EXIT_OK
     if plant.has_gains:
-        K = float(plant.K) if plant.real else float(plant.alpha)  # type: ignore[arg-type]
-        B = float(plant.B) if plant.real else float(plant.beta)  # type: ignore[arg-type]
-        v = dev.verdict(K, B)
-        k_max, b_range = dev.k_max(B), dev.b_range(K)
-        Kn, Bn = ("K", "B") if plant.real else ("alpha", "beta")
-        suggestions: List[Dict[str, Any]] = []
+        _, _, v, suggestions, data["gains"] = _gains_advice(plant, dev, " with this loop")
         if not bool(v.stable):
             status = EXIT_UNSTABLE
-            if float(k_max) > 0.0:
-                suggestions.append({"change": "K", "lo": 0.0, "hi": k_max, "value": None,
-                                    "text": f"set {Kn} in (0, {_fmt(k_max)}){ku}: stable at this {Bn} with this loop"})
-            if bool(b_range.nonempty):
-                suggestions.append({"change": "B", "lo": b_range.lo, "hi": b_range.hi, "value": None,
-                                    "text": f"set {Bn} in ({_fmt(b_range.lo)}, {_fmt(b_range.hi)}): stable at "
-                                            f"this {Kn} with this loop"})
-        data["gains"] = {"K": plant.K, "B": plant.B, "alpha": plant.alpha, "beta": plant.beta,
-                         "verdict": v.word, "stable": bool(v.stable), "marginal": bool(v.marginal),
-                         "deciding": str(v.deciding_name) or None, "spectral_radius": dev.spectral_radius(K, B),
-                         "K_max": k_max, "B_range": _interval(b_range), "suggestions": suggestions}
         lines += ["", f"Gains {plant.gains_text()}: {v.word.upper()}"
                   + (f" ({v.deciding_name})" if v.deciding_name else "")]
         lines += [f"   - {x['text']}" for x in suggestions]
     return _Outcome(status, data, lines)
+
+
+def _gains_advice(plant: _Plant, dev: Device, which_loop: str
+                  ) -> Tuple[float, float, Any, List[Dict[str, Any]], Dict[str, Any]]:
+    """The plant's gains on dev (real or normalized): (K, B, verdict, suggestions, the
+    "gains" JSON object).  Unstable gains get the K interval at this B and the B interval at
+    this K as suggestions (which_loop ends their text); the list is the object's own."""
+    K = float(plant.K) if plant.real else float(plant.alpha)  # type: ignore[arg-type]
+    B = float(plant.B) if plant.real else float(plant.beta)  # type: ignore[arg-type]
+    v = dev.verdict(K, B)
+    k_max, b_range = dev.k_max(B), dev.b_range(K)
+    Kn, Bn = ("K", "B") if plant.real else ("alpha", "beta")
+    kunit = f" {plant.units()['K']}" if plant.real else ""  # type: ignore[index]
+    bunit = f" {plant.units()['B']}" if plant.real else ""  # type: ignore[index]
+    suggestions: List[Dict[str, Any]] = []
+    if not bool(v.stable):
+        if float(k_max) > 0.0:
+            suggestions.append({"change": "K", "lo": 0.0, "hi": k_max, "value": None,
+                                "text": f"set {Kn} in (0, {_fmt(k_max)}){kunit}: stable at this {Bn}{which_loop}"})
+        if bool(b_range.nonempty):
+            suggestions.append({"change": "B", "lo": b_range.lo, "hi": b_range.hi, "value": None,
+                                "text": f"set {Bn} in ({_fmt(b_range.lo)}, {_fmt(b_range.hi)}){bunit}: "
+                                        f"stable at this {Kn}{which_loop}"})
+    gains = {"K": plant.K, "B": plant.B, "alpha": plant.alpha, "beta": plant.beta,
+             "verdict": v.word, "stable": bool(v.stable), "marginal": bool(v.marginal),
+             "deciding": str(v.deciding_name) or None, "spectral_radius": dev.spectral_radius(K, B),
+             "K_max": k_max, "B_range": _interval(b_range), "suggestions": suggestions}
+    return K, B, v, suggestions, gains
 
 
 def _advise_device(plant: _Plant) -> Device:
@@ -777,32 +789,13 @@ def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     lines += textwrap.wrap(f"advice: {inf.advice}", 92, initial_indent="  ", subsequent_indent="          ")
     status = EXIT_OK
     if plant.has_gains:
-        K = float(plant.K) if plant.real else float(plant.alpha)  # type: ignore[arg-type]
-        B = float(plant.B) if plant.real else float(plant.beta)  # type: ignore[arg-type]
-        v = dev.verdict(K, B)
-        k_max = dev.k_max(B)
-        b_range = dev.b_range(K)
-        word = v.word
+        K, B, v, suggestions, data["gains"] = _gains_advice(plant, dev, "")
+        word, k_max = v.word, data["gains"]["K_max"]
         Kn, Bn = ("K", "B") if plant.real else ("alpha", "beta")
         kunit = f" {plant.units()['K']}" if plant.real else ""  # type: ignore[index]
-        bunit = f" {plant.units()['B']}" if plant.real else ""  # type: ignore[index]
-        suggestions: List[Dict[str, Any]] = []
         if not bool(v.stable):
             status = EXIT_UNSTABLE
-            if float(k_max) > 0.0:
-                suggestions.append({"change": "K", "lo": 0.0, "hi": k_max, "value": None,
-                                    "text": f"set {Kn} in (0, {_fmt(k_max)}){kunit}: stable at this {Bn}"})
-            if bool(b_range.nonempty):
-                suggestions.append({"change": "B", "lo": b_range.lo, "hi": b_range.hi, "value": None,
-                                    "text": f"set {Bn} in ({_fmt(b_range.lo)}, {_fmt(b_range.hi)}){bunit}: "
-                                            f"stable at this {Kn}"})
             suggestions += _plant_changes(plant, K, B)
-        data["gains"] = {
-            "K": plant.K, "B": plant.B, "alpha": plant.alpha, "beta": plant.beta,
-            "verdict": word, "stable": bool(v.stable), "marginal": bool(v.marginal),
-            "deciding": str(v.deciding_name) or None, "spectral_radius": dev.spectral_radius(K, B),
-            "K_max": k_max, "B_range": _interval(b_range), "suggestions": suggestions,
-        }
         lines += ["", f"Gains {plant.gains_text()}: {word.upper()}"
                   + (f" ({v.deciding_name})" if v.deciding_name else "")
                   + f", spectral radius {_fmt(data['gains']['spectral_radius'])}"]

@@ -66,6 +66,12 @@ class Result:
         return cls(**{k: v for k, v in outputs.items() if k in names}, **extra)
 
 
+def _verdict_word(stable: Any, marginal: Any) -> Any:
+    """'stable', 'marginal' or 'unstable' per element (a str for a scalar verdict)."""
+    words = np.where(np.asarray(stable), "stable", np.where(np.asarray(marginal), "marginal", "unstable"))
+    return str(words[()]) if words.ndim == 0 else words.astype(object)
+
+
 @dataclasses.dataclass(frozen=True, repr=False)
 class Verdict(Result):
     """A guarded stability verdict.
@@ -88,9 +94,7 @@ class Verdict(Result):
     @property
     def word(self) -> Any:
         """'stable', 'marginal' (within the rounding band: not proved stable) or 'unstable'."""
-        words = np.where(np.asarray(self.stable), "stable",
-                         np.where(np.asarray(self.marginal), "marginal", "unstable"))
-        return str(words[()]) if words.ndim == 0 else words.astype(object)
+        return _verdict_word(self.stable, self.marginal)
 
     @property
     def deciding_name(self) -> Any:
@@ -289,9 +293,7 @@ class LoopVerdict(Result):
     @property
     def word(self) -> Any:
         """'stable', 'marginal' (within the rounding band: not proved stable) or 'unstable'."""
-        words = np.where(np.asarray(self.stable), "stable",
-                         np.where(np.asarray(self.marginal), "marginal", "unstable"))
-        return str(words[()]) if words.ndim == 0 else words.astype(object)
+        return _verdict_word(self.stable, self.marginal)
 
     @property
     def deciding_name(self) -> Any:
