@@ -685,8 +685,7 @@ class NormalizedLoopCache {
 };
 
 // The loop of one (m, b, T, f_c) element: zw_device_loop, whose loop carries the rounding
-// of K / (m/T^2) and B / (m/T) in its guard (zw_loop_carry_gain_rounding), so zw_loop_check
-// on it at the normalized gains is zw_device_loop_check.
+// of K / (m/T^2) and B / (m/T) in its guard (zw_loop_carry_gain_rounding).
 class DeviceLoopCache {
   public:
     using Plant = zw_device_loop;
@@ -727,20 +726,27 @@ class DeviceLoopCache {
     Plant plant_{};
 };
 
-const zw_loop *loop_of(const zw_loop *l) { return l; }
-const zw_loop *loop_of(const zw_device_loop *p) { return &p->loop; }
-
-// Gains of an element: (alpha, beta) as given, or normalized from (K, B) by the device.
-zw_status gains_of(const zw_loop *, double a, double b, double *alpha, double *beta) {
-    *alpha = a;
-    *beta = b;
-    return ZW_OK;
+// One element's call: the normalized loop at (alpha, beta), or the device's loop at (K, B)
+// through device_loop.h, which normalizes and carries (or refuses) the conversion.
+zw_status check_of(const zw_loop *l, double a, double b, zw_loop_verdict *v) { return zw_loop_check(l, a, b, v); }
+zw_status check_of(const zw_device_loop *p, double K, double B, zw_loop_verdict *v) {
+    return zw_device_loop_check(p, K, B, v);
 }
-zw_status gains_of(const zw_device_loop *p, double K, double B, double *alpha, double *beta) {
-    return zw_device_normalize(&p->dev, K, B, alpha, beta);
+zw_status radius_of(const zw_loop *l, double a, double b, double *rho, double *theta) {
+    return zw_loop_spectral_radius(l, a, b, rho, theta);
+}
+zw_status radius_of(const zw_device_loop *p, double K, double B, double *rho, double *theta) {
+    return zw_device_loop_spectral_radius(p, K, B, rho, theta);
+}
+zw_status within_of(const zw_loop *l, double a, double b, double r, bool *within) {
+    return zw_loop_radius_within(l, a, b, r, within);
+}
+zw_status within_of(const zw_device_loop *p, double K, double B, double r, bool *within) {
+    return zw_device_loop_radius_within(p, K, B, r, within);
 }
 
-// Inputs: 2 plant keys (delta, pole) or 4 (m, b, T, f_c), then the two gains, then extras.
+// Inputs: 2 plant keys (delta, pole) or 4 (m, b, T, f_c), then the two gains (alpha, beta
+// or K, B), then extras; fn(plant, i, gain1, gain2, inputs).
 template <class Cache, std::size_t Keys, std::size_t N, class Fn, class Setup>
 py::dict loop_kernel(const std::array<f64array, N> &inputs, const LoopKind &kind, Fn fn, Setup setup) {
     Broadcast<N> bc(inputs);
@@ -749,10 +755,8 @@ py::dict loop_kernel(const std::array<f64array, N> &inputs, const LoopKind &kind
     const ssize errors = bc.run(r.status(), [&] {
         return [&, cache = Cache(kind)](ssize i, const std::array<double, N> &x) mutable {
             const typename Cache::plant_type *p;
-            zw_status s = cache.get(x, &p);
-            double alpha = 0.0, beta = 0.0;
-            if (s == ZW_OK) s = gains_of(p, x[Keys], x[Keys + 1], &alpha, &beta);
-            return s != ZW_OK ? s : fn(loop_of(p), i, alpha, beta, x);
+            const zw_status s = cache.get(x, &p);
+            return s != ZW_OK ? s : fn(p, i, x[Keys], x[Keys + 1], x);
         };
     });
     return r.finish(errors);
@@ -769,9 +773,9 @@ py::dict loop_check_kernel(const std::array<f64array, Keys + 2> &inputs, const L
     constexpr std::size_t N = Keys + 2;
     LoopVerdictOut out;
     return loop_kernel<Cache, Keys, N>(inputs, kind,
-        [&out](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &) {
+        [&out](const auto *p, ssize i, double g1, double g2, const std::array<double, N> &) {
             zw_loop_verdict v;
-            const zw_status s = zw_loop_check(l, alpha, beta, &v);
+            const zw_status s = check_of(p, g1, g2, &v);
             if (s != ZW_OK) return s;
             out.stable[i] = v.stable;
             if (out.marginal) {
@@ -795,8 +799,8 @@ py::dict loop_radius_kernel(const std::array<f64array, Keys + 2> &inputs, const 
     constexpr std::size_t N = Keys + 2;
     double *rho = nullptr, *theta = nullptr;
     return loop_kernel<Cache, Keys, N>(inputs, kind,
-        [&](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &) {
-            return zw_loop_spectral_radius(l, alpha, beta, &rho[i], &theta[i]);
+        [&](const auto *p, ssize i, double g1, double g2, const std::array<double, N> &) {
+            return radius_of(p, g1, g2, &rho[i], &theta[i]);
         },
         [&](Result &r, const Broadcast<N> &bc) {
             rho = r.add<double>(bc, "rho");
@@ -809,8 +813,8 @@ py::dict loop_within_kernel(const std::array<f64array, Keys + 3> &inputs, const 
     constexpr std::size_t N = Keys + 3;
     bool *within = nullptr;
     return loop_kernel<Cache, Keys, N>(inputs, kind,
-        [&](const zw_loop *l, ssize i, double alpha, double beta, const std::array<double, N> &x) {
-            return zw_loop_radius_within(l, alpha, beta, x[Keys + 2], &within[i]);
+        [&](const auto *p, ssize i, double g1, double g2, const std::array<double, N> &x) {
+            return within_of(p, g1, g2, x[Keys + 2], &within[i]);
         },
         [&](Result &r, const Broadcast<N> &bc) { within = r.add<bool>(bc, "within"); });
 }

@@ -405,6 +405,16 @@ def test_device_rounding_is_guarded_near_the_boundary():
         assert r < 1, (delay, lo, r)
 
 
+def test_device_gain_that_underflows_is_refused():
+    """A non-zero gain whose normalized value underflows has no relative error bound: the
+    kernels go through device_loop.h, which refuses it (masked: not stable, NaN limits)."""
+    dev = zwidth.Device(0.12, 0.8, 1e-3, delay=1, errors="mask")
+    tiny = 5e-324  # K T^2 / m and B T / m both underflow to 0
+    assert dev.is_stable([tiny, 1.0], 0.0).tolist() == [False, True]
+    assert np.isnan(dev.spectral_radius(tiny, 0.0))
+    assert np.isnan(dev.k_max(tiny)) and float(dev.k_max(0.0)) > 0.0
+
+
 def test_device_k_max_never_above_the_exact_inputs_limit():
     """Random plants and loops: K_max from real units, normalized exactly (mpmath): just
     below it every root is inside, a little above one is not (the limit is also tight)."""
