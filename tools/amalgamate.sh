@@ -1,20 +1,19 @@
 #!/usr/bin/env bash
 # One-file copy of the firmware core for projects that vendor sources: writes
 # OUT/zwidth.h (every firmware header) and OUT/zwidth.c (every firmware module), generated
-# from csrc/ (never edit or commit them; docs/firmware.md).  Modules: status coeffs region
-# margin extremes device batch regmap, and selftest / loop when present; not the host-only
-# simulation.  Each module's own #defines are #undef'd after it, as if it were its own
-# translation unit.  Build flags are those of docs/firmware.md (-std=c99 -ffp-contract=off,
+# from csrc/ (never edit or commit them; docs/firmware.md).  Modules: those of
+# ZW_CORE_SOURCES in CMakeLists.txt, not the host-only simulation; headers in the order
+# they include each other.  Each module's own #defines are #undef'd after it, as if it were
+# its own translation unit (its static functions are not: their names must differ across
+# modules).  Build flags are those of docs/firmware.md (-std=c99 -ffp-contract=off,
 # -DZW_REAL_FLOAT for the float build).
 # Usage: tools/amalgamate.sh [OUT]   (default build/amalgamation)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-build/amalgamation}
-HEADERS="precision real status coeffs region margin extremes device batch regmap"
-MODULES="status coeffs region margin extremes device batch regmap"
-for extra in selftest loop; do
-    if [ -f "csrc/src/$extra.c" ]; then HEADERS="$HEADERS $extra"; MODULES="$MODULES $extra"; fi
-done
+HEADERS="precision real status portable_math coeffs region margin extremes device batch selftest loop
+    loop_limits device_loop regmap"
+MODULES=$(sed -n '/^set(ZW_CORE_SOURCES/,/)/s/.*csrc\/src\/\([a-z_]*\)\.c.*/\1/p' CMakeLists.txt)
 VERSION=$(sed -n 's/^project(zwidth VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
 REV=$(git describe --always --dirty 2>/dev/null || echo unknown)
 mkdir -p "$OUT"

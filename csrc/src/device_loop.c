@@ -156,7 +156,7 @@ static zw_real upper_to_real(zw_real hi, zw_real scale)
 
 /* [x (1 - rel), x (1 + rel)] rounded outward: 2u of room covers the roundings of w and of
  * the sums (each <= u of |x|). */
-static void widen(zw_real x, zw_real rel, zw_real *lo, zw_real *hi)
+static void widen_by(zw_real x, zw_real rel, zw_real *lo, zw_real *hi)
 {
     const zw_real w = ZW_FABS(x) * (rel + ZW_R(2.0) * ZW_U);
     *lo = x - w;
@@ -200,7 +200,7 @@ static zw_status k_max(const zw_device_loop *dl, zw_real B, zw_real *K_max)
     if (beta == ZW_R(0.0)) {
         if ((st = zw_loop_alpha_max(&dl->loop, ZW_R(0.0), &A)) != ZW_OK) return st;
     } else {
-        widen(beta, ZW_BETA_RELERR, &b_lo, &b_hi);
+        widen_by(beta, ZW_BETA_RELERR, &b_lo, &b_hi);
         if ((st = zw_loop_alpha_max(&dl->loop, b_lo, &a_lo)) != ZW_OK) return st;
         if ((st = zw_loop_alpha_max(&dl->loop, b_hi, &a_hi)) != ZW_OK) return st;
         A = a_lo < a_hi ? a_lo : a_hi;
@@ -235,7 +235,7 @@ zw_status zw_device_loop_k_max(const zw_device_loop *dl, zw_real B, zw_real *K_m
  * [lo, hi] x [a_lo, a_hi] are stable and so is the box (edge theorem; alpha > 0, so no
  * corner of the region on alpha = 0 is involved).  Then B in [B_lo, B_hi] with
  * B_lo >= lo s*, B_hi <= hi s* has beta* = B / s* in [lo, hi]. */
-static zw_status b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo, zw_real *B_hi,
+static zw_status loop_b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo, zw_real *B_hi,
                          bool *nonempty)
 {
     zw_real alpha, beta, a_lo, a_hi, l1, h1, l2, h2, lo, hi, w, Bl, Bh;
@@ -250,7 +250,7 @@ static zw_status b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo, zw_
         st = zw_loop_beta_interval(&dl->loop, alpha, &l1, &h1, &ok1);
         return st;
     }
-    widen(alpha, ZW_ALPHA_RELERR, &a_lo, &a_hi);
+    widen_by(alpha, ZW_ALPHA_RELERR, &a_lo, &a_hi);
     if (!(a_lo > ZW_R(0.0))) return ZW_OK;
     if ((st = zw_loop_beta_interval(&dl->loop, a_lo, &l1, &h1, &ok1)) != ZW_OK) return st;
     if ((st = zw_loop_beta_interval(&dl->loop, a_hi, &l2, &h2, &ok2)) != ZW_OK) return st;
@@ -283,7 +283,7 @@ static zw_status b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo, zw_
 zw_status zw_device_loop_b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo,
                                  zw_real *B_hi, bool *nonempty)
 {
-    zw_status st = b_range(dl, K, B_lo, B_hi, nonempty);
+    zw_status st = loop_b_range(dl, K, B_lo, B_hi, nonempty);
     if (st != ZW_OK) zw_fail_interval(B_lo, B_hi, nonempty);
     return st;
 }

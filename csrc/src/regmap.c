@@ -517,7 +517,7 @@ static bool radius_ok(const zw_regmap *rm, float K, float B)
 
 /* K_max at B of the drive's loop (certified; 0 on error, by the core's fail-safe).  The
  * general loop's is taken from the cache when B is the one it holds. */
-static zw_status k_max_at(const zw_regmap *rm, float B, zw_real *k_max)
+static zw_status drive_k_max(const zw_regmap *rm, float B, zw_real *k_max)
 {
     if (ideal_loop(rm)) return zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max);
     if (rm->kmax_cached != 0u && rm->kmax_B == B) {
@@ -550,7 +550,7 @@ static zw_reason certify(const zw_regmap *rm, float K, float B, zw_real *k_max_o
     if (!step_within(K, rm->K, c->dk_max)) return ZW_REASON_K_STEP;
     if (!step_within(B, rm->B, c->db_max)) return ZW_REASON_B_STEP;
     if (!stable_ok(rm, K, B)) return ZW_REASON_UNSTABLE;
-    if (k_max_at(rm, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max)
+    if (drive_k_max(rm, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max)
         return ZW_REASON_ABOVE_SIGMA;
     *k_max_out = k_max;
     if (!radius_ok(rm, K, B)) return ZW_REASON_RADIUS;
@@ -599,7 +599,7 @@ ZW_NOINLINE static zw_mb_exception live_k_cert(zw_regmap *rm)
     int grid = K_CERT_GRID; /* scanning grid point grid/K_CERT_GRID of top; 0: bisecting */
     bool ok;
     rm->live[L_K_CERT] = QUIET_NAN_F;
-    if (!rm->is_sealed || k_max_at(rm, B, &k_max) != ZW_OK)
+    if (!rm->is_sealed || drive_k_max(rm, B, &k_max) != ZW_OK)
         return ZW_MB_OK;
     top = (zw_real)rm->sealed.sigma * k_max;
     if (top > (zw_real)rm->sealed.k_max) top = (zw_real)rm->sealed.k_max;
@@ -647,7 +647,7 @@ ZW_NOINLINE static void live_refresh(zw_regmap *rm)
         for (i = 0; i < L_COUNT; ++i) rm->live[i] = QUIET_NAN_F;
         return;
     }
-    st = k_max_at(rm, rm->B, &x);
+    st = drive_k_max(rm, rm->B, &x);
     if (st == ZW_OK && !(rm->K == 0.0f && rm->B == 0.0f)) cache_k_max(rm, rm->B, x);
     rm->live[L_K_MAX] = value_or_nan(st, x);
     /* both report (0, 0) when the interval is empty, which covers K = 0 */
