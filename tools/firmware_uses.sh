@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 CROSS=${CROSS:-arm-none-eabi-}
-MODULES="status coeffs region margin extremes device batch selftest portable_math loop loop_limits device_loop regmap"
+MODULES=$(sed -n '/^set(ZW_CORE_SOURCES/,/)/s/.*csrc\/src\/\([a-z_]*\)\.c.*/\1/p' CMakeLists.txt) # every firmware module
 B=$(mktemp -d "${TMPDIR:-/tmp}/zw-uses.XXXXXX")
 trap 'rm -rf "$B"' EXIT
 T="-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -DZW_REAL_FLOAT"
