@@ -321,6 +321,16 @@ static void test_errors_are_fail_safe(void **state)
     EXPECT_OK(zw_device_loop_b_range(&dl, R(-1.0), &lo, &hi, &ok)); /* K <= 0: empty */
     assert_true(!ok && lo == R(0.0) && hi == R(0.0));
     EXPECT_STATUS(zw_device_loop_check(NULL, R(1.0), R(0.0), &v), ZW_ERR_NULL);
+    /* one output NULL: the others are still written (status.h) */
+    lo = hi = R(5.0);
+    ok = true;
+    EXPECT_STATUS(zw_device_loop_b_range(&dl, R(1.0), &lo, NULL, &ok), ZW_ERR_NULL);
+    assert_true(!ok && lo == R(0.0));
+    EXPECT_STATUS(zw_device_loop_b_range(&dl, R(1.0), NULL, &hi, NULL), ZW_ERR_NULL);
+    assert_true(hi == R(0.0));
+    rho = R(0.0);
+    EXPECT_STATUS(zw_device_loop_spectral_radius(&dl, R(1.0), R(0.0), &rho, NULL), ZW_ERR_NULL);
+    assert_true(rho == (zw_real)INFINITY);
     /* the cut-off became the pole exp(-2 pi f_c T) */
     EXPECT_NEAR(dl.loop.spec.filter_pole, expl(-2.0L * 3.14159265358979323846L * 0.1L), 0, TOLL(8));
 }
