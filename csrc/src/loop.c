@@ -978,6 +978,26 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
     return ZW_OK;
 }
 
+/* The boolean fast path: the same two tests as zw_loop_check, in the same order, so the
+ * answer is the same for every point; only the deciding boundary of a not-stable point
+ * (an Aberth run) is skipped. */
+zw_status zw_loop_is_stable(const zw_loop *loop, zw_real alpha, zw_real beta, bool *stable)
+{
+    zw_status st;
+    routh_result res, lead, trail;
+    if (stable == NULL) return ZW_ERR_NULL;
+    *stable = false;
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    res = check_bilinear(loop, alpha, beta, &lead, &trail);
+    if (res == ROUTH_UNSURE) {
+        cplx top;
+        bool ok;
+        res = roots_test(loop, alpha, beta, ZW_R(1.0), &top, &ok);
+    }
+    *stable = res == ROUTH_STABLE;
+    return ZW_OK;
+}
+
 /* (1 - s)^n p(r (1 + s)/(1 - s)) = sum_k p_k (r (1 + s))^(n-k) (1 - s)^k by Horner in
  * r (1 + s), with running bounds, then the Routh test. */
 zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,

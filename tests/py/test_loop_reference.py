@@ -260,6 +260,7 @@ def sweep(zw, delta, spec, rng, count):
                 truth = label(parts, n, *pt)
                 st, v = zw.loop_check(lp, *pt)
                 assert st == 0
+                assert zw.loop_is_stable(lp, *pt) == (0, v.stable)  # the fast path agrees
                 total += 1
                 if v.stable and not truth:
                     false_stable.append(pt)

@@ -150,6 +150,12 @@ typedef struct zw_loop_verdict {
 zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta,
                         zw_loop_verdict *out);
 
+/* The verdict alone (*stable as zw_loop_check's .stable, for every input): the Routh test,
+ * then the root-inclusion test only where Routh cannot tell; never the Aberth run that
+ * zw_loop_check spends on the deciding boundary of a not-stable point.  The call for a
+ * control loop's "is this gain safe?".  Errors as zw_loop_check; *stable = false on error. */
+zw_status zw_loop_is_stable(const zw_loop *loop, zw_real alpha, zw_real beta, bool *stable);
+
 /* "Every root has |z| < r" with the same guard (never true when rho >= r); r finite > 0.
  * Routh on (1 - s)^n p(r (1 + s)/(1 - s)) formed from the z coefficients (wider band than
  * zw_loop_check at r = 1), then the root-inclusion test.  Errors as zw_loop_check, and
