@@ -25,6 +25,15 @@
 #define LOOP_SIN sin
 #endif
 
+/* Keeps a helper out of line so that the frames along the root test's call chain stay
+ * small and are not merged into one large frame (the stack target of tools/footprint.sh,
+ * as regmap.c does).  Only a hint: nothing depends on it for correctness. */
+#if defined(__GNUC__)
+#define ZW_NOINLINE __attribute__((noinline))
+#else
+#define ZW_NOINLINE
+#endif
+
 #define LOOP_PI ZW_R(3.14159265358979323846)
 #define LOOP_N (ZW_LOOP_MAX_DEGREE + 1u)
 
@@ -586,7 +595,8 @@ static ceb ceb_make(cplx v, zw_real e)
  * for complex products.  In place, through pointers: small frames on an MCU. */
 static void ceb_times(ceb *acc, cplx f, zw_real fe)
 {
-    const zw_real aa = c_abs(acc->v), af = c_abs(f);
+    /* |re| + |im| >= |x|: an upper bound without a call (keeps this a leaf) */
+    const zw_real aa = ZW_FABS(acc->v.re) + ZW_FABS(acc->v.im), af = ZW_FABS(f.re) + ZW_FABS(f.im);
     acc->e = aa * fe + af * acc->e + acc->e * fe + ZW_R(5.0) * ZW_U * aa * af + ZW_R(2.0) * ZW_ETA;
     acc->v = c_mul(acc->v, f);
 }
@@ -596,7 +606,7 @@ static void ceb_times_factor(ceb *acc, const zw_loop *loop, factor_kind kind, cp
 {
     build_ctx ctx;
     zw_eb f1, f0;
-    zw_real az = c_abs(z);
+    const zw_real az = ZW_FABS(z.re) + ZW_FABS(z.im); /* >= |z| */
     ctx.c = &loop->c;
     ctx.a = loop->spec.filter_pole;
     ctx.bilinear = false;
@@ -620,7 +630,7 @@ static void ceb_times_power(ceb *acc, cplx z, unsigned k)
 static void ceb_add_into(ceb *x, const ceb *y)
 {
     x->v = c_add(x->v, y->v);
-    x->e = x->e + y->e + ZW_R(2.0) * ZW_U * c_abs(x->v) + ZW_R(2.0) * ZW_ETA;
+    x->e = x->e + y->e + ZW_R(2.0) * ZW_U * (ZW_FABS(x->v.re) + ZW_FABS(x->v.im)) + ZW_R(2.0) * ZW_ETA;
 }
 
 /* p(z) = D + alpha Na + beta Nb from the factors (loop.h), with a bound on its error: far
@@ -639,7 +649,7 @@ static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
         if (tustin) ceb_times_factor(&dv, loop, F_ZP1, z);
         ceb_times_power(&nv, z, spec->average);
         nv.v.re -= ZW_R(1.0);
-        nv.e += ZW_R(2.0) * ZW_U * c_abs(nv.v) + ZW_ETA;
+        nv.e += ZW_R(2.0) * ZW_U * (ZW_FABS(nv.v.re) + ZW_FABS(nv.v.im)) + ZW_ETA;
         if (tustin) ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
         break;
     case ZW_VFILTER_LOWPASS: /* (1 - a)(z - 1) / (z - a);  2 (1 - a) z (z - 1) / ((z + 1)(z - a)) */
@@ -676,8 +686,8 @@ static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
 /* Newton correction p(z) / p'(z) of the degree-m polynomial p[0..m] (coefficients read
  * through poly_coef); for |z| > 1 through the reversed polynomial (no overflow):
  * p / p' = z q(w) / (m q(w) - w q'(w)), w = 1/z, q(w) = sum p_i w^i. */
-static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned m, cplx z,
-                        bool accurate, zw_real *noise)
+ZW_NOINLINE static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned m,
+                                    cplx z, const ceb *accurate, zw_real *noise)
 {
     cplx v = c_make(ZW_R(0.0), ZW_R(0.0)), dv = v;
     zw_real mag = ZW_R(0.0), az = c_abs(z);
@@ -690,12 +700,12 @@ static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsign
             mag = mag * az + ZW_FABS(pk);
         }
         mag *= ZW_R(8.0) * (zw_real)(m + 1u) * ZW_U;
-        /* the value from the factors where it is accurate (the deflated polynomial is
-         * p / z^(n - m)); the derivative needs no such accuracy */
-        if (accurate && m == loop->degree) {
-            ceb pz = eval_p(loop, alpha, beta, z);
-            v = pz.v;
-            mag = pz.e;
+        /* the value from the factors where it is accurate (computed by the caller, so
+         * that eval_p's frame does not stack on this one); the derivative needs no such
+         * accuracy */
+        if (accurate != NULL) {
+            v = accurate->v;
+            mag = accurate->e;
         }
         *noise = mag / c_abs(dv);
         return c_div(v, dv);
@@ -755,7 +765,13 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
                 cplx n, s = c_make(ZW_R(0.0), ZW_R(0.0)), step;
                 zw_real noise = ZW_R(0.0);
                 if ((done & ((uint_least32_t)1u << i)) != 0u) continue; /* converged: frozen */
-                n = newton_step(loop, alpha, beta, m, z[i], pass == 1u, &noise);
+                if (pass == 1u && m == loop->degree && c_abs(z[i]) <= ZW_R(1.0)) {
+                    /* p from its factors (the deflated polynomial is p / z^(n - m)) */
+                    const ceb pz = eval_p(loop, alpha, beta, z[i]);
+                    n = newton_step(loop, alpha, beta, m, z[i], &pz, &noise);
+                } else {
+                    n = newton_step(loop, alpha, beta, m, z[i], NULL, &noise);
+                }
                 for (j = 0u; j < m; ++j)
                     if (j != i) s = c_add(s, c_div(c_make(ZW_R(1.0), ZW_R(0.0)), c_sub(z[i], z[j])));
                 step = c_div(n, c_sub(c_make(ZW_R(1.0), ZW_R(0.0)), c_mul(n, s)));
@@ -999,20 +1015,14 @@ zw_status zw_loop_is_stable(const zw_loop *loop, zw_real alpha, zw_real beta, bo
 }
 
 /* (1 - s)^n p(r (1 + s)/(1 - s)) = sum_k p_k (r (1 + s))^(n-k) (1 - s)^k by Horner in
- * r (1 + s), with running bounds, then the Routh test. */
-zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
-                                bool *within)
+ * r (1 + s), with running bounds, then the Routh test.  Out of line, so that its arrays are
+ * off the stack before the root test runs. */
+ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r)
 {
     zw_real w[LOOP_N];
     loop_err we[LOOP_N];
-    zw_status st;
     unsigned k, i, deg = 0u;
     const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta), re = zw_eb_exact(r);
-    if (within == NULL) return ZW_ERR_NULL;
-    *within = false;
-    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
-    if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
-    if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
     for (k = 0u; k <= loop->degree; ++k) {
         zw_eb pk = eb_add_exactish(eb_make(loop->D[k], loop->D_err[k]),
                                    eb_mul_exactish(ga, eb_make(loop->Na[k], loop->Na_err[k])));
@@ -1047,12 +1057,25 @@ zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta
             binom = binom * (uint_least32_t)(k - i) / (uint_least32_t)(i + 1u);
         }
     }
-    {
-        routh_result res = routh(w, we, loop->degree);
+    return routh(w, we, loop->degree);
+}
+
+zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
+                                bool *within)
+{
+    zw_status st;
+    routh_result res;
+    if (within == NULL) return ZW_ERR_NULL;
+    *within = false;
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
+    if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
+    res = radius_routh(loop, alpha, beta, r);
+    if (res == ROUTH_UNSURE) {
         cplx top;
         bool ok;
-        *within = res == ROUTH_STABLE ||
-                  (res == ROUTH_UNSURE && roots_test(loop, alpha, beta, r, &top, &ok) == ROUTH_STABLE);
+        res = roots_test(loop, alpha, beta, r, &top, &ok);
     }
+    *within = res == ROUTH_STABLE;
     return ZW_OK;
 }
