@@ -143,8 +143,9 @@ typedef struct zw_loop_verdict {
  * within ~sqrt(u) of the real axis counts as real).
  * Cost: a few hundred ns for points the Routh test settles; the root test and the
  * deciding root of an unstable point cost an Aberth run (tens of us at degree 10,
- * hundreds at 26: bench/loop).  Stack (worst chain, bench/loop/stack_chain.py): Routh path
- * ~440 B on Cortex-M4F float; with the root test ~950 B (M4F float), ~1.5 KB (x86-64 double).
+ * hundreds at 26: bench/loop); zw_loop_is_stable skips the latter.  Stack (worst chain,
+ * tools/footprint.sh): Routh path ~440 B on Cortex-M4F float; with the root test 704 B
+ * (M4F float), ~1 KB (x86-64 double): over the issue's 512 B (docs/footprint.md).
  * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an uninitialized loop).  On
  * error *out = {stable = false, marginal = false, NONE, 0}. */
 zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta,
