@@ -129,7 +129,9 @@ typedef struct zw_loop_verdict {
 
 /* Guarded verdict of the general loop (always the general path; the ideal loop's closed
  * form is zw_check).  How: a Routh test with running error bounds on the bilinear parts
- * decides most points; where it cannot tell, an a-posteriori root-inclusion test
+ * and a Schur-Cohn test with running error bounds on the z coefficients (the latter first
+ * from degree 13: it keeps its bound on the roots a delay line and a moving average put
+ * near z = 0) decide most points; where neither can tell, an a-posteriori root-inclusion test
  * (Braess-Hadeler disks around Aberth roots, p evaluated from its factors) proves "every
  * root inside" or "one root surely outside"; otherwise marginal.  Stable only if proved;
  * a stable point is called unstable only within the band below, and then marginal = true.
@@ -141,9 +143,10 @@ typedef struct zw_loop_verdict {
  * deciding: z = 1 if alpha is not surely > 0, else z = -1 if p(-1) has the wrong sign
  * (or cannot be told), else where the root of largest modulus is (real: +-1; a pair
  * within ~sqrt(u) of the real axis counts as real).
- * Cost: a few hundred ns for points the Routh test settles; the root test and the
+ * Cost (host, double, bench/loop): 0.1-0.3 us for points the Routh / Schur-Cohn tests
+ * settle up to degree 11, ~1.5 us at degree 18, ~10 us at 26; the root test and the
  * deciding root of an unstable point cost an Aberth run (tens of us at degree 10,
- * hundreds at 26: bench/loop); zw_loop_is_stable skips the latter.  Stack (worst chain,
+ * hundreds at 26); zw_loop_is_stable skips the latter.  Stack (worst chain,
  * tools/footprint.sh): Routh path ~440 B on Cortex-M4F float; with the root test 704 B
  * (M4F float), ~1 KB (x86-64 double): over the issue's 512 B (docs/footprint.md).
  * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an uninitialized loop).  On
