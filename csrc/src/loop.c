@@ -34,6 +34,15 @@
 #define ZW_NOINLINE
 #endif
 
+/* The small helpers of the tests' inner loops, inlined where the build optimizes for speed
+ * (host, -O2: the call overhead was half the cost of a low-degree check) and left to the
+ * compiler under -Os (firmware: code size and small frames first). */
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define LOOP_HOT __attribute__((always_inline)) inline
+#else
+#define LOOP_HOT
+#endif
+
 #define LOOP_PI ZW_R(3.14159265358979323846)
 #define LOOP_N (ZW_LOOP_MAX_DEGREE + 1u)
 
@@ -116,7 +125,7 @@ typedef struct build_ctx {
     bool bilinear;   /* build the s polynomial */
 } build_ctx;
 
-static zw_eb eb_make(zw_real v, zw_real e)
+static LOOP_HOT zw_eb eb_make(zw_real v, zw_real e)
 {
     zw_eb r;
     r.v = v;
@@ -194,7 +203,7 @@ static void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
 
 /* Product of two bounded values whose error is exactly zero when both are exact and one
  * of them is 0, +-1 or +-2 (factors of that form are common and must not add rounding). */
-static zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
+static LOOP_HOT zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
 {
     if (a.e == ZW_R(0.0) && b.e == ZW_R(0.0)) {
         zw_real m = ZW_FABS(a.v) < ZW_FABS(b.v) ? ZW_FABS(a.v) : ZW_FABS(b.v);
@@ -204,7 +213,7 @@ static zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
 }
 
 /* Sum whose error is the inputs' when one of them is an exact zero. */
-static zw_eb eb_add_exactish(zw_eb a, zw_eb b)
+static LOOP_HOT zw_eb eb_add_exactish(zw_eb a, zw_eb b)
 {
     if (a.v == ZW_R(0.0) && a.e == ZW_R(0.0)) return b;
     if (b.v == ZW_R(0.0) && b.e == ZW_R(0.0)) return a;
@@ -432,7 +441,7 @@ zw_status zw_loop_poly(const zw_loop *loop, zw_real alpha, zw_real beta,
  * halves their stack in the double build; a bound needs no more than a few digits. */
 typedef float loop_err;
 
-static loop_err err_up(zw_real e)
+static LOOP_HOT loop_err err_up(zw_real e)
 {
     float f;
     if (!(e <= (zw_real)FLT_MAX)) return (float)INFINITY; /* also NaN: "cannot tell" */
@@ -446,7 +455,7 @@ static loop_err err_up(zw_real e)
     return f;
 }
 
-static zw_eb eb_stored(zw_real v, loop_err e)
+static LOOP_HOT zw_eb eb_stored(zw_real v, loop_err e)
 {
     return eb_make(v, (zw_real)e);
 }
@@ -462,7 +471,7 @@ typedef enum routh_result { ROUTH_STABLE, ROUTH_UNSURE, ROUTH_UNSTABLE } routh_r
 #define LOOP_SCALE_LO ZW_R(1.52587890625e-05)
 #define LOOP_SCALE_HI ZW_R(65536.0)
 
-static routh_result sign_result(zw_real v, zw_real err)
+static LOOP_HOT routh_result sign_result(zw_real v, zw_real err)
 {
     zw_cmp cmp = zw_compare(ZW_R(0.0), v, err);
     if (cmp == ZW_CMP_LT) return ROUTH_STABLE;
