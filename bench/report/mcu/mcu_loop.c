@@ -13,7 +13,7 @@
 
 extern const unsigned long mcu_loop_n_rows;
 extern const unsigned mcu_loop_spec[][5]; /* delay, differentiator, filter, average, new loop */
-extern const zw_real mcu_loop_gains[][3]; /* delta, alpha, beta */
+extern const zw_real mcu_loop_gains[][4]; /* delta, alpha, beta, low-pass pole */
 
 __attribute__((noinline)) void report_marker(void);
 void report_marker(void)
@@ -64,7 +64,7 @@ int main(void)
             spec.delay = s[0];
             spec.differentiator = (zw_differentiator)s[1];
             spec.filter = (zw_velocity_filter)s[2];
-            spec.filter_pole = ZW_R(0.8);
+            spec.filter_pole = g[3];
             spec.average = s[3];
             st |= zw_coeffs_init(&c, g[0]);
             report_marker();

@@ -147,8 +147,9 @@ typedef struct zw_loop_verdict {
  * settle up to degree 11, ~1.5 us at degree 18, ~10 us at 26; the root test and the
  * deciding root of an unstable point cost an Aberth run (tens of us at degree 10,
  * hundreds at 26); zw_loop_is_stable skips the latter.  Stack (worst chain,
- * tools/footprint.sh): Routh path ~440 B on Cortex-M4F float; with the root test 704 B
- * (M4F float), ~1 KB (x86-64 double): over the issue's 512 B (docs/footprint.md).
+ * tools/footprint.sh, Cortex-M4F float): Routh path ~520 B, Schur-Cohn path ~440 B; with
+ * the root test 720 B (M0 ~780 B, x86-64 double ~1.2 KB): over the issue's 512 B
+ * (docs/footprint.md lists it as over target, not gated).
  * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an uninitialized loop).  On
  * error *out = {stable = false, marginal = false, NONE, 0}. */
 zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta,
