@@ -109,6 +109,9 @@ CLAIMS: List[Tuple[str, str, str, float, str]] = [
     ("py.sim", "false_stable_frac", "<=", 0.15, "a finite record cannot see a growth slower than its length"),
     ("py.mpmath", "false_stable", "<=", 0, "50 digits decide every point of the set"),
     ("py.mpmath", "false_unstable", "<=", 0, "50 digits decide every point of the set"),
+    # the general loop (loop.h; bench/report/loop_section.py)
+    ("loop.check", "false_stable", "<=", 0, "the general loop's guard never calls an unstable point stable"),
+    ("loop.fast", "mismatch", "<=", 0, "zw_loop_is_stable gives zw_loop_check's verdict on every point"),
     # the measurement itself
     ("mcu.calibration", "ok", ">=", 1, "the instruction counter counts a known block exactly"),
     ("ref.self_check", "jury_disagree", "<=", 0, "reference roots at 50 digits agree with the Jury reference"),
@@ -620,6 +623,27 @@ class Report:
         return f"Output of `bench/sim/bench_sim.py`, run by this report:\n\n{body}"
 
     # ---- claims -----------------------------------------------------------------------
+    def general_loop(self) -> str:
+        """The general loop's section (loop_section.py); skipped without the shared library."""
+        import loop_section as ls
+        t0 = time.perf_counter()
+        try:
+            rows = ls.measure(self.a.quick, not (self.a.quick or self.a.no_callgrind) and bool(shutil.which("valgrind")))
+        except (OSError, subprocess.CalledProcessError) as exc:
+            self.skipped.append(f"general loop: skipped ({exc}; set ZW_LIB_DIR to a build with the shared libraries)")
+            return "_Skipped in this run: the shared library was not found (ZW_LIB_DIR)._"
+        self.res.update(ls.results(rows))
+        self.phase("general loop", t0)
+        m4f: Dict[int, Dict[str, float]] = {}
+        if not self.a.no_mcu:
+            t0 = time.perf_counter()
+            try:
+                m4f = ls.mcu_counts(self.a.quick)
+            except (OSError, RuntimeError, subprocess.CalledProcessError) as exc:
+                self.skipped.append(f"general loop on the Cortex-M4F: skipped ({exc})")
+            self.phase("general loop on the Cortex-M4F (QEMU)", t0)
+        return ls.section(rows, md_table, fmt_int, m4f)
+
     def check_claims(self) -> List[Tuple[str, str, str, float, str, Optional[float], Optional[bool]]]:
         out = []
         for rid, metric, op, bound, why in CLAIMS:
@@ -866,6 +890,12 @@ def write_report(R: Report, claims: List[Any], elapsed: float) -> str:
         w("Not measured: instruction counts on the Cortex-M0 (QEMU's M0 board, microbit, is not set up here).")
         w("")
 
+    # ---- section: general loop
+    w("## General loop (loop.h): methods against accuracy and time, per degree")
+    w("")
+    w(R.loop_section)
+    w("")
+
     # ---- section 4
     w("## 4. Simulation")
     w("")
@@ -1051,6 +1081,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         R.coefficients()
         R.mcu_view()
         R.sim_section = R.simulation()
+        R.loop_section = R.general_loop()
     except (RuntimeError, subprocess.TimeoutExpired) as exc:
         print(f"generate.py: {exc}", file=sys.stderr)
         return 2

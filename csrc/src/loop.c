@@ -25,6 +25,24 @@
 #define LOOP_SIN sin
 #endif
 
+/* Keeps a helper out of line so that the frames along the root test's call chain stay
+ * small and are not merged into one large frame (the stack target of tools/footprint.sh,
+ * as regmap.c does).  Only a hint: nothing depends on it for correctness. */
+#if defined(__GNUC__)
+#define ZW_NOINLINE __attribute__((noinline))
+#else
+#define ZW_NOINLINE
+#endif
+
+/* The small helpers of the tests' inner loops, inlined where the build optimizes for speed
+ * (host, -O2: the call overhead was half the cost of a low-degree check) and left to the
+ * compiler under -Os (firmware: code size and small frames first). */
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define LOOP_HOT __attribute__((always_inline)) inline
+#else
+#define LOOP_HOT
+#endif
+
 #define LOOP_PI ZW_R(3.14159265358979323846)
 #define LOOP_N (ZW_LOOP_MAX_DEGREE + 1u)
 
@@ -107,7 +125,7 @@ typedef struct build_ctx {
     bool bilinear;   /* build the s polynomial */
 } build_ctx;
 
-static zw_eb eb_make(zw_real v, zw_real e)
+static LOOP_HOT zw_eb eb_make(zw_real v, zw_real e)
 {
     zw_eb r;
     r.v = v;
@@ -185,7 +203,7 @@ static void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
 
 /* Product of two bounded values whose error is exactly zero when both are exact and one
  * of them is 0, +-1 or +-2 (factors of that form are common and must not add rounding). */
-static zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
+static LOOP_HOT zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
 {
     if (a.e == ZW_R(0.0) && b.e == ZW_R(0.0)) {
         zw_real m = ZW_FABS(a.v) < ZW_FABS(b.v) ? ZW_FABS(a.v) : ZW_FABS(b.v);
@@ -195,7 +213,7 @@ static zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
 }
 
 /* Sum whose error is the inputs' when one of them is an exact zero. */
-static zw_eb eb_add_exactish(zw_eb a, zw_eb b)
+static LOOP_HOT zw_eb eb_add_exactish(zw_eb a, zw_eb b)
 {
     if (a.v == ZW_R(0.0) && a.e == ZW_R(0.0)) return b;
     if (b.v == ZW_R(0.0) && b.e == ZW_R(0.0)) return a;
@@ -460,18 +478,21 @@ zw_status zw_loop_poly(const zw_loop *loop, zw_real alpha, zw_real beta,
  * halves their stack in the double build; a bound needs no more than a few digits. */
 typedef float loop_err;
 
-static loop_err err_up(zw_real e)
+static LOOP_HOT loop_err err_up(zw_real e)
 {
     float f;
     if (!(e <= (zw_real)FLT_MAX)) return (float)INFINITY; /* also NaN: "cannot tell" */
     f = (float)e;
 #ifndef ZW_REAL_FLOAT
-    if ((zw_real)f < e) f = nextafterf(f, (float)INFINITY);
+    /* rounded down: one float ulp up without a libm call.  For normal f, f (1 + 2^-23) is
+     * exactly f + f 2^-23 >= f + ulp(f) before rounding, so its rounding to nearest is at
+     * least the next float (or +inf); 2^-149 covers a subnormal or zero f. */
+    if ((zw_real)f < e) f = f * (1.0f + FLT_EPSILON) + 0x1p-149f;
 #endif
     return f;
 }
 
-static zw_eb eb_stored(zw_real v, loop_err e)
+static LOOP_HOT zw_eb eb_stored(zw_real v, loop_err e)
 {
     return eb_make(v, (zw_real)e);
 }
@@ -480,7 +501,14 @@ static zw_eb eb_stored(zw_real v, loop_err e)
 
 typedef enum routh_result { ROUTH_STABLE, ROUTH_UNSURE, ROUTH_UNSTABLE } routh_result;
 
-static routh_result sign_result(zw_real v, zw_real err)
+/* A row is rescaled (by a power of two: exact but for underflow) only when its largest
+ * entry leaves [2^-16, 2^16]: products of two entries then stay far from overflow and
+ * underflow in float too, and the libm calls are skipped for most rows.  A positive
+ * factor on a row does not change the signs the tests read. */
+#define LOOP_SCALE_LO ZW_R(1.52587890625e-05)
+#define LOOP_SCALE_HI ZW_R(65536.0)
+
+static LOOP_HOT routh_result sign_result(zw_real v, zw_real err)
 {
     zw_cmp cmp = zw_compare(ZW_R(0.0), v, err);
     if (cmp == ZW_CMP_LT) return ROUTH_STABLE;
@@ -491,11 +519,11 @@ static routh_result sign_result(zw_real v, zw_real err)
  * surely positive (necessary), then the first column of the division-free Routh array:
  *   row k, entry j = B0 A[j+1] - A0 B[j+1]  (A = row k-2, B = row k-1),
  * which has the sign of the classical entry when B0 > 0 (checked first).  Rows are
- * rescaled by powers of two (exact) against overflow.  The last row is the constant
- * coefficient times positive factors and is not recomputed.  Row k lives in the slots
- * (k mod 2) + 2 j of w, overwriting row k - 2 (whose entry j + 1 is read before entry j
- * is written).  UNSTABLE is certain: the first entry that is not surely positive is
- * surely non-positive while all before it are surely positive. */
+ * rescaled by powers of two (exact) against overflow (LOOP_SCALE_LO/HI).  The last row is
+ * the constant coefficient times positive factors and is not recomputed.  Row k lives in
+ * the slots (k mod 2) + 2 j of w, overwriting row k - 2 (whose entry j + 1 is read before
+ * entry j is written).  UNSTABLE is certain: the first entry that is not surely positive
+ * is surely non-positive while all before it are surely positive. */
 static routh_result routh(zw_real w[], loop_err we[], unsigned n)
 {
     unsigned i, k;
@@ -524,7 +552,7 @@ static routh_result routh(zw_real w[], loop_err we[], unsigned n)
             if (ZW_FABS(c.v) > big) big = ZW_FABS(c.v);
         }
         if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
-        if (big > ZW_R(0.0)) {
+        if (big > ZW_R(0.0) && (big < LOOP_SCALE_LO || big > LOOP_SCALE_HI)) {
             (void)ZW_FREXP(big, &ex);
             for (j = 0u; j < len; ++j) {
                 w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
@@ -539,8 +567,8 @@ static routh_result routh(zw_real w[], loop_err we[], unsigned n)
 
 /* P = Ds + alpha Nas + beta Nbs with bounds, then Routh.  *lead / *trail: the results of
  * the leading (z = -1) and constant (z = 1) coefficients alone. */
-static routh_result check_bilinear(const zw_loop *loop, zw_real alpha, zw_real beta,
-                                   routh_result *lead, routh_result *trail)
+ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_real alpha, zw_real beta,
+                                               routh_result *lead, routh_result *trail)
 {
     zw_real w[LOOP_N];
     loop_err we[LOOP_N];
@@ -557,6 +585,120 @@ static routh_result check_bilinear(const zw_loop *loop, zw_real alpha, zw_real b
     *lead = sign_result(w[0], (zw_real)we[0]);
     *trail = sign_result(w[n], (zw_real)we[n]);
     return routh(w, we, n);
+}
+
+/* ---- guarded Schur-Cohn test on the z coefficients ------------------------------------------ */
+
+/* Is p(z) = w[0] z^m + ... + w[m] surely Schur stable?  The Schur-Cohn (Levinson) step: with
+ * k = w[m] / w[0] (the constant over the leading coefficient),
+ *     p is Schur stable  <=>  |k| < 1  and  (p(z) - k p*(z)) / z  is Schur stable,
+ * p*(z) = z^m p(1/z) the reversed polynomial; the reduced polynomial, highest power first,
+ * is w[t] - k w[m - t], t = 0..m-1 (its leading coefficient w[0] (1 - k^2) keeps the degree).
+ * Every step is carried with running error bounds (zw_eb) from the coefficients' own bounds,
+ * so by induction each level's exact coefficients (those of the exact p) lie within the
+ * stored bounds: STABLE when every |k| is surely below 1 (then the exact p is Schur stable
+ * by the equivalence above), UNSTABLE when one |k| is surely above 1 while all before were
+ * surely below (the exact p is then not stable), else UNSURE.
+ * Why a second test: the Routh array on the bilinear parts loses its bound on the cluster
+ * of roots near z = 0 that a delay line and a moving average put there (its rows cancel,
+ * and the running bound, which takes the rows' correlated errors as independent, grows
+ * ~7x per row at degree 26 while the true error grows ~1.5x).  Here those roots give small
+ * reflection coefficients k, each step is w[t] - k w[m - t] with |k| << 1, and the bound
+ * grows slowly; it widens only as |k| -> 1 (roots near the circle), where the Routh test
+ * does well.  Costs n^2 / 2 multiply-adds; one array, reduced in place. */
+ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_real alpha, zw_real beta)
+{
+    zw_real w[LOOP_N];
+    loop_err we[LOOP_N];
+    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
+    unsigned m = loop->degree, t;
+    for (t = 0u; t <= m; ++t) {
+        zw_eb v = eb_add_exactish(eb_make(loop->D[t], loop->D_err[t]),
+                                  eb_mul_exactish(ga, eb_make(loop->Na[t], loop->Na_err[t])));
+        v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nb[t], loop->Nb_err[t])));
+        w[t] = v.v;
+        we[t] = err_up(v.e);
+    }
+    for (; m > 0u; --m) {
+        const zw_eb lead = eb_stored(w[0], we[0]), con = eb_stored(w[m], we[m]);
+        /* |exact con| < |exact lead| surely: upper bound of one below lower bound of the
+         * other, each rounded outward (a sum of two terms: within 2 u, covered by 4 u) */
+        const zw_real con_hi = (ZW_FABS(con.v) + con.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+        const zw_real lead_lo = (ZW_FABS(lead.v) - lead.e) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U);
+        zw_eb k;
+        zw_real big = ZW_R(0.0);
+        int ex = 0;
+        if (!ZW_IS_FINITE(con_hi) || !ZW_IS_FINITE(lead_lo)) return ROUTH_UNSURE;
+        if (!(con_hi < lead_lo)) {
+            const zw_real con_lo = (ZW_FABS(con.v) - con.e) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U);
+            const zw_real lead_hi = (ZW_FABS(lead.v) + lead.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+            return con_lo > lead_hi ? ROUTH_UNSTABLE : ROUTH_UNSURE;
+        }
+        k = zw_eb_div(con, lead);
+        /* the pairs (t, m - t) at once: each new entry reads both old ones */
+        for (t = 0u; 2u * t <= m; ++t) {
+            const unsigned t2 = m - t;
+            const zw_eb x = eb_stored(w[t], we[t]), y = eb_stored(w[t2], we[t2]);
+            const zw_eb nx = zw_eb_sub(x, zw_eb_mul(k, y));
+            w[t] = nx.v;
+            we[t] = err_up(nx.e);
+            if (t2 != t && t2 < m) {
+                const zw_eb ny = zw_eb_sub(y, zw_eb_mul(k, x));
+                w[t2] = ny.v;
+                we[t2] = err_up(ny.e);
+            }
+        }
+        /* rescale by a power of two (exact but for underflow: ETA) against overflow */
+        for (t = 0u; t < m; ++t)
+            if (ZW_FABS(w[t]) > big) big = ZW_FABS(w[t]);
+        if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
+        if (big > ZW_R(0.0) && (big < LOOP_SCALE_LO || big > LOOP_SCALE_HI)) {
+            (void)ZW_FREXP(big, &ex);
+            for (t = 0u; t < m; ++t) {
+                w[t] = ZW_LDEXP(w[t], -ex);
+                we[t] = err_up(ZW_LDEXP((zw_real)we[t], -ex) + ZW_ETA);
+            }
+        }
+    }
+    return ROUTH_STABLE;
+}
+
+/* The sign of coefficient i of P = Ds + alpha Nas + beta Nbs (as check_bilinear's *lead for
+ * i = 0, *trail for i = n). */
+static void bilinear_end(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i,
+                         routh_result *out)
+{
+    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
+    zw_eb v = eb_add_exactish(eb_make(loop->Ds[i], loop->Ds_err[i]),
+                              eb_mul_exactish(ga, eb_make(loop->Nas[i], loop->Nas_err[i])));
+    v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nbs[i], loop->Nbs_err[i])));
+    *out = sign_result(v.v, (zw_real)err_up(v.e));
+}
+
+/* From this degree on (long delays and moving averages) the Schur-Cohn test goes first:
+ * there the Routh bound rarely settles a point, and paying for its rows first doubles the
+ * cost (callgrind, bench/loop: about even at degree 13 to 18, 2x at 26).  Only the order
+ * of two rigorous tests: no verdict depends on it. */
+#define LOOP_SCHUR_FIRST 13u
+
+/* The guarded verdict without roots: the Routh test on the bilinear parts and the
+ * Schur-Cohn test on the z coefficients, the second only where the first cannot tell
+ * (either proves stability alone; UNSTABLE from either is certain).  *lead, *trail as
+ * check_bilinear. */
+static routh_result decide(const zw_loop *loop, zw_real alpha, zw_real beta, routh_result *lead,
+                           routh_result *trail)
+{
+    routh_result res;
+    if (loop->degree >= LOOP_SCHUR_FIRST) {
+        const unsigned n = loop->degree;
+        bilinear_end(loop, alpha, beta, 0u, lead);
+        bilinear_end(loop, alpha, beta, n, trail);
+        res = schur_cohn(loop, alpha, beta);
+        return res == ROUTH_UNSURE ? check_bilinear(loop, alpha, beta, lead, trail) : res;
+    }
+    res = check_bilinear(loop, alpha, beta, lead, trail);
+    if (res == ROUTH_UNSURE) res = schur_cohn(loop, alpha, beta);
+    return res;
 }
 
 /* ---- roots (informational) ------------------------------------------------------------------ */
@@ -633,7 +775,7 @@ static void ceb_times_factor(ceb *acc, const zw_loop *loop, factor_kind kind, cp
 {
     build_ctx ctx;
     zw_eb f1, f0;
-    zw_real az = c_abs(z);
+    const zw_real az = c_abs(z);
     ctx.c = &loop->c;
     ctx.a = loop->spec.filter_pole;
     ctx.bilinear = false;
@@ -714,8 +856,8 @@ static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
 /* Newton correction p(z) / p'(z) of the degree-m polynomial p[0..m] (coefficients read
  * through poly_coef); for |z| > 1 through the reversed polynomial (no overflow):
  * p / p' = z q(w) / (m q(w) - w q'(w)), w = 1/z, q(w) = sum p_i w^i. */
-static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned m, cplx z,
-                        bool accurate, zw_real *noise)
+ZW_NOINLINE static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned m,
+                                    cplx z, const ceb *accurate, zw_real *noise)
 {
     cplx v = c_make(ZW_R(0.0), ZW_R(0.0)), dv = v;
     zw_real mag = ZW_R(0.0), az = c_abs(z);
@@ -728,12 +870,12 @@ static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real beta, unsign
             mag = mag * az + ZW_FABS(pk);
         }
         mag *= ZW_R(8.0) * (zw_real)(m + 1u) * ZW_U;
-        /* the value from the factors where it is accurate (the deflated polynomial is
-         * p / z^(n - m)); the derivative needs no such accuracy */
-        if (accurate && m == loop->degree) {
-            ceb pz = eval_p(loop, alpha, beta, z);
-            v = pz.v;
-            mag = pz.e;
+        /* the value from the factors where it is accurate (computed by the caller, so
+         * that eval_p's frame does not stack on this one); the derivative needs no such
+         * accuracy */
+        if (accurate != NULL) {
+            v = accurate->v;
+            mag = accurate->e;
         }
         *noise = mag / c_abs(dv);
         return c_div(v, dv);
@@ -793,7 +935,13 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
                 cplx n, s = c_make(ZW_R(0.0), ZW_R(0.0)), step;
                 zw_real noise = ZW_R(0.0);
                 if ((done & ((uint_least32_t)1u << i)) != 0u) continue; /* converged: frozen */
-                n = newton_step(loop, alpha, beta, m, z[i], pass == 1u, &noise);
+                if (pass == 1u && m == loop->degree && c_abs(z[i]) <= ZW_R(1.0)) {
+                    /* p from its factors (the deflated polynomial is p / z^(n - m)) */
+                    const ceb pz = eval_p(loop, alpha, beta, z[i]);
+                    n = newton_step(loop, alpha, beta, m, z[i], &pz, &noise);
+                } else {
+                    n = newton_step(loop, alpha, beta, m, z[i], NULL, &noise);
+                }
                 for (j = 0u; j < m; ++j)
                     if (j != i) s = c_add(s, c_div(c_make(ZW_R(1.0), ZW_R(0.0)), c_sub(z[i], z[j])));
                 step = c_div(n, c_sub(c_make(ZW_R(1.0), ZW_R(0.0)), c_mul(n, s)));
@@ -980,7 +1128,7 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
     if (out == NULL) return ZW_ERR_NULL;
     verdict_fail_safe(out);
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
-    res = check_bilinear(loop, alpha, beta, &lead, &trail);
+    res = decide(loop, alpha, beta, &lead, &trail);
     if (res == ROUTH_STABLE) {
         out->stable = true;
         return ZW_OK;
@@ -1016,21 +1164,35 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
     return ZW_OK;
 }
 
+/* The boolean fast path: the same two tests as zw_loop_check, in the same order, so the
+ * answer is the same for every point; only the deciding boundary of a not-stable point
+ * (an Aberth run) is skipped. */
+zw_status zw_loop_is_stable(const zw_loop *loop, zw_real alpha, zw_real beta, bool *stable)
+{
+    zw_status st;
+    routh_result res, lead, trail;
+    if (stable == NULL) return ZW_ERR_NULL;
+    *stable = false;
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    res = decide(loop, alpha, beta, &lead, &trail);
+    if (res == ROUTH_UNSURE) {
+        cplx top;
+        bool ok;
+        res = roots_test(loop, alpha, beta, ZW_R(1.0), &top, &ok);
+    }
+    *stable = res == ROUTH_STABLE;
+    return ZW_OK;
+}
+
 /* (1 - s)^n p(r (1 + s)/(1 - s)) = sum_k p_k (r (1 + s))^(n-k) (1 - s)^k by Horner in
- * r (1 + s), with running bounds, then the Routh test. */
-zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
-                                bool *within)
+ * r (1 + s), with running bounds, then the Routh test.  Out of line, so that its arrays are
+ * off the stack before the root test runs. */
+ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r)
 {
     zw_real w[LOOP_N];
     loop_err we[LOOP_N];
-    zw_status st;
     unsigned k, i, deg = 0u;
     const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta), re = zw_eb_exact(r);
-    if (within == NULL) return ZW_ERR_NULL;
-    *within = false;
-    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
-    if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
-    if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
     for (k = 0u; k <= loop->degree; ++k) {
         zw_eb pk = eb_add_exactish(eb_make(loop->D[k], loop->D_err[k]),
                                    eb_mul_exactish(ga, eb_make(loop->Na[k], loop->Na_err[k])));
@@ -1065,12 +1227,25 @@ zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta
             binom = binom * (uint_least32_t)(k - i) / (uint_least32_t)(i + 1u);
         }
     }
-    {
-        routh_result res = routh(w, we, loop->degree);
+    return routh(w, we, loop->degree);
+}
+
+zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
+                                bool *within)
+{
+    zw_status st;
+    routh_result res;
+    if (within == NULL) return ZW_ERR_NULL;
+    *within = false;
+    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
+    if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
+    res = radius_routh(loop, alpha, beta, r);
+    if (res == ROUTH_UNSURE) {
         cplx top;
         bool ok;
-        *within = res == ROUTH_STABLE ||
-                  (res == ROUTH_UNSURE && roots_test(loop, alpha, beta, r, &top, &ok) == ROUTH_STABLE);
+        res = roots_test(loop, alpha, beta, r, &top, &ok);
     }
+    *within = res == ROUTH_STABLE;
     return ZW_OK;
 }

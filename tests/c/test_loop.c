@@ -323,6 +323,9 @@ static void test_check_errors(void **state)
         within = true;                                                                           \
         EXPECT_STATUS(zw_loop_radius_within((l), (a), (b), R(1.0), &within), (want));             \
         assert_false(within);                                                                    \
+        within = true;                                                                           \
+        EXPECT_STATUS(zw_loop_is_stable((l), (a), (b), &within), (want));                         \
+        assert_false(within);                                                                    \
         rho = R(0.0);                                                                            \
         EXPECT_STATUS(zw_loop_spectral_radius((l), (a), (b), &rho, &theta), (want));              \
         assert_true(rho == (zw_real)INFINITY);                                                   \
@@ -336,6 +339,7 @@ static void test_check_errors(void **state)
     CHECK_FAILS(&garbage, R(0.1), R(0.1), ZW_ERR_ARG);
 #undef CHECK_FAILS
     EXPECT_STATUS(zw_loop_check(loop, R(0.1), R(0.1), NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_is_stable(loop, R(0.1), R(0.1), NULL), ZW_ERR_NULL);
     EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), R(1.0), NULL), ZW_ERR_NULL);
     EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), R(0.0), &within), ZW_ERR_ARG);
     assert_false(within);
@@ -377,6 +381,11 @@ static void test_ideal_matches_closed_form(void **state)
                 b = (zw_real)((double)(seed >> 8) / 16777216.0) * (x.beta_mmax + ds[k] + R(0.5)) - ds[k] - R(0.25);
                 EXPECT_OK(zw_check(&c, a, b, &ref));
                 EXPECT_OK(zw_loop_check(loop, a, b, &v));
+                {
+                    bool fast = !v.stable;
+                    EXPECT_OK(zw_loop_is_stable(loop, a, b, &fast));
+                    assert_true(fast == v.stable); /* the fast path: the same verdict */
+                }
                 if (ref.marginal || v.marginal) {
                     marginal++;
                     assert_false(v.stable && !ref.stable && !ref.marginal);
@@ -439,6 +448,8 @@ static void test_verdicts_against_roots(void **state)
                 EXPECT_TRUE_MSG(v.stable == (ref < 1.0L), "spec %zu delta %g a %.9g b %.9g: rho %.12Lg, verdict %d",
                                 k, (double)ds[j], (double)a, (double)b, ref, v.stable);
                 assert_true(within == v.stable);
+                EXPECT_OK(zw_loop_is_stable(loop, a, b, &within));
+                assert_true(within == (ref < 1.0L)); /* the fast path, against the roots */
                 EXPECT_REL(rho, ref, PREC(1e-9, 3e-3));
                 {   /* |z| < r for other radii: never claimed when rho >= r, and not vacuous */
                     static const zw_real rs[] = {R(0.8), R(0.95), R(1.25)};

@@ -257,6 +257,7 @@ class ZW:
             "zw_loop_init": (c_int, [P(L), P(C), P(self.LoopSpec)]),
             "zw_loop_poly": (c_int, [P(L), R, R, P(R), P(ctypes.c_uint)]),
             "zw_loop_check": (c_int, [P(L), R, R, P(self.LoopVerdict)]),
+            "zw_loop_is_stable": (c_int, [P(L), R, R, P(c_bool)]),
             "zw_loop_radius_within": (c_int, [P(L), R, R, R, P(c_bool)]),
             "zw_loop_spectral_radius": (c_int, [P(L), R, R, P(R), P(R)]),
         }
@@ -417,6 +418,11 @@ class ZW:
             st[i] = fn(pl, a, b, pv)
             stab[i], marg[i], dec[i], th[i] = v.stable, v.marginal, v.deciding, v.theta
         return st, stab, marg, dec, th
+
+    def loop_is_stable(self, lp, alpha, beta):
+        """(status, bool): the fast path, zw_loop_is_stable."""
+        s = c_bool(True)
+        return self.loop_fn["zw_loop_is_stable"](byref(lp), alpha, beta, byref(s)), s.value
 
     def loop_radius_within(self, lp, alpha, beta, r):
         w = c_bool(True)

@@ -163,8 +163,9 @@ def test_poly_is_affine_sum_of_parts(zw):
 
 # Stated false-unstable band, in ulps of the stepped gain, by precision and loop degree
 # (measured maxima of the ZW_LOOP_FULL sweep, rounded up to the next power of ten; beyond
-# it a stable point is never called unstable).  The Routh array decides most points; near
-# the boundary the root-inclusion test takes over, whose band is the roots' own condition
+# it a stable point is never called unstable).  The Routh array and the Schur-Cohn recursion
+# decide most points (the band did not widen on any case of the full sweep when the latter was
+# added, and narrowed on six); near the boundary the root-inclusion test takes over, whose band is the roots' own condition
 # times the degree.  High degrees in float are the weak case: a moving average over many
 # samples puts ~n roots near |z| = alpha^(1/n), and their product of distances makes the
 # inclusion disks wide.
@@ -260,6 +261,7 @@ def sweep(zw, delta, spec, rng, count):
                 truth = label(parts, n, *pt)
                 st, v = zw.loop_check(lp, *pt)
                 assert st == 0
+                assert zw.loop_is_stable(lp, *pt) == (0, v.stable)  # the fast path agrees
                 total += 1
                 if v.stable and not truth:
                     false_stable.append(pt)

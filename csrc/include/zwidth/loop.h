@@ -143,7 +143,9 @@ typedef struct zw_loop_verdict {
 
 /* Guarded verdict of the general loop (always the general path; the ideal loop's closed
  * form is zw_check).  How: a Routh test with running error bounds on the bilinear parts
- * decides most points; where it cannot tell, an a-posteriori root-inclusion test
+ * and a Schur-Cohn test with running error bounds on the z coefficients (the latter first
+ * from degree 13: it keeps its bound on the roots a delay line and a moving average put
+ * near z = 0) decide most points; where neither can tell, an a-posteriori root-inclusion test
  * (Braess-Hadeler disks around Aberth roots, p evaluated from its factors) proves "every
  * root inside" or "one root surely outside"; otherwise marginal.  Stable only if proved;
  * a stable point is called unstable only within the band below, and then marginal = true.
@@ -155,14 +157,23 @@ typedef struct zw_loop_verdict {
  * deciding: z = 1 if alpha is not surely > 0, else z = -1 if p(-1) has the wrong sign
  * (or cannot be told), else where the root of largest modulus is (real: +-1; a pair
  * within ~sqrt(u) of the real axis counts as real).
- * Cost: a few hundred ns for points the Routh test settles; the root test and the
+ * Cost (host, double, bench/loop): 0.1-0.3 us for points the Routh / Schur-Cohn tests
+ * settle up to degree 11, ~1.5 us at degree 18, ~10 us at 26; the root test and the
  * deciding root of an unstable point cost an Aberth run (tens of us at degree 10,
- * hundreds at 26: bench/loop).  Stack (worst chain, bench/loop/stack_chain.py): Routh path
- * ~440 B on Cortex-M4F float; with the root test ~950 B (M4F float), ~1.5 KB (x86-64 double).
+ * hundreds at 26); zw_loop_is_stable skips the latter.  Stack (worst chain,
+ * tools/footprint.sh, Cortex-M4F float): Routh path ~520 B, Schur-Cohn path ~440 B; with
+ * the root test 720 B (M0 ~780 B, x86-64 double ~1.2 KB): over the issue's 512 B
+ * (docs/footprint.md lists it as over target, not gated).
  * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an uninitialized loop).  On
  * error *out = {stable = false, marginal = false, NONE, 0}. */
 zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta,
                         zw_loop_verdict *out);
+
+/* The verdict alone (*stable as zw_loop_check's .stable, for every input): the Routh test,
+ * then the root-inclusion test only where Routh cannot tell; never the Aberth run that
+ * zw_loop_check spends on the deciding boundary of a not-stable point.  The call for a
+ * control loop's "is this gain safe?".  Errors as zw_loop_check; *stable = false on error. */
+zw_status zw_loop_is_stable(const zw_loop *loop, zw_real alpha, zw_real beta, bool *stable);
 
 /* "Every root has |z| < r" with the same guard (never true when rho >= r); r finite > 0.
  * Routh on (1 - s)^n p(r (1 + s)/(1 - s)) formed from the z coefficients (wider band than

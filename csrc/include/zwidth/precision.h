@@ -52,6 +52,7 @@
 #define zw_loop_carry_gain_rounding zw_loop_carry_gain_rounding_f
 #define zw_loop_poly zw_loop_poly_f
 #define zw_loop_check zw_loop_check_f
+#define zw_loop_is_stable zw_loop_is_stable_f
 #define zw_loop_radius_within zw_loop_radius_within_f
 #define zw_loop_spectral_radius zw_loop_spectral_radius_f
 /* loop_limits.h */
