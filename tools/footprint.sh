@@ -13,8 +13,8 @@
 #                          arm-none-eabi-size prints as "text") or "text" (code only)
 #   FOOTPRINT_STACK_LIMIT  worst call-chain stack of any public function of the paper's
 #                          ideal core (every module but the general loop's), bytes (256)
-#   FOOTPRINT_LOOP_STACK_LIMIT  the same for the general loop's modules (loop, loop_limits:
-#                          issue 12's target at the maximum degree), bytes (512)
+#   FOOTPRINT_LOOP_STACK_LIMIT  the same for the general loop's modules (loop, loop_limits,
+#                          device_loop: issue 12's target at the maximum degree), bytes (512)
 # Public functions of those modules that do not meet their target yet are named in
 # STACK_NOT_GATED below: reported as "over target, not gated" (and the gate fails if one
 # of them comes under its target, so the list cannot go stale).
@@ -101,11 +101,14 @@ TEXT_METRIC=${FOOTPRINT_TEXT_METRIC:-text+rodata}
 STACK_LIMIT=${FOOTPRINT_STACK_LIMIT:-256}
 LOOP_STACK_LIMIT=${FOOTPRINT_LOOP_STACK_LIMIT:-512}
 # module:limit pairs; modules not named here have STACK_LIMIT
-MODULE_STACK_LIMITS="loop:$LOOP_STACK_LIMIT loop_limits:$LOOP_STACK_LIMIT"
+MODULE_STACK_LIMITS="loop:$LOOP_STACK_LIMIT loop_limits:$LOOP_STACK_LIMIT device_loop:$LOOP_STACK_LIMIT"
 # Over their module's target on the Cortex-M4F float build (all through the root-inclusion
 # test's chain: its 26 complex roots, the Aberth sweep and the factored evaluation of p;
 # see docs/footprint.md): reported, not gated.  Remove a name once it meets the target.
-STACK_NOT_GATED="zw_loop_alpha_max zw_loop_beta_interval zw_loop_beta_intervals zw_loop_check zw_loop_extremes_compute zw_loop_is_stable zw_loop_radius_within zw_loop_spectral_radius"
+# The register map's request handler, init and write reach that chain too, when the
+# certified block describes a non-ideal loop (map v2): the static call graph cannot tell
+# the ideal-loop path (within 256 B before map v2) from it.
+STACK_NOT_GATED="zw_loop_alpha_max zw_loop_beta_interval zw_loop_beta_intervals zw_loop_check zw_loop_extremes_compute zw_loop_is_stable zw_loop_radius_within zw_loop_spectral_radius zw_device_loop_b_range zw_device_loop_check zw_device_loop_extremes_compute zw_device_loop_k_max zw_device_loop_radius_within zw_device_loop_spectral_radius zw_regmap_handle_pdu zw_regmap_init zw_regmap_write"
 for n in "$TEXT_LIMIT" "$STACK_LIMIT" "$LOOP_STACK_LIMIT"; do
     case "$n" in
     '' | *[!0-9]*)
@@ -625,8 +628,8 @@ awk -F'\t' \
         }
         for (i = 1; i <= ng; i++) {
             t = G[i]
-            printf "| worst call-chain stack of any %s, %s, libraries excluded | %d | %d (%s) | %s |\n", (t == "m0" ? "check or extremes function (status, coeffs, region, extremes)" : "public function of the ideal core (every module but loop, loop_limits)"), tn[t], stack_limit, worst[t], worstf[t], (over[t] == "" ? "pass" : "**FAIL**: " over[t])
-            if (t == "m4f") printf "| worst call-chain stack of any gated public function of the general loop (loop, loop_limits), %s, libraries excluded | %d | %d (%s) | %s |\n", tn[t], loop_limit, lworst[t], lworstf[t], (over[t] == "" ? "pass" : "see above")
+            printf "| worst call-chain stack of any %s, %s, libraries excluded | %d | %d (%s) | %s |\n", (t == "m0" ? "check or extremes function (status, coeffs, region, extremes)" : "public function of the ideal core (every module but loop, loop_limits, device_loop)"), tn[t], stack_limit, worst[t], worstf[t], (over[t] == "" ? "pass" : "**FAIL**: " over[t])
+            if (t == "m4f") printf "| worst call-chain stack of any gated public function of the general loop (loop, loop_limits, device_loop), %s, libraries excluded | %d | %d (%s) | %s |\n", tn[t], loop_limit, lworst[t], lworstf[t], (over[t] == "" ? "pass" : "see above")
         }
         print ""
         print "Over target, not gated (`STACK_NOT_GATED` in tools/footprint.sh; each through the"
@@ -776,7 +779,7 @@ awk -F'\t' \
         print "function can reach.  Interrupt entry is not included either.  Functions marked"
         print "(internal) have external linkage but are declared only in csrc/src/internal.h; the"
         print "stack target applies to the public API of csrc/include/zwidth/ (limits in bold when over):"
-        print "" stack_limit " bytes for the ideal core, " loop_limit " bytes for the modules of the general loop (loop, loop_limits)."
+        print "" stack_limit " bytes for the ideal core, " loop_limit " bytes for the modules of the general loop (loop, loop_limits, device_loop)."
         print ""
         hdr = "| public function |"; sep = "|---|"
         for (i = 1; i <= nt; i++) { hdr = hdr " " tn[T[i]] " |"; sep = sep "---:|" }

@@ -57,7 +57,8 @@ zw_status zw_loop_lowpass_pole(zw_real f_c, zw_real T, zw_real *a)
     if ((st = zw_require_finite(f_c)) != ZW_OK) return st;
     if ((st = zw_require_finite(T)) != ZW_OK) return st;
     if (!(T > ZW_R(0.0))) return ZW_ERR_PERIOD;
-    /* f_c T >= 1/2 exactly iff fl(f_c T) >= 1/2 (rounding is monotone, 1/2 representable) */
+    /* f_c T >= 1/2 implies fl(f_c T) >= 1/2 (rounding is monotone, 1/2 representable), so a
+     * cut-off at or above Nyquist is always refused; one a rounding below it may be too */
     x = f_c * T;
     if (!(f_c > ZW_R(0.0)) || !(x < ZW_R(0.5))) return ZW_ERR_FILTER;
     x = ZW_EXP(-(ZW_R(2.0) * LOOP_PI) * x);
@@ -481,7 +482,7 @@ typedef float loop_err;
 static LOOP_HOT loop_err err_up(zw_real e)
 {
     float f;
-    if (!(e <= (zw_real)FLT_MAX)) return (float)INFINITY; /* also NaN: "cannot tell" */
+    if (!(e <= (zw_real)FLT_MAX)) return ZW_HUGE_VALF; /* also NaN: "cannot tell" */
     f = (float)e;
 #ifndef ZW_REAL_FLOAT
     /* rounded down: one float ulp up without a libm call.  For normal f, f (1 + 2^-23) is
@@ -1028,7 +1029,7 @@ static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta
     for (j = 0u; j < m; ++j)
         if (j != i) den *= c_abs(c_sub(z[i], z[j]));
     den *= ZW_R(1.0) - (ZW_R(8.0) * (zw_real)m + ZW_R(8.0)) * ZW_U;
-    if (!(den > ZW_REAL_MIN) || !ZW_IS_FINITE(num)) return (zw_real)INFINITY;
+    if (!(den > ZW_REAL_MIN) || !ZW_IS_FINITE(num)) return ZW_HUGE_VAL;
     return (zw_real)m * (num / den) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
 }
 
@@ -1093,7 +1094,7 @@ zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real be
     zw_status st;
     bool ok;
     cplx top;
-    if (rho != NULL) *rho = (zw_real)INFINITY;
+    if (rho != NULL) *rho = ZW_HUGE_VAL;
     if (theta != NULL) *theta = ZW_R(0.0);
     if (rho == NULL || theta == NULL) return ZW_ERR_NULL;
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
@@ -1111,14 +1112,6 @@ zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real be
 
 /* ---- verdicts ------------------------------------------------------------------------------ */
 
-static void verdict_fail_safe(zw_loop_verdict *out)
-{
-    out->stable = false;
-    out->marginal = false;
-    out->deciding = ZW_LOOP_BOUNDARY_NONE;
-    out->theta = ZW_R(0.0);
-}
-
 zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loop_verdict *out)
 {
     zw_status st;
@@ -1126,7 +1119,7 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
     cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
     bool ok = true;
     if (out == NULL) return ZW_ERR_NULL;
-    verdict_fail_safe(out);
+    zw_fail_loop_verdict(out);
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
     res = decide(loop, alpha, beta, &lead, &trail);
     if (res == ROUTH_STABLE) {

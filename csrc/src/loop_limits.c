@@ -684,9 +684,8 @@ zw_status zw_loop_beta_interval(const zw_loop *loop, zw_real alpha, zw_real *lo,
     zw_loop_beta_set set;
     zw_status st;
     unsigned i, best = 0u;
+    zw_fail_interval(lo, hi, nonempty); /* every non-NULL output certifies nothing */
     if (lo == NULL || hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
-    *lo = *hi = ZW_R(0.0);
-    *nonempty = false;
     st = zw_loop_beta_intervals(loop, alpha, &set);
     if (st != ZW_OK || set.count == 0u) return st;
     for (i = 1u; i < set.count; ++i)
@@ -875,8 +874,9 @@ zw_status zw_loop_boundary_point(const zw_loop *loop, zw_real theta, zw_real *al
     ll_cplx r0, s;
     zw_status st;
     zw_real b;
+    zw_fail_real(alpha, ZW_R(0.0));
+    zw_fail_real(beta, ZW_R(0.0));
     if (alpha == NULL || beta == NULL) return ZW_ERR_NULL;
-    *alpha = *beta = ZW_R(0.0);
     if ((st = plant_init(&p, loop)) != ZW_OK) return st;
     if ((st = zw_require_finite(theta)) != ZW_OK) return st;
     if (!(theta > ZW_R(0.0) && theta <= LL_PI_BELOW)) return ZW_ERR_ARG;
@@ -898,8 +898,10 @@ zw_status zw_loop_boundary_line(const zw_loop *loop, zw_loop_boundary which, zw_
     ll_plant p;
     zw_status st;
     zw_real rel;
+    zw_fail_real(c0, ZW_R(0.0));
+    zw_fail_real(ca, ZW_R(0.0));
+    zw_fail_real(cb, ZW_R(0.0));
     if (c0 == NULL || ca == NULL || cb == NULL) return ZW_ERR_NULL;
-    *c0 = *ca = *cb = ZW_R(0.0);
     if ((st = plant_init(&p, loop)) != ZW_OK) return st;
     switch (which) {
     case ZW_LOOP_BOUNDARY_Z_PLUS1:

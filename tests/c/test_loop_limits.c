@@ -290,7 +290,11 @@ static void test_errors_are_fail_safe(void **state)
     SENT(ne);
     EXPECT_STATUS(zw_loop_beta_interval(&loop, (zw_real)INFINITY, &lo, &hi, &ne), ZW_ERR_INF);
     assert_true(lo == R(0.0) && hi == R(0.0) && !ne);
+    /* with one output NULL the others are still written fail-safe */
+    lo = R(1.0);
+    ne = true;
     EXPECT_STATUS(zw_loop_beta_interval(&loop, R(1.0), &lo, NULL, &ne), ZW_ERR_NULL);
+    assert_true(lo == R(0.0) && !ne);
 
     SENT(x);
     EXPECT_STATUS(zw_loop_extremes_compute(&empty, &x), ZW_ERR_ARG);
@@ -304,14 +308,18 @@ static void test_errors_are_fail_safe(void **state)
     assert_true(a == R(0.0) && b == R(0.0));
     EXPECT_STATUS(zw_loop_boundary_point(&loop, R(3.5), &a, &b), ZW_ERR_ARG);
     EXPECT_STATUS(zw_loop_boundary_point(&loop, (zw_real)NAN, &a, &b), ZW_ERR_NAN);
+    b = R(1.0);
     EXPECT_STATUS(zw_loop_boundary_point(&loop, R(1.0), NULL, &b), ZW_ERR_NULL);
+    assert_true(b == R(0.0));
     SENT(c0);
     SENT(ca);
     SENT(cb);
     EXPECT_STATUS(zw_loop_boundary_line(&loop, ZW_LOOP_BOUNDARY_COMPLEX, &c0, &ca, &cb), ZW_ERR_ARG);
     assert_true(c0 == R(0.0) && ca == R(0.0) && cb == R(0.0));
     EXPECT_STATUS(zw_loop_boundary_line(&empty, ZW_LOOP_BOUNDARY_Z_MINUS1, &c0, &ca, &cb), ZW_ERR_ARG);
+    ca = cb = R(1.0);
     EXPECT_STATUS(zw_loop_boundary_line(&loop, ZW_LOOP_BOUNDARY_Z_MINUS1, NULL, &ca, &cb), ZW_ERR_NULL);
+    assert_true(ca == R(0.0) && cb == R(0.0));
 #undef SENT
 }
 
