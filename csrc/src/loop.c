@@ -15,16 +15,6 @@
 
 #include "internal.h"
 
-#ifdef ZW_REAL_FLOAT
-#define LOOP_ATAN2 atan2f
-#define LOOP_COS cosf
-#define LOOP_SIN sinf
-#else
-#define LOOP_ATAN2 atan2
-#define LOOP_COS cos
-#define LOOP_SIN sin
-#endif
-
 /* Keeps a helper out of line so that the frames along the root test's call chain stay
  * small and are not merged into one large frame (the stack target of tools/footprint.sh,
  * as regmap.c does).  Only a hint: nothing depends on it for correctness. */
@@ -925,7 +915,7 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
     if (!(r0 > ZW_R(0.0)) || !ZW_IS_FINITE(r0)) r0 = ZW_R(1.0);
     for (i = 0u; i < m; ++i) {
         zw_real ang = ZW_R(2.0) * LOOP_PI * (zw_real)i / (zw_real)m + ZW_R(0.7);
-        z[i] = c_make(r0 * LOOP_COS(ang), r0 * LOOP_SIN(ang));
+        z[i] = c_make(r0 * ZW_COS(ang), r0 * ZW_SIN(ang));
     }
     /* pass 0 on the expanded coefficients (cheap); with accurate, pass 1 polishes with p
      * from its factors, from that good start */
@@ -1085,7 +1075,7 @@ static zw_real root_angle(cplx z)
 {
     const zw_real tol = ZW_R(8.0) * ZW_SQRT(ZW_U);
     if (ZW_FABS(z.im) <= tol * c_abs(z)) return z.re >= ZW_R(0.0) ? ZW_R(0.0) : LOOP_PI;
-    return LOOP_ATAN2(ZW_FABS(z.im), z.re);
+    return ZW_ATAN2(ZW_FABS(z.im), z.re);
 }
 
 zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real beta,

@@ -14,13 +14,9 @@
 #include "internal.h"
 
 #ifdef ZW_REAL_FLOAT
-#define LL_SIN sinf
-#define LL_COS cosf
 #define LL_ITER 40u    /* bisection / golden-section steps: enough for float's 24 bits */
 #define LL_GEO 24u     /* geometric grid points towards 0 and pi */
 #else
-#define LL_SIN sin
-#define LL_COS cos
 #define LL_ITER 80u
 #define LL_GEO 44u
 #endif
@@ -145,15 +141,15 @@ static zw_status plant_init(ll_plant *p, const zw_loop *loop)
 static void response(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
 {
     const zw_loop_spec *sp = &p->loop->spec;
-    zw_real sh = LL_SIN(ZW_R(0.5) * theta), ch = LL_COS(ZW_R(0.5) * theta);
+    zw_real sh = ZW_SIN(ZW_R(0.5) * theta), ch = ZW_COS(ZW_R(0.5) * theta);
     zw_real sin_t = ZW_R(2.0) * sh * ch, vers = ZW_R(2.0) * sh * sh; /* sin, 1 - cos */
     ll_cplx ze, cz, rot, f;
     ze.re = p->one_minus_e - vers;
     ze.im = sin_t;
     cz.re = ZW_R(2.0) * ch * ch - p->r12;
     cz.im = sin_t;
-    rot.re = LL_COS(p->phase * theta);
-    rot.im = LL_SIN(p->phase * theta);
+    rot.re = ZW_COS(p->phase * theta);
+    rot.im = ZW_SIN(p->phase * theta);
     *r0 = cdiv(cmul(rot, ze), cz);
     r0->re *= -p->two_c1;
     r0->im *= -p->two_c1;
@@ -176,10 +172,10 @@ static void response(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
         *s = cmul(*s, f);
     } else if (sp->filter == ZW_VFILTER_AVERAGE) {
         zw_real n = (zw_real)sp->average;
-        zw_real dn = sh == ZW_R(0.0) ? ZW_R(1.0) : LL_SIN(ZW_R(0.5) * n * theta) / (n * sh);
+        zw_real dn = sh == ZW_R(0.0) ? ZW_R(1.0) : ZW_SIN(ZW_R(0.5) * n * theta) / (n * sh);
         zw_real ang = -ZW_R(0.5) * (n - ZW_R(1.0)) * theta;
-        f.re = dn * LL_COS(ang);
-        f.im = dn * LL_SIN(ang);
+        f.re = dn * ZW_COS(ang);
+        f.im = dn * ZW_SIN(ang);
         *s = cmul(*s, f);
     } else {
         /* backward or Tustin alone */
@@ -220,7 +216,7 @@ static void eval_point(const ll_scan *x, zw_real theta, ll_point *pt)
     response(x->p, theta, &r0, &s);
     a0 = cabs1(r0);
     as = cabs1(s);
-    two_sh = ZW_R(2.0) * LL_SIN(ZW_R(0.5) * theta);
+    two_sh = ZW_R(2.0) * ZW_SIN(ZW_R(0.5) * theta);
     pt->theta = theta;
     if (x->mode == LL_FIX_BETA) {
         zw_real b = x->fixed, mag = a0 + ZW_FABS(b) * as;
@@ -883,7 +879,7 @@ zw_status zw_loop_boundary_point(const zw_loop *loop, zw_real theta, zw_real *al
     response(&p, theta, &r0, &s);
     if (!(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) return ZW_ERR_DOMAIN;
     b = r0.re / s.re;
-    *alpha = -ZW_R(2.0) * LL_SIN(ZW_R(0.5) * theta) * (r0.im - b * s.im);
+    *alpha = -ZW_R(2.0) * ZW_SIN(ZW_R(0.5) * theta) * (r0.im - b * s.im);
     *beta = b;
     if (!ZW_IS_FINITE(*alpha) || !ZW_IS_FINITE(b)) {
         *alpha = *beta = ZW_R(0.0);

@@ -58,6 +58,9 @@ typedef float zw_real;
 #define ZW_FREXP frexpf
 #define ZW_FLOOR floorf
 #define ZW_POW powf
+#define ZW_SIN sinf
+#define ZW_COS cosf
+#define ZW_ATAN2 atan2f
 #define ZW_LDEXP ldexpf
 #define ZW_REAL_MAX FLT_MAX
 #define ZW_REAL_MIN FLT_MIN
@@ -81,6 +84,9 @@ typedef double zw_real;
 #define ZW_FREXP frexp
 #define ZW_FLOOR floor
 #define ZW_POW pow
+#define ZW_SIN sin
+#define ZW_COS cos
+#define ZW_ATAN2 atan2
 #define ZW_LDEXP ldexp
 #define ZW_REAL_MAX DBL_MAX
 #define ZW_REAL_MIN DBL_MIN
