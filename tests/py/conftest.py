@@ -163,7 +163,8 @@ def _loop_structs(real, Coeffs):
     class Loop(ctypes.Structure):
         _fields_ = ([("c", Coeffs), ("spec", LoopSpec), ("degree", ctypes.c_uint)]
                     + [(n, real * LOOP_N) for n in ("D", "D_err", "Na", "Na_err", "Nb", "Nb_err",
-                                                    "Ds", "Ds_err", "Nas", "Nas_err", "Nbs", "Nbs_err")])
+                                                    "Ds", "Ds_err", "Nas", "Nas_err", "Nbs", "Nbs_err")]
+                    + [("alpha_relerr", real), ("beta_relerr", real)])
 
     class LoopVerdict(ctypes.Structure):
         _fields_ = [("stable", c_bool), ("marginal", c_bool), ("deciding", c_int), ("theta", real)]
@@ -388,10 +389,21 @@ class ZW:
         return self.loop_fn["zw_loop_lowpass_pole"](f_c, T, byref(a)), a.value
 
     def loop(self, co, spec):
-        """(status, zw_loop) for coefficients co and a LoopSpec."""
+        """(status, zw_loop) for coefficients co and a LoopSpec.  The struct sits in front
+        of a guard area that must stay untouched: a mirror of zw_loop smaller than the C
+        struct (a field added to loop.h and not here) fails here instead of corrupting the
+        heap."""
+
+        class Guarded(ctypes.Structure):
+            _fields_ = [("loop", self.Loop), ("guard", ctypes.c_ubyte * 256)]
+
+        g = Guarded()
+        ctypes.memset(byref(g), SENTINEL, ctypes.sizeof(g))
+        st = self.loop_fn["zw_loop_init"](byref(g.loop), byref(co), byref(spec))
+        assert bytes(g.guard) == bytes([SENTINEL]) * 256, "zw_loop is larger than its ctypes mirror"
         lp = self.Loop()
-        ctypes.memset(byref(lp), SENTINEL, ctypes.sizeof(lp))
-        return self.loop_fn["zw_loop_init"](byref(lp), byref(co), byref(spec)), lp
+        ctypes.memmove(byref(lp), byref(g.loop), ctypes.sizeof(lp))
+        return st, lp
 
     def loop_poly(self, lp, alpha, beta):
         p = (self.real * LOOP_N)()
