@@ -159,7 +159,7 @@ def mcu_counts(quick: bool) -> Dict[str, Dict[str, float]]:
                ["-I" + os.path.join(ROOT, "csrc", "include"), "-I" + mcu.MCU_DIR,
                 "-nostartfiles", "-specs=nano.specs", "-specs=nosys.specs", "-Wl,--gc-sections",
                 "-T", os.path.join(mcu.MCU_DIR, "mps2_an386.ld"),
-                os.path.join(mcu.MCU_DIR, "startup.c"), os.path.join(mcu.MCU_DIR, "mcu_loop.c"), data]
+                os.path.join(mcu.MCU_DIR, "startup.c"), os.path.join(mcu.MCU_DIR, "mcu_loop.c"), os.path.join(mcu.MCU_DIR, "counting.c"), data]
                + [os.path.join(ROOT, "csrc", "src", f"{m}.c") for m in ("status", "coeffs", "loop")]
                + ["-lm", "-o", elf])
         subprocess.run(cmd, check=True, capture_output=True, text=True)
@@ -169,23 +169,8 @@ def mcu_counts(quick: bool) -> Dict[str, Dict[str, float]]:
                                  "-semihosting-config", "enable=on,target=native", "-singlestep",
                                  "-d", "exec,nochain", "-D", fifo, "-kernel", elf],
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        segments: List[int] = []
-        count, started, in_marker = 0, False, False
         with open(fifo, encoding="ascii", errors="replace") as fh:
-            for line in fh:
-                if not line.startswith("Trace "):
-                    continue
-                sym = line.rsplit("]", 1)[-1].strip()
-                if sym == "report_marker":
-                    if not in_marker:
-                        if started:
-                            segments.append(count)
-                        started, count = True, 0
-                    in_marker = True
-                    continue
-                in_marker = False
-                if started and sym not in mcu.DRIVER_SYMBOLS:
-                    count += 1
+            segments = mcu.count_segments(fh)
         out = proc.communicate(timeout=600)[0]
         if "count done" not in out or "mismatch" in out:
             raise RuntimeError(f"MCU loop run failed: {out[-400:]}")

@@ -30,7 +30,7 @@ import re
 import shutil
 import struct
 import subprocess
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -146,7 +146,7 @@ def build(work: str, mode: str) -> Tuple[str, str]:
            "-I" + os.path.join(ROOT, "csrc", "include"), "-I" + MCU_DIR,
            "-nostartfiles", "-specs=nano.specs", "-specs=nosys.specs", "-Wl,--gc-sections",
            "-T", os.path.join(MCU_DIR, "mps2_an386.ld"),
-           os.path.join(MCU_DIR, "startup.c"), os.path.join(MCU_DIR, "mcu_main.c"),
+           os.path.join(MCU_DIR, "startup.c"), os.path.join(MCU_DIR, "mcu_main.c"), os.path.join(MCU_DIR, "counting.c"),
            os.path.join(work, "mcu_data.c")]
            + [os.path.join(ROOT, "csrc", "src", f"{m}.c") for m in CORE] + ["-lm", "-o", elf])
     proc = subprocess.run(cmd, capture_output=True, text=True)
@@ -184,29 +184,37 @@ def run_accuracy(elf: str) -> Dict[str, Any]:
     return {"points": pts, "deltas": dls}
 
 
+def count_segments(trace: Iterable[str]) -> List[int]:
+    """Instructions executed between consecutive entries of report_marker, from a QEMU
+    "-d exec,nochain" trace (lines "Trace ... [...] symbol"); the driver's own symbols
+    (DRIVER_SYMBOLS) are not counted."""
+    segments: List[int] = []
+    count, started, in_marker = 0, False, False
+    for line in trace:
+        if not line.startswith("Trace "):
+            continue
+        sym = line.rsplit("]", 1)[-1].strip()
+        if sym == "report_marker":
+            # Only the first instruction of the marker starts a segment (the marker body is
+            # one or two instructions, all with this symbol).
+            if not in_marker:
+                if started:
+                    segments.append(count)
+                started, count = True, 0
+            in_marker = True
+            continue
+        in_marker = False
+        if started and sym not in DRIVER_SYMBOLS:
+            count += 1
+    return segments
+
+
 def run_count(elf: str, work: str) -> Dict[str, Any]:
     """Executed instructions per call (list per function) and the calibration count."""
     log = os.path.join(work, "trace.log")
     _qemu(elf, ["-singlestep", "-d", "exec,nochain", "-D", log], timeout=600)
-    segments: List[int] = []
-    count, started, in_marker = 0, False, False
     with open(log, encoding="ascii", errors="replace") as fh:
-        for line in fh:
-            if not line.startswith("Trace "):
-                continue
-            sym = line.rsplit("]", 1)[-1].strip()
-            if sym == "report_marker":
-                # Only the first instruction of the marker starts a segment (the marker body is
-                # one or two instructions, all with this symbol).
-                if not in_marker:
-                    if started:
-                        segments.append(count)
-                    started, count = True, 0
-                in_marker = True
-                continue
-            in_marker = False
-            if started and sym not in DRIVER_SYMBOLS:
-                count += 1
+        segments = count_segments(fh)
     os.remove(log)
     # Segments: five calls per point, then the calibration.
     *calls, calib = segments

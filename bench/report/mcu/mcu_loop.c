@@ -8,42 +8,13 @@
  */
 #include <stdint.h>
 
+#include "counting.h"
 #include "semihost.h"
 #include "zwidth/zwidth.h"
 
 extern const unsigned long mcu_loop_n_rows;
 extern const unsigned mcu_loop_spec[][5]; /* delay, differentiator, filter, average, new loop */
 extern const zw_real mcu_loop_gains[][4]; /* delta, alpha, beta, low-pass pole */
-
-__attribute__((noinline)) void report_marker(void);
-void report_marker(void)
-{
-    __asm__ volatile("" ::: "memory");
-}
-
-__attribute__((naked, noinline)) void report_calib_leaf(void);
-void report_calib_leaf(void)
-{
-    __asm__ volatile("bx lr\n");
-}
-
-/* exactly 605 instructions (mcu_main.c) */
-__attribute__((naked, noinline)) void report_calibration(void);
-void report_calibration(void)
-{
-    __asm__ volatile(
-        "push {r4, lr}\n\t"
-        "movs r4, #100\n"
-        "1:\n\t"
-        "cmp r0, r0\n\t"
-        "ite eq\n\t"
-        "moveq r1, #1\n\t"
-        "movne r1, #2\n\t"
-        "subs r4, #1\n\t"
-        "bne 1b\n\t"
-        "bl report_calib_leaf\n\t"
-        "pop {r4, pc}\n");
-}
 
 static volatile uint32_t g_sink;
 static zw_loop g_loop; /* large: static, as a drive keeps it */
