@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -53,6 +54,10 @@ struct IntKey {
     const char *name;
     int *(*field)(zw_sim_scene &);
 };
+// substeps is int_least32_t (enforceable on a 16-bit-int target); on every host the
+// bindings build for it is int, which the table below relies on.
+static_assert(std::is_same<decltype(zw_sim_scene::substeps), int>::value,
+              "zw_sim_scene::substeps is not int here: give it its own accessor");
 
 const IntKey kIntKeys[] = {
     {"delay_samples", [](zw_sim_scene &s) { return &s.delay_samples; }},
