@@ -16,7 +16,7 @@
 # Python: a virtualenv in .venv with tools/requirements-test.txt; the zwidth package itself
 # is installed by tools/test.sh (pip install .).
 # First run on a fresh Debian 12 machine: about 4 minutes (apt and pip downloads), then
-# about 2 s (probes only).
+# a few seconds (probes only).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
