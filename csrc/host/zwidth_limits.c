@@ -13,7 +13,7 @@
 static void usage(FILE *to)
 {
     fprintf(to,
-            "usage: zwidth-limits [--m M] [--b B] [--T T] [--K K --B_gain BV]\n"
+            "usage: zwidth-limits [--m M] [--b B] [--T T] [--delay D] [--K K --B_gain BV]\n"
             "\n"
             "Uncoupled stability limits of an impedance-controlled device: mass (or inertia)\n"
             "m behind a zero-order hold, physical damping b, sampling period T, rendering\n"
@@ -23,6 +23,10 @@ static void usage(FILE *to)
             "  --m M        mass [kg] or inertia J [kg m^2]  (default 85.78e-7)\n"
             "  --b B        physical damping [N s/m or N m s/rad] (default 2.197e-3)\n"
             "  --T T        sampling period [s] (default 0.02)\n"
+            "  --delay D    samples between reading x_k and applying its force, 0..8: the\n"
+            "               limits of that loop and the verdict of --K/--B_gain for it\n"
+            "               (default: the limits with 1, as firmware that computes during the\n"
+            "               period has, beside the paper's 0; the verdict for 0)\n"
             "  --K K        also check this stiffness [N/m or N m/rad] (default 0) ...\n"
             "  --B_gain BV  ... with this virtual damping [N s/m or N m s/rad] (default 0)\n"
             "\n"
@@ -58,6 +62,29 @@ static const char *bound_advice(zw_bound b)
     }
 }
 
+/* The same plant with a delay of d samples (device_loop.h): its certified limits, and how
+ * much of the ideal loop's largest stiffness it keeps.  Large: static storage. */
+static zw_device_loop g_delayed;
+
+static zw_status print_delayed(double m, double b, double T, unsigned d, double K_mmax_ideal)
+{
+    zw_device_loop_spec spec;
+    zw_device_loop_extremes y;
+    zw_status st;
+    memset(&spec, 0, sizeof spec);
+    spec.delay = d;
+    if ((st = zw_device_loop_init(&g_delayed, m, b, T, &spec)) != ZW_OK ||
+        (st = zw_device_loop_extremes_compute(&g_delayed, &y)) != ZW_OK)
+        return st;
+    printf("\nLimits with a delay of %u sample%s (certified, D-decomposition; loop.h)\n", d,
+           d == 1 ? "" : "s");
+    printf("  K_mmax   = %.6g at B = %.6g: %.2f %% of the ideal loop's\n", y.K_mmax,
+           y.B_at_K_mmax, 100.0 * y.K_mmax / K_mmax_ideal);
+    printf("  K with B = 0 (proportional only): K < %.6g\n", y.K_p_max);
+    printf("  B range  : %.6g < B < %.6g (as K -> 0+)\n", y.B_mmin, y.B_mmax);
+    return ZW_OK;
+}
+
 static void print_advice(const zw_device *dev, const zw_influence *inf)
 {
     printf("\nInfluence (paper Section IV)\n");
@@ -86,8 +113,9 @@ static void print_advice(const zw_device *dev, const zw_influence *inf)
 
 int main(int argc, char **argv)
 {
-    double m = 85.78e-7, b = 2.197e-3, T = 0.02, K = 0.0, B = 0.0;
-    int have_pair = 0, i;
+    double m = 85.78e-7, b = 2.197e-3, T = 0.02, K = 0.0, B = 0.0, delay = 1.0;
+    int have_pair = 0, have_delay = 0, i;
+    unsigned d;
     zw_device dev;
     zw_device_extremes x;
     zw_influence inf;
@@ -103,6 +131,7 @@ int main(int argc, char **argv)
         if (strcmp(arg, "--m") == 0 || strcmp(arg, "--J") == 0) target = &m;
         else if (strcmp(arg, "--b") == 0) target = &b;
         else if (strcmp(arg, "--T") == 0) target = &T;
+        else if (strcmp(arg, "--delay") == 0) { target = &delay; have_delay = 1; }
         else if (strcmp(arg, "--K") == 0) { target = &K; have_pair = 1; }
         else if (strcmp(arg, "--B_gain") == 0) { target = &B; have_pair = 1; }
         if (target == NULL || i + 1 >= argc) {
@@ -113,6 +142,12 @@ int main(int argc, char **argv)
         }
         if (!parse_real(arg, argv[++i], target)) return 2;
     }
+    if (!(delay >= 0.0 && delay <= (double)ZW_LOOP_MAX_DELAY && delay == (double)(unsigned)delay)) {
+        fprintf(stderr, "zwidth-limits: --delay expects a whole number of samples 0..%u, got %g\n",
+                ZW_LOOP_MAX_DELAY, delay);
+        return 2;
+    }
+    d = (unsigned)delay;
 
     if ((st = zw_device_init(&dev, m, b, T)) != ZW_OK ||
         (st = zw_device_extremes_compute(&dev, &x)) != ZW_OK ||
@@ -134,8 +169,29 @@ int main(int argc, char **argv)
             printf("  legacy region (no line) would claim K_mmax = %.6g at B = %.6g: unsafe\n",
                    a1 * dev.k_scale, b1 * dev.b_scale);
     }
+    if (d > 0u && (st = print_delayed(m, b, T, d, x.K_mmax)) != ZW_OK) {
+        fprintf(stderr, "zwidth-limits: limits with a delay of %u: %s\n", d, zw_status_name(st));
+        return 2;
+    }
     print_advice(&dev, &inf);
 
+    if (have_pair && have_delay && d > 0u) { /* the verdict for the loop the drive runs */
+        zw_loop_verdict v;
+        if ((st = zw_device_loop_check(&g_delayed, K, B, &v)) != ZW_OK) {
+            fprintf(stderr, "zwidth-limits: cannot check K=%g, B=%g: %s\n", K, B, zw_status_name(st));
+            return 2;
+        }
+        printf("\nGains K = %.6g, B = %.6g with a delay of %u: %s%s\n", K, B, d,
+               v.stable ? "STABLE" : "UNSTABLE", v.marginal ? ", within rounding of the boundary" : "");
+        if (!v.stable && v.deciding == ZW_LOOP_BOUNDARY_COMPLEX)
+            printf("  - a complex pair of poles leaves the unit circle: oscillation at %.6g Hz\n",
+                   (double)v.theta / (2.0 * 3.14159265358979323846 * T));
+        else if (!v.stable && v.deciding == ZW_LOOP_BOUNDARY_Z_MINUS1)
+            printf("  - a pole leaves the unit circle at z = -1: oscillation at Nyquist\n");
+        else if (!v.stable && v.deciding == ZW_LOOP_BOUNDARY_Z_PLUS1)
+            printf("  - a pole leaves the unit circle at z = 1: K <= 0\n");
+        return v.stable ? 0 : 1;
+    }
     if (have_pair) {
         zw_verdict v;
         zw_real rho;
