@@ -8,5 +8,9 @@
 
 void report_marker(void);
 void report_calibration(void);
+/* The end of every counted run: the calibration between two markers, acc kept alive (so
+ * the measured calls are not optimized away), "count done" on the semihosting console.
+ * Its own instructions are the driver's (mcu.DRIVER_SYMBOLS), not counted. */
+void report_count_done(unsigned long acc);
 
 #endif /* ZW_REPORT_COUNTING_H */
