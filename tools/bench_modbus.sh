@@ -23,7 +23,7 @@ while [ $# -gt 0 ]; do
     case "$1" in
         --n) N=${2:?--n needs a number}; shift 2 ;;
         --n=*) N=${1#--n=}; shift ;;
-        -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
+        -h|--help) awk 'NR > 1 && /^# Environment/ { exit } NR > 1 && /^#/ && !/SPDX-/' "$0"; exit 0 ;;
         *) echo "bench_modbus.sh: unknown option $1" >&2; exit 2 ;;
     esac
 done

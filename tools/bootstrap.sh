@@ -25,7 +25,7 @@ case "${1:-}" in
     "") ;;
     --check) mode=check ;;
     --demo) mode=demo ;;
-    -h|--help) sed -n '2,/^[^#]/{/^#/p}' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,/^[^#]/{/^#/p}' "$0" | grep -v 'SPDX-' | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bootstrap.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
 esac
 
@@ -142,7 +142,7 @@ if [ ! -x .venv/bin/python ]; then
     echo "bootstrap: creating .venv" >&2
     python3 -m venv .venv
 fi
-if ! .venv/bin/python -c 'import mpmath, numpy, pytest, pymodbus, hypothesis, mypy, matplotlib, scipy, control, pybind11, scikit_build_core, pint, tqdm' >/dev/null 2>&1; then
+if ! .venv/bin/python -c 'import mpmath, numpy, pytest, pymodbus, hypothesis, mypy, matplotlib, scipy, control, pybind11, scikit_build_core, pint, tqdm, reuse, build, twine' >/dev/null 2>&1; then
     echo "bootstrap: installing Python test requirements into .venv" >&2
     .venv/bin/python -m pip install -q --disable-pip-version-check -r tools/requirements-test.txt
 fi

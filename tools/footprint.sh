@@ -86,7 +86,7 @@ for arg in "$@"; do
         ;;
     --keep) KEEP=1 ;;
     -h | --help)
-        sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'
+        awk 'NR > 1 && /^# Exit status/ { exit } NR > 1 && /^#/ && !/SPDX-/' "$0" | sed 's/^# \{0,1\}//'
         exit 0
         ;;
     *)
