@@ -24,7 +24,7 @@ REUSE=${REUSE:-$( [ -x .venv/bin/reuse ] && echo .venv/bin/reuse || echo reuse )
 PY=${PYTHON:-$( [ -x .venv/bin/python ] && echo .venv/bin/python || echo python3 )}
 
 if [ "${1:-}" != --check ]; then
-    untagged=$("$REUSE" lint --json | "$PY" -c '
+    untagged=$({ "$REUSE" lint --json || true; } | "$PY" -c '
 import json, sys
 bad = json.load(sys.stdin)["non_compliant"]
 print("\n".join(sorted(set(bad["missing_licensing_info"]) | set(bad["missing_copyright_info"]))))')
