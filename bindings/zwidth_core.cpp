@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 // zwidth._core: the C core (double precision) on numpy arrays.
 //
 // Every kernel takes float64 arrays, broadcasts them like a numpy ufunc (stride 0 along

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 // zwidth._core.Simulator, sim_judge, SIM_EFFECTS: the scene simulation of sim.h on numpy.
 //
 // The scene arrives as a flat dict mirroring zw_sim_scene (hand_mass for hand.mass, ...);

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # Use from another project (docs/firmware.md):
 #   find_package(zwidth 0.1 CONFIG REQUIRED)
 #   target_link_libraries(app PRIVATE zwidth::core)     # double

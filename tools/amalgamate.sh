@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # One-file copy of the firmware core for projects that vendor sources: writes
 # OUT/zwidth.h (every firmware header) and OUT/zwidth.c (every firmware module), generated
 # from csrc/ (never edit or commit them; docs/firmware.md).  Modules: those of

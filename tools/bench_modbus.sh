@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # Cost of certification on the Modbus path: latency and rate of a gain write (K and B in one
 # write-multiple request, alternating between two accepted pairs) against zwidth-drive and
 # against a plain libmodbus server that validates nothing (bench/modbus/).

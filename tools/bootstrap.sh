@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # Install what zwidth needs on a Debian machine (idempotent; quiet when all is there).
 #
 # Each step of tools/test.sh needs a capability, not a command: "clang is on the PATH"

@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # The float build must export every function as zw_name_f (csrc/include/zwidth/precision.h)
 # so that an object built for one precision cannot link against the other library.
 #   1. every global symbol defined in the float libraries ends in _f,

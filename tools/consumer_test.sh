@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # Use zwidth from another project, as docs/firmware.md describes: install the build tree
 # into a temporary prefix (then move it, to prove the installed files are relocatable), and
 # build tests/consumer/ (a C and a C++ program) against it

@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # The main job: build zwidth and print the stability limits and advice for a drive
 # (the paper's experimental drive unless options are given; see --help).
 set -euo pipefail

@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # Which sources and which C library / libm functions each firmware use of zwidth needs
 # (the tables of docs/firmware.md).  For each use a tiny main calling its functions is
 # linked for a Cortex-M4F (float build, -Os, nano.specs, --gc-sections) against an archive

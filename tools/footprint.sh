@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # tools/footprint.sh - flash and stack footprint of the zwidth firmware core on Cortex-M.
 #
 # Usage:  bash tools/footprint.sh [--no-write | --check] [--keep]

@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # zw_selftest on a Cortex-M4F under QEMU (mps2-an386): the float core's start-up check run
 # on the target's own FPU and newlib libm, for the build modes an integrator may use.
 #   c99       the project's flags (footprint.sh): expect ZW_OK; FZ and RZ refused

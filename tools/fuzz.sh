@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # Fuzz the Modbus request handler zw_regmap_handle_pdu with libFuzzer (tests/fuzz/).
 #
 #   tools/fuzz.sh [SECONDS]        run for SECONDS (default 30), then print the summary

@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # The Modbus demo: a simulated drive on 127.0.0.1, tuned by zwidth-tune.  A pair inside
 # the certified limits is accepted; one outside is refused with a reason, and reading back
 # shows the old gains.  Port: $ZW_DEMO_PORT (default 1502).

@@ -1,4 +1,8 @@
 #!/usr/bin/env bash
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # Every test: C unit tests (double and float) plain and under ASan/UBSan, the MCU
 # footprint targets, the Python package (pip install ., mypy and stubtest, pytest: the
 # bindings bit for bit against the C core, hypothesis properties, the CLI and the plots),

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Benchmark of the general loop's guarded check (issue 12), not a test.
 
 For loops of degree 3..26: the C check (zw_loop_check) and its boolean fast path

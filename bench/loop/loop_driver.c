@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Timing and callgrind driver for zw_loop_check (bench/loop/bench_loop.py builds and runs
  * it).  Usage: loop_driver delta delay diff(0/1) filter(0/1/2) pole average n_points
  * alpha_hi beta_lo beta_hi [fast]  (fast: zw_loop_is_stable instead of zw_loop_check).  Prints "ns_per_call stable_fraction marginal_fraction ns_per_stable_call". */

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Worst call-chain stack of each public zw_loop_* function from gcc's -fcallgraph-info=su
 (.ci) output: frames summed along every path of the static call graph (as tools/footprint.sh
 does for the core; calls into libm/libgcc count as 0 here).  Usage: stack_chain.py FILE.ci"""

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* bench_modbus.c - round-trip latency and rate of a gain write over Modbus TCP.
  *
  * One gain write = K and B (two binary32, high word first) in ONE write-multiple request

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* bench_plain_server.c - the baseline for bench_modbus: a plain libmodbus TCP server.
  *
  * modbus_mapping_new + modbus_reply, nothing else: every holding register 0x0000 ..

@@ -1,4 +1,8 @@
 #!/usr/bin/env python3
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Points per second: zwidth's stability check and k_max against what a control engineer
 would otherwise write, all measured in one run on the same points.
 

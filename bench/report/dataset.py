@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The report's point set, its high-precision reference, and the scoring of a method.
 
 Everything here is deterministic (fixed seeds) and evaluated on exact binary inputs.  The

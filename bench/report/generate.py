@@ -1,4 +1,8 @@
 #!/usr/bin/env python3
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """What accuracy costs in time: one report across every method, precision and target.
 
 Runs everything in one go on the machine at hand and writes bench/REPORT.md (and prints

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The general loop (loop.h, issue 12) in the report: methods against accuracy and time,
 per degree.  The measurements are bench/loop/bench_loop.py's (one implementation): the C
 check (zw_loop_check) and its boolean fast path (zw_loop_is_stable) timed by its driver and

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The MCU view of the report: flash and stack from tools/footprint.sh, executed
 instructions and the float results on an emulated Cortex-M4F (QEMU mps2-an386).
 

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* bench_sim.c - cost per sample of zw_sim_run: the bare linear loop, each effect alone,
  * all effects together, and a minimal hand-written loop of the same linear recurrence.
  *

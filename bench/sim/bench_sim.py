@@ -1,4 +1,8 @@
 #!/usr/bin/env python3
+
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Samples per second of zwidth's scene simulation against what a control engineer would
 otherwise write, and accuracy against time of its integrator, measured in one run.
 

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zw_mbhost.c - helpers shared by zwidth-drive and zwidth-tune (see zw_mbhost.h). */
 #include "zw_mbhost.h"
 

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zw_mbhost.h - helpers shared by the Modbus host programs zwidth-drive and zwidth-tune:
  * number parsing, the certified-block options, the CRC of RTU frames, exception names.
  * Host only (stdio, POSIX); the firmware core never sees this.

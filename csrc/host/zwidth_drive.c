@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth-drive: a Modbus server (TCP or RTU) for one drive's gain register map.
  *
  * Every request PDU goes to zw_regmap_handle_pdu (the firmware's own handler), which

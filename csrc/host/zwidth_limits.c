@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth-limits: stability limits and advice for one drive, from the C core.
  *
  * Without arguments it reports on the paper's experimental drive (load motor short-

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth-tune: read the state of a zwidth drive and write its gains over Modbus.
  *
  *   zwidth-tune status                 mode, sealed, plant, policy, gains, live limits, ...

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* The exact-region check over many gain pairs of one plant (zwidth/batch.h).
  *
  * Validation first, so that the loop proper has no early exits; the loop evaluates every

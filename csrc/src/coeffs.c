@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Coefficient functions c1, c2, d12 of paper eqs (3), (4), accurate for every delta.
  *
  * Below ZW_SERIES_LIMIT they are evaluated as e^-delta times power series whose terms are

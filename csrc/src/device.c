@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Real units, paper Section IV: delta = b T / m, alpha = K T^2 / m, beta = B T / m. */
 #include "zwidth/device.h"
 

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* The loop a drive runs, in real units: device.h's conversions, loop.h's checks and
  * loop_limits.h's limits, with the conversions' rounding carried explicitly.
  *

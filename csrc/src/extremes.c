@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Achievable extremes in the normalized space, paper eqs (19)-(32).  Every formula is
  * rearranged so that nothing cancels where it is used and nothing overflows before the
  * result does:

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Private to the core: running error bounds and the shared input checks.
  *
  * A zw_eb carries a value and a bound on its absolute error against the exact result of

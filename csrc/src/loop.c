@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* The loop a real drive runs (loop.h): delay, velocity filters, Tustin.
  *
  * The characteristic polynomial p = D + alpha Na + beta Nb is built once per plant as a

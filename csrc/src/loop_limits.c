@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Limits of the general loop by D-decomposition (loop_limits.h has the maths).
  *
  * Everything is a search for crossings of a straight line (beta fixed, alpha fixed, or

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Closed-loop poles: spectral radius by root finding, and "rho < r" by the Jury
  * conditions on p(r z) under a running error bound. */
 #include "zwidth/margin.h"

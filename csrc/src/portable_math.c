@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Portable C99 fallbacks for expm1 and nextafterf (zwidth/portable_math.h). */
 #include "zwidth/portable_math.h"
 

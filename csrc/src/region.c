@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Stability verdicts, paper eqs (10), (14)-(18), each guarded by an error bound.
  *
  * Exact region in division-free forms (x = beta + delta > 0, sigma a power of two):

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* The drive-side gain register map, zwidth/regmap.h.
  *
  * Every request goes through the same steps: the whole address range is checked (mapped,

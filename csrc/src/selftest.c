@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zw_selftest: check, on the running target and with this build's zw_real, the arithmetic
  * properties the error bounds rely on (docs/fp-environment.md).
  *

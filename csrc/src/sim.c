@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* sim.c - the sampled impedance loop of paper Fig. 13 with the effects a scene asks for.
  *
  * Two loops: run_linear for the ideal loop (no effect flag: the exact step and the

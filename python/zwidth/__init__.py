@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zwidth: the exact stability region of impedance-controlled haptic devices and drives.
 
 A drive renders a virtual stiffness K and damping B on a mass m with physical damping b,

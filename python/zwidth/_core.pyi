@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 # Type stub of the compiled kernels (bindings/zwidth_core.cpp).  Every kernel broadcasts
 # its float64 inputs and returns {"outputs": {name: array}, "status": int8 array,
 # "errors": number of elements whose status is not ZW_OK}.

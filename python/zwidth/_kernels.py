@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Calling the C kernels of zwidth._core: broadcasting, error policy and scalar results.
 
 Every public function of zwidth goes through :func:`call`.  The kernels return, besides

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The ``zwidth`` command: check gains, print limits and advice, draw figures.
 
 Every number printed comes from zwidth's functions (the C core); this module parses,

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Real units: a plant (m, b, T) and gains (K, B), paper Section IV.
 
     delta = b T / m,   alpha = K T^2 / m,   beta = B T / m

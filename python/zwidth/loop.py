@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The loop a real drive runs: computation delay, velocity filter, differentiator (loop.h).
 
 The paper's loop applies F_k = -(K x_k + B v_k) at once with v_k the backward difference.

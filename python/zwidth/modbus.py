@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Client for the zwidth drive-side gain register map, for Python tuning scripts.
 
 A drive running zwidth serves the register map of ``csrc/include/zwidth/regmap.h`` over

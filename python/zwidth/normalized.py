@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The normalized space: delta = b T/m, alpha = K T^2/m, beta = B T/m (paper Sections II, III).
 
 Every function broadcasts its array arguments like a numpy ufunc (float64 in; results of

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Figures of the stability region and its extremes (matplotlib, optional extra "plot").
 
     region(delta)        the region in the (beta, alpha) plane, paper Figs. 3-5, 18

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Named results of zwidth's functions.
 
 Each result is a frozen dataclass whose fields are numpy scalars (scalar inputs) or arrays

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Scenes: what to simulate, read from TOML files with units (docs/scenes.md).
 
 A scene is one plant (mass m, or inertia J for a rotary device), a controller, the

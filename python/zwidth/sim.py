@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Time-domain simulation of scenes (paper Fig. 13): :func:`simulate`.
 
 Each case of a scene (:mod:`zwidth.scene`) runs in the C core (sim.h) through

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Batch verdicts (zwidth/batch.h): zw_check_many and zw_device_check_many against the
  * per-call zw_check and zw_device_check, bit for bit, over large sweeps that put points on
  * and a few ulps either side of every boundary of the exact region, at the hard deltas

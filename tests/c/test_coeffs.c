@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zw_coeffs_init: the coefficient functions c1, c2, d12 of paper eqs (3), (4) and the
  * derived fields, their limits, identities, accuracy and error handling; and that the
  * core keeps no global state (reentrancy). */

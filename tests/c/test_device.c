@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Real units (paper Section IV, V): the paper's worked example to its printed digits,
  * the influence of m, b, T on K_mmax and B_mmax (Table 1, Fig. 21), every error path of
  * zw_device_init, and that real-unit verdicts agree with the normalized ones. */

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* test_device_loop.c - the drive's loop in real units (device_loop.h).
  *
  * Reference: the characteristic polynomial of the loop built in long double from the exact

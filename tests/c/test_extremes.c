@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Achievable extremes in the normalized space (paper Section III, eqs (19)-(32)): the
  * limits delta -> 0 and delta -> inf, the branch switch at delta1, the sign change at
  * delta2, the critical constants against their defining equations, and that every

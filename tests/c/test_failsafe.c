@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Fail-safe outputs (status.h): a caller that ignores the status never reads "stable".
  *
  * For every public function of coeffs.h, region.h, margin.h, extremes.h, device.h and

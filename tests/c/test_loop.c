@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* The general loop (loop.h): delay, low-pass, moving average, Tustin.  References here are
  * the note's closed formula (shared/notes/general-loop.md) and the paper's cubic, written
  * out in long double from zwt_reference; the independent state-space construction at 50

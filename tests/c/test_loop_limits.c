@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* test_loop_limits.c - limits of the general loop (loop_limits.h).
  *
  * The ideal loop (zero spec) through the general path against the closed forms of

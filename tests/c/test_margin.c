@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Closed-loop poles: the characteristic polynomial (7), (8), the spectral radius on cases
  * whose roots are known in closed form, and the Jury test "every pole inside |z| < r". */
 #include "zw_test.h"

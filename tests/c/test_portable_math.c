@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* The ZW_PORTABLE_MATH fallbacks against the host's libm and long double references:
  * zw_expm1_portable within ZW_EXPM1_PORTABLE_ULPS ulps of expm1l over the whole range,
  * zw_nextafterf_portable bit for bit equal to nextafterf.  They are built into every core,

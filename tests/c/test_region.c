@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Stability verdicts in the normalized space: the exact region (10), the legacy region,
  * the special regions (14)-(18), the deciding constraint, input errors, and a sweep that
  * the verdict never calls a point stable whose closed-loop poles leave the unit circle. */

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* The drive-side register map (zwidth/regmap.h): every register and its access rights, every
  * refusal path with its exception code and reason, atomicity (after any refusal every
  * register but the three refusal registers reads back as before, and the struct itself is

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* The register map across contexts, on two threads under ThreadSanitizer (regmap.h,
  * threading model).
  *

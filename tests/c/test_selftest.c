@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zw_selftest: passes on the host's IEEE arithmetic, and fails, naming the property, when
  * the environment is changed under it: directed rounding, flush-to-zero, denormals-are-zero.
  * The builds that contract or assume finite maths are tested by test_selftest_variant.c. */

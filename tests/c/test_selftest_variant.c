@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zw_selftest compiled the way an integrator might compile it, and linked to this main:
  * it must report ZW_ERR_FPENV with the property ZWT_EXPECT_BIT named.  CMake builds it
  * (tests/c/CMakeLists.txt) with

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* Scene simulation (zwidth/sim.h): each effect on its own against a hand-computed case, the
  * exact step against the closed-form ZOH solution, the RK4 path against the exact one,
  * resumable runs, the verdict criterion, every error path of zw_sim_init, and a linear

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zw_status_name: every status has its own stable name, anything else is "ZW_UNKNOWN". */
 #include "zw_test.h"
 

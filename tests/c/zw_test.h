@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zw_test.h - shared helpers for the zwidth C unit tests (cmocka).
  *
  * Every test file is compiled twice: against zwidth_d (zw_real = double) and against

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* A program of another project using the installed zwidth (tools/consumer_test.sh builds
  * it with find_package(zwidth) and with pkg-config, for double and float).  Expected
  * values: the 50-digit mpmath reference of tests/py/reference.py (closed forms from the

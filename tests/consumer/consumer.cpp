@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 // The C++ side of tests/consumer/consumer.c: the public headers from C++ (extern "C"),
 // the same checks (expected values: see consumer.c).
 #include <cmath>

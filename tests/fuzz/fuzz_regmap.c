@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* fuzz_regmap.c - libFuzzer harness for zw_regmap_handle_pdu (build and run: tools/fuzz.sh).
  *
  *   clang -fsanitize=fuzzer,address,undefined -I csrc/include tests/fuzz/fuzz_regmap.c \

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Commissioning end to end: unlock, block, CRC, seal, and the refusals on the way."""
 from __future__ import annotations
 

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zwidth-tune commission against a second client, and lost connections in the middle of
 commissioning: a Modbus TCP proxy between zwidth-tune and the drive acts at a chosen
 request (deterministic, no timing)."""

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zwidth-drive: --host validation (libmodbus listens on INADDR_ANY for any address text
 starting with '0') and RTU frame spacing (t3.5 after a frame for another slave)."""
 from __future__ import annotations

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zwidth-limits (the main job, tools/demo.sh): the ideal loop's limits and those with a
 delay, the verdict of a gain pair for the loop the drive runs, and its exit statuses."""
 import re

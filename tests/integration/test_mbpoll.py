@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Interoperability with a Modbus client nobody here wrote: Debian's mbpoll (Modbus TCP)."""
 from __future__ import annotations
 

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Raw Modbus TCP against zwidth-drive: exceptions for bad requests, framing the server must
 survive (unknown function codes, inconsistent lengths, half frames, vanished clients,
 garbage), and several clients writing and reading at once."""

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Modbus RTU over a pseudo-terminal pair made by socat: zwidth-tune, raw frames (CRC,
 other slaves, broadcasts, garbage) and mbpoll."""
 from __future__ import annotations

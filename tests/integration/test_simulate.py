@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zwidth-drive --simulate: the plant under the active gains, seen through the state
 registers."""
 from __future__ import annotations

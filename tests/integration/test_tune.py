@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zwidth-tune against zwidth-drive over Modbus TCP: status, verdicts, exit statuses."""
 from __future__ import annotations
 

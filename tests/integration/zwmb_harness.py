@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Harness of the Modbus integration tests: start zwidth-drive, run zwidth-tune, talk raw
 Modbus TCP.  The test modules import the fixtures from here (there is no conftest.py, so
 that this suite and tests/py, whose modules import their own conftest, can run in one

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* tests/mcu/fpenv_main.c - zw_selftest on a Cortex-M4F (QEMU mps2-an386), under the
  * FPSCR modes an integrator may leave set: default (round to nearest, gradual underflow),
  * flush-to-zero (FPSCR.FZ) and round toward zero (FPSCR.RMode = RZ).  Prints one line per

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Fixtures for the zwidth.modbus tests.
 
 Run from the repository root, with the package installed (tools/test.sh runs pip install .):

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Shared constants and helpers of tests/modbus_py (a module with a unique name, so that
 it never collides with another directory's conftest)."""
 from __future__ import annotations

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zwidth.modbus without a server: float and counter encoding, CRC-16/MODBUS, the tables
 restated from regmap.h (checked against the header), argument errors."""
 from __future__ import annotations

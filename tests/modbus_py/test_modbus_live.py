@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zwidth.modbus against a live zwidth-drive on a free 127.0.0.1 port, and pymodbus itself
 as a client that nobody here wrote (interoperability of the exception responses)."""
 from __future__ import annotations

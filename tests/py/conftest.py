@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """ctypes bindings of the zwidth shared libraries for the Python reference tests.
 
 The structs mirror csrc/include/zwidth/*.h field by field (zw_real is c_double in

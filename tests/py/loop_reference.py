@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Independent reference for the general loop (loop.h), in mpmath.
 
 Nothing here uses a transfer function.  The sampled loop is written as a time-domain

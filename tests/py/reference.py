@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Independent high-precision reference for the zwidth tests (mpmath, 60 significant digits).
 
 Nothing here copies the C implementation.  Every quantity comes from its *definition*

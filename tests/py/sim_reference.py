@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Independent references for the scene simulator (tests/py/test_sim_reference.py).
 
 Nothing here reuses the simulator's formulas.  The plant m x'' + b x' = F with F held

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The Python bindings (zwidth._core through zwidth.*) against the C core itself.
 
 * Bit-for-bit identity: for ~8000 normalized points and ~1500 real-unit points (hard

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Property tests of the Python API (hypothesis, derandomized: the same examples every run).
 
 What is independent of zwidth here:

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The ``zwidth`` command line, run as a user runs it: the installed entry point (next to
 sys.executable) in a subprocess.  Exit codes, --json schemas, numbers equal to the Python
 API's, error messages naming the option, and the help text.

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zw_coeffs_init against the 60-digit reference (coeffs.h).
 
 Proves: every field of zw_coeffs (e, c1, c2, d12, s, g and hs = (2/c2)/sigma) is within

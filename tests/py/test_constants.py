@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The critical constants of extremes.h, re-derived by root finding at 60 digits.
 
 Each constant is solved from its defining equation (reference.constants(): findroot on

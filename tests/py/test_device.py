@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Real units (device.h): the paper's worked examples, safety of real-unit verdicts against
 the exact real inputs, conversions, extremes, influence and error paths.
 

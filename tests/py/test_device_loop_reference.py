@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Real-unit limits of the drive's loop (device_loop.h through zwidth.Device) against the
 independent state-space reference of loop_reference.py at 80 digits.
 

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Achievable extremes (extremes.h) against the 60-digit reference.
 
 Reference: the paper's closed forms (19)-(32) evaluated at 60 digits (cross-checked here

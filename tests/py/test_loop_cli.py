@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The loop options of the command line: --delay, --velocity-filter, --differentiator.
 Run as a user runs them (the installed entry point); numbers equal to the Python API's."""
 from __future__ import annotations

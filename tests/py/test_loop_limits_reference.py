@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Limits of the general loop (loop_limits.h) against a 50-digit mpmath reference.
 
 Reference, built here from the loop's definition and nothing of the C code: the velocity

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The general loop from Python (zwidth.check/verdict/... with delay=, filter_pole=,
 average=, differentiator=, and Device(..., delay=, velocity_filter=, differentiator=)).
 

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The general loop (loop.h) against an independent mpmath reference (loop_reference.py).
 
 (a) The C parts D, Na, Nb (z and bilinear) against det(zI - A) of a time-domain

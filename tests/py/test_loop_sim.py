@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Simulation of scenes whose effects are linear (a delay, a velocity low-pass): the
 analytic verdict of the loop simulated sits next to the simulated one, they agree on
 random scenes away from the boundary, and the ideal loop's contrary verdict is a warning.

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zw_spectral_radius, zw_radius_within and zw_char_poly against the reference (margin.h).
 
 Reference: the roots of p(z) from mpmath.polyroots at 60 digits (with extra precision) on

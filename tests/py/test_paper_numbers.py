@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The paper's numbers (Wang et al., IEEE Access 12, 2024, Section V-B) through the Python API.
 
 Every theoretical number is computed by zwidth and checked against an independent

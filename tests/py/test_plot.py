@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zwidth.plot under the Agg backend: the artists each figure holds (curves drawn from the
 API's own numbers, marks, legend entries), PNG and SVG files that are valid and not blank,
 the install hint without matplotlib, and ``zwidth plot`` writing its file.

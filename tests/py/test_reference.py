@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Self-checks of the reference's binary-format helpers (reference.py).
 
 Proves that round_to is the correctly rounded (ties-to-even, gradual underflow, overflow to

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """zw_check and the other regions against the true verdict (region.h).
 
 The data set: >= 100k points (delta, alpha, beta) per precision, over ~330 deltas (0, tiny,

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """Scene files (zwidth.scene, docs/scenes.md): every bad scene gives one SceneError naming
 the file and the key; the loader reads files, text and dicts alike and round-trips through
 Scene.to_toml; units are converted to SI (checked against hand-computed factors); the

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """``zwidth simulate`` through its entry point (as test_cli.py runs the command): verdicts,
 exit codes, the --json schema, the CSV and NPZ files (bit for bit against the Python API),
 plots under the Agg backend, the progress bar; and the API behind it (simulate,

@@ -1,3 +1,6 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
 """The scene simulator (sim.h through zwidth._core.Simulator and zwidth.simulate) against
 independent references (sim_reference.py): the analytic zero-order-hold solution in
 mpmath at 50 digits, scipy's DOP853, and the roots of the characteristic polynomial.

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* bench/report/c/harness.c - the C side of the benchmark report (bench/report/generate.py).
  *
  * Built twice (bench/report/CMakeLists.txt): zwreport_d against the double core,

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* bench/report/mcu/counting.c - what the instruction counter of bench/report/mcu.py keys on,
  * shared by every counted image (mcu_main.c, mcu_loop.c). */
 #include "counting.h"

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* bench/report/mcu/counting.h - the counted images' markers (counting.c).
  *
  * report_marker(): called between the measured calls; mcu.count_segments splits QEMU's

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* bench/report/mcu/mcu_loop.c - the general loop's calls on QEMU mps2-an386, counted.
  *
  * Built by bench/report/loop_section.py like mcu_main.c (the flags of tools/footprint.sh,

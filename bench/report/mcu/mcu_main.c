@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* bench/report/mcu/mcu_main.c - the report's bare-metal program for QEMU mps2-an386.
  *
  * Built by bench/report/mcu.py with the flags of tools/footprint.sh (-Os, Cortex-M4F hard

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* bench/report/mcu/startup.c - reset handler, vector table and semihosting for the
  * report's bare-metal Cortex-M4F image on QEMU mps2-an386 (no vendor files: the image
  * needs only a stack, the FPU, .data and .bss). */

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/batch.h - the exact-region check over many gain pairs of one plant.
  *
  * stable[i] is exactly zw_check(...).stable (or zw_device_check(...).stable) of pair i,

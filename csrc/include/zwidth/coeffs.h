@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/coeffs.h - the coefficient functions of the sampled plant, paper eqs (3), (4).
  *
  * This is the only place the coefficient series live.  Computed once per plant (a drive

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/device_loop.h - the loop a drive runs (loop.h), in real units (device.h).
  *
  * Built from the plant (m, b, T) and the loop in real units: delay d, differentiator,

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/extremes.h - achievable impedance extremes in the normalized space,
  * paper Section III, eqs (19)-(32), and the critical constants.
  */

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/loop.h - the loop a real drive runs: delay, velocity filters, differentiators.
  *
  * The paper's loop applies F_k = -(K x_k + B v_k) at once, with v_k the backward

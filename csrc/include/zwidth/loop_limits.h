@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/loop_limits.h - limits of the general loop (loop.h) by D-decomposition.
  *
  * p(z) = D + alpha Na + beta Nb (loop.h).  A root crosses the unit circle only at z = 1,

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/margin.h - how stable: the closed-loop poles, paper eqs (7), (8).
  *
  *   p(z) = 2 z^3 + a1 z^2 + a2 z - c2 beta

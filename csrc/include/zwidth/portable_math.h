@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/portable_math.h - C99 fallbacks for library functions some embedded toolchains
  * lack (avr-libc 2.0: expm1f, nextafterf; older TI C2000 RTS libraries).
  *

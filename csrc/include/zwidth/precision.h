@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/precision.h - one link-time name per precision.
  *
  * The float build (-DZW_REAL_FLOAT) and the double build share one source, but their

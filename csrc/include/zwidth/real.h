@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/real.h - the one floating type of the core and its maths.
  *
  * Build with -DZW_REAL_FLOAT for float (MCUs with a single-precision FPU, TI C28x

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/region.h - stability verdicts in the normalized space (delta, alpha, beta).
  *
  * alpha = K T^2 / m (NVS), beta = B T / m (NVD).  The exact region, paper eq (10):

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/regmap.h - the drive-side gain register map and its certification policy.
  *
  * Portable C99 for the firmware (no libmodbus, no heap, no I/O; works with 16-bit chars

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/selftest.h - run-time check of the arithmetic the error bounds rely on.
  *
  * Every guard in zwidth (the running error bounds of region.c, margin.c, loop.c, ...)

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/sim.h - time-domain simulation of the sampled impedance loop (paper Fig. 13).
  *
  * Host side: never linked into firmware (it needs no heap or I/O either, but it is bigger

@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/status.h - status codes shared by every zwidth function.
  *
  * Every function returns a zw_status and writes its results through pointers.  Invalid

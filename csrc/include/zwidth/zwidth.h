@@ -1,3 +1,8 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
 /* zwidth/zwidth.h - the whole firmware core in one include. */
 #ifndef ZWIDTH_ZWIDTH_H
 #define ZWIDTH_ZWIDTH_H
