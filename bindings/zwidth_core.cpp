@@ -1041,6 +1041,8 @@ PYBIND11_MODULE(_core, mod) {
         "zwidth's C core (double precision) as broadcasting kernels.  Private: use the "
         "functions of the zwidth package, which name invalid parameters in their errors.";
 
+    mod.attr("VERSION") = ZW_VERSION_STRING;
+
     py::dict status_names;
     for (int s = ZW_OK; s <= ZW_STATUS_LAST; ++s) status_names[py::int_(s)] = zw_status_name(static_cast<zw_status>(s));
     mod.attr("STATUS_NAMES") = status_names;

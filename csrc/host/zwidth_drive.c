@@ -111,6 +111,7 @@ static void usage(FILE *to)
             "  -v, --verbose       also log connections and served requests (default: one\n"
             "                      line per refused request on stderr, nothing else)\n"
             "  -h, --help          this text\n"
+            "  --version           print the version of zwidth and exit\n"
             "\n"
             "Stops cleanly on SIGINT or SIGTERM.\n"
             "Exit status: 0 stopped by a signal, 1 run-time failure (cannot listen, cannot open\n"
@@ -836,6 +837,10 @@ int main(int argc, char **argv)
         if (r > 0) continue;
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
             usage(stdout);
+            return ZW_EXIT_OK;
+        }
+        if (strcmp(arg, "--version") == 0) {
+            printf(PROG " %s\n", ZW_VERSION_STRING);
             return ZW_EXIT_OK;
         }
         if (strcmp(arg, "-v") == 0 || strcmp(arg, "--verbose") == 0) { d.verbose = 1; continue; }

@@ -34,6 +34,7 @@ static void usage(FILE *to)
             "               period has, beside the paper's 0; the verdict for 0)\n"
             "  --K K        also check this stiffness [N/m or N m/rad] (default 0) ...\n"
             "  --B_gain BV  ... with this virtual damping [N s/m or N m s/rad] (default 0)\n"
+            "  --version    print the version of zwidth and exit\n"
             "\n"
             "Exit status: 0 ok (and the pair, if given, is stable), 1 the pair is unstable,\n"
             "2 bad arguments.\n");
@@ -131,6 +132,10 @@ int main(int argc, char **argv)
         double *target = NULL;
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
             usage(stdout);
+            return 0;
+        }
+        if (strcmp(arg, "--version") == 0) {
+            printf("zwidth-limits %s\n", ZW_VERSION_STRING);
             return 0;
         }
         if (strcmp(arg, "--m") == 0 || strcmp(arg, "--J") == 0) target = &m;

@@ -23,6 +23,7 @@
 #include <modbus.h>
 
 #include "zw_mbhost.h"
+#include "zwidth/version.h"
 
 #define PROG "zwidth-tune"
 
@@ -61,6 +62,7 @@ static void usage(FILE *to)
             "  --slave ID      RTU slave address 1..247 / TCP unit id 0..255 (default 1)\n"
             "  --timeout MS    response timeout (default 1000)\n"
             "  --json          machine-readable output (one JSON object on stdout)\n"
+            "  --version       print the version of zwidth and exit\n"
             "\n"
             "Exit status: 0 done (set: accepted; commission: sealed), 3 the drive refused\n"
             "(reason and exception printed), 2 bad arguments, connection or protocol error.\n");
@@ -506,6 +508,10 @@ int main(int argc, char **argv)
         int r;
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
             usage(stdout);
+            return ZW_EXIT_OK;
+        }
+        if (strcmp(arg, "--version") == 0) {
+            printf(PROG " %s\n", ZW_VERSION_STRING);
             return ZW_EXIT_OK;
         }
         if (arg[0] != '-') {

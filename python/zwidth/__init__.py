@@ -40,7 +40,8 @@ from .results import (BoundaryPoint, Coefficients, DeviceExtremes, DeviceLoopExt
 from .scene import Scene, SceneError, load_scene
 from .sim import Simulation, SimulationSet, SimVerdict, simulate
 
-__version__ = "0.1.0"
+#: The release (csrc/include/zwidth/version.h, as compiled into the core).
+__version__: str = _core.VERSION
 
 #: The critical normalized dampings and K_mmax ratios of the paper (from the C headers).
 CONSTANTS: Dict[str, float] = dict(_core.CONSTANTS)

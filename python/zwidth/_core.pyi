@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 from numpy.typing import ArrayLike
 
+VERSION: str
 STATUS_NAMES: Dict[int, str]
 REGIONS: Dict[str, int]
 BOUNDS: Dict[str, int]

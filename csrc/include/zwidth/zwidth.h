@@ -20,5 +20,6 @@
 #include "zwidth/regmap.h"
 #include "zwidth/selftest.h"
 #include "zwidth/status.h"
+#include "zwidth/version.h"
 
 #endif /* ZWIDTH_ZWIDTH_H */
