@@ -7,8 +7,9 @@
 # footprint targets, the Python package (pip install ., mypy and stubtest, pytest: the
 # bindings bit for bit against the C core, hypothesis properties, the CLI and the plots),
 # the high-precision reference tests against mpmath, the Modbus drive
-# over real sockets and a pseudo-terminal (zwidth-tune, the Python client, mbpoll), and a
-# bounded libFuzzer run on the request handler (ZW_FUZZ_SECONDS, default 30).
+# over real sockets and a pseudo-terminal (zwidth-tune, the Python client, mbpoll), a
+# bounded libFuzzer run on the request handler (ZW_FUZZ_SECONDS, default 30), and the
+# release checks (reuse lint, the firmware tarball on the Cortex-M4F, sdist and wheel).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/bootstrap.sh
@@ -79,3 +80,8 @@ ZW_BUILD_DIR="$PWD/build-asan" .venv/bin/python -m pytest tests/integration -q
 
 step "Python client zwidth.modbus against the drive, and pymodbus interop (pytest)"
 ZW_BUILD_DIR="$PWD/build" .venv/bin/python -m pytest tests/modbus_py -q
+
+step "release: every file tagged (reuse lint), the firmware source tarball built alone for the Cortex-M4F, sdist and wheel"
+tools/spdx.sh --check | tail -n 1
+tools/firmware_release.sh --check build/release
+tools/dist_check.sh build/dist
