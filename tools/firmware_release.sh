@@ -10,12 +10,14 @@
 #     csrc/include/zwidth/  the headers those modules and zwidth.h include, transitively
 #                      (not the host-only sim.h)
 #     amalgamation/    zwidth.c + zwidth.h, the same in one file (tools/amalgamate.sh)
-#     docs/firmware.md and the docs it links to, LICENSE, LICENSES/, CHANGELOG.md, README
+#     docs/firmware.md and the docs it links to, LICENSE, LICENSES/, CHANGELOG.md, README,
+#                      REUSE.toml (the archive is REUSE-compliant: an SBOM tool reads every
+#                      file's SPDX tags)
 # VERSION is that of csrc/include/zwidth/version.h.  The archive is reproducible: sorted
 # names, owner 0, every mtime that of the last commit.
 #
-# --check also unpacks the archive in an empty temporary directory and, from there only,
-# builds it for the Cortex-M4F with arm-none-eabi-gcc and newlib (float and double
+# --check also unpacks the archive in an empty temporary directory, runs reuse lint on it
+# and, from there only, builds it for the Cortex-M4F with arm-none-eabi-gcc and newlib (float and double
 # builds, and the amalgamation; -std=c99 -Os and the project's warnings as errors, flags
 # of docs/firmware.md), links every module into one image, and runs a small main under
 # QEMU (mps2-an386: zw_selftest, a stable and an unstable pair of the paper, extremes).
@@ -70,8 +72,9 @@ cp docs/firmware.md "$S/docs/"
 for d in $(grep -o '([a-z_-]*\.md)' docs/firmware.md | tr -d '()' | sort -u); do
     [ -f "docs/$d" ] && cp "docs/$d" "$S/docs/"
 done
-cp LICENSE CHANGELOG.md "$S/"
+cp LICENSE CHANGELOG.md REUSE.toml "$S/"
 cp LICENSES/*.txt "$S/LICENSES/"
+# REUSE-IgnoreStart (the README's tags, not this script's)
 cat >"$S/README" <<README
 SPDX-FileCopyrightText: 2026 The zwidth authors
 SPDX-License-Identifier: Apache-2.0
@@ -87,6 +90,7 @@ zw_selftest() once at start-up (docs/fp-environment.md).
 Modules: $(echo $MODULES | tr ' ' ',' | sed 's/,/, /g')
 License: Apache-2.0 (LICENSE).  Changes: CHANGELOG.md.
 README
+# REUSE-IgnoreEnd
 
 mkdir -p "$OUT"
 EPOCH=$(git log -1 --format=%ct 2>/dev/null || echo 0)
@@ -100,9 +104,12 @@ echo "firmware_release: wrote $ARCHIVE ($(stat -c %s "$ARCHIVE") bytes; $(echo $
 # ---- --check: build the archive alone, in an empty directory, for the Cortex-M4F ----
 C=$T/check
 MCU=$PWD/bench/report/mcu
+REUSE=${REUSE:-$( [ -x .venv/bin/reuse ] && echo "$PWD/.venv/bin/reuse" || echo reuse )}
 mkdir -p "$C"
 tar -xzf "$ARCHIVE" -C "$C"
 cd "$C/$NAME"
+"$REUSE" lint --lines >"$C/reuse.log" 2>&1 || { cat "$C/reuse.log"; fail "reuse lint of the archive"; }
+echo "firmware_release: reuse lint of the archive: every file carries its copyright and license"
 CC=arm-none-eabi-gcc
 M4F="-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard"
 CFLAGS="-std=c99 -Os -ffp-contract=off -fno-math-errno -ffunction-sections -fdata-sections -Wall -Wextra
