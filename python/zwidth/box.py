@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
 
 from . import _core
 from ._kernels import STATUS_NAMES, ZwidthError
@@ -72,7 +72,7 @@ def _as_range(name: str, value: RangeLike) -> PlantRange:
         return value
     if isinstance(value, (int, float)):
         return PlantRange(float(value), float(value))
-    items = [float(v) for v in value]  # type: ignore[union-attr]
+    items = [float(v) for v in value]
     if len(items) != 2:
         raise ValueError(f"zwidth.PlantBox: {name} must be a number or a pair (lo, hi), got {value!r}")
     return PlantRange(items[0], items[1])
@@ -176,11 +176,12 @@ class PlantBox:
 
     # ---- the C calls ------------------------------------------------------------------
 
-    def _call(self, kernel: Any, *gains: float, max_evals_override: Optional[int] = None) -> dict:
-        return kernel(self.m.lo, self.m.hi, self.b.lo, self.b.hi, self.T, *gains, self.capacity,
+    def _call(self, kernel: Any, *gains: float, max_evals_override: Optional[int] = None) -> Dict[str, Any]:
+        out: Dict[str, Any] = kernel(self.m.lo, self.m.hi, self.b.lo, self.b.hi, self.T, *gains, self.capacity,
                       self.max_evals if max_evals_override is None else max_evals_override, self.rel_tol)
+        return out
 
-    def _raise(self, out: dict, function: str, gains: dict) -> dict:
+    def _raise(self, out: Dict[str, Any], function: str, gains: Dict[str, float]) -> Dict[str, Any]:
         status = STATUS_NAMES.get(int(out["status"]), "ZW_UNKNOWN")
         if status == "ZW_OK":
             return out
@@ -207,7 +208,8 @@ class PlantBox:
             what = "capacity, max_evals or rel_tol out of range (rel_tol in [0, 1))"
         else:
             what = status
-        raise ZwidthError(f"zwidth.PlantBox.{function}: {what}", status, parameter, (), values)
+        where = "zwidth.PlantBox" if function == "PlantBox" else f"zwidth.PlantBox.{function}"
+        raise ZwidthError(f"{where}: {what}", status, parameter, (), values)
 
     # ---- public API -------------------------------------------------------------------
 
