@@ -12,7 +12,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-build/amalgamation}
 HEADERS="precision real status portable_math coeffs region margin extremes device batch selftest loop
-    loop_limits device_loop regmap"
+    loop_limits device_loop regmap box"
 MODULES=$(sed -n '/^set(ZW_CORE_SOURCES/,/)/s/.*csrc\/src\/\([a-z_]*\)\.c.*/\1/p' CMakeLists.txt)
 VERSION=$(sed -n 's/^project(zwidth VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
 REV=$(git describe --always --dirty 2>/dev/null || echo unknown)

@@ -19,7 +19,7 @@
  * nearest and then moved by widen_down / widen_up, which step by 4u|r| + ZW_REAL_MIN.
  * A correctly rounded r of an exact v has |r - v| <= u |r| (1 + 2u) + ZW_REAL_MIN / 2 (also
  * under gradual underflow), and the step's own roundings take away at most 1.1 u |r|, so
- * widen_down(r) <= v <= widen_up(r).  Overflow is excluded by the box's validation
+ * box_widen_down(r) <= v <= box_widen_up(r).  Overflow is excluded by the box's validation
  * (ZW_BOX_DELTA_MAX and corners accepted by zw_device_init) and checked at the end.
  */
 #include "zwidth/box.h"
@@ -41,40 +41,40 @@
 #define ZW_BOX_BISECT_STEPS 64
 #define ZW_BOX_GOLDEN_STEPS 80
 
-static zw_real widen_down(zw_real r)
+static zw_real box_widen_down(zw_real r)
 {
     return r - (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA);
 }
 
-static zw_real widen_up(zw_real r)
+static zw_real box_widen_up(zw_real r)
 {
     return r + (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA);
 }
 
 /* A coefficient field v (error <= ZW_COEF_ULPS ulps, or ZW_COEF_ABSERR if subnormal). */
-static zw_real coef_down(zw_real v)
+static zw_real box_coef_down(zw_real v)
 {
-    return widen_down(v - (ZW_BOX_COEF_REL * ZW_FABS(v) + ZW_COEF_ABSERR));
+    return box_widen_down(v - (ZW_BOX_COEF_REL * ZW_FABS(v) + ZW_COEF_ABSERR));
 }
 
-static zw_real coef_up(zw_real v)
+static zw_real box_coef_up(zw_real v)
 {
-    return widen_up(v + (ZW_BOX_COEF_REL * ZW_FABS(v) + ZW_COEF_ABSERR));
+    return box_widen_up(v + (ZW_BOX_COEF_REL * ZW_FABS(v) + ZW_COEF_ABSERR));
 }
 
-static zw_real min_real(zw_real a, zw_real b)
+static zw_real box_min_real(zw_real a, zw_real b)
 {
     return a < b ? a : b;
 }
 
-static zw_real max_real(zw_real a, zw_real b)
+static zw_real box_max_real(zw_real a, zw_real b)
 {
     return a > b ? a : b;
 }
 
 /* ---- validation ------------------------------------------------------------------- */
 
-static zw_status validate(const zw_plant_box *box)
+static zw_status box_validate(const zw_plant_box *box)
 {
     zw_device d;
     zw_real delta_hi;
@@ -94,17 +94,17 @@ static zw_status validate(const zw_plant_box *box)
     if (zw_device_init(&d, box->m_hi, box->b_hi, box->T) != ZW_OK) return ZW_ERR_RANGE;
     if (zw_device_init(&d, box->m_lo, box->b_hi, box->T) != ZW_OK) return ZW_ERR_RANGE;
     if (zw_device_init(&d, box->m_hi, box->b_lo, box->T) != ZW_OK) return ZW_ERR_RANGE;
-    delta_hi = widen_up(widen_up(box->b_hi * box->T) / box->m_lo);
+    delta_hi = box_widen_up(box_widen_up(box->b_hi * box->T) / box->m_lo);
     if (!(delta_hi <= ZW_BOX_DELTA_MAX)) return ZW_ERR_RANGE;
     return ZW_OK;
 }
 
 zw_status zw_box_validate(const zw_plant_box *box)
 {
-    return validate(box);
+    return box_validate(box);
 }
 
-static zw_status validate_work(const zw_box_work *work)
+static zw_status box_validate_work(const zw_box_work *work)
 {
     if (work == NULL || work->cells == NULL) return ZW_ERR_NULL;
     if (work->capacity < ZW_BOX_MIN_CELLS || work->max_evals < 1u ||
@@ -127,7 +127,7 @@ zw_status zw_box_work_init(zw_box_work *work, zw_box_cell *cells, uint_least32_t
 
 /* A gain that normalizes without overflow at every plant of the box (K / (m_lo/T^2) and
  * B / (m_lo / T) are the largest). */
-static zw_status validate_gain(const zw_plant_box *box, zw_real gain, bool stiffness)
+static zw_status box_validate_gain(const zw_plant_box *box, zw_real gain, bool stiffness)
 {
     zw_status st;
     zw_real scale;
@@ -141,46 +141,46 @@ static zw_status validate_gain(const zw_plant_box *box, zw_real gain, bool stiff
 /* ---- the enclosure ------------------------------------------------------------------ */
 
 /* Upper bound of d12 over [delta_lo, delta_hi] from its values at the ends. */
-static zw_real d12_upper(const zw_coeffs *lo, const zw_coeffs *hi)
+static zw_real box_d12_upper(const zw_coeffs *lo, const zw_coeffs *hi)
 {
-    if (hi->delta <= ZW_BOX_D12_PEAK_LO) return coef_up(hi->d12); /* rising */
-    if (lo->delta >= ZW_BOX_D12_PEAK_HI) return coef_up(lo->d12); /* falling */
+    if (hi->delta <= ZW_BOX_D12_PEAK_LO) return box_coef_up(hi->d12); /* rising */
+    if (lo->delta >= ZW_BOX_D12_PEAK_HI) return box_coef_up(lo->d12); /* falling */
     return ZW_BOX_D12_MAX_UP;
 }
 
 /* A lower bound of K_max(B; m, b) over the cell; ZW_ERR_RANGE if anything overflowed. */
-static zw_status cell_bound(zw_real T, zw_real B, zw_box_cell *cell)
+static zw_status box_cell_bound(zw_real T, zw_real B, zw_box_cell *cell)
 {
     zw_coeffs at_lo, at_hi;
     zw_status st;
     zw_real sum_lo, x_lo, delta_lo, delta_hi, k_lo, bt_hi, h_lo, g_hi, num, den, k_f, bound;
     zw_real d12_hi;
     cell->bound = ZW_R(0.0);
-    sum_lo = widen_down(B + cell->b_lo);
+    sum_lo = box_widen_down(B + cell->b_lo);
     if (!(sum_lo > ZW_R(0.0))) return ZW_OK; /* some plant has B + b <= 0: nothing stable */
-    x_lo = widen_down(widen_down(sum_lo * T) / cell->m_hi);
-    delta_lo = max_real(ZW_R(0.0), widen_down(widen_down(cell->b_lo * T) / cell->m_hi));
-    delta_hi = widen_up(widen_up(cell->b_hi * T) / cell->m_lo);
+    x_lo = box_widen_down(box_widen_down(sum_lo * T) / cell->m_hi);
+    delta_lo = box_max_real(ZW_R(0.0), box_widen_down(box_widen_down(cell->b_lo * T) / cell->m_hi));
+    delta_hi = box_widen_up(box_widen_up(cell->b_hi * T) / cell->m_lo);
     if ((st = zw_coeffs_init(&at_lo, delta_lo)) != ZW_OK) return st;
     if ((st = zw_coeffs_init(&at_hi, delta_hi)) != ZW_OK) return st;
-    k_lo = widen_down(widen_down(cell->m_lo / T) / T);
-    bt_hi = widen_up(B / T);
-    h_lo = coef_down(at_lo.hs * at_lo.sigma); /* sigma a power of two: the product is exact */
-    g_hi = coef_up(at_hi.g);
-    num = widen_down(widen_down(k_lo * h_lo) - bt_hi);
+    k_lo = box_widen_down(box_widen_down(cell->m_lo / T) / T);
+    bt_hi = box_widen_up(B / T);
+    h_lo = box_coef_down(at_lo.hs * at_lo.sigma); /* sigma a power of two: the product is exact */
+    g_hi = box_coef_up(at_hi.g);
+    num = box_widen_down(box_widen_down(k_lo * h_lo) - bt_hi);
     if (!(num > ZW_R(0.0)) || !(x_lo > ZW_R(0.0))) return ZW_OK;
-    den = widen_up(g_hi + widen_up(ZW_R(1.0) / x_lo));
-    k_f = widen_down(num / den);
+    den = box_widen_up(g_hi + box_widen_up(ZW_R(1.0) / x_lo));
+    k_f = box_widen_down(num / den);
     bound = k_f;
-    d12_hi = d12_upper(&at_lo, &at_hi);
+    d12_hi = box_d12_upper(&at_lo, &at_hi);
     if (d12_hi > ZW_R(0.0)) {
-        zw_real e_lo = max_real(ZW_R(0.0), coef_down(at_hi.e));
-        zw_real lambda_lo = widen_down(widen_down(ZW_R(2.0) * widen_down(ZW_R(1.0) + e_lo)) / d12_hi);
-        zw_real k_l = widen_down(ZW_R(2.0) * widen_down(widen_down(k_lo * lambda_lo) - bt_hi));
-        bound = min_real(bound, k_l);
+        zw_real e_lo = box_max_real(ZW_R(0.0), box_coef_down(at_hi.e));
+        zw_real lambda_lo = box_widen_down(box_widen_down(ZW_R(2.0) * box_widen_down(ZW_R(1.0) + e_lo)) / d12_hi);
+        zw_real k_l = box_widen_down(ZW_R(2.0) * box_widen_down(box_widen_down(k_lo * lambda_lo) - bt_hi));
+        bound = box_min_real(bound, k_l);
     }
     if (!ZW_IS_FINITE(bound)) return ZW_ERR_RANGE;
-    cell->bound = max_real(ZW_R(0.0), bound);
+    cell->bound = box_max_real(ZW_R(0.0), bound);
     return ZW_OK;
 }
 
@@ -209,7 +209,7 @@ typedef enum zw_box_outcome {
 } zw_box_outcome;
 
 /* K_max(B) at one plant: the point value behind the upper bound. */
-static zw_status point_value(zw_box_search *s, zw_real m, zw_real b)
+static zw_status box_point_value(zw_box_search *s, zw_real m, zw_real b)
 {
     zw_device d;
     zw_real k;
@@ -224,21 +224,21 @@ static zw_status point_value(zw_box_search *s, zw_real m, zw_real b)
     return ZW_OK;
 }
 
-static zw_real cell_m_mid(const zw_box_cell *c)
+static zw_real box_cell_m_mid(const zw_box_cell *c)
 {
     return c->m_lo + ZW_R(0.5) * (c->m_hi - c->m_lo);
 }
 
-static zw_real cell_b_mid(const zw_box_cell *c)
+static zw_real box_cell_b_mid(const zw_box_cell *c)
 {
     return c->b_lo + ZW_R(0.5) * (c->b_hi - c->b_lo);
 }
 
 /* Widths in the units K_max feels: m relative; b through delta = b T / m (absolute for
  * small delta, relative for large). */
-static bool split_cell(zw_real T, const zw_box_cell *c, zw_box_cell *left, zw_box_cell *right)
+static bool box_split_cell(zw_real T, const zw_box_cell *c, zw_box_cell *left, zw_box_cell *right)
 {
-    zw_real m_mid = cell_m_mid(c), b_mid = cell_b_mid(c);
+    zw_real m_mid = box_cell_m_mid(c), b_mid = box_cell_b_mid(c);
     zw_real wm = (c->m_hi - c->m_lo) / c->m_hi;
     zw_real wb = (c->b_hi - c->b_lo) / (b_mid + m_mid / T);
     bool can_m = m_mid > c->m_lo && m_mid < c->m_hi;
@@ -258,51 +258,82 @@ static bool split_cell(zw_real T, const zw_box_cell *c, zw_box_cell *left, zw_bo
     return false;
 }
 
-/* The least bound of any cell (live or dropped), and the live cell that has it. */
-static zw_real search_lower(const zw_box_search *s, uint_least32_t *argmin)
+/* The live cells form a binary min-heap on bound in work->cells[0 .. live): the cell with
+ * the least bound is cells[0], and a split costs O(log live). */
+static bool box_heap_less(const zw_box_cell *cells, uint_least32_t i, uint_least32_t j)
 {
-    uint_least32_t i;
-    zw_real least_live = ZW_INF;
-    *argmin = 0u;
+    return cells[i].bound < cells[j].bound;
+}
+
+static void box_heap_swap(zw_box_cell *cells, uint_least32_t i, uint_least32_t j)
+{
+    zw_box_cell t = cells[i];
+    cells[i] = cells[j];
+    cells[j] = t;
+}
+
+static void box_sift_up(zw_box_cell *cells, uint_least32_t i)
+{
+    while (i > 0u) {
+        uint_least32_t parent = (i - 1u) / 2u;
+        if (!box_heap_less(cells, i, parent)) break;
+        box_heap_swap(cells, i, parent);
+        i = parent;
+    }
+}
+
+static void box_sift_down(zw_box_cell *cells, uint_least32_t live, uint_least32_t i)
+{
+    for (;;) {
+        uint_least32_t least = i;
+        uint_least32_t left = 2u * i + 1u;
+        uint_least32_t right = left + 1u;
+        if (left < live && box_heap_less(cells, left, least)) least = left;
+        if (right < live && box_heap_less(cells, right, least)) least = right;
+        if (least == i) break;
+        box_heap_swap(cells, i, least);
+        i = least;
+    }
+}
+
+/* The least bound of any cell, live or dropped: the search's certified lower bound. */
+static zw_real box_search_lower(const zw_box_search *s)
+{
+    return s->live > 0u ? box_min_real(s->work->cells[0].bound, s->dropped_min) : s->dropped_min;
+}
+
+/* Drop the cells that cannot hold a value below the best plant found, then re-heap. */
+static void box_prune(zw_box_search *s)
+{
+    uint_least32_t i, kept = 0u;
     for (i = 0u; i < s->live; ++i) {
-        if (s->work->cells[i].bound < least_live) {
-            least_live = s->work->cells[i].bound;
-            *argmin = i;
-        }
-    }
-    return min_real(least_live, s->dropped_min);
-}
-
-/* Drop the cells that cannot hold a value below the best plant found. */
-static void prune(zw_box_search *s)
-{
-    uint_least32_t i = 0u;
-    while (i < s->live) {
-        zw_box_cell *c = &s->work->cells[i];
+        const zw_box_cell *c = &s->work->cells[i];
         if (c->bound >= s->upper) {
-            s->dropped_min = min_real(s->dropped_min, c->bound);
-            s->live -= 1u;
-            *c = s->work->cells[s->live];
+            s->dropped_min = box_min_real(s->dropped_min, c->bound);
         } else {
-            i += 1u;
+            s->work->cells[kept] = *c;
+            kept += 1u;
         }
     }
+    s->live = kept;
+    for (i = kept / 2u; i > 0u; --i) box_sift_down(s->work->cells, kept, i - 1u);
 }
 
-static zw_status add_cell(zw_box_search *s, const zw_box_cell *c)
+static zw_status box_add_cell(zw_box_search *s, const zw_box_cell *c)
 {
-    zw_status st = point_value(s, cell_m_mid(c), cell_b_mid(c));
+    zw_status st = box_point_value(s, box_cell_m_mid(c), box_cell_b_mid(c));
     if (st != ZW_OK) return st;
     if (c->bound >= s->upper) {
-        s->dropped_min = min_real(s->dropped_min, c->bound);
+        s->dropped_min = box_min_real(s->dropped_min, c->bound);
     } else {
         s->work->cells[s->live] = *c;
+        box_sift_up(s->work->cells, s->live);
         s->live += 1u;
     }
     return ZW_OK;
 }
 
-static zw_status search_init(zw_box_search *s, const zw_plant_box *box, const zw_box_work *work,
+static zw_status box_search_init(zw_box_search *s, const zw_plant_box *box, const zw_box_work *work,
                              zw_real B)
 {
     zw_box_cell root;
@@ -320,25 +351,24 @@ static zw_status search_init(zw_box_search *s, const zw_plant_box *box, const zw
     root.m_hi = box->m_hi;
     root.b_lo = box->b_lo;
     root.b_hi = box->b_hi;
-    if ((st = cell_bound(box->T, B, &root)) != ZW_OK) return st;
+    if ((st = box_cell_bound(box->T, B, &root)) != ZW_OK) return st;
     /* the corners first: where K_max is monotone, one of them is the worst plant */
-    if ((st = point_value(s, box->m_lo, box->b_lo)) != ZW_OK) return st;
-    if ((st = point_value(s, box->m_hi, box->b_lo)) != ZW_OK) return st;
-    if ((st = point_value(s, box->m_lo, box->b_hi)) != ZW_OK) return st;
-    if ((st = point_value(s, box->m_hi, box->b_hi)) != ZW_OK) return st;
-    return add_cell(s, &root);
+    if ((st = box_point_value(s, box->m_lo, box->b_lo)) != ZW_OK) return st;
+    if ((st = box_point_value(s, box->m_hi, box->b_lo)) != ZW_OK) return st;
+    if ((st = box_point_value(s, box->m_lo, box->b_hi)) != ZW_OK) return st;
+    if ((st = box_point_value(s, box->m_hi, box->b_hi)) != ZW_OK) return st;
+    return box_add_cell(s, &root);
 }
 
 /* Runs until the goal is met or the budget is spent; *lower is always a valid bound. */
-static zw_status search_run(zw_box_search *s, zw_box_goal goal, zw_real K, zw_box_outcome *outcome,
+static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K, zw_box_outcome *outcome,
                             zw_real *lower)
 {
     zw_status st;
-    uint_least32_t pick;
     *outcome = ZW_BOX_OPEN;
     for (;;) {
         zw_box_cell parent, left, right;
-        *lower = min_real(search_lower(s, &pick), s->upper);
+        *lower = box_min_real(box_search_lower(s), s->upper);
         if (goal == ZW_BOX_GOAL_DECIDE) {
             if (*lower > K) {
                 *outcome = ZW_BOX_CERTIFIED;
@@ -362,28 +392,29 @@ static zw_status search_run(zw_box_search *s, zw_box_goal goal, zw_real K, zw_bo
         }
         if (s->evals + 2u > s->work->max_evals) return ZW_OK;
         if (s->live + 1u > s->work->capacity) {
-            prune(s);
+            box_prune(s);
             if (s->live + 1u > s->work->capacity) return ZW_OK;
             continue;
         }
-        parent = s->work->cells[pick];
-        if (!split_cell(s->box->T, &parent, &left, &right)) return ZW_OK; /* cannot refine */
+        parent = s->work->cells[0];
+        if (!box_split_cell(s->box->T, &parent, &left, &right)) return ZW_OK; /* cannot refine */
         s->live -= 1u;
-        s->work->cells[pick] = s->work->cells[s->live];
-        if ((st = cell_bound(s->box->T, s->B, &left)) != ZW_OK) return st;
-        if ((st = cell_bound(s->box->T, s->B, &right)) != ZW_OK) return st;
+        s->work->cells[0] = s->work->cells[s->live];
+        box_sift_down(s->work->cells, s->live, 0u);
+        if ((st = box_cell_bound(s->box->T, s->B, &left)) != ZW_OK) return st;
+        if ((st = box_cell_bound(s->box->T, s->B, &right)) != ZW_OK) return st;
         s->evals += 2u;
         /* a child's bound is at least its parent's (a cell's enclosure contains its parts') */
-        left.bound = max_real(left.bound, parent.bound);
-        right.bound = max_real(right.bound, parent.bound);
-        if ((st = add_cell(s, &left)) != ZW_OK) return st;
-        if ((st = add_cell(s, &right)) != ZW_OK) return st;
+        left.bound = box_max_real(left.bound, parent.bound);
+        right.bound = box_max_real(right.bound, parent.bound);
+        if ((st = box_add_cell(s, &left)) != ZW_OK) return st;
+        if ((st = box_add_cell(s, &right)) != ZW_OK) return st;
     }
 }
 
 /* ---- public functions ----------------------------------------------------------------- */
 
-static void fail_bound(zw_box_bound *out)
+static void box_fail_bound(zw_box_bound *out)
 {
     if (out == NULL) return;
     out->K_lower = out->K_upper = ZW_R(0.0);
@@ -400,11 +431,11 @@ static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work
     zw_real lower;
     zw_status st;
     if (out == NULL) return ZW_ERR_NULL;
-    if ((st = validate(box)) != ZW_OK) return st;
-    if ((st = validate_work(work)) != ZW_OK) return st;
-    if ((st = validate_gain(box, B, false)) != ZW_OK) return st;
-    if ((st = search_init(&s, box, work, B)) != ZW_OK) return st;
-    if ((st = search_run(&s, ZW_BOX_GOAL_BOUND, ZW_R(0.0), &outcome, &lower)) != ZW_OK) return st;
+    if ((st = box_validate(box)) != ZW_OK) return st;
+    if ((st = box_validate_work(work)) != ZW_OK) return st;
+    if ((st = box_validate_gain(box, B, false)) != ZW_OK) return st;
+    if ((st = box_search_init(&s, box, work, B)) != ZW_OK) return st;
+    if ((st = box_search_run(&s, ZW_BOX_GOAL_BOUND, ZW_R(0.0), &outcome, &lower)) != ZW_OK) return st;
     out->K_lower = lower;
     out->K_upper = s.upper;
     out->m_worst = s.m_worst;
@@ -418,11 +449,11 @@ zw_status zw_box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work *wo
                        zw_box_bound *out)
 {
     zw_status st = box_k_max(box, B, work, out);
-    if (st != ZW_OK) fail_bound(out);
+    if (st != ZW_OK) box_fail_bound(out);
     return st;
 }
 
-static void fail_box_verdict(zw_box_verdict *out)
+static void box_fail_box_verdict(zw_box_verdict *out)
 {
     if (out == NULL) return;
     out->stable = false;
@@ -432,17 +463,17 @@ static void fail_box_verdict(zw_box_verdict *out)
 }
 
 /* Decide (K, B) over the box; *outcome CERTIFIED, REFUTED or OPEN. */
-static zw_status decide(const zw_plant_box *box, zw_real K, zw_real B, const zw_box_work *work,
+static zw_status box_decide(const zw_plant_box *box, zw_real K, zw_real B, const zw_box_work *work,
                         zw_box_outcome *outcome, zw_box_search *s, zw_real *lower)
 {
     zw_status st;
-    if ((st = search_init(s, box, work, B)) != ZW_OK) return st;
+    if ((st = box_search_init(s, box, work, B)) != ZW_OK) return st;
     if (!(K > ZW_R(0.0))) { /* K <= 0 is unstable at every plant */
         *lower = ZW_R(0.0);
         *outcome = ZW_BOX_REFUTED;
         return ZW_OK;
     }
-    return search_run(s, ZW_BOX_GOAL_DECIDE, K, outcome, lower);
+    return box_search_run(s, ZW_BOX_GOAL_DECIDE, K, outcome, lower);
 }
 
 static zw_status box_check(const zw_plant_box *box, zw_real K, zw_real B, const zw_box_work *work,
@@ -453,11 +484,11 @@ static zw_status box_check(const zw_plant_box *box, zw_real K, zw_real B, const 
     zw_real lower;
     zw_status st;
     if (out == NULL) return ZW_ERR_NULL;
-    if ((st = validate(box)) != ZW_OK) return st;
-    if ((st = validate_work(work)) != ZW_OK) return st;
-    if ((st = validate_gain(box, K, true)) != ZW_OK) return st;
-    if ((st = validate_gain(box, B, false)) != ZW_OK) return st;
-    if ((st = decide(box, K, B, work, &outcome, &s, &lower)) != ZW_OK) return st;
+    if ((st = box_validate(box)) != ZW_OK) return st;
+    if ((st = box_validate_work(work)) != ZW_OK) return st;
+    if ((st = box_validate_gain(box, K, true)) != ZW_OK) return st;
+    if ((st = box_validate_gain(box, B, false)) != ZW_OK) return st;
+    if ((st = box_decide(box, K, B, work, &outcome, &s, &lower)) != ZW_OK) return st;
     out->stable = outcome == ZW_BOX_CERTIFIED;
     out->decided = outcome == ZW_BOX_CERTIFIED || outcome == ZW_BOX_REFUTED;
     out->K_lower = lower;
@@ -470,24 +501,24 @@ zw_status zw_box_check(const zw_plant_box *box, zw_real K, zw_real B, const zw_b
                        zw_box_verdict *out)
 {
     zw_status st = box_check(box, K, B, work, out);
-    if (st != ZW_OK) fail_box_verdict(out);
+    if (st != ZW_OK) box_fail_box_verdict(out);
     return st;
 }
 
 /* The certified lower bound of K_box(B) (a full bound search). */
-static zw_status k_box_lower(const zw_plant_box *box, zw_real B, const zw_box_work *work,
+static zw_status box_k_box_lower(const zw_plant_box *box, zw_real B, const zw_box_work *work,
                              zw_box_search *s, zw_real *lower, bool *converged)
 {
     zw_box_outcome outcome;
     zw_status st;
-    if ((st = search_init(s, box, work, B)) != ZW_OK) return st;
-    if ((st = search_run(s, ZW_BOX_GOAL_BOUND, ZW_R(0.0), &outcome, lower)) != ZW_OK) return st;
+    if ((st = box_search_init(s, box, work, B)) != ZW_OK) return st;
+    if ((st = box_search_run(s, ZW_BOX_GOAL_BOUND, ZW_R(0.0), &outcome, lower)) != ZW_OK) return st;
     *converged = outcome == ZW_BOX_CONVERGED;
     return ZW_OK;
 }
 
 /* The B bracket where K_box can be positive: (-b_lo, the least B_mmax of the corners). */
-static zw_status b_bracket(const zw_plant_box *box, zw_real *left, zw_real *right)
+static zw_status box_b_bracket(const zw_plant_box *box, zw_real *left, zw_real *right)
 {
     zw_device d;
     zw_device_extremes x;
@@ -499,14 +530,14 @@ static zw_status b_bracket(const zw_plant_box *box, zw_real *left, zw_real *righ
         zw_real b = (corner & 2) != 0 ? box->b_hi : box->b_lo;
         if ((st = zw_device_init(&d, m, b, box->T)) != ZW_OK) return st;
         if ((st = zw_device_extremes_compute(&d, &x)) != ZW_OK) return st;
-        least = min_real(least, x.B_mmax);
+        least = box_min_real(least, x.B_mmax);
     }
     *left = -box->b_lo;
-    *right = widen_up(least);
+    *right = box_widen_up(least);
     return ZW_OK;
 }
 
-static void fail_extremes(zw_box_extremes *out)
+static void box_fail_extremes(zw_box_extremes *out)
 {
     if (out == NULL) return;
     out->K_mmax = out->K_upper_at = out->K_mmax_upper = ZW_R(0.0);
@@ -527,13 +558,13 @@ static zw_status box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw
     int step;
     zw_status st;
     if (out == NULL) return ZW_ERR_NULL;
-    if ((st = validate(box)) != ZW_OK) return st;
-    if ((st = validate_work(work)) != ZW_OK) return st;
-    if ((st = b_bracket(box, &a, &b)) != ZW_OK) return st;
+    if ((st = box_validate(box)) != ZW_OK) return st;
+    if ((st = box_validate_work(work)) != ZW_OK) return st;
+    if ((st = box_b_bracket(box, &a, &b)) != ZW_OK) return st;
     c1 = b - k_inv_phi * (b - a);
     c2 = a + k_inv_phi * (b - a);
-    if ((st = k_box_lower(box, c1, work, &s, &f1, &conv)) != ZW_OK) return st;
-    if ((st = k_box_lower(box, c2, work, &s, &f2, &conv)) != ZW_OK) return st;
+    if ((st = box_k_box_lower(box, c1, work, &s, &f1, &conv)) != ZW_OK) return st;
+    if ((st = box_k_box_lower(box, c2, work, &s, &f2, &conv)) != ZW_OK) return st;
     for (step = 0; step < ZW_BOX_GOLDEN_STEPS; ++step) {
         if (!(c2 - c1 > work->rel_tol * (ZW_FABS(c1) + ZW_FABS(c2)) + ZW_ETA)) break;
         if (f1 < f2) {
@@ -541,18 +572,18 @@ static zw_status box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw
             c1 = c2;
             f1 = f2;
             c2 = a + k_inv_phi * (b - a);
-            if ((st = k_box_lower(box, c2, work, &s, &f2, &conv)) != ZW_OK) return st;
+            if ((st = box_k_box_lower(box, c2, work, &s, &f2, &conv)) != ZW_OK) return st;
         } else {
             b = c2;
             c2 = c1;
             f2 = f1;
             c1 = b - k_inv_phi * (b - a);
-            if ((st = k_box_lower(box, c1, work, &s, &f1, &conv)) != ZW_OK) return st;
+            if ((st = box_k_box_lower(box, c1, work, &s, &f1, &conv)) != ZW_OK) return st;
         }
     }
     best_b = f1 >= f2 ? c1 : c2;
     /* the final search at the chosen B gives the reported figures */
-    if ((st = k_box_lower(box, best_b, work, &s, &lower, &conv)) != ZW_OK) return st;
+    if ((st = box_k_box_lower(box, best_b, work, &s, &lower, &conv)) != ZW_OK) return st;
     if ((st = zw_device_init(&d, s.m_worst, s.b_worst, box->T)) != ZW_OK) return st;
     if ((st = zw_device_extremes_compute(&d, &x)) != ZW_OK) return st;
     out->K_mmax = lower;
@@ -568,25 +599,25 @@ static zw_status box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw
 zw_status zw_box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw_box_extremes *out)
 {
     zw_status st = box_k_mmax(box, work, out);
-    if (st != ZW_OK) fail_extremes(out);
+    if (st != ZW_OK) box_fail_extremes(out);
     return st;
 }
 
 /* Is K certified at B for the whole box? */
-static zw_status certified_at(const zw_plant_box *box, zw_real K, zw_real B,
+static zw_status box_certified_at(const zw_plant_box *box, zw_real K, zw_real B,
                               const zw_box_work *work, bool *yes)
 {
     zw_box_search s;
     zw_box_outcome outcome;
     zw_real lower;
-    zw_status st = decide(box, K, B, work, &outcome, &s, &lower);
+    zw_status st = box_decide(box, K, B, work, &outcome, &s, &lower);
     *yes = st == ZW_OK && outcome == ZW_BOX_CERTIFIED;
     return st;
 }
 
 /* Bisection between a certified B (inside) and an uncertified one (outside): returns the
  * last certified B. */
-static zw_status bisect_end(const zw_plant_box *box, zw_real K, const zw_box_work *work,
+static zw_status box_bisect_end(const zw_plant_box *box, zw_real K, const zw_box_work *work,
                             zw_real inside, zw_real outside, zw_real *end)
 {
     int step;
@@ -597,7 +628,7 @@ static zw_status bisect_end(const zw_plant_box *box, zw_real K, const zw_box_wor
         zw_real mid = inside + ZW_R(0.5) * (outside - inside);
         if (!(ZW_FABS(outside - inside) > work->rel_tol * scale) || mid == inside || mid == outside)
             break;
-        if ((st = certified_at(box, K, mid, work, &yes)) != ZW_OK) return st;
+        if ((st = box_certified_at(box, K, mid, work, &yes)) != ZW_OK) return st;
         if (yes) inside = mid;
         else outside = mid;
     }
@@ -614,13 +645,13 @@ static zw_status box_b_range(const zw_plant_box *box, zw_real K, const zw_box_wo
     bool yes, any;
     zw_status st;
     if (B_lo == NULL || B_hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
-    if ((st = validate(box)) != ZW_OK) return st;
-    if ((st = validate_work(work)) != ZW_OK) return st;
-    if ((st = validate_gain(box, K, true)) != ZW_OK) return st;
+    if ((st = box_validate(box)) != ZW_OK) return st;
+    if ((st = box_validate_work(work)) != ZW_OK) return st;
+    if ((st = box_validate_gain(box, K, true)) != ZW_OK) return st;
     *B_lo = *B_hi = ZW_R(0.0);
     *nonempty = false;
     if (!(K > ZW_R(0.0))) return ZW_OK;
-    if ((st = b_bracket(box, &lo_out, &hi_out)) != ZW_OK) return st;
+    if ((st = box_b_bracket(box, &lo_out, &hi_out)) != ZW_OK) return st;
     /* A certified start: the middle of the nominal plant's range, else the K_mmax B. */
     if ((st = zw_device_init(&d, box->m_lo + ZW_R(0.5) * (box->m_hi - box->m_lo),
                              box->b_lo + ZW_R(0.5) * (box->b_hi - box->b_lo), box->T)) != ZW_OK)
@@ -630,17 +661,17 @@ static zw_status box_b_range(const zw_plant_box *box, zw_real K, const zw_box_wo
     start = ZW_R(0.0);
     if (any) {
         start = nom_lo + ZW_R(0.5) * (nom_hi - nom_lo);
-        if ((st = certified_at(box, K, start, work, &yes)) != ZW_OK) return st;
+        if ((st = box_certified_at(box, K, start, work, &yes)) != ZW_OK) return st;
     }
     if (!yes) {
         if ((st = box_k_mmax(box, work, &x)) != ZW_OK) return st;
         start = x.B_at;
         if (!(K < x.K_mmax)) return ZW_OK; /* nothing certified: empty */
-        if ((st = certified_at(box, K, start, work, &yes)) != ZW_OK) return st;
+        if ((st = box_certified_at(box, K, start, work, &yes)) != ZW_OK) return st;
         if (!yes) return ZW_OK;
     }
-    if ((st = bisect_end(box, K, work, start, lo_out, &lo)) != ZW_OK) return st;
-    if ((st = bisect_end(box, K, work, start, hi_out, &hi)) != ZW_OK) return st;
+    if ((st = box_bisect_end(box, K, work, start, lo_out, &lo)) != ZW_OK) return st;
+    if ((st = box_bisect_end(box, K, work, start, hi_out, &hi)) != ZW_OK) return st;
     *B_lo = lo;
     *B_hi = hi;
     *nonempty = true;
