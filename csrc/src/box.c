@@ -41,13 +41,17 @@
 #define ZW_BOX_BISECT_STEPS 64
 #define ZW_BOX_GOLDEN_STEPS 80
 
+/* An overflowed +inf (-inf) stands for an exact value beyond the largest finite one, so
+ * its lower (upper) bound is that finite value (and inf - inf would be NaN). */
 static zw_real box_widen_down(zw_real r)
 {
+    if (r > ZW_REAL_MAX) return ZW_REAL_MAX;
     return r - (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA);
 }
 
 static zw_real box_widen_up(zw_real r)
 {
+    if (r < -ZW_REAL_MAX) return -ZW_REAL_MAX;
     return r + (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA);
 }
 

@@ -56,6 +56,7 @@ examples:
   zwidth limits --m 0.1 --b 30 --T 0.01
   zwidth check --J 85.78e-7 --b 2.197e-3 --T 0.02 --K 0.39 --B -1.36e-3
   zwidth check --delta 5.122 --alpha 23 --beta -1.5 --json
+  zwidth limits --J 5e-6:5e-5 --b 2.0e-3:2.4e-3 --T 0.02   (ranges: every plant of the box, docs/box.md)
   zwidth advise --J 85.78e-7 --b 2.197e-3 --T 0.02 --K 0.5 --B -1.36e-3
   zwidth plot region --delta 5.122 --alpha 23 --beta -1.5 -o region.png
   zwidth simulate scenes/paper-fig15.toml --plot fig15.png

@@ -17,11 +17,15 @@ static zw_box_work work(void)
     return w;
 }
 
-/* K_max(B) at one plant, long double, literal formulas (delta in [0.1, 100] here). */
+/* K_max(B) at one plant, long double, literal formulas (delta 0 or in [1e-3, 100] here). */
 static long double k_max_ref(long double m, long double b, long double T, long double B)
 {
     long double d = b * T / m, beta = B * T / m, alpha, e, c1, c2, d12, f, L;
     if (!(beta + d > 0.0L)) return 0.0L;
+    if (d == 0.0L) { /* eq (17): c1 = c2 = e = 1, no line */
+        alpha = (-2.0L * beta * beta + 4.0L * beta) / (beta + 2.0L);
+        return (alpha > 0.0L ? alpha : 0.0L) * m / (T * T);
+    }
     e = expl(-d);
     c1 = 2.0L * (d - 1.0L + e) / (d * d);
     c2 = 2.0L * (1.0L - e - d * e) / (d * d);
@@ -120,6 +124,29 @@ static void test_point_box(void **state)
     (void)state;
     expect_bound_below_grid(&box, R(-1.0e-3), PREC(1e-5, 1e-3));
     expect_bound_below_grid(&box, R(1.0e-4), PREC(1e-5, 1e-3));
+}
+
+/* b = 0 (delta = 0: no line, eq (17)) for every plant, and b from 0: stable only for
+ * B > 0, and the bound stays below the grid (the line's overflowed lambda is not a NaN). */
+static void test_zero_damping(void **state)
+{
+    zw_plant_box flat = {R(0.1), R(0.3), R(0.0), R(0.0), R(0.01)};
+    zw_plant_box from0 = {R(0.1), R(0.3), R(0.0), R(5.0), R(0.01)};
+    zw_box_work w = work();
+    zw_box_bound r;
+    (void)state;
+    EXPECT_OK(zw_box_k_max(&flat, R(10.0), &w, &r));
+    /* delta = 0: alpha < (-2 beta^2 + 4 beta)/(beta + 2) (eq (17)), K = alpha m / T^2;
+     * beta = B T / m is smallest at m_hi, and K_max rises with m here */
+    {
+        long double beta = 10.0L * 0.01L / 0.1L, k = (-2 * beta * beta + 4 * beta) / (beta + 2) * 0.1L / 1e-4L;
+        EXPECT_TRUE_MSG((long double)r.K_lower <= k && (long double)r.K_lower >= k * (1 - PREC(1e-5L, 1e-3L)),
+                        "K_lower %Lg, delta = 0 reference %Lg", (long double)r.K_lower, k);
+    }
+    EXPECT_OK(zw_box_k_max(&flat, R(-1.0), &w, &r));
+    assert_true(r.K_lower == R(0.0));
+    EXPECT_OK(zw_box_k_max(&from0, R(10.0), &w, &r));
+    assert_true(r.K_lower > R(0.0) && (long double)r.K_lower <= grid_min(&from0, 10.0L, 101, NULL, NULL));
 }
 
 /* B <= -b_lo: the plant with b = b_lo has nothing stable, so K_box is 0. */
@@ -313,6 +340,7 @@ int main(void)
         cmocka_unit_test(test_k_max_nonmonotone),
         cmocka_unit_test(test_corners_are_not_enough),
         cmocka_unit_test(test_point_box),
+        cmocka_unit_test(test_zero_damping),
         cmocka_unit_test(test_negative_damping_edge),
         cmocka_unit_test(test_check),
         cmocka_unit_test(test_check_budget),
