@@ -206,6 +206,18 @@ static void test_check_budget(void **state)
     w.max_evals = ZW_BOX_DEFAULT_EVALS;
     EXPECT_OK(zw_box_k_max(&box, R(0.0), &w, &r));
     assert_true((long double)r.K_lower <= grid_min(&box, 0.0L, 201, NULL, NULL));
+    /* the search stays inside the caller's capacity: cells past it are never written */
+    {
+        const zw_plant_box valley = {R(2.0e-5), R(1.5e-4), R(2.197e-3), R(2.197e-3), R(0.02)};
+        size_t i;
+        memset(g_cells, ZWT_SENTINEL, sizeof g_cells);
+        w.capacity = 64u;
+        EXPECT_OK(zw_box_k_max(&valley, R(1.0e-3), &w, &r));
+        assert_false(r.converged); /* an interior minimum needs far more than 64 cells */
+        assert_true((long double)r.K_lower <= grid_min(&valley, 1.0e-3L, 401, NULL, NULL));
+        for (i = 64u * sizeof(zw_box_cell); i < sizeof g_cells; ++i)
+            assert_int_equal(((const unsigned char *)g_cells)[i], ZWT_SENTINEL);
+    }
 }
 
 static void test_b_range(void **state)
