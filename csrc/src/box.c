@@ -179,8 +179,10 @@ static zw_status box_cell_bound(zw_real T, zw_real B, zw_box_cell *cell)
     d12_hi = box_d12_upper(&at_lo, &at_hi);
     if (d12_hi > ZW_R(0.0)) {
         zw_real e_lo = box_max_real(ZW_R(0.0), box_coef_down(at_hi.e));
-        zw_real lambda_lo = box_widen_down(box_widen_down(ZW_R(2.0) * box_widen_down(ZW_R(1.0) + e_lo)) / d12_hi);
-        zw_real k_l = box_widen_down(ZW_R(2.0) * box_widen_down(box_widen_down(k_lo * lambda_lo) - bt_hi));
+        zw_real two_1pe = ZW_R(2.0) * box_widen_down(ZW_R(1.0) + e_lo); /* 2 (1 + e), doubling exact */
+        zw_real lambda_lo = box_widen_down(two_1pe / d12_hi);
+        zw_real room = box_widen_down(box_widen_down(k_lo * lambda_lo) - bt_hi); /* m lambda/T^2 - B/T */
+        zw_real k_l = box_widen_down(ZW_R(2.0) * room);
         bound = box_min_real(bound, k_l);
     }
     if (!ZW_IS_FINITE(bound)) return ZW_ERR_RANGE;
@@ -338,7 +340,7 @@ static zw_status box_add_cell(zw_box_search *s, const zw_box_cell *c)
 }
 
 static zw_status box_search_init(zw_box_search *s, const zw_plant_box *box, const zw_box_work *work,
-                             zw_real B)
+                                 zw_real B)
 {
     zw_box_cell root;
     zw_status st;
@@ -365,8 +367,8 @@ static zw_status box_search_init(zw_box_search *s, const zw_plant_box *box, cons
 }
 
 /* Runs until the goal is met or the budget is spent; *lower is always a valid bound. */
-static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K, zw_box_outcome *outcome,
-                            zw_real *lower)
+static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
+                                zw_box_outcome *outcome, zw_real *lower)
 {
     zw_status st;
     *outcome = ZW_BOX_OPEN;
@@ -468,7 +470,7 @@ static void box_fail_box_verdict(zw_box_verdict *out)
 
 /* Decide (K, B) over the box; *outcome CERTIFIED, REFUTED or OPEN. */
 static zw_status box_decide(const zw_plant_box *box, zw_real K, zw_real B, const zw_box_work *work,
-                        zw_box_outcome *outcome, zw_box_search *s, zw_real *lower)
+                            zw_box_outcome *outcome, zw_box_search *s, zw_real *lower)
 {
     zw_status st;
     if ((st = box_search_init(s, box, work, B)) != ZW_OK) return st;
@@ -511,7 +513,7 @@ zw_status zw_box_check(const zw_plant_box *box, zw_real K, zw_real B, const zw_b
 
 /* The certified lower bound of K_box(B) (a full bound search). */
 static zw_status box_k_box_lower(const zw_plant_box *box, zw_real B, const zw_box_work *work,
-                             zw_box_search *s, zw_real *lower, bool *converged)
+                                 zw_box_search *s, zw_real *lower, bool *converged)
 {
     zw_box_outcome outcome;
     zw_status st;
@@ -609,7 +611,7 @@ zw_status zw_box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw_box
 
 /* Is K certified at B for the whole box? */
 static zw_status box_certified_at(const zw_plant_box *box, zw_real K, zw_real B,
-                              const zw_box_work *work, bool *yes)
+                                  const zw_box_work *work, bool *yes)
 {
     zw_box_search s;
     zw_box_outcome outcome;
@@ -622,7 +624,7 @@ static zw_status box_certified_at(const zw_plant_box *box, zw_real K, zw_real B,
 /* Bisection between a certified B (inside) and an uncertified one (outside): returns the
  * last certified B. */
 static zw_status box_bisect_end(const zw_plant_box *box, zw_real K, const zw_box_work *work,
-                            zw_real inside, zw_real outside, zw_real *end)
+                                zw_real inside, zw_real outside, zw_real *end)
 {
     int step;
     zw_status st;
