@@ -1035,6 +1035,7 @@ py::dict device_loop_extremes(f64array m, f64array b, f64array T, f64array cutof
 }  // namespace
 
 void zw_register_sim(py::module_ &mod);  // zwidth_sim.cpp: Simulator, sim_judge, SIM_EFFECTS
+void zw_register_box(py::module_ &mod);  // below: certification over a plant box (box.h)
 
 PYBIND11_MODULE(_core, mod) {
     mod.doc() =
@@ -1149,4 +1150,121 @@ PYBIND11_MODULE(_core, mod) {
     mod.def("device_loop_extremes", &device_loop_extremes, m, b, T, fc, dl, df, fl, av, pg,
             "zw_loop_extremes_compute of the device's loop, real units, per element.");
     zw_register_sim(mod);
+    zw_register_box(mod);
+}
+
+// ---- certification over a plant box (box.h) -----------------------------------------------
+// Scalar calls (one branch and bound each), without the GIL; the work list is a vector
+// owned here.  Each returns a dict with "status" (a zw_status) and the outputs, which the
+// Python layer (zwidth/box.py) reads only when status is ZW_OK.
+namespace {
+
+struct BoxCall {
+    zw_plant_box box;
+    std::vector<zw_box_cell> cells;
+    zw_box_work work;
+    BoxCall(double m_lo, double m_hi, double b_lo, double b_hi, double T, long capacity, long max_evals,
+            double rel_tol)
+        : box{m_lo, m_hi, b_lo, b_hi, T} {
+        if (capacity < static_cast<long>(ZW_BOX_MIN_CELLS) || capacity > (1L << 24))
+            throw py::value_error("capacity must be in " + std::to_string(ZW_BOX_MIN_CELLS) + "..2^24");
+        if (max_evals < 1 || max_evals > static_cast<long>(ZW_BOX_MAX_EVALS))
+            throw py::value_error("max_evals must be in 1.." + std::to_string(ZW_BOX_MAX_EVALS));
+        cells.resize(static_cast<std::size_t>(capacity));
+        work.cells = cells.data();
+        work.capacity = static_cast<uint_least32_t>(capacity);
+        work.max_evals = static_cast<uint_least32_t>(max_evals);
+        work.rel_tol = rel_tol;
+    }
+};
+
+py::dict box_k_max(double m_lo, double m_hi, double b_lo, double b_hi, double T, double B, long capacity,
+                   long max_evals, double rel_tol) {
+    BoxCall c(m_lo, m_hi, b_lo, b_hi, T, capacity, max_evals, rel_tol);
+    zw_box_bound r;
+    zw_status st;
+    {
+        py::gil_scoped_release release;
+        st = zw_box_k_max(&c.box, B, &c.work, &r);
+    }
+    py::dict out;
+    out["status"] = int{st};
+    out["K_lower"] = r.K_lower;
+    out["K_upper"] = r.K_upper;
+    out["m_worst"] = r.m_worst;
+    out["b_worst"] = r.b_worst;
+    out["evals"] = static_cast<long>(r.evals);
+    out["converged"] = r.converged;
+    return out;
+}
+
+py::dict box_check(double m_lo, double m_hi, double b_lo, double b_hi, double T, double K, double B, long capacity,
+                   long max_evals, double rel_tol) {
+    BoxCall c(m_lo, m_hi, b_lo, b_hi, T, capacity, max_evals, rel_tol);
+    zw_box_verdict v;
+    zw_status st;
+    {
+        py::gil_scoped_release release;
+        st = zw_box_check(&c.box, K, B, &c.work, &v);
+    }
+    py::dict out;
+    out["status"] = int{st};
+    out["stable"] = v.stable;
+    out["decided"] = v.decided;
+    out["K_lower"] = v.K_lower;
+    out["m_worst"] = v.m_worst;
+    out["b_worst"] = v.b_worst;
+    return out;
+}
+
+py::dict box_b_range(double m_lo, double m_hi, double b_lo, double b_hi, double T, double K, long capacity,
+                     long max_evals, double rel_tol) {
+    BoxCall c(m_lo, m_hi, b_lo, b_hi, T, capacity, max_evals, rel_tol);
+    double lo = 0.0, hi = 0.0;
+    bool nonempty = false;
+    zw_status st;
+    {
+        py::gil_scoped_release release;
+        st = zw_box_b_range(&c.box, K, &c.work, &lo, &hi, &nonempty);
+    }
+    py::dict out;
+    out["status"] = int{st};
+    out["B_lo"] = lo;
+    out["B_hi"] = hi;
+    out["nonempty"] = nonempty;
+    return out;
+}
+
+py::dict box_k_mmax(double m_lo, double m_hi, double b_lo, double b_hi, double T, long capacity, long max_evals,
+                    double rel_tol) {
+    BoxCall c(m_lo, m_hi, b_lo, b_hi, T, capacity, max_evals, rel_tol);
+    zw_box_extremes x;
+    zw_status st;
+    {
+        py::gil_scoped_release release;
+        st = zw_box_k_mmax(&c.box, &c.work, &x);
+    }
+    py::dict out;
+    out["status"] = int{st};
+    out["K_mmax"] = x.K_mmax;
+    out["B_at"] = x.B_at;
+    out["K_upper_at"] = x.K_upper_at;
+    out["K_mmax_upper"] = x.K_mmax_upper;
+    out["m_worst"] = x.m_worst;
+    out["b_worst"] = x.b_worst;
+    out["converged"] = x.converged;
+    return out;
+}
+
+}  // namespace
+
+void zw_register_box(py::module_ &mod) {
+    const auto ml = py::arg("m_lo"), mh = py::arg("m_hi"), bl = py::arg("b_lo"), bh = py::arg("b_hi"),
+               T = py::arg("T"), cap = py::arg("capacity"), ev = py::arg("max_evals"), tol = py::arg("rel_tol");
+    mod.def("box_k_max", &box_k_max, ml, mh, bl, bh, T, py::arg("B"), cap, ev, tol, "zw_box_k_max.");
+    mod.def("box_check", &box_check, ml, mh, bl, bh, T, py::arg("K"), py::arg("B"), cap, ev, tol, "zw_box_check.");
+    mod.def("box_b_range", &box_b_range, ml, mh, bl, bh, T, py::arg("K"), cap, ev, tol, "zw_box_b_range.");
+    mod.def("box_k_mmax", &box_k_mmax, ml, mh, bl, bh, T, cap, ev, tol, "zw_box_k_mmax.");
+    mod.attr("BOX_DEFAULT_EVALS") = long{ZW_BOX_DEFAULT_EVALS};
+    mod.attr("BOX_DEFAULT_REL_TOL") = double{ZW_BOX_DEFAULT_REL_TOL};
 }

@@ -16,7 +16,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-build/amalgamation}
 HEADERS="precision real status portable_math coeffs region margin extremes device batch selftest loop
-    loop_limits device_loop regmap version"
+    loop_limits device_loop regmap version box"
 MODULES=$(sed -n '/^set(ZW_CORE_SOURCES/,/)/s/.*csrc\/src\/\([a-z_]*\)\.c.*/\1/p' CMakeLists.txt)
 VERSION=$(sed -n 's/^#define ZW_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)$/\2/p' \
     csrc/include/zwidth/version.h | paste -sd.)

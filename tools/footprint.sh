@@ -105,14 +105,16 @@ TEXT_METRIC=${FOOTPRINT_TEXT_METRIC:-text+rodata}
 STACK_LIMIT=${FOOTPRINT_STACK_LIMIT:-256}
 LOOP_STACK_LIMIT=${FOOTPRINT_LOOP_STACK_LIMIT:-512}
 # module:limit pairs; modules not named here have STACK_LIMIT
-MODULE_STACK_LIMITS="loop:$LOOP_STACK_LIMIT loop_limits:$LOOP_STACK_LIMIT device_loop:$LOOP_STACK_LIMIT"
+MODULE_STACK_LIMITS="loop:$LOOP_STACK_LIMIT loop_limits:$LOOP_STACK_LIMIT device_loop:$LOOP_STACK_LIMIT box:$LOOP_STACK_LIMIT"
+# box (certification over a plant box, offline / commissioning use): the loop's 512 B; its
+# b_range and k_mmax nest a whole search under their own and are reported, not gated.
 # Over their module's target on the Cortex-M4F float build (all through the root-inclusion
 # test's chain: its 26 complex roots, the Aberth sweep and the factored evaluation of p;
 # see docs/footprint.md): reported, not gated.  Remove a name once it meets the target.
 # The register map's request handler, init and write reach that chain too, when the
 # certified block describes a non-ideal loop (map v2): the static call graph cannot tell
 # the ideal-loop path (within 256 B before map v2) from it.
-STACK_NOT_GATED="zw_loop_alpha_max zw_loop_beta_interval zw_loop_beta_intervals zw_loop_check zw_loop_extremes_compute zw_loop_is_stable zw_loop_radius_within zw_loop_spectral_radius zw_device_loop_b_range zw_device_loop_check zw_device_loop_extremes_compute zw_device_loop_k_max zw_device_loop_radius_within zw_device_loop_spectral_radius zw_regmap_handle_pdu zw_regmap_init zw_regmap_write"
+STACK_NOT_GATED="zw_box_b_range zw_box_k_mmax zw_loop_alpha_max zw_loop_beta_interval zw_loop_beta_intervals zw_loop_check zw_loop_extremes_compute zw_loop_is_stable zw_loop_radius_within zw_loop_spectral_radius zw_device_loop_b_range zw_device_loop_check zw_device_loop_extremes_compute zw_device_loop_k_max zw_device_loop_radius_within zw_device_loop_spectral_radius zw_regmap_handle_pdu zw_regmap_init zw_regmap_write"
 for n in "$TEXT_LIMIT" "$STACK_LIMIT" "$LOOP_STACK_LIMIT"; do
     case "$n" in
     '' | *[!0-9]*)

@@ -23,6 +23,7 @@ const char *zw_status_name(zw_status status)
     case ZW_ERR_DELAY: return "ZW_ERR_DELAY";
     case ZW_ERR_FILTER: return "ZW_ERR_FILTER";
     case ZW_ERR_BUSY: return "ZW_ERR_BUSY";
+    case ZW_ERR_BOX: return "ZW_ERR_BOX";
     default: break; /* a value outside the enumeration: named below */
     }
     return "ZW_UNKNOWN";

@@ -30,6 +30,7 @@ from typing import Dict
 
 from . import _core
 from ._kernels import STATUS_NAMES, ZwidthError
+from .box import PlantBox
 from .device import Device, LoopNotSupported
 from .loop import Loop
 from .normalized import (alpha_max, beta_interval, char_poly, check, coefficients,
@@ -67,7 +68,7 @@ __all__ = [
     "LoopExtremes", "DeviceLoopExtremes", "LoopInfluence",
     "check", "verdict", "spectral_radius", "radius_within", "char_poly", "coefficients",
     "coefficients_literal", "extremes", "hyperbola_top", "corner", "alpha_max", "beta_interval",
-    "Device", "Verdict", "Coefficients", "Extremes", "BoundaryPoint", "Interval", "Normalized",
+    "Device", "PlantBox", "Verdict", "Coefficients", "Extremes", "BoundaryPoint", "Interval", "Normalized",
     "DeviceExtremes", "Influence",
     "load_scene", "Scene", "SceneError", "simulate", "Simulation", "SimulationSet", "SimVerdict",
 ]

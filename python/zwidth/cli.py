@@ -22,6 +22,7 @@ import numpy as np
 
 from . import (BOUNDS, DELTA0, REGIONS, Device, ZwidthError, __version__, alpha_max, beta_interval,
                corner, extremes, hyperbola_top, spectral_radius, verdict)
+from .box import parse_range
 from .device import LoopNotSupported
 from .results import Extremes
 from .loop import DIFFERENTIATORS, Loop, normalized_loop, parse_velocity_filter
@@ -58,6 +59,7 @@ examples:
   zwidth limits --m 0.1 --b 30 --T 0.01
   zwidth check --J 85.78e-7 --b 2.197e-3 --T 0.02 --K 0.39 --B -1.36e-3
   zwidth check --delta 5.122 --alpha 23 --beta -1.5 --json
+  zwidth limits --J 5e-6:5e-5 --b 2.0e-3:2.4e-3 --T 0.02   (ranges: every plant of the box, docs/box.md)
   zwidth advise --J 85.78e-7 --b 2.197e-3 --T 0.02 --K 0.5 --B -1.36e-3
   zwidth plot region --delta 5.122 --alpha 23 --beta -1.5 -o region.png
   zwidth simulate scenes/paper-fig15.toml --plot fig15.png
@@ -1022,10 +1024,10 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
 def _add_plant_options(p: argparse.ArgumentParser) -> None:
     real = p.add_argument_group("plant and gains in real units (default)")
     mass = real.add_mutually_exclusive_group()
-    mass.add_argument("--m", type=_number, metavar="M", help="mass [kg]")
-    mass.add_argument("--J", type=_number, metavar="J",
+    mass.add_argument("--m", type=parse_range, metavar="M", help="mass [kg] (or a range LO:HI, box.py)")
+    mass.add_argument("--J", type=parse_range, metavar="J",
                       help="inertia [kg m^2] of a rotary device (units then N m s/rad, N m/rad)")
-    real.add_argument("--b", type=_number, metavar="b", help="physical damping [N s/m] (>= 0)")
+    real.add_argument("--b", type=parse_range, metavar="b", help="physical damping [N s/m] (>= 0; or LO:HI)")
     real.add_argument("--T", type=_number, metavar="T", help="sampling period [s] (> 0)")
     real.add_argument("--K", type=_number, metavar="K", help="virtual stiffness [N/m]")
     real.add_argument("--B", type=_number, metavar="B", help="virtual damping [N s/m]")
@@ -1160,6 +1162,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     plant: Optional[_Plant] = None
     if args.command == "simulate":
         return _main_simulate(args, sub)
+    from . import box_cli  # plant ranges (--m 0.10:0.14): every plant of a box
+    if box_cli.has_range(args):
+        return box_cli.main(args, sub)
     try:
         if args.command == "plot":
             if not 0.0 < args.dpi < math.inf:

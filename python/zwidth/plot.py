@@ -39,11 +39,12 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure, SubFigure
 
+    from .box import PlantBox
     from .scene import Scene
     from .sim import Simulation, SimulationSet
 
 __all__ = ["region", "loop_region", "extremes", "influence", "device", "simulation", "save",
-           "CRITICAL_DELTAS"]
+           "CRITICAL_DELTAS", "box_region"]
 
 _INSTALL_HINT = "zwidth.plot needs matplotlib: pip install zwidth[plot]"
 
@@ -882,3 +883,70 @@ def save(fig: "Figure", path: Union[str, Path], *, dpi: float = 100.0) -> Path:
         raise ValueError(f"zwidth.plot.save: {out.name!r}: the file must end in .png or .svg")
     fig.savefig(out, format=fmt, dpi=dpi)
     return out
+
+
+# ---------------------------------------------------------------------------------------
+# A plant box (zwidth.PlantBox): the gains stable for every plant, against the nominal one
+# ---------------------------------------------------------------------------------------
+
+
+def box_region(box: "PlantBox", K: Optional[float] = None, B: Optional[float] = None, *,
+               fig: Optional["Figure"] = None, points: int = 161, rel_tol: float = 1e-4) -> "Figure":
+    """The gains stable for every plant of ``box``, K against B, beside the nominal plant's.
+
+    Filled: ``box.k_max(B).K_lower`` over B (certified for every plant; searched to
+    ``rel_tol``, coarser than the box's own for speed: the curve stays certified, only a
+    little lower).  Dashed: the nominal plant's ``k_max(B)`` (middle of the box); thin grey:
+    the four corner plants'.  Marked: the box's K_mmax (``box.extremes()``) and, with K and
+    B, the gain pair coloured by ``box.verdict``.  Draws into ``fig`` if given (cleared).
+    """
+    from .box import PlantBox
+
+    coarse = PlantBox(box.m.lo if box.m.lo == box.m.hi else (box.m.lo, box.m.hi),
+                      box.b.lo if box.b.lo == box.b.hi else (box.b.lo, box.b.hi), box.T,
+                      rotary=box.rotary, capacity=box.capacity, max_evals=box.max_evals,
+                      rel_tol=max(rel_tol, box.rel_tol))
+    nominal = box.nominal
+    u = _units(nominal)
+    corners = box.corners()
+    lo = -box.b.hi
+    hi = max(float(d.extremes().B_mmax) for d in (nominal, *corners))
+    bs = np.linspace(lo, hi, int(points))
+    k_box = np.array([coarse.k_max(float(b_)).K_lower for b_ in bs])
+    k_nom = np.asarray(nominal.k_max(bs), dtype=float)
+    x = box.extremes()
+
+    fig, (ax,) = _axes_grid(fig, 1, 1, (7.5, 5.8))
+    handles: List[Any] = []
+    for i, d in enumerate(corners):
+        line, = ax.plot(bs, np.asarray(d.k_max(bs), dtype=float), color="0.6", linewidth=0.8, zorder=3,
+                        label="corner plants" if i == 0 else None)
+        if i == 0:
+            handles.append(line)
+    ax.fill_between(bs, 0.0, k_box, color=_EXACT_FILL, alpha=0.75, linewidth=0, zorder=2)
+    ax.plot(bs, k_box, color=_EXACT_EDGE, linewidth=2.0, zorder=5)
+    handles.append(_proxy(color=_EXACT_EDGE, linewidth=6, alpha=0.75,
+                          label="stable for every plant of the box (certified)"))
+    handles += ax.plot(bs, k_nom, "--", color=_PASSIVITY_EDGE, linewidth=1.6, zorder=4,
+                       label=f"nominal plant {u['m']} = {box.m.mid:.4g}, b = {box.b.mid:.4g}")
+    handles += ax.plot([x.B_at], [x.K_mmax], "*", color="gold", markeredgecolor="black", markersize=15,
+                       zorder=7, linestyle="none", label=f"box K_mmax = {x.K_mmax:.4g} at B = {x.B_at:.4g}")
+    y_hi = max(float(np.max(k_nom)), float(np.max(k_box)))
+    if K is not None and B is not None:
+        v = box.verdict(float(K), float(B))
+        colour = {"stable": _VERDICT_COLOURS["stable"], "unstable": _VERDICT_COLOURS["unstable"]}.get(
+            v.word, _VERDICT_COLOURS["marginal"])
+        handles += ax.plot([float(B)], [float(K)], "D", color=colour, markeredgecolor="black", markersize=9,
+                           zorder=9, linestyle="none", label=f"K = {float(K):.4g}, B = {float(B):.4g}: {v.word}")
+        y_hi = max(y_hi, float(K))
+    ax.axvline(0.0, color="0.6", linewidth=0.8, zorder=0)
+    pad = 0.04 * (hi - lo)
+    ax.set_xlim(lo - pad, hi + pad)
+    ax.set_ylim(0.0, 1.15 * y_hi)
+    ax.set_xlabel(f"B [{u['B_unit']}] (virtual damping)")
+    ax.set_ylabel(f"K [{u['K_unit']}] (virtual stiffness)")
+    ax.set_title(f"Stable gains for every plant: {u['m']} in [{box.m.lo:.4g}, {box.m.hi:.4g}] {u['m_unit']}, "
+                 f"b in [{box.b.lo:.4g}, {box.b.hi:.4g}] {u['b_unit']}, T = {box.T:.4g} s", fontsize="medium")
+    ax.grid(True, color="0.9", zorder=0)
+    ax.legend(handles=handles, loc="upper right", fontsize="small", framealpha=0.9)
+    return fig

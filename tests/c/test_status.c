@@ -16,6 +16,7 @@ static const struct {
     ZWT_STATUS(ZW_ERR_DAMPING), ZWT_STATUS(ZW_ERR_DELTA),   ZWT_STATUS(ZW_ERR_RANGE),
     ZWT_STATUS(ZW_ERR_ARG),     ZWT_STATUS(ZW_ERR_DOMAIN),  ZWT_STATUS(ZW_ERR_FPENV),
     ZWT_STATUS(ZW_ERR_DELAY),   ZWT_STATUS(ZW_ERR_FILTER),   ZWT_STATUS(ZW_ERR_BUSY),
+    ZWT_STATUS(ZW_ERR_BOX),
 };
 
 /* Each status is named after its enumerator (the header's example: "ZW_ERR_MASS"). */

@@ -23,6 +23,13 @@
 /* batch.h */
 #define zw_check_many zw_check_many_f
 #define zw_device_check_many zw_device_check_many_f
+/* box.h */
+#define zw_box_work_init zw_box_work_init_f
+#define zw_box_validate zw_box_validate_f
+#define zw_box_k_max zw_box_k_max_f
+#define zw_box_check zw_box_check_f
+#define zw_box_b_range zw_box_b_range_f
+#define zw_box_k_mmax zw_box_k_mmax_f
 /* coeffs.h */
 #define zw_coeffs_init zw_coeffs_init_f
 #define zw_coeffs_literal zw_coeffs_literal_f

@@ -46,12 +46,13 @@ typedef enum zw_status {
     ZW_ERR_FILTER = 13,          /* velocity estimate out of its domain: filter pole outside
                                     [0, 1), cut-off <= 0 or at/above Nyquist, average length
                                     outside 1..ZW_LOOP_MAX_AVERAGE, unknown kind */
-    ZW_ERR_BUSY = 14             /* no consistent snapshot of data another context kept
+    ZW_ERR_BUSY = 14,            /* no consistent snapshot of data another context kept
                                     publishing (zw_regmap_active_gains): output off */
+    ZW_ERR_BOX = 15              /* a plant box with lo > hi in m or b (box.h) */
 } zw_status;
 
 /* The last status code: every value in ZW_OK..ZW_STATUS_LAST has a name. */
-#define ZW_STATUS_LAST ZW_ERR_BUSY
+#define ZW_STATUS_LAST ZW_ERR_BOX
 
 /* Stable, upper-case name of a status ("ZW_ERR_MASS"); "ZW_UNKNOWN" for other values. */
 const char *zw_status_name(zw_status status);

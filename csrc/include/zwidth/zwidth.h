@@ -8,6 +8,7 @@
 #define ZWIDTH_ZWIDTH_H
 
 #include "zwidth/batch.h"
+#include "zwidth/box.h"
 #include "zwidth/coeffs.h"
 #include "zwidth/device.h"
 #include "zwidth/device_loop.h"

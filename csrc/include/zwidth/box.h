@@ -1,0 +1,142 @@
+/* SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0 */
+/* zwidth/box.h - certification over an uncertain plant (the paper's ideal loop).
+ *
+ * A plant box is every plant with m in [m_lo, m_hi] and b in [b_lo, b_hi], sampled every
+ * T (fixed).  K_max is not monotone in m (paper Section IV), so the corners do not decide:
+ * each function runs a branch and bound over the box on an interval enclosure of the
+ * closed-form region (eq (10)) with outward rounding, never sampling alone.
+ *
+ * For a gain B, K_box(B) = min over the box of K_max(B; m, b), the largest K that is
+ * stable at B for every plant of the box (the stable K at each plant is the open interval
+ * (0, K_max(B; m, b)), so K_box(B) is a sup, not attained).
+ *
+ * Guarantees (docs/box.md): every K_lower is <= the true K_box(B) (proof: it is the least
+ * of rigorous lower bounds on the cells of a partition of the box); "stable" means
+ * 0 < K < K_lower; a B range [B_lo, B_hi] holds only B at which K was certified for the
+ * whole box (the set of such B is an interval, so certified ends certify the range).
+ * K_upper is K_max at the worst plant found (a point value, accurate to a few ulps), so
+ * the true K_box(B) lies in [K_lower, K_upper]; the search stops when the relative gap
+ * (K_upper - K_lower) / K_upper is at most rel_tol, or when its budget runs out.
+ *
+ * Firmware rules: no heap (the caller provides the cells of the work list), no recursion,
+ * no global state, every loop bounded by the work's max_evals and capacity.
+ */
+#ifndef ZWIDTH_BOX_H
+#define ZWIDTH_BOX_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "zwidth/real.h"
+#include "zwidth/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Plants m in [m_lo, m_hi] (mass or inertia), b in [b_lo, b_hi], period T.  Valid:
+ * finite, 0 < m_lo <= m_hi, 0 <= b_lo <= b_hi, T > 0, every plant's (m, b, T) accepted by
+ * zw_device_init, and b_hi T / m_lo below ZW_BOX_DELTA_MAX. */
+typedef struct zw_plant_box {
+    zw_real m_lo, m_hi;
+    zw_real b_lo, b_hi;
+    zw_real T;
+} zw_plant_box;
+
+/* Largest normalized damping b T / m a box may reach (far beyond any real device; keeps
+ * every bound of the enclosure finite in both precisions). */
+#define ZW_BOX_DELTA_MAX ZW_R(1.0e6)
+
+/* One cell of the work list: a sub-box and a lower bound of K_max over it. */
+typedef struct zw_box_cell {
+    zw_real m_lo, m_hi, b_lo, b_hi;
+    zw_real bound;
+} zw_box_cell;
+
+/* Caller-provided work list and budget.  capacity >= ZW_BOX_MIN_CELLS; max_evals in
+ * 1..ZW_BOX_MAX_EVALS (cell bounds per search); rel_tol in [0, 1). */
+typedef struct zw_box_work {
+    zw_box_cell *cells;
+    uint_least32_t capacity;
+    uint_least32_t max_evals;
+    zw_real rel_tol;
+} zw_box_work;
+
+#define ZW_BOX_MIN_CELLS 4u
+#define ZW_BOX_MAX_EVALS 10000000u
+/* Defaults of zw_box_work_init: a 1e-6 relative gap costs ~1000 cells where K_max has an
+ * interior minimum in m (first-order enclosure, quadratic valley); float stops at 1e-4. */
+#define ZW_BOX_DEFAULT_EVALS 20000u
+#ifdef ZW_REAL_FLOAT
+#define ZW_BOX_DEFAULT_REL_TOL ZW_R(1.0e-4)
+#else
+#define ZW_BOX_DEFAULT_REL_TOL ZW_R(1.0e-6)
+#endif
+
+/* Fills *work with cells, capacity and the defaults above (ZW_ERR_NULL, ZW_ERR_ARG for
+ * cells NULL or capacity < ZW_BOX_MIN_CELLS). */
+zw_status zw_box_work_init(zw_box_work *work, zw_box_cell *cells, uint_least32_t capacity);
+
+/* The box's own errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_MASS (m_lo <= 0),
+ * ZW_ERR_DAMPING (b_lo < 0), ZW_ERR_PERIOD (T <= 0), ZW_ERR_BOX (m_lo > m_hi or
+ * b_lo > b_hi), ZW_ERR_RANGE (a corner refused by zw_device_init, or b_hi T / m_lo above
+ * ZW_BOX_DELTA_MAX). */
+zw_status zw_box_validate(const zw_plant_box *box);
+
+typedef struct zw_box_bound {
+    zw_real K_lower;          /* certified: <= min over the box of K_max(B) */
+    zw_real K_upper;          /* K_max(B) at the worst plant found */
+    zw_real m_worst, b_worst; /* that plant */
+    uint_least32_t evals;     /* cell bounds computed */
+    bool converged;           /* relative gap <= rel_tol */
+} zw_box_bound;
+
+/* Errors of the functions below: those of zw_box_validate, ZW_ERR_NULL (work, its cells,
+ * an output), ZW_ERR_ARG (work's capacity, max_evals or rel_tol out of range), ZW_ERR_NAN /
+ * ZW_ERR_INF (K, B), ZW_ERR_RANGE (a gain that overflows once normalized).  Fail-safe
+ * (status.h): on each error every non-NULL output certifies nothing: limits 0, verdicts
+ * not stable and not decided, ranges empty, plants NaN, flags false, counts 0. */
+
+/* min over the box of K_max(B): sup K stable at B for every plant. */
+zw_status zw_box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work *work,
+                       zw_box_bound *out);
+
+typedef struct zw_box_verdict {
+    bool stable;              /* certified: 0 < K < K_max(B) for every plant of the box */
+    bool decided;             /* false: budget spent before a proof either way (stable false) */
+    zw_real K_lower;          /* the certified lower bound of K_box(B) reached */
+    zw_real m_worst, b_worst; /* unstable: a plant where (K, B) is unstable (zw_device_check);
+                                 stable: the plant of least K_max found */
+} zw_box_verdict;
+
+/* Is (K, B) stable for every plant of the box?  Stops as soon as either is proven. */
+zw_status zw_box_check(const zw_plant_box *box, zw_real K, zw_real B, const zw_box_work *work,
+                       zw_box_verdict *out);
+
+/* A closed interval [B_lo, B_hi] of B at which K is stable for every plant of the box,
+ * inside the true (open) one; its ends are found by bisection to rel_tol of the range.
+ * nonempty false (B_lo = B_hi = 0) when no B could be certified (K <= 0, K at or above
+ * the box's K_mmax, or too close to it for the budget). */
+zw_status zw_box_b_range(const zw_plant_box *box, zw_real K, const zw_box_work *work,
+                         zw_real *B_lo, zw_real *B_hi, bool *nonempty);
+
+typedef struct zw_box_extremes {
+    zw_real K_mmax;           /* certified: K_box(B_at) >= K_mmax, so every K in (0, K_mmax)
+                                 is stable at B_at for every plant */
+    zw_real B_at;             /* the B found (golden-section search of K_box) */
+    zw_real K_upper_at;       /* K_max(B_at) at the worst plant found */
+    zw_real K_mmax_upper;     /* K_mmax of that plant: no B does better for the whole box
+                                 (up to a few ulps) */
+    zw_real m_worst, b_worst; /* the worst plant at B_at */
+    bool converged;           /* every search at the final B converged */
+} zw_box_extremes;
+
+/* The largest K that some single B makes stable for every plant: max over B of K_box(B). */
+zw_status zw_box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw_box_extremes *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ZWIDTH_BOX_H */

@@ -1,0 +1,244 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+"""Certification over an uncertain plant: every m in [m_lo, m_hi], b in [b_lo, b_hi].
+
+A drive's load changes (a hand grips or lets go, a tool is mounted), so one (m, b) is not
+enough.  :class:`PlantBox` answers for every plant of a box at once, for the paper's ideal
+loop, with the C core's branch and bound (csrc/src/box.c, docs/box.md):
+
+* ``is_stable(K, B)`` / ``verdict(K, B)``: stable for every plant (certified), or a plant
+  where it is not;
+* ``k_max(B)``: the largest K stable at B for every plant, never above the true minimum
+  over the box of K_max(B) (``K_lower``), with the worst plant found and its K_max
+  (``K_upper``): the true value lies in [K_lower, K_upper];
+* ``b_range(K)``: B that keep K stable for every plant (an inner interval);
+* ``extremes()``: the largest K that one B makes stable for every plant, and that B.
+
+A separate class rather than ``Device`` with interval arguments: a ``Device`` broadcasts
+over arrays of plants and answers per plant, while a box answers once for all of them
+(and runs a search whose budget is part of the answer).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
+
+from . import _core
+from ._kernels import STATUS_NAMES, ZwidthError
+from .device import Device
+from .results import Interval, Result
+
+RangeLike = Union[float, Sequence[float], "PlantRange"]
+
+#: Budget defaults (larger than the C defaults: host memory is cheap).  With them the
+#: relative gap K_upper / K_lower - 1 is below 1e-6 on every box of the reference tests,
+#: also where K_max has an interior minimum in m.
+DEFAULT_CAPACITY = 1 << 16
+DEFAULT_MAX_EVALS = 400_000
+DEFAULT_REL_TOL = float(_core.BOX_DEFAULT_REL_TOL)
+
+
+@dataclasses.dataclass(frozen=True)
+class PlantRange:
+    """A closed range lo..hi of one plant parameter (lo == hi: a point)."""
+
+    lo: float
+    hi: float
+
+    def __str__(self) -> str:
+        return f"{self.lo:g}:{self.hi:g}"
+
+    @property
+    def mid(self) -> float:
+        return self.lo + 0.5 * (self.hi - self.lo)
+
+
+def parse_range(text: str) -> Union[float, PlantRange]:
+    """'0.12' -> 0.12, '0.10:0.14' -> PlantRange(0.10, 0.14) (the CLI's --m, --J, --b)."""
+    if ":" not in text:
+        return float(text)
+    lo, sep, hi = text.partition(":")
+    if ":" in hi or not lo.strip() or not hi.strip():
+        raise ValueError(f"a range is LO:HI, got {text!r}")
+    return PlantRange(float(lo), float(hi))
+
+
+parse_range.__name__ = "number or range LO:HI"  # argparse names the type in its message
+
+
+def _as_range(name: str, value: RangeLike) -> PlantRange:
+    if isinstance(value, PlantRange):
+        return value
+    if isinstance(value, (int, float)):
+        return PlantRange(float(value), float(value))
+    items = [float(v) for v in value]
+    if len(items) != 2:
+        raise ValueError(f"zwidth.PlantBox: {name} must be a number or a pair (lo, hi), got {value!r}")
+    return PlantRange(items[0], items[1])
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class BoxBound(Result):
+    """min over the box of K_max(B): K_lower (certified, never above it) <= true <= K_upper
+    (K_max at the worst plant found, m_worst, b_worst); converged: the relative gap is
+    within the box's rel_tol; evals: cell bounds computed."""
+
+    K_lower: float
+    K_upper: float
+    m_worst: float
+    b_worst: float
+    evals: int
+    converged: bool
+
+    @property
+    def gap(self) -> float:
+        """Relative gap (K_upper - K_lower) / K_upper (0 when both are 0)."""
+        return 0.0 if self.K_upper == 0.0 else (self.K_upper - self.K_lower) / self.K_upper
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class BoxVerdict(Result):
+    """stable: certified for every plant of the box; decided False: the budget ran out
+    first (stable is then False too).  m_worst, b_worst: a plant where the gains are
+    unstable (when refuted), else the plant of least K_max found; K_lower: the certified
+    lower bound of the box's K_max at this B reached by the search."""
+
+    stable: bool
+    decided: bool
+    K_lower: float
+    m_worst: float
+    b_worst: float
+
+    @property
+    def word(self) -> str:
+        return "stable" if self.stable else ("unstable" if self.decided else "undecided")
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class BoxExtremes(Result):
+    """K_mmax: certified, every K in (0, K_mmax) is stable at B = B_at for every plant;
+    K_upper_at: K_max(B_at) at the worst plant found (m_worst, b_worst); K_mmax_upper:
+    that plant's own K_mmax, which no single B can beat for the whole box."""
+
+    K_mmax: float
+    B_at: float
+    K_upper_at: float
+    K_mmax_upper: float
+    m_worst: float
+    b_worst: float
+    converged: bool
+
+
+class PlantBox:
+    """Every plant with m in [m_lo, m_hi] and b in [b_lo, b_hi], sampled every T.
+
+    ``m`` and ``b`` are each a number (fixed) or a pair (lo, hi); ``rotary=True`` reads m
+    as the inertia J (units N m/rad, N m s/rad).  ``capacity`` (cells of the work list),
+    ``max_evals`` (cell bounds per search) and ``rel_tol`` (stop at this relative gap)
+    bound each search.  Invalid boxes raise :class:`zwidth.ZwidthError` (status
+    ``ZW_ERR_BOX`` for lo > hi).
+    """
+
+    def __init__(self, m: RangeLike, b: RangeLike, T: float, *, rotary: bool = False,
+                 capacity: int = DEFAULT_CAPACITY, max_evals: int = DEFAULT_MAX_EVALS,
+                 rel_tol: float = DEFAULT_REL_TOL) -> None:
+        self.m = _as_range("J" if rotary else "m", m)
+        self.b = _as_range("b", b)
+        self.T = float(T)
+        self.rotary = bool(rotary)
+        self.capacity = int(capacity)
+        self.max_evals = int(max_evals)
+        self.rel_tol = float(rel_tol)
+        # validate now (an empty search: B = 0 is always a valid gain)
+        self._raise(self._call(_core.box_k_max, 0.0, max_evals_override=1), "PlantBox", {})
+
+    @classmethod
+    def rotary_box(cls, J: RangeLike, b: RangeLike, T: float, **kwargs: Any) -> "PlantBox":
+        return cls(J, b, T, rotary=True, **kwargs)
+
+    @property
+    def mass_symbol(self) -> str:
+        return "J" if self.rotary else "m"
+
+    def __repr__(self) -> str:
+        return f"PlantBox({self.mass_symbol}={self.m}, b={self.b}, T={self.T:g})"
+
+    @property
+    def nominal(self) -> Device:
+        """The plant at the middle of the box."""
+        return Device.rotary(self.m.mid, self.b.mid, self.T) if self.rotary else Device(
+            self.m.mid, self.b.mid, self.T)
+
+    def corners(self) -> Tuple[Device, ...]:
+        make = Device.rotary if self.rotary else Device
+        return tuple(make(m, b, self.T) for m in (self.m.lo, self.m.hi) for b in (self.b.lo, self.b.hi))
+
+    # ---- the C calls ------------------------------------------------------------------
+
+    def _call(self, kernel: Any, *gains: float, max_evals_override: Optional[int] = None) -> Dict[str, Any]:
+        out: Dict[str, Any] = kernel(self.m.lo, self.m.hi, self.b.lo, self.b.hi, self.T, *gains, self.capacity,
+                      self.max_evals if max_evals_override is None else max_evals_override, self.rel_tol)
+        return out
+
+    def _raise(self, out: Dict[str, Any], function: str, gains: Dict[str, float]) -> Dict[str, Any]:
+        status = STATUS_NAMES.get(int(out["status"]), "ZW_UNKNOWN")
+        if status == "ZW_OK":
+            return out
+        sym = self.mass_symbol
+        values = {f"{sym}_lo": self.m.lo, f"{sym}_hi": self.m.hi, "b_lo": self.b.lo, "b_hi": self.b.hi,
+                  "T": self.T, **gains}
+        parameter: Optional[str] = None
+        if status == "ZW_ERR_BOX":
+            parameter = sym if self.m.lo > self.m.hi else "b"
+            what = f"{parameter} range must have lo <= hi, got {values[parameter + '_lo']!r}:{values[parameter + '_hi']!r}"
+        elif status == "ZW_ERR_MASS":
+            parameter, what = sym, f"{sym}_lo must be > 0, got {self.m.lo!r}"
+        elif status == "ZW_ERR_DAMPING":
+            parameter, what = "b", f"b_lo must be >= 0, got {self.b.lo!r}"
+        elif status == "ZW_ERR_PERIOD":
+            parameter, what = "T", f"T must be > 0, got {self.T!r}"
+        elif status in ("ZW_ERR_NAN", "ZW_ERR_INF"):
+            parameter = next((n for n, v in values.items() if not math.isfinite(v)), None)
+            what = f"{parameter} must be a finite number, got {values.get(parameter or '', float('nan'))!r}"
+        elif status == "ZW_ERR_RANGE":
+            what = ("the box reaches plants outside the core's range (a corner refused by Device, "
+                    "or b_hi T / m_lo above 1e6), or a gain overflows once normalized")
+        elif status == "ZW_ERR_ARG":
+            what = "capacity, max_evals or rel_tol out of range (rel_tol in [0, 1))"
+        else:
+            what = status
+        where = "zwidth.PlantBox" if function == "PlantBox" else f"zwidth.PlantBox.{function}"
+        raise ZwidthError(f"{where}: {what}", status, parameter, (), values)
+
+    # ---- public API -------------------------------------------------------------------
+
+    def k_max(self, B: float) -> BoxBound:
+        """min over the box of K_max(B) (certified lower bound, the worst plant found)."""
+        out = self._raise(self._call(_core.box_k_max, float(B)), "k_max", {"B": float(B)})
+        return BoxBound(float(out["K_lower"]), float(out["K_upper"]), float(out["m_worst"]),
+                        float(out["b_worst"]), int(out["evals"]), bool(out["converged"]))
+
+    def verdict(self, K: float, B: float) -> BoxVerdict:
+        """Is (K, B) stable for every plant of the box?"""
+        out = self._raise(self._call(_core.box_check, float(K), float(B)), "verdict",
+                          {"K": float(K), "B": float(B)})
+        return BoxVerdict(bool(out["stable"]), bool(out["decided"]), float(out["K_lower"]),
+                          float(out["m_worst"]), float(out["b_worst"]))
+
+    def is_stable(self, K: float, B: float) -> bool:
+        """True only if certified for every plant (undecided counts as not stable)."""
+        return self.verdict(K, B).stable
+
+    def b_range(self, K: float) -> Interval:
+        """A closed interval of B at which K is stable for every plant (inside the true
+        open one; nonempty False when none could be certified)."""
+        out = self._raise(self._call(_core.box_b_range, float(K)), "b_range", {"K": float(K)})
+        return Interval(float(out["B_lo"]), float(out["B_hi"]), bool(out["nonempty"]))
+
+    def extremes(self) -> BoxExtremes:
+        """The largest K one B makes stable for the whole box (certified), and that B."""
+        out = self._raise(self._call(_core.box_k_mmax), "extremes", {})
+        return BoxExtremes(float(out["K_mmax"]), float(out["B_at"]), float(out["K_upper_at"]),
+                           float(out["K_mmax_upper"]), float(out["m_worst"]), float(out["b_worst"]),
+                           bool(out["converged"]))

@@ -1,0 +1,158 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+"""The ``zwidth`` command with plant ranges: ``--m 0.10:0.14`` (or ``--J``, ``--b``).
+
+A range makes the plant a :class:`zwidth.PlantBox`; ``check``, ``limits`` and
+``plot region`` then answer for every plant of the box (the paper's ideal loop only).
+cli.main hands such command lines to :func:`main` here; everything else stays in cli.py.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+from typing import Any, Dict, List
+
+from .box import PlantBox, PlantRange
+from .cli import (EXIT_INVALID, EXIT_OK, EXIT_PLOT, EXIT_UNSTABLE, _emit, _fmt, _Outcome, _PlotError,
+                  _Usage, _write_figure)
+from ._kernels import ZwidthError
+
+_RANGE_OPTIONS = ("m", "J", "b")
+_COMMANDS = ("check", "limits", "plot")
+
+
+def has_range(args: argparse.Namespace) -> bool:
+    """Does any plant option hold a range LO:HI?"""
+    return any(isinstance(getattr(args, n, None), PlantRange) for n in _RANGE_OPTIONS)
+
+
+def _box(args: argparse.Namespace) -> PlantBox:
+    norm = [f"--{n}" for n in ("delta", "alpha", "beta") if getattr(args, n, None) is not None]
+    if norm:
+        raise _Usage(f"plant ranges are in real units: {', '.join(norm)} cannot be combined with them")
+    missing = [name for name, ok in (("--m (or --J)", args.m is not None or args.J is not None),
+                                     ("--b", args.b is not None), ("--T", args.T is not None)) if not ok]
+    if missing:
+        raise _Usage(f"the plant box needs {', '.join(missing)}")
+    if (args.K is None) != (args.B is None):
+        raise _Usage("give both --K and --B (or neither)")
+    if args.delay != 0 or args.velocity_filter is not None or args.differentiator != "backward":
+        raise ZwidthError("plant ranges are certified for the paper's ideal loop only (no --delay, "
+                          "--velocity-filter or --differentiator yet)", "ZW_ERR_ARG", None, (), {})
+    rotary = args.J is not None
+    return PlantBox(args.J if rotary else args.m, args.b, args.T, rotary=rotary)
+
+
+def _units(box: PlantBox) -> Dict[str, str]:
+    if box.rotary:
+        return {"m": "kg m^2", "b": "N m s/rad", "K": "N m/rad", "B": "N m s/rad"}
+    return {"m": "kg", "b": "N s/m", "K": "N/m", "B": "N s/m"}
+
+
+def _header(box: PlantBox) -> str:
+    u = _units(box)
+    return (f"Plant box: {box.mass_symbol} in [{_fmt(box.m.lo)}, {_fmt(box.m.hi)}] {u['m']}, "
+            f"b in [{_fmt(box.b.lo)}, {_fmt(box.b.hi)}] {u['b']}, T = {_fmt(box.T)} s "
+            f"(paper's ideal loop)")
+
+
+def _summary(box: PlantBox) -> Dict[str, Any]:
+    return {"mass": box.mass_symbol, "m_lo": box.m.lo, "m_hi": box.m.hi, "b_lo": box.b.lo,
+            "b_hi": box.b.hi, "T": box.T, "rotary": box.rotary}
+
+
+def cmd_check(args: argparse.Namespace, box: PlantBox) -> _Outcome:
+    if args.K is None:
+        raise _Usage("check needs the gains: --K and --B")
+    if getattr(args, "region", "exact") != "exact":
+        raise _Usage("plant ranges are certified in the exact region only (no --region)")
+    K, B = float(args.K), float(args.B)
+    v = box.verdict(K, B)
+    k = box.k_max(B)
+    br = box.b_range(K) if K > 0 else None
+    u, sym = _units(box), box.mass_symbol
+    data = {"verdict": v.word, "stable": v.stable, "decided": v.decided, "K": K, "B": B,
+            "worst_plant": {sym: v.m_worst, "b": v.b_worst},
+            "K_max": {"certified": k.K_lower, "at_worst_plant": k.K_upper, "gap": k.gap,
+                      "worst_plant": {sym: k.m_worst, "b": k.b_worst}, "converged": k.converged},
+            "B_range": None if br is None else {"lo": br.lo, "hi": br.hi, "nonempty": br.nonempty}}
+    lines = [_header(box), f"Gains: K = {_fmt(K)} {u['K']}, B = {_fmt(B)} {u['B']}",
+             f"Verdict for every plant of the box: {v.word.upper()}"]
+    if v.stable:
+        lines.append(f"  least K_max found at {sym} = {_fmt(v.m_worst)}, b = {_fmt(v.b_worst)}")
+    elif v.decided:
+        lines.append(f"  unstable at {sym} = {_fmt(v.m_worst)}, b = {_fmt(v.b_worst)}")
+    else:
+        lines.append("  undecided: the search budget ran out (counts as not stable)")
+    lines.append(f"  K_max over the box at this B >= {_fmt(k.K_lower)} {u['K']} (certified; "
+                 f"{_fmt(k.K_upper)} at the worst plant, gap {k.gap:.2g})")
+    if br is not None:
+        lines.append("  B range over the box at this K: " + (
+            f"{_fmt(br.lo)} <= B <= {_fmt(br.hi)} {u['B']} (certified)" if br.nonempty
+            else "none certified"))
+    return _Outcome(EXIT_OK if v.stable else EXIT_UNSTABLE, data, lines)
+
+
+def cmd_limits(args: argparse.Namespace, box: PlantBox) -> _Outcome:
+    x = box.extremes()
+    kp = box.k_max(0.0)
+    nom = box.nominal.extremes()
+    u, sym = _units(box), box.mass_symbol
+    data = {"K_mmax": x.K_mmax, "B_at_K_mmax": x.B_at, "K_upper_at": x.K_upper_at,
+            "K_mmax_upper": x.K_mmax_upper, "worst_plant": {sym: x.m_worst, "b": x.b_worst},
+            "converged": x.converged, "K_p_max": kp.K_lower,
+            "nominal": {sym: box.m.mid, "b": box.b.mid, "K_mmax": float(nom.K_mmax),
+                        "B_at_K_mmax": float(nom.B_at_K_mmax)}}
+    lines = [_header(box), "", "Limits for every plant of the box (certified, never above the true ones)",
+             f"  K_mmax   = {_fmt(x.K_mmax)} {u['K']} at B = {_fmt(x.B_at)} {u['B']}",
+             f"    worst plant {sym} = {_fmt(x.m_worst)}, b = {_fmt(x.b_worst)} "
+             f"(its own K_mmax {_fmt(x.K_mmax_upper)}: no single B does better)",
+             f"  K with B = 0 (stiffness only): K < {_fmt(kp.K_lower)} {u['K']}",
+             f"  nominal plant ({sym} = {_fmt(box.m.mid)}, b = {_fmt(box.b.mid)}): "
+             f"K_mmax = {_fmt(nom.K_mmax)} {u['K']} at B = {_fmt(nom.B_at_K_mmax)} {u['B']}"]
+    return _Outcome(EXIT_OK, data, lines)
+
+
+def cmd_plot(args: argparse.Namespace, box: PlantBox) -> _Outcome:
+    if args.kind != "region":
+        raise _Usage(f"plot {args.kind} does not take plant ranges; 'plot region' draws the box's region")
+    out = Path(args.output or "zwidth-region.png")
+    K = None if args.K is None else float(args.K)
+    B = None if args.B is None else float(args.B)
+    _write_figure(lambda plot: plot.box_region(box, K, B), out, args.dpi)
+    data = {"kind": "region", "file": str(out), "format": out.suffix.lower().lstrip("."),
+            "bytes": out.stat().st_size}
+    return _Outcome(EXIT_OK, data, [f"wrote {out} (region of the plant box, {data['bytes']} bytes)"])
+
+
+def main(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
+    """cli.main's branch for plant ranges; same exit codes and error reporting."""
+    try:
+        if args.command not in _COMMANDS:
+            raise _Usage(f"plant ranges (LO:HI) work with check, limits and plot region, not {args.command}")
+        if args.command == "plot":
+            if not 0.0 < args.dpi < math.inf:
+                raise _Usage(f"argument --dpi: must be > 0, got {args.dpi:g}")
+            suffix = Path(args.output).suffix.lower() if args.output else ".png"
+            if suffix not in (".png", ".svg"):
+                raise _Usage(f"argument -o/--output: {args.output!r} must end in .png or .svg")
+        box = _box(args)
+        handler = {"check": cmd_check, "limits": cmd_limits, "plot": cmd_plot}[args.command]
+        outcome = handler(args, box)
+    except _Usage as exc:
+        sub.error(str(exc))  # exits 2
+    except ZwidthError as exc:
+        print(f"zwidth {args.command}: error: invalid input: {exc}", file=sys.stderr)
+        return EXIT_INVALID
+    except _PlotError as exc:
+        print(f"zwidth plot: error: cannot plot: {exc}", file=sys.stderr)
+        return EXIT_PLOT
+    if args.json:
+        outcome.data = {"mode": "box", "box": _summary(box), "units": _units(box), **outcome.data}
+    _emit(outcome, args.command, None, args.json, sys.stdout)
+    return int(outcome.status)
+
+
+__all__: List[str] = ["has_range", "main"]
