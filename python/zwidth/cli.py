@@ -1015,8 +1015,10 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
             lines.append(f"  {s.label:<{width}}  {_fmt(d):>7} {_fmt(a):>8} {_fmt(b):>8}  {v.outcome:<10} "
                          f"{_growth(v):>13}  {exact:<12} {agrees:<6}  {other}")
         else:
+            lp = s.linear
+            assert lp is not None   # simulate() gives every case its linear part
             lines.append(f"  {s.label:<{width}}  {v.outcome:<10} {_growth(v):>13}  {_fmt(s.x[-1]):>16}  "
-                         f"{s.linear.word:<12} {s.linear.spectral_radius:>8.4g}")
+                         f"{lp.word:<12} {lp.spectral_radius:>8.4g}")
     if scene.linear and not scene.ideal and sims and sims[0].device is not None:
         from .sim import loop_words
         lines.append(f"  loop analysed: {loop_words(sims[0].params, sims[0].device)}; 'ideal loop' is what "
@@ -1025,7 +1027,7 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
         if s.verdict.outcome != "stable" or not scene.linear:
             lines += textwrap.wrap(f"{s.label}: {s.verdict.outcome}: {s.verdict.reason}", 92, initial_indent="  ",
                                    subsequent_indent="      ")
-        if not scene.linear:
+        if not scene.linear and s.linear is not None:
             lines += textwrap.wrap(f"{s.label}: linear part ({_linear_words(s)}): {s.linear.describe(scene.units)}",
                                    92, initial_indent="  ", subsequent_indent="      ")
         if s.explanation:

@@ -264,7 +264,7 @@ def linear_part(params: Mapping[str, Any], rotary: bool, filter_pole: float, dur
     a = float(filter_pole) if effects & EFFECTS["velocity_filter"] else 0.0
     worst: Optional[LinearPart] = None
     for name, K, B in _pieces(params, effects):
-        poles = np.linalg.eigvals(closed_loop_matrix(m, b, k, T, K, B, delay, a))
+        poles = np.asarray(np.linalg.eigvals(closed_loop_matrix(m, b, k, T, K, B, delay, a)), dtype=np.complex128)
         rho = float(np.abs(poles).max())
         verdict: Optional[Union[Verdict, LoopVerdict]] = None
         if k == 0 and delay <= MAX_DELAY:
