@@ -1141,7 +1141,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_plant_options(p)
     p.set_defaults(handler=cmd_plot, needs_gains=False, parser=p)
 
-    p = sub.add_parser("simulate", help="simulate a scene file in time (exit 1 if a case is not stable)",
+    p = sub.add_parser("simulate", help="simulate a scene file in time (exit 1 if a case is unstable, 5 undecided)",
                        description=_SIMULATE_DESCRIPTION, epilog=_SIMULATE_EPILOG, formatter_class=fmt,
                        allow_abbrev=False)
     p.add_argument("scene", metavar="SCENE.toml", help="the scene file (docs/scenes.md; examples in scenes/)")

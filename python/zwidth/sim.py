@@ -18,10 +18,18 @@ DEFAULT_WINDOWS, covering the run's second half), their peak-to-peak amplitudes 
                cycle or a drift is not dying out
     undecided  otherwise: shrinking in every window but not settled yet: run longer
 
-For a linear scene (no effect, or only a delay of up to 8 samples and a velocity low-pass)
-the analysis covers the loop: ``Simulation.analytic`` is zwidth's exact verdict of the loop
-simulated (zwidth.loop, with the simulator's own filter pole) and ``agrees`` compares the
-two; ``Simulation.note`` warns when the paper's ideal loop would say otherwise.
+then :func:`judge`'s evidence rules: a run whose position never moved is undecided
+("nothing excites the loop"); with quantization the limit cycle in counts decides against
+the scene's ``limit_cycle``; and a run whose windows are shorter than the slowest
+oscillation of the loop's linear part is undecided, "run at least N s" (N from its poles).
+
+Every case gets its linear part (:class:`LinearPart`, :func:`linear_part`: the loop
+without quantization, friction, saturation and switching) and, where the verdicts differ,
+``Simulation.explanation`` names the effect.  For a linear scene (no effect, or only a
+delay of up to 8 samples and a velocity low-pass) ``Simulation.analytic`` is zwidth's exact
+verdict of the loop simulated (zwidth.loop, with the simulator's own filter pole) and
+``agrees`` compares the two; ``Simulation.note`` warns when the paper's ideal loop would
+say otherwise.
 """
 from __future__ import annotations
 
