@@ -161,6 +161,16 @@ def test_negligible_friction_leaves_p8_unstable():
     assert np.abs(s.x[:100] - lin.x[:100]).max() <= 1e-4 * np.abs(lin.x[:100]).max()
 
 
+def test_stick_slip_scene_matches_the_reviews_event_located_reference():
+    """Review 5c: the stick-slip scene's final position, zwidth 24.1264 mm against the
+    reviewer's event-located DOP853 24.1220 mm (stops and break-aways of a moving hand
+    located in time).  Now 24.1220 mm, and independent of the substeps to 1e-12 m."""
+    case = zwidth.load_scene(SCENES / "stick-slip.toml").cases[0]
+    finals = [_core.Simulator(dict(case.params, substeps=n)).run(case.samples, ["x"])["x"][-1] for n in (10, 100)]
+    assert finals[0] == pytest.approx(24.1220e-3, abs=1e-7)
+    assert abs(finals[0] - finals[1]) <= 1e-12
+
+
 # ---------------------------------------------------------------------------------------
 # 3. Runs too short for the slowest mode
 # ---------------------------------------------------------------------------------------
@@ -197,6 +207,20 @@ def test_unstable_slow_loop_too_short_is_undecided_not_stable():
            "controller": {"K": "10 N/m", "B": "-0.2 N*s/m"}, "reference": {"to": "1 mm"}}
     s = zwidth.simulate(doc)[0]
     assert not s.linear.stable and s.verdict.outcome != "stable"
+
+
+def test_schedule_scene_too_short_for_its_last_segment_is_undecided():
+    """Review 3b, the silent nonlinear case: a 3-segment schedule whose last segment is
+    stable (period 0.2 s) judged in 31 ms windows was "unstable"."""
+    doc = {"scene": {"duration": "0.5 s"}, "plant": plant(b="2 N*s/m", T="1 ms"), "reference": {"to": "10 mm"},
+           "schedule": [{"at": "0 s", "K": "2000 N/m", "B": "1 N*s/m"},
+                        {"at": "0.1 s", "K": "500 N/m", "B": "0.5 N*s/m"},
+                        {"at": "0.2505 s", "K": "100 N/m", "B": "0.1 N*s/m"}]}
+    s = zwidth.simulate(doc)[0]
+    assert s.linear.stable and s.linear.piece.startswith("the last segment")
+    assert s.verdict.outcome == "undecided" and s.verdict.undecided_because == "too short"
+    longer = zwidth.simulate(doc, duration=s.verdict.required_duration)[0]
+    assert longer.verdict.outcome == "stable"
 
 
 # ---------------------------------------------------------------------------------------

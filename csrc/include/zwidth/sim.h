@@ -220,6 +220,8 @@ zw_status zw_sim_run(zw_sim *sim, size_t n, const zw_sim_trace *trace);
  *   STABLE    if A_w <= tolerance (settled: what still moves is below tolerance);
  *   UNDECIDED otherwise (above tolerance but decaying in every window: run longer).
  * Windows should be longer than the slowest oscillation, so that a decay shows in each.
+ * A record that never moved is STABLE here (every A = 0): whether anything excited the loop
+ * is the caller's question (zwidth.sim answers "undecided: nothing excites the loop").
  * A growth that stays below tolerance to the end of the record is not seen: pick the
  * tolerance and the duration for the scene (the Python layer's defaults are documented).
  * growth = (A_w / A_1)^(1 / ((w - 1) window)) is the envelope's factor per sample (0 when
