@@ -346,15 +346,14 @@ static zw_real held_for(const zw_substep *st, zw_real t, zw_real span, zw_real x
 }
 
 /* The stop of a slide: the s in (0, span] where the velocity of an RK4 step of length s
- * from (x, v) reaches 0, by Illinois regula falsi on g(s) = direction v(s), g(0) >= 0 >
- * g(span) (g_span); *x becomes the position there.  Located to a few roundings of the
+ * from (x, v) reaches 0, by Illinois regula falsi on g(s) = direction v(s), g(0) >= 0 >=
+ * g(span) (g_span, at the position x_span); *x becomes the position there.  Located to a few roundings of the
  * substep, far below RK4's error, so the stop adds none of its own. */
 static zw_real stop_time(const zw_substep *st, zw_real t, zw_real span, zw_real direction,
-                         zw_real *x, zw_real v, zw_real g_span) {
+                         zw_real *x, zw_real v, zw_real g_span, zw_real x_span) {
     const zw_real tolerance = ZW_R(8.0) * ZW_UNIT_ROUNDOFF * span;
-    zw_real lo = 0, hi = span, g_lo = direction * v, g_hi = g_span, x_hi = *x, v_hi = 0;
+    zw_real lo = 0, hi = span, g_lo = direction * v, g_hi = g_span, x_hi = x_span;
     int side = 0, i;
-    bool have_hi = false;
     for (i = 0; i < ZW_SIM_STOP_ITERATIONS && g_hi < 0 && hi - lo > tolerance; ++i) {
         zw_real s = lo + (hi - lo) * (g_lo / (g_lo - g_hi)), xs = *x, vs = v, g;
         if (!(s > lo && s < hi)) s = lo + (hi - lo) / 2;
@@ -369,14 +368,9 @@ static zw_real stop_time(const zw_substep *st, zw_real t, zw_real span, zw_real 
             hi = s;
             g_hi = g;
             x_hi = xs;
-            have_hi = true;
             if (side == 1) g_lo /= 2;
             side = 1;
         }
-    }
-    if (!have_hi) {   /* the stop is the end of the span */
-        v_hi = v;
-        rk4(st, t, hi, &x_hi, &v_hi);
     }
     *x = x_hi;
     return hi;
@@ -395,6 +389,7 @@ static zw_real friction_substep(zw_substep *st, zw_real t, zw_real h, zw_real *x
     int events;
     for (events = 0; done < h; ++events) {
         zw_real direction, xe, ve;
+        if (*v == 0) *stuck = true;   /* at rest (also a velocity the loop flushed to 0) */
         if (*stuck) {
             const zw_real hold = held_for(st, t + done, h - done, *x, &direction);
             /* At t: the holding force, or the sliding friction of a break-away at t. */
@@ -421,7 +416,7 @@ static zw_real friction_substep(zw_substep *st, zw_real t, zw_real h, zw_real *x
             }
             return at_start;
         }
-        done += stop_time(st, t + done, h - done, direction, x, *v, direction * ve);
+        done += stop_time(st, t + done, h - done, direction, x, *v, direction * ve, xe);
         *v = 0;
         *stuck = true;
     }
