@@ -304,6 +304,19 @@ def test_effect_that_changes_the_verdict_is_named(tmp_path):
     assert r.returncode == 1 and "differs:" in r.stdout and "saturation" in r.stdout
 
 
+def test_stable_only_with_the_effect_named_when_the_linear_loop_grows(tmp_path):
+    """Done-when of issue 14: a loop whose linear part grows (negative total damping) held
+    by friction simulates stable, exit 0, and the output says friction did it."""
+    doc = {"scene": {"duration": "5 s"}, "plant": plant(b="0 N*s/m", T="1 ms"),
+           "controller": {"K": "100 N/m", "B": "-0.02 N*s/m"}, "reference": {"to": "10 cm"},
+           "friction": {"coulomb": "1 N", "stiction": "1.5 N"}}
+    s = zwidth.simulate(doc)[0]
+    assert s.verdict.outcome == "stable" and not s.linear.stable and s.linear.spectral_radius > 1
+    assert "friction" in s.explanation
+    r = run("simulate", str(write(tmp_path, "fr.toml", zwidth.load_scene(doc).to_toml())), "--no-progress")
+    assert r.returncode == 0 and "differs:" in r.stdout and "friction" in r.stdout and "unstable" in r.stdout
+
+
 # ---------------------------------------------------------------------------------------
 # 5. Quantization limit cycles in counts
 # ---------------------------------------------------------------------------------------
@@ -326,6 +339,13 @@ def test_limit_cycle_verdict_counts_not_tolerance():
         ok = zwidth.simulate(quantized(d, a, b, limit_cycle=2))[0]
         assert ok.verdict.outcome == "stable" and "limit cycle of 2 counts" in ok.verdict.reason
         assert ok.verdict.period is not None and ok.verdict.period > 0
+
+
+def test_limit_cycle_round_trips_through_toml():
+    sc = zwidth.load_scene(quantized(3.0, 7, 2, limit_cycle=3))
+    assert sc.cases[0].limit_cycle == 3
+    assert zwidth.load_scene(sc.to_toml()).cases[0].limit_cycle == 3
+    assert zwidth.load_scene(quantized(3.0, 7, 2)).cases[0].limit_cycle == 1    # the documented default
 
 
 def test_limit_cycle_key_checked():
