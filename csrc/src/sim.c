@@ -436,6 +436,12 @@ static zw_real integrate_sample(const zw_sim_scene *sc, zw_real t, zw_real appli
     st.sc = sc;
     st.applied = applied;
     st.friction = 0;
+    /* Without a hand the force on a resting plant is the held one for the whole sample:
+     * within the stiction band it holds every substep, so skip them. */
+    if (friction && !hand && *v == 0 && ZW_FABS(applied) <= sc->stiction) {
+        *stuck = true;
+        return -applied;
+    }
     for (i = 0; i < sc->substeps; ++i) {
         const zw_real ts = t + (zw_real)i * h;
         zw_real mass = sc->m;
