@@ -268,6 +268,10 @@ class _Reader:
             why = f" ({why})" if why else ": not a number followed by units"
             raise self.fail(path, f"cannot read {raw!r} as a number with units{why}; "
                                   f"write e.g. \"{example}\"") from None
+        if isinstance(q, ureg.Quantity) and q.unitless and not _is_number(raw):
+            # a unit that cancels to a plain number ("10 percent", "5 ppm")
+            raise self.fail(path, f"wrong dimension: {raw!r} is a plain number, not {_word(kind, self.rotary)} "
+                                  f"(expected units like {unit}, e.g. \"{example}\")")
         if not isinstance(q, ureg.Quantity) or q.unitless:
             number = raw.strip() if _is_number(raw) else example.split()[0]
             raise self.fail(path, f"missing units in {raw!r}: write e.g. \"{number} {unit}\" "
