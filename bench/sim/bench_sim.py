@@ -38,6 +38,14 @@ max |x - x_ref| over the run, x_ref a run at 100x the finest step offered (subst
 its substeps (an estimate of the reference's own error).  Scenes come from scenes/*.toml
 when the file exists (its first case, through zwidth.simulate), else the dicts below.
 
+Part 3, the order of the friction integration: the review's friction scene (m = 0.1 kg,
+b = 2 N s/m, T = 1 ms, K = 2000 N/m, B = 1 N s/m, step 0 -> 10 mm, Coulomb 3 N, stiction
+5 N, 100 samples) against a reference that solves every piece and every stop in closed
+form at 40 digits (tests/py/sim_reference.friction_trajectory, mpmath): max |x - x_ref|
+for 1, 2, 4, ... substeps and the observed order log2(e(n) / e(2n)).  Target (issue 14):
+order >= 3.6 (RK4's 4) while the error is above rounding; the stop at the end of the
+substep it replaced gave 1.
+
 Timing: best of --repeats (fast) or --slow-repeats (Python loops) with time.perf_counter,
 the fast methods interleaved with each other.  Ratios are within this one run.
 
@@ -406,6 +414,38 @@ def accuracy_table(rows: List[Dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+FRICTION_SCENE = dict(m=0.1, b=2.0, T=1e-3, K=2000.0, B=1.0, x_init=0.0, v_init=0.0, x_eq_before=0.0,
+                      x_eq_after=0.01, t_step=0.0, coulomb=3.0, stiction=5.0)
+
+
+def bench_friction_order(zw: Any, quick: bool) -> List[Dict[str, Any]]:
+    """Part 3: the error against the closed-form stick-slip reference per substeps."""
+    sys.path.insert(0, str(REPO / "tests" / "py"))
+    import sim_reference  # noqa: E402,WPS433
+
+    n = 100
+    log("friction order: closed-form reference (mpmath)")
+    xs, _, stops = sim_reference.friction_trajectory(FRICTION_SCENE, n)
+    x_ref = np.array([float(x) for x in xs])
+    rows: List[Dict[str, Any]] = []
+    for sub in ((1, 2, 4, 8) if quick else (1, 2, 4, 8, 16, 32, 64)):
+        p = dict(FRICTION_SCENE, effects=zw._core.SIM_EFFECTS["friction"], substeps=sub)
+        x = zw._core.Simulator(p).run(n, ["x"])["x"]
+        err = float(np.max(np.abs(x - x_ref)))
+        order = math.log2(rows[-1]["err"] / err) if rows and err > 0 else None
+        rows.append({"substeps": sub, "err": err, "order": order, "stops": stops, "span": float(np.ptp(x_ref))})
+    return rows
+
+
+def friction_table(rows: List[Dict[str, Any]]) -> str:
+    lines = ["| substeps | max \\|x - x_ref\\| [m] | relative to the motion | order log2(e(n/2)/e(n)) |",
+             "|---|---|---|---|"]
+    for r in rows:
+        order = "-" if r["order"] is None else f"{r['order']:.2f}"
+        lines.append(f"| {r['substeps']} | {r['err']:.2g} | {r['err'] / r['span']:.2g} | {order} |")
+    return "\n".join(lines)
+
+
 # --------------------------------------------------------------------------- main
 
 def import_zwidth() -> Any:
@@ -457,6 +497,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
     lin_rows, info = bench_linear(a, zw, ct)
     acc_rows = bench_accuracy(a, zw)
+    fric_rows = bench_friction_order(zw, a.quick)
     elapsed = time.perf_counter() - t_start
 
     met = info["dlsim_ratio"] >= 50.0
@@ -464,6 +505,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     target = (f"- {'MET    ' if met else 'NOT MET'} zwidth bare >= 50x scipy.signal.dlsim on {a.samples} "
               f"samples: {info['dlsim_ratio']:.3g}x (t and x recorded; x only: {info['x_only_ratio']:.3g}x); "
               f"every method's trajectory within {worst_diff:.2g} m of zwidth's")
+    # The order while the error is above rounding (1e-13 of the motion).
+    orders = [r["order"] for r in fric_rows if r["order"] is not None and r["err"] > 1e-13 * r["span"]]
+    fric_met = bool(orders) and min(orders) >= 3.6
+    target += (f"\n- {'MET    ' if fric_met else 'NOT MET'} friction (stops located inside the substep) "
+               f"converges at RK4's order: observed {', '.join(f'{o:.2f}' for o in orders)} (>= 3.6) against "
+               f"the closed-form reference, {fric_rows[0]['stops']} stops in {FRICTION_SCENE['T'] * 100:g} s")
     if not a.markdown:
         print("# zwidth scene simulation: samples per second and accuracy against time\n")
         print(f"- machine: {machine(zw, ct)}")
@@ -487,6 +534,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(f"\nReference: {acc_rows[-1]['substeps'] if acc_rows else '-'} substeps (100x the finest step "
               "offered); time/sample: whole runs through _core.Simulator (x recorded), init included; "
               "refused: zw_sim_init's RK4 stability limit (ZW_SIM_RK4_LIMIT); sliding: share of samples with v != 0 (friction costs RK4 only while sliding)")
+    print("\n## Friction: convergence order against the closed-form reference\n")
+    print(friction_table(fric_rows))
     print("\n## Targets\n")
     print(target)
     return 0

@@ -50,8 +50,8 @@ exit status:
   2  usage error (unknown option, bad number, missing or conflicting options)
   3  invalid values (m <= 0, T <= 0, b < 0, NaN, ...): the message names the option
   4  cannot plot (matplotlib missing: pip install zwidth[plot]; file not writable)
-  simulate: 0 every case simulated stable, 1 some not, 3 an invalid scene file or a run
-    too large for memory
+  simulate: 0 every case simulated stable, 1 some unstable, 5 none unstable but some
+    undecided, 3 an invalid scene file or a run too large for memory
 
 simulate takes a scene file instead of a plant (docs/scenes.md): 'zwidth simulate --help'.
 
@@ -142,10 +142,12 @@ _SIMULATE_DESCRIPTION = """\
 Simulate a scene in the time domain (paper Fig. 13): the plant behind a zero-order hold,
 sampled every T, the impedance controller and only the effects the scene file asks for
 (quantization, friction, delay, saturation, velocity filter, hand, wall, knob, schedule).
-Prints each case's simulated verdict and, for linear scenes (no effect, or only [delay]
-of up to 8 samples and [velocity_filter]), the exact verdict of the loop simulated and
-whether they agree; with a delay or filter also the paper's ideal loop's verdict, and a
-warning where the two differ.  Optionally writes the arrays and a figure."""
+Prints each case's simulated verdict beside the analytic verdict of the loop's linear part
+(every scene: the loop without quantization, friction, saturation, the wall's or knob's
+switching; for linear scenes, no effect or only [delay] of up to 8 samples and
+[velocity_filter], zwidth's exact verdict of the loop simulated and whether they agree;
+with a delay or filter also the paper's ideal loop's verdict), and where they differ one
+line naming the effect that explains it.  Optionally writes the arrays and a figure."""
 
 _SIMULATE_EPILOG = """\
 the scene file (TOML; every key, unit and default in docs/scenes.md):
@@ -157,10 +159,15 @@ the scene file (TOML; every key, unit and default in docs/scenes.md):
 
 verdict of a case (zw_sim_judge on the position; default: 8 windows over the run's second half):
   unstable   the position overflowed
+  undecided  "nothing excites the loop": the position never moved (give [initial] or a step)
   stable     otherwise, the last window's peak-to-peak <= tolerance (default 1e-3 of the run's range)
   unstable   otherwise, unless the peak-to-peak strictly shrinks from each window to the next
              (a growing or sustained oscillation, a limit cycle, a drift: not dying out)
-  undecided  shrinking in every window but not settled: run longer (--duration)
+  undecided  shrinking in every window but not settled: "run at least N s"
+  then: with [quantization] the measured motion over those windows in counts decides: at most
+  limit_cycle counts (default 1) is stable ("limit cycle of n counts"), more is unstable; and
+  "undecided: run at least N s" when the linear part's slowest oscillation is longer than a
+  window (N from its poles: windows of one period, and its decay below the tolerance)
 
 output files:
   --out RUN.npz   every case's arrays: keys "<label>/<signal>" (t, x, v, x_measured, force and
@@ -176,16 +183,23 @@ output files:
   cases     [{label, description, samples, T, duration, params (the flat scene dict, SI
              units; infinities as null), normalized: {delta, alpha, beta} | null,
              verdict: {outcome, amplitude_first, amplitude_last, growth, reason, window,
-             windows, tolerance, first_nonfinite}, analytic: {verdict, stable, marginal,
+             windows, tolerance, first_nonfinite, undecided_because ("unexcited" | "too
+             short" | "decaying" | null), required_duration (s | null), counts, period
+             (quantized: the limit cycle's counts and period | null)}, analytic: {verdict, stable, marginal,
              deciding, spectral_radius, loop (as in 'zwidth check --help'), legacy_stable
              (null with a delay or filter), ideal_loop: {verdict, stable} | null} | null
-             (nonlinear scenes), agrees: bool | null, note: a warning | null}]
+             (nonlinear scenes), agrees: bool | null, note: a warning | null,
+             linear_part: {piece, K, B, m, b, k, verdict, stable, spectral_radius},
+             explanation: the effect that explains simulated != linear part | null}]
   summary   {cases, stable, unstable, undecided, compared, agree}
+  memory    bytes of every case's arrays together (stated before the run on stderr from 1 GiB)
   out, plot  the files written, or null
 
-exit status:
+exit status (the simulated verdicts, of the loop with all its effects; the linear part's
+verdict is printed beside them and does not change it):
   0  every case simulated stable
-  1  some case simulated unstable or undecided
+  1  some case simulated unstable
+  5  no case unstable, but some undecided (nothing excites the loop, or the run is too short)
   2  usage error (bad option, --out not .npz/.csv or its directory missing or not writable,
      --plot not .png/.svg); checked before simulating
   3  invalid scene: the message names the file and the key; or out of memory (a case may
@@ -916,7 +930,29 @@ def _simulation_json(sim: Any, rotary: bool) -> Dict[str, Any]:
             "T": p["T"], "duration": sim.case.duration, "params": params,
             "normalized": None if norm is None else dict(zip(("delta", "alpha", "beta"), norm)),
             "verdict": sim.verdict.as_dict(), "analytic": analytic, "agrees": sim.agrees,
-            "note": sim.note}
+            "note": sim.note, "linear_part": None if sim.linear is None else {
+                "piece": sim.linear.piece, "K": sim.linear.K, "B": sim.linear.B, "m": sim.linear.m,
+                "b": sim.linear.b, "k": sim.linear.k, "verdict": sim.linear.word, "stable": sim.linear.stable,
+                "spectral_radius": sim.linear.spectral_radius},
+            "explanation": sim.explanation}
+
+
+#: simulate: no case unstable but some undecided (a run that cannot tell is not "stable")
+EXIT_UNDECIDED = 5
+
+
+def _bytes(n: int) -> str:
+    return f"{n / 2 ** 30:.3g} GiB" if n >= 2 ** 30 else f"{n / 2 ** 20:.3g} MiB"
+
+
+def _linear_words(sim: Any) -> str:
+    """What the linear part leaves out of the case's loop."""
+    from .scene import EFFECTS
+    fx = int(sim.params["effects"])
+    words = {"quantization": "quantization", "friction": "friction", "saturation": "saturation",
+             "wall": "the wall's switching", "knob": "the knob's switching", "schedule": "earlier segments"}
+    left = [w for e, w in words.items() if fx & EFFECTS[e]]
+    return "without " + ", ".join(left) if left else "the loop simulated"
 
 
 def _growth(v: Any) -> str:
@@ -927,7 +963,7 @@ def _growth(v: Any) -> str:
 def cmd_simulate(args: argparse.Namespace) -> _Outcome:
     """Simulate every case of a scene file; verdicts, files, figure."""
     from .scene import load_scene, parse_quantity
-    from .sim import simulate, work
+    from .sim import check_memory, simulate, work
 
     out, fig_path = _simulate_outputs(args)
     seconds: Optional[float] = None
@@ -942,6 +978,10 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
     if seconds is not None:
         scene = scene.with_duration(seconds)
     total = sum(work(c) for c in scene.cases)
+    memory = check_memory(scene)      # stated (and refused when it does not fit) before the run
+    if memory >= 2 ** 30:
+        print(f"zwidth simulate: {len(scene.cases)} case(s), {sum(c.samples for c in scene.cases):,} samples: "
+              f"{memory / 2 ** 30:.3g} GiB of arrays", file=sys.stderr)
     sims = simulate(scene, progress=not args.no_progress and total >= _PROGRESS_WORK)
 
     counts = {o: sum(s.verdict.outcome == o for s in sims) for o in ("stable", "unstable", "undecided")}
@@ -952,14 +992,14 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
                   "effects": list(scene.effects), "units": scene.units},
         "cases": [_simulation_json(s, scene.rotary) for s in sims],
         "summary": {"cases": len(sims), **counts, "compared": len(compared), "agree": sum(compared)},
-        "out": None, "plot": None,
+        "memory": memory, "out": None, "plot": None,
     }
     pos = scene.units["position"]
     plural = "s" if len(sims) != 1 else ""
     lines = [f"Scene {scene.name} ({scene.source})" + (f": {scene.description}" if scene.description else ""),
              f"  {'rotary' if scene.rotary else 'translational'} plant; effects: "
              + (", ".join(scene.effects) if scene.effects else "none (the ideal loop: exact solution)")
-             + f"; {len(sims)} case{plural}, {_fmt(scene.duration)} s each", ""]
+             + f"; {len(sims)} case{plural}, {_fmt(scene.duration)} s each; {_bytes(memory)} of arrays", ""]
     width = max([4] + [len(s.label) for s in sims])
     last_column = "legacy region" if scene.ideal else "ideal loop"
     if scene.linear:
@@ -967,7 +1007,7 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
                      f"{'growth/sample':>13}  {'exact region':<12} {'agrees':<6}  {last_column}")
     else:
         lines.append(f"  {'case':<{width}}  {'simulated':<10} {'growth/sample':>13}  "
-                     f"{'final x [' + pos + ']':>16}")
+                     f"{'final x [' + pos + ']':>16}  {'linear part':<12} {'radius':>8}")
     for s in sims:
         v = s.verdict
         if scene.linear:
@@ -982,14 +1022,23 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
             lines.append(f"  {s.label:<{width}}  {_fmt(d):>7} {_fmt(a):>8} {_fmt(b):>8}  {v.outcome:<10} "
                          f"{_growth(v):>13}  {exact:<12} {agrees:<6}  {other}")
         else:
-            lines.append(f"  {s.label:<{width}}  {v.outcome:<10} {_growth(v):>13}  {_fmt(s.x[-1]):>16}")
+            lp = s.linear
+            assert lp is not None   # simulate() gives every case its linear part
+            lines.append(f"  {s.label:<{width}}  {v.outcome:<10} {_growth(v):>13}  {_fmt(s.x[-1]):>16}  "
+                         f"{lp.word:<12} {lp.spectral_radius:>8.4g}")
     if scene.linear and not scene.ideal and sims and sims[0].device is not None:
         from .sim import loop_words
         lines.append(f"  loop analysed: {loop_words(sims[0].params, sims[0].device)}; 'ideal loop' is what "
                      f"zwidth check says without the loop options")
     for s in sims:
         if s.verdict.outcome != "stable" or not scene.linear:
-            lines += textwrap.wrap(f"{s.label}: {s.verdict.reason}", 92, initial_indent="  ",
+            lines += textwrap.wrap(f"{s.label}: {s.verdict.outcome}: {s.verdict.reason}", 92, initial_indent="  ",
+                                   subsequent_indent="      ")
+        if not scene.linear and s.linear is not None:
+            lines += textwrap.wrap(f"{s.label}: linear part ({_linear_words(s)}): {s.linear.describe(scene.units)}",
+                                   92, initial_indent="  ", subsequent_indent="      ")
+        if s.explanation:
+            lines += textwrap.wrap(f"{s.label}: differs: {s.explanation}", 92, initial_indent="  ",
                                    subsequent_indent="      ")
         if s.note:
             lines += textwrap.wrap(f"warning: {s.label}: {s.note}", 92, initial_indent="  ",
@@ -1013,7 +1062,8 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
         _write_figure(lambda plot: plot.simulation(sims), fig_path, args.dpi)
         data["plot"] = str(fig_path)
         lines.append(f"wrote {fig_path} ({fig_path.stat().st_size} bytes)")
-    return _Outcome(EXIT_OK if counts["stable"] == len(sims) else EXIT_UNSTABLE, data, lines)
+    status = EXIT_UNSTABLE if counts["unstable"] else EXIT_UNDECIDED if counts["undecided"] else EXIT_OK
+    return _Outcome(status, data, lines)
 
 
 # ---------------------------------------------------------------------------------------
@@ -1098,7 +1148,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_plant_options(p)
     p.set_defaults(handler=cmd_plot, needs_gains=False, parser=p)
 
-    p = sub.add_parser("simulate", help="simulate a scene file in time (exit 1 if a case is not stable)",
+    p = sub.add_parser("simulate", help="simulate a scene file in time (exit 1 if a case is unstable, 5 undecided)",
                        description=_SIMULATE_DESCRIPTION, epilog=_SIMULATE_EPILOG, formatter_class=fmt,
                        allow_abbrev=False)
     p.add_argument("scene", metavar="SCENE.toml", help="the scene file (docs/scenes.md; examples in scenes/)")

@@ -45,7 +45,7 @@ else:  # pragma: no cover - Python < 3.11
 
 __all__ = ["SceneError", "Scene", "Case", "load_scene", "parse_quantity", "EFFECTS", "MAX_SUBSTEPS", "MAX_DELAY",
            "SUBSTEP_ACCURACY", "MIN_SUBSTEPS", "DEFAULT_DURATION", "DEFAULT_WINDOWS",
-           "DEFAULT_RELATIVE_TOLERANCE", "MAX_SAMPLES", "MAX_KNOB_COUNT"]
+           "DEFAULT_RELATIVE_TOLERANCE", "MAX_SAMPLES", "MAX_KNOB_COUNT", "DEFAULT_LIMIT_CYCLE"]
 
 #: Effects that keep the loop linear and time-invariant, so zwidth.loop decides it exactly.
 LINEAR_EFFECTS = ("delay", "velocity_filter")
@@ -74,6 +74,9 @@ _BASIC_SIGNALS = 5
 #: double no longer holds exactly on).
 _STEP_INDEX_LIMIT = 2.0 ** 53
 MAX_KNOB_COUNT = 10 ** 6     #: most detents of a [knob]
+#: [quantization] limit_cycle: the largest measured motion over the judged windows, in
+#: counts, still called stable (a quantized loop cannot settle finer than one count).
+DEFAULT_LIMIT_CYCLE = 1
 
 Source = Union[str, Path, Mapping[str, Any]]
 
@@ -151,7 +154,7 @@ _SCHEMA: Dict[str, Dict[str, str]] = {
     "controller": {"K": "stiffness", "B": "damping", "alpha": "number", "beta": "number"},
     "reference": {"from": "position", "to": "position", "at": "time"},
     "initial": {"x": "position", "v": "velocity"},
-    "quantization": {"resolution": "position", "counts": "per_position"},
+    "quantization": {"resolution": "position", "counts": "per_position", "limit_cycle": "int"},
     "friction": {"coulomb": "force", "stiction": "force"},
     "delay": {"samples": "int"},
     "saturation": {"force_max": "force"},
@@ -268,6 +271,10 @@ class _Reader:
             why = f" ({why})" if why else ": not a number followed by units"
             raise self.fail(path, f"cannot read {raw!r} as a number with units{why}; "
                                   f"write e.g. \"{example}\"") from None
+        if isinstance(q, ureg.Quantity) and q.unitless and not _is_number(raw):
+            # a unit that cancels to a plain number ("10 percent", "5 ppm")
+            raise self.fail(path, f"wrong dimension: {raw!r} is a plain number, not {_word(kind, self.rotary)} "
+                                  f"(expected units like {unit}, e.g. \"{example}\")")
         if not isinstance(q, ureg.Quantity) or q.unitless:
             number = raw.strip() if _is_number(raw) else example.split()[0]
             raise self.fail(path, f"missing units in {raw!r}: write e.g. \"{number} {unit}\" "
@@ -399,6 +406,8 @@ class Case:
                tolerance None: DEFAULT_RELATIVE_TOLERANCE of the position's peak-to-peak
     normalized:  (delta, alpha, beta) of the plant and gains (None for knob/schedule gains)
     description: the case's description, or ""
+    limit_cycle: with [quantization], the most counts of measured motion over the judged
+               windows the verdict calls stable (a limit cycle); None without it
     """
 
     label: str
@@ -409,6 +418,7 @@ class Case:
     tolerance: Optional[float]
     normalized: Optional[Tuple[float, float, float]] = None
     description: str = ""
+    limit_cycle: Optional[int] = None
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Case):
@@ -576,6 +586,7 @@ class _Builder:
         self.doc = doc
         self.default_name = default_name
         self.si: Dict[str, Any] = {}   # the document in SI units (Scene.document)
+        self.limit_cycle: Optional[int] = None   # [quantization] limit_cycle, when quantized
 
     # Values: read through the reader (units), or taken as SI numbers (_SIBuilder).
     def get(self, table: Mapping[str, Any], where: str, key: str, kind: str, default: Any = None) -> Any:
@@ -815,6 +826,11 @@ class _Builder:
                 r.check(_finite(counts) and counts > 0, "quantization.counts", f"must be > 0, got {counts:g}")
                 p["counts_per_unit"] = counts
                 si["quantization"] = {"counts": counts}
+            lc = self.get(q, "quantization", "limit_cycle", "int", DEFAULT_LIMIT_CYCLE)
+            r.check(lc >= 0, "quantization.limit_cycle", f"must be >= 0 counts, got {lc}")
+            self.limit_cycle = lc
+            if "limit_cycle" in q:
+                si["quantization"]["limit_cycle"] = lc
         if "friction" in effects:
             f = t["friction"]
             coulomb = self.get(f, "friction", "coulomb", "force", 0.0)
@@ -983,15 +999,16 @@ class _Builder:
             else:
                 needed = _substeps_needed(params)
                 if not needed <= MAX_SUBSTEPS:               # also inf and NaN
-                    raise r.fail(where, f"{needed:.6g} substeps per sample needed (more than "
-                                        f"{MAX_SUBSTEPS}): the continuous part is too fast for T = {T:g} s")
+                    raise r.fail(_fastest_key(params, where),
+                                 f"{needed:.6g} substeps per sample needed (more than "
+                                 f"{MAX_SUBSTEPS}): the continuous part is too fast for T = {T:g} s")
                 n = max(MIN_SUBSTEPS, int(math.ceil(needed)))
             rate = _rk4_rate(params)
             if not _rk4_stable(rate, T, n):
                 need = _rk4_fewest_substeps(rate, T)
                 use = (f"use at least {need}" if need <= MAX_SUBSTEPS else
                        f"even {MAX_SUBSTEPS} are too few: lengthen T or slow the continuous part")
-                raise r.fail(key if (substeps is not None or step is not None) else where,
+                raise r.fail(key if (substeps is not None or step is not None) else _fastest_key(params, where),
                              f"{n} substeps per sample ({T / n:g} s) are too few for "
                              f"{label!r}: RK4 diverges when the step times the fastest rate "
                              f"({rate:g} /s) exceeds {RK4_LIMIT:g}; {use} (or omit "
@@ -1022,7 +1039,8 @@ class _Builder:
                          f"case {label!r}: the verdict needs {windows} windows of {window} samples, but the run "
                          f"has {samples} (T = {T:g} s): lengthen the duration or shorten the window")
         return Case(label=label, params=params, samples=samples, window=window, windows=windows,
-                    tolerance=tolerance, normalized=normalized, description=description)
+                    tolerance=tolerance, normalized=normalized, description=description,
+                    limit_cycle=self.limit_cycle)
 
 
 class _SIBuilder(_Builder):
@@ -1054,6 +1072,15 @@ def _rates(params: Mapping[str, Any]) -> Tuple[float, Optional[Tuple[float, floa
     mh = m + float(params.get("hand_mass", 0.0))
     return b / m, ((b + float(params.get("hand_damping", 0.0))) / mh,
                    math.sqrt(float(params.get("hand_stiffness", 0.0)) / mh))
+
+
+def _fastest_key(params: Mapping[str, Any], plant_key: str) -> str:
+    """The key that makes the continuous part fast: hand.stiffness or hand.damping when the
+    held hand's rate is the fastest, else the plant's (plant_key: "plant" or "case[i]")."""
+    rate, held = _rates(params)
+    if held is None or max(held) <= rate:
+        return plant_key
+    return "hand.stiffness" if held[1] >= held[0] else "hand.damping"
 
 
 def _rk4_rate(params: Mapping[str, Any]) -> float:

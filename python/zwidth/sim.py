@@ -21,10 +21,18 @@ DEFAULT_WINDOWS, covering the run's second half), their peak-to-peak amplitudes 
                cycle or a drift is not dying out
     undecided  otherwise: shrinking in every window but not settled yet: run longer
 
-For a linear scene (no effect, or only a delay of up to 8 samples and a velocity low-pass)
-the analysis covers the loop: ``Simulation.analytic`` is zwidth's exact verdict of the loop
-simulated (zwidth.loop, with the simulator's own filter pole) and ``agrees`` compares the
-two; ``Simulation.note`` warns when the paper's ideal loop would say otherwise.
+then :func:`judge`'s evidence rules: a run whose position never moved is undecided
+("nothing excites the loop"); with quantization the limit cycle in counts decides against
+the scene's ``limit_cycle``; and a run whose windows are shorter than the slowest
+oscillation of the loop's linear part is undecided, "run at least N s" (N from its poles).
+
+Every case gets its linear part (:class:`LinearPart`, :func:`linear_part`: the loop
+without quantization, friction, saturation and switching) and, where the verdicts differ,
+``Simulation.explanation`` names the effect.  For a linear scene (no effect, or only a
+delay of up to 8 samples and a velocity low-pass) ``Simulation.analytic`` is zwidth's exact
+verdict of the loop simulated (zwidth.loop, with the simulator's own filter pole) and
+``agrees`` compares the two; ``Simulation.note`` warns when the paper's ideal loop would
+say otherwise.
 """
 from __future__ import annotations
 
@@ -46,7 +54,8 @@ from .results import LoopVerdict, Verdict
 from .scene import (DEFAULT_RELATIVE_TOLERANCE, EFFECTS, LINEAR_EFFECTS, Case, Scene, SceneError,
                     load_scene, signal_units)
 
-__all__ = ["simulate", "Simulation", "SimulationSet", "SimVerdict", "SIGNALS", "EFFECT_SIGNALS", "work"]
+__all__ = ["simulate", "Simulation", "SimulationSet", "SimVerdict", "SIGNALS", "EFFECT_SIGNALS", "work",
+           "LinearPart", "linear_part", "memory_bytes", "check_memory"]
 
 #: Every signal the simulator can record (zw_sim_trace fields).
 SIGNALS: Tuple[str, ...] = ("t", "x", "v", "x_measured", "force", "force_command", "stiffness",
@@ -98,6 +107,205 @@ def loop_words(params: Mapping[str, Any], dev: Device) -> str:
     return text
 
 
+# ---------------------------------------------------------------------------------------
+# The loop's linear part: what the analysis says, for every scene
+# ---------------------------------------------------------------------------------------
+
+#: Effects that are not part of any linear loop: each can make the simulated verdict
+#: differ from the linear part's, for the reason given (printed where they differ).
+NONLINEAR_EXPLANATIONS: Dict[str, Tuple[str, str]] = {
+    # effect: (why a linearly unstable loop may simulate stable, why a stable one may not)
+    "friction": ("friction dissipates energy and stiction holds the plant: it can stop the "
+                 "growth of the unstable linear loop (a stick-slip limit cycle or rest)",
+                 "friction makes stick-slip: a limit cycle of the stable linear loop"),
+    "saturation": ("saturation bounds the force, so the unstable linear loop's growth is bounded "
+                   "(a sustained oscillation at the force limit)",
+                   "saturation clips the force: the loop no longer renders the gains analysed"),
+    "quantization": ("quantization hides motion below one count from the controller",
+                     "quantization creates a limit cycle of a few counts around the equilibrium"),
+    "wall": ("the wall is one-sided: the loop switches between free motion and contact",
+             "the wall is one-sided: contact and release switch the loop, which can rattle"),
+    "knob": ("the knob's stiffness depends on the position: the loop switches between detents, "
+             "the negative stiffness between them and the end walls",
+             "the knob's stiffness depends on the position: the loop switches between detents, "
+             "the negative stiffness between them and the end walls"),
+    "schedule": ("the gains change in time: only the last segment is analysed",
+                 "the gains change in time: an earlier segment may grow before the last one"),
+    "hand": ("the hand's grasp, release and motion change the plant during the run",
+             "the hand's grasp, release and motion change the plant during the run"),
+}
+
+# Modes whose share of the response fell below this over the judged half are not waited for.
+_ALIVE = 1e-3
+
+
+def _expm(A: NDArray[np.float64]) -> NDArray[np.float64]:
+    """exp(A) of a small matrix by scaling and squaring a Taylor series (numpy has no expm;
+    here |A| is at most a few hundred and 3x3, where this is accurate to rounding)."""
+    norm = float(np.abs(A).sum(axis=1).max())
+    s = max(0, int(math.ceil(math.log2(norm))) + 1) if norm > 0 else 0
+    A = A / 2.0 ** s
+    E = np.eye(len(A))
+    term = np.eye(len(A))
+    for j in range(1, 21):
+        term = term @ A / j
+        E = E + term
+    for _ in range(s):
+        E = E @ E
+    return E
+
+
+def closed_loop_matrix(M: float, c: float, k: float, T: float, K: float, B: float, delay: int,
+                       filter_pole: float) -> NDArray[np.float64]:
+    """The closed loop of sim.h without its nonlinear effects, as z_{k+1} = A z_k with
+    z_k = (x_k, v_k, x_{k-1}, v_f,k-1, u_{k-1}, ..., u_{k-delay}): the plant M x'' + c x' +
+    k x = u (k: a hand's stiffness) under the zero-order hold (matrix exponential), the
+    controller u = -K x - B v_est (v_est the backward difference, or its low-pass with pole
+    filter_pole), applied `delay` samples later.  The equilibrium does not change the poles."""
+    Ac = np.array([[0.0, 1.0, 0.0], [-k / M, -c / M, 1.0 / M], [0.0, 0.0, 0.0]]) * T
+    E = _expm(Ac)
+    Ad, Bd = E[:2, :2], E[:2, 2]
+    n = 4 + delay
+    a = float(filter_pole)
+    vf = np.zeros(n)                 # v_f,k = a v_f,k-1 + (1 - a)(x_k - x_{k-1})/T
+    vf[0], vf[2], vf[3] = (1 - a) / T, -(1 - a) / T, a
+    u = -B * vf
+    u[0] -= K
+    applied = u if delay == 0 else np.eye(n)[3 + delay]
+    A = np.zeros((n, n))
+    A[0, :2], A[1, :2] = Ad[0], Ad[1]
+    A[0] += Bd[0] * applied
+    A[1] += Bd[1] * applied
+    A[2, 0] = 1.0
+    A[3] = vf
+    if delay:
+        A[4] = u
+        for i in range(5, n):
+            A[i, i - 1] = 1.0
+    return A
+
+
+@dataclasses.dataclass(frozen=True)
+class LinearPart:
+    """The loop a case simulates with its nonlinear effects taken out, and its verdict.
+
+    piece:    which linear loop: "the gains" (constant gains), "the end walls" / "the
+              detents" (knob: the worst of the two), "contact with the wall", "the last
+              segment" (schedule)
+    K, B:     the gains of that piece; m, b, k: the plant (with a hand still holding at the
+              end of the run: its mass, damping and stiffness added)
+    poles:    the closed loop's poles (numpy eigenvalues of closed_loop_matrix)
+    spectral_radius: the largest pole modulus
+    verdict:  zwidth's guarded verdict of that loop (Device.verdict) where the analysis
+              covers it (no hand stiffness), else None (the eigenvalues decide)
+    stable:   the verdict's, else spectral_radius < 1
+    """
+
+    piece: str
+    K: float
+    B: float
+    m: float
+    b: float
+    k: float
+    delay: int
+    filter_pole: float
+    poles: NDArray[np.complex128] = dataclasses.field(repr=False)
+    spectral_radius: float
+    verdict: Optional[Union[Verdict, LoopVerdict]] = dataclasses.field(repr=False)
+    stable: bool
+
+    @property
+    def word(self) -> str:
+        if self.verdict is not None:
+            return str(self.verdict.word)
+        return "stable" if self.stable else "unstable"
+
+    def slowest_period(self, samples: int) -> float:
+        """The longest oscillation period [samples] among the modes still alive over the
+        judged half of a run of this many samples (0: no oscillating mode)."""
+        mags = np.abs(self.poles)
+        rho = float(mags.max()) if mags.size else 0.0
+        half = max(1, samples // 2)
+        period = 0.0
+        for z, r in zip(self.poles, mags):
+            theta = abs(float(np.angle(z)))
+            if r == 0 or theta < 1e-12:
+                continue
+            if rho > 0 and (r / rho) ** half < _ALIVE:
+                continue
+            period = max(period, 2 * math.pi / theta)
+        return period
+
+    def describe(self, units: Mapping[str, str]) -> str:
+        hand = f", with the hand (k_h {self.k:g} {units['stiffness']})" if self.k else ""
+        return (f"{self.piece}: K {self.K:g} {units['stiffness']}, B {self.B:g} {units['damping']}{hand}: "
+                f"{self.word}, spectral radius {self.spectral_radius:.6g}")
+
+
+def _pieces(params: Mapping[str, Any], effects: int) -> List[Tuple[str, float, float]]:
+    """The linear loops of a case's controller: (name, K, B)."""
+    if effects & EFFECTS["knob"]:
+        d = float(params["knob_damping"])
+        return [("the end walls", float(params["knob_k_end"]), d),
+                ("the detents", float(params["knob_k_detent"]), d)]
+    if effects & EFFECTS["schedule"]:
+        t, K, B = (float(v) for v in np.asarray(params["schedule"])[-1])
+        return [(f"the last segment (from {t:g} s)", K, B)]
+    pieces = [("the gains", float(params["K"]), float(params["B"]))]
+    if effects & EFFECTS["wall"]:
+        pieces.append(("contact with the wall", float(params["K"]) + float(params["wall_stiffness"]),
+                       float(params["B"]) + float(params["wall_damping"])))
+    return pieces
+
+
+def linear_part(params: Mapping[str, Any], rotary: bool, filter_pole: float, duration: float) -> LinearPart:
+    """The case's loop without its nonlinear effects (quantization, friction, saturation,
+    the wall's and the knob's switching, the schedule's earlier segments), at the end of
+    the run (a hand still holding then adds its mass, damping and stiffness); for several
+    pieces (knob, wall) the one of largest spectral radius, so it is stable only if every
+    piece is."""
+    effects = int(params["effects"])
+    m, b, T = float(params["m"]), float(params["b"]), float(params["T"])
+    k = 0.0
+    if effects & EFFECTS["hand"] and float(params["hand_t_grasp"]) < duration <= float(params["hand_t_release"]):
+        m += float(params["hand_mass"])
+        b += float(params["hand_damping"])
+        k = float(params["hand_stiffness"])
+    delay = int(params.get("delay_samples", 0)) if effects & EFFECTS["delay"] else 0
+    a = float(filter_pole) if effects & EFFECTS["velocity_filter"] else 0.0
+    worst: Optional[LinearPart] = None
+    for name, K, B in _pieces(params, effects):
+        poles = np.asarray(np.linalg.eigvals(closed_loop_matrix(m, b, k, T, K, B, delay, a)), dtype=np.complex128)
+        rho = float(np.abs(poles).max())
+        verdict: Optional[Union[Verdict, LoopVerdict]] = None
+        if k == 0 and delay <= MAX_DELAY:
+            vf = ("pole", a) if effects & EFFECTS["velocity_filter"] else None
+            dev = Device(m, b, T, rotary=rotary, delay=delay, velocity_filter=vf)
+            verdict = dev.verdict(K, B)
+            rho = float(dev.spectral_radius(K, B))
+        stable = bool(verdict.stable) if verdict is not None else rho < 1.0
+        part = LinearPart(piece=name, K=K, B=B, m=m, b=b, k=k, delay=delay, filter_pole=a, poles=poles,
+                          spectral_radius=rho, verdict=verdict, stable=stable)
+        if worst is None or (worst.stable and not part.stable) or (
+                worst.stable == part.stable and part.spectral_radius > worst.spectral_radius):
+            worst = part
+    assert worst is not None
+    return worst
+
+
+def explain(effects: Sequence[str], simulated: str, linear: LinearPart) -> Optional[str]:
+    """One line naming the effect that explains a simulated verdict different from the linear
+    part's, or None when they agree (or the simulation is undecided)."""
+    if simulated == "undecided" or (simulated == "stable") == linear.stable:
+        return None
+    causes = [e for e in NONLINEAR_EXPLANATIONS if e in effects]
+    if not causes:
+        return (f"simulated {simulated} but the linear part is {linear.word}: no nonlinear effect explains "
+                f"it: the run is too short or the verdict window too small (--duration)")
+    why = "; ".join(NONLINEAR_EXPLANATIONS[e][0 if simulated == "stable" else 1] for e in causes)
+    return f"simulated {simulated}, linear part {linear.word}: {why}"
+
+
 # Work per Simulator.run call when reporting progress (about 0.1 s; see work()).
 _CHUNK_WORK = 30_000_000
 
@@ -125,6 +333,15 @@ class SimVerdict:
     windows: int = dataclasses.field(default=0, repr=False)
     tolerance: float = dataclasses.field(default=0.0, repr=False)
     first_nonfinite: Optional[int] = dataclasses.field(default=None, repr=False)
+    #: why undecided, when the run cannot tell: "unexcited" (nothing moved), "too short"
+    #: (see required_duration), "decaying" (not settled yet); None when decided
+    undecided_because: Optional[str] = dataclasses.field(default=None, repr=False)
+    #: the duration [s] the loop's slowest mode needs for a verdict (undecided runs), else None
+    required_duration: Optional[float] = dataclasses.field(default=None, repr=False)
+    #: with [quantization]: the measured motion over the judged windows in counts, and its
+    #: period [s] (None: no oscillation seen)
+    counts: Optional[int] = dataclasses.field(default=None, repr=False)
+    period: Optional[float] = dataclasses.field(default=None, repr=False)
 
     @property
     def stable(self) -> bool:
@@ -177,6 +394,11 @@ class Simulation:
     note: Optional[str] = dataclasses.field(default=None, repr=False)
     #: the Device (plant and loop) whose verdict ``analytic`` is, else None
     device: Optional[Device] = dataclasses.field(default=None, repr=False)
+    #: the loop's linear part (every scene): its verdict beside the simulated one
+    linear: Optional[LinearPart] = dataclasses.field(default=None, repr=False)
+    #: one line naming the effect that explains a simulated verdict different from the
+    #: linear part's, else None
+    explanation: Optional[str] = dataclasses.field(default=None, repr=False)
 
     def __repr__(self) -> str:
         analytic = "None" if self.analytic is None else self.analytic.word
@@ -275,32 +497,133 @@ def _reason(outcome: str, r: Mapping[str, Any], window: int, windows: int, toler
     if r["first_nonfinite"] is not None and outcome == "unstable" and not math.isfinite(aw):
         return f"the position overflowed at t = {int(r['first_nonfinite']) * T:g} s"
     if outcome == "unstable":
-        what = "grew" if aw > a1 else "did not shrink"
-        return (f"not dying out: peak-to-peak {what} from {a1:.3g} to {aw:.3g} {unit} over {span} "
-                f"(x {g:.6g} per sample)")
+        if aw > a1:
+            return (f"not dying out: peak-to-peak grew from {a1:.3g} to {aw:.3g} {unit} over {span} "
+                    f"(x {g:.6g} per sample)")
+        return (f"not dying out: peak-to-peak went from {a1:.3g} to {aw:.3g} {unit} over {span} but did not "
+                f"shrink in every window (a sustained or irregular oscillation)")
     return (f"still decaying (x {g:.6g} per sample) but {aw:.3g} {unit} > tolerance {tolerance:.3g} "
             f"{unit} in the last window: run longer")
 
 
-def judge(x: NDArray[np.float64], case: Case, T: float, unit: str = "") -> SimVerdict:
-    """The simulated verdict of a position record with the case's verdict settings."""
+def _round_up(seconds: float) -> float:
+    """Up to two significant digits (a duration to ask for)."""
+    if not (math.isfinite(seconds) and seconds > 0):
+        return seconds
+    step = 10.0 ** (math.floor(math.log10(seconds)) - 1)
+    return math.ceil(seconds / step * (1 - 1e-12)) * step
+
+
+def _period(x: NDArray[np.float64], T: float) -> Optional[float]:
+    """Mean period [s] of an oscillation of x about its mean (from its sign changes), None
+    if it crosses fewer than twice."""
+    d = x - 0.5 * (float(x.max()) + float(x.min()))
+    signs = np.sign(d[d != 0])
+    crossings = int(np.count_nonzero(signs[1:] != signs[:-1]))
+    return 2.0 * len(x) * T / crossings if crossings >= 2 else None
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" + ("" if n == 1 else "s")
+
+
+def judge(x: NDArray[np.float64], case: Case, T: float, unit: str = "", *,
+          x_measured: Optional[NDArray[np.float64]] = None,
+          linear: Optional[LinearPart] = None) -> SimVerdict:
+    """The simulated verdict of a position record with the case's verdict settings
+    (zw_sim_judge), then the rules that need more than the record (docs/scenes.md, "The
+    verdict"):
+
+    - nothing moved (x the same number throughout): undecided, "nothing excites the loop";
+    - with [quantization] (``x_measured`` and the case's ``limit_cycle``): the measured
+      motion over the judged windows, in counts, n: n <= limit_cycle is stable ("limit
+      cycle of n counts", or settled within a count); more, when the position settled to
+      the tolerance, is unstable;
+    - with the ``linear`` part: when its slowest oscillation still alive is longer than the
+      window (a twentieth of the window for a settled run; and the judged windows moved
+      more than the tolerance), the windows cannot show a decay: undecided, "run at least
+      N s"; a run still decaying gets the duration
+      its slowest mode needs to decay 1e4-fold in the same words.
+    """
     x = np.asarray(x, dtype=np.float64)
+    n = len(x)
     tolerance = case.tolerance
+    finite_run = bool(n) and bool(np.isfinite(x.min())) and bool(np.isfinite(x.max()))
     if tolerance is None:
-        finite = x[np.isfinite(x)]
-        scale = float(finite.max()) - float(finite.min()) if finite.size else 0.0
+        if finite_run:   # min/max, not a copy of the finite values: runs may be 2 GiB per signal
+            scale = float(x.max()) - float(x.min())
+        else:
+            finite = x[np.isfinite(x)]
+            scale = float(finite.max()) - float(finite.min()) if finite.size else 0.0
         if not math.isfinite(scale):   # finite positions spanning more than DBL_MAX
             scale = float(np.finfo(np.float64).max)
         tolerance = DEFAULT_RELATIVE_TOLERANCE * scale
     r = dict(_core.sim_judge(x, case.window, case.windows, tolerance))
     nonfinite = int(r["first_nonfinite"])
-    r["first_nonfinite"] = nonfinite if nonfinite < len(x) else None
+    r["first_nonfinite"] = nonfinite if nonfinite < n else None
     outcome = str(r["outcome"])
+    reason = _reason(outcome, r, case.window, case.windows, tolerance, T, unit)
+    judged = case.window * case.windows
+    because: Optional[str] = "decaying" if outcome == "undecided" else None
+    required: Optional[float] = None
+    counts: Optional[int] = None
+    period: Optional[float] = None
+    decided_by_counts = False
+
+    if finite_run and float(x.min()) == float(x.max()):
+        outcome, because = "undecided", "unexcited"
+        reason = (f"nothing excites the loop: the position stayed at {float(x[0]):.6g} {unit} for the whole run "
+                  f"(it starts at rest where the controller and every effect leave it), so the run says nothing "
+                  f"about stability; give [initial] x or v, or a [reference] step")
+    elif finite_run and x_measured is not None and case.limit_cycle is not None:
+        per_unit = float(case.params["counts_per_unit"])
+        xm = np.asarray(x_measured[-judged:], dtype=np.float64)
+        counts = int(round((float(xm.max()) - float(xm.min())) * per_unit))
+        period = _period(xm, T) if counts else None
+        every = f", period {period:.4g} s" if period is not None else ""
+        if counts <= case.limit_cycle:
+            decided_by_counts = True
+            outcome, because = "stable", None
+            reason = ("settled within one count: the measured position did not change over "
+                      f"{_plural(case.windows, 'window')} ({judged * T:g} s)" if counts == 0 else
+                      f"limit cycle of {_plural(counts, 'count')}{every} over the last {judged * T:g} s: within "
+                      f"the {_plural(case.limit_cycle, 'count')} [quantization] limit_cycle allows")
+        else:
+            cycle = f"limit cycle of {_plural(counts, 'count')}{every}, more than the " \
+                    f"{_plural(case.limit_cycle, 'count')} [quantization] limit_cycle allows"
+            if outcome == "stable":
+                decided_by_counts = True
+                outcome = "unstable"
+                reason = f"{cycle} (the position's own motion is below the tolerance {tolerance:.3g} {unit})"
+            elif outcome == "unstable" and float(r["amplitude_last"]) <= 2.0 * float(r["amplitude_first"]):
+                reason = f"{cycle}: {reason}"
+
+    if linear is not None and because != "unexcited" and not decided_by_counts and r["first_nonfinite"] is None:
+        slowest = linear.slowest_period(n)
+        moving = float(np.ptp(x[-judged:])) > tolerance
+        # A settled window can only be a slow oscillation's extremum when the window is a small
+        # part of its period (under 1e-3 of its peak-to-peak needs window < period / 20).
+        short = case.window < slowest if outcome != "stable" else 20 * case.window < slowest
+        # The last window starts at n (1 - 1/(2 windows)); a stable loop's slowest mode must have
+        # decayed 1e4-fold there (the default tolerance is 1e-3 of the run's range).
+        rho = linear.spectral_radius
+        decay = (math.log(1e-4) / math.log(rho) / (1 - 1 / (2 * case.windows))) if 0 < rho < 1 else 0.0
+        if short and moving:
+            required = _round_up(max(2 * case.windows * slowest, decay) * T)
+            outcome, because = "undecided", "too short"
+            reason = (f"run at least {required:g} s: the linear part's slowest oscillation ({slowest * T:.4g} s "
+                      f"period) is longer than the verdict window ({case.window * T:.4g} s), so the windows "
+                      f"cannot show whether it grows or decays (default window: duration / {2 * case.windows}; "
+                      f"or set [verdict] window >= {_round_up(slowest * T):g} s)")
+        elif outcome == "undecided" and decay > 0:
+            required = _round_up(max(decay, n + 1) * T)
+            reason = f"run at least {required:g} s: {reason[:-len(': run longer')]}" \
+                if reason.endswith(": run longer") else f"run at least {required:g} s: {reason}"
     return SimVerdict(outcome=outcome, amplitude_first=float(r["amplitude_first"]),
                       amplitude_last=float(r["amplitude_last"]), growth=float(r["growth"]),
-                      reason=_reason(outcome, r, case.window, case.windows, tolerance, T, unit),
-                      window=case.window, windows=case.windows, tolerance=float(tolerance),
-                      first_nonfinite=r["first_nonfinite"])
+                      reason=reason, window=case.window, windows=case.windows, tolerance=float(tolerance),
+                      first_nonfinite=r["first_nonfinite"], undecided_because=because,
+                      required_duration=required, counts=counts, period=period)
 
 
 def work(case: Case) -> int:
@@ -327,16 +650,49 @@ def _run_records(sim: Any, case: Case, names: List[str], bar: Any) -> Dict[str, 
         data: Dict[str, NDArray[np.float64]] = sim.run(n, names)
         return data
     chunk = max(64, _CHUNK_WORK * n // max(1, work(case)))
-    parts: Dict[str, List[NDArray[np.float64]]] = {k: [] for k in names}
+    # Each chunk goes straight into the run's arrays: the memory stays that of the arrays
+    # plus one chunk (collecting the chunks and concatenating held the run twice).
+    out = {k: np.empty(n, dtype=np.float64) for k in names}
     done = 0
     while done < n:
         step = min(chunk, n - done)
         piece = sim.run(step, names)
         for k in names:
-            parts[k].append(piece[k])
+            out[k][done:done + step] = piece[k]
+        del piece
         done += step
         bar.update(step)
-    return {k: np.concatenate(v) if v else np.empty(0) for k, v in parts.items()}
+    return out
+
+
+def memory_bytes(case: Case) -> int:
+    """The bytes a case's arrays take (samples x recorded signals x 8): what a run holds for
+    it, besides about one progress chunk (docs/scenes.md, "Length of a run")."""
+    return case.samples * len(_signals_for(int(case.params["effects"]))) * 8
+
+
+def available_memory() -> Optional[int]:
+    """The memory the system can give without swapping (Linux MemAvailable), None if unknown."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def check_memory(scene: Scene) -> int:
+    """The bytes every case's arrays take together (a SimulationSet keeps them all); a
+    MemoryError naming them, before anything runs, when that is more than the system has
+    available (an over-committing kernel would otherwise kill the run midway)."""
+    total = sum(memory_bytes(c) for c in scene.cases)
+    free = available_memory()
+    if free is not None and total > free:
+        raise MemoryError(f"the {len(scene.cases)} case(s) need {total / 2 ** 30:.3g} GiB for their arrays "
+                          f"(samples x signals x 8 bytes), {free / 2 ** 30:.3g} GiB are available")
+    return total
 
 
 def _run_case(case: Case, scene: Scene, bar: Any) -> Simulation:
@@ -355,7 +711,9 @@ def _run_case(case: Case, scene: Scene, bar: Any) -> Simulation:
                           f"{gib:.3g} GiB do not fit in memory") from None
     rotary = scene.rotary
     units = signal_units(rotary)
-    verdict = judge(data["x"], case, case.T, units["x"])
+    linear = linear_part(params, rotary, sim.filter_pole, case.duration)
+    verdict = judge(data["x"], case, case.T, units["x"], x_measured=data["x_measured"], linear=linear)
+    explanation = explain(scene.effects, verdict.outcome, linear)
     analytic: Optional[Union[Verdict, LoopVerdict]] = None
     ideal: Optional[Verdict] = None
     agrees: Optional[bool] = None
@@ -382,7 +740,8 @@ def _run_case(case: Case, scene: Scene, bar: Any) -> Simulation:
     return Simulation(label=case.label, t=data["t"], x=data["x"], v=data["v"],
                       x_measured=data["x_measured"], force=data["force"], signals=signals,
                       verdict=verdict, analytic=analytic, agrees=agrees, params=dict(params),
-                      units={k: units[k] for k in names}, case=case, ideal=ideal, note=note, device=dev)
+                      units={k: units[k] for k in names}, case=case, ideal=ideal, note=note, device=dev,
+                      linear=linear, explanation=explanation)
 
 
 def simulate(scene: Union[Scene, str, Path, Mapping[str, Any]], *, progress: bool = False,
@@ -405,6 +764,7 @@ def simulate(scene: Union[Scene, str, Path, Mapping[str, Any]], *, progress: boo
         if not (math.isfinite(d) and d > 0):
             raise SceneError(sc.source, "scene.duration", f"must be > 0 s and finite, got {duration!r}")
         sc = sc.with_duration(d)
+    check_memory(sc)
     bar: Any = None
     if progress:
         from tqdm import tqdm

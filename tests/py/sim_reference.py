@@ -260,3 +260,76 @@ def scene_from_normalized(delta, alpha, beta, m=0.1, T=0.01, **extra):
 
 def fmt_ratio(values):
     return " ".join(f"{v:.2f}" if math.isfinite(v) else "-" for v in values)
+
+
+# ---------------------------------------------------------------------------------------
+# Coulomb friction with stiction: every stop located exactly (mpmath, closed form)
+# ---------------------------------------------------------------------------------------
+
+
+def _plant_advance(m, b, h, x, v, F):
+    """x(h), v(h) of m x'' + b x' = F (F constant) from (x, v): the analytic solution for
+    any mpf h (not only the sampling period)."""
+    if b == 0:
+        return x + h * v + h * h * F / (2 * m), v + h * F / m
+    a = b / m
+    E1 = -mpmath.expm1(-a * h)
+    return x + (E1 / a) * v + ((a * h - E1) / (a * b)) * F, (1 - E1) * v + (E1 / b) * F
+
+
+def _stop_after(m, b, v, F):
+    """The time t > 0 at which v(t) of m x'' + b x' = F reaches 0, or None (it never does:
+    the velocity grows in its direction or decays toward F/b without crossing)."""
+    if v == 0:
+        return None
+    if b == 0:
+        t = -m * v / F if F != 0 else None
+    else:
+        # v(t) = exp(-a t)(v - F/b) + F/b = 0  <=>  exp(-a t) = F / (F - b v)
+        r = F / (F - b * v)
+        t = -mpmath.log(r) * m / b if 0 < r < 1 else None
+    return t if t is not None and t > 0 else None
+
+
+def friction_trajectory(scene, n, dps=40):
+    """The loop with Coulomb friction F_c and stiction F_s (flat scene dict: m, b, T, K, B,
+    x_init, v_init, x_eq_before, x_eq_after, t_step, coulomb, stiction) over n samples,
+    exact: within each sample the held force F plus the friction -F_c sign(v) is constant,
+    so the plant is solved in closed form piece by piece, each stop (v = 0) at the time
+    solved from the closed form, then held while |F| <= F_s or slipping toward F.
+    Returns lists x, v (mpf) at the sample instants, and the number of stops."""
+    stops = 0
+    with mp.workdps(dps):
+        m, b, T, K, B = (mpf(float(scene[k])) for k in ("m", "b", "T", "K", "B"))
+        Fc, Fs = mpf(float(scene["coulomb"])), mpf(float(scene["stiction"]))
+        x = mpf(float(scene.get("x_init", 0.0)))
+        v = mpf(float(scene.get("v_init", 0.0)))
+        x_prev = x
+        stuck = v == 0
+        xs, vs = [], []
+        for k in range(n):
+            F = K * (mpf(float(x_eq_at(scene, k))) - x) - (B / T) * (x - x_prev)
+            xs.append(x)
+            vs.append(v)
+            x_prev = x
+            left = T
+            while left > 0:
+                if stuck:
+                    if abs(F) <= Fs:
+                        break      # held for the rest of the sample
+                    direction = mpmath.sign(F)
+                    stuck = False
+                else:
+                    direction = mpmath.sign(v)
+                net = F - Fc * direction
+                t_stop = _stop_after(m, b, v, net)
+                if t_stop is not None and t_stop < left:
+                    x, _ = _plant_advance(m, b, t_stop, x, v, net)
+                    v = mpf(0)
+                    stuck = True
+                    stops += 1
+                    left -= t_stop
+                else:
+                    x, v = _plant_advance(m, b, left, x, v, net)
+                    left = mpf(0)
+    return xs, vs, stops

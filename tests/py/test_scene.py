@@ -649,3 +649,12 @@ def test_knob_scenes_follow_the_paper():
     b = load_scene(SCENES / "knob-legacy.toml").cases[0].params
     assert {k: v for k, v in a.items() if k.startswith("hand_")} == \
         {k: v for k, v in b.items() if k.startswith("hand_")}      # the same hand for both
+
+
+def test_dimensionless_unit_is_a_wrong_dimension_not_missing_units():
+    """Review 4 nit: "10 percent" for a mass said "missing units" (it has a unit, one that
+    cancels to a plain number)."""
+    with pytest.raises(SceneError) as e:
+        load_scene({"plant": {"m": "10 percent", "b": "1 N*s/m", "T": "1 ms"},
+                    "controller": {"K": "1 N/m", "B": "0 N*s/m"}})
+    assert e.value.key == "plant.m" and "wrong dimension" in e.value.problem and "plain number" in e.value.problem

@@ -36,8 +36,13 @@
  * Continuous effects:
  *   ZW_SIM_FRICTION: Coulomb friction F_c opposing the velocity, with stiction F_s >= F_c:
  *     a resting plant (v = 0) stays at rest while the other forces on it stay within F_s
- *     (evaluated at the start of each substep), and a moving plant whose velocity changes
- *     sign within a substep stops there (v = 0 at the end of the substep; an O(h) event).
+ *     and breaks away at the time they leave that band (solved exactly: they are affine in
+ *     time within a substep); a sliding plant stops where its velocity reaches 0 inside the
+ *     substep (the stop located to rounding on the RK4 solution), and from there sticks or
+ *     slips again.  Every piece between events is an RK4 step, so friction keeps RK4's
+ *     4th order (the old stop at the substep's end was 1st order and removed energy at
+ *     each reversal).  A velocity below the smallest normal number is flushed to 0 in
+ *     the general loop (subnormals are slow; the position moves by less than T times it).
  *     A plant creeping toward the edge of the stiction band (the net force tending to 0,
  *     v decaying without reversing) keeps sliding, as in the ideal Coulomb model, and
  *     pays for RK4 while it does.  (A Karnopp velocity band would stop it sooner and
@@ -220,6 +225,8 @@ zw_status zw_sim_run(zw_sim *sim, size_t n, const zw_sim_trace *trace);
  *   STABLE    if A_w <= tolerance (settled: what still moves is below tolerance);
  *   UNDECIDED otherwise (above tolerance but decaying in every window: run longer).
  * Windows should be longer than the slowest oscillation, so that a decay shows in each.
+ * A record that never moved is STABLE here (every A = 0): whether anything excited the loop
+ * is the caller's question (zwidth.sim answers "undecided: nothing excites the loop").
  * A growth that stays below tolerance to the end of the record is not seen: pick the
  * tolerance and the duration for the scene (the Python layer's defaults are documented).
  * growth = (A_w / A_1)^(1 / ((w - 1) window)) is the envelope's factor per sample (0 when
