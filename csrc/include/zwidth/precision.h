@@ -100,6 +100,18 @@
 /* library-internal, declared in csrc/src/internal.h */
 #define zw_check_bounded zw_check_bounded_f
 #define zw_radius_within_bounded zw_radius_within_bounded_f
+/* library-internal, declared in csrc/src/regmap_internal.h */
+#define zw_rm_publish_gains zw_rm_publish_gains_f
+#define zw_rm_payload_word zw_rm_payload_word_f
+#define zw_rm_payload_float zw_rm_payload_float_f
+#define zw_rm_crc_word zw_rm_crc_word_f
+#define zw_rm_policy_admit zw_rm_policy_admit_f
+#define zw_rm_apply_gains zw_rm_apply_gains_f
+#define zw_rm_live_all zw_rm_live_all_f
+#define zw_rm_write_cert zw_rm_write_cert_f
+#define zw_rm_command zw_rm_command_f
+#define zw_rm_seal_staged zw_rm_seal_staged_f
+#define zw_rm_sealed_word zw_rm_sealed_word_f
 #endif /* ZW_REAL_FLOAT */
 
 #endif /* ZWIDTH_PRECISION_H */

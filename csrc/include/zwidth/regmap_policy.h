@@ -1,0 +1,75 @@
+/* SPDX-FileCopyrightText: 2026 The zwidth authors
+   SPDX-License-Identifier: Apache-2.0 */
+/* zwidth/regmap_policy.h - the certification policy of the register map (part of
+ * zwidth/regmap.h, the entry point): why a request is refused, and the rules a gain pair
+ * must pass against the sealed block.
+ *
+ * Certification of a gain pair (K, B) against the sealed block, in this order; the first
+ * failing rule is the reason:
+ *   finite (ZW_REASON_NOT_FINITE), k_min <= K <= k_max, b_min <= B <= b_max,
+ *   |K - K_now| <= dk_max, |B - B_now| <= db_max, stable by zw_device_check
+ *   (ZW_REASON_UNSTABLE), K <= sigma K_max(B) (ZW_REASON_ABOVE_SIGMA), spectral radius
+ *   < r by zw_device_radius_within (ZW_REASON_RADIUS).  With a loop other than the ideal one
+ *   (delay 0, backward difference, no filter) the three rules use the drive's loop:
+ *   zw_device_loop_check, zw_device_loop_k_max, zw_device_loop_radius_within
+ *   (device_loop.h), all with the gains' conversion rounding in their guard.
+ */
+#ifndef ZWIDTH_REGMAP_POLICY_H
+#define ZWIDTH_REGMAP_POLICY_H
+
+#include "zwidth/precision.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Why a request was refused (ZW_REG_LAST_REASON). */
+typedef enum zw_reason {
+    ZW_REASON_NONE = 0,
+    ZW_REASON_BAD_FUNCTION = 1,   /* function code not supported */
+    ZW_REASON_MALFORMED = 2,      /* PDU length, quantity or byte count inconsistent */
+    ZW_REASON_UNMAPPED = 3,       /* an address in the request is not in the map */
+    ZW_REASON_READ_ONLY = 4,      /* a write touches a read-only register */
+    ZW_REASON_HALF_FLOAT = 5,     /* a write covers one word of a two-word value */
+    ZW_REASON_LOCKED = 6,         /* certified block written outside commissioning mode */
+    ZW_REASON_NOT_SEALED = 7,     /* gains written while no sealed block (or commissioning) */
+    ZW_REASON_NOT_FINITE = 8,     /* NaN or infinity */
+    ZW_REASON_K_BELOW_MIN = 9,
+    ZW_REASON_K_ABOVE_MAX = 10,
+    ZW_REASON_B_BELOW_MIN = 11,
+    ZW_REASON_B_ABOVE_MAX = 12,
+    ZW_REASON_K_STEP = 13,        /* |K - K_now| > dk_max */
+    ZW_REASON_B_STEP = 14,        /* |B - B_now| > db_max */
+    ZW_REASON_UNSTABLE = 15,      /* outside the exact stability region (or within its rounding band) */
+    ZW_REASON_ABOVE_SIGMA = 16,   /* K > sigma K_max(B) */
+    ZW_REASON_RADIUS = 17,        /* spectral radius not below r */
+    ZW_REASON_BAD_COMMAND = 18,   /* unknown command, or UNLOCK2 not right after UNLOCK1 */
+    ZW_REASON_CRC = 19,           /* seal: CRC does not match the block */
+    ZW_REASON_BAD_POLICY = 20,    /* seal: a field not finite, plant invalid (zw_device_init
+                                     fails), sigma or r not in (0, 1], k_min > k_max or
+                                     b_min > b_max, a step limit not > 0, or no pair
+                                     reachable in one step from the output-off state
+                                     (k_min > dk_max, b_min > db_max, b_max < -db_max) */
+    ZW_REASON_FPENV = 21,         /* seal: the floating-point self-test (zw_selftest) failed;
+                                     nothing can be certified on this target */
+    /* seal: the loop description (map version 2) */
+    ZW_REASON_BAD_DELAY = 22,     /* DELAY not an integer in 0..8 */
+    ZW_REASON_BAD_FILTER = 23,    /* VFILTER not 0, 1 or 2 */
+    ZW_REASON_BAD_FILTER_PARAM = 24, /* low-pass cut-off not in (0, 1/(2T)) or so low that
+                                     the pole rounds to 1; average n not an integer 1..16;
+                                     no filter with a parameter other than 0 */
+    ZW_REASON_BAD_DIFFERENTIATOR = 25, /* DIFF not 0 or 1 */
+    ZW_REASON_LOOP_NEVER_STABLE = 26   /* no gains are stable with this loop (e.g. Tustin with
+                                     an even moving average), or its limits cannot be
+                                     computed for this plant */
+} zw_reason;
+
+/* Stable names for logs and tools ("ZW_REASON_UNSTABLE"; "ZW_REASON_UNKNOWN" for other
+ * values). */
+const char *zw_reason_name(zw_reason reason);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ZWIDTH_REGMAP_POLICY_H */
