@@ -39,6 +39,7 @@
 #define RK_CERT 4u  /* certified block and its CRC: writable in commissioning */
 #define RK_CMD 8u   /* the command register */
 #define RK_PAIR 16u /* two-word values, each starting at an even address */
+#define RK_MAC 32u  /* the commissioning MAC: writable in commissioning */
 
 /* ---- publication between contexts (regmap.h, threading model) ---------------------------- */
 
@@ -125,6 +126,9 @@ static const reg_range k_ranges[] = {
     {ZW_REG_CERT_M, ZW_REG_CERT_CRC - 1, RK_CERT | RK_PAIR},
     {ZW_REG_CERT_CRC, ZW_REG_CERT_CRC, RK_CERT},
     {ZW_REG_COMMAND, ZW_REG_COMMAND, RK_CMD},
+    {ZW_REG_CONSENT, ZW_REG_CONSENT, RK_RO},
+    {ZW_REG_NONCE, ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS - 1u, RK_RO},
+    {ZW_REG_MAC, ZW_REG_MAC + ZW_AUTH_MAC_WORDS - 1u, RK_MAC},
 };
 
 /* Kind bits of one address, 0 when unmapped. */
@@ -180,10 +184,16 @@ static uint_least16_t read_single(const zw_regmap *rm, uint_least16_t addr)
     case ZW_REG_SEALED: return rm->is_sealed;
     case ZW_REG_LAST_REASON: return rm->last_reason;
     case ZW_REG_LAST_EXCEPTION: return rm->last_exception;
+    case ZW_REG_CONSENT: return rm->consent;
     case ZW_REG_CERT_CRC:
         return rm->mode != 0u ? rm->staged[CRC_INDEX] : zw_rm_sealed_word(rm, CRC_INDEX);
-    default: return 0u; /* ZW_REG_COMMAND reads as 0 */
+    default: break;
     }
+    if (addr >= ZW_REG_NONCE && addr < ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS)
+        return rm->nonce[addr - ZW_REG_NONCE];
+    if (addr >= ZW_REG_MAC && addr < ZW_REG_MAC + ZW_AUTH_MAC_WORDS)
+        return rm->mac[addr - ZW_REG_MAC];
+    return 0u; /* ZW_REG_COMMAND reads as 0 */
 }
 
 /* ---- requests ------------------------------------------------------------------------------ */
@@ -310,6 +320,10 @@ static zw_reason write_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t c
         return ZW_REASON_HALF_FLOAT;
     /* Past the checks above the request lies in exactly one group (the map has unmapped
      * or read-only words between groups). */
+    if ((kinds & RK_MAC) != 0u) {
+        if (rm->mode == 0u) return ZW_REASON_LOCKED;
+        return zw_rm_write_mac(rm, addr, count, words, bytes);
+    }
     if ((kinds & RK_CERT) != 0u) {
         if (rm->mode == 0u) return ZW_REASON_LOCKED;
         return zw_rm_write_cert(rm, addr, count, words, bytes);
@@ -341,7 +355,7 @@ ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert)
     }
     if (cert != NULL) {
         zw_cert_encode(cert, rm->staged);
-        why = zw_rm_seal_staged(rm);
+        why = zw_rm_seal_staged(rm, false);
         for (i = 0; i <= ZW_CERT_WORDS; ++i) rm->staged[i] = 0u;
     }
     return why;

@@ -87,11 +87,15 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm);
 zw_reason zw_rm_apply_gains(zw_regmap *rm, float K, float B);
 zw_mb_exception zw_rm_live_all(zw_regmap *rm);
 
-/* regmap_commission.c: the staged block written, a command, SEAL of the staged block. */
+/* regmap_commission.c: the staged block written, a command, SEAL of the staged block
+ * (authenticate: the MAC checked, for a Modbus SEAL), the MAC words written, word i of the
+ * block in force. */
 zw_reason zw_rm_write_cert(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
                            const uint_least16_t *words, const uint_least8_t *bytes);
 zw_reason zw_rm_command(zw_regmap *rm, uint_least16_t cmd, bool armed);
-zw_reason zw_rm_seal_staged(zw_regmap *rm);
+zw_reason zw_rm_seal_staged(zw_regmap *rm, bool authenticate);
+zw_reason zw_rm_write_mac(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
+                          const uint_least16_t *words, const uint_least8_t *bytes);
 uint_least16_t zw_rm_sealed_word(const zw_regmap *rm, unsigned i);
 
 #endif /* ZWIDTH_REGMAP_INTERNAL_H */

@@ -367,6 +367,9 @@ const char *zw_reason_name(zw_reason reason)
     case ZW_REASON_BAD_FILTER_PARAM: return "ZW_REASON_BAD_FILTER_PARAM";
     case ZW_REASON_BAD_DIFFERENTIATOR: return "ZW_REASON_BAD_DIFFERENTIATOR";
     case ZW_REASON_LOOP_NEVER_STABLE: return "ZW_REASON_LOOP_NEVER_STABLE";
+    case ZW_REASON_NO_CONSENT: return "ZW_REASON_NO_CONSENT";
+    case ZW_REASON_RNG: return "ZW_REASON_RNG";
+    case ZW_REASON_AUTH: return "ZW_REASON_AUTH";
     default: break; /* a value outside the enumeration: named below */
     }
     return "ZW_REASON_UNKNOWN";

@@ -51,13 +51,85 @@ static zw_device paper_device(void)
     return d;
 }
 
-/* A map sealed with c (the struct is filled with garbage first: init must set everything). */
+/* ---- the firmware's commissioning hooks, as a test double ---------------------------------
+ * The map has no crypto: it hands a message to the firmware's verify hook.  The double's
+ * "MAC" is a keyed FNV-1a per output byte (no security, only a function of key and message
+ * that these tests compute independently of the map); its RNG is a counter, so every
+ * nonce differs.  strict 0 (most tests, which test other things): any MAC verifies. */
+typedef struct test_auth {
+    unsigned char key[8];
+    uint32_t counter;
+    int strict, rng_fails;
+    unsigned calls;                            /* verify calls */
+    unsigned char last_msg[ZW_AUTH_MSG_BYTES]; /* what verify saw last */
+    size_t last_msg_len, last_mac_len;
+} test_auth;
+
+static void test_mac(const unsigned char key[8], const unsigned char *msg, size_t n,
+                     unsigned char mac[2u * ZW_AUTH_MAC_WORDS])
+{
+    size_t j, i;
+    for (j = 0; j < 2u * ZW_AUTH_MAC_WORDS; ++j) {
+        uint32_t h = 2166136261u ^ (uint32_t)j;
+        for (i = 0; i < 8u; ++i) h = (h ^ key[i]) * 16777619u;
+        for (i = 0; i < n; ++i) h = (h ^ msg[i]) * 16777619u;
+        mac[j] = (unsigned char)(h >> 24);
+    }
+}
+
+static bool test_random(void *ctx, uint_least8_t *out, size_t n)
+{
+    test_auth *a = ctx;
+    size_t i;
+    if (a->rng_fails) return false;
+    a->counter++;
+    for (i = 0; i < n; ++i) out[i] = (uint_least8_t)((a->counter * 2654435761u) >> (8u * (i % 4u)) ^ i);
+    return true;
+}
+
+static bool test_verify(void *ctx, const uint_least8_t *msg, size_t msg_len, const uint_least8_t *mac,
+                        size_t mac_len)
+{
+    test_auth *a = ctx;
+    unsigned char m[ZW_AUTH_MSG_BYTES], want[2u * ZW_AUTH_MAC_WORDS];
+    size_t i;
+    a->calls++;
+    a->last_msg_len = msg_len;
+    a->last_mac_len = mac_len;
+    if (msg_len != ZW_AUTH_MSG_BYTES || mac_len != sizeof want) return false;
+    for (i = 0; i < msg_len; ++i) m[i] = (unsigned char)msg[i];
+    memcpy(a->last_msg, m, sizeof m);
+    if (!a->strict) return true;
+    test_mac(a->key, m, sizeof m, want);
+    for (i = 0; i < sizeof want; ++i)
+        if ((unsigned char)mac[i] != want[i]) return false;
+    return true;
+}
+
+/* One double for every map of this file (tests run one at a time); reset by rm_init. */
+static test_auth g_auth;
+
+/* Consent on and the double's hooks: commissioning possible (power-up leaves it off). */
+static void allow_commissioning(zw_regmap *rm)
+{
+    zw_regmap_auth hooks;
+    hooks.random = test_random;
+    hooks.verify = test_verify;
+    hooks.ctx = &g_auth;
+    zw_regmap_set_auth(rm, &hooks);
+    zw_regmap_set_consent(rm, true);
+}
+
+/* A map sealed with c (the struct is filled with garbage first: init must set everything),
+ * commissioning allowed with the trusting double. */
 static void rm_init(zw_regmap *rm, const zw_cert *c)
 {
     zw_reason why = ZW_REASON_CRC;
     memset(rm, 0xA5, sizeof *rm);
     EXPECT_OK(zw_regmap_init(rm, c, &why));
     assert_int_equal(why, ZW_REASON_NONE);
+    memset(&g_auth, 0, sizeof g_auth);
+    allow_commissioning(rm);
 }
 
 /* ---- small helpers ------------------------------------------------------------------------ */
@@ -161,7 +233,8 @@ static void expect_outcome(outcome o, zw_mb_exception exc, zw_reason why, const 
 static const struct {
     uint_least16_t first, last;
 } k_mapped[] = {
-    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60},
+    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60}, {0x80, 0x80},
+    {0x88, 0x9F},
 };
 
 static bool is_mapped(unsigned addr)
@@ -419,7 +492,7 @@ static void test_init_sealed(void **state)
     (void)state;
     rm_init(&rm, &c);
     assert_int_equal(rd(&rm, ZW_REG_MAGIC), 0x5A57u);
-    assert_int_equal(rd(&rm, ZW_REG_VERSION), 2u);
+    assert_int_equal(rd(&rm, ZW_REG_VERSION), 3u);
     assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
     assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
     assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), 0u);
@@ -498,6 +571,7 @@ static void test_init_bad_policy(void **state)
         }
         memset(&rm, 0xA5, sizeof rm);
         EXPECT_TRUE_MSG(zw_regmap_init(&rm, &c, &why) == ZW_ERR_ARG, "case %d", n);
+        allow_commissioning(&rm);
         EXPECT_TRUE_MSG(why == ZW_REASON_BAD_POLICY, "case %d: %s", n, zw_reason_name(why));
         assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
         assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
@@ -583,11 +657,12 @@ static void test_access_map_writes(void **state)
         if (!is_mapped(a)) {
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_UNMAPPED);
-        } else if (a <= 0x09u || (a >= 0x20u && a <= 0x39u)) {
+        } else if (a <= 0x09u || (a >= 0x20u && a <= 0x39u) || a == ZW_REG_CONSENT ||
+                   (a >= ZW_REG_NONCE && a < ZW_REG_MAC)) {
             /* read-only, whether one word or a whole (aligned) value is written */
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_READ_ONLY);
-            if ((a & 1u) == 0u && a >= 0x06u)
+            if ((a & 1u) == 0u && a >= 0x06u && a <= 0x39u)
                 EXPECT_REFUSED(&rm, write_words(&rm, addr, 2, w), ZW_MB_ILLEGAL_ADDRESS,
                                ZW_REASON_READ_ONLY);
         } else if (a >= 0x10u && a <= 0x13u) {
@@ -600,7 +675,7 @@ static void test_access_map_writes(void **state)
             if ((a & 1u) == 0u)
                 EXPECT_REFUSED(&rm, write_words(&rm, addr, 2, w), ZW_MB_ILLEGAL_ADDRESS,
                                ZW_REASON_LOCKED);
-        } else if (a == ZW_REG_CERT_CRC) {
+        } else if (a == ZW_REG_CERT_CRC || a >= ZW_REG_MAC) {
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_LOCKED);
         } else {
@@ -1112,6 +1187,7 @@ static void test_commission_unsealed(void **state)
     unsigned i;
     (void)state;
     EXPECT_OK(zw_regmap_init(&rm, NULL, NULL));
+    allow_commissioning(&rm);
     EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_CERT_CRC, 1, block), ZW_MB_ILLEGAL_ADDRESS,
                    ZW_REASON_LOCKED);
     unlock(&rm);
@@ -1125,6 +1201,7 @@ static void test_commission_unsealed(void **state)
     EXPECT_ACCEPTED(write_pair(&rm, 0.4f, -1.36e-3f));
     /* ABORT on a drive that was never sealed leaves it unsealed */
     EXPECT_OK(zw_regmap_init(&rm, NULL, NULL));
+    allow_commissioning(&rm);
     unlock(&rm);
     EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
     EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
@@ -1200,7 +1277,7 @@ static void test_pdu_read(void **state)
     assert_int_equal(r.b[2], 0x5A);
     assert_int_equal(r.b[3], 0x57);
     assert_int_equal(r.b[4], 0x00);
-    assert_int_equal(r.b[5], 0x02); /* map version 2 */
+    assert_int_equal(r.b[5], 0x03); /* map version 3 */
     assert_int_equal(r.b[8], 0x00);
     assert_int_equal(r.b[9], 0x01); /* SEALED */
     EXPECT_ACCEPTED(write_pair(&rm, 0.25f, -0x1p-11f));
@@ -1463,7 +1540,8 @@ static void test_reason_names(void **state)
         ZWT_REASON(ZW_REASON_BAD_POLICY),   ZWT_REASON(ZW_REASON_FPENV),
         ZWT_REASON(ZW_REASON_BAD_DELAY),    ZWT_REASON(ZW_REASON_BAD_FILTER),
         ZWT_REASON(ZW_REASON_BAD_FILTER_PARAM), ZWT_REASON(ZW_REASON_BAD_DIFFERENTIATOR),
-        ZWT_REASON(ZW_REASON_LOOP_NEVER_STABLE),
+        ZWT_REASON(ZW_REASON_LOOP_NEVER_STABLE), ZWT_REASON(ZW_REASON_NO_CONSENT),
+        ZWT_REASON(ZW_REASON_RNG),          ZWT_REASON(ZW_REASON_AUTH),
     };
     size_t i;
     (void)state;
@@ -1471,7 +1549,7 @@ static void test_reason_names(void **state)
         assert_int_equal((int)k[i].reason, (int)i);
         assert_string_equal(zw_reason_name(k[i].reason), k[i].spelled);
     }
-    assert_string_equal(zw_reason_name((zw_reason)27), "ZW_REASON_UNKNOWN");
+    assert_string_equal(zw_reason_name((zw_reason)ZWT_ARRAY_LEN(k)), "ZW_REASON_UNKNOWN");
     assert_string_equal(zw_reason_name((zw_reason)-1), "ZW_REASON_UNKNOWN");
 }
 
@@ -1599,6 +1677,7 @@ static void test_active_gains(void **state)
     EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
     /* unsealed: off */
     EXPECT_OK(zw_regmap_init(&rm, NULL, NULL));
+    allow_commissioning(&rm);
     EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
     /* errors: every output that exists reads "off" */
     EXPECT_STATUS(zw_regmap_active_gains(NULL, &K, &B), ZW_ERR_NULL);
@@ -1721,6 +1800,7 @@ static void test_fpenv_refuses_seal(void **state)
     if (fesetround(FE_UPWARD) != 0) skip();
     selftest_broken = zw_selftest();
     init_st = zw_regmap_init(&rm, &c, &why);
+    allow_commissioning(&rm);
     assert_int_equal(fesetround(FE_TONEAREST), 0);
     EXPECT_STATUS(selftest_broken, ZW_ERR_FPENV);
     EXPECT_STATUS(init_st, ZW_ERR_FPENV);
@@ -1869,6 +1949,236 @@ static void test_loop_block_certifies_the_real_loop(void **state)
     EXPECT_ACCEPTED(write_pair(&rm, 0.5f * rdf(&rm, ZW_REG_LIVE_K_CERT), 0.0f));
 }
 
+/* ---- consent and authentication (map version 3; review 2026-12, A3 and A4) --------------- */
+
+/* The message a client MACs, built here from the documented layout (regmap_commission.h):
+ * the map version, the nonce words, the 30 block words and the CRC, high byte first. */
+static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t block[31],
+                             unsigned char msg[ZW_AUTH_MSG_BYTES])
+{
+    size_t i, n = 0;
+    msg[n++] = 0x00;
+    msg[n++] = 0x03;
+    for (i = 0; i < 8; ++i) {
+        msg[n++] = (unsigned char)(nonce[i] >> 8);
+        msg[n++] = (unsigned char)(nonce[i] & 0xFFu);
+    }
+    for (i = 0; i < 31; ++i) {
+        msg[n++] = (unsigned char)(block[i] >> 8);
+        msg[n++] = (unsigned char)(block[i] & 0xFFu);
+    }
+    assert_int_equal(n, ZW_AUTH_MSG_BYTES);
+}
+
+/* A commissioning client in commissioning mode: stages block (with its CRC) and the MAC
+ * under key over this session's nonce (read from the map), or the given mac_words when
+ * not NULL (a replay); returns the SEAL's outcome. */
+static outcome client_seal(zw_regmap *rm, const uint_least16_t block[31], const unsigned char key[8],
+                           const uint_least16_t *mac_words, uint_least16_t mac_out[16])
+{
+    uint_least16_t nonce[8], macw[16];
+    unsigned char msg[ZW_AUTH_MSG_BYTES], mac[32];
+    size_t i;
+    assert_int_equal(zw_regmap_read(rm, ZW_REG_NONCE, 8, nonce, NULL), ZW_MB_OK);
+    ref_auth_message(nonce, block, msg);
+    test_mac(key, msg, sizeof msg, mac);
+    for (i = 0; i < 16; ++i)
+        macw[i] = mac_words != NULL ? mac_words[i]
+                                    : (uint_least16_t)(((unsigned)mac[2 * i] << 8) | mac[2 * i + 1]);
+    if (mac_out != NULL) memcpy(mac_out, macw, sizeof macw);
+    EXPECT_ACCEPTED(write_words(rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
+    EXPECT_ACCEPTED(write_words(rm, ZW_REG_MAC, 16, macw));
+    return command(rm, ZW_CMD_SEAL);
+}
+
+/* The lying block of the review (A3): the plant's inertia doubled, no margin, no step limit. */
+static zw_cert lying_cert(void)
+{
+    zw_cert c = paper_cert();
+    c.m = 2.0f * J1;
+    c.k_max = 1e6f;
+    c.b_min = -1e3f;
+    c.b_max = 1e3f;
+    c.dk_max = 1e6f;
+    c.db_max = 1e3f;
+    return c;
+}
+
+static const unsigned char k_key[8] = {0x13, 0x57, 0x9B, 0xDF, 0x02, 0x46, 0x8A, 0xCE};
+
+/* Power-up: no consent, no hooks.  The unlock codes alone get nobody in. */
+static void test_commission_needs_consent(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    (void)state;
+    memset(&rm, 0xA5, sizeof rm);
+    EXPECT_OK(zw_regmap_init(&rm, &c, NULL));
+    assert_int_equal(rd(&rm, ZW_REG_CONSENT), 0u);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK1), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CONSENT);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    memset(&g_auth, 0, sizeof g_auth);
+    allow_commissioning(&rm);
+    zw_regmap_set_consent(&rm, false); /* hooks but no consent: still closed */
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK1), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CONSENT);
+    zw_regmap_set_consent(&rm, true);
+    assert_int_equal(rd(&rm, ZW_REG_CONSENT), 1u);
+    /* consent withdrawn between UNLOCK1 and UNLOCK2 */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    zw_regmap_set_consent(&rm, false);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CONSENT);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    /* and during the session: SEAL refused even with the right key; ABORT still leaves */
+    zw_regmap_set_consent(&rm, true);
+    g_auth.strict = 1;
+    memcpy(g_auth.key, k_key, sizeof k_key);
+    unlock(&rm);
+    zw_regmap_set_consent(&rm, false);
+    {
+        uint_least16_t block[31];
+        zw_cert lie = lying_cert();
+        block_words(&lie, block);
+        EXPECT_OUTCOME(client_seal(&rm, block, k_key, NULL, NULL), ZW_MB_ILLEGAL_VALUE,
+                       ZW_REASON_NO_CONSENT);
+    }
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_true(rdf(&rm, ZW_REG_CERT_M) == J1);
+}
+
+/* Without the firmware's hooks, or with an RNG that fails, UNLOCK2 changes nothing. */
+static void test_commission_needs_rng(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    zw_regmap_auth half;
+    (void)state;
+    EXPECT_OK(zw_regmap_init(&rm, &c, NULL));
+    zw_regmap_set_consent(&rm, true);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.25f, 0.0f));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RNG);
+    EXPECT_ACTIVE(&rm, 0.25f, 0.0f); /* the output stayed on: nothing happened */
+    half.random = test_random;
+    half.verify = NULL; /* a verify hook is required too */
+    half.ctx = &g_auth;
+    zw_regmap_set_auth(&rm, &half);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RNG);
+    memset(&g_auth, 0, sizeof g_auth);
+    allow_commissioning(&rm);
+    g_auth.rng_fails = 1;
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RNG);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    EXPECT_ACTIVE(&rm, 0.25f, 0.0f);
+    zw_regmap_set_auth(NULL, &half); /* no-ops */
+    zw_regmap_set_consent(NULL, true);
+}
+
+/* The review's attack (A3) with consent on: public codes, layout and CRC are not enough. */
+static void test_lying_block_needs_key(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert(), lie = lying_cert();
+    uint_least16_t block[31], zeros[16] = {0};
+    unsigned char wrong[8];
+    unsigned char msg[ZW_AUTH_MSG_BYTES];
+    uint_least16_t nonce[8];
+    (void)state;
+    rm_init(&rm, &c);
+    g_auth.strict = 1;
+    memcpy(g_auth.key, k_key, sizeof k_key);
+    block_words(&lie, block);
+    unlock(&rm);
+    /* no MAC at all (the registers read 0 after UNLOCK2) */
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_AUTH);
+    /* a MAC under another key */
+    memcpy(wrong, k_key, sizeof wrong);
+    wrong[7] ^= 1u;
+    EXPECT_OUTCOME(client_seal(&rm, block, wrong, NULL, NULL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_AUTH);
+    EXPECT_OUTCOME(client_seal(&rm, block, k_key, zeros, NULL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_AUTH);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_true(rdf(&rm, ZW_REG_CERT_M) == J1); /* the true plant is still sealed */
+    /* the key holder's SEAL goes through, and the hook saw exactly the documented message */
+    unlock(&rm);
+    c.sigma = 0.9f;
+    block_words(&c, block);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce, NULL), ZW_MB_OK);
+    EXPECT_ACCEPTED(client_seal(&rm, block, k_key, NULL, NULL));
+    ref_auth_message(nonce, block, msg);
+    assert_int_equal(g_auth.last_msg_len, ZW_AUTH_MSG_BYTES);
+    assert_int_equal(g_auth.last_mac_len, 32u);
+    assert_memory_equal(g_auth.last_msg, msg, sizeof msg);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.9f);
+}
+
+/* A recorded session replayed later fails: every UNLOCK2 draws a fresh nonce, and the
+ * nonce and MAC registers are cleared when the session ends.  Within a session a refused
+ * SEAL changes nothing, so the key holder may retry. */
+static void test_replay_refused(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t block[31], mac1[16], nonce1[8], nonce2[8], w[16];
+    size_t i;
+    (void)state;
+    rm_init(&rm, &c);
+    g_auth.strict = 1;
+    memcpy(g_auth.key, k_key, sizeof k_key);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, w, NULL), ZW_MB_OK);
+    for (i = 0; i < 8; ++i) assert_int_equal(w[i], 0u); /* no session: no nonce */
+    c.sigma = 0.5f;
+    block_words(&c, block);
+    unlock(&rm);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce1, NULL), ZW_MB_OK);
+    EXPECT_ACCEPTED(client_seal(&rm, block, k_key, NULL, mac1));
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_MAC, 16, w, NULL), ZW_MB_OK);
+    for (i = 0; i < 16; ++i) assert_int_equal(w[i], 0u);
+    /* the attacker replays the recorded block and MAC in a new session */
+    unlock(&rm);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce2, NULL), ZW_MB_OK);
+    assert_memory_not_equal(nonce1, nonce2, sizeof nonce1);
+    EXPECT_OUTCOME(client_seal(&rm, block, k_key, mac1, NULL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_AUTH);
+    /* the key holder, same session, same nonce: accepted */
+    EXPECT_ACCEPTED(client_seal(&rm, block, k_key, NULL, NULL));
+    /* ABORT ends a session too: its nonce is gone, the next one is new */
+    unlock(&rm);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce1, NULL), ZW_MB_OK);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, w, NULL), ZW_MB_OK);
+    for (i = 0; i < 8; ++i) assert_int_equal(w[i], 0u);
+    unlock(&rm);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce2, NULL), ZW_MB_OK);
+    assert_memory_not_equal(nonce1, nonce2, sizeof nonce1);
+    /* the MAC registers are locked outside commissioning */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_MAC, 16, mac1), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_NONCE, 8, nonce1), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_READ_ONLY);
+}
+
+static void test_auth_message_layout(void **state)
+{
+    uint_least16_t nonce[8], block[31];
+    uint_least8_t msg[ZW_AUTH_MSG_BYTES];
+    unsigned char ref[ZW_AUTH_MSG_BYTES], got[ZW_AUTH_MSG_BYTES];
+    size_t i;
+    (void)state;
+    for (i = 0; i < 8; ++i) nonce[i] = (uint_least16_t)(0xA100u + i);
+    for (i = 0; i < 31; ++i) block[i] = (uint_least16_t)(0x0100u * i + 0xFFu - i);
+    zw_regmap_auth_message(nonce, block, msg);
+    ref_auth_message(nonce, block, ref);
+    for (i = 0; i < sizeof got; ++i) got[i] = (unsigned char)msg[i];
+    assert_memory_equal(got, ref, sizeof ref);
+    zw_regmap_auth_message(NULL, block, msg); /* no-ops */
+    zw_regmap_auth_message(nonce, NULL, msg);
+    zw_regmap_auth_message(nonce, block, NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1892,6 +2202,11 @@ int main(void)
         cmocka_unit_test(test_live_registers),
         cmocka_unit_test(test_state_registers),
         cmocka_unit_test(test_unlock_sequence),
+        cmocka_unit_test(test_commission_needs_consent),
+        cmocka_unit_test(test_commission_needs_rng),
+        cmocka_unit_test(test_lying_block_needs_key),
+        cmocka_unit_test(test_replay_refused),
+        cmocka_unit_test(test_auth_message_layout),
         cmocka_unit_test(test_seal),
         cmocka_unit_test(test_commission_unsealed),
         cmocka_unit_test(test_pdu_read),

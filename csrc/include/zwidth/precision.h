@@ -77,6 +77,9 @@
 #define zw_regmap_handle_pdu zw_regmap_handle_pdu_f
 #define zw_regmap_read zw_regmap_read_f
 #define zw_regmap_write zw_regmap_write_f
+#define zw_regmap_set_consent zw_regmap_set_consent_f
+#define zw_regmap_set_auth zw_regmap_set_auth_f
+#define zw_regmap_auth_message zw_regmap_auth_message_f
 #define zw_cert_field zw_cert_field_f
 #define zw_cert_set_field zw_cert_set_field_f
 #define zw_cert_encode zw_cert_encode_f
@@ -112,6 +115,7 @@
 #define zw_rm_command zw_rm_command_f
 #define zw_rm_seal_staged zw_rm_seal_staged_f
 #define zw_rm_sealed_word zw_rm_sealed_word_f
+#define zw_rm_write_mac zw_rm_write_mac_f
 #endif /* ZW_REAL_FLOAT */
 
 #endif /* ZWIDTH_PRECISION_H */

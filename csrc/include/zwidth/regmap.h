@@ -94,6 +94,11 @@
  *
  *
  *   0x0060  ZW_REG_COMMAND      w       commissioning commands (zwidth/regmap_commission.h)
+ *   0x0080  ZW_REG_CONSENT      r       1 when the commissioning enable input is on (map
+ *                                       version 3; zwidth/regmap_commission.h)
+ *   0x0088  ZW_REG_NONCE (8)    r       the commissioning session's nonce (0 in operation)
+ *   0x0090  ZW_REG_MAC (16)     rw      the client's MAC over the session (rw in
+ *                                       commissioning, else LOCKED; 0 in operation)
  *
  * Everything else is unmapped (exception 0x02, ZW_REASON_UNMAPPED).
  *
@@ -199,11 +204,14 @@ enum {
     ZW_REG_CERT_DIFF = 0x005C,
     ZW_REG_CERT_CRC = 0x005E,
     ZW_REG_COMMAND = 0x0060,
-    ZW_REG_COUNT = 0x0061 /* registers 0 .. ZW_REG_COUNT-1 may be mapped */
+    ZW_REG_CONSENT = 0x0080,
+    ZW_REG_NONCE = 0x0088,
+    ZW_REG_MAC = 0x0090,
+    ZW_REG_COUNT = 0x00A0 /* registers 0 .. ZW_REG_COUNT-1 may be mapped */
 };
 
 #define ZW_REGMAP_MAGIC 0x5A57u
-#define ZW_REGMAP_VERSION 2u
+#define ZW_REGMAP_VERSION 3u
 
 
 /* Modbus exception codes used. */
@@ -265,6 +273,10 @@ typedef struct zw_regmap {
     uint_least16_t is_sealed;
     uint_least16_t last_reason, last_exception;
     uint_least16_t unlock_armed;    /* UNLOCK1 seen as the previous request */
+    zw_regmap_auth auth;            /* the firmware's RNG and MAC check (zw_regmap_set_auth) */
+    uint_least16_t consent;         /* commissioning enable input (zw_regmap_set_consent) */
+    uint_least16_t nonce[ZW_AUTH_NONCE_WORDS]; /* this commissioning session's nonce */
+    uint_least16_t mac[ZW_AUTH_MAC_WORDS];     /* the MAC the client wrote */
     float live[8];                  /* registers 0x0020..0x002F, recomputed on every accepted
                                        write and seal (so a read never runs the core) */
     /* K_max(B) at the B of the gains in force, general loop only (two zw_loop_alpha_max,
@@ -283,6 +295,14 @@ typedef struct zw_regmap {
  * ZW_ERR_ARG or ZW_ERR_FPENV it is a working unsealed drive (gains off) that can be
  * commissioned.  reason may be NULL; it receives ZW_REASON_NONE on success. */
 zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason);
+
+/* Commissioning (zwidth/regmap_commission.h), Modbus task or init context.  The enable
+ * input: commissioning is possible only while it is on (off after zw_regmap_init; a
+ * drive reports its key switch before each request).  The authentication hooks, copied
+ * into rm (auth NULL or a hook NULL: none, commissioning impossible; zw_regmap_init clears
+ * them).  rm NULL: no-op. */
+void zw_regmap_set_consent(zw_regmap *rm, bool enabled);
+void zw_regmap_set_auth(zw_regmap *rm, const zw_regmap_auth *auth);
 
 /* Control loop: the certified gain pair in force, to apply this sample.  *K and *B are
  * always one pair that the map accepted (or (0, 0), output off: unsealed, commissioning,

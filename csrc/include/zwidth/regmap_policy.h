@@ -59,9 +59,13 @@ typedef enum zw_reason {
                                      the pole rounds to 1; average n not an integer 1..16;
                                      no filter with a parameter other than 0 */
     ZW_REASON_BAD_DIFFERENTIATOR = 25, /* DIFF not 0 or 1 */
-    ZW_REASON_LOOP_NEVER_STABLE = 26   /* no gains are stable with this loop (e.g. Tustin with
+    ZW_REASON_LOOP_NEVER_STABLE = 26,  /* no gains are stable with this loop (e.g. Tustin with
                                      an even moving average), or its limits cannot be
                                      computed for this plant */
+    /* commissioning (map version 3, zwidth/regmap_commission.h) */
+    ZW_REASON_NO_CONSENT = 27,    /* the commissioning enable input is off */
+    ZW_REASON_RNG = 28,           /* UNLOCK2: no authentication hooks, or no random nonce */
+    ZW_REASON_AUTH = 29           /* SEAL: the MAC does not verify under the drive's key */
 } zw_reason;
 
 /* Stable names for logs and tools ("ZW_REASON_UNSTABLE"; "ZW_REASON_UNKNOWN" for other
