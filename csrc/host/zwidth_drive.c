@@ -62,6 +62,7 @@ static void usage(FILE *to)
             "       zwidth-drive --rtu DEVICE [--baud N] [--parity N|E|O] [--slave ID]\n"
             "       ... [certified block options | --unsealed] [--simulate [--speed S] [--x0 X]]\n"
             "       ... [--max-clients N] [--frame-timeout MS] [--idle-timeout S] [-v]\n"
+            "       ... [--commissioning --key-file PATH]\n"
             "\n"
             "Serves the gain register map of one drive (docs/modbus.md): clients read it and\n"
             "write the stiffness K and damping B, which the drive applies only inside the\n"
@@ -96,6 +97,13 @@ static void usage(FILE *to)
             "                      loop (the simulation runs the ideal loop)\n"
             "  --unsealed          start uncommissioned: gains are refused until a client\n"
             "                      commissions a block (zwidth-tune commission)\n"
+            "\n"
+            "Commissioning over Modbus (off by default: nobody can replace the block)\n"
+            "  --commissioning     turn the commissioning enable input on (a key switch on a\n"
+            "                      real drive); needs --key-file\n"
+            "  --key-file PATH     this drive's key, 64 hex digits, mode 600 (umask 077;\n"
+            "                      openssl rand -hex 32 > drive.key); a client must MAC the\n"
+            "                      block and the drive's nonce with it (HMAC-SHA256)\n"
             "\n"
             "Simulation\n"
             "  --simulate          run the plant m x'' + b x' = F under the active gains (plant\n"
@@ -183,7 +191,22 @@ typedef struct drive {
     zw_regmap rm;
     int verbose;
     sim s;
+    uint8_t key[ZW_KEY_BYTES]; /* the commissioning key (--key-file) */
 } drive;
+
+/* The firmware's commissioning hooks (regmap_commission.h), on libcrypto. */
+static bool drive_random(void *ctx, uint_least8_t *out, size_t n)
+{
+    (void)ctx;
+    return zw_random_bytes(out, n) != 0;
+}
+
+static bool drive_verify(void *ctx, const uint_least8_t *msg, size_t msg_len,
+                         const uint_least8_t *mac, size_t mac_len)
+{
+    const drive *d = ctx;
+    return zw_hmac_sha256_verify(d->key, msg, msg_len, mac, mac_len) != 0;
+}
 
 #if defined(__GNUC__)
 static void logf_(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
@@ -815,10 +838,10 @@ int main(int argc, char **argv)
     zw_cert cert;
     zw_reason reason = ZW_REASON_NONE;
     zw_status st;
-    const char *host = "127.0.0.1", *rtu = NULL;
+    const char *host = "127.0.0.1", *rtu = NULL, *key_file = NULL;
     long port = 1502, baud = 19200, slave = 1, max_clients = 16, frame_ms = 500, idle_s = 300;
     char parity = 'N';
-    int unsealed = 0, simulate = 0, i, rc;
+    int unsealed = 0, simulate = 0, commissioning = 0, i, rc;
     double speed = 1.0, x0 = 0.01;
     struct in_addr probe;
 
@@ -836,12 +859,13 @@ int main(int argc, char **argv)
         if (strcmp(arg, "-v") == 0 || strcmp(arg, "--verbose") == 0) { d.verbose = 1; continue; }
         if (strcmp(arg, "--unsealed") == 0) { unsealed = 1; continue; }
         if (strcmp(arg, "--simulate") == 0) { simulate = 1; continue; }
+        if (strcmp(arg, "--commissioning") == 0) { commissioning = 1; continue; }
         if (strcmp(arg, "--host") != 0 && strcmp(arg, "--port") != 0 &&
             strcmp(arg, "--rtu") != 0 && strcmp(arg, "--baud") != 0 &&
             strcmp(arg, "--parity") != 0 && strcmp(arg, "--slave") != 0 &&
             strcmp(arg, "--speed") != 0 && strcmp(arg, "--x0") != 0 &&
             strcmp(arg, "--max-clients") != 0 && strcmp(arg, "--frame-timeout") != 0 &&
-            strcmp(arg, "--idle-timeout") != 0) {
+            strcmp(arg, "--idle-timeout") != 0 && strcmp(arg, "--key-file") != 0) {
             fprintf(stderr, PROG ": unknown option '%s'\n", arg);
             usage(stderr);
             return ZW_EXIT_USAGE;
@@ -891,6 +915,8 @@ int main(int argc, char **argv)
                 return ZW_EXIT_USAGE;
         } else if (strcmp(arg, "--frame-timeout") == 0) {
             if (!zw_parse_long(PROG, arg, val, 10, 60000, &frame_ms)) return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--key-file") == 0) {
+            key_file = val;
         } else {
             if (!zw_parse_long(PROG, arg, val, 0, 86400, &idle_s)) return ZW_EXIT_USAGE;
         }
@@ -908,6 +934,19 @@ int main(int argc, char **argv)
                 zw_reason_name(reason), zw_status_name(st));
         return ZW_EXIT_USAGE;
     }
+    if (commissioning && key_file == NULL) {
+        fprintf(stderr, PROG ": --commissioning needs --key-file (the key a client must hold)\n");
+        return ZW_EXIT_USAGE;
+    }
+    if (key_file != NULL) {
+        zw_regmap_auth hooks;
+        if (!zw_key_load(PROG, key_file, d.key)) return ZW_EXIT_USAGE;
+        hooks.random = drive_random;
+        hooks.verify = drive_verify;
+        hooks.ctx = &d;
+        zw_regmap_set_auth(&d.rm, &hooks);
+    }
+    zw_regmap_set_consent(&d.rm, commissioning != 0);
     if (simulate) {
         zw_device probe_dev;
         st = zw_device_init(&probe_dev, co.v[0], co.v[1], co.v[2]);

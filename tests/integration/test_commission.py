@@ -85,6 +85,7 @@ def test_commissioning_end_to_end(start_drive):
     p = d.tune("commission", *PAPER_OPTS, "--sigma", "1.5", "--json")
     assert p.returncode == 3
     v = json.loads(p.stdout)
+    assert v.pop("drive").startswith("in operation, sealed block CRC 0x")  # read back
     assert v == {"verdict": "refused", "step": "seal", "reason": "ZW_REASON_BAD_POLICY",
                  "reason_code": 20, "exception": 3, "exception_name": "ILLEGAL_DATA_VALUE",
                  "aborted": True}
@@ -116,7 +117,7 @@ def test_commission_paper_defaults_and_text_report(start_drive):
     d = start_drive("--unsealed")
     p = d.tune("commission", "--paper-defaults", "--sigma", "0.8")
     assert p.returncode == 0, p.stderr
-    assert p.stdout.startswith("commissioned: block sealed with CRC 0x")
+    assert p.stdout.startswith("commissioned: the drive sealed our block (CRC 0x")
     assert "operation mode, sealed" in p.stdout
     crc = crc16_words(block_words(0.8))
     assert status(d)["cert"]["crc"] == crc
