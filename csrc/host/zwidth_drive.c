@@ -98,6 +98,13 @@ static void usage(FILE *to)
             "  --unsealed          start uncommissioned: gains are refused until a client\n"
             "                      commissions a block (zwidth-tune commission)\n"
             "\n"
+            "Factory ceilings (fixed at power-up; no block may exceed them, this one included)\n"
+            "  --max-sigma S       largest stiffness fraction sigma (default 0.95)\n"
+            "  --max-r R           largest spectral radius bound r (default 0.999)\n"
+            "  --plant-tol F       relative tolerance of m, b and T around the nameplate, which\n"
+            "                      is the plant given above (default 0.05); the K and B bounds\n"
+            "                      and the step limits given above are the widest allowed\n"
+            "\n"
             "Commissioning over Modbus (off by default: nobody can replace the block)\n"
             "  --commissioning     turn the commissioning enable input on (a key switch on a\n"
             "                      real drive); needs --key-file\n"
@@ -842,7 +849,8 @@ int main(int argc, char **argv)
     long port = 1502, baud = 19200, slave = 1, max_clients = 16, frame_ms = 500, idle_s = 300;
     char parity = 'N';
     int unsealed = 0, simulate = 0, commissioning = 0, i, rc;
-    double speed = 1.0, x0 = 0.01;
+    double speed = 1.0, x0 = 0.01, max_sigma = 0.95, max_r = 0.999, plant_tol = 0.05;
+    zw_ceilings ceil;
     struct in_addr probe;
 
     zw_cert_opts_defaults(&co);
@@ -865,7 +873,9 @@ int main(int argc, char **argv)
             strcmp(arg, "--parity") != 0 && strcmp(arg, "--slave") != 0 &&
             strcmp(arg, "--speed") != 0 && strcmp(arg, "--x0") != 0 &&
             strcmp(arg, "--max-clients") != 0 && strcmp(arg, "--frame-timeout") != 0 &&
-            strcmp(arg, "--idle-timeout") != 0 && strcmp(arg, "--key-file") != 0) {
+            strcmp(arg, "--idle-timeout") != 0 && strcmp(arg, "--key-file") != 0 &&
+            strcmp(arg, "--max-sigma") != 0 && strcmp(arg, "--max-r") != 0 &&
+            strcmp(arg, "--plant-tol") != 0) {
             fprintf(stderr, PROG ": unknown option '%s'\n", arg);
             usage(stderr);
             return ZW_EXIT_USAGE;
@@ -917,6 +927,10 @@ int main(int argc, char **argv)
             if (!zw_parse_long(PROG, arg, val, 10, 60000, &frame_ms)) return ZW_EXIT_USAGE;
         } else if (strcmp(arg, "--key-file") == 0) {
             key_file = val;
+        } else if (strcmp(arg, "--max-sigma") == 0 || strcmp(arg, "--max-r") == 0 ||
+                   strcmp(arg, "--plant-tol") == 0) {
+            double *t = arg[2] == 'p' ? &plant_tol : arg[6] == 's' ? &max_sigma : &max_r;
+            if (!zw_parse_double(PROG, arg, val, t)) return ZW_EXIT_USAGE;
         } else {
             if (!zw_parse_long(PROG, arg, val, 0, 86400, &idle_s)) return ZW_EXIT_USAGE;
         }
@@ -931,6 +945,28 @@ int main(int argc, char **argv)
     }
     if (st != ZW_OK) {
         fprintf(stderr, PROG ": the certified block is not acceptable: %s (%s)\n",
+                zw_reason_name(reason), zw_status_name(st));
+        return ZW_EXIT_USAGE;
+    }
+    /* The factory ceilings: the plant and the bounds of the block options are the nameplate
+     * and the widest allowed, sealed or not (--unsealed). */
+    ceil.sigma_max = (float)max_sigma;
+    ceil.r_max = (float)max_r;
+    ceil.m = cert.m;
+    ceil.b = cert.b;
+    ceil.T = cert.T;
+    ceil.plant_tol = (float)plant_tol;
+    ceil.k_min = cert.k_min;
+    ceil.k_max = cert.k_max;
+    ceil.b_min = cert.b_min;
+    ceil.b_max = cert.b_max;
+    ceil.dk_max = cert.dk_max;
+    ceil.db_max = cert.db_max;
+    st = zw_regmap_set_ceilings(&d.rm, &ceil, &reason);
+    if (st != ZW_OK) {
+        fprintf(stderr, PROG ": %s: %s (%s)\n",
+                reason == ZW_REASON_BAD_POLICY ? "the factory ceilings are not valid"
+                                               : "the certified block exceeds the factory ceilings",
                 zw_reason_name(reason), zw_status_name(st));
         return ZW_EXIT_USAGE;
     }

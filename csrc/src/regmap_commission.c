@@ -94,7 +94,10 @@ zw_reason zw_rm_seal_staged(zw_regmap *rm, bool authenticate)
         return ZW_REASON_CRC;
     if (authenticate && !mac_verifies(rm)) return ZW_REASON_AUTH;
     if ((why = zw_rm_policy_admit(rm)) != ZW_REASON_NONE) return why;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, zw_rm_staged_float(rm, i));
+    for (i = 0; i < ZW_CERT_FIELDS; ++i) { /* -0.0 stored as +0.0 */
+        float v = zw_rm_staged_float(rm, i);
+        zw_cert_set_field(&rm->sealed, i, v == 0.0f ? 0.0f : v);
+    }
     rm->is_sealed = 1u;
     end_session(rm);
     zw_rm_publish_gains(rm, 0.0f, 0.0f); /* gains stay off after a seal */
@@ -136,6 +139,7 @@ zw_reason zw_rm_command(zw_regmap *rm, uint_least16_t cmd, bool armed)
     case ZW_CMD_UNLOCK2:
         if (rm->mode != 0u || !armed) return ZW_REASON_BAD_COMMAND;
         if (rm->consent == 0u) return ZW_REASON_NO_CONSENT;
+        if (rm->has_ceilings == 0u) return ZW_REASON_NO_CEILINGS;
         if (!draw_nonce(rm, nonce)) return ZW_REASON_RNG;
         rm->mode = 1u;
         zw_rm_publish_gains(rm, 0.0f, 0.0f); /* output off while the block may change */
@@ -146,6 +150,7 @@ zw_reason zw_rm_command(zw_regmap *rm, uint_least16_t cmd, bool armed)
     case ZW_CMD_SEAL:
         if (rm->mode == 0u) return ZW_REASON_BAD_COMMAND;
         if (rm->consent == 0u) return ZW_REASON_NO_CONSENT;
+        if (rm->has_ceilings == 0u) return ZW_REASON_NO_CEILINGS;
         return zw_rm_seal_staged(rm, true);
     case ZW_CMD_ABORT:
         if (rm->mode == 0u) return ZW_REASON_BAD_COMMAND;

@@ -98,33 +98,74 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm, bool *any)
  * as it was: the loop is rebuilt from the sealed block when building the staged one
  * failed (zw_device_loop_init leaves a refused plant NaN), and the live extremes are only
  * recomputed for a block that is sealed. */
+static bool some_pair_usable(zw_regmap *rm, const zw_cert *c);
+
+/* A nonzero float of magnitude below FLT_MIN. */
+static bool subnormal_f(float x)
+{
+    return x != 0.0f && x > -FLT_MIN && x < FLT_MIN;
+}
+
+/* x within tol (relative) of nominal, decided in zw_real. */
+static bool within_tol(float x, float nominal, float tol)
+{
+    zw_real n = (zw_real)nominal, d = (zw_real)tol * (n < ZW_R(0.0) ? -n : n);
+    return (zw_real)x >= n - d && (zw_real)x <= n + d;
+}
+
+/* The block's fields f (register order) against the factory ceilings (regmap_policy.h). */
+static zw_reason check_ceilings(const zw_ceilings *k, const float f[ZW_CERT_FIELDS])
+{
+    if (f[F_SIGMA] > k->sigma_max || f[F_R] > k->r_max || f[F_K_MIN] < k->k_min ||
+        f[F_K_MAX] > k->k_max || f[F_B_MIN] < k->b_min || f[F_B_MAX] > k->b_max ||
+        f[F_DK_MAX] > k->dk_max || f[F_DB_MAX] > k->db_max)
+        return ZW_REASON_ABOVE_CEILING;
+    if (!within_tol(f[F_M], k->m, k->plant_tol) || !within_tol(f[F_B], k->b, k->plant_tol) ||
+        !within_tol(f[F_T], k->T, k->plant_tol))
+        return ZW_REASON_PLANT_MISMATCH;
+    return ZW_REASON_NONE;
+}
+
+/* The staged block's own rules, before the loop is built (regmap_policy.h, in its order). */
+static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_FIELDS])
+{
+    unsigned i;
+    for (i = 0; i < ZW_CERT_FIELDS; ++i)
+        if (!zw_rm_finite_f(f[i])) return ZW_REASON_BAD_POLICY;
+    for (i = 0; i < ZW_CERT_FIELDS; ++i)
+        if (subnormal_f(f[i])) return ZW_REASON_SUBNORMAL;
+    if (!(f[F_SIGMA] > 0.0f && f[F_SIGMA] <= 1.0f) || !(f[F_R] > 0.0f && f[F_R] <= 1.0f))
+        return ZW_REASON_BAD_POLICY;
+    /* a plant that cannot exist is a bad policy, not a mismatch with the nameplate */
+    if (!(f[F_M] > 0.0f) || !(f[F_T] > 0.0f) || !(f[F_B] >= 0.0f)) return ZW_REASON_BAD_POLICY;
+    if (!(f[F_K_MIN] <= f[F_K_MAX]) || !(f[F_B_MIN] <= f[F_B_MAX])) return ZW_REASON_BAD_POLICY;
+    if (!(f[F_DK_MAX] > 0.0f) || !(f[F_DB_MAX] > 0.0f)) return ZW_REASON_BAD_POLICY;
+    /* After a seal the output is off, (0, 0), and steps count from there: refuse a block
+     * from which no pair is within the bounds and one step (it could never be used). */
+    if (f[F_K_MIN] > f[F_DK_MAX] || f[F_B_MIN] > f[F_DB_MAX] || f[F_B_MAX] < -f[F_DB_MAX])
+        return ZW_REASON_BAD_POLICY;
+    if (rm->has_ceilings != 0u) return check_ceilings(&rm->ceilings, f);
+    return ZW_REASON_NONE;
+}
+
 zw_reason zw_rm_policy_admit(zw_regmap *rm)
 {
     unsigned i;
-    float sigma, r;
+    float f[ZW_CERT_FIELDS];
+    zw_cert c;
     zw_reason why;
     bool any = false;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i)
-        if (!zw_rm_finite_f(zw_rm_staged_float(rm, i))) return ZW_REASON_BAD_POLICY;
-    sigma = zw_rm_staged_float(rm, F_SIGMA);
-    r = zw_rm_staged_float(rm, F_R);
-    if (!(sigma > 0.0f && sigma <= 1.0f) || !(r > 0.0f && r <= 1.0f)) return ZW_REASON_BAD_POLICY;
-    if (!(zw_rm_staged_float(rm, F_K_MIN) <= zw_rm_staged_float(rm, F_K_MAX)) ||
-        !(zw_rm_staged_float(rm, F_B_MIN) <= zw_rm_staged_float(rm, F_B_MAX)))
-        return ZW_REASON_BAD_POLICY;
-    if (!(zw_rm_staged_float(rm, F_DK_MAX) > 0.0f) || !(zw_rm_staged_float(rm, F_DB_MAX) > 0.0f))
-        return ZW_REASON_BAD_POLICY;
-    /* After a seal the output is off, (0, 0), and steps count from there: refuse a block
-     * from which no pair is within the bounds and one step (it could never be used). */
-    if (zw_rm_staged_float(rm, F_K_MIN) > zw_rm_staged_float(rm, F_DK_MAX) ||
-        zw_rm_staged_float(rm, F_B_MIN) > zw_rm_staged_float(rm, F_DB_MAX) ||
-        zw_rm_staged_float(rm, F_B_MAX) < -zw_rm_staged_float(rm, F_DB_MAX))
-        return ZW_REASON_BAD_POLICY;
+    for (i = 0; i < ZW_CERT_FIELDS; ++i) {
+        f[i] = zw_rm_staged_float(rm, i);
+        zw_cert_set_field(&c, i, f[i]);
+    }
+    if ((why = check_block_fields(rm, f)) != ZW_REASON_NONE) return why;
     if ((why = check_loop_fields(rm)) != ZW_REASON_NONE) return why;
     why = build_loop(rm, true);
     if (why == ZW_REASON_NONE) {
         live_extremes(rm, &any);
         if (!any) why = ZW_REASON_LOOP_NEVER_STABLE;
+        else if (!some_pair_usable(rm, &c)) why = ZW_REASON_ONLY_OFF;
     }
     if (why != ZW_REASON_NONE) {
         /* the sealed block stays in force: its loop back (it was valid when sealed), and
@@ -136,6 +177,41 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
         return why;
     }
     return ZW_REASON_NONE;
+}
+
+zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *k, zw_reason *reason)
+{
+    const float v[12] = {k != NULL ? k->sigma_max : 0.0f, k != NULL ? k->r_max : 0.0f,
+                         k != NULL ? k->m : 0.0f, k != NULL ? k->b : 0.0f,
+                         k != NULL ? k->T : 0.0f, k != NULL ? k->plant_tol : 0.0f,
+                         k != NULL ? k->k_min : 0.0f, k != NULL ? k->k_max : 0.0f,
+                         k != NULL ? k->b_min : 0.0f, k != NULL ? k->b_max : 0.0f,
+                         k != NULL ? k->dk_max : 0.0f, k != NULL ? k->db_max : 0.0f};
+    float f[ZW_CERT_FIELDS];
+    unsigned i;
+    zw_reason why = ZW_REASON_NONE;
+    if (reason != NULL) *reason = ZW_REASON_BAD_POLICY;
+    if (rm == NULL || k == NULL) return ZW_ERR_NULL;
+    for (i = 0; i < 12u; ++i)
+        if (!zw_rm_finite_f(v[i])) return ZW_ERR_ARG;
+    if (!(k->sigma_max > 0.0f && k->sigma_max <= 1.0f) || !(k->r_max > 0.0f && k->r_max <= 1.0f) ||
+        !(k->m > 0.0f) || !(k->T > 0.0f) || !(k->b >= 0.0f) || !(k->plant_tol >= 0.0f) ||
+        !(k->k_min <= k->k_max) || !(k->b_min <= k->b_max) || !(k->dk_max > 0.0f) ||
+        !(k->db_max > 0.0f))
+        return ZW_ERR_ARG;
+    rm->ceilings = *k;
+    rm->has_ceilings = 1u;
+    if (rm->is_sealed) {
+        for (i = 0; i < ZW_CERT_FIELDS; ++i) f[i] = zw_cert_field(&rm->sealed, i);
+        why = check_ceilings(k, f);
+        if (why != ZW_REASON_NONE) { /* never run outside the ceilings: unsealed, output off */
+            rm->is_sealed = 0u;
+            zw_rm_publish_gains(rm, 0.0f, 0.0f);
+            (void)zw_rm_live_all(rm);
+        }
+    }
+    if (reason != NULL) *reason = why;
+    return why == ZW_REASON_NONE ? ZW_OK : ZW_ERR_ARG;
 }
 
 /* ---- certification of a gain pair ---------------------------------------------------------- */
@@ -169,14 +245,14 @@ static bool stable_ok(const zw_regmap *rm, float K, float B)
     }
 }
 
-static bool radius_ok(const zw_regmap *rm, float K, float B)
+static bool radius_ok(const zw_regmap *rm, float r, float K, float B)
 {
     bool within = false;
     zw_status st = ideal_loop(rm)
                        ? zw_device_radius_within(&rm->loop.dev, (zw_real)K, (zw_real)B,
-                                                 (zw_real)rm->sealed.r, &within)
+                                                 (zw_real)r, &within)
                        : zw_device_loop_radius_within(&rm->loop, (zw_real)K, (zw_real)B,
-                                                      (zw_real)rm->sealed.r, &within);
+                                                      (zw_real)r, &within);
     return st == ZW_OK && within;
 }
 
@@ -200,10 +276,11 @@ static void cache_k_max(zw_regmap *rm, float B, zw_real k_max)
     rm->kmax_cached = (uint_least16_t)(ideal_loop(rm) ? 0u : 1u);
 }
 
-/* The rules of regmap.h, in its order; the first that fails is the reason. */
-static zw_reason certify(const zw_regmap *rm, float K, float B, zw_real *k_max_out)
+/* The rules of regmap_policy.h, in its order, for a write from (K0, B0) under block c (the
+ * loop in rm->loop is c's); the first that fails is the reason. */
+static zw_reason certify_under(const zw_regmap *rm, const zw_cert *c, float K0, float B0, float K,
+                               float B, zw_real *k_max_out)
 {
-    const zw_cert *c = &rm->sealed;
     zw_real k_max;
     *k_max_out = ZW_R(0.0);
     if (!zw_rm_finite_f(K) || !zw_rm_finite_f(B)) return ZW_REASON_NOT_FINITE;
@@ -212,27 +289,27 @@ static zw_reason certify(const zw_regmap *rm, float K, float B, zw_real *k_max_o
     if (K > c->k_max) return ZW_REASON_K_ABOVE_MAX;
     if (B < c->b_min) return ZW_REASON_B_BELOW_MIN;
     if (B > c->b_max) return ZW_REASON_B_ABOVE_MAX;
-    if (!step_within(K, rm->K, c->dk_max)) return ZW_REASON_K_STEP;
-    if (!step_within(B, rm->B, c->db_max)) return ZW_REASON_B_STEP;
+    if (!step_within(K, K0, c->dk_max)) return ZW_REASON_K_STEP;
+    if (!step_within(B, B0, c->db_max)) return ZW_REASON_B_STEP;
     if (!stable_ok(rm, K, B)) return ZW_REASON_UNSTABLE;
     if (drive_k_max(rm, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max)
         return ZW_REASON_ABOVE_SIGMA;
     *k_max_out = k_max;
-    if (!radius_ok(rm, K, B)) return ZW_REASON_RADIUS;
+    if (!radius_ok(rm, c->r, K, B)) return ZW_REASON_RADIUS;
     return ZW_REASON_NONE;
 }
 
-/* A gain write: certified as a pair, then stored (K and B the values after the write). */
-/* A gain write: certified as a pair, then stored (K and B the values after the write). */
+/* A gain write: certified as a pair, then stored (K and B the values after the write;
+ * -0.0 stored as +0.0, so "off" reads as two zero words). */
 zw_reason zw_rm_apply_gains(zw_regmap *rm, float K, float B)
 {
     zw_real k_max;
-    zw_reason why = certify(rm, K, B, &k_max);
+    zw_reason why = certify_under(rm, &rm->sealed, rm->K, rm->B, K, B, &k_max);
     if (why != ZW_REASON_NONE) return why;
     /* (0, 0) skips the rules: k_max is then not known */
     if (K == 0.0f && B == 0.0f) rm->kmax_cached = 0u;
     else cache_k_max(rm, B, k_max);
-    zw_rm_publish_gains(rm, K, B);
+    zw_rm_publish_gains(rm, K == 0.0f ? 0.0f : K, B == 0.0f ? 0.0f : B);
     rm->accepted = (rm->accepted + 1u) & 0xFFFFFFFFu;
     return ZW_REASON_NONE;
 }
@@ -274,7 +351,7 @@ ZW_NOINLINE static zw_mb_exception live_k_cert(zw_regmap *rm)
      * by a bisection loop. */
     hi = k = top_f;
     while (k > 0.0f) {
-        ok = stable_ok(rm, k, B) && radius_ok(rm, k, B);
+        ok = stable_ok(rm, k, B) && radius_ok(rm, rm->sealed.r, k, B);
         if (grid > 0 && !ok) { /* scanning down */
             hi = k;
             if (--grid == 0) break; /* no grid point accepted: lo stays 0 */
@@ -290,6 +367,46 @@ ZW_NOINLINE static zw_mb_exception live_k_cert(zw_regmap *rm)
     }
     rm->live[L_K_CERT] = lo;
     return ZW_MB_OK;
+}
+
+/* B values probed by some_pair_usable: the B of K_mmax, 0, and a grid over the range. */
+#define USABLE_B_GRID 8u
+
+/* Some pair other than (0, 0) passes every rule of a write from (0, 0) under block c (its
+ * loop built in rm->loop, its extremes in rm->live): probed at the B of K_mmax, at 0 and on
+ * a grid of USABLE_B_GRID points over the B range one step reaches, each with K at eleven
+ * fractions of the ceiling there (1/64 .. 1) and at k_min; it stops at the first that passes
+ * (usually the first probe).  A block none of these pass is refused
+ * (ZW_REASON_ONLY_OFF): it can hold the output off and little else. */
+ZW_NOINLINE static bool some_pair_usable(zw_regmap *rm, const zw_cert *c)
+{
+    /* fractions of the ceiling, on a roughly logarithmic scale (the accepted K at a given B
+     * can be a narrow window when r is small) */
+    static const float k_fraction[11] = {0.5f,   1.0f,   0.75f,   0.375f, 0.25f,   0.1875f,
+                                         0.125f, 0.09375f, 0.0625f, 0.03125f, 0.015625f};
+    float lo = c->b_min > -c->db_max ? c->b_min : -c->db_max;
+    float hi = c->b_max < c->db_max ? c->b_max : c->db_max;
+    float B, top_f, K;
+    zw_real k_max, top, km;
+    unsigned i, j;
+    for (i = 0; i < USABLE_B_GRID + 2u; ++i) {
+        if (i == 0u) B = rm->live[L_B_AT_KMMAX];
+        else if (i == 1u) B = 0.0f;
+        else B = lo + (hi - lo) * ((float)(i - 2u) / (float)(USABLE_B_GRID - 1u));
+        if (!(B >= lo && B <= hi)) continue; /* NaN too */
+        if (drive_k_max(rm, B, &k_max) != ZW_OK) continue;
+        top = (zw_real)c->sigma * k_max;
+        if (top > (zw_real)c->k_max) top = (zw_real)c->k_max;
+        if (top > (zw_real)c->dk_max) top = (zw_real)c->dk_max;
+        if (!(top > ZW_R(0.0))) continue;
+        top_f = float_down(top);
+        for (j = 0; j <= 11u; ++j) {
+            K = j < 11u ? top_f * k_fraction[j] : c->k_min;
+            if (K > 0.0f && certify_under(rm, c, 0.0f, 0.0f, K, B, &km) == ZW_REASON_NONE)
+                return true;
+        }
+    }
+    return false;
 }
 
 static float value_or_nan(zw_status st, zw_real x)
@@ -370,6 +487,11 @@ const char *zw_reason_name(zw_reason reason)
     case ZW_REASON_NO_CONSENT: return "ZW_REASON_NO_CONSENT";
     case ZW_REASON_RNG: return "ZW_REASON_RNG";
     case ZW_REASON_AUTH: return "ZW_REASON_AUTH";
+    case ZW_REASON_ABOVE_CEILING: return "ZW_REASON_ABOVE_CEILING";
+    case ZW_REASON_PLANT_MISMATCH: return "ZW_REASON_PLANT_MISMATCH";
+    case ZW_REASON_SUBNORMAL: return "ZW_REASON_SUBNORMAL";
+    case ZW_REASON_ONLY_OFF: return "ZW_REASON_ONLY_OFF";
+    case ZW_REASON_NO_CEILINGS: return "ZW_REASON_NO_CEILINGS";
     default: break; /* a value outside the enumeration: named below */
     }
     return "ZW_REASON_UNKNOWN";

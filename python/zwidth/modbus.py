@@ -194,6 +194,11 @@ REASONS: Dict[int, str] = {
     27: "ZW_REASON_NO_CONSENT",
     28: "ZW_REASON_RNG",
     29: "ZW_REASON_AUTH",
+    30: "ZW_REASON_ABOVE_CEILING",
+    31: "ZW_REASON_PLANT_MISMATCH",
+    32: "ZW_REASON_SUBNORMAL",
+    33: "ZW_REASON_ONLY_OFF",
+    34: "ZW_REASON_NO_CEILINGS",
 }
 
 # The reason reported for a refusal whose "last refusal" registers were overwritten by

@@ -109,10 +109,33 @@ static bool test_verify(void *ctx, const uint_least8_t *msg, size_t msg_len, con
 /* One double for every map of this file (tests run one at a time); reset by rm_init. */
 static test_auth g_auth;
 
-/* Consent on and the double's hooks: commissioning possible (power-up leaves it off). */
+/* Factory ceilings that let every block of these tests through (tests of the ceilings set
+ * their own): no margin required, any plant, any bounds. */
+static zw_ceilings permissive_ceilings(void)
+{
+    zw_ceilings k;
+    k.sigma_max = 1.0f;
+    k.r_max = 1.0f;
+    k.m = J1;
+    k.b = B_SHORT;
+    k.T = T_20MS;
+    k.plant_tol = 1e30f;
+    k.k_min = -FLT_MAX;
+    k.k_max = FLT_MAX;
+    k.b_min = -FLT_MAX;
+    k.b_max = FLT_MAX;
+    k.dk_max = FLT_MAX;
+    k.db_max = FLT_MAX;
+    return k;
+}
+
+/* Consent on, the double's hooks and permissive ceilings: commissioning possible
+ * (power-up leaves it off). */
 static void allow_commissioning(zw_regmap *rm)
 {
+    zw_ceilings k = permissive_ceilings();
     zw_regmap_auth hooks;
+    EXPECT_OK(zw_regmap_set_ceilings(rm, &k, NULL));
     hooks.random = test_random;
     hooks.verify = test_verify;
     hooks.ctx = &g_auth;
@@ -126,8 +149,8 @@ static void rm_init(zw_regmap *rm, const zw_cert *c)
 {
     zw_reason why = ZW_REASON_CRC;
     memset(rm, 0xA5, sizeof *rm);
-    EXPECT_OK(zw_regmap_init(rm, c, &why));
-    assert_int_equal(why, ZW_REASON_NONE);
+    (void)zw_regmap_init(rm, c, &why);
+    assert_string_equal(zw_reason_name(why), "ZW_REASON_NONE");
     memset(&g_auth, 0, sizeof g_auth);
     allow_commissioning(rm);
 }
@@ -884,10 +907,27 @@ static void test_radius_rule(void **state)
             EXPECT_OK(zw_device_spectral_radius(&d, k_max0 * (zw_real)i / R(1000.0), R(0.0), &rho));
             if (rho < rho_min) rho_min = rho;
         }
+        /* ... and below every radius of the whole bounds box (a grid over K in (0, 0.6],
+         * B in [-0.01, 0.01]: the smallest stable radius there is about 0.2): no pair but
+         * (0, 0) could ever be accepted, so the block is refused (review A4) */
         c.r = (float)(R(0.5) * rho_min);
-        rm_init(&rm, &c);
-        assert_true(rdf(&rm, ZW_REG_LIVE_K_CERT) == 0.0f);
-        EXPECT_REFUSED(&rm, write_K(&rm, 0.05f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RADIUS);
+        {
+            zw_real grid_min = R(1.0);
+            zw_reason why = ZW_REASON_NONE;
+            int j;
+            zw_verdict v;
+            for (i = 1; i <= 60; ++i)
+                for (j = -40; j <= 40; ++j) {
+                    zw_real K = R(0.01) * (zw_real)i, B = R(0.00025) * (zw_real)j;
+                    if (zw_device_check(&d, K, B, &v) != ZW_OK || !v.stable) continue;
+                    EXPECT_OK(zw_device_spectral_radius(&d, K, B, &rho));
+                    if (rho < grid_min) grid_min = rho;
+                }
+            assert_true(grid_min > (zw_real)c.r * R(1.2));
+            assert_int_equal(zw_regmap_init(&rm, &c, &why), ZW_ERR_ARG);
+            assert_int_equal(why, ZW_REASON_ONLY_OFF);
+            assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+        }
     }
 }
 
@@ -910,8 +950,10 @@ static void test_output_off_and_counters(void **state)
     EXPECT_ACCEPTED(write_pair(&rm, 0.12f, 0.0f));
     EXPECT_ACCEPTED(write_pair(&rm, 0.3f, 0.0f));
     /* back to off in one write, although that step (0.3) is beyond dk_max (-0.0 is 0) */
-    EXPECT_ACCEPTED(write_pair(&rm, -0.0f, 0.0f));
-    assert_int_equal(rd32(&rm, ZW_REG_K), 0x80000000u); /* stored as written */
+    EXPECT_ACCEPTED(write_pair(&rm, -0.0f, -0.0f));
+    /* stored as +0.0 (review A2: an HMI comparing the words with 0 sees "off") */
+    assert_int_equal(rd32(&rm, ZW_REG_K), 0u);
+    assert_int_equal(rd32(&rm, ZW_REG_B), 0u);
     /* the same values again count as accepted */
     EXPECT_ACCEPTED(write_pair(&rm, 0.12f, 0.0f));
     EXPECT_ACCEPTED(write_pair(&rm, 0.12f, 0.0f));
@@ -1542,6 +1584,9 @@ static void test_reason_names(void **state)
         ZWT_REASON(ZW_REASON_BAD_FILTER_PARAM), ZWT_REASON(ZW_REASON_BAD_DIFFERENTIATOR),
         ZWT_REASON(ZW_REASON_LOOP_NEVER_STABLE), ZWT_REASON(ZW_REASON_NO_CONSENT),
         ZWT_REASON(ZW_REASON_RNG),          ZWT_REASON(ZW_REASON_AUTH),
+        ZWT_REASON(ZW_REASON_ABOVE_CEILING), ZWT_REASON(ZW_REASON_PLANT_MISMATCH),
+        ZWT_REASON(ZW_REASON_SUBNORMAL),    ZWT_REASON(ZW_REASON_ONLY_OFF),
+        ZWT_REASON(ZW_REASON_NO_CEILINGS),
     };
     size_t i;
     (void)state;
@@ -2055,6 +2100,10 @@ static void test_commission_needs_rng(void **state)
     (void)state;
     EXPECT_OK(zw_regmap_init(&rm, &c, NULL));
     zw_regmap_set_consent(&rm, true);
+    {
+        zw_ceilings k = permissive_ceilings();
+        EXPECT_OK(zw_regmap_set_ceilings(&rm, &k, NULL));
+    }
     EXPECT_ACCEPTED(write_pair(&rm, 0.25f, 0.0f));
     EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
     EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RNG);
@@ -2179,6 +2228,173 @@ static void test_auth_message_layout(void **state)
     zw_regmap_auth_message(nonce, block, NULL);
 }
 
+/* ---- factory ceilings and unusable blocks (review A3, A4, A2) ----------------------------- */
+
+static zw_ceilings factory_ceilings(void)
+{
+    zw_ceilings k;
+    k.sigma_max = 0.9f;
+    k.r_max = 0.999f;
+    k.m = J1;
+    k.b = B_SHORT;
+    k.T = T_20MS;
+    k.plant_tol = 0.05f;
+    k.k_min = 0.0f;
+    k.k_max = 10.0f;
+    k.b_min = -0.01f;
+    k.b_max = 0.01f;
+    k.dk_max = 1.0f;
+    k.db_max = 0.01f;
+    return k;
+}
+
+/* The key holder commissions c on a map with the factory's ceilings; the SEAL's outcome. */
+static outcome keyed_seal(zw_regmap *rm, const zw_cert *c)
+{
+    uint_least16_t block[31];
+    block_words(c, block);
+    unlock(rm);
+    return client_seal(rm, block, k_key, NULL, NULL);
+}
+
+static void test_factory_ceilings(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert(), x;
+    zw_ceilings k = factory_ceilings(), bad;
+    zw_reason why = ZW_REASON_NONE;
+    (void)state;
+    c.sigma = 0.8f;
+    c.r = 0.999f;
+    EXPECT_OK(zw_regmap_init(&rm, &c, NULL));
+    memset(&g_auth, 0, sizeof g_auth);
+    g_auth.strict = 1;
+    memcpy(g_auth.key, k_key, sizeof k_key);
+    {
+        zw_regmap_auth hooks = {test_random, test_verify, &g_auth};
+        zw_regmap_set_auth(&rm, &hooks);
+    }
+    zw_regmap_set_consent(&rm, true);
+    /* no ceilings: no commissioning at all */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CEILINGS);
+    /* invalid ceilings change nothing */
+    bad = k;
+    bad.sigma_max = 0.0f;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &bad, &why), ZW_ERR_ARG);
+    bad = k;
+    bad.m = (float)NAN;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &bad, &why), ZW_ERR_ARG);
+    bad = k;
+    bad.plant_tol = -1.0f;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &bad, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BAD_POLICY);
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, NULL, &why), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_regmap_set_ceilings(NULL, &k, &why), ZW_ERR_NULL);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CEILINGS);
+    EXPECT_OK(zw_regmap_set_ceilings(&rm, &k, &why));
+    assert_int_equal(why, ZW_REASON_NONE);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+    /* the review's lie (inertia x2) with the key: the nameplate refuses it */
+    x = c;
+    x.m = 2.0f * J1;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_PLANT_MISMATCH);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    x = c;
+    x.T = 2.0f * T_20MS;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_PLANT_MISMATCH);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    x = c;
+    x.b = 1.06f * B_SHORT;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_PLANT_MISMATCH);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    /* margins and limits: sigma 1, r 1, wider bounds, no step limit */
+    {
+        static const unsigned fields[] = {3, 4, 5, 6, 7, 8, 9, 10};
+        static const float values[] = {1.0f, 1.0f, -1.0f, 10.5f, -0.02f, 0.02f, 1e30f, 1.0f};
+        size_t i;
+        for (i = 0; i < ZWT_ARRAY_LEN(fields); ++i) {
+            x = c;
+            zw_cert_set_field(&x, fields[i], values[i]);
+            if (fields[i] == 5) x.dk_max = 1.0f; /* k_min -1 stays reachable */
+            EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_ABOVE_CEILING);
+            EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+        }
+    }
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.8f); /* the power-up block is still in force */
+    /* tightening is fine, and a plant within the tolerance */
+    x = c;
+    x.m = 1.04f * J1;
+    x.k_max = 5.0f;
+    x.sigma = 0.9f;
+    x.dk_max = 0.5f;
+    EXPECT_ACCEPTED(keyed_seal(&rm, &x));
+    assert_true(rdf(&rm, ZW_REG_CERT_K_MAX) == 5.0f);
+    /* ceilings the block in force exceeds: unsealed at once, output off */
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, 0.0f));
+    bad = k;
+    bad.sigma_max = 0.85f;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &bad, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_ABOVE_CEILING);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.1f, 0.0f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+}
+
+/* m = 3e38: the float build refuses the plant itself (zw_device_init), the double build
+ * forms it and finds no usable pair. */
+#ifdef ZW_REAL_FLOAT
+#define M_3E38_REASON ZW_REASON_BAD_POLICY
+#else
+#define M_3E38_REASON ZW_REASON_ONLY_OFF
+#endif
+
+/* Blocks the review sealed although they are unusable: float-subnormal fields, and plants
+ * under which no pair but (0, 0) passes (m = 3e38: K_max is 0 everywhere in the bounds). */
+static void test_unusable_blocks_refused(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert(), x;
+    zw_reason why = ZW_REASON_NONE;
+    (void)state;
+    x = c;
+    x.m = 1e-40f; /* a float subnormal (normal as a double) */
+    assert_true(x.m > 0.0f && x.m < FLT_MIN);
+    assert_int_equal(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_SUBNORMAL);
+    x = c;
+    x.dk_max = 1.4e-45f;
+    assert_int_equal(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_SUBNORMAL);
+    x = c;
+    x.m = 3e38f;
+    assert_int_equal(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, M_3E38_REASON);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+    /* over Modbus too (ceilings that admit any m up to 6e38), and the block in force stays */
+    rm_init(&rm, &c);
+    {
+        zw_ceilings k = permissive_ceilings();
+        k.m = 3e38f;
+        k.plant_tol = 1.0f;
+        EXPECT_OK(zw_regmap_set_ceilings(&rm, &k, NULL));
+    }
+    x = c;
+    x.m = 3e38f;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, M_3E38_REASON);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_true(rdf(&rm, ZW_REG_CERT_M) == J1);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, 0.0f));
+    /* -0.0 in a field is stored as +0.0 */
+    x = c;
+    x.k_min = -0.0f;
+    x.differentiator = -0.0f;
+    EXPECT_ACCEPTED(keyed_seal(&rm, &x));
+    assert_int_equal(rd32(&rm, ZW_REG_CERT_K_MIN), 0u);
+    assert_int_equal(rd32(&rm, ZW_REG_CERT_DIFF), 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -2207,6 +2423,8 @@ int main(void)
         cmocka_unit_test(test_lying_block_needs_key),
         cmocka_unit_test(test_replay_refused),
         cmocka_unit_test(test_auth_message_layout),
+        cmocka_unit_test(test_factory_ceilings),
+        cmocka_unit_test(test_unusable_blocks_refused),
         cmocka_unit_test(test_seal),
         cmocka_unit_test(test_commission_unsealed),
         cmocka_unit_test(test_pdu_read),

@@ -51,6 +51,7 @@
  * Snapshots are taken with zw_regmap_read on a copy of the map (reads are requests: on the
  * real map a refused read would bump the refusal registers).
  */
+#include <float.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
@@ -91,6 +92,14 @@ static const zw_cert paper_block = {
     -2.2e-3f, 3.6e-3f,           /* b_min, b_max */
     0.1f, 1.0e-3f,               /* dk_max, db_max */
     1.0f, 0.0f, 0.0f, 0.0f       /* the loop: delay 1, no filter, backward difference */
+};
+
+/* The factory ceilings of the fuzzed map: every sealed block must stay within them. */
+static const zw_ceilings fuzz_ceilings = {
+    0.95f, 1.0f,                         /* sigma_max, r_max */
+    8.578e-6f, 2.197e-3f, 0.02f, 0.25f,  /* nameplate m, b, T and tolerance */
+    0.0f, 1.0f, -0.01f, 0.01f,           /* widest K and B bounds */
+    0.5f, 5e-3f                          /* largest steps */
 };
 
 /* ---------------------------------------------------------------------------------------
@@ -405,7 +414,7 @@ NO_COV static void check_state(const snapshot *before, const snapshot *after, zw
           "magic 0x%04X version %u", s->w[ZW_REG_MAGIC], s->w[ZW_REG_VERSION]);
     CHECK(s->w[ZW_REG_MODE] <= 1 && s->w[ZW_REG_SEALED] <= 1, "mode %u sealed %u",
           s->w[ZW_REG_MODE], s->w[ZW_REG_SEALED]);
-    CHECK(s->w[ZW_REG_LAST_REASON] <= ZW_REASON_AUTH && s->w[ZW_REG_LAST_EXCEPTION] <= 4,
+    CHECK(s->w[ZW_REG_LAST_REASON] <= ZW_REASON_NO_CEILINGS && s->w[ZW_REG_LAST_EXCEPTION] <= 4,
           "last reason %u exception %u", s->w[ZW_REG_LAST_REASON], s->w[ZW_REG_LAST_EXCEPTION]);
     CHECK(!s->have[ZW_REG_COMMAND] || s->w[ZW_REG_COMMAND] == 0, "command register reads 0x%04X",
           s->w[ZW_REG_COMMAND]);
@@ -493,6 +502,17 @@ NO_COV static void check_state(const snapshot *before, const snapshot *after, zw
               after->w[ZW_REG_CERT_CRC], crc);
         CHECK(zw_crc16_words(lw, ZW_CERT_WORDS) == crc, "zw_crc16_words disagrees with CRC-16/MODBUS");
         zw_cert c = block_of(after);
+        const zw_ceilings *k = &fuzz_ceilings;
+        CHECK(c.sigma <= k->sigma_max && c.r <= k->r_max && c.k_min >= k->k_min && c.k_max <= k->k_max &&
+              c.b_min >= k->b_min && c.b_max <= k->b_max && c.dk_max <= k->dk_max && c.db_max <= k->db_max,
+              "sealed block beyond the factory ceilings");
+        CHECK(fabs((double)c.m - (double)k->m) <= (double)k->plant_tol * (double)k->m &&
+              fabs((double)c.b - (double)k->b) <= (double)k->plant_tol * (double)k->b &&
+              fabs((double)c.T - (double)k->T) <= (double)k->plant_tol * (double)k->T,
+              "sealed plant outside the nameplate tolerance");
+        for (unsigned f = 0; f < ZW_CERT_FIELDS; f++)
+            CHECK(!(zw_cert_field(&c, f) != 0.0f && fabsf(zw_cert_field(&c, f)) < FLT_MIN),
+                  "sealed field %u is subnormal", f);
         static plant pl; /* large (the loop); the harness is single-threaded */
         check_policy(&c, &pl);
         if (first || u32_at(before, ZW_REG_LIVE_K_CERT) != u32_at(after, ZW_REG_LIVE_K_CERT) ||
@@ -530,6 +550,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     zw_reason why = ZW_REASON_NONE;
     CHECK(zw_regmap_init(&rm, &paper_block, &why) == ZW_OK, "the paper's block is refused (reason %d)", (int)why);
     const zw_regmap_auth hooks = {fuzz_random, fuzz_verify, NULL};
+    CHECK(zw_regmap_set_ceilings(&rm, &fuzz_ceilings, &why) == ZW_OK, "ceilings refused (reason %d)", (int)why);
     zw_regmap_set_auth(&rm, &hooks);
     zw_regmap_set_consent(&rm, true);
     g_nonce_counter = 0;

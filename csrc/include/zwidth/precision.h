@@ -79,6 +79,7 @@
 #define zw_regmap_write zw_regmap_write_f
 #define zw_regmap_set_consent zw_regmap_set_consent_f
 #define zw_regmap_set_auth zw_regmap_set_auth_f
+#define zw_regmap_set_ceilings zw_regmap_set_ceilings_f
 #define zw_regmap_auth_message zw_regmap_auth_message_f
 #define zw_cert_field zw_cert_field_f
 #define zw_cert_set_field zw_cert_set_field_f

@@ -277,6 +277,8 @@ typedef struct zw_regmap {
     uint_least16_t consent;         /* commissioning enable input (zw_regmap_set_consent) */
     uint_least16_t nonce[ZW_AUTH_NONCE_WORDS]; /* this commissioning session's nonce */
     uint_least16_t mac[ZW_AUTH_MAC_WORDS];     /* the MAC the client wrote */
+    zw_ceilings ceilings;           /* factory ceilings (zw_regmap_set_ceilings) */
+    uint_least16_t has_ceilings;
     float live[8];                  /* registers 0x0020..0x002F, recomputed on every accepted
                                        write and seal (so a read never runs the core) */
     /* K_max(B) at the B of the gains in force, general loop only (two zw_loop_alpha_max,
@@ -303,6 +305,15 @@ zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason);
  * them).  rm NULL: no-op. */
 void zw_regmap_set_consent(zw_regmap *rm, bool enabled);
 void zw_regmap_set_auth(zw_regmap *rm, const zw_regmap_auth *auth);
+
+/* Power-up (init context, after zw_regmap_init): the factory ceilings (regmap_policy.h)
+ * that every commissioned block must respect.  They must be valid (every field finite,
+ * sigma_max and r_max in (0, 1], m and T > 0, b >= 0, plant_tol >= 0, k_min <= k_max,
+ * b_min <= b_max, steps > 0), else ZW_ERR_ARG with ZW_REASON_BAD_POLICY and nothing
+ * changes.  The block in force is checked against them: one that exceeds them is unsealed
+ * (gains off; ZW_ERR_ARG with its reason), so the drive never runs outside its ceilings.
+ * rm or c NULL: ZW_ERR_NULL.  reason may be NULL. */
+zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *c, zw_reason *reason);
 
 /* Control loop: the certified gain pair in force, to apply this sample.  *K and *B are
  * always one pair that the map accepted (or (0, 0), output off: unsealed, commissioning,

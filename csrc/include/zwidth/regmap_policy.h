@@ -13,6 +13,24 @@
  *   (delay 0, backward difference, no filter) the three rules use the drive's loop:
  *   zw_device_loop_check, zw_device_loop_k_max, zw_device_loop_radius_within
  *   (device_loop.h), all with the gains' conversion rounding in their guard.
+ *   (-0.0 in a gain is stored as +0.0.)
+ *
+ * What a block must be (power-up and SEAL), in this order, the first failure the reason:
+ *   every field finite and none a float subnormal (ZW_REASON_BAD_POLICY, _SUBNORMAL);
+ *   plant accepted, sigma and r in (0, 1], min <= max, steps > 0, a pair reachable in one
+ *   step from (0, 0) within the bounds (ZW_REASON_BAD_POLICY); within the factory ceilings
+ *   when they are set (sigma <= sigma_max, r <= r_max, [k_min, k_max] and [b_min, b_max]
+ *   inside the factory's, dk_max and db_max at most the factory's: ZW_REASON_ABOVE_CEILING;
+ *   m, b and T each within plant_tol (relative) of the nameplate: ZW_REASON_PLANT_MISMATCH);
+ *   the loop fields (reasons 22..26); then some pair other than (0, 0) passes every rule of
+ *   a gain write made from (0, 0) (ZW_REASON_ONLY_OFF: probed at the B of K_mmax, at 0 and
+ *   at 8 B across the range one step reaches, K at eleven fractions 1/64 .. 1 of
+ *   min(sigma K_max(B), k_max, dk_max), and K = k_min; a block whose usable set all these
+ *   probes miss is refused too, which errs on the safe side).
+ *   Fields equal to -0.0 are stored as +0.0.
+ * Factory ceilings are fixed by the firmware at power-up (zw_regmap_set_ceilings), never by
+ * a Modbus write; without them the drive cannot be commissioned over Modbus
+ * (ZW_REASON_NO_CEILINGS) and only its power-up block can be in force.
  */
 #ifndef ZWIDTH_REGMAP_POLICY_H
 #define ZWIDTH_REGMAP_POLICY_H
@@ -65,8 +83,24 @@ typedef enum zw_reason {
     /* commissioning (map version 3, zwidth/regmap_commission.h) */
     ZW_REASON_NO_CONSENT = 27,    /* the commissioning enable input is off */
     ZW_REASON_RNG = 28,           /* UNLOCK2: no authentication hooks, or no random nonce */
-    ZW_REASON_AUTH = 29           /* SEAL: the MAC does not verify under the drive's key */
+    ZW_REASON_AUTH = 29,          /* SEAL: the MAC does not verify under the drive's key */
+    /* the block against the factory ceilings (zw_regmap_set_ceilings) and usability */
+    ZW_REASON_ABOVE_CEILING = 30, /* sigma or r above the ceiling, bounds or steps wider */
+    ZW_REASON_PLANT_MISMATCH = 31,/* m, b or T outside the nameplate's tolerance */
+    ZW_REASON_SUBNORMAL = 32,     /* a field is a float subnormal */
+    ZW_REASON_ONLY_OFF = 33,      /* no pair but (0, 0) can be accepted under the block */
+    ZW_REASON_NO_CEILINGS = 34    /* UNLOCK2 or SEAL on a drive without factory ceilings */
 } zw_reason;
+
+/* The factory ceilings no block may exceed (zw_regmap_set_ceilings). */
+typedef struct zw_ceilings {
+    float sigma_max, r_max;        /* in (0, 1] */
+    float m, b, T;                 /* nameplate plant: m, T > 0, b >= 0 */
+    float plant_tol;               /* relative tolerance of m, b and T, >= 0 */
+    float k_min, k_max;            /* the widest K bounds a block may have */
+    float b_min, b_max;            /* the widest B bounds */
+    float dk_max, db_max;          /* the largest step limits, > 0 */
+} zw_ceilings;
 
 /* Stable names for logs and tools ("ZW_REASON_UNSTABLE"; "ZW_REASON_UNKNOWN" for other
  * values). */
