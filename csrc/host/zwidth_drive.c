@@ -54,6 +54,10 @@
 #define TCP_MAX_ADU 260         /* MBAP 7 + PDU 253 */
 #define RTU_MAX_ADU 256         /* slave 1 + PDU 253 + CRC 2 */
 #define PDU_MAX 253
+#define OUTQ_CAP 4096           /* answers queued for a client that is slow to read them */
+#define LOG_BURST 20.0          /* refusal lines logged at once before the rate limit bites */
+#define LOG_RATE 10.0           /* refusal lines per second in the long run */
+#define LOG_SUMMARY_S 10.0      /* how often the refusals not logged are summed up */
 
 static void usage(FILE *to)
 {
@@ -185,6 +189,9 @@ typedef struct sim {
     double x, v, x_prev; /* sampled position, true velocity, previous sample */
     double t0;           /* wall clock of step 0 */
     uint_least32_t step; /* steps taken */
+    /* each step's lateness behind its scheduled time (the loop's period jitter) */
+    double late_max, late_sum;
+    unsigned long late_n, late_over_5ms;
 } sim;
 
 typedef struct client {
@@ -192,6 +199,11 @@ typedef struct client {
     double last_active;
     double partial_since; /* 0: no partial frame pending */
     char peer[64];
+    /* answers not yet taken by the peer: sent without blocking, the rest queued here; no
+     * request of this client is read while any is queued (it only delays itself) */
+    uint8_t out[OUTQ_CAP];
+    size_t out_len;
+    double out_since; /* when the queue became non-empty */
 } client;
 
 typedef struct drive {
@@ -199,6 +211,9 @@ typedef struct drive {
     int verbose;
     sim s;
     uint8_t key[ZW_KEY_BYTES]; /* the commissioning key (--key-file) */
+    /* refusal logging: a token bucket, and the refusals it kept quiet since the summary */
+    double log_tokens, log_last, log_summary_at;
+    unsigned long log_quiet;
 } drive;
 
 /* The firmware's commissioning hooks (regmap_commission.h), on libcrypto. */
@@ -271,6 +286,11 @@ static int sim_run(drive *d, double now)
     if (!s->on) return -1;
     due_steps = (now - s->t0) * s->speed / s->T;
     while ((double)s->step <= due_steps) {
+        double late = now - (s->t0 + (double)s->step * s->T / s->speed);
+        if (late > s->late_max) s->late_max = late;
+        s->late_sum += late;
+        s->late_n++;
+        if (late > 0.005) s->late_over_5ms++;
         sim_step(d);
         if (++batch >= 20000) { /* far behind (suspended?): drop the backlog */
             s->t0 = now - (double)s->step * s->T / s->speed;
@@ -280,6 +300,31 @@ static int sim_run(drive *d, double now)
     next = s->t0 + (double)s->step * s->T / s->speed;
     ms = (int)ceil((next - now) * 1000.0);
     return ms < 1 ? 1 : ms;
+}
+
+/* Refusal lines: LOG_BURST at once, LOG_RATE per second in the long run; the rest are
+ * counted and summed up every LOG_SUMMARY_S (a client cannot flood the log). */
+static int log_allowed(drive *d)
+{
+    double now = now_s();
+    d->log_tokens += (now - d->log_last) * LOG_RATE;
+    if (d->log_tokens > LOG_BURST) d->log_tokens = LOG_BURST;
+    d->log_last = now;
+    if (d->log_tokens >= 1.0) {
+        d->log_tokens -= 1.0;
+        return 1;
+    }
+    if (d->log_quiet++ == 0) d->log_summary_at = now + LOG_SUMMARY_S;
+    return 0;
+}
+
+/* The summary of the refusals not logged, once LOG_SUMMARY_S has passed (or at the end). */
+static void log_summary(drive *d, double now, int final)
+{
+    if (d->log_quiet == 0 || (!final && now < d->log_summary_at)) return;
+    logf_("%lu more refused requests not logged (rate limit %.0f lines/s)", d->log_quiet,
+          LOG_RATE);
+    d->log_quiet = 0;
 }
 
 static const char *fc_name(unsigned fc)
@@ -320,8 +365,9 @@ static size_t serve_pdu(drive *d, const uint8_t *pdu, size_t len, uint8_t *rsp, 
         snprintf(what, sizeof what, "fc 0x%02X, %lu-byte PDU", fc, (unsigned long)len);
     if (ex != ZW_MB_OK) {
         unsigned reason = (unsigned)d->rm.last_reason;
-        logf_("refused %s from %s: %s (exception 0x%02X %s)", what, who,
-              zw_reason_name((zw_reason)reason), (unsigned)ex, zw_exception_name((unsigned)ex));
+        if (log_allowed(d))
+            logf_("refused %s from %s: %s (exception 0x%02X %s)", what, who,
+                  zw_reason_name((zw_reason)reason), (unsigned)ex, zw_exception_name((unsigned)ex));
     } else if (d->verbose) {
         if (fc == 0x06 || fc == 0x10)
             logf_("accepted %s from %s; gains now K = %.9g, B = %.9g", what, who,
@@ -399,6 +445,34 @@ static void peer_name(int fd, char *out, size_t cap)
         snprintf(out, cap, "fd %d", fd);
 }
 
+/* Send what the client's queue holds, without blocking.  Returns -1 when the peer is gone. */
+static int flush_out(client *c, double now)
+{
+    while (c->out_len > 0) {
+        ssize_t n = send(c->fd, c->out, c->out_len, MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n > 0) {
+            memmove(c->out, c->out + n, c->out_len - (size_t)n);
+            c->out_len -= (size_t)n;
+            continue;
+        }
+        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) break;
+        return -1;
+    }
+    if (c->out_len == 0) c->out_since = 0.0;
+    else if (c->out_since <= 0.0) c->out_since = now;
+    return 0;
+}
+
+/* Queue an answer and send what the socket takes now.  -1: the queue would overflow (the
+ * peer does not read its answers) or the peer is gone; the caller drops the client. */
+static int queue_answer(client *c, const uint8_t *buf, size_t len, double now)
+{
+    if (len > OUTQ_CAP - c->out_len) return -1;
+    memcpy(c->out + c->out_len, buf, len);
+    c->out_len += len;
+    return flush_out(c, now);
+}
+
 static void client_close(drive *d, client *c, const char *why)
 {
     uint8_t junk[512];
@@ -411,6 +485,8 @@ static void client_close(drive *d, client *c, const char *why)
     close(c->fd);
     c->fd = -1;
     c->partial_since = 0.0;
+    c->out_len = 0;
+    c->out_since = 0.0;
 }
 
 /* Serve every complete frame buffered on this client.  hangup: poll reported that the
@@ -421,6 +497,8 @@ static int tcp_service(drive *d, modbus_t *ctx, client *c, double now, int hangu
     int frames;
     for (frames = 0; frames < FRAMES_PER_WAKE; ++frames) {
         uint8_t adu[TCP_MAX_ADU + 8], rsp[TCP_HEADER + PDU_MAX];
+        /* answers still queued: read nothing more until the peer takes them */
+        if (c->out_len > 0) return 0;
         ssize_t n = recv(c->fd, adu, TCP_MAX_ADU, MSG_PEEK | MSG_DONTWAIT);
         size_t need, got = 0, plen, mbap_len;
         unsigned proto;
@@ -496,9 +574,8 @@ static int tcp_service(drive *d, modbus_t *ctx, client *c, double now, int hangu
         rsp[4] = (uint8_t)((plen + 1) >> 8);
         rsp[5] = (uint8_t)((plen + 1) & 0xFFu);
         rsp[6] = adu[6]; /* unit id, echoed */
-        if (send_all(c->fd, rsp, TCP_HEADER + plen, 1) != 0) {
-            client_close(d, c, d->verbose ? "could not send the answer (peer gone or not reading)"
-                                          : NULL);
+        if (queue_answer(c, rsp, TCP_HEADER + plen, now) != 0) {
+            client_close(d, c, "dropped: its answers pile up unread (output queue full) or it is gone");
             return -1;
         }
     }
@@ -561,9 +638,12 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
             if (clients[i].fd < 0) continue;
             pfd[n].fd = clients[i].fd;
             /* A client with a partial frame is looked at on a timer (its unread bytes
-             * would keep poll returning at once), and when it hangs up. */
-            pfd[n].events = clients[i].partial_since > 0.0 ? POLLRDHUP : POLLIN;
-            if (clients[i].partial_since > 0.0) any_partial = 1;
+             * would keep poll returning at once), and when it hangs up; one with answers
+             * queued when it can take more (its requests wait). */
+            pfd[n].events = clients[i].out_len > 0        ? (short)(POLLOUT | POLLRDHUP)
+                            : clients[i].partial_since > 0.0 ? POLLRDHUP
+                                                             : POLLIN;
+            if (clients[i].partial_since > 0.0 || clients[i].out_len > 0) any_partial = 1;
             slot_of[n++] = i;
         }
         pfd[n].fd = lfd;
@@ -611,6 +691,15 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
                                              "dropped (stalled in a frame) to make room for a "
                                              "new client");
                         }
+                        if (slot == max_clients) {
+                            /* else the least recently active one: holding a slot by
+                             * being connected is not enough to lock others out */
+                            for (slot = 0, j = 1; j < max_clients; ++j)
+                                if (clients[j].last_active < clients[slot].last_active) slot = j;
+                            client_close(d, &clients[slot],
+                                         "dropped (least recently active) to make room for a "
+                                         "new client");
+                        }
                     }
                     if (slot == max_clients || cfd >= FD_SETSIZE) {
                         /* libmodbus 3.1.6 puts the socket in an fd_set: never past
@@ -624,6 +713,8 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
                     clients[slot].fd = cfd;
                     clients[slot].last_active = now;
                     clients[slot].partial_since = 0.0;
+                    clients[slot].out_len = 0;
+                    clients[slot].out_since = 0.0;
                     memcpy(clients[slot].peer, peer, sizeof peer);
                     if (d->verbose) logf_("%s: connected", peer);
                 }
@@ -632,13 +723,28 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
                 if (c->fd != pfd[i].fd) continue;
                 if ((pfd[i].revents & POLLNVAL) != 0) {
                     c->fd = -1;
+                    c->out_len = 0;
                     continue;
+                }
+                if (c->out_len > 0) {
+                    if ((pfd[i].revents & (POLLHUP | POLLERR)) != 0 || flush_out(c, now) != 0) {
+                        client_close(d, c, NULL);
+                        continue;
+                    }
+                    if (c->out_len > 0) continue;
                 }
                 (void)tcp_service(d, ctx, c, now,
                                   (pfd[i].revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0);
             }
         }
 
+        /* Answers not taken within SEND_TIMEOUT_MS: the peer does not read; drop it. */
+        for (i = 0; i < max_clients; ++i) {
+            client *c = &clients[i];
+            if (c->fd >= 0 && c->out_len > 0 && now - c->out_since > SEND_TIMEOUT_MS / 1000.0)
+                client_close(d, c, "dropped: did not take its answers within 1 s");
+        }
+        log_summary(d, now, 0);
         /* Partial frames: look again, and drop the ones that took too long. */
         for (i = 0; i < max_clients; ++i) {
             client *c = &clients[i];
@@ -1009,9 +1115,16 @@ int main(int argc, char **argv)
         return ZW_EXIT_FAILURE;
     }
 
+    d.log_tokens = LOG_BURST;
+    d.log_last = now_s();
     if (rtu != NULL) rc = serve_rtu(&d, rtu, (int)baud, parity, (int)slave);
     else rc = serve_tcp(&d, host, (int)port, (int)max_clients, (double)frame_ms / 1000.0,
                         (double)idle_s);
+    log_summary(&d, now_s(), 1);
+    if (d.s.on && d.s.late_n > 0)
+        logf_("simulation: %lu steps; lateness behind the schedule: worst %.3f ms, mean %.3f ms, "
+              "%lu steps over 5 ms", d.s.late_n, d.s.late_max * 1000.0,
+              d.s.late_sum / (double)d.s.late_n * 1000.0, d.s.late_over_5ms);
     close(g_sigpipe[0]);
     close(g_sigpipe[1]);
     return rc;
