@@ -54,6 +54,7 @@
 #define TCP_MAX_ADU 260         /* MBAP 7 + PDU 253 */
 #define RTU_MAX_ADU 256         /* slave 1 + PDU 253 + CRC 2 */
 #define PDU_MAX 253
+#define RTU_T15_FLOOR_US 5000  /* the inter-character limit t1.5, at least this (OS latency) */
 #define OUTQ_CAP 4096           /* answers queued for a client that is slow to read them */
 #define LOG_BURST 20.0          /* refusal lines logged at once before the rate limit bites */
 #define LOG_RATE 10.0           /* refusal lines per second in the long run */
@@ -789,7 +790,16 @@ static modbus_t *rtu_context(const char *dev, int baud, char parity, int slave, 
         modbus_free(ctx);
         return NULL;
     }
-    modbus_set_byte_timeout(ctx, 0, 200000);
+    /* Inside a frame the gap between characters must not exceed t1.5 (Modbus over serial
+     * line 2.5.1.1: 1.5 characters of 11 bits, 750 us above 19200 baud); the drive allows
+     * at least RTU_T15_FLOOR_US, since the OS and USB-serial adapters deliver bytes in
+     * chunks of about a millisecond.  A frame dribbled slower is dropped. */
+    {
+        double t15 = baud > 19200 ? 0.00075 : 1.5 * 11.0 / (double)baud;
+        long us = (long)ceil(t15 * 1e6);
+        if (us < RTU_T15_FLOOR_US) us = RTU_T15_FLOOR_US;
+        modbus_set_byte_timeout(ctx, 0, (uint32_t)us);
+    }
     if (fd >= 0) modbus_set_socket(ctx, fd);
     return ctx;
 }
