@@ -99,6 +99,7 @@ seeds = {
                           + mac_ok + write1(0x0060, 0x5EA1) + status + ramp,
     "commission_split": unlock + writen(0x0040, block) + write1(0x005E, crc16(block)) + mac_ok
                         + write1(0x0060, 0x5EA1) + gains(0.2, -1e-3),
+    "save": ramp + write1(0x0060, 0x5A7E) + read(0x0080, 3),
     "bad_mac_then_good": unlock + writen(0x0040, block + [crc16(block)]) + mac_bad
                          + write1(0x0060, 0x5EA1) + mac_ok + write1(0x0060, 0x5EA1) + status,
     "abort": ramp + unlock + writen(0x0040, block[:4]) + write1(0x0060, 0xAB07) + status,
@@ -123,7 +124,7 @@ tokens = {
     "nan": b"\x7F\xC0\x00\x00", "inf": b"\x7F\x80\x00\x00", "k040": struct.pack(">f", 0.40),
     "b136": struct.pack(">f", -1.36e-3),
     "addr_nonce": b"\x00\x88", "addr_mac": b"\x00\x90", "mac_ok": b"\x60\x0D",
-    "write_mac": b"\x10\x00\x90\x00\x10\x20",
+    "write_mac": b"\x10\x00\x90\x00\x10\x20", "cmd_save": b"\x5A\x7E",
 }
 (work / "regmap.dict").write_text("".join(f'{k}="{esc(v)}"\n' for k, v in tokens.items()))
 PY

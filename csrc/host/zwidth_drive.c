@@ -113,10 +113,15 @@ static void usage(FILE *to)
             "Commissioning over Modbus (off by default: nobody can replace the block)\n"
             "  --commissioning     turn the commissioning enable input on (a key switch on a\n"
             "                      real drive); needs --key-file\n"
+            "  --state-file PATH   non-volatile storage: SAVE (command 0x5A7E) writes the sealed\n"
+            "                      block and the gains there (atomically; the previous copy\n"
+            "                      kept as PATH.prev); at start they are checked and restored\n"
             "  --key-file PATH     this drive's key, 64 hex digits, mode 600 (umask 077;\n"
             "                      openssl rand -hex 32 > drive.key); a client must MAC the\n"
             "                      block and the drive's nonce with it (HMAC-SHA256)\n"
-            "\n"
+            "\n",
+            MAX_CLIENTS_LIMIT);
+    fprintf(to,
             "Simulation\n"
             "  --simulate          run the plant m x'' + b x' = F under the active gains (plant\n"
             "                      from --m --b --T) and report x, v, F in the state registers\n"
@@ -130,8 +135,7 @@ static void usage(FILE *to)
             "Stops cleanly on SIGINT or SIGTERM.\n"
             "Exit status: 0 stopped by a signal, 1 run-time failure (cannot listen, cannot open\n"
             "or lost the serial device), 2 bad arguments or a certified block that the policy\n"
-            "refuses.\n",
-            MAX_CLIENTS_LIMIT);
+            "refuses.\n");
 }
 
 /* ---------------------------------------------------------------------------------------
@@ -215,7 +219,60 @@ typedef struct drive {
     /* refusal logging: a token bucket, and the refusals it kept quiet since the summary */
     double log_tokens, log_last, log_summary_at;
     unsigned long log_quiet;
+    const char *state_file; /* --state-file: where SAVE writes (PATH, PATH.prev) */
 } drive;
+
+/* Read a stored image (at most cap bytes); its length, 0 when the file does not exist or
+ * cannot be read. */
+static size_t read_image(const char *path, uint_least8_t *buf, size_t cap)
+{
+    uint8_t raw[ZW_IMAGE_BYTES + 16];
+    ssize_t n;
+    size_t i;
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return 0;
+    n = read(fd, raw, sizeof raw);
+    close(fd);
+    if (n <= 0) return 0;
+    for (i = 0; i < (size_t)n && i < cap; ++i) buf[i] = raw[i];
+    return (size_t)n; /* a longer file keeps its length: refused as a bad format */
+}
+
+/* SAVE's storage hook: the image goes to PATH.tmp (mode 600, synced), the old PATH becomes
+ * PATH.prev, and PATH.tmp becomes PATH, each step a rename, so a crash at any point leaves
+ * the new or the last good image for zw_regmap_restore. */
+static bool drive_save(void *ctx, const uint_least8_t *image, size_t len)
+{
+    const drive *d = ctx;
+    char tmp[4096], prev[4096], dir[4096];
+    uint8_t raw[ZW_IMAGE_BYTES];
+    size_t i;
+    int fd, ok;
+    const char *slash;
+    if (len != sizeof raw || snprintf(tmp, sizeof tmp, "%s.tmp", d->state_file) >= (int)sizeof tmp ||
+        snprintf(prev, sizeof prev, "%s.prev", d->state_file) >= (int)sizeof prev)
+        return false;
+    for (i = 0; i < len; ++i) raw[i] = (uint8_t)(image[i] & 0xFFu);
+    fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    if (fd < 0) return false;
+    ok = write(fd, raw, len) == (ssize_t)len && fsync(fd) == 0;
+    ok = close(fd) == 0 && ok;
+    if (!ok) {
+        (void)unlink(tmp);
+        return false;
+    }
+    if (rename(d->state_file, prev) != 0 && errno != ENOENT) return false;
+    if (rename(tmp, d->state_file) != 0) return false;
+    slash = strrchr(d->state_file, '/');
+    snprintf(dir, sizeof dir, "%.*s", slash == NULL ? 1 : (int)(slash - d->state_file + 1),
+             slash == NULL ? "." : d->state_file);
+    fd = open(dir, O_RDONLY | O_CLOEXEC);
+    if (fd >= 0) { /* the renames themselves durable */
+        (void)fsync(fd);
+        close(fd);
+    }
+    return true;
+}
 
 /* The firmware's commissioning hooks (regmap_commission.h), on libcrypto. */
 static bool drive_random(void *ctx, uint_least8_t *out, size_t n)
@@ -991,7 +1048,7 @@ int main(int argc, char **argv)
             strcmp(arg, "--max-clients") != 0 && strcmp(arg, "--frame-timeout") != 0 &&
             strcmp(arg, "--idle-timeout") != 0 && strcmp(arg, "--key-file") != 0 &&
             strcmp(arg, "--max-sigma") != 0 && strcmp(arg, "--max-r") != 0 &&
-            strcmp(arg, "--plant-tol") != 0) {
+            strcmp(arg, "--plant-tol") != 0 && strcmp(arg, "--state-file") != 0) {
             fprintf(stderr, PROG ": unknown option '%s'\n", arg);
             usage(stderr);
             return ZW_EXIT_USAGE;
@@ -1043,6 +1100,8 @@ int main(int argc, char **argv)
             if (!zw_parse_long(PROG, arg, val, 10, 60000, &frame_ms)) return ZW_EXIT_USAGE;
         } else if (strcmp(arg, "--key-file") == 0) {
             key_file = val;
+        } else if (strcmp(arg, "--state-file") == 0) {
+            d.state_file = val;
         } else if (strcmp(arg, "--max-sigma") == 0 || strcmp(arg, "--max-r") == 0 ||
                    strcmp(arg, "--plant-tol") == 0) {
             double *t = arg[2] == 'p' ? &plant_tol : arg[6] == 's' ? &max_sigma : &max_r;
@@ -1099,6 +1158,33 @@ int main(int argc, char **argv)
         zw_regmap_set_auth(&d.rm, &hooks);
     }
     zw_regmap_set_consent(&d.rm, commissioning != 0);
+    if (d.state_file != NULL) {
+        uint_least8_t img[2][ZW_IMAGE_BYTES + 16];
+        size_t len[2];
+        char prev_path[4096];
+        zw_regmap_storage storage;
+        if (snprintf(prev_path, sizeof prev_path, "%s.prev", d.state_file) >= (int)sizeof prev_path) {
+            fprintf(stderr, PROG ": --state-file path too long\n");
+            return ZW_EXIT_USAGE;
+        }
+        len[0] = read_image(d.state_file, img[0], sizeof img[0]);
+        len[1] = read_image(prev_path, img[1], sizeof img[1]);
+        if (len[0] > 0 || len[1] > 0) {
+            (void)zw_regmap_restore(&d.rm, len[0] > 0 ? img[0] : NULL, len[0],
+                                    len[1] > 0 ? img[1] : NULL, len[1], &reason);
+            if (d.rm.restore_source == 0u)
+                logf_("stored settings refused (%s): the power-up block stays, gains off",
+                      zw_reason_name(reason));
+            else
+                logf_("restored the sealed block%s from %s%s%s", reason == ZW_REASON_NONE || d.rm.restore_source == 2u ? " and gains" : " (gains off)",
+                      d.rm.restore_source == 1u ? d.state_file : prev_path,
+                      reason != ZW_REASON_NONE ? "; refused: " : "",
+                      reason != ZW_REASON_NONE ? zw_reason_name(reason) : "");
+        }
+        storage.save = drive_save;
+        storage.ctx = &d;
+        zw_regmap_set_storage(&d.rm, &storage);
+    }
     if (simulate) {
         zw_device probe_dev;
         st = zw_device_init(&probe_dev, co.v[0], co.v[1], co.v[2]);

@@ -126,7 +126,7 @@ static const reg_range k_ranges[] = {
     {ZW_REG_CERT_M, ZW_REG_CERT_CRC - 1, RK_CERT | RK_PAIR},
     {ZW_REG_CERT_CRC, ZW_REG_CERT_CRC, RK_CERT},
     {ZW_REG_COMMAND, ZW_REG_COMMAND, RK_CMD},
-    {ZW_REG_CONSENT, ZW_REG_CONSENT, RK_RO},
+    {ZW_REG_CONSENT, ZW_REG_RESTORE_REASON, RK_RO},
     {ZW_REG_NONCE, ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS - 1u, RK_RO},
     {ZW_REG_MAC, ZW_REG_MAC + ZW_AUTH_MAC_WORDS - 1u, RK_MAC},
 };
@@ -185,6 +185,8 @@ static uint_least16_t read_single(const zw_regmap *rm, uint_least16_t addr)
     case ZW_REG_LAST_REASON: return rm->last_reason;
     case ZW_REG_LAST_EXCEPTION: return rm->last_exception;
     case ZW_REG_CONSENT: return rm->consent;
+    case ZW_REG_RESTORE_SOURCE: return rm->restore_source;
+    case ZW_REG_RESTORE_REASON: return rm->restore_reason;
     case ZW_REG_CERT_CRC:
         return rm->mode != 0u ? rm->staged[CRC_INDEX] : zw_rm_sealed_word(rm, CRC_INDEX);
     default: break;

@@ -152,6 +152,7 @@ zw_reason zw_rm_command(zw_regmap *rm, uint_least16_t cmd, bool armed)
         if (rm->consent == 0u) return ZW_REASON_NO_CONSENT;
         if (rm->has_ceilings == 0u) return ZW_REASON_NO_CEILINGS;
         return zw_rm_seal_staged(rm, true);
+    case ZW_CMD_SAVE: return zw_rm_save(rm);
     case ZW_CMD_ABORT:
         if (rm->mode == 0u) return ZW_REASON_BAD_COMMAND;
         end_session(rm); /* the sealed block and device were never touched; gains stay off */

@@ -98,4 +98,7 @@ zw_reason zw_rm_write_mac(zw_regmap *rm, uint_least16_t addr, uint_least16_t cou
                           const uint_least16_t *words, const uint_least8_t *bytes);
 uint_least16_t zw_rm_sealed_word(const zw_regmap *rm, unsigned i);
 
+/* regmap_persist.c: the SAVE command. */
+zw_reason zw_rm_save(zw_regmap *rm);
+
 #endif /* ZWIDTH_REGMAP_INTERNAL_H */

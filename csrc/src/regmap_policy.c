@@ -492,6 +492,10 @@ const char *zw_reason_name(zw_reason reason)
     case ZW_REASON_SUBNORMAL: return "ZW_REASON_SUBNORMAL";
     case ZW_REASON_ONLY_OFF: return "ZW_REASON_ONLY_OFF";
     case ZW_REASON_NO_CEILINGS: return "ZW_REASON_NO_CEILINGS";
+    case ZW_REASON_NO_STORAGE: return "ZW_REASON_NO_STORAGE";
+    case ZW_REASON_STORAGE: return "ZW_REASON_STORAGE";
+    case ZW_REASON_IMAGE_FORMAT: return "ZW_REASON_IMAGE_FORMAT";
+    case ZW_REASON_IMAGE_CRC: return "ZW_REASON_IMAGE_CRC";
     default: break; /* a value outside the enumeration: named below */
     }
     return "ZW_REASON_UNKNOWN";

@@ -156,12 +156,15 @@ REG: Dict[str, int] = {
     "CERT_CRC": 0x005E,
     "COMMAND": 0x0060,
     "CONSENT": 0x0080,
+    "RESTORE_SOURCE": 0x0081,
+    "RESTORE_REASON": 0x0082,
     "NONCE": 0x0088,
     "MAC": 0x0090,
     "COUNT": 0x00A0,
 }
 
-CMD: Dict[str, int] = {"UNLOCK1": 0xC0DE, "UNLOCK2": 0x5AFE, "SEAL": 0x5EA1, "ABORT": 0xAB07}
+CMD: Dict[str, int] = {"UNLOCK1": 0xC0DE, "UNLOCK2": 0x5AFE, "SEAL": 0x5EA1, "ABORT": 0xAB07,
+                       "SAVE": 0x5A7E}
 
 REASONS: Dict[int, str] = {
     0: "ZW_REASON_NONE",
@@ -199,6 +202,10 @@ REASONS: Dict[int, str] = {
     32: "ZW_REASON_SUBNORMAL",
     33: "ZW_REASON_ONLY_OFF",
     34: "ZW_REASON_NO_CEILINGS",
+    35: "ZW_REASON_NO_STORAGE",
+    36: "ZW_REASON_STORAGE",
+    37: "ZW_REASON_IMAGE_FORMAT",
+    38: "ZW_REASON_IMAGE_CRC",
 }
 
 # The reason reported for a refusal whose "last refusal" registers were overwritten by
@@ -823,7 +830,7 @@ class Drive:
         return GainResult(accepted=exc == 0, reason=reason, exception=exc, K=now.K, B=now.B)
 
     def command(self, name: str) -> int:
-        """Write one command ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT") to ZW_REG_COMMAND;
+        """Write one command ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT", "SAVE") to ZW_REG_COMMAND;
         returns the exception code (0 accepted).  ValueError for an unknown name."""
         if name not in CMD:
             raise ValueError(f"command must be one of {sorted(CMD)}, got {name!r}")

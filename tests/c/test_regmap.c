@@ -256,7 +256,7 @@ static void expect_outcome(outcome o, zw_mb_exception exc, zw_reason why, const 
 static const struct {
     uint_least16_t first, last;
 } k_mapped[] = {
-    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60}, {0x80, 0x80},
+    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60}, {0x80, 0x82},
     {0x88, 0x9F},
 };
 
@@ -680,7 +680,8 @@ static void test_access_map_writes(void **state)
         if (!is_mapped(a)) {
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_UNMAPPED);
-        } else if (a <= 0x09u || (a >= 0x20u && a <= 0x39u) || a == ZW_REG_CONSENT ||
+        } else if (a <= 0x09u || (a >= 0x20u && a <= 0x39u) ||
+                   (a >= ZW_REG_CONSENT && a <= ZW_REG_RESTORE_REASON) ||
                    (a >= ZW_REG_NONCE && a < ZW_REG_MAC)) {
             /* read-only, whether one word or a whole (aligned) value is written */
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
@@ -1586,7 +1587,9 @@ static void test_reason_names(void **state)
         ZWT_REASON(ZW_REASON_RNG),          ZWT_REASON(ZW_REASON_AUTH),
         ZWT_REASON(ZW_REASON_ABOVE_CEILING), ZWT_REASON(ZW_REASON_PLANT_MISMATCH),
         ZWT_REASON(ZW_REASON_SUBNORMAL),    ZWT_REASON(ZW_REASON_ONLY_OFF),
-        ZWT_REASON(ZW_REASON_NO_CEILINGS),
+        ZWT_REASON(ZW_REASON_NO_CEILINGS),  ZWT_REASON(ZW_REASON_NO_STORAGE),
+        ZWT_REASON(ZW_REASON_STORAGE),      ZWT_REASON(ZW_REASON_IMAGE_FORMAT),
+        ZWT_REASON(ZW_REASON_IMAGE_CRC),
     };
     size_t i;
     (void)state;
@@ -2395,6 +2398,173 @@ static void test_unusable_blocks_refused(void **state)
     assert_int_equal(rd32(&rm, ZW_REG_CERT_DIFF), 0u);
 }
 
+/* ---- persistence: SAVE, and the image checked at power-up ------------------------------- */
+
+typedef struct test_store {
+    int fails, calls;
+    unsigned char image[ZW_IMAGE_BYTES];
+    size_t len;
+} test_store;
+
+static bool test_save(void *ctx, const uint_least8_t *image, size_t len)
+{
+    test_store *st = ctx;
+    size_t i;
+    st->calls++;
+    if (st->fails || len != ZW_IMAGE_BYTES) return false;
+    for (i = 0; i < len; ++i) st->image[i] = (unsigned char)image[i];
+    st->len = len;
+    return true;
+}
+
+/* The documented image (regmap_persist.h), built here: magic, format, block + CRC, K, B,
+ * CRC of the 38 words before it. */
+static void ref_image(const zw_cert *c, float K, float B, unsigned format,
+                      unsigned char img[ZW_IMAGE_BYTES])
+{
+    uint_least16_t w[39];
+    size_t i;
+    w[0] = 0x5A57u;
+    w[1] = 0x4E56u;
+    w[2] = (uint_least16_t)format;
+    block_words(c, &w[3]);
+    words_of(K, &w[34]);
+    words_of(B, &w[36]);
+    w[38] = ref_crc_words(w, 38);
+    for (i = 0; i < 39; ++i) {
+        img[2 * i] = (unsigned char)(w[i] >> 8);
+        img[2 * i + 1] = (unsigned char)(w[i] & 0xFFu);
+    }
+}
+
+/* A drive at power-up: the paper's block with sigma 0.8, factory ceilings, gains off. */
+static void fresh_drive(zw_regmap *rm)
+{
+    zw_cert c = paper_cert();
+    zw_ceilings k = factory_ceilings();
+    c.sigma = 0.8f;
+    c.r = 0.999f;
+    memset(rm, 0xA5, sizeof *rm);
+    EXPECT_OK(zw_regmap_init(rm, &c, NULL));
+    EXPECT_OK(zw_regmap_set_ceilings(rm, &k, NULL));
+}
+
+static zw_status restore_bytes(zw_regmap *rm, const unsigned char *a, size_t alen,
+                               const unsigned char *b, size_t blen, zw_reason *why)
+{
+    uint_least8_t x[ZW_IMAGE_BYTES + 1], y[ZW_IMAGE_BYTES + 1];
+    size_t i;
+    for (i = 0; i < alen && i < sizeof x; ++i) x[i] = a[i];
+    for (i = 0; i < blen && i < sizeof y; ++i) y[i] = b[i];
+    return zw_regmap_restore(rm, a != NULL ? x : NULL, alen, b != NULL ? y : NULL, blen, why);
+}
+
+static void test_save_is_separate_and_checked(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    test_store st;
+    zw_regmap_storage hook;
+    unsigned char want[ZW_IMAGE_BYTES];
+    (void)state;
+    c.sigma = 0.8f;
+    c.r = 0.999f;
+    rm_init(&rm, &c);
+    memset(&st, 0, sizeof st);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, -5e-4f)); /* applied, not saved */
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SAVE), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_STORAGE);
+    hook.save = test_save;
+    hook.ctx = &st;
+    zw_regmap_set_storage(&rm, &hook);
+    st.fails = 1;
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SAVE), ZW_MB_ILLEGAL_VALUE, ZW_REASON_STORAGE);
+    st.fails = 0;
+    zw_regmap_set_consent(&rm, false);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SAVE), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CONSENT);
+    zw_regmap_set_consent(&rm, true);
+    assert_int_equal(st.calls, 1);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SAVE));
+    ref_image(&c, 0.2f, -5e-4f, ZW_IMAGE_FORMAT, want);
+    assert_int_equal(st.len, ZW_IMAGE_BYTES);
+    assert_memory_equal(st.image, want, sizeof want);
+    unlock(&rm);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SAVE), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    zw_regmap_set_storage(NULL, &hook); /* no-op */
+}
+
+/* Saved settings survive a restart, and a corrupted image never applies anything. */
+static void test_restore_checks_everything(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert(), wide;
+    unsigned char good[ZW_IMAGE_BYTES], bad[ZW_IMAGE_BYTES], older[ZW_IMAGE_BYTES];
+    zw_reason why = ZW_REASON_NONE;
+    size_t bit;
+    (void)state;
+    c.sigma = 0.75f; /* a block other than the power-up one */
+    c.r = 0.999f;
+    ref_image(&c, 0.2f, -5e-4f, ZW_IMAGE_FORMAT, good);
+    /* no image: nothing done */
+    fresh_drive(&rm);
+    EXPECT_OK(zw_regmap_restore(&rm, NULL, 0, NULL, 0, &why));
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_SOURCE), 0u);
+    /* the restart: block and gains back */
+    fresh_drive(&rm);
+    EXPECT_OK(restore_bytes(&rm, good, sizeof good, NULL, 0, &why));
+    assert_int_equal(why, ZW_REASON_NONE);
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_SOURCE), 1u);
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.75f);
+    EXPECT_ACTIVE(&rm, 0.2f, -5e-4f);
+    assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 0u);
+    /* truncated, or one byte longer */
+    fresh_drive(&rm);
+    EXPECT_STATUS(restore_bytes(&rm, good, sizeof good - 1u, NULL, 0, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_IMAGE_FORMAT);
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_REASON), ZW_REASON_IMAGE_FORMAT);
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.8f); /* the power-up block, gains off */
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    /* every single flipped bit */
+    for (bit = 0; bit < 8u * sizeof good; ++bit) {
+        memcpy(bad, good, sizeof bad);
+        bad[bit / 8u] ^= (unsigned char)(1u << (bit % 8u));
+        fresh_drive(&rm);
+        EXPECT_STATUS(restore_bytes(&rm, bad, sizeof bad, NULL, 0, &why), ZW_ERR_ARG);
+        assert_true(why == ZW_REASON_IMAGE_CRC || why == ZW_REASON_IMAGE_FORMAT);
+        assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.8f);
+        EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    }
+    /* an older format, with a valid CRC */
+    ref_image(&c, 0.2f, -5e-4f, ZW_IMAGE_FORMAT - 1u, older);
+    fresh_drive(&rm);
+    EXPECT_STATUS(restore_bytes(&rm, older, sizeof older, NULL, 0, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_IMAGE_FORMAT);
+    /* the newest bad: the last good one */
+    memcpy(bad, good, sizeof bad);
+    bad[40] ^= 0x10u;
+    fresh_drive(&rm);
+    EXPECT_OK(restore_bytes(&rm, bad, sizeof bad, good, sizeof good, &why));
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_SOURCE), 2u);
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_REASON), ZW_REASON_IMAGE_CRC);
+    EXPECT_ACTIVE(&rm, 0.2f, -5e-4f);
+    /* CRCs right, but the block beyond the factory ceilings: refused like a SEAL */
+    wide = c;
+    wide.sigma = 1.0f;
+    ref_image(&wide, 0.2f, -5e-4f, ZW_IMAGE_FORMAT, bad);
+    fresh_drive(&rm);
+    EXPECT_STATUS(restore_bytes(&rm, bad, sizeof bad, NULL, 0, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_ABOVE_CEILING);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    /* CRCs right, block fine, gains not certified (above sigma K_max): block only */
+    ref_image(&c, 0.45f, -1.36e-3f, ZW_IMAGE_FORMAT, bad);
+    fresh_drive(&rm);
+    EXPECT_OK(restore_bytes(&rm, bad, sizeof bad, NULL, 0, &why));
+    assert_int_equal(why, ZW_REASON_ABOVE_SIGMA);
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_SOURCE), 1u);
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.75f);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    EXPECT_STATUS(zw_regmap_restore(NULL, NULL, 0, NULL, 0, &why), ZW_ERR_NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -2425,6 +2595,8 @@ int main(void)
         cmocka_unit_test(test_auth_message_layout),
         cmocka_unit_test(test_factory_ceilings),
         cmocka_unit_test(test_unusable_blocks_refused),
+        cmocka_unit_test(test_save_is_separate_and_checked),
+        cmocka_unit_test(test_restore_checks_everything),
         cmocka_unit_test(test_seal),
         cmocka_unit_test(test_commission_unsealed),
         cmocka_unit_test(test_pdu_read),

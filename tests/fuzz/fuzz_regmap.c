@@ -135,6 +135,22 @@ NO_COV static bool fuzz_verify(void *ctx, const uint_least8_t *msg, size_t msg_l
     return g_verify_said_yes != 0;
 }
 
+static uint16_t crc16_modbus_words(const uint16_t *w, size_t n);
+
+/* SAVE's storage: the image must be whole, of the documented format, with a valid CRC. */
+NO_COV static bool fuzz_save(void *ctx, const uint_least8_t *image, size_t len)
+{
+    (void)ctx;
+    CHECK(len == ZW_IMAGE_BYTES, "image of %zu bytes", len);
+    uint_least16_t w[ZW_IMAGE_WORDS];
+    for (unsigned i = 0; i < ZW_IMAGE_WORDS; i++) w[i] = (uint_least16_t)(image[2 * i] << 8 | image[2 * i + 1]);
+    CHECK(w[0] == 0x5A57u && w[1] == 0x4E56u && w[2] == ZW_IMAGE_FORMAT, "image header");
+    uint16_t w16[ZW_IMAGE_WORDS];
+    for (unsigned i = 0; i < ZW_IMAGE_WORDS; i++) w16[i] = (uint16_t)w[i];
+    CHECK(crc16_modbus_words(w16, ZW_IMAGE_WORDS - 1) == w16[ZW_IMAGE_WORDS - 1], "image CRC");
+    return true;
+}
+
 /* ---------------------------------------------------------------------------------------
  * Register snapshots
  * ------------------------------------------------------------------------------------- */
@@ -147,7 +163,7 @@ typedef struct snapshot {
 static const struct { uint16_t addr, count; bool must; } blocks[] = {
     {ZW_REG_MAGIC, 10, true},   {ZW_REG_K, 4, true},          {ZW_REG_LIVE_K_MAX, 16, true},
     {ZW_REG_STATE_X, 10, true},  {ZW_REG_CERT_M, ZW_CERT_WORDS + 1, false},
-    {ZW_REG_COMMAND, 1, false}, {ZW_REG_CONSENT, 1, true},
+    {ZW_REG_COMMAND, 1, false}, {ZW_REG_CONSENT, 3, true},
     {ZW_REG_NONCE, ZW_AUTH_NONCE_WORDS + ZW_AUTH_MAC_WORDS, true},
 };
 
@@ -414,7 +430,7 @@ NO_COV static void check_state(const snapshot *before, const snapshot *after, zw
           "magic 0x%04X version %u", s->w[ZW_REG_MAGIC], s->w[ZW_REG_VERSION]);
     CHECK(s->w[ZW_REG_MODE] <= 1 && s->w[ZW_REG_SEALED] <= 1, "mode %u sealed %u",
           s->w[ZW_REG_MODE], s->w[ZW_REG_SEALED]);
-    CHECK(s->w[ZW_REG_LAST_REASON] <= ZW_REASON_NO_CEILINGS && s->w[ZW_REG_LAST_EXCEPTION] <= 4,
+    CHECK(s->w[ZW_REG_LAST_REASON] <= ZW_REASON_IMAGE_CRC && s->w[ZW_REG_LAST_EXCEPTION] <= 4,
           "last reason %u exception %u", s->w[ZW_REG_LAST_REASON], s->w[ZW_REG_LAST_EXCEPTION]);
     CHECK(!s->have[ZW_REG_COMMAND] || s->w[ZW_REG_COMMAND] == 0, "command register reads 0x%04X",
           s->w[ZW_REG_COMMAND]);
@@ -553,6 +569,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     CHECK(zw_regmap_set_ceilings(&rm, &fuzz_ceilings, &why) == ZW_OK, "ceilings refused (reason %d)", (int)why);
     zw_regmap_set_auth(&rm, &hooks);
     zw_regmap_set_consent(&rm, true);
+    const zw_regmap_storage storage = {fuzz_save, NULL};
+    zw_regmap_set_storage(&rm, &storage);
     g_nonce_counter = 0;
     memset(g_sealed_words, 0, sizeof g_sealed_words);
 

@@ -25,7 +25,7 @@ REPO = Path(__file__).resolve().parents[2]
 BUILD = Path(os.environ.get("ZW_BUILD_DIR", REPO / "build"))
 HEADER = REPO / "csrc" / "include" / "zwidth" / "regmap.h"
 # regmap.h is the entry point; its parts hold the reasons and commands (map version 3)
-HEADERS = [HEADER] + [HEADER.with_name(f"regmap_{p}.h") for p in ("codec", "policy", "commission")]
+HEADERS = [HEADER] + [HEADER.with_name(f"regmap_{p}.h") for p in ("codec", "policy", "commission", "persist")]
 # The test drives' commissioning key (nothing secret): 64 hex digits in a mode-600 file.
 TEST_KEY_HEX = bytes(range(0x40, 0x60)).hex()
 LOOPBACK = "127.0.0.1"

@@ -11,7 +11,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[2]
 HEADER = REPO / "csrc" / "include" / "zwidth" / "regmap.h"
 # regmap.h is the entry point; its parts (map version 3) hold the reasons and commands
-HEADERS = [HEADER] + [HEADER.with_name(f"regmap_{part}.h") for part in ("codec", "policy", "commission")]
+HEADERS = [HEADER] + [HEADER.with_name(f"regmap_{part}.h") for part in ("codec", "policy", "commission", "persist")]
 BUILD_DIR = Path(os.environ.get("ZW_BUILD_DIR", REPO / "build"))
 DRIVE_BIN = BUILD_DIR / "zwidth-drive"
 LOOPBACK = "127.0.0.1"

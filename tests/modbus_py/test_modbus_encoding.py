@@ -52,7 +52,7 @@ def test_register_addresses_match_the_header():
 
 
 def test_commands_and_constants_match_the_header():
-    cmds = {name: header_define("ZW_CMD_" + name) for name in ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT")}
+    cmds = {name: header_define("ZW_CMD_" + name) for name in ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT", "SAVE")}
     assert cmds == zm.CMD
     assert header_define("ZW_REGMAP_MAGIC") == zm.MAGIC
     assert header_define("ZW_REGMAP_VERSION") == zm.MAP_VERSION

@@ -80,6 +80,9 @@
 #define zw_regmap_set_consent zw_regmap_set_consent_f
 #define zw_regmap_set_auth zw_regmap_set_auth_f
 #define zw_regmap_set_ceilings zw_regmap_set_ceilings_f
+#define zw_regmap_set_storage zw_regmap_set_storage_f
+#define zw_regmap_restore zw_regmap_restore_f
+#define zw_regmap_image zw_regmap_image_f
 #define zw_regmap_auth_message zw_regmap_auth_message_f
 #define zw_cert_field zw_cert_field_f
 #define zw_cert_set_field zw_cert_set_field_f
@@ -117,6 +120,7 @@
 #define zw_rm_seal_staged zw_rm_seal_staged_f
 #define zw_rm_sealed_word zw_rm_sealed_word_f
 #define zw_rm_write_mac zw_rm_write_mac_f
+#define zw_rm_save zw_rm_save_f
 #endif /* ZW_REAL_FLOAT */
 
 #endif /* ZWIDTH_PRECISION_H */

@@ -96,6 +96,9 @@
  *   0x0060  ZW_REG_COMMAND      w       commissioning commands (zwidth/regmap_commission.h)
  *   0x0080  ZW_REG_CONSENT      r       1 when the commissioning enable input is on (map
  *                                       version 3; zwidth/regmap_commission.h)
+ *   0x0081  ZW_REG_RESTORE_SOURCE r     what zw_regmap_restore applied: 0 nothing, 1 the
+ *                                       newest image, 2 the previous (regmap_persist.h)
+ *   0x0082  ZW_REG_RESTORE_REASON r     why an image or its gains were refused (0 none)
  *   0x0088  ZW_REG_NONCE (8)    r       the commissioning session's nonce (0 in operation)
  *   0x0090  ZW_REG_MAC (16)     rw      the client's MAC over the session (rw in
  *                                       commissioning, else LOCKED; 0 in operation)
@@ -156,6 +159,7 @@
 #include "zwidth/device_loop.h"
 #include "zwidth/regmap_codec.h"
 #include "zwidth/regmap_commission.h"
+#include "zwidth/regmap_persist.h"
 #include "zwidth/regmap_policy.h"
 
 #ifdef __cplusplus
@@ -205,6 +209,8 @@ enum {
     ZW_REG_CERT_CRC = 0x005E,
     ZW_REG_COMMAND = 0x0060,
     ZW_REG_CONSENT = 0x0080,
+    ZW_REG_RESTORE_SOURCE = 0x0081,
+    ZW_REG_RESTORE_REASON = 0x0082,
     ZW_REG_NONCE = 0x0088,
     ZW_REG_MAC = 0x0090,
     ZW_REG_COUNT = 0x00A0 /* registers 0 .. ZW_REG_COUNT-1 may be mapped */
@@ -279,6 +285,8 @@ typedef struct zw_regmap {
     uint_least16_t mac[ZW_AUTH_MAC_WORDS];     /* the MAC the client wrote */
     zw_ceilings ceilings;           /* factory ceilings (zw_regmap_set_ceilings) */
     uint_least16_t has_ceilings;
+    zw_regmap_storage storage;      /* the firmware's non-volatile storage (SAVE) */
+    uint_least16_t restore_source, restore_reason;
     float live[8];                  /* registers 0x0020..0x002F, recomputed on every accepted
                                        write and seal (so a read never runs the core) */
     /* K_max(B) at the B of the gains in force, general loop only (two zw_loop_alpha_max,
@@ -314,6 +322,20 @@ void zw_regmap_set_auth(zw_regmap *rm, const zw_regmap_auth *auth);
  * (gains off; ZW_ERR_ARG with its reason), so the drive never runs outside its ceilings.
  * rm or c NULL: ZW_ERR_NULL.  reason may be NULL. */
 zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *c, zw_reason *reason);
+
+/* Persistence (zwidth/regmap_persist.h), init context.  The storage hook (NULL or a NULL
+ * hook: none, SAVE refused ZW_REASON_NO_STORAGE); rm NULL: no-op.  Restore: newest and
+ * previous image (either NULL or of any length; NULL, 0 means none).  Returns ZW_OK when an
+ * image's block was installed (its gains too, if they pass), ZW_ERR_ARG when an image was
+ * given and none passed (*reason: the first refusal), ZW_OK with nothing done when none
+ * was given; ZW_ERR_NULL for rm NULL.  Gains are off unless restored certified. */
+void zw_regmap_set_storage(zw_regmap *rm, const zw_regmap_storage *storage);
+zw_status zw_regmap_restore(zw_regmap *rm, const uint_least8_t *newest, size_t newest_len,
+                            const uint_least8_t *previous, size_t previous_len,
+                            zw_reason *reason);
+/* The image SAVE writes, of the block and gains in force (rm NULL, image NULL or nothing
+ * sealed: false, image untouched). */
+bool zw_regmap_image(const zw_regmap *rm, uint_least8_t image[ZW_IMAGE_BYTES]);
 
 /* Control loop: the certified gain pair in force, to apply this sample.  *K and *B are
  * always one pair that the map accepted (or (0, 0), output off: unsealed, commissioning,

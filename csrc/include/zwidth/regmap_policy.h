@@ -89,7 +89,12 @@ typedef enum zw_reason {
     ZW_REASON_PLANT_MISMATCH = 31,/* m, b or T outside the nameplate's tolerance */
     ZW_REASON_SUBNORMAL = 32,     /* a field is a float subnormal */
     ZW_REASON_ONLY_OFF = 33,      /* no pair but (0, 0) can be accepted under the block */
-    ZW_REASON_NO_CEILINGS = 34    /* UNLOCK2 or SEAL on a drive without factory ceilings */
+    ZW_REASON_NO_CEILINGS = 34,   /* UNLOCK2 or SEAL on a drive without factory ceilings */
+    /* persistence (zwidth/regmap_persist.h) */
+    ZW_REASON_NO_STORAGE = 35,    /* SAVE on a drive without a storage hook */
+    ZW_REASON_STORAGE = 36,       /* SAVE: the storage hook reported a failure */
+    ZW_REASON_IMAGE_FORMAT = 37,  /* restore: length, magic or format version wrong */
+    ZW_REASON_IMAGE_CRC = 38      /* restore: the image's CRC (or its block's) is wrong */
 } zw_reason;
 
 /* The factory ceilings no block may exceed (zw_regmap_set_ceilings). */
