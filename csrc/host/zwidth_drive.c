@@ -82,6 +82,8 @@ static void usage(FILE *to)
             "  --baud N            RTU baud rate (default 19200)\n"
             "  --parity P          RTU parity N, E or O (default N); 8 data bits, 1 stop bit\n"
             "  --slave ID          RTU slave address 1..247 (default 1); TCP answers any unit id\n"
+            "  --word-order W      abcd (high word first, default) or cdab (low word first) for\n"
+            "                      every float and 32-bit register\n"
             "  --max-clients N     TCP clients served at once, 1..%d (default 16); when full, a\n"
             "                      client stalled in the middle of a frame makes room\n"
             "  --frame-timeout MS  a TCP frame must be complete within this (default 500)\n"
@@ -1021,7 +1023,7 @@ int main(int argc, char **argv)
     const char *host = "127.0.0.1", *rtu = NULL, *key_file = NULL;
     long port = 1502, baud = 19200, slave = 1, max_clients = 16, frame_ms = 500, idle_s = 300;
     char parity = 'N';
-    int unsealed = 0, simulate = 0, commissioning = 0, i, rc;
+    int unsealed = 0, simulate = 0, commissioning = 0, cdab = 0, i, rc;
     double speed = 1.0, x0 = 0.01, max_sigma = 0.95, max_r = 0.999, plant_tol = 0.05;
     zw_ceilings ceil;
     struct in_addr probe;
@@ -1048,7 +1050,8 @@ int main(int argc, char **argv)
             strcmp(arg, "--max-clients") != 0 && strcmp(arg, "--frame-timeout") != 0 &&
             strcmp(arg, "--idle-timeout") != 0 && strcmp(arg, "--key-file") != 0 &&
             strcmp(arg, "--max-sigma") != 0 && strcmp(arg, "--max-r") != 0 &&
-            strcmp(arg, "--plant-tol") != 0 && strcmp(arg, "--state-file") != 0) {
+            strcmp(arg, "--plant-tol") != 0 && strcmp(arg, "--state-file") != 0 &&
+            strcmp(arg, "--word-order") != 0) {
             fprintf(stderr, PROG ": unknown option '%s'\n", arg);
             usage(stderr);
             return ZW_EXIT_USAGE;
@@ -1102,6 +1105,12 @@ int main(int argc, char **argv)
             key_file = val;
         } else if (strcmp(arg, "--state-file") == 0) {
             d.state_file = val;
+        } else if (strcmp(arg, "--word-order") == 0) {
+            if (strcmp(val, "abcd") != 0 && strcmp(val, "cdab") != 0) {
+                fprintf(stderr, PROG ": --word-order expects abcd or cdab, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+            cdab = val[0] == 'c';
         } else if (strcmp(arg, "--max-sigma") == 0 || strcmp(arg, "--max-r") == 0 ||
                    strcmp(arg, "--plant-tol") == 0) {
             double *t = arg[2] == 'p' ? &plant_tol : arg[6] == 's' ? &max_sigma : &max_r;
@@ -1158,6 +1167,7 @@ int main(int argc, char **argv)
         zw_regmap_set_auth(&d.rm, &hooks);
     }
     zw_regmap_set_consent(&d.rm, commissioning != 0);
+    zw_regmap_set_word_order(&d.rm, cdab ? ZW_WORD_ORDER_CDAB : ZW_WORD_ORDER_ABCD);
     if (d.state_file != NULL) {
         uint_least8_t img[2][ZW_IMAGE_BYTES + 16];
         size_t len[2];

@@ -156,6 +156,16 @@ static int read_head(modbus_t *ctx, snapshot *s)
                         "(docs/modbus.md, map versions)\n", (unsigned)s->head[1], ZW_REGMAP_VERSION);
         return ZW_EXIT_USAGE;
     }
+    {
+        uint_least16_t order[1];
+        if (read_regs(ctx, ZW_REG_WORD_ORDER, 1, order, &exc) != 0)
+            return protocol_error("cannot read the word order");
+        if (order[0] != ZW_WORD_ORDER_ABCD) { /* every float would read wrong */
+            fprintf(stderr, PROG ": the drive sends floats low word first (CDAB); this tool "
+                            "speaks ABCD (zwidth-drive --word-order abcd, or mbpoll without -B)\n");
+            return ZW_EXIT_USAGE;
+        }
+    }
     if (read_regs(ctx, ZW_REG_K, 4, s->gains, &exc) != 0)
         return protocol_error("cannot read the gains");
     return ZW_EXIT_OK;

@@ -126,7 +126,7 @@ static const reg_range k_ranges[] = {
     {ZW_REG_CERT_M, ZW_REG_CERT_CRC - 1, RK_CERT | RK_PAIR},
     {ZW_REG_CERT_CRC, ZW_REG_CERT_CRC, RK_CERT},
     {ZW_REG_COMMAND, ZW_REG_COMMAND, RK_CMD},
-    {ZW_REG_CONSENT, ZW_REG_RESTORE_REASON, RK_RO},
+    {ZW_REG_CONSENT, ZW_REG_WORD_ORDER, RK_RO},
     {ZW_REG_NONCE, ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS - 1u, RK_RO},
     {ZW_REG_MAC, ZW_REG_MAC + ZW_AUTH_MAC_WORDS - 1u, RK_MAC},
 };
@@ -187,6 +187,7 @@ static uint_least16_t read_single(const zw_regmap *rm, uint_least16_t addr)
     case ZW_REG_CONSENT: return rm->consent;
     case ZW_REG_RESTORE_SOURCE: return rm->restore_source;
     case ZW_REG_RESTORE_REASON: return rm->restore_reason;
+    case ZW_REG_WORD_ORDER: return rm->word_order;
     case ZW_REG_CERT_CRC:
         return rm->mode != 0u ? rm->staged[CRC_INDEX] : zw_rm_sealed_word(rm, CRC_INDEX);
     default: break;
@@ -243,6 +244,27 @@ float zw_rm_payload_float(const uint_least16_t *words, const uint_least8_t *byte
     return zw_words_to_float(w);
 }
 
+uint_least16_t zw_rm_pair_word(const zw_regmap *rm, const uint_least16_t *words,
+                               const uint_least8_t *bytes, size_t i)
+{
+    return zw_rm_payload_word(words, bytes, rm->word_order == ZW_WORD_ORDER_CDAB ? (i ^ 1u) : i);
+}
+
+float zw_rm_pair_float(const zw_regmap *rm, const uint_least16_t *words,
+                       const uint_least8_t *bytes, size_t i)
+{
+    uint_least16_t w[2];
+    w[0] = zw_rm_pair_word(rm, words, bytes, i);
+    w[1] = zw_rm_pair_word(rm, words, bytes, i + 1u);
+    return zw_words_to_float(w);
+}
+
+void zw_regmap_set_word_order(zw_regmap *rm, unsigned order)
+{
+    if (rm == NULL || (order != ZW_WORD_ORDER_ABCD && order != ZW_WORD_ORDER_CDAB)) return;
+    rm->word_order = (uint_least16_t)order;
+}
+
 /* Quantity and addresses, shared by reads and writes: the kind bits of all the words, or
  * the reason. */
 static zw_reason check_range(uint_least16_t addr, uint_least16_t count, uint_least16_t max_count,
@@ -286,6 +308,11 @@ static zw_reason read_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t co
         if ((reg_kind(a) & RK_PAIR) != 0u) {
             /* both words of a value at once (a read may start or end mid-value) */
             read_pair(rm, &st, (uint_least16_t)(a & ~1u), w);
+            if (rm->word_order == ZW_WORD_ORDER_CDAB) { /* low word first on the wire */
+                uint_least16_t hi = w[0];
+                w[0] = w[1];
+                w[1] = hi;
+            }
             first = a & 1u;
             if (first == 0u && i + 1u < count) n = 2;
         } else {
@@ -333,8 +360,8 @@ static zw_reason write_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t c
     if ((kinds & RK_GAIN) != 0u) {
         float K = rm->K, B = rm->B;
         if (rm->mode != 0u || !rm->is_sealed) return ZW_REASON_NOT_SEALED;
-        if (addr == ZW_REG_K) K = zw_rm_payload_float(words, bytes, 0);
-        if (addr == ZW_REG_B || count == 4u) B = zw_rm_payload_float(words, bytes, count - 2u);
+        if (addr == ZW_REG_K) K = zw_rm_pair_float(rm, words, bytes, 0);
+        if (addr == ZW_REG_B || count == 4u) B = zw_rm_pair_float(rm, words, bytes, count - 2u);
         return zw_rm_apply_gains(rm, K, B); /* a tail call: this frame is gone (stack) */
     }
     return zw_rm_command(rm, zw_rm_payload_word(words, bytes, 0), armed);

@@ -110,9 +110,13 @@ zw_reason zw_rm_write_cert(zw_regmap *rm, uint_least16_t addr, uint_least16_t co
 {
     size_t i;
     for (i = 0; i < count && (uint_least32_t)addr + i < ZW_REG_CERT_CRC; i += 2u)
-        if (!zw_rm_finite_f(zw_rm_payload_float(words, bytes, i))) return ZW_REASON_NOT_FINITE;
+        if (!zw_rm_finite_f(zw_rm_pair_float(rm, words, bytes, i))) return ZW_REASON_NOT_FINITE;
+    /* the floats in the map's word order (pairs start at even offsets: the write starts
+     * on an even address), the CRC word as it is */
     for (i = 0; i < count; ++i)
-        rm->staged[(size_t)(addr - ZW_REG_CERT_M) + i] = zw_rm_payload_word(words, bytes, i);
+        rm->staged[(size_t)(addr - ZW_REG_CERT_M) + i] =
+            (uint_least32_t)addr + i < ZW_REG_CERT_CRC ? zw_rm_pair_word(rm, words, bytes, i)
+                                                        : zw_rm_payload_word(words, bytes, i);
     return ZW_REASON_NONE;
 }
 

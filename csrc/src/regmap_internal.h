@@ -76,6 +76,12 @@ void zw_rm_publish_gains(zw_regmap *rm, float K, float B);
 uint_least16_t zw_rm_payload_word(const uint_least16_t *words, const uint_least8_t *bytes,
                                   size_t i);
 float zw_rm_payload_float(const uint_least16_t *words, const uint_least8_t *bytes, size_t i);
+/* The same in the map's word order: word i of a payload whose two-word values start at
+ * even i, as the canonical (ABCD) word; the value starting at word i. */
+uint_least16_t zw_rm_pair_word(const zw_regmap *rm, const uint_least16_t *words,
+                               const uint_least8_t *bytes, size_t i);
+float zw_rm_pair_float(const zw_regmap *rm, const uint_least16_t *words,
+                       const uint_least8_t *bytes, size_t i);
 
 /* regmap_codec.c: one word into a CRC-16/MODBUS, high byte first. */
 uint_least16_t zw_rm_crc_word(uint_least16_t crc, uint_least16_t word);

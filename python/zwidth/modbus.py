@@ -158,6 +158,7 @@ REG: Dict[str, int] = {
     "CONSENT": 0x0080,
     "RESTORE_SOURCE": 0x0081,
     "RESTORE_REASON": 0x0082,
+    "WORD_ORDER": 0x0083,
     "NONCE": 0x0088,
     "MAC": 0x0090,
     "COUNT": 0x00A0,
@@ -658,6 +659,10 @@ class Drive:
             self.close()
             raise DriveError(f"{self.address} is not a zwidth drive of map version "
                              f"{MAP_VERSION} (magic 0x{head[0]:04X}, version {head[1]})")
+        if self._read(REG["WORD_ORDER"], 1)[0] != 0:
+            self.close()
+            raise DriveError(f"{self.address} sends floats low word first (CDAB); this client "
+                             f"speaks ABCD (zwidth-drive --word-order abcd)")
         return self
 
     def close(self) -> None:

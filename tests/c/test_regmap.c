@@ -256,7 +256,7 @@ static void expect_outcome(outcome o, zw_mb_exception exc, zw_reason why, const 
 static const struct {
     uint_least16_t first, last;
 } k_mapped[] = {
-    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60}, {0x80, 0x82},
+    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60}, {0x80, 0x83},
     {0x88, 0x9F},
 };
 
@@ -681,7 +681,7 @@ static void test_access_map_writes(void **state)
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_UNMAPPED);
         } else if (a <= 0x09u || (a >= 0x20u && a <= 0x39u) ||
-                   (a >= ZW_REG_CONSENT && a <= ZW_REG_RESTORE_REASON) ||
+                   (a >= ZW_REG_CONSENT && a <= ZW_REG_WORD_ORDER) ||
                    (a >= ZW_REG_NONCE && a < ZW_REG_MAC)) {
             /* read-only, whether one word or a whole (aligned) value is written */
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
@@ -2565,6 +2565,53 @@ static void test_restore_checks_everything(void **state)
     EXPECT_STATUS(zw_regmap_restore(NULL, NULL, 0, NULL, 0, &why), ZW_ERR_NULL);
 }
 
+/* CDAB: every two-register value low word first on the wire; CRC and MAC over the
+ * canonical (ABCD) words. */
+static void test_word_order_cdab(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t w[4], ref[4], block[31], swapped[31];
+    size_t i;
+    (void)state;
+    rm_init(&rm, &c);
+    assert_int_equal(rd(&rm, ZW_REG_WORD_ORDER), 0u);
+    zw_regmap_set_word_order(&rm, 7u); /* not an order: no-op */
+    zw_regmap_set_word_order(&rm, ZW_WORD_ORDER_CDAB);
+    assert_int_equal(rd(&rm, ZW_REG_WORD_ORDER), 1u);
+    assert_int_equal(rd(&rm, ZW_REG_MAGIC), 0x5A57u); /* one-word registers as they are */
+    words_of(0.25f, &ref[0]);
+    words_of(-5e-4f, &ref[2]);
+    w[0] = ref[1], w[1] = ref[0], w[2] = ref[3], w[3] = ref[2];
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_K, 4, w));
+    {
+        float K = 1.0f, B = 1.0f;
+        EXPECT_OK(zw_regmap_active_gains(&rm, &K, &B));
+        assert_true(K == 0.25f && B == -5e-4f);
+    }
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_K, 4, w, NULL), ZW_MB_OK);
+    assert_true(w[0] == ref[1] && w[1] == ref[0] && w[2] == ref[3] && w[3] == ref[2]);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_ACCEPTED, 2, w, NULL), ZW_MB_OK);
+    assert_true(w[0] == 1u && w[1] == 0u); /* the counter 1, low word first */
+    /* commissioning: floats swapped on the wire, CRC over the canonical words */
+    c.sigma = 0.7f;
+    block_words(&c, block);
+    for (i = 0; i < 30; i += 2) {
+        swapped[i] = block[i + 1];
+        swapped[i + 1] = block[i];
+    }
+    swapped[30] = block[30];
+    unlock(&rm);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, 31, swapped));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SEAL));
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_CERT_SIGMA, 2, w, NULL), ZW_MB_OK);
+    words_of(0.7f, ref);
+    assert_true(w[0] == ref[1] && w[1] == ref[0]);
+    assert_int_equal(rd(&rm, ZW_REG_CERT_CRC), block[30]);
+    /* a read that starts inside a value gets its second word on the wire */
+    assert_int_equal(rd(&rm, ZW_REG_CERT_SIGMA + 1), ref[0]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -2597,6 +2644,7 @@ int main(void)
         cmocka_unit_test(test_unusable_blocks_refused),
         cmocka_unit_test(test_save_is_separate_and_checked),
         cmocka_unit_test(test_restore_checks_everything),
+        cmocka_unit_test(test_word_order_cdab),
         cmocka_unit_test(test_seal),
         cmocka_unit_test(test_commission_unsealed),
         cmocka_unit_test(test_pdu_read),

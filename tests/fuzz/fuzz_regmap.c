@@ -163,7 +163,7 @@ typedef struct snapshot {
 static const struct { uint16_t addr, count; bool must; } blocks[] = {
     {ZW_REG_MAGIC, 10, true},   {ZW_REG_K, 4, true},          {ZW_REG_LIVE_K_MAX, 16, true},
     {ZW_REG_STATE_X, 10, true},  {ZW_REG_CERT_M, ZW_CERT_WORDS + 1, false},
-    {ZW_REG_COMMAND, 1, false}, {ZW_REG_CONSENT, 3, true},
+    {ZW_REG_COMMAND, 1, false}, {ZW_REG_CONSENT, 4, true},
     {ZW_REG_NONCE, ZW_AUTH_NONCE_WORDS + ZW_AUTH_MAC_WORDS, true},
 };
 

@@ -529,3 +529,9 @@ def test_an_old_client_cannot_seal_a_version_1_block(raw, drive_port):
     with drive(drive_port) as d:
         assert d.status().last_refusal == zm.Refusal("ZW_REASON_CRC", 0x03)
         assert d.command("ABORT") == 0
+
+
+def test_cdab_drive_is_refused_not_misread(start_drive):
+    port = start_drive(extra=("--word-order", "cdab"))
+    with pytest.raises(zm.DriveError, match="low word first"):
+        drive(port).connect()

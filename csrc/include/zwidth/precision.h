@@ -81,6 +81,9 @@
 #define zw_regmap_set_auth zw_regmap_set_auth_f
 #define zw_regmap_set_ceilings zw_regmap_set_ceilings_f
 #define zw_regmap_set_storage zw_regmap_set_storage_f
+#define zw_regmap_set_word_order zw_regmap_set_word_order_f
+#define zw_rm_pair_float zw_rm_pair_float_f
+#define zw_rm_pair_word zw_rm_pair_word_f
 #define zw_regmap_restore zw_regmap_restore_f
 #define zw_regmap_image zw_regmap_image_f
 #define zw_regmap_auth_message zw_regmap_auth_message_f

@@ -99,6 +99,8 @@
  *   0x0081  ZW_REG_RESTORE_SOURCE r     what zw_regmap_restore applied: 0 nothing, 1 the
  *                                       newest image, 2 the previous (regmap_persist.h)
  *   0x0082  ZW_REG_RESTORE_REASON r     why an image or its gains were refused (0 none)
+ *   0x0083  ZW_REG_WORD_ORDER   r       0 ABCD (high word first, the default), 1 CDAB (low
+ *                                       word first) for every f32 and u32 register
  *   0x0088  ZW_REG_NONCE (8)    r       the commissioning session's nonce (0 in operation)
  *   0x0090  ZW_REG_MAC (16)     rw      the client's MAC over the session (rw in
  *                                       commissioning, else LOCKED; 0 in operation)
@@ -211,6 +213,7 @@ enum {
     ZW_REG_CONSENT = 0x0080,
     ZW_REG_RESTORE_SOURCE = 0x0081,
     ZW_REG_RESTORE_REASON = 0x0082,
+    ZW_REG_WORD_ORDER = 0x0083,
     ZW_REG_NONCE = 0x0088,
     ZW_REG_MAC = 0x0090,
     ZW_REG_COUNT = 0x00A0 /* registers 0 .. ZW_REG_COUNT-1 may be mapped */
@@ -287,6 +290,7 @@ typedef struct zw_regmap {
     uint_least16_t has_ceilings;
     zw_regmap_storage storage;      /* the firmware's non-volatile storage (SAVE) */
     uint_least16_t restore_source, restore_reason;
+    uint_least16_t word_order;      /* ZW_WORD_ORDER_ABCD or _CDAB (zw_regmap_set_word_order) */
     float live[8];                  /* registers 0x0020..0x002F, recomputed on every accepted
                                        write and seal (so a read never runs the core) */
     /* K_max(B) at the B of the gains in force, general loop only (two zw_loop_alpha_max,
@@ -322,6 +326,15 @@ void zw_regmap_set_auth(zw_regmap *rm, const zw_regmap_auth *auth);
  * (gains off; ZW_ERR_ARG with its reason), so the drive never runs outside its ceilings.
  * rm or c NULL: ZW_ERR_NULL.  reason may be NULL. */
 zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *c, zw_reason *reason);
+
+/* Word order of every two-register value on the wire (floats and counters): ABCD, high
+ * word first (the default after zw_regmap_init), or CDAB, low word first (many masters'
+ * default).  The CRC, the MAC message and the stored image always use ABCD (the canonical
+ * words), so a block's CRC does not depend on the wire order.  Init context; rm NULL or
+ * another value: no-op. */
+#define ZW_WORD_ORDER_ABCD 0u
+#define ZW_WORD_ORDER_CDAB 1u
+void zw_regmap_set_word_order(zw_regmap *rm, unsigned order);
 
 /* Persistence (zwidth/regmap_persist.h), init context.  The storage hook (NULL or a NULL
  * hook: none, SAVE refused ZW_REASON_NO_STORAGE); rm NULL: no-op.  Restore: newest and
