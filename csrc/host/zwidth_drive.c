@@ -36,6 +36,9 @@
 #include <sys/socket.h>
 #include <sys/types.h>
 
+#include <pthread.h>
+#include <stdatomic.h>
+
 #include <modbus.h>
 
 #include "zw_mbhost.h"
@@ -222,6 +225,7 @@ typedef struct drive {
     double log_tokens, log_last, log_summary_at;
     unsigned long log_quiet;
     const char *state_file; /* --state-file: where SAVE writes (PATH, PATH.prev) */
+    atomic_bool sim_stop;   /* tells the simulation thread to end */
 } drive;
 
 /* Read a stored image (at most cap bytes); its length, 0 when the file does not exist or
@@ -385,6 +389,29 @@ static void log_summary(drive *d, double now, int final)
     logf_("%lu more refused requests not logged (rate limit %.0f lines/s)", d->log_quiet,
           LOG_RATE);
     d->log_quiet = 0;
+}
+
+/* The simulated control loop on a thread of its own (a drive's control interrupt): it
+ * sleeps until each step's scheduled time on the monotonic clock, so no Modbus request
+ * delays it; it touches the register map only through zw_regmap_active_gains and
+ * zw_regmap_set_state (regmap.h, threading model: the core is compiled C11 here). */
+static void *sim_thread(void *arg)
+{
+    drive *d = arg;
+    sigset_t all;
+    sigfillset(&all);
+    (void)pthread_sigmask(SIG_BLOCK, &all, NULL); /* signals go to the Modbus thread */
+    while (!atomic_load(&d->sim_stop)) {
+        struct timespec ts;
+        double next;
+        (void)sim_run(d, now_s());
+        next = d->s.t0 + (double)d->s.step * d->s.T / d->s.speed;
+        ts.tv_sec = (time_t)floor(next);
+        ts.tv_nsec = (long)((next - floor(next)) * 1e9);
+        if (ts.tv_nsec >= 1000000000L) ts.tv_nsec = 999999999L;
+        (void)clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
+    }
+    return NULL;
 }
 
 static const char *fc_name(unsigned fc)
@@ -683,11 +710,8 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
     for (i = 0; i < MAX_CLIENTS_LIMIT; ++i) clients[i].fd = -1;
 
     while (!g_stop) {
-        int n = 0, timeout = -1, any_partial = 0, rc, t;
+        int n = 0, timeout = -1, any_partial = 0, rc;
         double now = now_s();
-
-        t = sim_run(d, now);
-        if (t >= 0) timeout = t;
 
         /* The listening socket comes last: clients are served (and the ones that are gone
          * closed) before new ones take their slots and descriptor numbers. */
@@ -721,7 +745,6 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
         }
         if (g_stop) break;
         now = now_s();
-        (void)sim_run(d, now);
 
         for (i = 0; rc > 0 && i < n; ++i) {
             if (pfd[i].revents == 0) continue;
@@ -929,7 +952,7 @@ static int serve_rtu(drive *d, const char *dev, int baud, char parity, int slave
 
     while (!g_stop) {
         struct pollfd p[2];
-        int rc, timeout = sim_run(d, now_s());
+        int rc, timeout = -1;
         uint8_t adu[RTU_MAX_ADU + 8], rsp[RTU_MAX_ADU];
 
         p[0].fd = g_sigpipe[0];
@@ -944,7 +967,6 @@ static int serve_rtu(drive *d, const char *dev, int baud, char parity, int slave
             break;
         }
         if (g_stop) break;
-        (void)sim_run(d, now_s());
         if (rc <= 0) continue;
         if ((p[1].revents & (POLLERR | POLLHUP | POLLNVAL)) != 0 && (p[1].revents & POLLIN) == 0) {
             logf_("lost the serial device %s", dev);
@@ -1223,9 +1245,25 @@ int main(int argc, char **argv)
 
     d.log_tokens = LOG_BURST;
     d.log_last = now_s();
-    if (rtu != NULL) rc = serve_rtu(&d, rtu, (int)baud, parity, (int)slave);
-    else rc = serve_tcp(&d, host, (int)port, (int)max_clients, (double)frame_ms / 1000.0,
-                        (double)idle_s);
+    atomic_init(&d.sim_stop, false);
+    if (d.s.on) {
+        pthread_t sim_tid;
+        d.s.t0 = now_s();
+        if (pthread_create(&sim_tid, NULL, sim_thread, &d) != 0) {
+            fprintf(stderr, PROG ": cannot start the simulation thread\n");
+            return ZW_EXIT_FAILURE;
+        }
+        if (rtu != NULL) rc = serve_rtu(&d, rtu, (int)baud, parity, (int)slave);
+        else rc = serve_tcp(&d, host, (int)port, (int)max_clients, (double)frame_ms / 1000.0,
+                            (double)idle_s);
+        atomic_store(&d.sim_stop, true);
+        (void)pthread_join(sim_tid, NULL);
+    } else if (rtu != NULL) {
+        rc = serve_rtu(&d, rtu, (int)baud, parity, (int)slave);
+    } else {
+        rc = serve_tcp(&d, host, (int)port, (int)max_clients, (double)frame_ms / 1000.0,
+                       (double)idle_s);
+    }
     log_summary(&d, now_s(), 1);
     if (d.s.on && d.s.late_n > 0)
         logf_("simulation: %lu steps; lateness behind the schedule: worst %.3f ms, mean %.3f ms, "
