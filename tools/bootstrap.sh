@@ -61,6 +61,8 @@ probe_cmocka() { printf '#include <stdarg.h>\n#include <stddef.h>\n#include <std
     | compile_and_link cc c -lcmocka; }
 probe_modbus() { printf '#include <modbus.h>\nint main(void){modbus_t*c=modbus_new_tcp("127.0.0.1",1502);if(c)modbus_free(c);return 0;}\n' \
     | compile_and_link cc c $(pkg-config --cflags --libs libmodbus 2>/dev/null || echo -I/usr/include/modbus -lmodbus); }
+probe_libcrypto() { printf '#include <openssl/hmac.h>\n#include <openssl/evp.h>\nint main(void){unsigned char m[32];unsigned n=0;return HMAC(EVP_sha256(),"k",1,(const unsigned char*)"m",1,m,&n)&&n==32?0:1;}\n' \
+    | compile_and_link cc c $(pkg-config --cflags --libs libcrypto 2>/dev/null || echo -lcrypto) && "$PROBE_DIR/probe.out"; }
 probe_arm() { printf '#include <math.h>\nvolatile float x=2.0f;int main(void){return sqrtf(x)>1.0f?0:1;}\n' \
     | compile_and_link arm-none-eabi-gcc c -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard \
         --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections -lm; }
@@ -85,6 +87,7 @@ caps=(
     "gcc ThreadSanitizer runtime|probe_tsan|libtsan2|"
     "cmocka (C unit tests)|probe_cmocka|libcmocka-dev|"
     "libmodbus (drive, tuning tool)|probe_modbus|libmodbus-dev|"
+    "OpenSSL libcrypto HMAC-SHA256 (commissioning key)|probe_libcrypto|libssl-dev|"
     "Cortex-M cross link with newlib (footprint, QEMU)|probe_arm|gcc-arm-none-eabi libnewlib-arm-none-eabi|"
     "QEMU mps2-an386 (Cortex-M4 benchmark)|probe_qemu_m4|qemu-system-arm|"
     "valgrind callgrind (instruction counts)|probe_valgrind|valgrind|"

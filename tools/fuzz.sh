@@ -86,20 +86,26 @@ block = fwords(*policy, 0, 0, 0, 0)
 block_lowpass = fwords(*policy, 1, 1, 5.0, 0)
 block_average = fwords(*policy, 0, 2, 3, 1)
 unlock = write1(0x0060, 0xC0DE) + write1(0x0060, 0x5AFE)
+# Map v3: the harness's verify hook accepts a MAC whose first word is 0x600D.
+mac_ok = writen(0x0090, [0x600D] + [0] * 15) + read(0x0088, 24)
+mac_bad = writen(0x0090, [0x600C] + [0] * 15)
 seeds = {
     "status": status,
     "ramp": ramp + read(0x0020, 16),
     "single_k": writen(0x0010, fwords(0.1)) + writen(0x0012, fwords(-5e-4)) + write1(0x0010, 0x3E4C),
     "refusals": gains(float("nan"), 0.0) + gains(0.45, 0.0) + read(0x000A, 2) + write1(0x0000, 1)
                 + rec(bytes([0x04, 0, 0, 0, 1])) + writen(0x0040, fwords(1.0)),
-    "commission": unlock + writen(0x0040, block + [crc16(block)]) + write1(0x0060, 0x5EA1)
+    "commission": unlock + writen(0x0040, block + [crc16(block)]) + mac_ok + write1(0x0060, 0x5EA1)
                   + status + ramp,
     "commission_lowpass": unlock + writen(0x0040, block_lowpass + [crc16(block_lowpass)])
-                          + write1(0x0060, 0x5EA1) + status + ramp,
+                          + mac_ok + write1(0x0060, 0x5EA1) + status + ramp,
     "commission_average": unlock + writen(0x0040, block_average + [crc16(block_average)])
-                          + write1(0x0060, 0x5EA1) + status + ramp,
-    "commission_split": unlock + writen(0x0040, block) + write1(0x005E, crc16(block))
+                          + mac_ok + write1(0x0060, 0x5EA1) + status + ramp,
+    "commission_split": unlock + writen(0x0040, block) + write1(0x005E, crc16(block)) + mac_ok
                         + write1(0x0060, 0x5EA1) + gains(0.2, -1e-3),
+    "save": ramp + write1(0x0060, 0x5A7E) + read(0x0080, 3),
+    "bad_mac_then_good": unlock + writen(0x0040, block + [crc16(block)]) + mac_bad
+                         + write1(0x0060, 0x5EA1) + mac_ok + write1(0x0060, 0x5EA1) + status,
     "abort": ramp + unlock + writen(0x0040, block[:4]) + write1(0x0060, 0xAB07) + status,
     "bad_crc": unlock + writen(0x0040, block + [crc16(block) ^ 1]) + write1(0x0060, 0x5EA1),
     "small_cap": bytes([254, 3]) + read(0x0000, 10) + bytes([254, 1]) + gains(0.1, 0.0)
@@ -121,6 +127,8 @@ tokens = {
     "write_pair": b"\x10\x00\x10\x00\x04\x08", "write_block": b"\x10\x00\x40\x00\x1F\x3E",
     "nan": b"\x7F\xC0\x00\x00", "inf": b"\x7F\x80\x00\x00", "k040": struct.pack(">f", 0.40),
     "b136": struct.pack(">f", -1.36e-3),
+    "addr_nonce": b"\x00\x88", "addr_mac": b"\x00\x90", "mac_ok": b"\x60\x0D",
+    "write_mac": b"\x10\x00\x90\x00\x10\x20", "cmd_save": b"\x5A\x7E",
 }
 (work / "regmap.dict").write_text("".join(f'{k}="{esc(v)}"\n' for k, v in tokens.items()))
 PY

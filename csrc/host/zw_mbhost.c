@@ -7,10 +7,18 @@
 #include "zw_mbhost.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <openssl/crypto.h>
+#include <openssl/evp.h>
+#include <openssl/hmac.h>
+#include <openssl/rand.h>
 
 const char *const zw_cert_option[ZW_CERT_NFIELDS] = {
     "--m", "--b", "--T", "--sigma", "--r", "--k-min", "--k-max", "--b-min", "--b-max",
@@ -201,4 +209,93 @@ void zw_json_float(FILE *to, double v)
 {
     if (isfinite(v)) fprintf(to, "%.9g", v);
     else fputs("null", to);
+}
+
+/* ---- commissioning key and MAC -------------------------------------------------------- */
+
+static int hex_digit(int c)
+{
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+}
+
+int zw_key_load(const char *prog, const char *path, uint8_t key[ZW_KEY_BYTES])
+{
+    char text[256];
+    struct stat st;
+    ssize_t n;
+    size_t i, k = 0;
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) {
+        fprintf(stderr, "%s: cannot open the key file %s: %s\n", prog, path, strerror(errno));
+        return 0;
+    }
+    /* checked on the open file, so that nothing can swap it between check and read */
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        fprintf(stderr, "%s: the key file %s is not a regular file\n", prog, path);
+        close(fd);
+        return 0;
+    }
+    if (st.st_uid != geteuid()) {
+        fprintf(stderr, "%s: the key file %s is not owned by this user\n", prog, path);
+        close(fd);
+        return 0;
+    }
+    if ((st.st_mode & (mode_t)077) != 0) {
+        fprintf(stderr, "%s: the key file %s is accessible by group or others (mode %03o); "
+                        "chmod 600 it\n", prog, path, (unsigned)(st.st_mode & 0777));
+        close(fd);
+        return 0;
+    }
+    n = read(fd, text, sizeof text - 1u);
+    close(fd);
+    if (n < 0) {
+        fprintf(stderr, "%s: cannot read the key file %s: %s\n", prog, path, strerror(errno));
+        return 0;
+    }
+    for (i = 0; i < (size_t)n; ++i) {
+        int c = (unsigned char)text[i], h;
+        if (c == ' ' || c == '\n' || c == '\r' || c == '\t') {
+            if (k != 0u && k != 2u * ZW_KEY_BYTES) break; /* whitespace only around the digits */
+            continue;
+        }
+        h = hex_digit(c);
+        if (h < 0 || k >= 2u * ZW_KEY_BYTES) { k = 0; break; }
+        if (k % 2u == 0u) key[k / 2u] = (uint8_t)(h << 4);
+        else key[k / 2u] = (uint8_t)(key[k / 2u] | h);
+        ++k;
+    }
+    OPENSSL_cleanse(text, sizeof text);
+    if (k != 2u * ZW_KEY_BYTES) {
+        fprintf(stderr, "%s: the key file %s must hold exactly 64 hex digits (a 32-byte key: "
+                        "openssl rand -hex 32)\n", prog, path);
+        OPENSSL_cleanse(key, ZW_KEY_BYTES);
+        return 0;
+    }
+    return 1;
+}
+
+int zw_hmac_sha256(const uint8_t key[ZW_KEY_BYTES], const uint8_t *msg, size_t len, uint8_t mac[32])
+{
+    unsigned int out_len = 0;
+    if (HMAC(EVP_sha256(), key, (int)ZW_KEY_BYTES, msg, len, mac, &out_len) == NULL) return 0;
+    return out_len == 32u;
+}
+
+int zw_hmac_sha256_verify(const uint8_t key[ZW_KEY_BYTES], const uint8_t *msg, size_t len,
+                          const uint8_t *mac, size_t mac_len)
+{
+    uint8_t want[32];
+    int ok;
+    if (mac_len != sizeof want || !zw_hmac_sha256(key, msg, len, want)) return 0;
+    ok = CRYPTO_memcmp(want, mac, sizeof want) == 0;
+    OPENSSL_cleanse(want, sizeof want);
+    return ok;
+}
+
+int zw_random_bytes(uint8_t *out, size_t n)
+{
+    return n <= (size_t)0x7FFFFFFF && RAND_bytes(out, (int)n) == 1;
 }

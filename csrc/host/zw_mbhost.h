@@ -73,4 +73,19 @@ void zw_cert_loop_text(const zw_cert *c, char *buf, size_t cap);
 /* A float for JSON: %.9g, or null when not finite. */
 void zw_json_float(FILE *to, double v);
 
+/* Commissioning key and MAC (OpenSSL libcrypto; docs/modbus.md, "Consent and key").
+ * The key file holds the drive's 32-byte key as 64 hex digits (whitespace around them is
+ * ignored): `umask 077; openssl rand -hex 32 > drive.key`.  zw_key_load refuses a file
+ * that is not a regular file, is not owned by the user running the program, or can be
+ * read or written by the group or others (message "<prog>: ..." printed, returns 0). */
+#define ZW_KEY_BYTES 32u
+int zw_key_load(const char *prog, const char *path, uint8_t key[ZW_KEY_BYTES]);
+/* HMAC-SHA256 of msg under key (mac: 32 bytes); 0 on a libcrypto failure. */
+int zw_hmac_sha256(const uint8_t key[ZW_KEY_BYTES], const uint8_t *msg, size_t len, uint8_t mac[32]);
+/* mac[0..mac_len-1] is the HMAC-SHA256 of msg under key (constant-time comparison). */
+int zw_hmac_sha256_verify(const uint8_t key[ZW_KEY_BYTES], const uint8_t *msg, size_t len,
+                          const uint8_t *mac, size_t mac_len);
+/* n bytes from the OS's cryptographic RNG (libcrypto RAND_bytes); 0 on failure. */
+int zw_random_bytes(uint8_t *out, size_t n);
+
 #endif /* ZW_MBHOST_H */

@@ -41,6 +41,9 @@
 #include <sys/socket.h>
 #include <sys/types.h>
 
+#include <pthread.h>
+#include <stdatomic.h>
+
 #include <modbus.h>
 
 #include "zw_mbhost.h"
@@ -59,6 +62,11 @@
 #define TCP_MAX_ADU 260         /* MBAP 7 + PDU 253 */
 #define RTU_MAX_ADU 256         /* slave 1 + PDU 253 + CRC 2 */
 #define PDU_MAX 253
+#define RTU_T15_FLOOR_US 5000  /* the inter-character limit t1.5, at least this (OS latency) */
+#define OUTQ_CAP 4096           /* answers queued for a client that is slow to read them */
+#define LOG_BURST 20.0          /* refusal lines logged at once before the rate limit bites */
+#define LOG_RATE 10.0           /* refusal lines per second in the long run */
+#define LOG_SUMMARY_S 10.0      /* how often the refusals not logged are summed up */
 
 static void usage(FILE *to)
 {
@@ -67,6 +75,7 @@ static void usage(FILE *to)
             "       zwidth-drive --rtu DEVICE [--baud N] [--parity N|E|O] [--slave ID]\n"
             "       ... [certified block options | --unsealed] [--simulate [--speed S] [--x0 X]]\n"
             "       ... [--max-clients N] [--frame-timeout MS] [--idle-timeout S] [-v]\n"
+            "       ... [--commissioning --key-file PATH]\n"
             "\n"
             "Serves the gain register map of one drive (docs/modbus.md): clients read it and\n"
             "write the stiffness K and damping B, which the drive applies only inside the\n"
@@ -81,6 +90,8 @@ static void usage(FILE *to)
             "  --baud N            RTU baud rate (default 19200)\n"
             "  --parity P          RTU parity N, E or O (default N); 8 data bits, 1 stop bit\n"
             "  --slave ID          RTU slave address 1..247 (default 1); TCP answers any unit id\n"
+            "  --word-order W      abcd (high word first, default) or cdab (low word first) for\n"
+            "                      every float and 32-bit register\n"
             "  --max-clients N     TCP clients served at once, 1..%d (default 16); when full, a\n"
             "                      client stalled in the middle of a frame makes room\n"
             "  --frame-timeout MS  a TCP frame must be complete within this (default 500)\n"
@@ -102,6 +113,25 @@ static void usage(FILE *to)
             "  --unsealed          start uncommissioned: gains are refused until a client\n"
             "                      commissions a block (zwidth-tune commission)\n"
             "\n"
+            "Factory ceilings (fixed at power-up; no block may exceed them, this one included)\n"
+            "  --max-sigma S       largest stiffness fraction sigma (default 0.95)\n"
+            "  --max-r R           largest spectral radius bound r (default 0.999)\n"
+            "  --plant-tol F       relative tolerance of m, b and T around the nameplate, which\n"
+            "                      is the plant given above (default 0.05); the K and B bounds\n"
+            "                      and the step limits given above are the widest allowed\n"
+            "\n"
+            "Commissioning over Modbus (off by default: nobody can replace the block)\n"
+            "  --commissioning     turn the commissioning enable input on (a key switch on a\n"
+            "                      real drive); needs --key-file\n"
+            "  --state-file PATH   non-volatile storage: SAVE (command 0x5A7E) writes the sealed\n"
+            "                      block and the gains there (atomically; the previous copy\n"
+            "                      kept as PATH.prev); at start they are checked and restored\n"
+            "  --key-file PATH     this drive's key, 64 hex digits, mode 600 (umask 077;\n"
+            "                      openssl rand -hex 32 > drive.key); a client must MAC the\n"
+            "                      block and the drive's nonce with it (HMAC-SHA256)\n"
+            "\n",
+            MAX_CLIENTS_LIMIT);
+    fprintf(to,
             "Simulation\n"
             "  --simulate          run the plant m x'' + b x' = F under the active gains (plant\n"
             "                      from --m --b --T) and report x, v, F in the state registers\n"
@@ -116,8 +146,7 @@ static void usage(FILE *to)
             "Stops cleanly on SIGINT or SIGTERM.\n"
             "Exit status: 0 stopped by a signal, 1 run-time failure (cannot listen, cannot open\n"
             "or lost the serial device), 2 bad arguments or a certified block that the policy\n"
-            "refuses.\n",
-            MAX_CLIENTS_LIMIT);
+            "refuses.\n");
 }
 
 /* ---------------------------------------------------------------------------------------
@@ -176,6 +205,9 @@ typedef struct sim {
     double x, v, x_prev; /* sampled position, true velocity, previous sample */
     double t0;           /* wall clock of step 0 */
     uint_least32_t step; /* steps taken */
+    /* each step's lateness behind its scheduled time (the loop's period jitter) */
+    double late_max, late_sum;
+    unsigned long late_n, late_over_5ms;
 } sim;
 
 typedef struct client {
@@ -183,13 +215,90 @@ typedef struct client {
     double last_active;
     double partial_since; /* 0: no partial frame pending */
     char peer[64];
+    /* answers not yet taken by the peer: sent without blocking, the rest queued here; no
+     * request of this client is read while any is queued (it only delays itself) */
+    uint8_t out[OUTQ_CAP];
+    size_t out_len;
+    double out_since; /* when the queue became non-empty */
 } client;
 
 typedef struct drive {
     zw_regmap rm;
     int verbose;
     sim s;
+    uint8_t key[ZW_KEY_BYTES]; /* the commissioning key (--key-file) */
+    /* refusal logging: a token bucket, and the refusals it kept quiet since the summary */
+    double log_tokens, log_last, log_summary_at;
+    unsigned long log_quiet;
+    const char *state_file; /* --state-file: where SAVE writes (PATH, PATH.prev) */
+    atomic_bool sim_stop;   /* tells the simulation thread to end */
 } drive;
+
+/* Read a stored image (at most cap bytes); its length, 0 when the file does not exist or
+ * cannot be read. */
+static size_t read_image(const char *path, uint_least8_t *buf, size_t cap)
+{
+    uint8_t raw[ZW_IMAGE_BYTES + 16];
+    ssize_t n;
+    size_t i;
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return 0;
+    n = read(fd, raw, sizeof raw);
+    close(fd);
+    if (n <= 0) return 0;
+    for (i = 0; i < (size_t)n && i < cap; ++i) buf[i] = raw[i];
+    return (size_t)n; /* a longer file keeps its length: refused as a bad format */
+}
+
+/* SAVE's storage hook: the image goes to PATH.tmp (mode 600, synced), the old PATH becomes
+ * PATH.prev, and PATH.tmp becomes PATH, each step a rename, so a crash at any point leaves
+ * the new or the last good image for zw_regmap_restore. */
+static bool drive_save(void *ctx, const uint_least8_t *image, size_t len)
+{
+    const drive *d = ctx;
+    char tmp[4096], prev[4096], dir[4096];
+    uint8_t raw[ZW_IMAGE_BYTES];
+    size_t i;
+    int fd, ok;
+    const char *slash;
+    if (len != sizeof raw || snprintf(tmp, sizeof tmp, "%s.tmp", d->state_file) >= (int)sizeof tmp ||
+        snprintf(prev, sizeof prev, "%s.prev", d->state_file) >= (int)sizeof prev)
+        return false;
+    for (i = 0; i < len; ++i) raw[i] = (uint8_t)(image[i] & 0xFFu);
+    fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    if (fd < 0) return false;
+    ok = write(fd, raw, len) == (ssize_t)len && fsync(fd) == 0;
+    ok = close(fd) == 0 && ok;
+    if (!ok) {
+        (void)unlink(tmp);
+        return false;
+    }
+    if (rename(d->state_file, prev) != 0 && errno != ENOENT) return false;
+    if (rename(tmp, d->state_file) != 0) return false;
+    slash = strrchr(d->state_file, '/');
+    snprintf(dir, sizeof dir, "%.*s", slash == NULL ? 1 : (int)(slash - d->state_file + 1),
+             slash == NULL ? "." : d->state_file);
+    fd = open(dir, O_RDONLY | O_CLOEXEC);
+    if (fd >= 0) { /* the renames themselves durable */
+        (void)fsync(fd);
+        close(fd);
+    }
+    return true;
+}
+
+/* The firmware's commissioning hooks (regmap_commission.h), on libcrypto. */
+static bool drive_random(void *ctx, uint_least8_t *out, size_t n)
+{
+    (void)ctx;
+    return zw_random_bytes(out, n) != 0;
+}
+
+static bool drive_verify(void *ctx, const uint_least8_t *msg, size_t msg_len,
+                         const uint_least8_t *mac, size_t mac_len)
+{
+    const drive *d = ctx;
+    return zw_hmac_sha256_verify(d->key, msg, msg_len, mac, mac_len) != 0;
+}
 
 #if defined(__GNUC__)
 static void logf_(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
@@ -247,6 +356,11 @@ static int sim_run(drive *d, double now)
     if (!s->on) return -1;
     due_steps = (now - s->t0) * s->speed / s->T;
     while ((double)s->step <= due_steps) {
+        double late = now - (s->t0 + (double)s->step * s->T / s->speed);
+        if (late > s->late_max) s->late_max = late;
+        s->late_sum += late;
+        s->late_n++;
+        if (late > 0.005) s->late_over_5ms++;
         sim_step(d);
         if (++batch >= 20000) { /* far behind (suspended?): drop the backlog */
             s->t0 = now - (double)s->step * s->T / s->speed;
@@ -256,6 +370,54 @@ static int sim_run(drive *d, double now)
     next = s->t0 + (double)s->step * s->T / s->speed;
     ms = (int)ceil((next - now) * 1000.0);
     return ms < 1 ? 1 : ms;
+}
+
+/* Refusal lines: LOG_BURST at once, LOG_RATE per second in the long run; the rest are
+ * counted and summed up every LOG_SUMMARY_S (a client cannot flood the log). */
+static int log_allowed(drive *d)
+{
+    double now = now_s();
+    d->log_tokens += (now - d->log_last) * LOG_RATE;
+    if (d->log_tokens > LOG_BURST) d->log_tokens = LOG_BURST;
+    d->log_last = now;
+    if (d->log_tokens >= 1.0) {
+        d->log_tokens -= 1.0;
+        return 1;
+    }
+    if (d->log_quiet++ == 0) d->log_summary_at = now + LOG_SUMMARY_S;
+    return 0;
+}
+
+/* The summary of the refusals not logged, once LOG_SUMMARY_S has passed (or at the end). */
+static void log_summary(drive *d, double now, int final)
+{
+    if (d->log_quiet == 0 || (!final && now < d->log_summary_at)) return;
+    logf_("%lu more refused requests not logged (rate limit %.0f lines/s)", d->log_quiet,
+          LOG_RATE);
+    d->log_quiet = 0;
+}
+
+/* The simulated control loop on a thread of its own (a drive's control interrupt): it
+ * sleeps until each step's scheduled time on the monotonic clock, so no Modbus request
+ * delays it; it touches the register map only through zw_regmap_active_gains and
+ * zw_regmap_set_state (regmap.h, threading model: the core is compiled C11 here). */
+static void *sim_thread(void *arg)
+{
+    drive *d = arg;
+    sigset_t all;
+    sigfillset(&all);
+    (void)pthread_sigmask(SIG_BLOCK, &all, NULL); /* signals go to the Modbus thread */
+    while (!atomic_load(&d->sim_stop)) {
+        struct timespec ts;
+        double next;
+        (void)sim_run(d, now_s());
+        next = d->s.t0 + (double)d->s.step * d->s.T / d->s.speed;
+        ts.tv_sec = (time_t)floor(next);
+        ts.tv_nsec = (long)((next - floor(next)) * 1e9);
+        if (ts.tv_nsec >= 1000000000L) ts.tv_nsec = 999999999L;
+        (void)clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
+    }
+    return NULL;
 }
 
 static const char *fc_name(unsigned fc)
@@ -296,8 +458,9 @@ static size_t serve_pdu(drive *d, const uint8_t *pdu, size_t len, uint8_t *rsp, 
         snprintf(what, sizeof what, "fc 0x%02X, %lu-byte PDU", fc, (unsigned long)len);
     if (ex != ZW_MB_OK) {
         unsigned reason = (unsigned)d->rm.last_reason;
-        logf_("refused %s from %s: %s (exception 0x%02X %s)", what, who,
-              zw_reason_name((zw_reason)reason), (unsigned)ex, zw_exception_name((unsigned)ex));
+        if (log_allowed(d))
+            logf_("refused %s from %s: %s (exception 0x%02X %s)", what, who,
+                  zw_reason_name((zw_reason)reason), (unsigned)ex, zw_exception_name((unsigned)ex));
     } else if (d->verbose) {
         if (fc == 0x06 || fc == 0x10)
             logf_("accepted %s from %s; gains now K = %.9g, B = %.9g", what, who,
@@ -375,6 +538,34 @@ static void peer_name(int fd, char *out, size_t cap)
         snprintf(out, cap, "fd %d", fd);
 }
 
+/* Send what the client's queue holds, without blocking.  Returns -1 when the peer is gone. */
+static int flush_out(client *c, double now)
+{
+    while (c->out_len > 0) {
+        ssize_t n = send(c->fd, c->out, c->out_len, MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n > 0) {
+            memmove(c->out, c->out + n, c->out_len - (size_t)n);
+            c->out_len -= (size_t)n;
+            continue;
+        }
+        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) break;
+        return -1;
+    }
+    if (c->out_len == 0) c->out_since = 0.0;
+    else if (c->out_since <= 0.0) c->out_since = now;
+    return 0;
+}
+
+/* Queue an answer and send what the socket takes now.  -1: the queue would overflow (the
+ * peer does not read its answers) or the peer is gone; the caller drops the client. */
+static int queue_answer(client *c, const uint8_t *buf, size_t len, double now)
+{
+    if (len > OUTQ_CAP - c->out_len) return -1;
+    memcpy(c->out + c->out_len, buf, len);
+    c->out_len += len;
+    return flush_out(c, now);
+}
+
 static void client_close(drive *d, client *c, const char *why)
 {
     uint8_t junk[512];
@@ -387,6 +578,8 @@ static void client_close(drive *d, client *c, const char *why)
     close(c->fd);
     c->fd = -1;
     c->partial_since = 0.0;
+    c->out_len = 0;
+    c->out_since = 0.0;
 }
 
 /* Serve every complete frame buffered on this client.  hangup: poll reported that the
@@ -397,6 +590,8 @@ static int tcp_service(drive *d, modbus_t *ctx, client *c, double now, int hangu
     int frames;
     for (frames = 0; frames < FRAMES_PER_WAKE; ++frames) {
         uint8_t adu[TCP_MAX_ADU + 8], rsp[TCP_HEADER + PDU_MAX];
+        /* answers still queued: read nothing more until the peer takes them */
+        if (c->out_len > 0) return 0;
         ssize_t n = recv(c->fd, adu, TCP_MAX_ADU, MSG_PEEK | MSG_DONTWAIT);
         size_t need, got = 0, plen, mbap_len;
         unsigned proto;
@@ -472,9 +667,8 @@ static int tcp_service(drive *d, modbus_t *ctx, client *c, double now, int hangu
         rsp[4] = (uint8_t)((plen + 1) >> 8);
         rsp[5] = (uint8_t)((plen + 1) & 0xFFu);
         rsp[6] = adu[6]; /* unit id, echoed */
-        if (send_all(c->fd, rsp, TCP_HEADER + plen, 1) != 0) {
-            client_close(d, c, d->verbose ? "could not send the answer (peer gone or not reading)"
-                                          : NULL);
+        if (queue_answer(c, rsp, TCP_HEADER + plen, now) != 0) {
+            client_close(d, c, "dropped: its answers pile up unread (output queue full) or it is gone");
             return -1;
         }
     }
@@ -522,11 +716,8 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
     for (i = 0; i < MAX_CLIENTS_LIMIT; ++i) clients[i].fd = -1;
 
     while (!g_stop) {
-        int n = 0, timeout = -1, any_partial = 0, rc, t;
+        int n = 0, timeout = -1, any_partial = 0, rc;
         double now = now_s();
-
-        t = sim_run(d, now);
-        if (t >= 0) timeout = t;
 
         /* The listening socket comes last: clients are served (and the ones that are gone
          * closed) before new ones take their slots and descriptor numbers. */
@@ -537,9 +728,12 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
             if (clients[i].fd < 0) continue;
             pfd[n].fd = clients[i].fd;
             /* A client with a partial frame is looked at on a timer (its unread bytes
-             * would keep poll returning at once), and when it hangs up. */
-            pfd[n].events = clients[i].partial_since > 0.0 ? POLLRDHUP : POLLIN;
-            if (clients[i].partial_since > 0.0) any_partial = 1;
+             * would keep poll returning at once), and when it hangs up; one with answers
+             * queued when it can take more (its requests wait). */
+            pfd[n].events = clients[i].out_len > 0        ? (short)(POLLOUT | POLLRDHUP)
+                            : clients[i].partial_since > 0.0 ? POLLRDHUP
+                                                             : POLLIN;
+            if (clients[i].partial_since > 0.0 || clients[i].out_len > 0) any_partial = 1;
             slot_of[n++] = i;
         }
         pfd[n].fd = lfd;
@@ -557,7 +751,6 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
         }
         if (g_stop) break;
         now = now_s();
-        (void)sim_run(d, now);
 
         for (i = 0; rc > 0 && i < n; ++i) {
             if (pfd[i].revents == 0) continue;
@@ -587,6 +780,15 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
                                              "dropped (stalled in a frame) to make room for a "
                                              "new client");
                         }
+                        if (slot == max_clients) {
+                            /* else the least recently active one: holding a slot by
+                             * being connected is not enough to lock others out */
+                            for (slot = 0, j = 1; j < max_clients; ++j)
+                                if (clients[j].last_active < clients[slot].last_active) slot = j;
+                            client_close(d, &clients[slot],
+                                         "dropped (least recently active) to make room for a "
+                                         "new client");
+                        }
                     }
                     if (slot == max_clients || cfd >= FD_SETSIZE) {
                         /* libmodbus 3.1.6 puts the socket in an fd_set: never past
@@ -600,6 +802,8 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
                     clients[slot].fd = cfd;
                     clients[slot].last_active = now;
                     clients[slot].partial_since = 0.0;
+                    clients[slot].out_len = 0;
+                    clients[slot].out_since = 0.0;
                     memcpy(clients[slot].peer, peer, sizeof peer);
                     if (d->verbose) logf_("%s: connected", peer);
                 }
@@ -608,13 +812,28 @@ static int serve_tcp(drive *d, const char *host, int port, int max_clients,
                 if (c->fd != pfd[i].fd) continue;
                 if ((pfd[i].revents & POLLNVAL) != 0) {
                     c->fd = -1;
+                    c->out_len = 0;
                     continue;
+                }
+                if (c->out_len > 0) {
+                    if ((pfd[i].revents & (POLLHUP | POLLERR)) != 0 || flush_out(c, now) != 0) {
+                        client_close(d, c, NULL);
+                        continue;
+                    }
+                    if (c->out_len > 0) continue;
                 }
                 (void)tcp_service(d, ctx, c, now,
                                   (pfd[i].revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0);
             }
         }
 
+        /* Answers not taken within SEND_TIMEOUT_MS: the peer does not read; drop it. */
+        for (i = 0; i < max_clients; ++i) {
+            client *c = &clients[i];
+            if (c->fd >= 0 && c->out_len > 0 && now - c->out_since > SEND_TIMEOUT_MS / 1000.0)
+                client_close(d, c, "dropped: did not take its answers within 1 s");
+        }
+        log_summary(d, now, 0);
         /* Partial frames: look again, and drop the ones that took too long. */
         for (i = 0; i < max_clients; ++i) {
             client *c = &clients[i];
@@ -659,7 +878,16 @@ static modbus_t *rtu_context(const char *dev, int baud, char parity, int slave, 
         modbus_free(ctx);
         return NULL;
     }
-    modbus_set_byte_timeout(ctx, 0, 200000);
+    /* Inside a frame the gap between characters must not exceed t1.5 (Modbus over serial
+     * line 2.5.1.1: 1.5 characters of 11 bits, 750 us above 19200 baud); the drive allows
+     * at least RTU_T15_FLOOR_US, since the OS and USB-serial adapters deliver bytes in
+     * chunks of about a millisecond.  A frame dribbled slower is dropped. */
+    {
+        double t15 = baud > 19200 ? 0.00075 : 1.5 * 11.0 / (double)baud;
+        long us = (long)ceil(t15 * 1e6);
+        if (us < RTU_T15_FLOOR_US) us = RTU_T15_FLOOR_US;
+        modbus_set_byte_timeout(ctx, 0, (uint32_t)us);
+    }
     if (fd >= 0) modbus_set_socket(ctx, fd);
     return ctx;
 }
@@ -730,7 +958,7 @@ static int serve_rtu(drive *d, const char *dev, int baud, char parity, int slave
 
     while (!g_stop) {
         struct pollfd p[2];
-        int rc, timeout = sim_run(d, now_s());
+        int rc, timeout = -1;
         uint8_t adu[RTU_MAX_ADU + 8], rsp[RTU_MAX_ADU];
 
         p[0].fd = g_sigpipe[0];
@@ -745,7 +973,6 @@ static int serve_rtu(drive *d, const char *dev, int baud, char parity, int slave
             break;
         }
         if (g_stop) break;
-        (void)sim_run(d, now_s());
         if (rc <= 0) continue;
         if ((p[1].revents & (POLLERR | POLLHUP | POLLNVAL)) != 0 && (p[1].revents & POLLIN) == 0) {
             logf_("lost the serial device %s", dev);
@@ -821,11 +1048,12 @@ int main(int argc, char **argv)
     zw_cert cert;
     zw_reason reason = ZW_REASON_NONE;
     zw_status st;
-    const char *host = "127.0.0.1", *rtu = NULL;
+    const char *host = "127.0.0.1", *rtu = NULL, *key_file = NULL;
     long port = 1502, baud = 19200, slave = 1, max_clients = 16, frame_ms = 500, idle_s = 300;
     char parity = 'N';
-    int unsealed = 0, simulate = 0, i, rc;
-    double speed = 1.0, x0 = 0.01;
+    int unsealed = 0, simulate = 0, commissioning = 0, cdab = 0, i, rc;
+    double speed = 1.0, x0 = 0.01, max_sigma = 0.95, max_r = 0.999, plant_tol = 0.05;
+    zw_ceilings ceil;
     struct in_addr probe;
 
     zw_cert_opts_defaults(&co);
@@ -846,12 +1074,16 @@ int main(int argc, char **argv)
         if (strcmp(arg, "-v") == 0 || strcmp(arg, "--verbose") == 0) { d.verbose = 1; continue; }
         if (strcmp(arg, "--unsealed") == 0) { unsealed = 1; continue; }
         if (strcmp(arg, "--simulate") == 0) { simulate = 1; continue; }
+        if (strcmp(arg, "--commissioning") == 0) { commissioning = 1; continue; }
         if (strcmp(arg, "--host") != 0 && strcmp(arg, "--port") != 0 &&
             strcmp(arg, "--rtu") != 0 && strcmp(arg, "--baud") != 0 &&
             strcmp(arg, "--parity") != 0 && strcmp(arg, "--slave") != 0 &&
             strcmp(arg, "--speed") != 0 && strcmp(arg, "--x0") != 0 &&
             strcmp(arg, "--max-clients") != 0 && strcmp(arg, "--frame-timeout") != 0 &&
-            strcmp(arg, "--idle-timeout") != 0) {
+            strcmp(arg, "--idle-timeout") != 0 && strcmp(arg, "--key-file") != 0 &&
+            strcmp(arg, "--max-sigma") != 0 && strcmp(arg, "--max-r") != 0 &&
+            strcmp(arg, "--plant-tol") != 0 && strcmp(arg, "--state-file") != 0 &&
+            strcmp(arg, "--word-order") != 0) {
             fprintf(stderr, PROG ": unknown option '%s'\n", arg);
             usage(stderr);
             return ZW_EXIT_USAGE;
@@ -901,6 +1133,20 @@ int main(int argc, char **argv)
                 return ZW_EXIT_USAGE;
         } else if (strcmp(arg, "--frame-timeout") == 0) {
             if (!zw_parse_long(PROG, arg, val, 10, 60000, &frame_ms)) return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--key-file") == 0) {
+            key_file = val;
+        } else if (strcmp(arg, "--state-file") == 0) {
+            d.state_file = val;
+        } else if (strcmp(arg, "--word-order") == 0) {
+            if (strcmp(val, "abcd") != 0 && strcmp(val, "cdab") != 0) {
+                fprintf(stderr, PROG ": --word-order expects abcd or cdab, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+            cdab = val[0] == 'c';
+        } else if (strcmp(arg, "--max-sigma") == 0 || strcmp(arg, "--max-r") == 0 ||
+                   strcmp(arg, "--plant-tol") == 0) {
+            double *t = arg[2] == 'p' ? &plant_tol : arg[6] == 's' ? &max_sigma : &max_r;
+            if (!zw_parse_double(PROG, arg, val, t)) return ZW_EXIT_USAGE;
         } else {
             if (!zw_parse_long(PROG, arg, val, 0, 86400, &idle_s)) return ZW_EXIT_USAGE;
         }
@@ -917,6 +1163,69 @@ int main(int argc, char **argv)
         fprintf(stderr, PROG ": the certified block is not acceptable: %s (%s)\n",
                 zw_reason_name(reason), zw_status_name(st));
         return ZW_EXIT_USAGE;
+    }
+    /* The factory ceilings: the plant and the bounds of the block options are the nameplate
+     * and the widest allowed, sealed or not (--unsealed). */
+    ceil.sigma_max = (float)max_sigma;
+    ceil.r_max = (float)max_r;
+    ceil.m = cert.m;
+    ceil.b = cert.b;
+    ceil.T = cert.T;
+    ceil.plant_tol = (float)plant_tol;
+    ceil.k_min = cert.k_min;
+    ceil.k_max = cert.k_max;
+    ceil.b_min = cert.b_min;
+    ceil.b_max = cert.b_max;
+    ceil.dk_max = cert.dk_max;
+    ceil.db_max = cert.db_max;
+    st = zw_regmap_set_ceilings(&d.rm, &ceil, &reason);
+    if (st != ZW_OK) {
+        fprintf(stderr, PROG ": %s: %s (%s)\n",
+                reason == ZW_REASON_BAD_POLICY ? "the factory ceilings are not valid"
+                                               : "the certified block exceeds the factory ceilings",
+                zw_reason_name(reason), zw_status_name(st));
+        return ZW_EXIT_USAGE;
+    }
+    if (commissioning && key_file == NULL) {
+        fprintf(stderr, PROG ": --commissioning needs --key-file (the key a client must hold)\n");
+        return ZW_EXIT_USAGE;
+    }
+    if (key_file != NULL) {
+        zw_regmap_auth hooks;
+        if (!zw_key_load(PROG, key_file, d.key)) return ZW_EXIT_USAGE;
+        hooks.random = drive_random;
+        hooks.verify = drive_verify;
+        hooks.ctx = &d;
+        zw_regmap_set_auth(&d.rm, &hooks);
+    }
+    zw_regmap_set_consent(&d.rm, commissioning != 0);
+    zw_regmap_set_word_order(&d.rm, cdab ? ZW_WORD_ORDER_CDAB : ZW_WORD_ORDER_ABCD);
+    if (d.state_file != NULL) {
+        uint_least8_t img[2][ZW_IMAGE_BYTES + 16];
+        size_t len[2];
+        char prev_path[4096];
+        zw_regmap_storage storage;
+        if (snprintf(prev_path, sizeof prev_path, "%s.prev", d.state_file) >= (int)sizeof prev_path) {
+            fprintf(stderr, PROG ": --state-file path too long\n");
+            return ZW_EXIT_USAGE;
+        }
+        len[0] = read_image(d.state_file, img[0], sizeof img[0]);
+        len[1] = read_image(prev_path, img[1], sizeof img[1]);
+        if (len[0] > 0 || len[1] > 0) {
+            (void)zw_regmap_restore(&d.rm, len[0] > 0 ? img[0] : NULL, len[0],
+                                    len[1] > 0 ? img[1] : NULL, len[1], &reason);
+            if (d.rm.restore_source == 0u)
+                logf_("stored settings refused (%s): the power-up block stays, gains off",
+                      zw_reason_name(reason));
+            else
+                logf_("restored the sealed block%s from %s%s%s", reason == ZW_REASON_NONE || d.rm.restore_source == 2u ? " and gains" : " (gains off)",
+                      d.rm.restore_source == 1u ? d.state_file : prev_path,
+                      reason != ZW_REASON_NONE ? "; refused: " : "",
+                      reason != ZW_REASON_NONE ? zw_reason_name(reason) : "");
+        }
+        storage.save = drive_save;
+        storage.ctx = &d;
+        zw_regmap_set_storage(&d.rm, &storage);
     }
     if (simulate) {
         zw_device probe_dev;
@@ -944,9 +1253,32 @@ int main(int argc, char **argv)
         return ZW_EXIT_FAILURE;
     }
 
-    if (rtu != NULL) rc = serve_rtu(&d, rtu, (int)baud, parity, (int)slave);
-    else rc = serve_tcp(&d, host, (int)port, (int)max_clients, (double)frame_ms / 1000.0,
-                        (double)idle_s);
+    d.log_tokens = LOG_BURST;
+    d.log_last = now_s();
+    atomic_init(&d.sim_stop, false);
+    if (d.s.on) {
+        pthread_t sim_tid;
+        d.s.t0 = now_s();
+        if (pthread_create(&sim_tid, NULL, sim_thread, &d) != 0) {
+            fprintf(stderr, PROG ": cannot start the simulation thread\n");
+            return ZW_EXIT_FAILURE;
+        }
+        if (rtu != NULL) rc = serve_rtu(&d, rtu, (int)baud, parity, (int)slave);
+        else rc = serve_tcp(&d, host, (int)port, (int)max_clients, (double)frame_ms / 1000.0,
+                            (double)idle_s);
+        atomic_store(&d.sim_stop, true);
+        (void)pthread_join(sim_tid, NULL);
+    } else if (rtu != NULL) {
+        rc = serve_rtu(&d, rtu, (int)baud, parity, (int)slave);
+    } else {
+        rc = serve_tcp(&d, host, (int)port, (int)max_clients, (double)frame_ms / 1000.0,
+                       (double)idle_s);
+    }
+    log_summary(&d, now_s(), 1);
+    if (d.s.on && d.s.late_n > 0)
+        logf_("simulation: %lu steps; lateness behind the schedule: worst %.3f ms, mean %.3f ms, "
+              "%lu steps over 5 ms", d.s.late_n, d.s.late_max * 1000.0,
+              d.s.late_sum / (double)d.s.late_n * 1000.0, d.s.late_over_5ms);
     close(g_sigpipe[0]);
     close(g_sigpipe[1]);
     return rc;

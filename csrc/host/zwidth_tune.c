@@ -36,6 +36,7 @@ static void usage(FILE *to)
             "                   --k-min K --k-max K --b-min B --b-max B --dk-max D --db-max D\n"
             "                   [--delay D] [--velocity-filter none|lowpass:F[Hz]|average:N]\n"
             "                   [--differentiator backward|tustin] [--paper-defaults] [--json]\n"
+            "                   --key-file PATH\n"
             "\n"
             "Talks to a zwidth drive (zwidth-drive, or firmware with the same register map).\n"
             "\n"
@@ -43,9 +44,13 @@ static void usage(FILE *to)
             "              device state, counters and the last refusal (reason, exception)\n"
             "  set         write K and B in ONE Write Multiple Registers request (judged as a\n"
             "              pair), or one of them alone; then read back and print the verdict\n"
-            "  commission  unlock (two command writes), write the certified block and its\n"
-            "              CRC-16, seal; on a refused seal the commissioning is aborted (the\n"
-            "              last sealed block comes back).  Gains are off afterwards.\n"
+            "  commission  unlock (two command writes), read the drive's nonce, write the\n"
+            "              certified block, its CRC-16 and an HMAC-SHA256 of nonce and block\n"
+            "              under the drive's key (--key-file: 64 hex digits, mode 600), seal;\n"
+            "              then read back mode, block and CRC and say what the drive did.  On\n"
+            "              a refused step the commissioning is aborted (the last sealed block\n"
+            "              comes back).  Gains are off afterwards.  The drive must consent\n"
+            "              (zwidth-drive --commissioning --key-file)\n"
             "              --paper-defaults takes omitted fields from the paper's drive\n"
             "              (J = 85.78e-7, b = 2.197e-3, T = 0.02, sigma 0.8, r 0.999, K in\n"
             "              [0, 10], B in [-0.01, 0.01], dK 1, dB 0.01).  The loop the drive\n"
@@ -157,6 +162,16 @@ static int read_head(modbus_t *ctx, snapshot *s)
         fprintf(stderr, PROG ": the drive speaks register map v%u; this tool speaks v%u "
                         "(docs/modbus.md, map versions)\n", (unsigned)s->head[1], ZW_REGMAP_VERSION);
         return ZW_EXIT_USAGE;
+    }
+    {
+        uint_least16_t order[1];
+        if (read_regs(ctx, ZW_REG_WORD_ORDER, 1, order, &exc) != 0)
+            return protocol_error("cannot read the word order");
+        if (order[0] != ZW_WORD_ORDER_ABCD) { /* every float would read wrong */
+            fprintf(stderr, PROG ": the drive sends floats low word first (CDAB); this tool "
+                            "speaks ABCD (zwidth-drive --word-order abcd, or mbpoll without -B)\n");
+            return ZW_EXIT_USAGE;
+        }
     }
     if (read_regs(ctx, ZW_REG_K, 4, s->gains, &exc) != 0)
         return protocol_error("cannot read the gains");
@@ -343,28 +358,62 @@ static int cmd_set(modbus_t *ctx, int have_K, double K, int have_B, double B, in
     return ZW_EXIT_REFUSED;
 }
 
-/* A refused commissioning step: report, leave commissioning mode if we entered it. */
+/* What the drive is doing now, in words: "in operation, block CRC 0x1234 sealed",
+ * "in commissioning mode (output off)", or "state unknown (cannot read it)". */
+static void drive_state_text(modbus_t *ctx, char *buf, size_t cap)
+{
+    uint_least16_t head[4], crc[1];
+    unsigned exc;
+    if (read_regs(ctx, ZW_REG_MAGIC, 4, head, &exc) != 0) {
+        snprintf(buf, cap, "state unknown (cannot read it)");
+    } else if (head[2] != 0u) {
+        snprintf(buf, cap, "in commissioning mode (output off)");
+    } else if (head[3] == 0u) {
+        snprintf(buf, cap, "in operation with no sealed block (gains refused)");
+    } else if (read_regs(ctx, ZW_REG_CERT_CRC, 1, crc, &exc) == 0) {
+        snprintf(buf, cap, "in operation, sealed block CRC 0x%04X", (unsigned)crc[0]);
+    } else {
+        snprintf(buf, cap, "in operation with a sealed block");
+    }
+}
+
+/* A refused commissioning step: report, leave commissioning mode if we entered it, and say
+ * what the drive is doing afterwards (read back, not assumed). */
 static int commission_refused(modbus_t *ctx, const char *step, unsigned exc, int abort_it,
                               int json)
 {
     snapshot s;
     unsigned reason = REASON_NOT_OURS, abort_exc = 0;
     int aborted = 0;
+    char state[96];
     if (read_head(ctx, &s) == ZW_EXIT_OK && (unsigned)s.head[5] == exc)
         reason = (unsigned)s.head[4];
     if (abort_it) aborted = write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_ABORT, &abort_exc) == 0;
+    drive_state_text(ctx, state, sizeof state);
     if (json) {
         printf("{\"verdict\": \"refused\", \"step\": ");
         zw_json_string(stdout, step);
         printf(", ");
         print_refusal_json(reason, exc);
-        printf(", \"aborted\": %s}\n", aborted ? "true" : "false");
+        printf(", \"aborted\": %s, \"drive\": ", aborted ? "true" : "false");
+        zw_json_string(stdout, state);
+        printf("}\n");
     } else {
-        printf("refused at %s: %s (exception 0x%02X %s)%s\n", step,
+        printf("refused at %s: %s (exception 0x%02X %s)%s; the drive is now %s\n", step,
                zw_reason_name((zw_reason)reason), exc, zw_exception_name(exc),
-               abort_it ? (aborted ? "; commissioning aborted, the last sealed block is back"
-                                   : "; could not abort: the drive stays in commissioning mode")
-                        : "");
+               !abort_it ? ""
+               : aborted ? "; we sent ABORT"
+               : abort_exc != 0 ? "; ABORT refused (our session had already ended)"
+                                : "; ABORT could not be sent",
+               state);
+        if (reason == ZW_REASON_NO_CONSENT)
+            printf("the drive does not consent to commissioning: turn its commissioning "
+                   "enable on (zwidth-drive --commissioning)\n");
+        else if (reason == ZW_REASON_AUTH)
+            printf("the drive did not accept our MAC: --key-file is not this drive's key "
+                   "(or another client changed the staged block)\n");
+        else if (reason == ZW_REASON_RNG)
+            printf("the drive has no commissioning key or RNG (zwidth-drive --key-file)\n");
     }
     return ZW_EXIT_REFUSED;
 }
@@ -391,14 +440,22 @@ static int commission_transport_error(modbus_t *ctx, const char *what)
     return ZW_EXIT_USAGE;
 }
 
-static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, int json)
+/* Commission: UNLOCK1, UNLOCK2, read the nonce, write the block with its CRC and the MAC
+ * of (version, nonce, block) under the drive's key, SEAL; then read back mode, sealed flag,
+ * block and CRC and say what the drive did. */
+static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const uint8_t key[ZW_KEY_BYTES],
+                          int json)
 {
     zw_cert cert;
-    uint_least16_t w[ZW_CERT_WORDS + 1u], sealed_flag[1], back[ZW_CERT_WORDS + 1u];
+    uint_least16_t w[ZW_CERT_WORDS + 1u], head[4], back[ZW_CERT_WORDS + 1u];
+    uint_least16_t nonce[ZW_AUTH_NONCE_WORDS], macw[ZW_AUTH_MAC_WORDS];
+    uint_least8_t msg[ZW_AUTH_MSG_BYTES];
+    uint8_t mac[2u * ZW_AUTH_MAC_WORDS];
     unsigned exc;
     uint_least16_t crc;
     snapshot s;
-    int k, rc;
+    int k, rc, same;
+    const char *what;
 
     zw_cert_opts_to_cert(co, &cert);
     zw_cert_encode(&cert, w);
@@ -415,33 +472,51 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, int json)
         if (exc == 0) return commission_transport_error(ctx, "cannot send the unlock commands");
         return commission_refused(ctx, "unlock", exc, 0, json);
     }
+    if (read_regs(ctx, ZW_REG_NONCE, (int)ZW_AUTH_NONCE_WORDS, nonce, &exc) != 0) {
+        if (exc == 0) return commission_transport_error(ctx, "cannot read the nonce");
+        return commission_refused(ctx, "nonce", exc, 1, json);
+    }
+    zw_regmap_auth_message(nonce, w, msg);
+    if (!zw_hmac_sha256(key, msg, sizeof msg, mac)) {
+        fprintf(stderr, PROG ": libcrypto cannot compute HMAC-SHA256\n");
+        (void)write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_ABORT, &exc);
+        return ZW_EXIT_USAGE;
+    }
+    for (k = 0; k < (int)ZW_AUTH_MAC_WORDS; ++k)
+        macw[k] = (uint_least16_t)(((unsigned)mac[2 * k] << 8) | mac[2 * k + 1]);
     if (write_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, w, &exc) != 0) {
         if (exc == 0) return commission_transport_error(ctx, "cannot write the certified block");
         return commission_refused(ctx, "block", exc, 1, json);
+    }
+    if (write_regs(ctx, ZW_REG_MAC, (int)ZW_AUTH_MAC_WORDS, macw, &exc) != 0) {
+        if (exc == 0) return commission_transport_error(ctx, "cannot write the MAC");
+        return commission_refused(ctx, "mac", exc, 1, json);
     }
     if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_SEAL, &exc) != 0) {
         if (exc == 0) return commission_transport_error(ctx, "cannot send the seal command");
         return commission_refused(ctx, "seal", exc, 1, json);
     }
-    /* Another client may have written the staged block between our block write and SEAL
-     * (the drive cannot tell clients apart): the drive then sealed its block, not ours.
-     * Read back what is sealed and compare every word and the CRC. */
-    if (read_regs(ctx, ZW_REG_SEALED, 1, sealed_flag, &exc) != 0 ||
+    /* SEAL was accepted: the MAC covers our block, so what was sealed is ours.  Read back
+     * what the drive is doing now: another client may have unlocked it again since (its
+     * reads then show a staged copy, not the block in force). */
+    if (read_regs(ctx, ZW_REG_MAGIC, 4, head, &exc) != 0 ||
         read_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, back, &exc) != 0)
         return protocol_error("cannot read back the sealed block");
     for (k = 0; k <= (int)ZW_CERT_WORDS && back[k] == w[k]; ++k) {}
-    if (sealed_flag[0] != 1u || k <= (int)ZW_CERT_WORDS) {
-        if (sealed_flag[0] != 1u)
-            fprintf(stderr, PROG ": the drive reports no sealed block after SEAL: another "
-                            "client wrote during commissioning\n");
-        else
-            fprintf(stderr, PROG ": the drive sealed a different block (CRC 0x%04X, ours "
-                            "0x%04X): another client wrote during commissioning\n",
-                    (unsigned)back[ZW_CERT_WORDS], (unsigned)crc);
+    same = k > (int)ZW_CERT_WORDS;
+    what = head[2] != 0u ? "the drive accepted SEAL, but is in commissioning mode again: another "
+                           "client unlocked it after us (output off until that session ends)"
+           : head[3] != 1u ? "the drive accepted SEAL but reports no sealed block"
+           : !same ? "the drive accepted SEAL, but a different block is in force now: another "
+                     "client commissioned after us"
+                   : NULL;
+    if (what != NULL) {
+        fprintf(stderr, PROG ": %s (in force: CRC 0x%04X, ours 0x%04X)\n", what,
+                (unsigned)back[ZW_CERT_WORDS], (unsigned)crc);
         if (json)
             printf("{\"verdict\": \"mismatch\", \"crc\": %u, \"sealed_crc\": %u, "
-                   "\"sealed\": %s}\n", (unsigned)crc, (unsigned)back[ZW_CERT_WORDS],
-                   sealed_flag[0] == 1u ? "true" : "false");
+                   "\"sealed\": %s, \"mode\": %s}\n", (unsigned)crc, (unsigned)back[ZW_CERT_WORDS],
+                   head[3] == 1u ? "true" : "false", head[2] != 0u ? "\"commissioning\"" : "\"operation\"");
         return ZW_EXIT_REFUSED;
     }
     rc = read_snapshot(ctx, &s);
@@ -450,10 +525,10 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, int json)
         printf("{\"verdict\": \"sealed\", \"crc\": %u, \"cert\": {", (unsigned)crc);
         for (k = 0; k < ZW_CERT_NFIELDS; ++k)
             json_kv_float(zw_cert_label[k], (double)zw_cert_field(&cert, (unsigned)k), k > 0);
-        printf("}, \"sealed\": true, \"verified\": true}\n");
+        printf("}, \"sealed\": true, \"verified\": true, \"mode\": \"operation\"}\n");
     } else {
-        printf("commissioned: block sealed with CRC 0x%04X (read back and verified); gains are "
-               "off until set\n", (unsigned)crc);
+        printf("commissioned: the drive sealed our block (CRC 0x%04X) and is in operation "
+               "(mode, block and CRC read back); gains are off until set\n", (unsigned)crc);
         print_snapshot_text(&s);
     }
     return ZW_EXIT_OK;
@@ -495,7 +570,8 @@ int main(int argc, char **argv)
 {
     conn_opts o = {"127.0.0.1", NULL, 1502, 19200, 1, 1000, 'N'};
     zw_cert_opts co;
-    const char *cmd = NULL;
+    const char *cmd = NULL, *key_file = NULL;
+    uint8_t key[ZW_KEY_BYTES];
     double K = 0.0, B = 0.0;
     int have_K = 0, have_B = 0, json = 0, paper = 0, i, rc, k;
     modbus_t *ctx;
@@ -552,7 +628,7 @@ int main(int argc, char **argv)
                     strcmp(arg, "--host") == 0 || strcmp(arg, "--port") == 0 ||
                             strcmp(arg, "--rtu") == 0 || strcmp(arg, "--baud") == 0 ||
                             strcmp(arg, "--parity") == 0 || strcmp(arg, "--slave") == 0 ||
-                            strcmp(arg, "--timeout") == 0
+                            strcmp(arg, "--timeout") == 0 || strcmp(arg, "--key-file") == 0
                         ? "missing value for"
                         : "unknown option",
                     arg);
@@ -580,6 +656,8 @@ int main(int argc, char **argv)
             if (!zw_parse_long(PROG, arg, val, 0, 255, &o.slave)) return ZW_EXIT_USAGE;
         } else if (strcmp(arg, "--timeout") == 0) {
             if (!zw_parse_long(PROG, arg, val, 10, 60000, &o.timeout_ms)) return ZW_EXIT_USAGE;
+        } else if (strcmp(arg, "--key-file") == 0) {
+            key_file = val;
         } else {
             fprintf(stderr, PROG ": unknown option '%s'\n", arg);
             usage(stderr);
@@ -612,7 +690,12 @@ int main(int argc, char **argv)
                         zw_cert_option[k]);
                 missing = 1;
             }
+        if (key_file == NULL) {
+            fprintf(stderr, PROG ": commission needs --key-file (the drive's key)\n");
+            missing = 1;
+        }
         if (missing) return ZW_EXIT_USAGE;
+        if (!zw_key_load(PROG, key_file, key)) return ZW_EXIT_USAGE;
     } else if (strcmp(cmd, "status") != 0) {
         fprintf(stderr, PROG ": unknown command '%s' (status, set or commission)\n", cmd);
         return ZW_EXIT_USAGE;
@@ -631,7 +714,7 @@ int main(int argc, char **argv)
     if (ctx == NULL) return ZW_EXIT_USAGE;
     if (strcmp(cmd, "status") == 0) rc = cmd_status(ctx, json);
     else if (strcmp(cmd, "set") == 0) rc = cmd_set(ctx, have_K, K, have_B, B, json);
-    else rc = cmd_commission(ctx, &co, json);
+    else rc = cmd_commission(ctx, &co, key, json);
     modbus_close(ctx);
     modbus_free(ctx);
     return rc;

@@ -3,7 +3,9 @@
  * SPDX-License-Identifier: Apache-2.0
  */
 
-/* The drive-side gain register map, zwidth/regmap.h.
+/* The drive-side gain register map, zwidth/regmap.h: the map, its requests and the
+ * publication between contexts.  The wire format is in regmap_codec.c, the certification
+ * policy in regmap_policy.c, commissioning in regmap_commission.c.
  *
  * Every request goes through the same steps: the whole address range is checked (mapped,
  * writable, whole two-word values, writable in the current mode), then the whole payload
@@ -11,19 +13,9 @@
  * anything stored.  A refusal therefore leaves every register as it was except the three
  * refusal registers.
  *
- * Portability (TI C28x: 16-bit char and int): bytes and words are held in uint_least*
- * types and masked, every shift is done on a uint_least32_t, floats are packed and
- * unpacked by frexpf/ldexpf arithmetic rather than by type punning.
- *
- * The live-limit registers are cached in rm->live and recomputed after every accepted
- * write (live_all), rather than computed on read: a read then never runs the core, and the
- * deepest chains into the core start from the public function's tail call instead of
- * below a read loop's frame, which keeps the worst stack chain on the Cortex-M4F within
- * the project's 256 bytes (see ZW_NOINLINE).
- *
  * The gain pair (Modbus task -> control loop) and the state registers (control loop ->
  * Modbus task) cross contexts through a double buffer and a sequence word (regmap.h,
- * threading model): publish_gains / zw_regmap_set_state write, zw_regmap_active_gains /
+ * threading model): zw_rm_publish_gains / zw_regmap_set_state write, zw_regmap_active_gains /
  * read_state read; nothing else is shared.
  */
 #include "zwidth/regmap.h"
@@ -33,7 +25,7 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "zwidth/selftest.h"
+#include "regmap_internal.h"
 
 #if ZW_REGMAP_C11_ATOMICS
 #include <stdatomic.h>
@@ -46,47 +38,13 @@
 #define ZW_MB_WRITE_SINGLE 0x06u
 #define ZW_MB_WRITE_MULTIPLE 0x10u
 
-#define CRC_INDEX ZW_CERT_WORDS /* staged[CRC_INDEX] is the CRC word */
-
 /* Register kinds (bits). */
 #define RK_RO 1u    /* read-only */
 #define RK_GAIN 2u  /* K, B: writable in operation with a sealed block */
 #define RK_CERT 4u  /* certified block and its CRC: writable in commissioning */
 #define RK_CMD 8u   /* the command register */
 #define RK_PAIR 16u /* two-word values, each starting at an even address */
-
-/* Index of each live register in rm->live (register ZW_REG_LIVE_K_MAX + 2 i). */
-enum { L_K_MAX, L_K_CERT, L_B_LO, L_B_HI, L_K_MMAX, L_B_AT_KMMAX, L_RHO, L_DELTA, L_COUNT };
-
-/* Index of each field of the certified block (register ZW_REG_CERT_M + 2 i). */
-enum {
-    F_M, F_B, F_T, F_SIGMA, F_R, F_K_MIN, F_K_MAX, F_B_MIN, F_B_MAX, F_DK_MAX, F_DB_MAX,
-    F_DELAY, F_VFILTER, F_VF_PARAM, F_DIFF
-};
-
-/* A quiet NaN of type float, for values that do not exist (live registers without a
- * sealed plant).  NAN is optional in C99 (only where quiet NaNs exist); the fallback is
- * 0/0 at run time (not through zw_words_to_float, which itself needs QUIET_NAN_F). */
-#ifdef NAN
-#define QUIET_NAN_F ((float)NAN)
-#else
-static float quiet_nan_f(void)
-{
-    volatile float zero = 0.0f; /* volatile: no constant folding of 0/0 */
-    return zero / zero;
-}
-#define QUIET_NAN_F (quiet_nan_f())
-#endif
-
-/* Keeps a function out of line where the compiler would merge it into its only caller, so
- * that the caller can end in it as a tail call and the deep chains into the core start from
- * a small frame (the stack gate of tools/footprint.sh).  Only a hint: nothing depends on it
- * for correctness. */
-#if defined(__GNUC__)
-#define ZW_NOINLINE __attribute__((noinline))
-#else
-#define ZW_NOINLINE
-#endif
+#define RK_MAC 32u  /* the commissioning MAC: writable in commissioning */
 
 /* ---- publication between contexts (regmap.h, threading model) ---------------------------- */
 
@@ -122,7 +80,7 @@ static uint_least32_t next_seq(uint_least32_t seq)
 
 /* Modbus task, the only writer of the gains: the pair the control loop applies from now on
  * (and the task's own copy in rm->K, rm->B). */
-static void publish_gains(zw_regmap *rm, float K, float B)
+void zw_rm_publish_gains(zw_regmap *rm, float K, float B)
 {
     uint_least32_t seq = next_seq(SHARED_LOAD(rm->gains_seq));
     zw_regmap_gain_slot *slot = &rm->gains[seq & 1u];
@@ -173,6 +131,9 @@ static const reg_range k_ranges[] = {
     {ZW_REG_CERT_M, ZW_REG_CERT_CRC - 1, RK_CERT | RK_PAIR},
     {ZW_REG_CERT_CRC, ZW_REG_CERT_CRC, RK_CERT},
     {ZW_REG_COMMAND, ZW_REG_COMMAND, RK_CMD},
+    {ZW_REG_CONSENT, ZW_REG_WORD_ORDER, RK_RO},
+    {ZW_REG_NONCE, ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS - 1u, RK_RO},
+    {ZW_REG_MAC, ZW_REG_MAC + ZW_AUTH_MAC_WORDS - 1u, RK_MAC},
 };
 
 /* Kind bits of one address, 0 when unmapped. */
@@ -182,496 +143,6 @@ static uint_least16_t reg_kind(uint_least32_t addr)
     for (i = 0; i < sizeof k_ranges / sizeof k_ranges[0]; ++i)
         if (addr >= k_ranges[i].first && addr <= k_ranges[i].last) return k_ranges[i].kind;
     return 0;
-}
-
-static bool finite_f(float x)
-{
-    return x == x && x <= FLT_MAX && x >= -FLT_MAX;
-}
-
-/* zw_real -> float without undefined behaviour when the value does not fit (saturates to
- * an infinity; NaN stays NaN). */
-static float to_float(zw_real x)
-{
-    if (x != x) return QUIET_NAN_F;
-    if (x > (zw_real)FLT_MAX) return ZW_HUGE_VALF;
-    if (x < -(zw_real)FLT_MAX) return -ZW_HUGE_VALF;
-    return (float)x;
-}
-
-/* ---- words, floats, CRC ----------------------------------------------------------------- */
-
-void zw_float_to_words(float value, uint_least16_t words[2])
-{
-    uint_least32_t bits;
-    if (words == NULL) return;
-    if (value != value) {
-        bits = 0x7FC00000u; /* every NaN becomes the one quiet NaN */
-    } else {
-        float a = value < 0.0f ? -value : value;
-        int e;
-        if (a > FLT_MAX) {
-            bits = 0x7F800000u;
-        } else if (a == 0.0f) {
-            bits = 0u;
-        } else {
-            /* a = f 2^e with f in [1/2, 1): both f 2^24 and a 2^149 are integers below
-             * 2^24, so every step is exact. */
-            float f = frexpf(a, &e);
-            if (e >= FLT_MIN_EXP) /* normal: biased exponent (e - 1) + 127 */
-                bits = ((uint_least32_t)(e + 126) << 23) |
-                       ((uint_least32_t)ldexpf(f, 24) - 0x800000u);
-            else /* subnormal: the significand is a / 2^-149 */
-                bits = (uint_least32_t)ldexpf(a, 149);
-        }
-        /* signbit, not value < 0, so that -0.0 keeps its sign */
-        if (signbit(value)) bits |= 0x80000000u;
-    }
-    words[0] = (uint_least16_t)((bits >> 16) & 0xFFFFu);
-    words[1] = (uint_least16_t)(bits & 0xFFFFu);
-}
-
-float zw_words_to_float(const uint_least16_t words[2])
-{
-    uint_least32_t bits, frac;
-    unsigned expo;
-    float v;
-    if (words == NULL) return QUIET_NAN_F;
-    bits = ((uint_least32_t)(words[0] & 0xFFFFu) << 16) | (uint_least32_t)(words[1] & 0xFFFFu);
-    expo = (unsigned)((bits >> 23) & 0xFFu);
-    frac = bits & 0x7FFFFFu;
-    if (expo == 0xFFu) v = frac != 0u ? QUIET_NAN_F : ZW_HUGE_VALF;
-    else if (expo == 0u) v = ldexpf((float)frac, -149); /* subnormal (or zero) */
-    else v = ldexpf((float)(frac | 0x800000u), (int)expo - 150);
-    return (bits & 0x80000000u) != 0u ? -v : v;
-}
-
-static uint_least16_t crc_byte(uint_least16_t crc, unsigned byte)
-{
-    int k;
-    crc = (uint_least16_t)((crc ^ (byte & 0xFFu)) & 0xFFFFu);
-    for (k = 0; k < 8; ++k)
-        crc = (crc & 1u) != 0u ? (uint_least16_t)(((unsigned)crc >> 1) ^ 0xA001u)
-                               : (uint_least16_t)((unsigned)crc >> 1);
-    return crc;
-}
-
-static uint_least16_t crc_word(uint_least16_t crc, uint_least16_t word)
-{
-    crc = crc_byte(crc, ((unsigned)word >> 8) & 0xFFu);
-    return crc_byte(crc, (unsigned)word & 0xFFu);
-}
-
-uint_least16_t zw_crc16_words(const uint_least16_t *words, size_t count)
-{
-    uint_least16_t crc = 0xFFFFu;
-    size_t i;
-    if (words == NULL) return crc;
-    for (i = 0; i < count; ++i) crc = crc_word(crc, words[i]);
-    return crc;
-}
-
-/* ---- the certified block ------------------------------------------------------------------ */
-
-float zw_cert_field(const zw_cert *c, unsigned i)
-{
-    switch (i) {
-    case F_M: return c->m;
-    case F_B: return c->b;
-    case F_T: return c->T;
-    case F_SIGMA: return c->sigma;
-    case F_R: return c->r;
-    case F_K_MIN: return c->k_min;
-    case F_K_MAX: return c->k_max;
-    case F_B_MIN: return c->b_min;
-    case F_B_MAX: return c->b_max;
-    case F_DK_MAX: return c->dk_max;
-    case F_DB_MAX: return c->db_max;
-    case F_DELAY: return c->delay;
-    case F_VFILTER: return c->vfilter;
-    case F_VF_PARAM: return c->vf_param;
-    default: return c->differentiator;
-    }
-}
-
-void zw_cert_set_field(zw_cert *c, unsigned i, float v)
-{
-    switch (i) {
-    case F_M: c->m = v; break;
-    case F_B: c->b = v; break;
-    case F_T: c->T = v; break;
-    case F_SIGMA: c->sigma = v; break;
-    case F_R: c->r = v; break;
-    case F_K_MIN: c->k_min = v; break;
-    case F_K_MAX: c->k_max = v; break;
-    case F_B_MIN: c->b_min = v; break;
-    case F_B_MAX: c->b_max = v; break;
-    case F_DK_MAX: c->dk_max = v; break;
-    case F_DB_MAX: c->db_max = v; break;
-    case F_DELAY: c->delay = v; break;
-    case F_VFILTER: c->vfilter = v; break;
-    case F_VF_PARAM: c->vf_param = v; break;
-    default: c->differentiator = v; break;
-    }
-}
-
-void zw_cert_encode(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS + 1u])
-{
-    unsigned i;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_float_to_words(zw_cert_field(c, i), &words[2u * i]);
-    words[CRC_INDEX] = zw_crc16_words(words, ZW_CERT_WORDS);
-}
-
-void zw_cert_decode(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *c)
-{
-    unsigned i;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(c, i, zw_words_to_float(&words[2u * i]));
-}
-
-/* Word i (0..22) of the block in force: the sealed block and its CRC, all 0 unsealed.
- * Only the read path needs it, so it re-encodes rather than keeping a copy. */
-static uint_least16_t sealed_word(const zw_regmap *rm, unsigned i)
-{
-    uint_least16_t w[2], crc = 0xFFFFu;
-    unsigned f;
-    if (!rm->is_sealed) return 0u;
-    if (i < ZW_CERT_WORDS) {
-        zw_float_to_words(zw_cert_field(&rm->sealed, i / 2u), w);
-        return w[i & 1u];
-    }
-    for (f = 0; f < ZW_CERT_FIELDS; ++f) {
-        zw_float_to_words(zw_cert_field(&rm->sealed, f), w);
-        crc = crc_word(crc_word(crc, w[0]), w[1]);
-    }
-    return crc;
-}
-
-static float staged_float(const zw_regmap *rm, unsigned field)
-{
-    return zw_words_to_float(&rm->staged[2u * field]);
-}
-
-/* The ideal loop (delay 0, backward difference, no filter): certified by the closed form of
- * region.h / extremes.h, as in map version 1; any other by the general loop (loop.h). */
-static bool ideal_loop(const zw_regmap *rm)
-{
-    return rm->loop.loop.spec.delay == 0u && rm->loop.loop.spec.filter == ZW_VFILTER_NONE &&
-           rm->loop.loop.spec.differentiator == ZW_DIFF_BACKWARD;
-}
-
-/* x is a whole number in [0, max]. */
-static bool whole_in(float x, float max)
-{
-    return x >= 0.0f && x <= max && (float)(unsigned)x == x;
-}
-
-/* The loop fields of the staged block, each to its named reason (regmap.h). */
-static zw_reason check_loop_fields(const zw_regmap *rm)
-{
-    const float kind = staged_float(rm, F_VFILTER), param = staged_float(rm, F_VF_PARAM);
-    if (!whole_in(staged_float(rm, F_DELAY), (float)ZW_LOOP_MAX_DELAY)) return ZW_REASON_BAD_DELAY;
-    if (!whole_in(kind, 2.0f)) return ZW_REASON_BAD_FILTER;
-    if (kind == 0.0f ? param != 0.0f
-                     : kind == 1.0f ? !(param > 0.0f)
-                                    : !(whole_in(param, (float)ZW_LOOP_MAX_AVERAGE) && param >= 1.0f))
-        return ZW_REASON_BAD_FILTER_PARAM;
-    if (!whole_in(staged_float(rm, F_DIFF), 1.0f)) return ZW_REASON_BAD_DIFFERENTIATOR;
-    return ZW_REASON_NONE;
-}
-
-/* Build rm->loop from the staged block (staged) or the sealed one; the fields were checked.
- * Reason: BAD_FILTER_PARAM for a cut-off the pole cannot be formed from, BAD_POLICY for
- * the plant. */
-static zw_reason build_loop(zw_regmap *rm, bool staged)
-{
-    zw_device_loop_spec spec;
-    float f[ZW_CERT_FIELDS];
-    unsigned i;
-    zw_status st;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) f[i] = staged ? staged_float(rm, i) : zw_cert_field(&rm->sealed, i);
-    spec.delay = (unsigned)f[F_DELAY];
-    spec.differentiator = f[F_DIFF] == 1.0f ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
-    spec.filter = f[F_VFILTER] == 1.0f   ? ZW_VFILTER_LOWPASS
-                  : f[F_VFILTER] == 2.0f ? ZW_VFILTER_AVERAGE
-                                         : ZW_VFILTER_NONE;
-    spec.cutoff_hz = spec.filter == ZW_VFILTER_LOWPASS ? (zw_real)f[F_VF_PARAM] : ZW_R(0.0);
-    spec.pole = ZW_R(0.0);
-    spec.average = spec.filter == ZW_VFILTER_AVERAGE ? (unsigned)f[F_VF_PARAM] : 0u;
-    rm->kmax_cached = 0u;
-    st = zw_device_loop_init(&rm->loop, (zw_real)f[F_M], (zw_real)f[F_B], (zw_real)f[F_T], &spec);
-    if (st == ZW_OK) return ZW_REASON_NONE;
-    return st == ZW_ERR_FILTER ? ZW_REASON_BAD_FILTER_PARAM : ZW_REASON_BAD_POLICY;
-}
-
-/* K_MMAX and its B, of the plant and loop in force (the extremes in a frame of their own,
- * only at SEAL and init: with a general loop they cost milliseconds).  *any: some gains are
- * stable (K_mmax > 0). */
-ZW_NOINLINE static void live_extremes(zw_regmap *rm, bool *any)
-{
-    zw_status st;
-    zw_real K = ZW_R(0.0), B = ZW_R(0.0);
-    if (ideal_loop(rm)) {
-        zw_device_extremes e;
-        st = zw_device_extremes_compute(&rm->loop.dev, &e);
-        K = e.K_mmax;
-        B = e.B_at_K_mmax;
-    } else {
-        zw_device_loop_extremes e;
-        st = zw_device_loop_extremes_compute(&rm->loop, &e);
-        K = e.K_mmax;
-        B = e.B_at_K_mmax;
-    }
-    *any = st == ZW_OK && K > ZW_R(0.0);
-    rm->live[L_K_MMAX] = st == ZW_OK ? to_float(K) : QUIET_NAN_F;
-    rm->live[L_B_AT_KMMAX] = st == ZW_OK ? to_float(B) : QUIET_NAN_F;
-}
-
-/* SEAL: check the staged block and install it.  A refused block leaves the one in force
- * as it was: the loop is rebuilt from the sealed block when building the staged one
- * failed (zw_device_loop_init leaves a refused plant NaN), and the live extremes are only
- * recomputed for a block that is sealed. */
-static zw_reason seal_staged(zw_regmap *rm)
-{
-    unsigned i;
-    float sigma, r;
-    zw_reason why;
-    bool any = false;
-    /* every check below, and every certification after it, trusts the arithmetic */
-    if (zw_selftest() != ZW_OK) return ZW_REASON_FPENV;
-    if (zw_crc16_words(rm->staged, ZW_CERT_WORDS) != (rm->staged[CRC_INDEX] & 0xFFFFu))
-        return ZW_REASON_CRC;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i)
-        if (!finite_f(staged_float(rm, i))) return ZW_REASON_BAD_POLICY;
-    sigma = staged_float(rm, F_SIGMA);
-    r = staged_float(rm, F_R);
-    if (!(sigma > 0.0f && sigma <= 1.0f) || !(r > 0.0f && r <= 1.0f)) return ZW_REASON_BAD_POLICY;
-    if (!(staged_float(rm, F_K_MIN) <= staged_float(rm, F_K_MAX)) ||
-        !(staged_float(rm, F_B_MIN) <= staged_float(rm, F_B_MAX)))
-        return ZW_REASON_BAD_POLICY;
-    if (!(staged_float(rm, F_DK_MAX) > 0.0f) || !(staged_float(rm, F_DB_MAX) > 0.0f))
-        return ZW_REASON_BAD_POLICY;
-    /* After a seal the output is off, (0, 0), and steps count from there: refuse a block
-     * from which no pair is within the bounds and one step (it could never be used). */
-    if (staged_float(rm, F_K_MIN) > staged_float(rm, F_DK_MAX) ||
-        staged_float(rm, F_B_MIN) > staged_float(rm, F_DB_MAX) ||
-        staged_float(rm, F_B_MAX) < -staged_float(rm, F_DB_MAX))
-        return ZW_REASON_BAD_POLICY;
-    if ((why = check_loop_fields(rm)) != ZW_REASON_NONE) return why;
-    why = build_loop(rm, true);
-    if (why == ZW_REASON_NONE) {
-        live_extremes(rm, &any);
-        if (!any) why = ZW_REASON_LOOP_NEVER_STABLE;
-    }
-    if (why != ZW_REASON_NONE) {
-        /* the sealed block stays in force: its loop back (it was valid when sealed), and
-         * its extremes */
-        if (rm->is_sealed) {
-            (void)build_loop(rm, false);
-            live_extremes(rm, &any);
-        }
-        return why;
-    }
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, staged_float(rm, i));
-    rm->is_sealed = 1u;
-    rm->mode = 0u;
-    publish_gains(rm, 0.0f, 0.0f); /* gains stay off after a seal */
-    return ZW_REASON_NONE;
-}
-
-/* ---- certification of a gain pair ---------------------------------------------------------- */
-
-/* |a - b| <= limit, decided on the exact difference: when the rounded difference lands on
- * the limit, its rounding error (Knuth's TwoSum, exact without contraction) tells on which
- * side the exact difference lies.  a, b finite; limit finite and > 0. */
-static bool step_within(float a, float b, float limit)
-{
-    zw_real x = (zw_real)a, y = -(zw_real)b, lim = (zw_real)limit;
-    zw_real d = x + y;
-    zw_real ad = d < ZW_R(0.0) ? -d : d;
-    zw_real yv, err;
-    if (ad != lim) return ad < lim; /* an overflowed difference is inf: refused */
-    yv = d - x;
-    err = (x - (d - yv)) + (y - yv); /* d + err == a - b exactly */
-    return d > ZW_R(0.0) ? err <= ZW_R(0.0) : err >= ZW_R(0.0);
-}
-
-/* The two rules that need the plant, each in its own small function: the deepest chains of
- * the core (zw_device_radius_within) then start right below a small frame (stack).  Any
- * error of the core (a normalization that overflows) counts against the pair. */
-static bool stable_ok(const zw_regmap *rm, float K, float B)
-{
-    if (ideal_loop(rm)) {
-        zw_verdict v;
-        return zw_device_check(&rm->loop.dev, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
-    } else {
-        zw_loop_verdict v;
-        return zw_device_loop_check(&rm->loop, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
-    }
-}
-
-static bool radius_ok(const zw_regmap *rm, float K, float B)
-{
-    bool within = false;
-    zw_status st = ideal_loop(rm)
-                       ? zw_device_radius_within(&rm->loop.dev, (zw_real)K, (zw_real)B,
-                                                 (zw_real)rm->sealed.r, &within)
-                       : zw_device_loop_radius_within(&rm->loop, (zw_real)K, (zw_real)B,
-                                                      (zw_real)rm->sealed.r, &within);
-    return st == ZW_OK && within;
-}
-
-/* K_max at B of the drive's loop (certified; 0 on error, by the core's fail-safe).  The
- * general loop's is taken from the cache when B is the one it holds. */
-static zw_status drive_k_max(const zw_regmap *rm, float B, zw_real *k_max)
-{
-    if (ideal_loop(rm)) return zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max);
-    if (rm->kmax_cached != 0u && rm->kmax_B == B) {
-        *k_max = rm->kmax_value;
-        return ZW_OK;
-    }
-    return zw_device_loop_k_max(&rm->loop, (zw_real)B, k_max);
-}
-
-/* Keep K_max(B) for the gains now in force (general loop; the ideal one is cheap). */
-static void cache_k_max(zw_regmap *rm, float B, zw_real k_max)
-{
-    rm->kmax_B = B;
-    rm->kmax_value = k_max;
-    rm->kmax_cached = (uint_least16_t)(ideal_loop(rm) ? 0u : 1u);
-}
-
-/* The rules of regmap.h, in its order; the first that fails is the reason. */
-static zw_reason certify(const zw_regmap *rm, float K, float B, zw_real *k_max_out)
-{
-    const zw_cert *c = &rm->sealed;
-    zw_real k_max;
-    *k_max_out = ZW_R(0.0);
-    if (!finite_f(K) || !finite_f(B)) return ZW_REASON_NOT_FINITE;
-    if (K == 0.0f && B == 0.0f) return ZW_REASON_NONE; /* output off: always allowed */
-    if (K < c->k_min) return ZW_REASON_K_BELOW_MIN;
-    if (K > c->k_max) return ZW_REASON_K_ABOVE_MAX;
-    if (B < c->b_min) return ZW_REASON_B_BELOW_MIN;
-    if (B > c->b_max) return ZW_REASON_B_ABOVE_MAX;
-    if (!step_within(K, rm->K, c->dk_max)) return ZW_REASON_K_STEP;
-    if (!step_within(B, rm->B, c->db_max)) return ZW_REASON_B_STEP;
-    if (!stable_ok(rm, K, B)) return ZW_REASON_UNSTABLE;
-    if (drive_k_max(rm, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max)
-        return ZW_REASON_ABOVE_SIGMA;
-    *k_max_out = k_max;
-    if (!radius_ok(rm, K, B)) return ZW_REASON_RADIUS;
-    return ZW_REASON_NONE;
-}
-
-/* A gain write: certified as a pair, then stored (K and B the values after the write). */
-ZW_NOINLINE static zw_reason apply_gains(zw_regmap *rm, float K, float B)
-{
-    zw_real k_max;
-    zw_reason why = certify(rm, K, B, &k_max);
-    if (why != ZW_REASON_NONE) return why;
-    /* (0, 0) skips the rules: k_max is then not known */
-    if (K == 0.0f && B == 0.0f) rm->kmax_cached = 0u;
-    else cache_k_max(rm, B, k_max);
-    publish_gains(rm, K, B);
-    rm->accepted = (rm->accepted + 1u) & 0xFFFFFFFFu;
-    return ZW_REASON_NONE;
-}
-
-/* ---- live registers ------------------------------------------------------------------------ */
-
-
-/* The largest float not above x (x not NaN, at most FLT_MAX). */
-static float float_down(zw_real x)
-{
-    float f = to_float(x);
-    if ((zw_real)f > x) f = ZW_NEXTAFTERF(f, -ZW_HUGE_VALF);
-    return f;
-}
-
-/* Grid of the downward scan in live_k_cert (see there). */
-#define K_CERT_GRID 32
-
-/* LIVE_K_CERT: the largest float K at the current B that the k_max, sigma, stability and
- * radius rules accept (the k_min and step rules depend on where K comes from, so they are
- * left out).  top = min(sigma K_max(B), k_max) is taken when stability and radius accept
- * it; otherwise the largest accepted K lies below top: K is scanned down from top on a grid
- * of K_CERT_GRID points for one that is accepted, and the crossing above it is bisected to
- * float resolution, so the value reported is itself accepted.  0 when no grid point is.
- * NaN without a sealed plant.  Returns ZW_MB_OK so that live_all can end in it. */
-ZW_NOINLINE static zw_mb_exception live_k_cert(zw_regmap *rm)
-{
-    zw_real k_max, top;
-    float top_f = 0.0f, lo = 0.0f, hi, k, B = rm->B;
-    int grid = K_CERT_GRID; /* scanning grid point grid/K_CERT_GRID of top; 0: bisecting */
-    bool ok;
-    rm->live[L_K_CERT] = QUIET_NAN_F;
-    if (!rm->is_sealed || drive_k_max(rm, B, &k_max) != ZW_OK)
-        return ZW_MB_OK;
-    top = (zw_real)rm->sealed.sigma * k_max;
-    if (top > (zw_real)rm->sealed.k_max) top = (zw_real)rm->sealed.k_max;
-    if (top > ZW_R(0.0)) top_f = float_down(top);
-    /* One loop with one call site of the rules: a smaller frame than a scan loop followed
-     * by a bisection loop. */
-    hi = k = top_f;
-    while (k > 0.0f) {
-        ok = stable_ok(rm, k, B) && radius_ok(rm, k, B);
-        if (grid > 0 && !ok) { /* scanning down */
-            hi = k;
-            if (--grid == 0) break; /* no grid point accepted: lo stays 0 */
-            k = top_f * ((float)grid / (float)K_CERT_GRID);
-            continue;
-        }
-        if (ok) lo = k;
-        else hi = k;
-        if (grid == K_CERT_GRID) break; /* top itself is accepted */
-        grid = 0;
-        k = lo + (hi - lo) * 0.5f; /* lo accepted, hi refused; ends when they are neighbours */
-        if (!(k > lo && k < hi)) break;
-    }
-    rm->live[L_K_CERT] = lo;
-    return ZW_MB_OK;
-}
-
-static float value_or_nan(zw_status st, zw_real x)
-{
-    return st == ZW_OK ? to_float(x) : QUIET_NAN_F;
-}
-
-/* Recompute the live registers that depend on the gains (and delta) after an accepted
- * change (gains, seal, unlock), so reads never run the core.  A value that does not exist
- * (no sealed plant, or the core refuses the computation) reads as NaN.  K_CERT, K_MMAX and
- * its B have functions of their own, each called from live_all, so that no frame sits
- * under another one's chain into the core (stack). */
-ZW_NOINLINE static void live_refresh(zw_regmap *rm)
-{
-    const zw_device *d = &rm->loop.dev;
-    zw_real x = ZW_R(0.0), y = ZW_R(0.0), th = ZW_R(0.0);
-    zw_status st;
-    bool any;
-    unsigned i;
-    if (!rm->is_sealed) {
-        for (i = 0; i < L_COUNT; ++i) rm->live[i] = QUIET_NAN_F;
-        return;
-    }
-    st = drive_k_max(rm, rm->B, &x);
-    if (st == ZW_OK && !(rm->K == 0.0f && rm->B == 0.0f)) cache_k_max(rm, rm->B, x);
-    rm->live[L_K_MAX] = value_or_nan(st, x);
-    /* both report (0, 0) when the interval is empty, which covers K = 0 */
-    /* the general loop's B range is not computed per write (regmap.h): NaN */
-    st = ideal_loop(rm) ? zw_device_b_range(d, (zw_real)rm->K, &x, &y, &any) : ZW_ERR_ARG;
-    rm->live[L_B_LO] = value_or_nan(st, x);
-    rm->live[L_B_HI] = value_or_nan(st, y);
-    st = ideal_loop(rm) ? zw_device_spectral_radius(d, (zw_real)rm->K, (zw_real)rm->B, &x)
-                        : zw_device_loop_spectral_radius(&rm->loop, (zw_real)rm->K, (zw_real)rm->B, &x, &th);
-    rm->live[L_RHO] = value_or_nan(st, x);
-    rm->live[L_DELTA] = to_float(d->co.delta);
-}
-
-/* Every live register, after an accepted change.  Returns ZW_MB_OK so that the public
- * functions end in it as a tail call, and ends in live_k_cert as one itself. */
-static zw_mb_exception live_all(zw_regmap *rm)
-{
-    live_refresh(rm);
-    return live_k_cert(rm);
 }
 
 /* ---- reads --------------------------------------------------------------------------------- */
@@ -685,8 +156,8 @@ static void read_pair(const zw_regmap *rm, const state_sample *st, uint_least16_
     float f;
     if (base >= ZW_REG_CERT_M) { /* the block: staged in commissioning, else sealed */
         unsigned i = (unsigned)(base - ZW_REG_CERT_M);
-        w[0] = rm->mode != 0u ? rm->staged[i] : sealed_word(rm, i);
-        w[1] = rm->mode != 0u ? rm->staged[i + 1u] : sealed_word(rm, i + 1u);
+        w[0] = rm->mode != 0u ? rm->staged[i] : zw_rm_sealed_word(rm, i);
+        w[1] = rm->mode != 0u ? rm->staged[i + 1u] : zw_rm_sealed_word(rm, i + 1u);
         return;
     }
     if (base == ZW_REG_ACCEPTED || base == ZW_REG_REFUSED || base == ZW_REG_STATE_STEP) {
@@ -702,7 +173,7 @@ static void read_pair(const zw_regmap *rm, const state_sample *st, uint_least16_
     case ZW_REG_STATE_X: f = st->x; break;
     case ZW_REG_STATE_V: f = st->v; break;
     case ZW_REG_STATE_F: f = st->f; break;
-    case ZW_REG_LIVE_POLE: f = rm->is_sealed ? to_float(rm->loop.loop.spec.filter_pole) : QUIET_NAN_F; break;
+    case ZW_REG_LIVE_POLE: f = rm->is_sealed ? zw_rm_to_float(rm->loop.loop.spec.filter_pole) : QUIET_NAN_F; break;
     default: f = rm->live[(unsigned)(base - ZW_REG_LIVE_K_MAX) / 2u]; break;
     }
     zw_float_to_words(f, w);
@@ -718,10 +189,19 @@ static uint_least16_t read_single(const zw_regmap *rm, uint_least16_t addr)
     case ZW_REG_SEALED: return rm->is_sealed;
     case ZW_REG_LAST_REASON: return rm->last_reason;
     case ZW_REG_LAST_EXCEPTION: return rm->last_exception;
+    case ZW_REG_CONSENT: return rm->consent;
+    case ZW_REG_RESTORE_SOURCE: return rm->restore_source;
+    case ZW_REG_RESTORE_REASON: return rm->restore_reason;
+    case ZW_REG_WORD_ORDER: return rm->word_order;
     case ZW_REG_CERT_CRC:
-        return rm->mode != 0u ? rm->staged[CRC_INDEX] : sealed_word(rm, CRC_INDEX);
-    default: return 0u; /* ZW_REG_COMMAND reads as 0 */
+        return rm->mode != 0u ? rm->staged[CRC_INDEX] : zw_rm_sealed_word(rm, CRC_INDEX);
+    default: break;
     }
+    if (addr >= ZW_REG_NONCE && addr < ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS)
+        return rm->nonce[addr - ZW_REG_NONCE];
+    if (addr >= ZW_REG_MAC && addr < ZW_REG_MAC + ZW_AUTH_MAC_WORDS)
+        return rm->mac[addr - ZW_REG_MAC];
+    return 0u; /* ZW_REG_COMMAND reads as 0 */
 }
 
 /* ---- requests ------------------------------------------------------------------------------ */
@@ -753,7 +233,7 @@ static zw_mb_exception refuse(zw_regmap *rm, zw_reason reason, zw_reason *out)
 }
 
 /* Word i of a request payload: from a word array, or from big-endian PDU bytes. */
-static uint_least16_t payload_word(const uint_least16_t *words, const uint_least8_t *bytes,
+uint_least16_t zw_rm_payload_word(const uint_least16_t *words, const uint_least8_t *bytes,
                                    size_t i)
 {
     if (words != NULL) return (uint_least16_t)(words[i] & 0xFFFFu);
@@ -761,12 +241,33 @@ static uint_least16_t payload_word(const uint_least16_t *words, const uint_least
                             ((unsigned)bytes[2u * i + 1u] & 0xFFu));
 }
 
-static float payload_float(const uint_least16_t *words, const uint_least8_t *bytes, size_t i)
+float zw_rm_payload_float(const uint_least16_t *words, const uint_least8_t *bytes, size_t i)
 {
     uint_least16_t w[2];
-    w[0] = payload_word(words, bytes, i);
-    w[1] = payload_word(words, bytes, i + 1u);
+    w[0] = zw_rm_payload_word(words, bytes, i);
+    w[1] = zw_rm_payload_word(words, bytes, i + 1u);
     return zw_words_to_float(w);
+}
+
+uint_least16_t zw_rm_pair_word(const zw_regmap *rm, const uint_least16_t *words,
+                               const uint_least8_t *bytes, size_t i)
+{
+    return zw_rm_payload_word(words, bytes, rm->word_order == ZW_WORD_ORDER_CDAB ? (i ^ 1u) : i);
+}
+
+float zw_rm_pair_float(const zw_regmap *rm, const uint_least16_t *words,
+                       const uint_least8_t *bytes, size_t i)
+{
+    uint_least16_t w[2];
+    w[0] = zw_rm_pair_word(rm, words, bytes, i);
+    w[1] = zw_rm_pair_word(rm, words, bytes, i + 1u);
+    return zw_words_to_float(w);
+}
+
+void zw_regmap_set_word_order(zw_regmap *rm, unsigned order)
+{
+    if (rm == NULL || (order != ZW_WORD_ORDER_ABCD && order != ZW_WORD_ORDER_CDAB)) return;
+    rm->word_order = (uint_least16_t)order;
 }
 
 /* Quantity and addresses, shared by reads and writes: the kind bits of all the words, or
@@ -812,6 +313,11 @@ static zw_reason read_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t co
         if ((reg_kind(a) & RK_PAIR) != 0u) {
             /* both words of a value at once (a read may start or end mid-value) */
             read_pair(rm, &st, (uint_least16_t)(a & ~1u), w);
+            if (rm->word_order == ZW_WORD_ORDER_CDAB) { /* low word first on the wire */
+                uint_least16_t hi = w[0];
+                w[0] = w[1];
+                w[1] = hi;
+            }
             first = a & 1u;
             if (first == 0u && i + 1u < count) n = 2;
         } else {
@@ -827,43 +333,6 @@ static zw_reason read_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t co
         }
     }
     return ZW_REASON_NONE;
-}
-
-/* Staged block: every float finite, then all words stored.  The CRC word is free. */
-static zw_reason write_cert(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
-                            const uint_least16_t *words, const uint_least8_t *bytes)
-{
-    size_t i;
-    for (i = 0; i < count && (uint_least32_t)addr + i < ZW_REG_CERT_CRC; i += 2u)
-        if (!finite_f(payload_float(words, bytes, i))) return ZW_REASON_NOT_FINITE;
-    for (i = 0; i < count; ++i)
-        rm->staged[(size_t)(addr - ZW_REG_CERT_M) + i] = payload_word(words, bytes, i);
-    return ZW_REASON_NONE;
-}
-
-static zw_reason command(zw_regmap *rm, uint_least16_t cmd, bool armed)
-{
-    unsigned i;
-    switch (cmd) {
-    case ZW_CMD_UNLOCK1:
-        if (rm->mode != 0u) return ZW_REASON_BAD_COMMAND; /* already commissioning */
-        rm->unlock_armed = 1u;
-        return ZW_REASON_NONE;
-    case ZW_CMD_UNLOCK2:
-        if (rm->mode != 0u || !armed) return ZW_REASON_BAD_COMMAND;
-        rm->mode = 1u;
-        publish_gains(rm, 0.0f, 0.0f); /* output off while the block may change */
-        for (i = 0; i <= ZW_CERT_WORDS; ++i) rm->staged[i] = sealed_word(rm, i);
-        return ZW_REASON_NONE;
-    case ZW_CMD_SEAL:
-        if (rm->mode == 0u) return ZW_REASON_BAD_COMMAND;
-        return seal_staged(rm);
-    case ZW_CMD_ABORT:
-        if (rm->mode == 0u) return ZW_REASON_BAD_COMMAND;
-        rm->mode = 0u; /* the sealed block and device were never touched; gains stay off */
-        return ZW_REASON_NONE;
-    default: return ZW_REASON_BAD_COMMAND;
-    }
 }
 
 /* One write request, from words or from PDU bytes: addresses, then mode, then values, and
@@ -885,18 +354,22 @@ static zw_reason write_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t c
         return ZW_REASON_HALF_FLOAT;
     /* Past the checks above the request lies in exactly one group (the map has unmapped
      * or read-only words between groups). */
+    if ((kinds & RK_MAC) != 0u) {
+        if (rm->mode == 0u) return ZW_REASON_LOCKED;
+        return zw_rm_write_mac(rm, addr, count, words, bytes);
+    }
     if ((kinds & RK_CERT) != 0u) {
         if (rm->mode == 0u) return ZW_REASON_LOCKED;
-        return write_cert(rm, addr, count, words, bytes);
+        return zw_rm_write_cert(rm, addr, count, words, bytes);
     }
     if ((kinds & RK_GAIN) != 0u) {
         float K = rm->K, B = rm->B;
         if (rm->mode != 0u || !rm->is_sealed) return ZW_REASON_NOT_SEALED;
-        if (addr == ZW_REG_K) K = payload_float(words, bytes, 0);
-        if (addr == ZW_REG_B || count == 4u) B = payload_float(words, bytes, count - 2u);
-        return apply_gains(rm, K, B); /* a tail call: this frame is gone (stack) */
+        if (addr == ZW_REG_K) K = zw_rm_pair_float(rm, words, bytes, 0);
+        if (addr == ZW_REG_B || count == 4u) B = zw_rm_pair_float(rm, words, bytes, count - 2u);
+        return zw_rm_apply_gains(rm, K, B); /* a tail call: this frame is gone (stack) */
     }
-    return command(rm, payload_word(words, bytes, 0), armed);
+    return zw_rm_command(rm, zw_rm_payload_word(words, bytes, 0), armed);
 }
 
 /* ---- public API ---------------------------------------------------------------------------- */
@@ -911,12 +384,12 @@ ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert)
     (void)memset(rm, 0, sizeof *rm);
     for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, 0.0f);
     for (i = 0; i < 2u; ++i) { /* both slots of each double buffer */
-        publish_gains(rm, 0.0f, 0.0f);
+        zw_rm_publish_gains(rm, 0.0f, 0.0f);
         zw_regmap_set_state(rm, 0.0f, 0.0f, 0.0f, 0u);
     }
     if (cert != NULL) {
         zw_cert_encode(cert, rm->staged);
-        why = seal_staged(rm);
+        why = zw_rm_seal_staged(rm, false);
         for (i = 0; i <= ZW_CERT_WORDS; ++i) rm->staged[i] = 0u;
     }
     return why;
@@ -928,7 +401,7 @@ zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason)
     if (rm == NULL) return ZW_ERR_NULL;
     why = power_up(rm, cert);
     if (reason != NULL) *reason = why;
-    (void)live_all(rm);
+    (void)zw_rm_live_all(rm);
     if (why == ZW_REASON_NONE) return ZW_OK;
     /* otherwise a valid unsealed drive with the output off */
     return why == ZW_REASON_FPENV ? ZW_ERR_FPENV : ZW_ERR_ARG;
@@ -1015,7 +488,7 @@ zw_mb_exception zw_regmap_write(zw_regmap *rm, uint_least16_t addr, uint_least16
     if ((why = write_core(rm, addr, count, words, NULL)) != ZW_REASON_NONE)
         return refuse(rm, why, reason);
     if (reason != NULL) *reason = ZW_REASON_NONE;
-    return live_all(rm);
+    return zw_rm_live_all(rm);
 }
 
 static uint_least16_t be16(const uint_least8_t *p)
@@ -1088,7 +561,7 @@ zw_mb_exception zw_regmap_handle_pdu(zw_regmap *rm, const uint_least8_t *req, si
              * first 5 bytes either way */
             for (i = 0; i < 5u; ++i) resp[i] = (uint_least8_t)((unsigned)req[i] & 0xFFu);
             *resp_len = 5u;
-            return live_all(rm);
+            return zw_rm_live_all(rm);
         }
     } else {
         why = ZW_REASON_BAD_FUNCTION;
@@ -1097,37 +570,3 @@ zw_mb_exception zw_regmap_handle_pdu(zw_regmap *rm, const uint_least8_t *req, si
     return answer_exception(resp, resp_len, fc, refuse(rm, why, NULL));
 }
 
-const char *zw_reason_name(zw_reason reason)
-{
-    switch (reason) {
-    case ZW_REASON_NONE: return "ZW_REASON_NONE";
-    case ZW_REASON_BAD_FUNCTION: return "ZW_REASON_BAD_FUNCTION";
-    case ZW_REASON_MALFORMED: return "ZW_REASON_MALFORMED";
-    case ZW_REASON_UNMAPPED: return "ZW_REASON_UNMAPPED";
-    case ZW_REASON_READ_ONLY: return "ZW_REASON_READ_ONLY";
-    case ZW_REASON_HALF_FLOAT: return "ZW_REASON_HALF_FLOAT";
-    case ZW_REASON_LOCKED: return "ZW_REASON_LOCKED";
-    case ZW_REASON_NOT_SEALED: return "ZW_REASON_NOT_SEALED";
-    case ZW_REASON_NOT_FINITE: return "ZW_REASON_NOT_FINITE";
-    case ZW_REASON_K_BELOW_MIN: return "ZW_REASON_K_BELOW_MIN";
-    case ZW_REASON_K_ABOVE_MAX: return "ZW_REASON_K_ABOVE_MAX";
-    case ZW_REASON_B_BELOW_MIN: return "ZW_REASON_B_BELOW_MIN";
-    case ZW_REASON_B_ABOVE_MAX: return "ZW_REASON_B_ABOVE_MAX";
-    case ZW_REASON_K_STEP: return "ZW_REASON_K_STEP";
-    case ZW_REASON_B_STEP: return "ZW_REASON_B_STEP";
-    case ZW_REASON_UNSTABLE: return "ZW_REASON_UNSTABLE";
-    case ZW_REASON_ABOVE_SIGMA: return "ZW_REASON_ABOVE_SIGMA";
-    case ZW_REASON_RADIUS: return "ZW_REASON_RADIUS";
-    case ZW_REASON_BAD_COMMAND: return "ZW_REASON_BAD_COMMAND";
-    case ZW_REASON_CRC: return "ZW_REASON_CRC";
-    case ZW_REASON_BAD_POLICY: return "ZW_REASON_BAD_POLICY";
-    case ZW_REASON_FPENV: return "ZW_REASON_FPENV";
-    case ZW_REASON_BAD_DELAY: return "ZW_REASON_BAD_DELAY";
-    case ZW_REASON_BAD_FILTER: return "ZW_REASON_BAD_FILTER";
-    case ZW_REASON_BAD_FILTER_PARAM: return "ZW_REASON_BAD_FILTER_PARAM";
-    case ZW_REASON_BAD_DIFFERENTIATOR: return "ZW_REASON_BAD_DIFFERENTIATOR";
-    case ZW_REASON_LOOP_NEVER_STABLE: return "ZW_REASON_LOOP_NEVER_STABLE";
-    default: break; /* a value outside the enumeration: named below */
-    }
-    return "ZW_REASON_UNKNOWN";
-}

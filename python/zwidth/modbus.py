@@ -39,7 +39,13 @@ exception code stored there equals the one our request received; otherwise anoth
 client's refusal came in between and the reason is reported as ``REASON_UNKNOWN``
 (a refusal by another client with the same exception code in that window cannot be told
 apart).  ``commission`` reads the block back after SEAL and raises DriveError if the
-sealed block is not exactly the one it sent.
+drive is not in operation with exactly the block it sent.
+
+Commissioning (map version 3) needs the drive's consent (its commissioning enable input;
+``zwidth-drive --commissioning``) and its key: ``commission(..., key=load_key(path))``
+MACs the drive's fresh nonce and the block with HMAC-SHA256 (``hmac`` and ``hashlib`` of
+the standard library) under the drive's 32-byte key, kept in a file of 64 hex digits that
+only its owner can read (``umask 077; openssl rand -hex 32 > drive.key``).
 
 Errors: ``ConnectionError`` (with host:port) when the drive cannot be reached or does not
 answer in time; ``ValueError`` (naming the argument) for arguments that cannot be sent;
@@ -49,9 +55,13 @@ other than the one ``commission`` sent.
 """
 from __future__ import annotations
 
+import hashlib
+import hmac
 import inspect
 import math
 import numbers
+import os
+import stat
 import struct
 from dataclasses import dataclass
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
@@ -80,6 +90,12 @@ __all__ = [
     "MAGIC",
     "MAP_VERSION",
     "CERT_WORDS",
+    "KEY_BYTES",
+    "AUTH_NONCE_WORDS",
+    "AUTH_MAC_WORDS",
+    "load_key",
+    "auth_message",
+    "auth_mac",
     "crc16_modbus",
     "crc16_words",
     "float_to_words",
@@ -95,8 +111,11 @@ __all__ = [
 # ---------------------------------------------------------------------------------------
 
 MAGIC = 0x5A57
-MAP_VERSION = 2  # 2: the certified block describes the drive's loop (docs/modbus.md)
+MAP_VERSION = 3  # 3: commissioning needs consent and a MAC (docs/modbus.md)
 CERT_WORDS = 30  # words 0x0040..0x005D covered by the CRC
+KEY_BYTES = 32  # the drive's commissioning key (HMAC-SHA256)
+AUTH_NONCE_WORDS = 8  # ZW_REG_NONCE
+AUTH_MAC_WORDS = 16  # ZW_REG_MAC
 
 REG: Dict[str, int] = {
     "MAGIC": 0x0000,
@@ -139,10 +158,17 @@ REG: Dict[str, int] = {
     "CERT_DIFF": 0x005C,
     "CERT_CRC": 0x005E,
     "COMMAND": 0x0060,
-    "COUNT": 0x0061,
+    "CONSENT": 0x0080,
+    "RESTORE_SOURCE": 0x0081,
+    "RESTORE_REASON": 0x0082,
+    "WORD_ORDER": 0x0083,
+    "NONCE": 0x0088,
+    "MAC": 0x0090,
+    "COUNT": 0x00A0,
 }
 
-CMD: Dict[str, int] = {"UNLOCK1": 0xC0DE, "UNLOCK2": 0x5AFE, "SEAL": 0x5EA1, "ABORT": 0xAB07}
+CMD: Dict[str, int] = {"UNLOCK1": 0xC0DE, "UNLOCK2": 0x5AFE, "SEAL": 0x5EA1, "ABORT": 0xAB07,
+                       "SAVE": 0x5A7E}
 
 REASONS: Dict[int, str] = {
     0: "ZW_REASON_NONE",
@@ -172,6 +198,18 @@ REASONS: Dict[int, str] = {
     24: "ZW_REASON_BAD_FILTER_PARAM",
     25: "ZW_REASON_BAD_DIFFERENTIATOR",
     26: "ZW_REASON_LOOP_NEVER_STABLE",
+    27: "ZW_REASON_NO_CONSENT",
+    28: "ZW_REASON_RNG",
+    29: "ZW_REASON_AUTH",
+    30: "ZW_REASON_ABOVE_CEILING",
+    31: "ZW_REASON_PLANT_MISMATCH",
+    32: "ZW_REASON_SUBNORMAL",
+    33: "ZW_REASON_ONLY_OFF",
+    34: "ZW_REASON_NO_CEILINGS",
+    35: "ZW_REASON_NO_STORAGE",
+    36: "ZW_REASON_STORAGE",
+    37: "ZW_REASON_IMAGE_FORMAT",
+    38: "ZW_REASON_IMAGE_CRC",
 }
 
 # The reason reported for a refusal whose "last refusal" registers were overwritten by
@@ -236,6 +274,48 @@ def unit_keyword(method: Callable[..., Any]) -> str:
     pymodbus 3.10 on, "slave" before."""
     params = inspect.signature(method).parameters
     return "device_id" if "device_id" in params else "slave"
+
+
+def load_key(path: "os.PathLike[str] | str") -> bytes:
+    """The drive's commissioning key from a file of 64 hex digits (whitespace around them
+    ignored).  ValueError when the file is not a regular file, is not owned by this user,
+    can be read or written by the group or others (chmod 600 it), or does not hold exactly
+    64 hex digits; OSError when it cannot be opened (a symbolic link is not followed)."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+    try:
+        st = os.fstat(fd)  # the open file itself: nothing can swap it after the check
+        if not stat.S_ISREG(st.st_mode):
+            raise ValueError(f"key file {path}: not a regular file")
+        if hasattr(os, "geteuid") and st.st_uid != os.geteuid():
+            raise ValueError(f"key file {path}: not owned by this user")
+        if st.st_mode & 0o077:
+            raise ValueError(f"key file {path}: accessible by group or others (mode "
+                             f"{stat.S_IMODE(st.st_mode):03o}); chmod 600 it")
+        text = os.read(fd, 256)
+    finally:
+        os.close(fd)
+    digits = text.strip()
+    if len(digits) != 2 * KEY_BYTES or any(c not in b"0123456789abcdefABCDEF" for c in digits):
+        raise ValueError(f"key file {path}: must hold exactly 64 hex digits (a 32-byte key: "
+                         f"openssl rand -hex 32)")
+    return bytes.fromhex(digits.decode("ascii"))
+
+
+def auth_message(nonce: Sequence[int], block: Sequence[int]) -> bytes:
+    """The message a commissioning client MACs (zw_regmap_auth_message): the map version,
+    the 8 nonce words and the 30 block words with their CRC, every word high byte first."""
+    if len(nonce) != AUTH_NONCE_WORDS or len(block) != CERT_WORDS + 1:
+        raise ValueError(f"auth_message needs {AUTH_NONCE_WORDS} nonce words and "
+                         f"{CERT_WORDS + 1} block words")
+    return struct.pack(f">{1 + len(nonce) + len(block)}H", MAP_VERSION, *nonce, *block)
+
+
+def auth_mac(key: bytes, nonce: Sequence[int], block: Sequence[int]) -> List[int]:
+    """HMAC-SHA256 of auth_message(nonce, block) under key, as the 16 words of ZW_REG_MAC."""
+    if not isinstance(key, (bytes, bytearray)) or len(key) != KEY_BYTES:
+        raise ValueError(f"key must be {KEY_BYTES} bytes (load_key(path))")
+    digest = hmac.new(bytes(key), auth_message(nonce, block), hashlib.sha256).digest()
+    return list(struct.unpack(">16H", digest))
 
 
 def reason_name(code: int) -> str:
@@ -482,7 +562,7 @@ class CommissionResult:
 
     accepted: the new block is sealed and the drive is back in operation (gains off, 0/0);
     reason / exception: as in GainResult, for the first refused step; stage: the step that
-    was refused ("unlock", "write", "seal") or "done"; crc: the CRC-16/MODBUS sent for the
+    was refused ("unlock", "write", "mac", "seal") or "done"; crc: the CRC-16/MODBUS sent for the
     block; aborted: after a refusal the client sent ABORT, so the drive went back to the
     last sealed block (and to operation)."""
 
@@ -582,6 +662,10 @@ class Drive:
             self.close()
             raise DriveError(f"{self.address} is not a zwidth drive of map version "
                              f"{MAP_VERSION} (magic 0x{head[0]:04X}, version {head[1]})")
+        if self._read(REG["WORD_ORDER"], 1)[0] != 0:
+            self.close()
+            raise DriveError(f"{self.address} sends floats low word first (CDAB); this client "
+                             f"speaks ABCD (zwidth-drive --word-order abcd)")
         return self
 
     def close(self) -> None:
@@ -754,7 +838,7 @@ class Drive:
         return GainResult(accepted=exc == 0, reason=reason, exception=exc, K=now.K, B=now.B)
 
     def command(self, name: str) -> int:
-        """Write one command ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT") to ZW_REG_COMMAND;
+        """Write one command ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT", "SAVE") to ZW_REG_COMMAND;
         returns the exception code (0 accepted).  ValueError for an unknown name."""
         if name not in CMD:
             raise ValueError(f"command must be one of {sorted(CMD)}, got {name!r}")
@@ -764,7 +848,7 @@ class Drive:
                    k_min: float, k_max: float, b_min: float, b_max: float,
                    dk_max: float, db_max: float, *, delay: int = 0,
                    velocity_filter: Any = None, differentiator: str = "backward",
-                   abort_on_refusal: bool = True) -> CommissionResult:
+                   abort_on_refusal: bool = True, key: Optional[bytes] = None) -> CommissionResult:
         """Install and seal a new certified block.
 
         m: mass [kg] or inertia J [kg m^2]; b: physical damping [N s/m or N m s/rad];
@@ -782,19 +866,25 @@ class Drive:
         (ZW_REASON_BAD_DELAY, _BAD_FILTER, _BAD_FILTER_PARAM, _BAD_DIFFERENTIATOR,
         _LOOP_NEVER_STABLE).
 
+        key: the drive's 32-byte commissioning key (``load_key(path)``; ValueError without
+        it).  The drive must also consent (its commissioning enable input), else the
+        unlock is refused with ZW_REASON_NO_CONSENT.
+
         Steps: UNLOCK1 and UNLOCK2 (two single writes in a row; the drive turns the output
-        off), the 30 block words and their CRC-16/MODBUS in one write-multiple request,
-        then SEAL (the drive checks the CRC and the policy and returns to operation with
-        the gains off).  The drive is the judge of the policy; the client only checks
+        off and publishes a fresh nonce), the 30 block words and their CRC-16/MODBUS in one
+        write-multiple request, the HMAC-SHA256 of nonce and block (auth_mac) in another,
+        then SEAL (the drive checks the CRC, the MAC and the policy and returns to
+        operation with the gains off).  The drive is the judge of the policy; the client only checks
         that every value can be sent (ValueError naming the argument otherwise).  If a
         step is refused and abort_on_refusal is true (default), ABORT is sent so the
         drive restores its last sealed block and returns to operation.
 
-        After an accepted SEAL the certified block, its CRC and the SEALED flag are read
-        back: another client could have replaced the staged block between our write and
-        SEAL (or re-commissioned right after), so DriveError (exception 0) naming the CRC
-        sent and the CRC the drive holds is raised unless the drive holds exactly the 30
-        words and CRC that were written and is sealed."""
+        After an accepted SEAL the mode, the SEALED flag, the certified block and its CRC
+        are read back: another client (holding the key) could have re-commissioned right
+        after, so DriveError (exception 0) naming the CRC sent and the CRC the drive holds
+        is raised unless the drive is in operation, sealed, with exactly the 30 words and
+        CRC that were written.  (A client without the key that changes the staged block
+        before our SEAL makes the SEAL fail the MAC: refused at "seal", ZW_REASON_AUTH.)"""
         vkind, vparam = _velocity_filter_fields(velocity_filter)
         if isinstance(delay, bool) or not isinstance(delay, numbers.Integral) or not 0 <= delay <= 8:
             raise ValueError(f"delay must be an integer in 0..8, got {delay!r}")
@@ -808,6 +898,9 @@ class Drive:
         for name in _CERT_FIELDS:
             words += float_to_words(values[name], name)
         crc = crc16_words(words)
+        if not isinstance(key, (bytes, bytearray)) or len(key) != KEY_BYTES:
+            raise ValueError(f"key must be the drive's {KEY_BYTES}-byte commissioning key "
+                             f"(load_key(path)), got {type(key).__name__}")
 
         def refused(stage: str, exc: int, abort: bool) -> CommissionResult:
             reason = self._refusal_reason(exc)
@@ -822,18 +915,23 @@ class Drive:
         exc = self.command("UNLOCK2")
         if exc:
             return refused("unlock", exc, False)
+        nonce = self._read(REG["NONCE"], AUTH_NONCE_WORDS)
+        mac = auth_mac(bytes(key), nonce, words + [crc])
         exc = self._write_many(REG["CERT_M"], words + [crc])
         if exc:
             return refused("write", exc, True)
+        exc = self._write_many(REG["MAC"], mac)
+        if exc:
+            return refused("mac", exc, True)
         exc = self.command("SEAL")
         if exc:
             return refused("seal", exc, True)
+        mode, sealed = self._read(REG["MODE"], 2)
         held = self._read(*_BLOCK_CERT)
-        sealed = self._read(REG["SEALED"], 1)[0]
-        if held != words + [crc] or sealed != 1:
+        if mode != 0 or held != words + [crc] or sealed != 1:
             raise DriveError(
-                f"zwidth drive at {self.address}: after SEAL the drive does not hold the "
-                f"block this client sent (another client wrote in between?): sent CRC "
-                f"0x{crc:04X}, drive holds CRC 0x{held[-1]:04X}"
+                f"zwidth drive at {self.address}: after SEAL the drive is not in operation "
+                f"with the block this client sent (another client commissioned after us?): "
+                f"MODE = {mode}, sent CRC 0x{crc:04X}, drive holds CRC 0x{held[-1]:04X}"
                 f"{'' if held[:-1] == words else ' over different words'}, SEALED = {sealed}")
         return CommissionResult(True, REASONS[0], 0, "done", crc, False)

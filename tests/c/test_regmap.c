@@ -56,13 +56,108 @@ static zw_device paper_device(void)
     return d;
 }
 
-/* A map sealed with c (the struct is filled with garbage first: init must set everything). */
+/* ---- the firmware's commissioning hooks, as a test double ---------------------------------
+ * The map has no crypto: it hands a message to the firmware's verify hook.  The double's
+ * "MAC" is a keyed FNV-1a per output byte (no security, only a function of key and message
+ * that these tests compute independently of the map); its RNG is a counter, so every
+ * nonce differs.  strict 0 (most tests, which test other things): any MAC verifies. */
+typedef struct test_auth {
+    unsigned char key[8];
+    uint32_t counter;
+    int strict, rng_fails;
+    unsigned calls;                            /* verify calls */
+    unsigned char last_msg[ZW_AUTH_MSG_BYTES]; /* what verify saw last */
+    size_t last_msg_len, last_mac_len;
+} test_auth;
+
+static void test_mac(const unsigned char key[8], const unsigned char *msg, size_t n,
+                     unsigned char mac[2u * ZW_AUTH_MAC_WORDS])
+{
+    size_t j, i;
+    for (j = 0; j < 2u * ZW_AUTH_MAC_WORDS; ++j) {
+        uint32_t h = 2166136261u ^ (uint32_t)j;
+        for (i = 0; i < 8u; ++i) h = (h ^ key[i]) * 16777619u;
+        for (i = 0; i < n; ++i) h = (h ^ msg[i]) * 16777619u;
+        mac[j] = (unsigned char)(h >> 24);
+    }
+}
+
+static bool test_random(void *ctx, uint_least8_t *out, size_t n)
+{
+    test_auth *a = ctx;
+    size_t i;
+    if (a->rng_fails) return false;
+    a->counter++;
+    for (i = 0; i < n; ++i) out[i] = (uint_least8_t)((a->counter * 2654435761u) >> (8u * (i % 4u)) ^ i);
+    return true;
+}
+
+static bool test_verify(void *ctx, const uint_least8_t *msg, size_t msg_len, const uint_least8_t *mac,
+                        size_t mac_len)
+{
+    test_auth *a = ctx;
+    unsigned char m[ZW_AUTH_MSG_BYTES], want[2u * ZW_AUTH_MAC_WORDS];
+    size_t i;
+    a->calls++;
+    a->last_msg_len = msg_len;
+    a->last_mac_len = mac_len;
+    if (msg_len != ZW_AUTH_MSG_BYTES || mac_len != sizeof want) return false;
+    for (i = 0; i < msg_len; ++i) m[i] = (unsigned char)msg[i];
+    memcpy(a->last_msg, m, sizeof m);
+    if (!a->strict) return true;
+    test_mac(a->key, m, sizeof m, want);
+    for (i = 0; i < sizeof want; ++i)
+        if ((unsigned char)mac[i] != want[i]) return false;
+    return true;
+}
+
+/* One double for every map of this file (tests run one at a time); reset by rm_init. */
+static test_auth g_auth;
+
+/* Factory ceilings that let every block of these tests through (tests of the ceilings set
+ * their own): no margin required, any plant, any bounds. */
+static zw_ceilings permissive_ceilings(void)
+{
+    zw_ceilings k;
+    k.sigma_max = 1.0f;
+    k.r_max = 1.0f;
+    k.m = J1;
+    k.b = B_SHORT;
+    k.T = T_20MS;
+    k.plant_tol = 1e30f;
+    k.k_min = -FLT_MAX;
+    k.k_max = FLT_MAX;
+    k.b_min = -FLT_MAX;
+    k.b_max = FLT_MAX;
+    k.dk_max = FLT_MAX;
+    k.db_max = FLT_MAX;
+    return k;
+}
+
+/* Consent on, the double's hooks and permissive ceilings: commissioning possible
+ * (power-up leaves it off). */
+static void allow_commissioning(zw_regmap *rm)
+{
+    zw_ceilings k = permissive_ceilings();
+    zw_regmap_auth hooks;
+    EXPECT_OK(zw_regmap_set_ceilings(rm, &k, NULL));
+    hooks.random = test_random;
+    hooks.verify = test_verify;
+    hooks.ctx = &g_auth;
+    zw_regmap_set_auth(rm, &hooks);
+    zw_regmap_set_consent(rm, true);
+}
+
+/* A map sealed with c (the struct is filled with garbage first: init must set everything),
+ * commissioning allowed with the trusting double. */
 static void rm_init(zw_regmap *rm, const zw_cert *c)
 {
     zw_reason why = ZW_REASON_CRC;
     memset(rm, 0xA5, sizeof *rm);
-    EXPECT_OK(zw_regmap_init(rm, c, &why));
-    assert_int_equal(why, ZW_REASON_NONE);
+    (void)zw_regmap_init(rm, c, &why);
+    assert_string_equal(zw_reason_name(why), "ZW_REASON_NONE");
+    memset(&g_auth, 0, sizeof g_auth);
+    allow_commissioning(rm);
 }
 
 /* ---- small helpers ------------------------------------------------------------------------ */
@@ -166,7 +261,8 @@ static void expect_outcome(outcome o, zw_mb_exception exc, zw_reason why, const 
 static const struct {
     uint_least16_t first, last;
 } k_mapped[] = {
-    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60},
+    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60}, {0x80, 0x83},
+    {0x88, 0x9F},
 };
 
 static bool is_mapped(unsigned addr)
@@ -424,7 +520,7 @@ static void test_init_sealed(void **state)
     (void)state;
     rm_init(&rm, &c);
     assert_int_equal(rd(&rm, ZW_REG_MAGIC), 0x5A57u);
-    assert_int_equal(rd(&rm, ZW_REG_VERSION), 2u);
+    assert_int_equal(rd(&rm, ZW_REG_VERSION), 3u);
     assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
     assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
     assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), 0u);
@@ -503,6 +599,7 @@ static void test_init_bad_policy(void **state)
         }
         memset(&rm, 0xA5, sizeof rm);
         EXPECT_TRUE_MSG(zw_regmap_init(&rm, &c, &why) == ZW_ERR_ARG, "case %d", n);
+        allow_commissioning(&rm);
         EXPECT_TRUE_MSG(why == ZW_REASON_BAD_POLICY, "case %d: %s", n, zw_reason_name(why));
         assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
         assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
@@ -588,11 +685,13 @@ static void test_access_map_writes(void **state)
         if (!is_mapped(a)) {
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_UNMAPPED);
-        } else if (a <= 0x09u || (a >= 0x20u && a <= 0x39u)) {
+        } else if (a <= 0x09u || (a >= 0x20u && a <= 0x39u) ||
+                   (a >= ZW_REG_CONSENT && a <= ZW_REG_WORD_ORDER) ||
+                   (a >= ZW_REG_NONCE && a < ZW_REG_MAC)) {
             /* read-only, whether one word or a whole (aligned) value is written */
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_READ_ONLY);
-            if ((a & 1u) == 0u && a >= 0x06u)
+            if ((a & 1u) == 0u && a >= 0x06u && a <= 0x39u)
                 EXPECT_REFUSED(&rm, write_words(&rm, addr, 2, w), ZW_MB_ILLEGAL_ADDRESS,
                                ZW_REASON_READ_ONLY);
         } else if (a >= 0x10u && a <= 0x13u) {
@@ -605,7 +704,7 @@ static void test_access_map_writes(void **state)
             if ((a & 1u) == 0u)
                 EXPECT_REFUSED(&rm, write_words(&rm, addr, 2, w), ZW_MB_ILLEGAL_ADDRESS,
                                ZW_REASON_LOCKED);
-        } else if (a == ZW_REG_CERT_CRC) {
+        } else if (a == ZW_REG_CERT_CRC || a >= ZW_REG_MAC) {
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_LOCKED);
         } else {
@@ -814,10 +913,27 @@ static void test_radius_rule(void **state)
             EXPECT_OK(zw_device_spectral_radius(&d, k_max0 * (zw_real)i / R(1000.0), R(0.0), &rho));
             if (rho < rho_min) rho_min = rho;
         }
+        /* ... and below every radius of the whole bounds box (a grid over K in (0, 0.6],
+         * B in [-0.01, 0.01]: the smallest stable radius there is about 0.2): no pair but
+         * (0, 0) could ever be accepted, so the block is refused (review A4) */
         c.r = (float)(R(0.5) * rho_min);
-        rm_init(&rm, &c);
-        assert_true(rdf(&rm, ZW_REG_LIVE_K_CERT) == 0.0f);
-        EXPECT_REFUSED(&rm, write_K(&rm, 0.05f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RADIUS);
+        {
+            zw_real grid_min = R(1.0);
+            zw_reason why = ZW_REASON_NONE;
+            int j;
+            zw_verdict v;
+            for (i = 1; i <= 60; ++i)
+                for (j = -40; j <= 40; ++j) {
+                    zw_real K = R(0.01) * (zw_real)i, B = R(0.00025) * (zw_real)j;
+                    if (zw_device_check(&d, K, B, &v) != ZW_OK || !v.stable) continue;
+                    EXPECT_OK(zw_device_spectral_radius(&d, K, B, &rho));
+                    if (rho < grid_min) grid_min = rho;
+                }
+            assert_true(grid_min > (zw_real)c.r * R(1.2));
+            assert_int_equal(zw_regmap_init(&rm, &c, &why), ZW_ERR_ARG);
+            assert_int_equal(why, ZW_REASON_ONLY_OFF);
+            assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+        }
     }
 }
 
@@ -840,8 +956,10 @@ static void test_output_off_and_counters(void **state)
     EXPECT_ACCEPTED(write_pair(&rm, 0.12f, 0.0f));
     EXPECT_ACCEPTED(write_pair(&rm, 0.3f, 0.0f));
     /* back to off in one write, although that step (0.3) is beyond dk_max (-0.0 is 0) */
-    EXPECT_ACCEPTED(write_pair(&rm, -0.0f, 0.0f));
-    assert_int_equal(rd32(&rm, ZW_REG_K), 0x80000000u); /* stored as written */
+    EXPECT_ACCEPTED(write_pair(&rm, -0.0f, -0.0f));
+    /* stored as +0.0 (review A2: an HMI comparing the words with 0 sees "off") */
+    assert_int_equal(rd32(&rm, ZW_REG_K), 0u);
+    assert_int_equal(rd32(&rm, ZW_REG_B), 0u);
     /* the same values again count as accepted */
     EXPECT_ACCEPTED(write_pair(&rm, 0.12f, 0.0f));
     EXPECT_ACCEPTED(write_pair(&rm, 0.12f, 0.0f));
@@ -1117,6 +1235,7 @@ static void test_commission_unsealed(void **state)
     unsigned i;
     (void)state;
     EXPECT_OK(zw_regmap_init(&rm, NULL, NULL));
+    allow_commissioning(&rm);
     EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_CERT_CRC, 1, block), ZW_MB_ILLEGAL_ADDRESS,
                    ZW_REASON_LOCKED);
     unlock(&rm);
@@ -1130,6 +1249,7 @@ static void test_commission_unsealed(void **state)
     EXPECT_ACCEPTED(write_pair(&rm, 0.4f, -1.36e-3f));
     /* ABORT on a drive that was never sealed leaves it unsealed */
     EXPECT_OK(zw_regmap_init(&rm, NULL, NULL));
+    allow_commissioning(&rm);
     unlock(&rm);
     EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
     EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
@@ -1205,7 +1325,7 @@ static void test_pdu_read(void **state)
     assert_int_equal(r.b[2], 0x5A);
     assert_int_equal(r.b[3], 0x57);
     assert_int_equal(r.b[4], 0x00);
-    assert_int_equal(r.b[5], 0x02); /* map version 2 */
+    assert_int_equal(r.b[5], 0x03); /* map version 3 */
     assert_int_equal(r.b[8], 0x00);
     assert_int_equal(r.b[9], 0x01); /* SEALED */
     EXPECT_ACCEPTED(write_pair(&rm, 0.25f, -0x1p-11f));
@@ -1468,7 +1588,13 @@ static void test_reason_names(void **state)
         ZWT_REASON(ZW_REASON_BAD_POLICY),   ZWT_REASON(ZW_REASON_FPENV),
         ZWT_REASON(ZW_REASON_BAD_DELAY),    ZWT_REASON(ZW_REASON_BAD_FILTER),
         ZWT_REASON(ZW_REASON_BAD_FILTER_PARAM), ZWT_REASON(ZW_REASON_BAD_DIFFERENTIATOR),
-        ZWT_REASON(ZW_REASON_LOOP_NEVER_STABLE),
+        ZWT_REASON(ZW_REASON_LOOP_NEVER_STABLE), ZWT_REASON(ZW_REASON_NO_CONSENT),
+        ZWT_REASON(ZW_REASON_RNG),          ZWT_REASON(ZW_REASON_AUTH),
+        ZWT_REASON(ZW_REASON_ABOVE_CEILING), ZWT_REASON(ZW_REASON_PLANT_MISMATCH),
+        ZWT_REASON(ZW_REASON_SUBNORMAL),    ZWT_REASON(ZW_REASON_ONLY_OFF),
+        ZWT_REASON(ZW_REASON_NO_CEILINGS),  ZWT_REASON(ZW_REASON_NO_STORAGE),
+        ZWT_REASON(ZW_REASON_STORAGE),      ZWT_REASON(ZW_REASON_IMAGE_FORMAT),
+        ZWT_REASON(ZW_REASON_IMAGE_CRC),
     };
     size_t i;
     (void)state;
@@ -1476,7 +1602,7 @@ static void test_reason_names(void **state)
         assert_int_equal((int)k[i].reason, (int)i);
         assert_string_equal(zw_reason_name(k[i].reason), k[i].spelled);
     }
-    assert_string_equal(zw_reason_name((zw_reason)27), "ZW_REASON_UNKNOWN");
+    assert_string_equal(zw_reason_name((zw_reason)ZWT_ARRAY_LEN(k)), "ZW_REASON_UNKNOWN");
     assert_string_equal(zw_reason_name((zw_reason)-1), "ZW_REASON_UNKNOWN");
 }
 
@@ -1604,6 +1730,7 @@ static void test_active_gains(void **state)
     EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
     /* unsealed: off */
     EXPECT_OK(zw_regmap_init(&rm, NULL, NULL));
+    allow_commissioning(&rm);
     EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
     /* errors: every output that exists reads "off" */
     EXPECT_STATUS(zw_regmap_active_gains(NULL, &K, &B), ZW_ERR_NULL);
@@ -1726,6 +1853,7 @@ static void test_fpenv_refuses_seal(void **state)
     if (fesetround(FE_UPWARD) != 0) skip();
     selftest_broken = zw_selftest();
     init_st = zw_regmap_init(&rm, &c, &why);
+    allow_commissioning(&rm);
     assert_int_equal(fesetround(FE_TONEAREST), 0);
     EXPECT_STATUS(selftest_broken, ZW_ERR_FPENV);
     EXPECT_STATUS(init_st, ZW_ERR_FPENV);
@@ -1874,6 +2002,621 @@ static void test_loop_block_certifies_the_real_loop(void **state)
     EXPECT_ACCEPTED(write_pair(&rm, 0.5f * rdf(&rm, ZW_REG_LIVE_K_CERT), 0.0f));
 }
 
+/* ---- consent and authentication (map version 3; review 2026-12, A3 and A4) --------------- */
+
+/* The message a client MACs, built here from the documented layout (regmap_commission.h):
+ * the map version, the nonce words, the 30 block words and the CRC, high byte first. */
+static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t block[31],
+                             unsigned char msg[ZW_AUTH_MSG_BYTES])
+{
+    size_t i, n = 0;
+    msg[n++] = 0x00;
+    msg[n++] = 0x03;
+    for (i = 0; i < 8; ++i) {
+        msg[n++] = (unsigned char)(nonce[i] >> 8);
+        msg[n++] = (unsigned char)(nonce[i] & 0xFFu);
+    }
+    for (i = 0; i < 31; ++i) {
+        msg[n++] = (unsigned char)(block[i] >> 8);
+        msg[n++] = (unsigned char)(block[i] & 0xFFu);
+    }
+    assert_int_equal(n, ZW_AUTH_MSG_BYTES);
+}
+
+/* A commissioning client in commissioning mode: stages block (with its CRC) and the MAC
+ * under key over this session's nonce (read from the map), or the given mac_words when
+ * not NULL (a replay); returns the SEAL's outcome. */
+static outcome client_seal(zw_regmap *rm, const uint_least16_t block[31], const unsigned char key[8],
+                           const uint_least16_t *mac_words, uint_least16_t mac_out[16])
+{
+    uint_least16_t nonce[8], macw[16];
+    unsigned char msg[ZW_AUTH_MSG_BYTES], mac[32];
+    size_t i;
+    assert_int_equal(zw_regmap_read(rm, ZW_REG_NONCE, 8, nonce, NULL), ZW_MB_OK);
+    ref_auth_message(nonce, block, msg);
+    test_mac(key, msg, sizeof msg, mac);
+    for (i = 0; i < 16; ++i)
+        macw[i] = mac_words != NULL ? mac_words[i]
+                                    : (uint_least16_t)(((unsigned)mac[2 * i] << 8) | mac[2 * i + 1]);
+    if (mac_out != NULL) memcpy(mac_out, macw, sizeof macw);
+    EXPECT_ACCEPTED(write_words(rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
+    EXPECT_ACCEPTED(write_words(rm, ZW_REG_MAC, 16, macw));
+    return command(rm, ZW_CMD_SEAL);
+}
+
+/* The lying block of the review (A3): the plant's inertia doubled, no margin, no step limit. */
+static zw_cert lying_cert(void)
+{
+    zw_cert c = paper_cert();
+    c.m = 2.0f * J1;
+    c.k_max = 1e6f;
+    c.b_min = -1e3f;
+    c.b_max = 1e3f;
+    c.dk_max = 1e6f;
+    c.db_max = 1e3f;
+    return c;
+}
+
+static const unsigned char k_key[8] = {0x13, 0x57, 0x9B, 0xDF, 0x02, 0x46, 0x8A, 0xCE};
+
+/* Power-up: no consent, no hooks.  The unlock codes alone get nobody in. */
+static void test_commission_needs_consent(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    (void)state;
+    memset(&rm, 0xA5, sizeof rm);
+    EXPECT_OK(zw_regmap_init(&rm, &c, NULL));
+    assert_int_equal(rd(&rm, ZW_REG_CONSENT), 0u);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK1), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CONSENT);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    memset(&g_auth, 0, sizeof g_auth);
+    allow_commissioning(&rm);
+    zw_regmap_set_consent(&rm, false); /* hooks but no consent: still closed */
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK1), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CONSENT);
+    zw_regmap_set_consent(&rm, true);
+    assert_int_equal(rd(&rm, ZW_REG_CONSENT), 1u);
+    /* consent withdrawn between UNLOCK1 and UNLOCK2 */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    zw_regmap_set_consent(&rm, false);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CONSENT);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    /* and during the session: SEAL refused even with the right key; ABORT still leaves */
+    zw_regmap_set_consent(&rm, true);
+    g_auth.strict = 1;
+    memcpy(g_auth.key, k_key, sizeof k_key);
+    unlock(&rm);
+    zw_regmap_set_consent(&rm, false);
+    {
+        uint_least16_t block[31];
+        zw_cert lie = lying_cert();
+        block_words(&lie, block);
+        EXPECT_OUTCOME(client_seal(&rm, block, k_key, NULL, NULL), ZW_MB_ILLEGAL_VALUE,
+                       ZW_REASON_NO_CONSENT);
+    }
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_true(rdf(&rm, ZW_REG_CERT_M) == J1);
+}
+
+/* Without the firmware's hooks, or with an RNG that fails, UNLOCK2 changes nothing. */
+static void test_commission_needs_rng(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    zw_regmap_auth half;
+    (void)state;
+    EXPECT_OK(zw_regmap_init(&rm, &c, NULL));
+    zw_regmap_set_consent(&rm, true);
+    {
+        zw_ceilings k = permissive_ceilings();
+        EXPECT_OK(zw_regmap_set_ceilings(&rm, &k, NULL));
+    }
+    EXPECT_ACCEPTED(write_pair(&rm, 0.25f, 0.0f));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RNG);
+    EXPECT_ACTIVE(&rm, 0.25f, 0.0f); /* the output stayed on: nothing happened */
+    half.random = test_random;
+    half.verify = NULL; /* a verify hook is required too */
+    half.ctx = &g_auth;
+    zw_regmap_set_auth(&rm, &half);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RNG);
+    memset(&g_auth, 0, sizeof g_auth);
+    allow_commissioning(&rm);
+    g_auth.rng_fails = 1;
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_RNG);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    EXPECT_ACTIVE(&rm, 0.25f, 0.0f);
+    zw_regmap_set_auth(NULL, &half); /* no-ops */
+    zw_regmap_set_consent(NULL, true);
+}
+
+/* The review's attack (A3) with consent on: public codes, layout and CRC are not enough. */
+static void test_lying_block_needs_key(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert(), lie = lying_cert();
+    uint_least16_t block[31], zeros[16] = {0};
+    unsigned char wrong[8];
+    unsigned char msg[ZW_AUTH_MSG_BYTES];
+    uint_least16_t nonce[8];
+    (void)state;
+    rm_init(&rm, &c);
+    g_auth.strict = 1;
+    memcpy(g_auth.key, k_key, sizeof k_key);
+    block_words(&lie, block);
+    unlock(&rm);
+    /* no MAC at all (the registers read 0 after UNLOCK2) */
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_AUTH);
+    /* a MAC under another key */
+    memcpy(wrong, k_key, sizeof wrong);
+    wrong[7] ^= 1u;
+    EXPECT_OUTCOME(client_seal(&rm, block, wrong, NULL, NULL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_AUTH);
+    EXPECT_OUTCOME(client_seal(&rm, block, k_key, zeros, NULL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_AUTH);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_true(rdf(&rm, ZW_REG_CERT_M) == J1); /* the true plant is still sealed */
+    /* the key holder's SEAL goes through, and the hook saw exactly the documented message */
+    unlock(&rm);
+    c.sigma = 0.9f;
+    block_words(&c, block);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce, NULL), ZW_MB_OK);
+    EXPECT_ACCEPTED(client_seal(&rm, block, k_key, NULL, NULL));
+    ref_auth_message(nonce, block, msg);
+    assert_int_equal(g_auth.last_msg_len, ZW_AUTH_MSG_BYTES);
+    assert_int_equal(g_auth.last_mac_len, 32u);
+    assert_memory_equal(g_auth.last_msg, msg, sizeof msg);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.9f);
+}
+
+/* A recorded session replayed later fails: every UNLOCK2 draws a fresh nonce, and the
+ * nonce and MAC registers are cleared when the session ends.  Within a session a refused
+ * SEAL changes nothing, so the key holder may retry. */
+static void test_replay_refused(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t block[31], mac1[16], nonce1[8], nonce2[8], w[16];
+    size_t i;
+    (void)state;
+    rm_init(&rm, &c);
+    g_auth.strict = 1;
+    memcpy(g_auth.key, k_key, sizeof k_key);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, w, NULL), ZW_MB_OK);
+    for (i = 0; i < 8; ++i) assert_int_equal(w[i], 0u); /* no session: no nonce */
+    c.sigma = 0.5f;
+    block_words(&c, block);
+    unlock(&rm);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce1, NULL), ZW_MB_OK);
+    EXPECT_ACCEPTED(client_seal(&rm, block, k_key, NULL, mac1));
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_MAC, 16, w, NULL), ZW_MB_OK);
+    for (i = 0; i < 16; ++i) assert_int_equal(w[i], 0u);
+    /* the attacker replays the recorded block and MAC in a new session */
+    unlock(&rm);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce2, NULL), ZW_MB_OK);
+    assert_memory_not_equal(nonce1, nonce2, sizeof nonce1);
+    EXPECT_OUTCOME(client_seal(&rm, block, k_key, mac1, NULL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_AUTH);
+    /* the key holder, same session, same nonce: accepted */
+    EXPECT_ACCEPTED(client_seal(&rm, block, k_key, NULL, NULL));
+    /* ABORT ends a session too: its nonce is gone, the next one is new */
+    unlock(&rm);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce1, NULL), ZW_MB_OK);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, w, NULL), ZW_MB_OK);
+    for (i = 0; i < 8; ++i) assert_int_equal(w[i], 0u);
+    unlock(&rm);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce2, NULL), ZW_MB_OK);
+    assert_memory_not_equal(nonce1, nonce2, sizeof nonce1);
+    /* the MAC registers are locked outside commissioning */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_MAC, 16, mac1), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_NONCE, 8, nonce1), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_READ_ONLY);
+}
+
+static void test_auth_message_layout(void **state)
+{
+    uint_least16_t nonce[8], block[31];
+    uint_least8_t msg[ZW_AUTH_MSG_BYTES];
+    unsigned char ref[ZW_AUTH_MSG_BYTES], got[ZW_AUTH_MSG_BYTES];
+    size_t i;
+    (void)state;
+    for (i = 0; i < 8; ++i) nonce[i] = (uint_least16_t)(0xA100u + i);
+    for (i = 0; i < 31; ++i) block[i] = (uint_least16_t)(0x0100u * i + 0xFFu - i);
+    zw_regmap_auth_message(nonce, block, msg);
+    ref_auth_message(nonce, block, ref);
+    for (i = 0; i < sizeof got; ++i) got[i] = (unsigned char)msg[i];
+    assert_memory_equal(got, ref, sizeof ref);
+    zw_regmap_auth_message(NULL, block, msg); /* no-ops */
+    zw_regmap_auth_message(nonce, NULL, msg);
+    zw_regmap_auth_message(nonce, block, NULL);
+}
+
+/* ---- factory ceilings and unusable blocks (review A3, A4, A2) ----------------------------- */
+
+static zw_ceilings factory_ceilings(void)
+{
+    zw_ceilings k;
+    k.sigma_max = 0.9f;
+    k.r_max = 0.999f;
+    k.m = J1;
+    k.b = B_SHORT;
+    k.T = T_20MS;
+    k.plant_tol = 0.05f;
+    k.k_min = 0.0f;
+    k.k_max = 10.0f;
+    k.b_min = -0.01f;
+    k.b_max = 0.01f;
+    k.dk_max = 1.0f;
+    k.db_max = 0.01f;
+    return k;
+}
+
+/* The key holder commissions c on a map with the factory's ceilings; the SEAL's outcome. */
+static outcome keyed_seal(zw_regmap *rm, const zw_cert *c)
+{
+    uint_least16_t block[31];
+    block_words(c, block);
+    unlock(rm);
+    return client_seal(rm, block, k_key, NULL, NULL);
+}
+
+static void test_factory_ceilings(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert(), x;
+    zw_ceilings k = factory_ceilings(), bad;
+    zw_reason why = ZW_REASON_NONE;
+    (void)state;
+    c.sigma = 0.8f;
+    c.r = 0.999f;
+    EXPECT_OK(zw_regmap_init(&rm, &c, NULL));
+    memset(&g_auth, 0, sizeof g_auth);
+    g_auth.strict = 1;
+    memcpy(g_auth.key, k_key, sizeof k_key);
+    {
+        zw_regmap_auth hooks = {test_random, test_verify, &g_auth};
+        zw_regmap_set_auth(&rm, &hooks);
+    }
+    zw_regmap_set_consent(&rm, true);
+    /* no ceilings: no commissioning at all */
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CEILINGS);
+    /* invalid ceilings change nothing */
+    bad = k;
+    bad.sigma_max = 0.0f;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &bad, &why), ZW_ERR_ARG);
+    bad = k;
+    bad.m = (float)NAN;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &bad, &why), ZW_ERR_ARG);
+    bad = k;
+    bad.plant_tol = -1.0f;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &bad, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BAD_POLICY);
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, NULL, &why), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_regmap_set_ceilings(NULL, &k, &why), ZW_ERR_NULL);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_UNLOCK1));
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_UNLOCK2), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CEILINGS);
+    EXPECT_OK(zw_regmap_set_ceilings(&rm, &k, &why));
+    assert_int_equal(why, ZW_REASON_NONE);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+    /* the review's lie (inertia x2) with the key: the nameplate refuses it */
+    x = c;
+    x.m = 2.0f * J1;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_PLANT_MISMATCH);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    x = c;
+    x.T = 2.0f * T_20MS;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_PLANT_MISMATCH);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    x = c;
+    x.b = 1.06f * B_SHORT;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_PLANT_MISMATCH);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    /* margins and limits: sigma 1, r 1, wider bounds, no step limit */
+    {
+        static const unsigned fields[] = {3, 4, 5, 6, 7, 8, 9, 10};
+        static const float values[] = {1.0f, 1.0f, -1.0f, 10.5f, -0.02f, 0.02f, 1e30f, 1.0f};
+        size_t i;
+        for (i = 0; i < ZWT_ARRAY_LEN(fields); ++i) {
+            x = c;
+            zw_cert_set_field(&x, fields[i], values[i]);
+            if (fields[i] == 5) x.dk_max = 1.0f; /* k_min -1 stays reachable */
+            EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_ABOVE_CEILING);
+            EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+        }
+    }
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.8f); /* the power-up block is still in force */
+    /* tightening is fine, and a plant within the tolerance */
+    x = c;
+    x.m = 1.04f * J1;
+    x.k_max = 5.0f;
+    x.sigma = 0.9f;
+    x.dk_max = 0.5f;
+    EXPECT_ACCEPTED(keyed_seal(&rm, &x));
+    assert_true(rdf(&rm, ZW_REG_CERT_K_MAX) == 5.0f);
+    /* ceilings the block in force exceeds: unsealed at once, output off */
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, 0.0f));
+    bad = k;
+    bad.sigma_max = 0.85f;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &bad, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_ABOVE_CEILING);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.1f, 0.0f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+}
+
+/* m = 3e38: the float build refuses the plant itself (zw_device_init), the double build
+ * forms it and finds no usable pair. */
+#ifdef ZW_REAL_FLOAT
+#define M_3E38_REASON ZW_REASON_BAD_POLICY
+#else
+#define M_3E38_REASON ZW_REASON_ONLY_OFF
+#endif
+
+/* Blocks the review sealed although they are unusable: float-subnormal fields, and plants
+ * under which no pair but (0, 0) passes (m = 3e38: K_max is 0 everywhere in the bounds). */
+static void test_unusable_blocks_refused(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert(), x;
+    zw_reason why = ZW_REASON_NONE;
+    (void)state;
+    x = c;
+    x.m = 1e-40f; /* a float subnormal (normal as a double) */
+    assert_true(x.m > 0.0f && x.m < FLT_MIN);
+    assert_int_equal(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_SUBNORMAL);
+    x = c;
+    x.dk_max = 1.4e-45f;
+    assert_int_equal(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_SUBNORMAL);
+    x = c;
+    x.m = 3e38f;
+    assert_int_equal(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, M_3E38_REASON);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+    /* over Modbus too (ceilings that admit any m up to 6e38), and the block in force stays */
+    rm_init(&rm, &c);
+    {
+        zw_ceilings k = permissive_ceilings();
+        k.m = 3e38f;
+        k.plant_tol = 1.0f;
+        EXPECT_OK(zw_regmap_set_ceilings(&rm, &k, NULL));
+    }
+    x = c;
+    x.m = 3e38f;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, M_3E38_REASON);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_true(rdf(&rm, ZW_REG_CERT_M) == J1);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, 0.0f));
+    /* -0.0 in a field is stored as +0.0 */
+    x = c;
+    x.k_min = -0.0f;
+    x.differentiator = -0.0f;
+    EXPECT_ACCEPTED(keyed_seal(&rm, &x));
+    assert_int_equal(rd32(&rm, ZW_REG_CERT_K_MIN), 0u);
+    assert_int_equal(rd32(&rm, ZW_REG_CERT_DIFF), 0u);
+}
+
+/* ---- persistence: SAVE, and the image checked at power-up ------------------------------- */
+
+typedef struct test_store {
+    int fails, calls;
+    unsigned char image[ZW_IMAGE_BYTES];
+    size_t len;
+} test_store;
+
+static bool test_save(void *ctx, const uint_least8_t *image, size_t len)
+{
+    test_store *st = ctx;
+    size_t i;
+    st->calls++;
+    if (st->fails || len != ZW_IMAGE_BYTES) return false;
+    for (i = 0; i < len; ++i) st->image[i] = (unsigned char)image[i];
+    st->len = len;
+    return true;
+}
+
+/* The documented image (regmap_persist.h), built here: magic, format, block + CRC, K, B,
+ * CRC of the 38 words before it. */
+static void ref_image(const zw_cert *c, float K, float B, unsigned format,
+                      unsigned char img[ZW_IMAGE_BYTES])
+{
+    uint_least16_t w[39];
+    size_t i;
+    w[0] = 0x5A57u;
+    w[1] = 0x4E56u;
+    w[2] = (uint_least16_t)format;
+    block_words(c, &w[3]);
+    words_of(K, &w[34]);
+    words_of(B, &w[36]);
+    w[38] = ref_crc_words(w, 38);
+    for (i = 0; i < 39; ++i) {
+        img[2 * i] = (unsigned char)(w[i] >> 8);
+        img[2 * i + 1] = (unsigned char)(w[i] & 0xFFu);
+    }
+}
+
+/* A drive at power-up: the paper's block with sigma 0.8, factory ceilings, gains off. */
+static void fresh_drive(zw_regmap *rm)
+{
+    zw_cert c = paper_cert();
+    zw_ceilings k = factory_ceilings();
+    c.sigma = 0.8f;
+    c.r = 0.999f;
+    memset(rm, 0xA5, sizeof *rm);
+    EXPECT_OK(zw_regmap_init(rm, &c, NULL));
+    EXPECT_OK(zw_regmap_set_ceilings(rm, &k, NULL));
+}
+
+static zw_status restore_bytes(zw_regmap *rm, const unsigned char *a, size_t alen,
+                               const unsigned char *b, size_t blen, zw_reason *why)
+{
+    uint_least8_t x[ZW_IMAGE_BYTES + 1], y[ZW_IMAGE_BYTES + 1];
+    size_t i;
+    for (i = 0; i < alen && i < sizeof x; ++i) x[i] = a[i];
+    for (i = 0; i < blen && i < sizeof y; ++i) y[i] = b[i];
+    return zw_regmap_restore(rm, a != NULL ? x : NULL, alen, b != NULL ? y : NULL, blen, why);
+}
+
+static void test_save_is_separate_and_checked(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    test_store st;
+    zw_regmap_storage hook;
+    unsigned char want[ZW_IMAGE_BYTES];
+    (void)state;
+    c.sigma = 0.8f;
+    c.r = 0.999f;
+    rm_init(&rm, &c);
+    memset(&st, 0, sizeof st);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, -5e-4f)); /* applied, not saved */
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SAVE), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_STORAGE);
+    hook.save = test_save;
+    hook.ctx = &st;
+    zw_regmap_set_storage(&rm, &hook);
+    st.fails = 1;
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SAVE), ZW_MB_ILLEGAL_VALUE, ZW_REASON_STORAGE);
+    st.fails = 0;
+    zw_regmap_set_consent(&rm, false);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SAVE), ZW_MB_ILLEGAL_VALUE, ZW_REASON_NO_CONSENT);
+    zw_regmap_set_consent(&rm, true);
+    assert_int_equal(st.calls, 1);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SAVE));
+    ref_image(&c, 0.2f, -5e-4f, ZW_IMAGE_FORMAT, want);
+    assert_int_equal(st.len, ZW_IMAGE_BYTES);
+    assert_memory_equal(st.image, want, sizeof want);
+    unlock(&rm);
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SAVE), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BAD_COMMAND);
+    zw_regmap_set_storage(NULL, &hook); /* no-op */
+}
+
+/* Saved settings survive a restart, and a corrupted image never applies anything. */
+static void test_restore_checks_everything(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert(), wide;
+    unsigned char good[ZW_IMAGE_BYTES], bad[ZW_IMAGE_BYTES], older[ZW_IMAGE_BYTES];
+    zw_reason why = ZW_REASON_NONE;
+    size_t bit;
+    (void)state;
+    c.sigma = 0.75f; /* a block other than the power-up one */
+    c.r = 0.999f;
+    ref_image(&c, 0.2f, -5e-4f, ZW_IMAGE_FORMAT, good);
+    /* no image: nothing done */
+    fresh_drive(&rm);
+    EXPECT_OK(zw_regmap_restore(&rm, NULL, 0, NULL, 0, &why));
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_SOURCE), 0u);
+    /* the restart: block and gains back */
+    fresh_drive(&rm);
+    EXPECT_OK(restore_bytes(&rm, good, sizeof good, NULL, 0, &why));
+    assert_int_equal(why, ZW_REASON_NONE);
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_SOURCE), 1u);
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.75f);
+    EXPECT_ACTIVE(&rm, 0.2f, -5e-4f);
+    assert_int_equal(rd32(&rm, ZW_REG_ACCEPTED), 0u);
+    /* truncated, or one byte longer */
+    fresh_drive(&rm);
+    EXPECT_STATUS(restore_bytes(&rm, good, sizeof good - 1u, NULL, 0, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_IMAGE_FORMAT);
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_REASON), ZW_REASON_IMAGE_FORMAT);
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.8f); /* the power-up block, gains off */
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    /* every single flipped bit */
+    for (bit = 0; bit < 8u * sizeof good; ++bit) {
+        memcpy(bad, good, sizeof bad);
+        bad[bit / 8u] ^= (unsigned char)(1u << (bit % 8u));
+        fresh_drive(&rm);
+        EXPECT_STATUS(restore_bytes(&rm, bad, sizeof bad, NULL, 0, &why), ZW_ERR_ARG);
+        assert_true(why == ZW_REASON_IMAGE_CRC || why == ZW_REASON_IMAGE_FORMAT);
+        assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.8f);
+        EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    }
+    /* an older format, with a valid CRC */
+    ref_image(&c, 0.2f, -5e-4f, ZW_IMAGE_FORMAT - 1u, older);
+    fresh_drive(&rm);
+    EXPECT_STATUS(restore_bytes(&rm, older, sizeof older, NULL, 0, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_IMAGE_FORMAT);
+    /* the newest bad: the last good one */
+    memcpy(bad, good, sizeof bad);
+    bad[40] ^= 0x10u;
+    fresh_drive(&rm);
+    EXPECT_OK(restore_bytes(&rm, bad, sizeof bad, good, sizeof good, &why));
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_SOURCE), 2u);
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_REASON), ZW_REASON_IMAGE_CRC);
+    EXPECT_ACTIVE(&rm, 0.2f, -5e-4f);
+    /* CRCs right, but the block beyond the factory ceilings: refused like a SEAL */
+    wide = c;
+    wide.sigma = 1.0f;
+    ref_image(&wide, 0.2f, -5e-4f, ZW_IMAGE_FORMAT, bad);
+    fresh_drive(&rm);
+    EXPECT_STATUS(restore_bytes(&rm, bad, sizeof bad, NULL, 0, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_ABOVE_CEILING);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    /* CRCs right, block fine, gains not certified (above sigma K_max): block only */
+    ref_image(&c, 0.45f, -1.36e-3f, ZW_IMAGE_FORMAT, bad);
+    fresh_drive(&rm);
+    EXPECT_OK(restore_bytes(&rm, bad, sizeof bad, NULL, 0, &why));
+    assert_int_equal(why, ZW_REASON_ABOVE_SIGMA);
+    assert_int_equal(rd(&rm, ZW_REG_RESTORE_SOURCE), 1u);
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.75f);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    EXPECT_STATUS(zw_regmap_restore(NULL, NULL, 0, NULL, 0, &why), ZW_ERR_NULL);
+}
+
+/* CDAB: every two-register value low word first on the wire; CRC and MAC over the
+ * canonical (ABCD) words. */
+static void test_word_order_cdab(void **state)
+{
+    zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t w[4], ref[4], block[31], swapped[31];
+    size_t i;
+    (void)state;
+    rm_init(&rm, &c);
+    assert_int_equal(rd(&rm, ZW_REG_WORD_ORDER), 0u);
+    zw_regmap_set_word_order(&rm, 7u); /* not an order: no-op */
+    zw_regmap_set_word_order(&rm, ZW_WORD_ORDER_CDAB);
+    assert_int_equal(rd(&rm, ZW_REG_WORD_ORDER), 1u);
+    assert_int_equal(rd(&rm, ZW_REG_MAGIC), 0x5A57u); /* one-word registers as they are */
+    words_of(0.25f, &ref[0]);
+    words_of(-5e-4f, &ref[2]);
+    w[0] = ref[1], w[1] = ref[0], w[2] = ref[3], w[3] = ref[2];
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_K, 4, w));
+    {
+        float K = 1.0f, B = 1.0f;
+        EXPECT_OK(zw_regmap_active_gains(&rm, &K, &B));
+        assert_true(K == 0.25f && B == -5e-4f);
+    }
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_K, 4, w, NULL), ZW_MB_OK);
+    assert_true(w[0] == ref[1] && w[1] == ref[0] && w[2] == ref[3] && w[3] == ref[2]);
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_ACCEPTED, 2, w, NULL), ZW_MB_OK);
+    assert_true(w[0] == 1u && w[1] == 0u); /* the counter 1, low word first */
+    /* commissioning: floats swapped on the wire, CRC over the canonical words */
+    c.sigma = 0.7f;
+    block_words(&c, block);
+    for (i = 0; i < 30; i += 2) {
+        swapped[i] = block[i + 1];
+        swapped[i + 1] = block[i];
+    }
+    swapped[30] = block[30];
+    unlock(&rm);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, 31, swapped));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SEAL));
+    assert_int_equal(zw_regmap_read(&rm, ZW_REG_CERT_SIGMA, 2, w, NULL), ZW_MB_OK);
+    words_of(0.7f, ref);
+    assert_true(w[0] == ref[1] && w[1] == ref[0]);
+    assert_int_equal(rd(&rm, ZW_REG_CERT_CRC), block[30]);
+    /* a read that starts inside a value gets its second word on the wire */
+    assert_int_equal(rd(&rm, ZW_REG_CERT_SIGMA + 1), ref[0]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1897,6 +2640,16 @@ int main(void)
         cmocka_unit_test(test_live_registers),
         cmocka_unit_test(test_state_registers),
         cmocka_unit_test(test_unlock_sequence),
+        cmocka_unit_test(test_commission_needs_consent),
+        cmocka_unit_test(test_commission_needs_rng),
+        cmocka_unit_test(test_lying_block_needs_key),
+        cmocka_unit_test(test_replay_refused),
+        cmocka_unit_test(test_auth_message_layout),
+        cmocka_unit_test(test_factory_ceilings),
+        cmocka_unit_test(test_unusable_blocks_refused),
+        cmocka_unit_test(test_save_is_separate_and_checked),
+        cmocka_unit_test(test_restore_checks_everything),
+        cmocka_unit_test(test_word_order_cdab),
         cmocka_unit_test(test_seal),
         cmocka_unit_test(test_commission_unsealed),
         cmocka_unit_test(test_pdu_read),

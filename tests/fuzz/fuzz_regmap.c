@@ -45,9 +45,18 @@
  *   - a sealed block in operation mode has a valid CRC (computed here independently) and a
  *     valid policy; commissioning mode has the output off; magic, version, flags and the
  *     command register read as documented.
+ *   - commissioning (map v3): the map consents and has hooks; the RNG hands out a counter
+ *     (never 0), and the verify hook accepts exactly the MACs whose first word is 0x600D
+ *     (FUZZ_MAC_OK: a rule the fuzzer can find, so both verdicts are explored; the real
+ *     MAC is the hosts' business).  The hook must see an 80-byte message that starts with
+ *     the map version and carries the session's nonce; NONCE and MAC read 0 in operation,
+ *     the nonce is non-zero and fixed for a whole session, and a SEAL that installs a
+ *     block (commissioning -> operation with another sealed block) happened only after a
+ *     verify that said yes.
  * Snapshots are taken with zw_regmap_read on a copy of the map (reads are requests: on the
  * real map a refused read would bump the refusal registers).
  */
+#include <float.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
@@ -90,6 +99,63 @@ static const zw_cert paper_block = {
     1.0f, 0.0f, 0.0f, 0.0f       /* the loop: delay 1, no filter, backward difference */
 };
 
+/* The factory ceilings of the fuzzed map: every sealed block must stay within them. */
+static const zw_ceilings fuzz_ceilings = {
+    0.95f, 1.0f,                         /* sigma_max, r_max */
+    8.578e-6f, 2.197e-3f, 0.02f, 0.25f,  /* nameplate m, b, T and tolerance */
+    0.0f, 1.0f, -0.01f, 0.01f,           /* widest K and B bounds */
+    0.5f, 5e-3f                          /* largest steps */
+};
+
+/* ---------------------------------------------------------------------------------------
+ * Commissioning hooks (fuzz doubles)
+ * ------------------------------------------------------------------------------------- */
+
+#define FUZZ_MAC_OK 0x600Du
+
+static uint32_t g_nonce_counter;
+static int g_verify_said_yes;       /* the last verify call of this request said yes */
+static uint16_t g_session_nonce[ZW_AUTH_NONCE_WORDS];
+
+NO_COV static bool fuzz_random(void *ctx, uint_least8_t *out, size_t n)
+{
+    (void)ctx;
+    g_nonce_counter++;
+    for (size_t i = 0; i < n; i++)
+        out[i] = (uint_least8_t)((i < 4 ? g_nonce_counter >> (8 * i) : 0xA5u ^ i) & 0xFFu);
+    return true;
+}
+
+NO_COV static bool fuzz_verify(void *ctx, const uint_least8_t *msg, size_t msg_len,
+                               const uint_least8_t *mac, size_t mac_len)
+{
+    (void)ctx;
+    CHECK(msg_len == ZW_AUTH_MSG_BYTES && mac_len == 2 * ZW_AUTH_MAC_WORDS, "verify got %zu, %zu bytes",
+          msg_len, mac_len);
+    CHECK(((unsigned)msg[0] << 8 | msg[1]) == ZW_REGMAP_VERSION, "message does not start with the version");
+    for (unsigned i = 0; i < ZW_AUTH_NONCE_WORDS; i++)
+        CHECK(((unsigned)msg[2 + 2 * i] << 8 | msg[3 + 2 * i]) == g_session_nonce[i],
+              "message nonce word %u is not the session's", i);
+    g_verify_said_yes = ((unsigned)mac[0] << 8 | mac[1]) == FUZZ_MAC_OK;
+    return g_verify_said_yes != 0;
+}
+
+static uint16_t crc16_modbus_words(const uint16_t *w, size_t n);
+
+/* SAVE's storage: the image must be whole, of the documented format, with a valid CRC. */
+NO_COV static bool fuzz_save(void *ctx, const uint_least8_t *image, size_t len)
+{
+    (void)ctx;
+    CHECK(len == ZW_IMAGE_BYTES, "image of %zu bytes", len);
+    uint_least16_t w[ZW_IMAGE_WORDS];
+    for (unsigned i = 0; i < ZW_IMAGE_WORDS; i++) w[i] = (uint_least16_t)(image[2 * i] << 8 | image[2 * i + 1]);
+    CHECK(w[0] == 0x5A57u && w[1] == 0x4E56u && w[2] == ZW_IMAGE_FORMAT, "image header");
+    uint16_t w16[ZW_IMAGE_WORDS];
+    for (unsigned i = 0; i < ZW_IMAGE_WORDS; i++) w16[i] = (uint16_t)w[i];
+    CHECK(crc16_modbus_words(w16, ZW_IMAGE_WORDS - 1) == w16[ZW_IMAGE_WORDS - 1], "image CRC");
+    return true;
+}
+
 /* ---------------------------------------------------------------------------------------
  * Register snapshots
  * ------------------------------------------------------------------------------------- */
@@ -102,7 +168,8 @@ typedef struct snapshot {
 static const struct { uint16_t addr, count; bool must; } blocks[] = {
     {ZW_REG_MAGIC, 10, true},   {ZW_REG_K, 4, true},          {ZW_REG_LIVE_K_MAX, 16, true},
     {ZW_REG_STATE_X, 10, true},  {ZW_REG_CERT_M, ZW_CERT_WORDS + 1, false},
-    {ZW_REG_COMMAND, 1, false},
+    {ZW_REG_COMMAND, 1, false}, {ZW_REG_CONSENT, 4, true},
+    {ZW_REG_NONCE, ZW_AUTH_NONCE_WORDS + ZW_AUTH_MAC_WORDS, true},
 };
 
 NO_COV static void take_snapshot(const zw_regmap *rm, snapshot *s)
@@ -110,7 +177,7 @@ NO_COV static void take_snapshot(const zw_regmap *rm, snapshot *s)
     memset(s, 0, sizeof *s);
     for (size_t i = 0; i < sizeof blocks / sizeof blocks[0]; i++) {
         zw_regmap copy = *rm; /* plain data: a read on the copy leaves rm untouched */
-        uint_least16_t words[ZW_CERT_WORDS + 1];
+        uint_least16_t words[ZW_AUTH_NONCE_WORDS + ZW_AUTH_MAC_WORDS + ZW_CERT_WORDS];
         zw_reason reason = ZW_REASON_NONE;
         zw_mb_exception e = zw_regmap_read(&copy, blocks[i].addr, blocks[i].count, words, &reason);
         CHECK(e == ZW_MB_OK || !blocks[i].must, "reading %u registers at 0x%04X: exception %d reason %d",
@@ -357,6 +424,9 @@ NO_COV static active_pair read_active(const zw_regmap *rm)
     return a;
 }
 
+/* The block in force the last time the map was seen in operation, sealed. */
+static uint16_t g_sealed_words[ZW_CERT_WORDS + 1];
+
 NO_COV static void check_state(const snapshot *before, const snapshot *after, zw_mb_exception ret,
                                bool first, active_pair active)
 {
@@ -365,10 +435,33 @@ NO_COV static void check_state(const snapshot *before, const snapshot *after, zw
           "magic 0x%04X version %u", s->w[ZW_REG_MAGIC], s->w[ZW_REG_VERSION]);
     CHECK(s->w[ZW_REG_MODE] <= 1 && s->w[ZW_REG_SEALED] <= 1, "mode %u sealed %u",
           s->w[ZW_REG_MODE], s->w[ZW_REG_SEALED]);
-    CHECK(s->w[ZW_REG_LAST_REASON] <= ZW_REASON_FPENV && s->w[ZW_REG_LAST_EXCEPTION] <= 4,
+    CHECK(s->w[ZW_REG_LAST_REASON] <= ZW_REASON_IMAGE_CRC && s->w[ZW_REG_LAST_EXCEPTION] <= 4,
           "last reason %u exception %u", s->w[ZW_REG_LAST_REASON], s->w[ZW_REG_LAST_EXCEPTION]);
     CHECK(!s->have[ZW_REG_COMMAND] || s->w[ZW_REG_COMMAND] == 0, "command register reads 0x%04X",
           s->w[ZW_REG_COMMAND]);
+
+    /* Commissioning session: consent on; nonce and MAC 0 outside a session; a session's
+     * nonce is non-zero and does not change; a new block is installed only after a yes. */
+    CHECK(s->w[ZW_REG_CONSENT] == 1, "consent reads %u", s->w[ZW_REG_CONSENT]);
+    bool nonce_zero = true;
+    for (unsigned i = 0; i < ZW_AUTH_NONCE_WORDS + ZW_AUTH_MAC_WORDS; i++) {
+        if (s->w[ZW_REG_MODE] == 0)
+            CHECK(s->w[ZW_REG_NONCE + i] == 0, "nonce/MAC word 0x%04X reads 0x%04X in operation",
+                  ZW_REG_NONCE + i, s->w[ZW_REG_NONCE + i]);
+        if (i < ZW_AUTH_NONCE_WORDS && s->w[ZW_REG_NONCE + i] != 0) nonce_zero = false;
+    }
+    if (s->w[ZW_REG_MODE] == 1) {
+        CHECK(!nonce_zero, "commissioning without a nonce");
+        if (before->w[ZW_REG_MODE] == 1)
+            CHECK(memcmp(&before->w[ZW_REG_NONCE], &s->w[ZW_REG_NONCE], 2 * ZW_AUTH_NONCE_WORDS) == 0,
+                  "the nonce changed within a session");
+    }
+    if (!first && before->w[ZW_REG_MODE] == 1 && s->w[ZW_REG_MODE] == 0 && s->w[ZW_REG_SEALED] == 1 &&
+        memcmp(&g_sealed_words[0], &s->w[ZW_REG_CERT_M], sizeof g_sealed_words) != 0)
+        CHECK(g_verify_said_yes, "a block was installed without a MAC the verify hook accepted");
+    if (s->w[ZW_REG_MODE] == 0 && s->w[ZW_REG_SEALED] == 1)
+        memcpy(g_sealed_words, &s->w[ZW_REG_CERT_M], sizeof g_sealed_words);
+    for (unsigned i = 0; i < ZW_AUTH_NONCE_WORDS; i++) g_session_nonce[i] = s->w[ZW_REG_NONCE + i];
 
     /* Refused: nothing moved but the refusal registers. */
     for (unsigned a = 0; a < ZW_REG_COUNT; a++) {
@@ -430,6 +523,17 @@ NO_COV static void check_state(const snapshot *before, const snapshot *after, zw
               after->w[ZW_REG_CERT_CRC], crc);
         CHECK(zw_crc16_words(lw, ZW_CERT_WORDS) == crc, "zw_crc16_words disagrees with CRC-16/MODBUS");
         zw_cert c = block_of(after);
+        const zw_ceilings *k = &fuzz_ceilings;
+        CHECK(c.sigma <= k->sigma_max && c.r <= k->r_max && c.k_min >= k->k_min && c.k_max <= k->k_max &&
+              c.b_min >= k->b_min && c.b_max <= k->b_max && c.dk_max <= k->dk_max && c.db_max <= k->db_max,
+              "sealed block beyond the factory ceilings");
+        CHECK(fabs((double)c.m - (double)k->m) <= (double)k->plant_tol * (double)k->m &&
+              fabs((double)c.b - (double)k->b) <= (double)k->plant_tol * (double)k->b &&
+              fabs((double)c.T - (double)k->T) <= (double)k->plant_tol * (double)k->T,
+              "sealed plant outside the nameplate tolerance");
+        for (unsigned f = 0; f < ZW_CERT_FIELDS; f++)
+            CHECK(!(zw_cert_field(&c, f) != 0.0f && fabsf(zw_cert_field(&c, f)) < FLT_MIN),
+                  "sealed field %u is subnormal", f);
         static plant pl; /* large (the loop); the harness is single-threaded */
         check_policy(&c, &pl);
         if (first || u32_at(before, ZW_REG_LIVE_K_CERT) != u32_at(after, ZW_REG_LIVE_K_CERT) ||
@@ -466,6 +570,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     zw_regmap rm;
     zw_reason why = ZW_REASON_NONE;
     CHECK(zw_regmap_init(&rm, &paper_block, &why) == ZW_OK, "the paper's block is refused (reason %d)", (int)why);
+    const zw_regmap_auth hooks = {fuzz_random, fuzz_verify, NULL};
+    CHECK(zw_regmap_set_ceilings(&rm, &fuzz_ceilings, &why) == ZW_OK, "ceilings refused (reason %d)", (int)why);
+    zw_regmap_set_auth(&rm, &hooks);
+    zw_regmap_set_consent(&rm, true);
+    const zw_regmap_storage storage = {fuzz_save, NULL};
+    zw_regmap_set_storage(&rm, &storage);
+    g_nonce_counter = 0;
+    memset(g_sealed_words, 0, sizeof g_sealed_words);
 
     snapshot before, after;
     take_snapshot(&rm, &before);
@@ -491,6 +603,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         pos += n;
 
         size_t resp_len = (size_t)-1;
+        g_verify_said_yes = 0;
         zw_mb_exception ret = zw_regmap_handle_pdu(&rm, req, n, resp, cap, &resp_len);
         g_requests++;
         take_snapshot(&rm, &after);

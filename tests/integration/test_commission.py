@@ -88,6 +88,7 @@ def test_commissioning_end_to_end(start_drive):
     p = d.tune("commission", *PAPER_OPTS, "--sigma", "1.5", "--json")
     assert p.returncode == 3
     v = json.loads(p.stdout)
+    assert v.pop("drive").startswith("in operation, sealed block CRC 0x")  # read back
     assert v == {"verdict": "refused", "step": "seal", "reason": "ZW_REASON_BAD_POLICY",
                  "reason_code": 20, "exception": 3, "exception_name": "ILLEGAL_DATA_VALUE",
                  "aborted": True}
@@ -119,10 +120,41 @@ def test_commission_paper_defaults_and_text_report(start_drive):
     d = start_drive("--unsealed")
     p = d.tune("commission", "--paper-defaults", "--sigma", "0.8")
     assert p.returncode == 0, p.stderr
-    assert p.stdout.startswith("commissioned: block sealed with CRC 0x")
+    assert p.stdout.startswith("commissioned: the drive sealed our block (CRC 0x")
     assert "operation mode, sealed" in p.stdout
     crc = crc16_words(block_words(0.8))
     assert status(d)["cert"]["crc"] == crc
     # the power-up default block of a sealed drive is the same block, with the same CRC
     d2 = start_drive()
     assert status(d2)["cert"]["crc"] == crc
+
+
+def test_factory_ceilings_of_the_drive(start_drive):
+    """Review A3: no margin (sigma 1, r 1, no step limit) is refused at power-up too, and
+    the key holder cannot seal a block that lies about the plant or widens the ceilings."""
+    import subprocess
+    from zwmb_harness import DRIVE, LOOPBACK
+    p = subprocess.run([str(DRIVE), "--host", LOOPBACK, "--port", "0", "--sigma", "1", "--r", "1",
+                        "--dk-max", "1e30"], capture_output=True, text=True, timeout=10)
+    assert p.returncode == 2 and "ZW_REASON_ABOVE_CEILING" in p.stderr, p.stderr
+    d = start_drive()
+    for extra, reason in ((["--m", "1.7156e-5"], "ZW_REASON_PLANT_MISMATCH"),   # inertia x2
+                          (["--sigma", "1"], "ZW_REASON_ABOVE_CEILING"),
+                          (["--r", "1"], "ZW_REASON_ABOVE_CEILING"),
+                          (["--k-max", "20"], "ZW_REASON_ABOVE_CEILING"),
+                          (["--m", "1e-40"], "ZW_REASON_SUBNORMAL")):
+        p = d.tune("commission", "--paper-defaults", *extra, "--json")
+        assert p.returncode == 3, (extra, p.stdout, p.stderr)
+        v = json.loads(p.stdout)
+        assert (v["step"], v["reason"], v["aborted"]) == ("seal", reason, True), extra
+    assert status(d)["cert"]["sigma"] == f32(0.8)  # the power-up block is still in force
+    p = d.tune("commission", "--paper-defaults", "--m", "8.8e-6", "--sigma", "0.9")  # within 5 %
+    assert p.returncode == 0, (p.stdout, p.stderr)
+
+
+def test_minus_zero_gains_stored_as_zero(drive):
+    """Review A2: (-0.0, -0.0) is "off" and reads back as two zero words."""
+    with drive.client() as c:
+        c.set_gains(0.2, -5e-4)
+        c.write(E["ZW_REG_K"], [0x8000, 0, 0x8000, 0])
+        assert c.read(E["ZW_REG_K"], 4) == [0, 0, 0, 0]

@@ -94,12 +94,14 @@ def commission_through_proxy(d, hook, *extra):
     return p, proxy
 
 
-def test_commission_detects_a_block_written_by_another_client(start_drive):
+def test_block_written_by_another_client_fails_the_mac(start_drive):
+    """Review A4/A6: right before our SEAL a second client (no key) replaces the staged block
+    with a valid one: our MAC no longer matches, SEAL is refused with ZW_REASON_AUTH, tune
+    aborts and says what the drive is doing (read back), and their block is never sealed."""
     d = start_drive("--unsealed")
     theirs = block_words(0.5)
 
     def hook(pdu, _index):
-        # Right before our SEAL, a second client replaces the staged block (valid CRC).
         if _is_command(pdu, E["ZW_CMD_SEAL"]):
             with d.client() as c:
                 c.write(E["ZW_REG_CERT_M"], theirs + [crc16_words(theirs)])
@@ -107,25 +109,20 @@ def test_commission_detects_a_block_written_by_another_client(start_drive):
 
     p, proxy = commission_through_proxy(d, hook)
     assert p.returncode == 3, (p.stdout, p.stderr)
-    assert (f"the drive sealed a different block (CRC 0x{crc16_words(theirs):04X}" in p.stderr
-            and "another client wrote during commissioning" in p.stderr), p.stderr
+    assert p.stdout.startswith("refused at seal: ZW_REASON_AUTH"), p.stdout
+    assert "we sent ABORT; the drive is now in operation with no sealed block" in p.stdout
     assert "commissioned" not in p.stdout
-    # the read-back covered SEALED and all 31 words of the block (30 and the CRC)
-    reads = [pdu for _, pdu in proxy.requests if pdu[0] == 3]
-    assert struct.pack(">BHH", 3, E["ZW_REG_SEALED"], 1) in reads
-    assert struct.pack(">BHH", 3, E["ZW_REG_CERT_M"], 31) in reads
     s = status(d)
-    assert s["sealed"] is True and s["cert"]["sigma"] == f32(0.5)  # theirs, not ours
+    assert s["sealed"] is False and s["mode"] == "operation"
 
-    # --json: a machine-readable verdict too
     p, proxy = commission_through_proxy(d, hook, "--json")
     assert p.returncode == 3, (p.stdout, p.stderr)
     v = json.loads(p.stdout)
-    assert v["verdict"] == "mismatch" and v["sealed_crc"] == crc16_words(theirs)
-    assert v["crc"] == crc16_words(block_words(0.9))
+    assert (v["verdict"], v["reason"], v["aborted"]) == ("refused", "ZW_REASON_AUTH", True)
+    assert v["drive"] == "in operation with no sealed block (gains refused)"
 
 
-def test_commission_reads_back_the_sealed_block(start_drive):
+def test_commission_reads_back_mode_block_and_crc(start_drive):
     d = start_drive("--unsealed")
     proxy = Proxy(d.port, lambda pdu, index: "forward")
     try:
@@ -133,10 +130,40 @@ def test_commission_reads_back_the_sealed_block(start_drive):
     finally:
         proxy.close()
     assert p.returncode == 0, (p.stdout, p.stderr)
-    assert "read back and verified" in p.stdout
+    assert "is in operation (mode, block and CRC read back)" in p.stdout
     pdus = [pdu for _, pdu in proxy.requests]
     seal = pdus.index(struct.pack(">BHH", 6, CMD, E["ZW_CMD_SEAL"]))
+    assert struct.pack(">BHH", 3, E["ZW_REG_MAGIC"], 4) in pdus[seal + 1:]  # mode and sealed
     assert struct.pack(">BHH", 3, E["ZW_REG_CERT_M"], 31) in pdus[seal + 1:]
+    # the MAC went to the drive before SEAL, over the nonce read after UNLOCK2
+    unlock2 = pdus.index(struct.pack(">BHH", 6, CMD, E["ZW_CMD_UNLOCK2"]))
+    nonce = pdus.index(struct.pack(">BHH", 3, E["ZW_REG_NONCE"], 8))
+    mac = [i for i, q in enumerate(pdus) if q[:5] == struct.pack(">BHH", 0x10, E["ZW_REG_MAC"], 16)]
+    assert unlock2 < nonce < mac[0] < seal
+
+
+def test_commission_reports_an_unlock_right_after_our_seal(start_drive):
+    """Review A6, strategy 2: on our SEAL a second client unlocks at once.  The SEAL was
+    ours (the MAC proves it), but the drive is in commissioning again: tune must not say
+    "in operation", and exits 3."""
+    d = start_drive()
+    sealed = []
+
+    def hook(pdu, _index):
+        if sealed and pdu == struct.pack(">BHH", 3, E["ZW_REG_MAGIC"], 4):
+            with d.client() as c:
+                c.write1(CMD, E["ZW_CMD_UNLOCK1"])
+                c.write1(CMD, E["ZW_CMD_UNLOCK2"])
+            sealed.clear()
+        if _is_command(pdu, E["ZW_CMD_SEAL"]):
+            sealed.append(True)
+        return "forward"
+
+    p, _ = commission_through_proxy(d, hook)
+    assert p.returncode == 3, (p.stdout, p.stderr)
+    assert "is in commissioning mode again: another client unlocked it after us" in p.stderr
+    assert "commissioned" not in p.stdout
+    assert status(d)["mode"] == "commissioning"
 
 
 def test_commission_lost_connection_after_unlock_sends_abort(start_drive):

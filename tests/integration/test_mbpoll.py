@@ -64,3 +64,22 @@ def test_mbpoll_sets_gains_and_gets_the_exception(drive):
     assert p.returncode != 0 and "Illegal data address" in p.stderr, (p.stdout, p.stderr)
     p = mbpoll(drive, "-t", "4", "-r", "10", "-c", "2", LOOPBACK)
     assert p.returncode != 0 and "Illegal data address" in p.stderr
+
+
+def test_mbpoll_cdab_drive(start_drive):
+    """--word-order cdab: mbpoll's default word order (without -B, low word first) reads
+    and writes the floats; WORD_ORDER reads 1; one-word registers are unchanged."""
+    d = start_drive("--word-order", "cdab")
+    p = mbpoll(d, "-t", "4:float", "-r", "16", LOOPBACK, "--", "0.2", "-0.0005")
+    assert p.returncode == 0, (p.stdout, p.stderr)
+    p = mbpoll(d, "-t", "4:float", "-r", "16", "-c", "2", LOOPBACK)
+    assert p.returncode == 0, (p.stdout, p.stderr)
+    assert values(p.stdout) == {16: pytest.approx(0.2, rel=1e-6), 18: pytest.approx(-0.0005, rel=1e-6)}
+    p = mbpoll(d, "-B", "-t", "4:float", "-r", "16", "-c", "2", LOOPBACK)  # the other order: garbage
+    assert values(p.stdout)[16] != pytest.approx(0.2, rel=1e-3)
+    p = mbpoll(d, "-t", "4", "-r", "0", "-c", "1", LOOPBACK)
+    assert values(p.stdout) == {0: 0x5A57}
+    p = mbpoll(d, "-t", "4", "-r", "131", "-c", "1", LOOPBACK)
+    assert values(p.stdout) == {131: 1}
+    p = d.tune("status")  # zwidth-tune speaks ABCD and says so rather than misread
+    assert p.returncode == 2 and "low word first (CDAB)" in p.stderr, p.stderr

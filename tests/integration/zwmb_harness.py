@@ -27,6 +27,10 @@ import pytest
 REPO = Path(__file__).resolve().parents[2]
 BUILD = Path(os.environ.get("ZW_BUILD_DIR", REPO / "build"))
 HEADER = REPO / "csrc" / "include" / "zwidth" / "regmap.h"
+# regmap.h is the entry point; its parts hold the reasons and commands (map version 3)
+HEADERS = [HEADER] + [HEADER.with_name(f"regmap_{p}.h") for p in ("codec", "policy", "commission", "persist")]
+# The test drives' commissioning key (nothing secret): 64 hex digits in a mode-600 file.
+TEST_KEY_HEX = bytes(range(0x40, 0x60)).hex()
 LOOPBACK = "127.0.0.1"
 
 
@@ -47,7 +51,7 @@ if DRIVE is None or TUNE is None:
 
 def _enums():
     """Enumerators (NAME = value) and numeric macros (#define NAME value[u]) of regmap.h."""
-    text = HEADER.read_text()
+    text = "".join(h.read_text() for h in HEADERS)
     num = r"(0x[0-9A-Fa-f]+|\d+)[uU]?\b"
     out = {k: int(v, 0) for k, v in re.findall(r"\b(ZW_[A-Z0-9_]+)\s*=\s*" + num, text)}
     out.update({k: int(v, 0) for k, v in re.findall(r"^#define\s+(ZW_[A-Z0-9_]+)\s+" + num, text, re.M)})
@@ -84,8 +88,11 @@ def words_float(words):
 class Drive:
     """One zwidth-drive process; its stderr goes to a file (read with .log())."""
 
-    def __init__(self, tmp_path: Path, args, rtu=False):
+    def __init__(self, tmp_path: Path, args, rtu=False, commissioning=True):
         self.log_path = tmp_path / f"drive-{time.monotonic_ns()}.log"
+        self.key_file = write_key(tmp_path / "drive.key")
+        if commissioning:  # the enable input on, and the key a client must hold
+            args = ["--commissioning", "--key-file", str(self.key_file), *args]
         self._log = open(self.log_path, "wb")
         cmd = [str(DRIVE)] + list(args)
         if not rtu:
@@ -131,10 +138,23 @@ class Drive:
     # -- clients ---------------------------------------------------------------------------
 
     def tune(self, *args, timeout=10.0):
+        """zwidth-tune against this drive; commission gets the drive's key file."""
+        if "commission" in args and "--key-file" not in args:
+            args = (*args, "--key-file", str(self.key_file))
         return run_tune("--port", str(self.port), *args, timeout=timeout)
 
     def client(self, timeout=3.0):
         return MBClient(self.port, timeout)
+
+
+def write_key(path: Path, hex_digits: str = TEST_KEY_HEX, mode: int = 0o600) -> Path:
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, mode)
+    try:
+        os.write(fd, hex_digits.encode() + b"\n")
+    finally:
+        os.close(fd)
+    os.chmod(path, mode)
+    return path
 
 
 def run_tune(*args, timeout=10.0):
@@ -148,8 +168,8 @@ def start_drive(tmp_path):
     have exited 0 on SIGTERM."""
     drives = []
 
-    def start(*args, rtu=False):
-        d = Drive(tmp_path, args, rtu=rtu)
+    def start(*args, rtu=False, commissioning=True):
+        d = Drive(tmp_path, args, rtu=rtu, commissioning=commissioning)
         drives.append(d)
         return d
 

@@ -19,22 +19,27 @@ import time
 import pytest
 
 from mb_support import DRIVE_BIN, LOOPBACK, PAPER_PLANT, POLICY, START_TIMEOUT, \
-    drive_options, free_port, listening, stop
+    drive_options, free_port, listening, stop, write_key
 
 
 @pytest.fixture
 def start_drive(tmp_path):
     """start_drive(block=dict(...) | None) -> port: start zwidth-drive on a free loopback
     port with that certified block (default: the paper's plant with POLICY; None starts it
-    unsealed); every drive started is stopped at the end of the test."""
+    unsealed), consenting to commissioning with mb_support.TEST_KEY unless
+    commissioning=False; every drive started is stopped at the end of the test."""
     pytest.importorskip("pymodbus", reason="pymodbus not installed (tools/requirements-test.txt)")
     if not DRIVE_BIN.is_file():
         pytest.skip(f"{DRIVE_BIN} not built (needs libmodbus; set ZW_BUILD_DIR)")
     procs = []
 
-    def start(block: dict | None = "default", extra=()) -> int:
+    key_file = write_key(tmp_path / "drive.key")
+
+    def start(block: dict | None = "default", extra=(), commissioning: bool = True) -> int:
         if block == "default":
             block = {**PAPER_PLANT, **POLICY}
+        if commissioning:
+            extra = ("--commissioning", "--key-file", str(key_file), *extra)
         last_log = ""
         for attempt in range(3):  # a free port can be taken between probe and bind
             port = free_port()

@@ -13,6 +13,8 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
 HEADER = REPO / "csrc" / "include" / "zwidth" / "regmap.h"
+# regmap.h is the entry point; its parts (map version 3) hold the reasons and commands
+HEADERS = [HEADER] + [HEADER.with_name(f"regmap_{part}.h") for part in ("codec", "policy", "commission", "persist")]
 BUILD_DIR = Path(os.environ.get("ZW_BUILD_DIR", REPO / "build"))
 DRIVE_BIN = BUILD_DIR / "zwidth-drive"
 LOOPBACK = "127.0.0.1"
@@ -26,6 +28,21 @@ PAPER_PLANT = dict(m=85.78e-7, b=2.197e-3, T=0.02)
 # below sigma K_max(B) = 0.85 x 0.49275, K = 0.45 is not.
 POLICY = dict(sigma=0.85, r=0.999, k_min=0.0, k_max=10.0, b_min=-0.01, b_max=0.01,
               dk_max=1.0, db_max=0.01)
+
+
+# The drives these tests start hold this commissioning key (a test key, nothing secret).
+TEST_KEY = bytes(range(0x40, 0x60))
+
+
+def write_key(path: Path, key: bytes = TEST_KEY, mode: int = 0o600) -> Path:
+    """A key file as zwidth-drive and load_key want it: 64 hex digits, mode 600."""
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, mode)
+    try:
+        os.write(fd, key.hex().encode() + b"\n")
+    finally:
+        os.close(fd)
+    os.chmod(path, mode)
+    return path
 
 
 def free_port() -> int:

@@ -12,14 +12,14 @@ import struct
 
 import pytest
 
-from mb_support import BUILD_DIR, HEADER, LOOPBACK, REPO, free_port
+from mb_support import BUILD_DIR, HEADERS, LOOPBACK, REPO, TEST_KEY, free_port, write_key
 from zwidth import modbus as zm
 
 # ---------------------------------------------------------------------------------------
 # The header, parsed here (the module itself parses nothing at run time)
 # ---------------------------------------------------------------------------------------
 
-HEADER_TEXT = HEADER.read_text()
+HEADER_TEXT = "".join(h.read_text() for h in HEADERS)
 
 
 def header_enum(typedef: str) -> dict:
@@ -55,11 +55,13 @@ def test_register_addresses_match_the_header():
 
 
 def test_commands_and_constants_match_the_header():
-    cmds = {name: header_define("ZW_CMD_" + name) for name in ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT")}
+    cmds = {name: header_define("ZW_CMD_" + name) for name in ("UNLOCK1", "UNLOCK2", "SEAL", "ABORT", "SAVE")}
     assert cmds == zm.CMD
     assert header_define("ZW_REGMAP_MAGIC") == zm.MAGIC
     assert header_define("ZW_REGMAP_VERSION") == zm.MAP_VERSION
     assert header_define("ZW_CERT_WORDS") == zm.CERT_WORDS
+    assert header_define("ZW_AUTH_NONCE_WORDS") == zm.AUTH_NONCE_WORDS
+    assert header_define("ZW_AUTH_MAC_WORDS") == zm.AUTH_MAC_WORDS
     codes = header_enum("zw_mb_exception")
     assert sorted(codes.values()) == sorted(zm.EXCEPTIONS)
 
@@ -197,6 +199,10 @@ def test_set_gains_arguments_checked_before_any_request():
         d.commission(*block, delay=1.0)
     with pytest.raises(ValueError, match="^differentiator must be"):
         d.commission(*block, differentiator="forward")
+    with pytest.raises(ValueError, match="^key must be the drive's 32-byte"):
+        d.commission(*block)
+    with pytest.raises(ValueError, match="^key must be the drive's 32-byte"):
+        d.commission(*block, key=TEST_KEY[:16])
     for bad in ("lowpass", ("lowpass", 0.0), "lowpass:abcHz", ("average", 17), "average:0",
                 ("pole", 0.5)):
         with pytest.raises(ValueError, match="velocity_filter"):
@@ -229,3 +235,59 @@ def test_import_zwidth_does_not_load_the_modbus_client():
     code = "import sys, zwidth; print('pymodbus' in sys.modules, 'zwidth.modbus' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["False", "False"]
+
+
+# ---------------------------------------------------------------------------------------
+# commissioning key and MAC (map version 3)
+# ---------------------------------------------------------------------------------------
+
+
+def test_auth_message_agrees_with_the_c_library():
+    lib_path = BUILD_DIR / "libzwidth_d_shared.so"
+    if not lib_path.is_file():
+        pytest.skip(f"{lib_path} not built")
+    lib = ctypes.CDLL(str(lib_path))
+    lib.zw_regmap_auth_message.restype = None
+    nonce = [0xA100 + i for i in range(8)]
+    block = [(0x0100 * i + 0xFF - i) & 0xFFFF for i in range(31)]
+    out = (ctypes.c_uint8 * 80)()
+    lib.zw_regmap_auth_message((ctypes.c_uint16 * 8)(*nonce), (ctypes.c_uint16 * 31)(*block), out)
+    assert bytes(out) == zm.auth_message(nonce, block)
+    assert zm.auth_message(nonce, block)[:2] == b"\x00\x03"
+
+
+def test_auth_mac_is_rfc4231_hmac_sha256():
+    """The MAC is plain HMAC-SHA256 over the message: RFC 4231 test case 2 through the
+    same primitive, then the packing into 16 big-endian words."""
+    import hashlib
+    import hmac
+    want = bytes.fromhex("5bdcc146bf60754e6a042426089575c75a003f089d2739839dec58b964ec3843")
+    assert hmac.new(b"Jefe", b"what do ya want for nothing?", hashlib.sha256).digest() == want
+    nonce, block = [1] * 8, [2] * 31
+    mac = zm.auth_mac(TEST_KEY, nonce, block)
+    digest = hmac.new(TEST_KEY, zm.auth_message(nonce, block), hashlib.sha256).digest()
+    assert mac == [int.from_bytes(digest[2 * i:2 * i + 2], "big") for i in range(16)]
+    with pytest.raises(ValueError, match="key must be 32 bytes"):
+        zm.auth_mac(b"short", nonce, block)
+
+
+def test_load_key_refuses_unsafe_files(tmp_path):
+    good = write_key(tmp_path / "k")
+    assert zm.load_key(good) == TEST_KEY
+    for mode in (0o640, 0o604, 0o620, 0o644):
+        with pytest.raises(ValueError, match="accessible by group or others"):
+            zm.load_key(write_key(tmp_path / f"k{mode:o}", mode=mode))
+    link = tmp_path / "link"
+    link.symlink_to(good)
+    with pytest.raises(OSError):
+        zm.load_key(link)
+    bad = tmp_path / "bad"
+    bad.write_text("00" * 31 + "\n")
+    bad.chmod(0o600)
+    with pytest.raises(ValueError, match="exactly 64 hex digits"):
+        zm.load_key(bad)
+    bad.write_text("zz" * 32)
+    with pytest.raises(ValueError, match="exactly 64 hex digits"):
+        zm.load_key(bad)
+    with pytest.raises(ValueError, match="not a regular file"):
+        zm.load_key(tmp_path)

@@ -9,7 +9,7 @@ import struct
 
 import pytest
 
-from mb_support import LOOPBACK, PAPER_PLANT, POLICY
+from mb_support import LOOPBACK, PAPER_PLANT, POLICY, TEST_KEY
 from zwidth import modbus as zm
 
 TIMEOUT = 2.0  # s, every request
@@ -32,7 +32,7 @@ def drive(port: int) -> zm.Drive:
 def test_status_of_a_fresh_drive(drive_port):
     with drive(drive_port) as d:
         s = d.status()
-    assert s.mode == "operation" and s.sealed and s.version == 2
+    assert s.mode == "operation" and s.sealed and s.version == 3
     assert s.plant == zm.Plant(*(f32(PAPER_PLANT[k]) for k in ("m", "b", "T")))
     expected_policy = {k: f32(v) for k, v in POLICY.items()}
     assert {k: getattr(s.policy, k) for k in POLICY} == expected_policy
@@ -180,7 +180,7 @@ def test_commission_an_unsealed_drive(start_drive):
         assert (r.accepted, r.reason, r.K, r.B) == (False, "ZW_REASON_NOT_SEALED", 0.0, 0.0)
         assert r.exception in (0x02, 0x03)  # regmap.h does not say which (see the report)
 
-        c = d.commission(**NEW_BLOCK)
+        c = d.commission(**NEW_BLOCK, key=TEST_KEY)
         words = []
         for key in ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
             words += zm.float_to_words(NEW_BLOCK[key])
@@ -198,7 +198,7 @@ def test_commission_an_unsealed_drive(start_drive):
 def test_recommission_turns_the_output_off(drive_port):
     with drive(drive_port) as d:
         assert d.set_gains(K=0.30, B=-1.0e-3).accepted
-        c = d.commission(**NEW_BLOCK)
+        c = d.commission(**NEW_BLOCK, key=TEST_KEY)
         assert c.accepted and c.stage == "done"
         s = d.status()
         assert s.gains == zm.Gains(0.0, 0.0)
@@ -210,7 +210,7 @@ def test_recommission_turns_the_output_off(drive_port):
 def test_commission_bad_policy_aborts_to_the_old_block(drive_port):
     with drive(drive_port) as d:
         before = d.status()
-        c = d.commission(**{**NEW_BLOCK, "sigma": 1.5})
+        c = d.commission(**{**NEW_BLOCK, "sigma": 1.5}, key=TEST_KEY)
         assert (c.accepted, c.reason, c.exception, c.stage, c.aborted) == \
             (False, "ZW_REASON_BAD_POLICY", 0x03, "seal", True)
         after = d.status()
@@ -220,7 +220,7 @@ def test_commission_bad_policy_aborts_to_the_old_block(drive_port):
 
 def test_commission_without_abort_stays_in_commissioning(drive_port):
     with drive(drive_port) as d:
-        c = d.commission(**{**NEW_BLOCK, "m": -1.0}, abort_on_refusal=False)
+        c = d.commission(**{**NEW_BLOCK, "m": -1.0}, abort_on_refusal=False, key=TEST_KEY)
         assert (c.accepted, c.reason, c.stage, c.aborted) == (False, "ZW_REASON_BAD_POLICY", "seal", False)
         s = d.status()
         assert s.mode == "commissioning" and s.gains == zm.Gains(0.0, 0.0)
@@ -241,13 +241,15 @@ def block_words(block: dict) -> list:
     return words + [zm.crc16_words(words)]
 
 
-def test_commission_detects_a_block_replaced_before_seal(raw, drive_port, monkeypatch):
-    """A second client writes another valid block (with its CRC) between our block write
-    and our SEAL: the drive seals theirs, and commission must not report ours as sealed."""
+def test_block_replaced_before_seal_fails_the_mac(raw, drive_port, monkeypatch):
+    """A second client (no key) writes another valid block with its CRC between our block
+    write and our SEAL (review A4 hijack): our MAC no longer matches the staged block, so
+    SEAL is refused with ZW_REASON_AUTH, we abort, and the old block stays in force."""
     client, unit = raw
     ours, theirs = block_words(NEW_BLOCK), block_words({**NEW_BLOCK, "sigma": 0.7})
     assert ours[-1] != theirs[-1]
     with drive(drive_port) as d:
+        before = d.status()
         command = d.command
 
         def rival_then(name):
@@ -257,14 +259,12 @@ def test_commission_detects_a_block_replaced_before_seal(raw, drive_port, monkey
             return command(name)
 
         monkeypatch.setattr(d, "command", rival_then)
-        with pytest.raises(zm.DriveError, match=f"sent CRC 0x{ours[-1]:04X}, drive holds CRC "
-                                                f"0x{theirs[-1]:04X} over different words, "
-                                                f"SEALED = 1") as info:
-            d.commission(**NEW_BLOCK)
-        assert info.value.exception == 0
+        c = d.commission(**NEW_BLOCK, key=TEST_KEY)
+        assert (c.accepted, c.reason, c.exception, c.stage, c.aborted) == \
+            (False, "ZW_REASON_AUTH", 0x03, "seal", True)
         s = d.status()
     assert s.sealed and s.mode == "operation"
-    assert (s.policy.crc, s.policy.sigma) == (theirs[-1], f32(0.7))
+    assert s.policy == before.policy and s.policy.crc != theirs[-1]
 
 
 def test_commission_read_back_passes_when_the_rival_writes_the_same_block(raw, drive_port,
@@ -280,8 +280,70 @@ def test_commission_read_back_passes_when_the_rival_writes_the_same_block(raw, d
             return command(name)
 
         monkeypatch.setattr(d, "command", rival_then)
-        c = d.commission(**NEW_BLOCK)
+        c = d.commission(**NEW_BLOCK, key=TEST_KEY)
     assert c == zm.CommissionResult(True, "ZW_REASON_NONE", 0, "done", ours[-1], False)
+
+
+def test_lying_block_with_public_docs_only_is_refused(raw, drive_port):
+    """Review A3: UNLOCK1, UNLOCK2, a block that doubles the inertia with sigma = r = 1 and
+    wide bounds, its correct CRC, SEAL -- everything public, no key.  The drive consents
+    (this fixture turns the enable on) but SEAL is refused with ZW_REASON_AUTH, and after
+    ABORT the true plant is still sealed."""
+    client, unit = raw
+    lie = block_words({**PAPER_PLANT, "m": 2 * 85.78e-7, "sigma": 1.0, "r": 1.0, "k_min": 0.0,
+                       "k_max": 1e6, "b_min": -1e3, "b_max": 1e3, "dk_max": 1e6, "db_max": 1e3})
+    for cmd in (0xC0DE, 0x5AFE):
+        assert not client.write_register(0x0060, cmd, **unit).isError()
+    assert not client.write_registers(0x0040, lie, **unit).isError()
+    rsp = client.write_register(0x0060, 0x5EA1, **unit)
+    assert rsp.isError() and rsp.exception_code == 0x03
+    assert client.read_holding_registers(0x0004, count=1, **unit).registers == [29]  # AUTH
+    assert not client.write_register(0x0060, 0xAB07, **unit).isError()
+    with drive(drive_port) as d:
+        s = d.status()
+        assert s.mode == "operation" and s.plant == zm.Plant(f32(85.78e-7), f32(2.197e-3), f32(0.02))
+        r = d.set_gains(K=0.34183, B=2.876e-4)  # the review's pair, unstable on the real plant
+        assert not r.accepted
+
+
+def test_commissioning_is_off_by_default(start_drive):
+    """Without --commissioning the drive does not consent, even to the key holder."""
+    port = start_drive(commissioning=False)
+    with drive(port) as d:
+        c = d.commission(**NEW_BLOCK, key=TEST_KEY)
+        assert (c.accepted, c.reason, c.stage) == (False, "ZW_REASON_NO_CONSENT", "unlock")
+        assert d._read(zm.REG["CONSENT"], 1) == [0]
+        assert d.status().mode == "operation"
+
+
+def test_recorded_session_cannot_be_replayed(raw, drive_port, monkeypatch):
+    """Record every write of a successful commissioning, then replay them in a new session
+    (new nonce): SEAL is refused with ZW_REASON_AUTH."""
+    client, unit = raw
+    recorded = []
+    with drive(drive_port) as d:
+        write_many = d._write_many
+
+        def recording(addr, words):
+            recorded.append((addr, list(words)))
+            return write_many(addr, words)
+
+        monkeypatch.setattr(d, "_write_many", recording)
+        assert d.commission(**{**NEW_BLOCK, "sigma": 0.7}, key=TEST_KEY).accepted
+        monkeypatch.undo()
+        assert d.commission(**NEW_BLOCK, key=TEST_KEY).accepted  # the block in force now
+        before = d.status()
+    assert [a for a, _ in recorded] == [0x0040, 0x0090]
+    for cmd in (0xC0DE, 0x5AFE):
+        assert not client.write_register(0x0060, cmd, **unit).isError()
+    for addr, words in recorded:
+        assert not client.write_registers(addr, words, **unit).isError()
+    rsp = client.write_register(0x0060, 0x5EA1, **unit)
+    assert rsp.isError() and rsp.exception_code == 0x03
+    assert client.read_holding_registers(0x0004, count=1, **unit).registers == [29]
+    assert not client.write_register(0x0060, 0xAB07, **unit).isError()
+    with drive(drive_port) as d:
+        assert d.status().policy == before.policy
 
 
 def test_refusal_reason_of_another_client_is_not_taken(raw, drive_port, monkeypatch):
@@ -350,7 +412,7 @@ def test_raw_read_of_the_head(raw):
     client, unit = raw
     rsp = client.read_holding_registers(0x0000, count=10, **unit)
     assert not rsp.isError()
-    assert list(rsp.registers[:4]) == [0x5A57, 2, 0, 1]  # magic, map version 2, operation, sealed
+    assert list(rsp.registers[:4]) == [0x5A57, 3, 0, 1]  # magic, map version 3, operation, sealed
 
 
 def test_raw_bad_pair_is_exception_3(raw):
@@ -425,7 +487,7 @@ def test_drive_started_with_a_delay_certifies_for_it(start_drive):
 
 def test_commission_with_a_low_pass_filter(drive_port):
     with drive(drive_port) as d:
-        c = d.commission(**NEW_BLOCK, delay=1, velocity_filter="lowpass:5Hz")
+        c = d.commission(**NEW_BLOCK, delay=1, velocity_filter="lowpass:5Hz", key=TEST_KEY)
         assert c.accepted
         s = d.status()
         assert (s.loop.delay, s.loop.velocity_filter, s.loop.cutoff_hz, s.loop.differentiator) == \
@@ -445,7 +507,7 @@ def test_commission_with_a_low_pass_filter(drive_port):
 def test_commission_refuses_a_bad_loop_with_its_reason(drive_port, loop, reason):
     with drive(drive_port) as d:
         before = d.status()
-        c = d.commission(**NEW_BLOCK, **loop)
+        c = d.commission(**NEW_BLOCK, **loop, key=TEST_KEY)
         assert (c.accepted, c.reason, c.exception, c.stage, c.aborted) == (False, reason, 0x03, "seal", True)
         after = d.status()
     assert after.sealed and after.mode == "operation"
@@ -470,3 +532,9 @@ def test_an_old_client_cannot_seal_a_version_1_block(raw, drive_port):
     with drive(drive_port) as d:
         assert d.status().last_refusal == zm.Refusal("ZW_REASON_CRC", 0x03)
         assert d.command("ABORT") == 0
+
+
+def test_cdab_drive_is_refused_not_misread(start_drive):
+    port = start_drive(extra=("--word-order", "cdab"))
+    with pytest.raises(zm.DriveError, match="low word first"):
+        drive(port).connect()

@@ -89,6 +89,16 @@
 #define zw_regmap_handle_pdu zw_regmap_handle_pdu_f
 #define zw_regmap_read zw_regmap_read_f
 #define zw_regmap_write zw_regmap_write_f
+#define zw_regmap_set_consent zw_regmap_set_consent_f
+#define zw_regmap_set_auth zw_regmap_set_auth_f
+#define zw_regmap_set_ceilings zw_regmap_set_ceilings_f
+#define zw_regmap_set_storage zw_regmap_set_storage_f
+#define zw_regmap_set_word_order zw_regmap_set_word_order_f
+#define zw_rm_pair_float zw_rm_pair_float_f
+#define zw_rm_pair_word zw_rm_pair_word_f
+#define zw_regmap_restore zw_regmap_restore_f
+#define zw_regmap_image zw_regmap_image_f
+#define zw_regmap_auth_message zw_regmap_auth_message_f
 #define zw_cert_field zw_cert_field_f
 #define zw_cert_set_field zw_cert_set_field_f
 #define zw_cert_encode zw_cert_encode_f
@@ -112,6 +122,20 @@
 /* library-internal, declared in csrc/src/internal.h */
 #define zw_check_bounded zw_check_bounded_f
 #define zw_radius_within_bounded zw_radius_within_bounded_f
+/* library-internal, declared in csrc/src/regmap_internal.h */
+#define zw_rm_publish_gains zw_rm_publish_gains_f
+#define zw_rm_payload_word zw_rm_payload_word_f
+#define zw_rm_payload_float zw_rm_payload_float_f
+#define zw_rm_crc_word zw_rm_crc_word_f
+#define zw_rm_policy_admit zw_rm_policy_admit_f
+#define zw_rm_apply_gains zw_rm_apply_gains_f
+#define zw_rm_live_all zw_rm_live_all_f
+#define zw_rm_write_cert zw_rm_write_cert_f
+#define zw_rm_command zw_rm_command_f
+#define zw_rm_seal_staged zw_rm_seal_staged_f
+#define zw_rm_sealed_word zw_rm_sealed_word_f
+#define zw_rm_write_mac zw_rm_write_mac_f
+#define zw_rm_save zw_rm_save_f
 #endif /* ZW_REAL_FLOAT */
 
 #endif /* ZWIDTH_PRECISION_H */

@@ -97,34 +97,22 @@
  *           ZW_REG_VERSION first (zwidth's clients do, and refuse a version they do not
  *           know).
  *
- *   0x0060  ZW_REG_COMMAND      w       ZW_CMD_UNLOCK1 then ZW_CMD_UNLOCK2 (two writes in a
- *                                       row) opens commissioning mode and turns the output
- *                                       off (K = B = 0); ZW_CMD_SEAL checks the CRC and the
- *                                       policy and returns to operation (gains stay off);
- *                                       ZW_CMD_ABORT leaves commissioning and restores the
- *                                       last sealed block.  Reads as 0.
- *           Any request but a read between UNLOCK1 and UNLOCK2 (a refused or even an
- *           unprocessed one) disarms UNLOCK1; reads never do, so a client polling the
- *           map cannot block commissioning.  UNLOCK2 stages the block in force and its
- *           CRC (all 0 when nothing is sealed).  SEAL refused (CRC or BAD_POLICY) stays in
- *           commissioning mode.  UNLOCK1/UNLOCK2 in commissioning mode, SEAL/ABORT in
- *           operation mode and unknown values are refused with ZW_REASON_BAD_COMMAND.
- *           SEAL first runs zw_selftest() (zwidth/selftest.h): on a target whose
- *           floating-point environment is not the one the error bounds assume it is
- *           refused with ZW_REASON_FPENV (before the CRC is looked at) and nothing is
- *           sealed, so no gain pair can ever be accepted there.
+ *
+ *   0x0060  ZW_REG_COMMAND      w       commissioning commands (zwidth/regmap_commission.h)
+ *   0x0080  ZW_REG_CONSENT      r       1 when the commissioning enable input is on (map
+ *                                       version 3; zwidth/regmap_commission.h)
+ *   0x0081  ZW_REG_RESTORE_SOURCE r     what zw_regmap_restore applied: 0 nothing, 1 the
+ *                                       newest image, 2 the previous (regmap_persist.h)
+ *   0x0082  ZW_REG_RESTORE_REASON r     why an image or its gains were refused (0 none)
+ *   0x0083  ZW_REG_WORD_ORDER   r       0 ABCD (high word first, the default), 1 CDAB (low
+ *                                       word first) for every f32 and u32 register
+ *   0x0088  ZW_REG_NONCE (8)    r       the commissioning session's nonce (0 in operation)
+ *   0x0090  ZW_REG_MAC (16)     rw      the client's MAC over the session (rw in
+ *                                       commissioning, else LOCKED; 0 in operation)
  *
  * Everything else is unmapped (exception 0x02, ZW_REASON_UNMAPPED).
  *
- * Certification of a gain pair (K, B) against the sealed block, in this order; the first
- * failing rule is the reason:
- *   finite (ZW_REASON_NOT_FINITE), k_min <= K <= k_max, b_min <= B <= b_max,
- *   |K - K_now| <= dk_max, |B - B_now| <= db_max, stable by zw_device_check
- *   (ZW_REASON_UNSTABLE), K <= sigma K_max(B) (ZW_REASON_ABOVE_SIGMA), spectral radius
- *   < r by zw_device_radius_within (ZW_REASON_RADIUS).  With a loop other than the ideal one
- *   (delay 0, backward difference, no filter) the three rules use the drive's loop:
- *   zw_device_loop_check, zw_device_loop_k_max, zw_device_loop_radius_within
- *   (device_loop.h), all with the gains' conversion rounding in their guard.
+ * Certification of a gain pair: zwidth/regmap_policy.h.
  * Value failures answer exception 0x03; address failures (unmapped, read-only, half a
  * float, locked block, gains not writable in this mode) answer 0x02.  The checks run over
  * the whole request in the order of zw_reason (quantity, then every address, then the
@@ -176,6 +164,10 @@
 #include <stdint.h>
 
 #include "zwidth/device_loop.h"
+#include "zwidth/regmap_codec.h"
+#include "zwidth/regmap_commission.h"
+#include "zwidth/regmap_persist.h"
+#include "zwidth/regmap_policy.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -223,19 +215,18 @@ enum {
     ZW_REG_CERT_DIFF = 0x005C,
     ZW_REG_CERT_CRC = 0x005E,
     ZW_REG_COMMAND = 0x0060,
-    ZW_REG_COUNT = 0x0061 /* registers 0 .. ZW_REG_COUNT-1 may be mapped */
+    ZW_REG_CONSENT = 0x0080,
+    ZW_REG_RESTORE_SOURCE = 0x0081,
+    ZW_REG_RESTORE_REASON = 0x0082,
+    ZW_REG_WORD_ORDER = 0x0083,
+    ZW_REG_NONCE = 0x0088,
+    ZW_REG_MAC = 0x0090,
+    ZW_REG_COUNT = 0x00A0 /* registers 0 .. ZW_REG_COUNT-1 may be mapped */
 };
 
 #define ZW_REGMAP_MAGIC 0x5A57u
-#define ZW_REGMAP_VERSION 2u
-#define ZW_CERT_WORDS 30u /* words 0x0040..0x005D covered by the CRC */
+#define ZW_REGMAP_VERSION 3u
 
-/* Command values (macros, not enum constants: an enum constant must fit a 16-bit int on
- * TI C28x, and 0xC0DE does not). */
-#define ZW_CMD_UNLOCK1 0xC0DEu
-#define ZW_CMD_UNLOCK2 0x5AFEu
-#define ZW_CMD_SEAL 0x5EA1u
-#define ZW_CMD_ABORT 0xAB07u
 
 /* Modbus exception codes used. */
 typedef enum zw_mb_exception {
@@ -246,61 +237,7 @@ typedef enum zw_mb_exception {
     ZW_MB_SERVER_FAILURE = 0x04
 } zw_mb_exception;
 
-/* Why a request was refused (ZW_REG_LAST_REASON). */
-typedef enum zw_reason {
-    ZW_REASON_NONE = 0,
-    ZW_REASON_BAD_FUNCTION = 1,   /* function code not supported */
-    ZW_REASON_MALFORMED = 2,      /* PDU length, quantity or byte count inconsistent */
-    ZW_REASON_UNMAPPED = 3,       /* an address in the request is not in the map */
-    ZW_REASON_READ_ONLY = 4,      /* a write touches a read-only register */
-    ZW_REASON_HALF_FLOAT = 5,     /* a write covers one word of a two-word value */
-    ZW_REASON_LOCKED = 6,         /* certified block written outside commissioning mode */
-    ZW_REASON_NOT_SEALED = 7,     /* gains written while no sealed block (or commissioning) */
-    ZW_REASON_NOT_FINITE = 8,     /* NaN or infinity */
-    ZW_REASON_K_BELOW_MIN = 9,
-    ZW_REASON_K_ABOVE_MAX = 10,
-    ZW_REASON_B_BELOW_MIN = 11,
-    ZW_REASON_B_ABOVE_MAX = 12,
-    ZW_REASON_K_STEP = 13,        /* |K - K_now| > dk_max */
-    ZW_REASON_B_STEP = 14,        /* |B - B_now| > db_max */
-    ZW_REASON_UNSTABLE = 15,      /* outside the exact stability region (or within its rounding band) */
-    ZW_REASON_ABOVE_SIGMA = 16,   /* K > sigma K_max(B) */
-    ZW_REASON_RADIUS = 17,        /* spectral radius not below r */
-    ZW_REASON_BAD_COMMAND = 18,   /* unknown command, or UNLOCK2 not right after UNLOCK1 */
-    ZW_REASON_CRC = 19,           /* seal: CRC does not match the block */
-    ZW_REASON_BAD_POLICY = 20,    /* seal: a field not finite, plant invalid (zw_device_init
-                                     fails), sigma or r not in (0, 1], k_min > k_max or
-                                     b_min > b_max, a step limit not > 0, or no pair
-                                     reachable in one step from the output-off state
-                                     (k_min > dk_max, b_min > db_max, b_max < -db_max) */
-    ZW_REASON_FPENV = 21,         /* seal: the floating-point self-test (zw_selftest) failed;
-                                     nothing can be certified on this target */
-    /* seal: the loop description (map version 2) */
-    ZW_REASON_BAD_DELAY = 22,     /* DELAY not an integer in 0..8 */
-    ZW_REASON_BAD_FILTER = 23,    /* VFILTER not 0, 1 or 2 */
-    ZW_REASON_BAD_FILTER_PARAM = 24, /* low-pass cut-off not in (0, 1/(2T)) or so low that
-                                     the pole rounds to 1; average n not an integer 1..16;
-                                     no filter with a parameter other than 0 */
-    ZW_REASON_BAD_DIFFERENTIATOR = 25, /* DIFF not 0 or 1 */
-    ZW_REASON_LOOP_NEVER_STABLE = 26   /* no gains are stable with this loop (e.g. Tustin with
-                                     an even moving average), or its limits cannot be
-                                     computed for this plant */
-} zw_reason;
 
-/* The certified block as numbers (what the CRC seals, in register order). */
-typedef struct zw_cert {
-    float m, b, T;         /* plant */
-    float sigma;           /* stiffness fraction of K_max(B), (0, 1] */
-    float r;               /* spectral radius bound, (0, 1] */
-    float k_min, k_max;    /* absolute K bounds */
-    float b_min, b_max;    /* absolute B bounds */
-    float dk_max, db_max;  /* largest change per accepted write, > 0 */
-    /* the loop the drive runs (integers held as floats, as on the wire) */
-    float delay;           /* d samples */
-    float vfilter;         /* 0 none, 1 low-pass, 2 moving average */
-    float vf_param;        /* low-pass cut-off [Hz], or the average's n, or 0 */
-    float differentiator;  /* 0 backward, 1 Tustin */
-} zw_cert;
 
 /* The fields shared between contexts (threading model above).  Under C11 with atomics
  * they are _Atomic, so that ThreadSanitizer and a multi-core memory model see the
@@ -350,6 +287,15 @@ typedef struct zw_regmap {
     uint_least16_t is_sealed;
     uint_least16_t last_reason, last_exception;
     uint_least16_t unlock_armed;    /* UNLOCK1 seen as the previous request */
+    zw_regmap_auth auth;            /* the firmware's RNG and MAC check (zw_regmap_set_auth) */
+    uint_least16_t consent;         /* commissioning enable input (zw_regmap_set_consent) */
+    uint_least16_t nonce[ZW_AUTH_NONCE_WORDS]; /* this commissioning session's nonce */
+    uint_least16_t mac[ZW_AUTH_MAC_WORDS];     /* the MAC the client wrote */
+    zw_ceilings ceilings;           /* factory ceilings (zw_regmap_set_ceilings) */
+    uint_least16_t has_ceilings;
+    zw_regmap_storage storage;      /* the firmware's non-volatile storage (SAVE) */
+    uint_least16_t restore_source, restore_reason;
+    uint_least16_t word_order;      /* ZW_WORD_ORDER_ABCD or _CDAB (zw_regmap_set_word_order) */
     float live[8];                  /* registers 0x0020..0x002F, recomputed on every accepted
                                        write and seal (so a read never runs the core) */
     /* K_max(B) at the B of the gains in force, general loop only (two zw_loop_alpha_max,
@@ -368,6 +314,46 @@ typedef struct zw_regmap {
  * ZW_ERR_ARG or ZW_ERR_FPENV it is a working unsealed drive (gains off) that can be
  * commissioned.  reason may be NULL; it receives ZW_REASON_NONE on success. */
 zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason);
+
+/* Commissioning (zwidth/regmap_commission.h), Modbus task or init context.  The enable
+ * input: commissioning is possible only while it is on (off after zw_regmap_init; a
+ * drive reports its key switch before each request).  The authentication hooks, copied
+ * into rm (auth NULL or a hook NULL: none, commissioning impossible; zw_regmap_init clears
+ * them).  rm NULL: no-op. */
+void zw_regmap_set_consent(zw_regmap *rm, bool enabled);
+void zw_regmap_set_auth(zw_regmap *rm, const zw_regmap_auth *auth);
+
+/* Power-up (init context, after zw_regmap_init): the factory ceilings (regmap_policy.h)
+ * that every commissioned block must respect.  They must be valid (every field finite,
+ * sigma_max and r_max in (0, 1], m and T > 0, b >= 0, plant_tol >= 0, k_min <= k_max,
+ * b_min <= b_max, steps > 0), else ZW_ERR_ARG with ZW_REASON_BAD_POLICY and nothing
+ * changes.  The block in force is checked against them: one that exceeds them is unsealed
+ * (gains off; ZW_ERR_ARG with its reason), so the drive never runs outside its ceilings.
+ * rm or c NULL: ZW_ERR_NULL.  reason may be NULL. */
+zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *c, zw_reason *reason);
+
+/* Word order of every two-register value on the wire (floats and counters): ABCD, high
+ * word first (the default after zw_regmap_init), or CDAB, low word first (many masters'
+ * default).  The CRC, the MAC message and the stored image always use ABCD (the canonical
+ * words), so a block's CRC does not depend on the wire order.  Init context; rm NULL or
+ * another value: no-op. */
+#define ZW_WORD_ORDER_ABCD 0u
+#define ZW_WORD_ORDER_CDAB 1u
+void zw_regmap_set_word_order(zw_regmap *rm, unsigned order);
+
+/* Persistence (zwidth/regmap_persist.h), init context.  The storage hook (NULL or a NULL
+ * hook: none, SAVE refused ZW_REASON_NO_STORAGE); rm NULL: no-op.  Restore: newest and
+ * previous image (either NULL or of any length; NULL, 0 means none).  Returns ZW_OK when an
+ * image's block was installed (its gains too, if they pass), ZW_ERR_ARG when an image was
+ * given and none passed (*reason: the first refusal), ZW_OK with nothing done when none
+ * was given; ZW_ERR_NULL for rm NULL.  Gains are off unless restored certified. */
+void zw_regmap_set_storage(zw_regmap *rm, const zw_regmap_storage *storage);
+zw_status zw_regmap_restore(zw_regmap *rm, const uint_least8_t *newest, size_t newest_len,
+                            const uint_least8_t *previous, size_t previous_len,
+                            zw_reason *reason);
+/* The image SAVE writes, of the block and gains in force (rm NULL, image NULL or nothing
+ * sealed: false, image untouched). */
+bool zw_regmap_image(const zw_regmap *rm, uint_least8_t image[ZW_IMAGE_BYTES]);
 
 /* Control loop: the certified gain pair in force, to apply this sample.  *K and *B are
  * always one pair that the map accepted (or (0, 0), output off: unsealed, commissioning,
@@ -412,31 +398,9 @@ zw_mb_exception zw_regmap_read(zw_regmap *rm, uint_least16_t addr, uint_least16_
 zw_mb_exception zw_regmap_write(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
                                 const uint_least16_t *words, zw_reason *reason);
 
-/* The block's fields in register order (0 m, 1 b, 2 T, 3 sigma, 4 r, 5 k_min, 6 k_max,
- * 7 b_min, 8 b_max, 9 dk_max, 10 db_max, 11 delay, 12 vfilter, 13 vf_param,
- * 14 differentiator): the one place that order is written down. */
-#define ZW_CERT_FIELDS 15u
-float zw_cert_field(const zw_cert *c, unsigned field);
-void zw_cert_set_field(zw_cert *c, unsigned field, float value);
-/* The block as it is on the wire: 30 words, then its CRC (words[ZW_CERT_WORDS]). */
-void zw_cert_encode(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS + 1u]);
-void zw_cert_decode(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *c);
 
-/* CRC-16/MODBUS (poly 0xA001 reflected, init 0xFFFF) of 16-bit words, high byte first
- * (words NULL: the CRC of no words, 0xFFFF). */
-uint_least16_t zw_crc16_words(const uint_least16_t *words, size_t count);
 
-/* IEEE-754 binary32 <-> two registers, high word first (portable: no type punning).
- * Exact for every finite value (subnormals and -0.0 included) and the infinities; every
- * NaN becomes the quiet NaN 0x7FC0 0x0000.  words NULL: no-op, and NaN back.  On an FPU
- * that flushes subnormals to zero (C28x, Cortex-M with FZ set) a subnormal decodes as 0;
- * no certified field can be subnormal and still pass the policy, so nothing depends on it. */
-void zw_float_to_words(float value, uint_least16_t words[2]);
-float zw_words_to_float(const uint_least16_t words[2]);
 
-/* Stable names for logs and tools ("ZW_REASON_UNSTABLE"; "ZW_REASON_UNKNOWN" for other
- * values). */
-const char *zw_reason_name(zw_reason reason);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,502 @@
+/* SPDX-FileCopyrightText: 2026 The zwidth authors
+   SPDX-License-Identifier: Apache-2.0 */
+/* The certification policy of the register map, zwidth/regmap_policy.h: what SEAL checks
+ * in a block, the rules a gain pair must pass, and the live-limit registers.
+ *
+ * The live-limit registers are cached in rm->live and recomputed after every accepted
+ * write (zw_rm_live_all), rather than computed on read: a read then never runs the core,
+ * and the deepest chains into the core start from the public function's tail call instead
+ * of below a read loop's frame, which keeps the worst stack chain on the Cortex-M4F within
+ * the project's 256 bytes (see ZW_NOINLINE).
+ */
+#include "zwidth/regmap_policy.h"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+
+#include "regmap_internal.h"
+
+
+/* The ideal loop (delay 0, backward difference, no filter): certified by the closed form of
+ * region.h / extremes.h, as in map version 1; any other by the general loop (loop.h). */
+static bool ideal_loop(const zw_regmap *rm)
+{
+    return rm->loop.loop.spec.delay == 0u && rm->loop.loop.spec.filter == ZW_VFILTER_NONE &&
+           rm->loop.loop.spec.differentiator == ZW_DIFF_BACKWARD;
+}
+
+/* x is a whole number in [0, max]. */
+static bool whole_in(float x, float max)
+{
+    return x >= 0.0f && x <= max && (float)(unsigned)x == x;
+}
+
+/* The loop fields of the staged block, each to its named reason (regmap.h). */
+static zw_reason check_loop_fields(const zw_regmap *rm)
+{
+    const float kind = zw_rm_staged_float(rm, F_VFILTER), param = zw_rm_staged_float(rm, F_VF_PARAM);
+    if (!whole_in(zw_rm_staged_float(rm, F_DELAY), (float)ZW_LOOP_MAX_DELAY)) return ZW_REASON_BAD_DELAY;
+    if (!whole_in(kind, 2.0f)) return ZW_REASON_BAD_FILTER;
+    if (kind == 0.0f ? param != 0.0f
+                     : kind == 1.0f ? !(param > 0.0f)
+                                    : !(whole_in(param, (float)ZW_LOOP_MAX_AVERAGE) && param >= 1.0f))
+        return ZW_REASON_BAD_FILTER_PARAM;
+    if (!whole_in(zw_rm_staged_float(rm, F_DIFF), 1.0f)) return ZW_REASON_BAD_DIFFERENTIATOR;
+    return ZW_REASON_NONE;
+}
+
+/* Build rm->loop from the staged block (staged) or the sealed one; the fields were checked.
+ * Reason: BAD_FILTER_PARAM for a cut-off the pole cannot be formed from, BAD_POLICY for
+ * the plant. */
+static zw_reason build_loop(zw_regmap *rm, bool staged)
+{
+    zw_device_loop_spec spec;
+    float f[ZW_CERT_FIELDS];
+    unsigned i;
+    zw_status st;
+    for (i = 0; i < ZW_CERT_FIELDS; ++i) f[i] = staged ? zw_rm_staged_float(rm, i) : zw_cert_field(&rm->sealed, i);
+    spec.delay = (unsigned)f[F_DELAY];
+    spec.differentiator = f[F_DIFF] == 1.0f ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
+    spec.filter = f[F_VFILTER] == 1.0f   ? ZW_VFILTER_LOWPASS
+                  : f[F_VFILTER] == 2.0f ? ZW_VFILTER_AVERAGE
+                                         : ZW_VFILTER_NONE;
+    spec.cutoff_hz = spec.filter == ZW_VFILTER_LOWPASS ? (zw_real)f[F_VF_PARAM] : ZW_R(0.0);
+    spec.pole = ZW_R(0.0);
+    spec.average = spec.filter == ZW_VFILTER_AVERAGE ? (unsigned)f[F_VF_PARAM] : 0u;
+    rm->kmax_cached = 0u;
+    st = zw_device_loop_init(&rm->loop, (zw_real)f[F_M], (zw_real)f[F_B], (zw_real)f[F_T], &spec);
+    if (st == ZW_OK) return ZW_REASON_NONE;
+    return st == ZW_ERR_FILTER ? ZW_REASON_BAD_FILTER_PARAM : ZW_REASON_BAD_POLICY;
+}
+
+/* K_MMAX and its B, of the plant and loop in force (the extremes in a frame of their own,
+ * only at SEAL and init: with a general loop they cost milliseconds).  *any: some gains are
+ * stable (K_mmax > 0). */
+ZW_NOINLINE static void live_extremes(zw_regmap *rm, bool *any)
+{
+    zw_status st;
+    zw_real K = ZW_R(0.0), B = ZW_R(0.0);
+    if (ideal_loop(rm)) {
+        zw_device_extremes e;
+        st = zw_device_extremes_compute(&rm->loop.dev, &e);
+        K = e.K_mmax;
+        B = e.B_at_K_mmax;
+    } else {
+        zw_device_loop_extremes e;
+        st = zw_device_loop_extremes_compute(&rm->loop, &e);
+        K = e.K_mmax;
+        B = e.B_at_K_mmax;
+    }
+    *any = st == ZW_OK && K > ZW_R(0.0);
+    rm->live[L_K_MMAX] = st == ZW_OK ? zw_rm_to_float(K) : QUIET_NAN_F;
+    rm->live[L_B_AT_KMMAX] = st == ZW_OK ? zw_rm_to_float(B) : QUIET_NAN_F;
+}
+
+/* SEAL's policy part (after the self-test and the CRC): check the staged block and build
+ * rm->loop from it.  A refused block leaves the one in force
+ * as it was: the loop is rebuilt from the sealed block when building the staged one
+ * failed (zw_device_loop_init leaves a refused plant NaN), and the live extremes are only
+ * recomputed for a block that is sealed. */
+static bool some_pair_usable(zw_regmap *rm, const zw_cert *c);
+
+/* A nonzero float of magnitude below FLT_MIN. */
+static bool subnormal_f(float x)
+{
+    return x != 0.0f && x > -FLT_MIN && x < FLT_MIN;
+}
+
+/* x within tol (relative) of nominal, decided in zw_real. */
+static bool within_tol(float x, float nominal, float tol)
+{
+    zw_real n = (zw_real)nominal, d = (zw_real)tol * (n < ZW_R(0.0) ? -n : n);
+    return (zw_real)x >= n - d && (zw_real)x <= n + d;
+}
+
+/* The block's fields f (register order) against the factory ceilings (regmap_policy.h). */
+static zw_reason check_ceilings(const zw_ceilings *k, const float f[ZW_CERT_FIELDS])
+{
+    if (f[F_SIGMA] > k->sigma_max || f[F_R] > k->r_max || f[F_K_MIN] < k->k_min ||
+        f[F_K_MAX] > k->k_max || f[F_B_MIN] < k->b_min || f[F_B_MAX] > k->b_max ||
+        f[F_DK_MAX] > k->dk_max || f[F_DB_MAX] > k->db_max)
+        return ZW_REASON_ABOVE_CEILING;
+    if (!within_tol(f[F_M], k->m, k->plant_tol) || !within_tol(f[F_B], k->b, k->plant_tol) ||
+        !within_tol(f[F_T], k->T, k->plant_tol))
+        return ZW_REASON_PLANT_MISMATCH;
+    return ZW_REASON_NONE;
+}
+
+/* The staged block's own rules, before the loop is built (regmap_policy.h, in its order). */
+static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_FIELDS])
+{
+    unsigned i;
+    for (i = 0; i < ZW_CERT_FIELDS; ++i)
+        if (!zw_rm_finite_f(f[i])) return ZW_REASON_BAD_POLICY;
+    for (i = 0; i < ZW_CERT_FIELDS; ++i)
+        if (subnormal_f(f[i])) return ZW_REASON_SUBNORMAL;
+    if (!(f[F_SIGMA] > 0.0f && f[F_SIGMA] <= 1.0f) || !(f[F_R] > 0.0f && f[F_R] <= 1.0f))
+        return ZW_REASON_BAD_POLICY;
+    /* a plant that cannot exist is a bad policy, not a mismatch with the nameplate */
+    if (!(f[F_M] > 0.0f) || !(f[F_T] > 0.0f) || !(f[F_B] >= 0.0f)) return ZW_REASON_BAD_POLICY;
+    if (!(f[F_K_MIN] <= f[F_K_MAX]) || !(f[F_B_MIN] <= f[F_B_MAX])) return ZW_REASON_BAD_POLICY;
+    if (!(f[F_DK_MAX] > 0.0f) || !(f[F_DB_MAX] > 0.0f)) return ZW_REASON_BAD_POLICY;
+    /* After a seal the output is off, (0, 0), and steps count from there: refuse a block
+     * from which no pair is within the bounds and one step (it could never be used). */
+    if (f[F_K_MIN] > f[F_DK_MAX] || f[F_B_MIN] > f[F_DB_MAX] || f[F_B_MAX] < -f[F_DB_MAX])
+        return ZW_REASON_BAD_POLICY;
+    if (rm->has_ceilings != 0u) return check_ceilings(&rm->ceilings, f);
+    return ZW_REASON_NONE;
+}
+
+zw_reason zw_rm_policy_admit(zw_regmap *rm)
+{
+    unsigned i;
+    float f[ZW_CERT_FIELDS];
+    zw_cert c;
+    zw_reason why;
+    bool any = false;
+    for (i = 0; i < ZW_CERT_FIELDS; ++i) {
+        f[i] = zw_rm_staged_float(rm, i);
+        zw_cert_set_field(&c, i, f[i]);
+    }
+    if ((why = check_block_fields(rm, f)) != ZW_REASON_NONE) return why;
+    if ((why = check_loop_fields(rm)) != ZW_REASON_NONE) return why;
+    why = build_loop(rm, true);
+    if (why == ZW_REASON_NONE) {
+        live_extremes(rm, &any);
+        if (!any) why = ZW_REASON_LOOP_NEVER_STABLE;
+        else if (!some_pair_usable(rm, &c)) why = ZW_REASON_ONLY_OFF;
+    }
+    if (why != ZW_REASON_NONE) {
+        /* the sealed block stays in force: its loop back (it was valid when sealed), and
+         * its extremes */
+        if (rm->is_sealed) {
+            (void)build_loop(rm, false);
+            live_extremes(rm, &any);
+        }
+        return why;
+    }
+    return ZW_REASON_NONE;
+}
+
+zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *k, zw_reason *reason)
+{
+    const float v[12] = {k != NULL ? k->sigma_max : 0.0f, k != NULL ? k->r_max : 0.0f,
+                         k != NULL ? k->m : 0.0f, k != NULL ? k->b : 0.0f,
+                         k != NULL ? k->T : 0.0f, k != NULL ? k->plant_tol : 0.0f,
+                         k != NULL ? k->k_min : 0.0f, k != NULL ? k->k_max : 0.0f,
+                         k != NULL ? k->b_min : 0.0f, k != NULL ? k->b_max : 0.0f,
+                         k != NULL ? k->dk_max : 0.0f, k != NULL ? k->db_max : 0.0f};
+    float f[ZW_CERT_FIELDS];
+    unsigned i;
+    zw_reason why = ZW_REASON_NONE;
+    if (reason != NULL) *reason = ZW_REASON_BAD_POLICY;
+    if (rm == NULL || k == NULL) return ZW_ERR_NULL;
+    for (i = 0; i < 12u; ++i)
+        if (!zw_rm_finite_f(v[i])) return ZW_ERR_ARG;
+    if (!(k->sigma_max > 0.0f && k->sigma_max <= 1.0f) || !(k->r_max > 0.0f && k->r_max <= 1.0f) ||
+        !(k->m > 0.0f) || !(k->T > 0.0f) || !(k->b >= 0.0f) || !(k->plant_tol >= 0.0f) ||
+        !(k->k_min <= k->k_max) || !(k->b_min <= k->b_max) || !(k->dk_max > 0.0f) ||
+        !(k->db_max > 0.0f))
+        return ZW_ERR_ARG;
+    rm->ceilings = *k;
+    rm->has_ceilings = 1u;
+    if (rm->is_sealed) {
+        for (i = 0; i < ZW_CERT_FIELDS; ++i) f[i] = zw_cert_field(&rm->sealed, i);
+        why = check_ceilings(k, f);
+        if (why != ZW_REASON_NONE) { /* never run outside the ceilings: unsealed, output off */
+            rm->is_sealed = 0u;
+            zw_rm_publish_gains(rm, 0.0f, 0.0f);
+            (void)zw_rm_live_all(rm);
+        }
+    }
+    if (reason != NULL) *reason = why;
+    return why == ZW_REASON_NONE ? ZW_OK : ZW_ERR_ARG;
+}
+
+/* ---- certification of a gain pair ---------------------------------------------------------- */
+
+/* |a - b| <= limit, decided on the exact difference: when the rounded difference lands on
+ * the limit, its rounding error (Knuth's TwoSum, exact without contraction) tells on which
+ * side the exact difference lies.  a, b finite; limit finite and > 0. */
+static bool step_within(float a, float b, float limit)
+{
+    zw_real x = (zw_real)a, y = -(zw_real)b, lim = (zw_real)limit;
+    zw_real d = x + y;
+    zw_real ad = d < ZW_R(0.0) ? -d : d;
+    zw_real yv, err;
+    if (ad != lim) return ad < lim; /* an overflowed difference is inf: refused */
+    yv = d - x;
+    err = (x - (d - yv)) + (y - yv); /* d + err == a - b exactly */
+    return d > ZW_R(0.0) ? err <= ZW_R(0.0) : err >= ZW_R(0.0);
+}
+
+/* The two rules that need the plant, each in its own small function: the deepest chains of
+ * the core (zw_device_radius_within) then start right below a small frame (stack).  Any
+ * error of the core (a normalization that overflows) counts against the pair. */
+static bool stable_ok(const zw_regmap *rm, float K, float B)
+{
+    if (ideal_loop(rm)) {
+        zw_verdict v;
+        return zw_device_check(&rm->loop.dev, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
+    } else {
+        zw_loop_verdict v;
+        return zw_device_loop_check(&rm->loop, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
+    }
+}
+
+static bool radius_ok(const zw_regmap *rm, float r, float K, float B)
+{
+    bool within = false;
+    zw_status st = ideal_loop(rm)
+                       ? zw_device_radius_within(&rm->loop.dev, (zw_real)K, (zw_real)B,
+                                                 (zw_real)r, &within)
+                       : zw_device_loop_radius_within(&rm->loop, (zw_real)K, (zw_real)B,
+                                                      (zw_real)r, &within);
+    return st == ZW_OK && within;
+}
+
+/* K_max at B of the drive's loop (certified; 0 on error, by the core's fail-safe).  The
+ * general loop's is taken from the cache when B is the one it holds. */
+static zw_status drive_k_max(const zw_regmap *rm, float B, zw_real *k_max)
+{
+    if (ideal_loop(rm)) return zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max);
+    if (rm->kmax_cached != 0u && rm->kmax_B == B) {
+        *k_max = rm->kmax_value;
+        return ZW_OK;
+    }
+    return zw_device_loop_k_max(&rm->loop, (zw_real)B, k_max);
+}
+
+/* Keep K_max(B) for the gains now in force (general loop; the ideal one is cheap). */
+static void cache_k_max(zw_regmap *rm, float B, zw_real k_max)
+{
+    rm->kmax_B = B;
+    rm->kmax_value = k_max;
+    rm->kmax_cached = (uint_least16_t)(ideal_loop(rm) ? 0u : 1u);
+}
+
+/* The rules of regmap_policy.h, in its order, for a write from (K0, B0) under block c (the
+ * loop in rm->loop is c's); the first that fails is the reason. */
+static zw_reason certify_under(const zw_regmap *rm, const zw_cert *c, float K0, float B0, float K,
+                               float B, zw_real *k_max_out)
+{
+    zw_real k_max;
+    *k_max_out = ZW_R(0.0);
+    if (!zw_rm_finite_f(K) || !zw_rm_finite_f(B)) return ZW_REASON_NOT_FINITE;
+    if (K == 0.0f && B == 0.0f) return ZW_REASON_NONE; /* output off: always allowed */
+    if (K < c->k_min) return ZW_REASON_K_BELOW_MIN;
+    if (K > c->k_max) return ZW_REASON_K_ABOVE_MAX;
+    if (B < c->b_min) return ZW_REASON_B_BELOW_MIN;
+    if (B > c->b_max) return ZW_REASON_B_ABOVE_MAX;
+    if (!step_within(K, K0, c->dk_max)) return ZW_REASON_K_STEP;
+    if (!step_within(B, B0, c->db_max)) return ZW_REASON_B_STEP;
+    if (!stable_ok(rm, K, B)) return ZW_REASON_UNSTABLE;
+    if (drive_k_max(rm, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max)
+        return ZW_REASON_ABOVE_SIGMA;
+    *k_max_out = k_max;
+    if (!radius_ok(rm, c->r, K, B)) return ZW_REASON_RADIUS;
+    return ZW_REASON_NONE;
+}
+
+/* A gain write: certified as a pair, then stored (K and B the values after the write;
+ * -0.0 stored as +0.0, so "off" reads as two zero words). */
+zw_reason zw_rm_apply_gains(zw_regmap *rm, float K, float B)
+{
+    zw_real k_max;
+    zw_reason why = certify_under(rm, &rm->sealed, rm->K, rm->B, K, B, &k_max);
+    if (why != ZW_REASON_NONE) return why;
+    /* (0, 0) skips the rules: k_max is then not known */
+    if (K == 0.0f && B == 0.0f) rm->kmax_cached = 0u;
+    else cache_k_max(rm, B, k_max);
+    zw_rm_publish_gains(rm, K == 0.0f ? 0.0f : K, B == 0.0f ? 0.0f : B);
+    rm->accepted = (rm->accepted + 1u) & 0xFFFFFFFFu;
+    return ZW_REASON_NONE;
+}
+
+/* ---- live registers ------------------------------------------------------------------------ */
+
+
+/* The largest float not above x (x not NaN, at most FLT_MAX). */
+static float float_down(zw_real x)
+{
+    float f = zw_rm_to_float(x);
+    if ((zw_real)f > x) f = ZW_NEXTAFTERF(f, -ZW_HUGE_VALF);
+    return f;
+}
+
+/* Grid of the downward scan in live_k_cert (see there). */
+#define K_CERT_GRID 32
+
+/* LIVE_K_CERT: the largest float K at the current B that the k_max, sigma, stability and
+ * radius rules accept (the k_min and step rules depend on where K comes from, so they are
+ * left out).  top = min(sigma K_max(B), k_max) is taken when stability and radius accept
+ * it; otherwise the largest accepted K lies below top: K is scanned down from top on a grid
+ * of K_CERT_GRID points for one that is accepted, and the crossing above it is bisected to
+ * float resolution, so the value reported is itself accepted.  0 when no grid point is.
+ * NaN without a sealed plant.  Returns ZW_MB_OK so that zw_rm_live_all can end in it. */
+ZW_NOINLINE static zw_mb_exception live_k_cert(zw_regmap *rm)
+{
+    zw_real k_max, top;
+    float top_f = 0.0f, lo = 0.0f, hi, k, B = rm->B;
+    int grid = K_CERT_GRID; /* scanning grid point grid/K_CERT_GRID of top; 0: bisecting */
+    bool ok;
+    rm->live[L_K_CERT] = QUIET_NAN_F;
+    if (!rm->is_sealed || drive_k_max(rm, B, &k_max) != ZW_OK)
+        return ZW_MB_OK;
+    top = (zw_real)rm->sealed.sigma * k_max;
+    if (top > (zw_real)rm->sealed.k_max) top = (zw_real)rm->sealed.k_max;
+    if (top > ZW_R(0.0)) top_f = float_down(top);
+    /* One loop with one call site of the rules: a smaller frame than a scan loop followed
+     * by a bisection loop. */
+    hi = k = top_f;
+    while (k > 0.0f) {
+        ok = stable_ok(rm, k, B) && radius_ok(rm, rm->sealed.r, k, B);
+        if (grid > 0 && !ok) { /* scanning down */
+            hi = k;
+            if (--grid == 0) break; /* no grid point accepted: lo stays 0 */
+            k = top_f * ((float)grid / (float)K_CERT_GRID);
+            continue;
+        }
+        if (ok) lo = k;
+        else hi = k;
+        if (grid == K_CERT_GRID) break; /* top itself is accepted */
+        grid = 0;
+        k = lo + (hi - lo) * 0.5f; /* lo accepted, hi refused; ends when they are neighbours */
+        if (!(k > lo && k < hi)) break;
+    }
+    rm->live[L_K_CERT] = lo;
+    return ZW_MB_OK;
+}
+
+/* B values probed by some_pair_usable: the B of K_mmax, 0, and a grid over the range. */
+#define USABLE_B_GRID 8u
+
+/* Some pair other than (0, 0) passes every rule of a write from (0, 0) under block c (its
+ * loop built in rm->loop, its extremes in rm->live): probed at the B of K_mmax, at 0 and on
+ * a grid of USABLE_B_GRID points over the B range one step reaches, each with K at eleven
+ * fractions of the ceiling there (1/64 .. 1) and at k_min; it stops at the first that passes
+ * (usually the first probe).  A block none of these pass is refused
+ * (ZW_REASON_ONLY_OFF): it can hold the output off and little else. */
+ZW_NOINLINE static bool some_pair_usable(zw_regmap *rm, const zw_cert *c)
+{
+    /* fractions of the ceiling, on a roughly logarithmic scale (the accepted K at a given B
+     * can be a narrow window when r is small) */
+    static const float k_fraction[11] = {0.5f,   1.0f,   0.75f,   0.375f, 0.25f,   0.1875f,
+                                         0.125f, 0.09375f, 0.0625f, 0.03125f, 0.015625f};
+    float lo = c->b_min > -c->db_max ? c->b_min : -c->db_max;
+    float hi = c->b_max < c->db_max ? c->b_max : c->db_max;
+    float B, top_f, K;
+    zw_real k_max, top, km;
+    unsigned i, j;
+    for (i = 0; i < USABLE_B_GRID + 2u; ++i) {
+        if (i == 0u) B = rm->live[L_B_AT_KMMAX];
+        else if (i == 1u) B = 0.0f;
+        else B = lo + (hi - lo) * ((float)(i - 2u) / (float)(USABLE_B_GRID - 1u));
+        if (!(B >= lo && B <= hi)) continue; /* NaN too */
+        if (drive_k_max(rm, B, &k_max) != ZW_OK) continue;
+        top = (zw_real)c->sigma * k_max;
+        if (top > (zw_real)c->k_max) top = (zw_real)c->k_max;
+        if (top > (zw_real)c->dk_max) top = (zw_real)c->dk_max;
+        if (!(top > ZW_R(0.0))) continue;
+        top_f = float_down(top);
+        for (j = 0; j <= 11u; ++j) {
+            K = j < 11u ? top_f * k_fraction[j] : c->k_min;
+            if (K > 0.0f && certify_under(rm, c, 0.0f, 0.0f, K, B, &km) == ZW_REASON_NONE)
+                return true;
+        }
+    }
+    return false;
+}
+
+static float value_or_nan(zw_status st, zw_real x)
+{
+    return st == ZW_OK ? zw_rm_to_float(x) : QUIET_NAN_F;
+}
+
+/* Recompute the live registers that depend on the gains (and delta) after an accepted
+ * change (gains, seal, unlock), so reads never run the core.  A value that does not exist
+ * (no sealed plant, or the core refuses the computation) reads as NaN.  K_CERT, K_MMAX and
+ * its B have functions of their own, each called from zw_rm_live_all, so that no frame sits
+ * under another one's chain into the core (stack). */
+ZW_NOINLINE static void live_refresh(zw_regmap *rm)
+{
+    const zw_device *d = &rm->loop.dev;
+    zw_real x = ZW_R(0.0), y = ZW_R(0.0), th = ZW_R(0.0);
+    zw_status st;
+    bool any;
+    unsigned i;
+    if (!rm->is_sealed) {
+        for (i = 0; i < L_COUNT; ++i) rm->live[i] = QUIET_NAN_F;
+        return;
+    }
+    st = drive_k_max(rm, rm->B, &x);
+    if (st == ZW_OK && !(rm->K == 0.0f && rm->B == 0.0f)) cache_k_max(rm, rm->B, x);
+    rm->live[L_K_MAX] = value_or_nan(st, x);
+    /* both report (0, 0) when the interval is empty, which covers K = 0 */
+    /* the general loop's B range is not computed per write (regmap.h): NaN */
+    st = ideal_loop(rm) ? zw_device_b_range(d, (zw_real)rm->K, &x, &y, &any) : ZW_ERR_ARG;
+    rm->live[L_B_LO] = value_or_nan(st, x);
+    rm->live[L_B_HI] = value_or_nan(st, y);
+    st = ideal_loop(rm) ? zw_device_spectral_radius(d, (zw_real)rm->K, (zw_real)rm->B, &x)
+                        : zw_device_loop_spectral_radius(&rm->loop, (zw_real)rm->K, (zw_real)rm->B, &x, &th);
+    rm->live[L_RHO] = value_or_nan(st, x);
+    rm->live[L_DELTA] = zw_rm_to_float(d->co.delta);
+}
+
+/* Every live register, after an accepted change.  Returns ZW_MB_OK so that the public
+ * functions end in it as a tail call, and ends in live_k_cert as one itself. */
+/* Every live register, after an accepted change.  Returns ZW_MB_OK so that the public
+ * functions end in it as a tail call, and ends in live_k_cert as one itself. */
+zw_mb_exception zw_rm_live_all(zw_regmap *rm)
+{
+    live_refresh(rm);
+    return live_k_cert(rm);
+}
+
+const char *zw_reason_name(zw_reason reason)
+{
+    switch (reason) {
+    case ZW_REASON_NONE: return "ZW_REASON_NONE";
+    case ZW_REASON_BAD_FUNCTION: return "ZW_REASON_BAD_FUNCTION";
+    case ZW_REASON_MALFORMED: return "ZW_REASON_MALFORMED";
+    case ZW_REASON_UNMAPPED: return "ZW_REASON_UNMAPPED";
+    case ZW_REASON_READ_ONLY: return "ZW_REASON_READ_ONLY";
+    case ZW_REASON_HALF_FLOAT: return "ZW_REASON_HALF_FLOAT";
+    case ZW_REASON_LOCKED: return "ZW_REASON_LOCKED";
+    case ZW_REASON_NOT_SEALED: return "ZW_REASON_NOT_SEALED";
+    case ZW_REASON_NOT_FINITE: return "ZW_REASON_NOT_FINITE";
+    case ZW_REASON_K_BELOW_MIN: return "ZW_REASON_K_BELOW_MIN";
+    case ZW_REASON_K_ABOVE_MAX: return "ZW_REASON_K_ABOVE_MAX";
+    case ZW_REASON_B_BELOW_MIN: return "ZW_REASON_B_BELOW_MIN";
+    case ZW_REASON_B_ABOVE_MAX: return "ZW_REASON_B_ABOVE_MAX";
+    case ZW_REASON_K_STEP: return "ZW_REASON_K_STEP";
+    case ZW_REASON_B_STEP: return "ZW_REASON_B_STEP";
+    case ZW_REASON_UNSTABLE: return "ZW_REASON_UNSTABLE";
+    case ZW_REASON_ABOVE_SIGMA: return "ZW_REASON_ABOVE_SIGMA";
+    case ZW_REASON_RADIUS: return "ZW_REASON_RADIUS";
+    case ZW_REASON_BAD_COMMAND: return "ZW_REASON_BAD_COMMAND";
+    case ZW_REASON_CRC: return "ZW_REASON_CRC";
+    case ZW_REASON_BAD_POLICY: return "ZW_REASON_BAD_POLICY";
+    case ZW_REASON_FPENV: return "ZW_REASON_FPENV";
+    case ZW_REASON_BAD_DELAY: return "ZW_REASON_BAD_DELAY";
+    case ZW_REASON_BAD_FILTER: return "ZW_REASON_BAD_FILTER";
+    case ZW_REASON_BAD_FILTER_PARAM: return "ZW_REASON_BAD_FILTER_PARAM";
+    case ZW_REASON_BAD_DIFFERENTIATOR: return "ZW_REASON_BAD_DIFFERENTIATOR";
+    case ZW_REASON_LOOP_NEVER_STABLE: return "ZW_REASON_LOOP_NEVER_STABLE";
+    case ZW_REASON_NO_CONSENT: return "ZW_REASON_NO_CONSENT";
+    case ZW_REASON_RNG: return "ZW_REASON_RNG";
+    case ZW_REASON_AUTH: return "ZW_REASON_AUTH";
+    case ZW_REASON_ABOVE_CEILING: return "ZW_REASON_ABOVE_CEILING";
+    case ZW_REASON_PLANT_MISMATCH: return "ZW_REASON_PLANT_MISMATCH";
+    case ZW_REASON_SUBNORMAL: return "ZW_REASON_SUBNORMAL";
+    case ZW_REASON_ONLY_OFF: return "ZW_REASON_ONLY_OFF";
+    case ZW_REASON_NO_CEILINGS: return "ZW_REASON_NO_CEILINGS";
+    case ZW_REASON_NO_STORAGE: return "ZW_REASON_NO_STORAGE";
+    case ZW_REASON_STORAGE: return "ZW_REASON_STORAGE";
+    case ZW_REASON_IMAGE_FORMAT: return "ZW_REASON_IMAGE_FORMAT";
+    case ZW_REASON_IMAGE_CRC: return "ZW_REASON_IMAGE_CRC";
+    default: break; /* a value outside the enumeration: named below */
+    }
+    return "ZW_REASON_UNKNOWN";
+}
