@@ -15,14 +15,32 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-build/amalgamation}
-HEADERS="precision real status portable_math coeffs region margin extremes device batch selftest loop
-    loop_limits device_loop regmap version box"
 MODULES=$(sed -n '/^set(ZW_CORE_SOURCES/,/)/s/.*csrc\/src\/\([a-z_]*\)\.c.*/\1/p' CMakeLists.txt)
+# Files are copied as the preprocessor reads them: a local #include (zwidth/X.h, or a
+# private X.h of csrc/src) is replaced by that file's text where it first appears, and
+# dropped where it appears again, so include order (even a header included half-way
+# through another, as real.h includes portable_math.h) needs no list here.
+declare -A seen=()
+local_include() { sed -n 's/^#include "\(zwidth\/[a-z0-9_]*\.h\)".*/csrc\/include\/\1/p; s/^#include "\([a-z0-9_]*\.h\)".*/csrc\/src\/\1/p' <<<"$1"; }
+inline_file() { # inline_file FILE: print FILE with its local includes inlined once
+    local f=$1 line inc
+    seen[$f]=1
+    echo ""
+    echo "/* ---- ${f#csrc/*/} ---- */"
+    while IFS= read -r line || [ -n "$line" ]; do
+        inc=
+        if [[ $line == '#include "'* ]]; then inc=$(local_include "$line"); fi
+        if [ -z "$inc" ]; then
+            printf '%s\n' "$line"
+        elif [ -z "${seen[$inc]:-}" ]; then
+            inline_file "$inc"
+        fi
+    done <"$f"
+}
 VERSION=$(sed -n 's/^#define ZW_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)$/\2/p' \
     csrc/include/zwidth/version.h | paste -sd.)
 REV=$(git describe --always --dirty 2>/dev/null || echo unknown)
 mkdir -p "$OUT"
-strip_local_includes() { grep -v '^#include "\(zwidth/[a-z0-9_]*\.h\|internal\.h\)"'; }
 
 {
     # REUSE-IgnoreStart (the generated file's tags, not this script's)
@@ -33,10 +51,13 @@ strip_local_includes() { grep -v '^#include "\(zwidth/[a-z0-9_]*\.h\|internal\.h
     echo " * from $REV.  Do not edit: regenerate.  See docs/firmware.md. */"
     echo "#ifndef ZWIDTH_AMALGAMATION_H"
     echo "#define ZWIDTH_AMALGAMATION_H"
-    for h in $HEADERS; do
-        echo ""
-        echo "/* ---- zwidth/$h.h ---- */"
-        strip_local_includes <"csrc/include/zwidth/$h.h"
+    inline_file csrc/include/zwidth/zwidth.h
+    [ -n "${seen[csrc/include/zwidth/version.h]:-}" ] || inline_file csrc/include/zwidth/version.h
+    # public headers a module includes that zwidth.h does not
+    for m in $MODULES; do
+        for inc in $(grep '^#include "zwidth/' "csrc/src/$m.c" | while IFS= read -r l; do local_include "$l"; done); do
+            [ -n "${seen[$inc]:-}" ] || inline_file "$inc"
+        done
     done
     echo ""
     echo "#endif /* ZWIDTH_AMALGAMATION_H */"
@@ -52,12 +73,8 @@ mv "$OUT/zwidth.h.tmp" "$OUT/zwidth.h"
     echo " * from $REV.  Do not edit: regenerate.  See docs/firmware.md. */"
     echo '#include "zwidth.h"'
     echo ""
-    echo "/* ---- internal.h ---- */"
-    strip_local_includes <csrc/src/internal.h
     for m in $MODULES; do
-        echo ""
-        echo "/* ---- $m.c ---- */"
-        strip_local_includes <"csrc/src/$m.c"
+        inline_file "csrc/src/$m.c"
         for d in $(sed -n 's/^#define \([A-Za-z_][A-Za-z0-9_]*\).*/\1/p' "csrc/src/$m.c" | sort -u); do
             echo "#undef $d"
         done
