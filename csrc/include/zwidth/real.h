@@ -135,8 +135,8 @@ typedef double zw_real;
 }
 #endif
 
-#ifdef ZW_PORTABLE_MATH
+/* Declared whatever ZW_PORTABLE_MATH says: the fallbacks are always built into the core
+ * (and the amalgamation copies each header once, where it is first included). */
 #include "zwidth/portable_math.h"
-#endif
 
 #endif /* ZWIDTH_REAL_H */
