@@ -15,7 +15,7 @@
 #   float   -machdep x86_32  (ILP32: the data model of a Cortex-M firmware) -DZW_REAL_FLOAT
 # Fails (exit 1) on any alarm, on an Eva warning or error, or when a function of
 # EVA_MODULES is not reached by the analysis; exit 2 when Frama-C is missing.
-# About 1 minute on 2 cores (both runs in parallel).
+# About 45 s of CPU: 1 to 1.5 min on 2 cores (both runs in parallel).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

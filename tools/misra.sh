@@ -25,7 +25,7 @@
 # only, which is all the table needs.
 #
 # Exit status: 0 clean; 1 a violation or a stale deviation; 2 cppcheck missing or broken.
-# About 30 s on 2 cores (ZW_JOBS, default 2, parallel cppcheck runs).
+# About 50 s of CPU: 30 s to 2 min on 2 cores (ZW_JOBS, default 2, parallel cppcheck runs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
