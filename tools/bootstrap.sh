@@ -15,7 +15,8 @@
 #
 # Python: a virtualenv in .venv with tools/requirements-test.txt; the zwidth package itself
 # is installed by tools/test.sh (pip install .).
-# First run on a fresh Debian 12 machine: about 4 minutes (apt and pip downloads), then
+# First run on a fresh Debian 12 machine: about 5 minutes (apt and pip downloads; Frama-C
+# alone is 208 MB, 0.9 GB installed), then
 # a few seconds (probes only).
 set -euo pipefail
 cd "$(dirname "$0")/.."
