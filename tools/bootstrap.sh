@@ -19,7 +19,8 @@
 #
 # Python: a virtualenv in .venv with tools/requirements-test.txt; the zwidth package itself
 # is installed by tools/test.sh (pip install .).
-# First run on a fresh Debian 12 machine: about 4 minutes (apt and pip downloads), then
+# First run on a fresh Debian 12 machine: about 5 minutes (apt and pip downloads; Frama-C
+# alone is 208 MB, 0.9 GB installed), then
 # a few seconds (probes only).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -72,6 +73,11 @@ probe_fuzzer() { printf '#include <stddef.h>\n#include <stdint.h>\nint LLVMFuzze
     | compile_and_link clang c -fsanitize=fuzzer,address,undefined; }
 probe_socat() { quiet socat -V; }
 probe_mbpoll() { mbpoll -h 2>&1 | grep -qi modbus; }
+probe_cppcheck_misra() { printf 'int main(void){int x = 0; goto done; done: return x;}\n' >"$PROBE_DIR/misra.c"
+    local log; log=$(cppcheck -q --addon=misra --template='{id}' "$PROBE_DIR/misra.c" 2>&1) &&
+        grep -q 'misra-c2012-15\.1' <<<"$log"; }
+probe_frama_c_eva() { printf 'int main(void){volatile int v = 0; int a[2] = {0, 0}; return a[v];}\n' >"$PROBE_DIR/eva.c"
+    local log; log=$(frama-c -eva "$PROBE_DIR/eva.c" 2>&1) && grep -q '^\[eva:alarm\]' <<<"$log"; }
 probe_python_venv() { quiet python3 -c 'import venv, ensurepip'; }
 probe_python_headers() { quiet python3 -c 'import os, sysconfig; assert os.path.exists(os.path.join(sysconfig.get_paths()["include"], "Python.h"))'; }
 
@@ -94,6 +100,8 @@ caps=(
     "clang libFuzzer + ASan/UBSan (fuzzing)|probe_fuzzer|clang|"
     "socat (RTU over a pseudo-terminal)|probe_socat|socat|"
     "mbpoll (an independent Modbus client)|probe_mbpoll|mbpoll|"
+    "cppcheck MISRA C:2012 addon (tools/misra.sh)|probe_cppcheck_misra|cppcheck|"
+    "Frama-C Eva (tools/eva.sh; about 210 MB download, 0.9 GB installed)|probe_frama_c_eva|frama-c-base|"
     "python3 venv + ensurepip|probe_python_venv|python3-venv|"
     "Python.h of python3 (the extension)|probe_python_headers|python3-dev|"
 )

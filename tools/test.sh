@@ -9,7 +9,8 @@
 # the high-precision reference tests against mpmath, the Modbus drive
 # over real sockets and a pseudo-terminal (zwidth-tune, the Python client, mbpoll), a
 # bounded libFuzzer run on the request handler (ZW_FUZZ_SECONDS, default 30), and the
-# release checks (reuse lint, the firmware tarball on the Cortex-M4F, sdist and wheel).
+# release checks (reuse lint, the firmware tarball on the Cortex-M4F, sdist and wheel), the
+# firmware part's MISRA C:2012 check (tools/misra.sh) and Eva analysis (tools/eva.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/bootstrap.sh
@@ -41,6 +42,12 @@ cmake -S . -B build-portable -G Ninja -DCMAKE_BUILD_TYPE=Release -DZW_PORTABLE_M
 cmake --build build-portable
 ctest --test-dir build-portable --output-on-failure
 ZW_LIB_DIR="$PWD/build-portable" .venv/bin/python -m pytest tests/py/test_coeffs.py -q
+
+step "MISRA C:2012 on the firmware part (cppcheck addon, double + float; deviations: docs/misra.md)"
+tools/misra.sh
+
+step "run-time errors of the gated core modules, every input unconstrained (Frama-C Eva; docs/eva.md)"
+tools/eva.sh
 
 step "MCU footprint (Cortex-M4F, Cortex-M0): targets, and docs/footprint.md + README table current"
 tools/footprint.sh --check >/dev/null

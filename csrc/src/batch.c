@@ -18,7 +18,7 @@
 #include "internal.h"
 
 /* Pairs per block: the 1/0 answers of a block wait in a zw_real array on the stack. */
-#define ZW_BATCH_BLOCK 16
+#define ZW_BATCH_BLOCK 16u
 
 static zw_real exact_stable01(const zw_coeffs *c, zw_real coef_err, const zw_gains *g)
 {
@@ -32,12 +32,16 @@ static zw_real exact_stable01(const zw_coeffs *c, zw_real coef_err, const zw_gai
 static void store_block(bool *stable, const zw_real *ok, size_t count)
 {
     size_t j;
-    for (j = 0; j < count; ++j) stable[j] = ok[j] != ZW_R(0.0);
+    for (j = 0; j < count; ++j) {
+        stable[j] = ok[j] != ZW_R(0.0);
+    }
 }
 
 static zw_status invalid_at(zw_status st, size_t i, size_t *first_invalid)
 {
-    if (first_invalid != NULL) *first_invalid = i;
+    if (first_invalid != NULL) {
+        *first_invalid = i;
+    }
     return st;
 }
 
@@ -45,8 +49,11 @@ static zw_status invalid_at(zw_status st, size_t i, size_t *first_invalid)
 static zw_status fail_all(zw_status st, bool *stable, size_t n)
 {
     size_t i;
-    if (st != ZW_OK && stable != NULL)
-        for (i = 0; i < n; ++i) stable[i] = false;
+    if ((st != ZW_OK) && (stable != NULL)) {
+        for (i = 0; i < n; ++i) {
+            stable[i] = false;
+        }
+    }
     return st;
 }
 
@@ -57,25 +64,35 @@ static zw_status check_many(const zw_coeffs *c, size_t n, const zw_real *alpha, 
     zw_status st;
     size_t i;
     zw_real coef_err;
-    if (n == 0) return ZW_OK;
-    if (c == NULL || alpha == NULL || beta == NULL || stable == NULL)
+    if (n == 0u) {
+        return ZW_OK;
+    }
+    if (c == NULL || alpha == NULL || beta == NULL || stable == NULL) {
         return invalid_at(ZW_ERR_NULL, 0, first_invalid);
-    if ((st = zw_require_coeffs(c, true)) != ZW_OK) return invalid_at(st, 0, first_invalid);
+    }
+    st = zw_require_coeffs(c, true);
+    if (st != ZW_OK) {
+        return invalid_at(st, 0, first_invalid);
+    }
     for (i = 0; i < n; ++i) {
-        if ((st = zw_require_finite(alpha[(ptrdiff_t)i * alpha_stride])) != ZW_OK ||
-            (st = zw_require_finite(beta[(ptrdiff_t)i * beta_stride])) != ZW_OK)
+        st = zw_require_finite(alpha[(ptrdiff_t)i * alpha_stride]);
+        if (st == ZW_OK) {
+            st = zw_require_finite(beta[(ptrdiff_t)i * beta_stride]);
+        }
+        if (st != ZW_OK) {
             return invalid_at(st, i, first_invalid);
+        }
     }
     coef_err = zw_coef_relerr(c);
-    for (i = 0; i < n; i += ZW_BATCH_BLOCK) {
+    for (i = 0u; i < n; i += ZW_BATCH_BLOCK) {
         zw_real ok[ZW_BATCH_BLOCK];
-        size_t j, count = n - i < ZW_BATCH_BLOCK ? n - i : ZW_BATCH_BLOCK;
+        size_t j, count = ((n - i) < ZW_BATCH_BLOCK) ? (n - i) : ZW_BATCH_BLOCK;
         for (j = 0; j < count; ++j) {
-            const ptrdiff_t k = (ptrdiff_t)(i + j);
+            const ptrdiff_t k = (ptrdiff_t)i + (ptrdiff_t)j;
             zw_gains g = zw_gains_exact(alpha[k * alpha_stride], beta[k * beta_stride]);
             ok[j] = exact_stable01(c, coef_err, &g);
         }
-        store_block(stable + i, ok, count);
+        store_block(&stable[i], ok, count);
     }
     return ZW_OK;
 }
@@ -95,28 +112,36 @@ static zw_status device_check_many(const zw_device *d, size_t n, const zw_real *
     zw_status st;
     size_t i;
     zw_real coef_err;
-    if (n == 0) return ZW_OK;
-    if (d == NULL || K == NULL || B == NULL || stable == NULL)
+    if (n == 0u) {
+        return ZW_OK;
+    }
+    if (d == NULL || K == NULL || B == NULL || stable == NULL) {
         return invalid_at(ZW_ERR_NULL, 0, first_invalid);
+    }
     for (i = 0; i < n; ++i) {
         zw_real alpha, beta;
         st = zw_device_normalize(d, K[(ptrdiff_t)i * K_stride], B[(ptrdiff_t)i * B_stride], &alpha, &beta);
-        if (st != ZW_OK) return invalid_at(st, i, first_invalid);
+        if (st != ZW_OK) {
+            return invalid_at(st, i, first_invalid);
+        }
     }
-    if ((st = zw_require_coeffs(&d->co, true)) != ZW_OK) return invalid_at(st, 0, first_invalid);
+    st = zw_require_coeffs(&d->co, true);
+    if (st != ZW_OK) {
+        return invalid_at(st, 0, first_invalid);
+    }
     coef_err = zw_coef_relerr(&d->co);
-    for (i = 0; i < n; i += ZW_BATCH_BLOCK) {
+    for (i = 0u; i < n; i += ZW_BATCH_BLOCK) {
         zw_real ok[ZW_BATCH_BLOCK];
-        size_t j, count = n - i < ZW_BATCH_BLOCK ? n - i : ZW_BATCH_BLOCK;
+        size_t j, count = ((n - i) < ZW_BATCH_BLOCK) ? (n - i) : ZW_BATCH_BLOCK;
         for (j = 0; j < count; ++j) {
             /* the conversion of zw_device_normalize, with the error bounds of zw_device_check */
-            const ptrdiff_t k = (ptrdiff_t)(i + j);
+            const ptrdiff_t k = (ptrdiff_t)i + (ptrdiff_t)j;
             zw_gains g;
             g.alpha = zw_eb_rel(K[k * K_stride] / d->k_scale, ZW_ALPHA_RELERR);
             g.beta = zw_eb_rel(B[k * B_stride] / d->b_scale, ZW_BETA_RELERR);
             ok[j] = exact_stable01(&d->co, coef_err, &g);
         }
-        store_block(stable + i, ok, count);
+        store_block(&stable[i], ok, count);
     }
     return ZW_OK;
 }

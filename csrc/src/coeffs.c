@@ -76,7 +76,9 @@ static zw_real horner(const zw_real *coef, zw_real x)
 {
     int k;
     zw_real acc = coef[ZW_SERIES_TERMS - 1];
-    for (k = ZW_SERIES_TERMS - 2; k >= 0; --k) acc = acc * x + coef[k];
+    for (k = ZW_SERIES_TERMS - 2; k >= 0; --k) {
+        acc = acc * x + coef[k];
+    }
     return acc;
 }
 
@@ -84,17 +86,32 @@ static zw_real horner(const zw_real *coef, zw_real x)
  * the largest finite power of two. */
 static zw_real power_of_two_above(zw_real delta)
 {
-    int exponent;
+    int exponent = 0;
     zw_real mantissa = ZW_FREXP(delta, &exponent); /* delta = mantissa 2^exponent, mantissa in [1/2, 1) */
-    if (mantissa == ZW_R(0.5)) exponent -= 1;      /* delta is itself a power of two */
-    if (exponent > ZW_REAL_MAX_EXP - 1) exponent = ZW_REAL_MAX_EXP - 1;
+    /* delta > 1 and finite: exponent is in [1, ZW_REAL_MAX_EXP].  Clamping to that range
+     * changes nothing then, and keeps the decrement below from overflowing whatever a
+     * frexp returned (tools/eva.sh cannot know its range otherwise). */
+    if (exponent > ZW_REAL_MAX_EXP) {
+        exponent = ZW_REAL_MAX_EXP;
+    }
+    if (exponent < 1) {
+        exponent = 1;
+    }
+    if (mantissa == ZW_R(0.5)) { /* delta is itself a power of two */
+        exponent -= 1;
+    }
+    if (exponent > ZW_REAL_MAX_EXP - 1) {
+        exponent = ZW_REAL_MAX_EXP - 1;
+    }
     return ZW_LDEXP(ZW_R(1.0), exponent);
 }
 
 zw_status zw_coeffs_init(zw_coeffs *out, zw_real delta)
 {
     zw_coeffs c;
-    if (out == NULL) return ZW_ERR_NULL;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
     if (ZW_IS_NAN(delta) || delta < ZW_R(0.0)) {
         zw_fail_coeffs(out);
         return ZW_IS_NAN(delta) ? ZW_ERR_NAN : ZW_ERR_DELTA;
@@ -103,9 +120,14 @@ zw_status zw_coeffs_init(zw_coeffs *out, zw_real delta)
     c.delta = delta;
     c.delta_relerr = ZW_R(0.0);
     if (!ZW_IS_FINITE(delta)) { /* the delta -> inf limits */
-        c.e = c.c1 = c.c2 = c.d12 = c.s = ZW_R(0.0);
+        c.e = ZW_R(0.0);
+        c.c1 = ZW_R(0.0);
+        c.c2 = ZW_R(0.0);
+        c.d12 = ZW_R(0.0);
+        c.s = ZW_R(0.0);
         c.g = ZW_R(1.0);
-        c.sigma = c.hs = delta;
+        c.sigma = delta;
+        c.hs = delta;
         *out = c;
         return ZW_OK;
     }
@@ -143,9 +165,15 @@ zw_status zw_coeffs_literal(zw_real delta, zw_real *c1, zw_real *c2, zw_real *d1
 {
     zw_real e, dd;
     zw_status st = ZW_OK;
-    if (c1 == NULL || c2 == NULL || d12 == NULL) st = ZW_ERR_NULL;
-    else if (ZW_IS_NAN(delta)) st = ZW_ERR_NAN;
-    else if (delta < ZW_R(0.0)) st = ZW_ERR_DELTA;
+    if (c1 == NULL || c2 == NULL || d12 == NULL) {
+        st = ZW_ERR_NULL;
+    } else if (ZW_IS_NAN(delta)) {
+        st = ZW_ERR_NAN;
+    } else if (delta < ZW_R(0.0)) {
+        st = ZW_ERR_DELTA;
+    } else {
+        /* valid: st stays ZW_OK */
+    }
     if (st != ZW_OK) {
         zw_fail_real(c1, ZW_NAN);
         zw_fail_real(c2, ZW_NAN);
@@ -153,7 +181,9 @@ zw_status zw_coeffs_literal(zw_real delta, zw_real *c1, zw_real *c2, zw_real *d1
         return st;
     }
     if (delta == ZW_R(0.0) || !ZW_IS_FINITE(delta)) { /* 0/0 or inf/inf: give the limits */
-        *c1 = *c2 = delta == ZW_R(0.0) ? ZW_R(1.0) : ZW_R(0.0);
+        const zw_real limit = (delta == ZW_R(0.0)) ? ZW_R(1.0) : ZW_R(0.0);
+        *c1 = limit;
+        *c2 = limit;
         *d12 = ZW_R(0.0);
         return ZW_OK;
     }

@@ -20,16 +20,29 @@ static zw_status device_init(zw_device *out, zw_real m, zw_real b, zw_real T)
     zw_device d;
     zw_status st;
     zw_real T_over_m, delta;
-    if (out == NULL) return ZW_ERR_NULL;
-    if (ZW_IS_NAN(m) || ZW_IS_NAN(b) || ZW_IS_NAN(T)) return ZW_ERR_NAN;
-    if (!ZW_IS_FINITE(m) || !ZW_IS_FINITE(b) || !ZW_IS_FINITE(T)) return ZW_ERR_INF;
-    if (!(m > ZW_R(0.0))) return ZW_ERR_MASS;
-    if (!(T > ZW_R(0.0))) return ZW_ERR_PERIOD;
-    if (b < ZW_R(0.0)) return ZW_ERR_DAMPING;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    if (ZW_IS_NAN(m) || ZW_IS_NAN(b) || ZW_IS_NAN(T)) {
+        return ZW_ERR_NAN;
+    }
+    if (!ZW_IS_FINITE(m) || !ZW_IS_FINITE(b) || !ZW_IS_FINITE(T)) {
+        return ZW_ERR_INF;
+    }
+    if (!(m > ZW_R(0.0))) {
+        return ZW_ERR_MASS;
+    }
+    if (!(T > ZW_R(0.0))) {
+        return ZW_ERR_PERIOD;
+    }
+    if (b < ZW_R(0.0)) {
+        return ZW_ERR_DAMPING;
+    }
     /* Every quantity the error budget counts in relative terms must be a normal number:
      * a subnormal input or intermediate carries an unbounded relative error. */
-    if (!is_normal_positive(m) || !is_normal_positive(T) || (b > ZW_R(0.0) && !is_normal_positive(b)))
+    if (!is_normal_positive(m) || !is_normal_positive(T) || (b > ZW_R(0.0) && !is_normal_positive(b))) {
         return ZW_ERR_RANGE;
+    }
     d.m = m;
     d.b = b;
     d.T = T;
@@ -38,11 +51,19 @@ static zw_status device_init(zw_device *out, zw_real m, zw_real b, zw_real T)
     T_over_m = T / m;
     delta = b * T_over_m; /* b (T/m): no overflow of b T where delta itself is fine */
     if (!is_normal_positive(d.b_scale) || !is_normal_positive(d.k_scale) ||
-        !is_normal_positive(T_over_m))
+        !is_normal_positive(T_over_m)) {
         return ZW_ERR_RANGE;
-    if (b > ZW_R(0.0) && !is_normal_positive(delta)) return ZW_ERR_RANGE;
-    if ((st = zw_coeffs_init(&d.co, delta)) != ZW_OK) return st;
-    if (!ZW_IS_FINITE(d.co.hs)) return ZW_ERR_RANGE;
+    }
+    if (b > ZW_R(0.0) && !is_normal_positive(delta)) {
+        return ZW_ERR_RANGE;
+    }
+    st = zw_coeffs_init(&d.co, delta);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (!ZW_IS_FINITE(d.co.hs)) {
+        return ZW_ERR_RANGE;
+    }
     d.co.delta_relerr = ZW_DELTA_RELERR;
     *out = d;
     return ZW_OK;
@@ -52,7 +73,11 @@ zw_status zw_device_init(zw_device *out, zw_real m, zw_real b, zw_real T)
 {
     zw_status st = device_init(out, m, b, T);
     if (st != ZW_OK && out != NULL) {
-        out->m = out->b = out->T = out->k_scale = out->b_scale = ZW_NAN;
+        out->m = ZW_NAN;
+        out->b = ZW_NAN;
+        out->T = ZW_NAN;
+        out->k_scale = ZW_NAN;
+        out->b_scale = ZW_NAN;
         zw_fail_coeffs(&out->co);
     }
     return st;
@@ -64,13 +89,26 @@ static zw_status normalize(const zw_device *d, zw_real K, zw_real B, zw_real *al
 {
     zw_status st;
     zw_real a, bb;
-    if (d == NULL || alpha == NULL || beta == NULL) return ZW_ERR_NULL;
-    if ((st = zw_require_coeffs(&d->co, false)) != ZW_OK) return st;
-    if ((st = zw_require_finite(K)) != ZW_OK) return st;
-    if ((st = zw_require_finite(B)) != ZW_OK) return st;
+    if (d == NULL || alpha == NULL || beta == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_require_coeffs(&d->co, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_require_finite(K);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_require_finite(B);
+    if (st != ZW_OK) {
+        return st;
+    }
     a = K / d->k_scale;
     bb = B / d->b_scale;
-    if (!ZW_IS_FINITE(a) || !ZW_IS_FINITE(bb)) return ZW_ERR_RANGE;
+    if (!ZW_IS_FINITE(a) || !ZW_IS_FINITE(bb)) {
+        return ZW_ERR_RANGE;
+    }
     *alpha = a;
     *beta = bb;
     return ZW_OK;
@@ -92,7 +130,9 @@ static zw_status normalize_bounded(const zw_device *d, zw_real K, zw_real B, zw_
 {
     zw_real a, bb;
     zw_status st = zw_device_normalize(d, K, B, &a, &bb);
-    if (st != ZW_OK) return st;
+    if (st != ZW_OK) {
+        return st;
+    }
     g->alpha = zw_eb_rel(a, ZW_ALPHA_RELERR);
     g->beta = zw_eb_rel(bb, ZW_BETA_RELERR);
     return ZW_OK;
@@ -143,15 +183,21 @@ static zw_status device_extremes(const zw_device *d, zw_device_extremes *out)
     zw_extremes x;
     zw_real K_mmax, K_p_max, B_mmax, B_at;
     zw_status st;
-    if (d == NULL || out == NULL) return ZW_ERR_NULL;
-    if ((st = zw_extremes_compute(&d->co, &x)) != ZW_OK) return st;
+    if (d == NULL || out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_extremes_compute(&d->co, &x);
+    if (st != ZW_OK) {
+        return st;
+    }
     K_mmax = x.alpha_mmax * d->k_scale;
     K_p_max = x.alpha_p_max * d->k_scale;
     B_mmax = x.beta_mmax * d->b_scale;
     B_at = x.beta_at_alpha_mmax * d->b_scale;
     if (!ZW_IS_FINITE(K_mmax) || !ZW_IS_FINITE(K_p_max) || !ZW_IS_FINITE(B_mmax) ||
-        !ZW_IS_FINITE(B_at))
+        !ZW_IS_FINITE(B_at)) {
         return ZW_ERR_RANGE;
+    }
     out->K_mmax = K_mmax;
     out->B_at_K_mmax = B_at;
     out->at_corner = x.at_corner;
@@ -166,8 +212,12 @@ zw_status zw_device_extremes_compute(const zw_device *d, zw_device_extremes *out
 {
     zw_status st = device_extremes(d, out);
     if (st != ZW_OK && out != NULL) {
-        out->K_mmax = out->B_at_K_mmax = out->K_p_max = ZW_R(0.0);
-        out->B_mmax = out->B_mmin = out->K_mmin = ZW_R(0.0);
+        out->K_mmax = ZW_R(0.0);
+        out->B_at_K_mmax = ZW_R(0.0);
+        out->K_p_max = ZW_R(0.0);
+        out->B_mmax = ZW_R(0.0);
+        out->B_mmin = ZW_R(0.0);
+        out->K_mmin = ZW_R(0.0);
         out->at_corner = false;
     }
     return st;
@@ -177,11 +227,21 @@ static zw_status k_max_at(const zw_device *d, zw_real B, zw_real *K_max)
 {
     zw_real alpha, beta, a_max;
     zw_status st;
-    if (K_max == NULL) return ZW_ERR_NULL;
-    if ((st = zw_device_normalize(d, ZW_R(0.0), B, &alpha, &beta)) != ZW_OK) return st;
-    if ((st = zw_alpha_max(&d->co, beta, &a_max)) != ZW_OK) return st;
+    if (K_max == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_device_normalize(d, ZW_R(0.0), B, &alpha, &beta);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_alpha_max(&d->co, beta, &a_max);
+    if (st != ZW_OK) {
+        return st;
+    }
     a_max *= d->k_scale;
-    if (!ZW_IS_FINITE(a_max)) return ZW_ERR_RANGE;
+    if (!ZW_IS_FINITE(a_max)) {
+        return ZW_ERR_RANGE;
+    }
     *K_max = a_max;
     return ZW_OK;
 }
@@ -189,7 +249,9 @@ static zw_status k_max_at(const zw_device *d, zw_real B, zw_real *K_max)
 zw_status zw_device_k_max(const zw_device *d, zw_real B, zw_real *K_max)
 {
     zw_status st = k_max_at(d, B, K_max);
-    if (st != ZW_OK) zw_fail_real(K_max, ZW_R(0.0));
+    if (st != ZW_OK) {
+        zw_fail_real(K_max, ZW_R(0.0));
+    }
     return st;
 }
 
@@ -199,12 +261,22 @@ static zw_status b_range(const zw_device *d, zw_real K, zw_real *B_lo, zw_real *
     zw_real alpha, beta, lo, hi;
     bool any;
     zw_status st;
-    if (B_lo == NULL || B_hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
-    if ((st = zw_device_normalize(d, K, ZW_R(0.0), &alpha, &beta)) != ZW_OK) return st;
-    if ((st = zw_beta_interval(&d->co, alpha, &lo, &hi, &any)) != ZW_OK) return st;
+    if (B_lo == NULL || B_hi == NULL || nonempty == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_device_normalize(d, K, ZW_R(0.0), &alpha, &beta);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_beta_interval(&d->co, alpha, &lo, &hi, &any);
+    if (st != ZW_OK) {
+        return st;
+    }
     lo *= d->b_scale;
     hi *= d->b_scale;
-    if (!ZW_IS_FINITE(lo) || !ZW_IS_FINITE(hi)) return ZW_ERR_RANGE;
+    if (!ZW_IS_FINITE(lo) || !ZW_IS_FINITE(hi)) {
+        return ZW_ERR_RANGE;
+    }
     *B_lo = lo;
     *B_hi = hi;
     *nonempty = any;
@@ -215,7 +287,9 @@ zw_status zw_device_b_range(const zw_device *d, zw_real K, zw_real *B_lo, zw_rea
                             bool *nonempty)
 {
     zw_status st = b_range(d, K, B_lo, B_hi, nonempty);
-    if (st != ZW_OK) zw_fail_interval(B_lo, B_hi, nonempty);
+    if (st != ZW_OK) {
+        zw_fail_interval(B_lo, B_hi, nonempty);
+    }
     return st;
 }
 
@@ -226,8 +300,12 @@ static zw_trend piecewise_trend(zw_real delta, const zw_real *breaks, int n, zw_
     int i;
     zw_trend t = first_trend;
     for (i = 0; i < n; ++i) {
-        if (delta == breaks[i]) return ZW_FLAT;
-        if (delta < breaks[i]) return t;
+        if (delta == breaks[i]) {
+            return ZW_FLAT;
+        }
+        if (delta < breaks[i]) {
+            return t;
+        }
         t = (zw_trend)(-(int)t);
     }
     return t;
@@ -246,9 +324,14 @@ static zw_status influence(const zw_device *d, zw_influence *out)
     zw_extremes x;
     zw_real bT, b_over_T, m_over_b, K_mmax, B_mmax;
     zw_status st;
-    if (d == NULL || out == NULL) return ZW_ERR_NULL;
+    if (d == NULL || out == NULL) {
+        return ZW_ERR_NULL;
+    }
     /* the normalized extremes directly, not zw_device_extremes_compute: one frame less */
-    if ((st = zw_extremes_compute(&d->co, &x)) != ZW_OK) return st;
+    st = zw_extremes_compute(&d->co, &x);
+    if (st != ZW_OK) {
+        return st;
+    }
     K_mmax = x.alpha_mmax * d->k_scale;
     B_mmax = x.beta_mmax * d->b_scale;
     /* Every critical value is one of these times a constant below 5. */
@@ -257,8 +340,9 @@ static zw_status influence(const zw_device *d, zw_influence *out)
     m_over_b = d->b > ZW_R(0.0) ? d->m / d->b : ZW_R(0.0);
     if (!ZW_IS_FINITE(K_mmax) || !ZW_IS_FINITE(B_mmax) || !ZW_IS_FINITE(ZW_R(5.0) * bT) ||
         !ZW_IS_FINITE(ZW_R(5.0) * b_over_T) || !ZW_IS_FINITE(ZW_R(5.0) * m_over_b) ||
-        !ZW_IS_FINITE(ZW_R(5.0) * d->b_scale))
+        !ZW_IS_FINITE(ZW_R(5.0) * d->b_scale)) {
         return ZW_ERR_RANGE;
+    }
     /* Nothing below can fail, so *out is filled in place (no second copy on the stack). */
     out->delta = d->co.delta;
     out->K_mmax = K_mmax;
@@ -276,7 +360,8 @@ static zw_status influence(const zw_device *d, zw_influence *out)
         out->T_B = ZW_DELTA_B * m_over_b;
         out->T_0 = ZW_DELTA0 * m_over_b;
     } else {
-        out->T_B = out->T_0 = ZW_HUGE_VAL; /* documented: no turning point in T */
+        out->T_B = ZW_HUGE_VAL; /* documented: no turning point in T */
+        out->T_0 = ZW_HUGE_VAL;
     }
     /* K_mmax = (b/T) alpha_mmax(delta)/delta: alpha_mmax/delta falls, rises, falls across
      * delta_K1, delta_K2, and delta = bT/m moves against m. */
@@ -297,12 +382,27 @@ zw_status zw_device_influence(const zw_device *d, zw_influence *out)
 {
     zw_status st = influence(d, out);
     if (st != ZW_OK && out != NULL) {
-        out->K_mmax = out->B_mmax = out->K_mmax_at_m_K2 = out->K_mmax_at_m_K1 = ZW_R(0.0);
-        out->delta = out->m_K1 = out->m_K2 = out->m_K_match = ZW_NAN;
-        out->T_B = out->T_0 = out->m_0 = out->m_B = out->b_0 = out->b_BB = ZW_NAN;
+        out->K_mmax = ZW_R(0.0);
+        out->B_mmax = ZW_R(0.0);
+        out->K_mmax_at_m_K2 = ZW_R(0.0);
+        out->K_mmax_at_m_K1 = ZW_R(0.0);
+        out->delta = ZW_NAN;
+        out->m_K1 = ZW_NAN;
+        out->m_K2 = ZW_NAN;
+        out->m_K_match = ZW_NAN;
+        out->T_B = ZW_NAN;
+        out->T_0 = ZW_NAN;
+        out->m_0 = ZW_NAN;
+        out->m_B = ZW_NAN;
+        out->b_0 = ZW_NAN;
+        out->b_BB = ZW_NAN;
         out->best_m_for_K = ZW_NAN;
-        out->K_vs_m = out->K_vs_b = out->K_vs_T = ZW_TREND_UNKNOWN;
-        out->B_vs_m = out->B_vs_b = out->B_vs_T = ZW_TREND_UNKNOWN;
+        out->K_vs_m = ZW_TREND_UNKNOWN;
+        out->K_vs_b = ZW_TREND_UNKNOWN;
+        out->K_vs_T = ZW_TREND_UNKNOWN;
+        out->B_vs_m = ZW_TREND_UNKNOWN;
+        out->B_vs_b = ZW_TREND_UNKNOWN;
+        out->B_vs_T = ZW_TREND_UNKNOWN;
     }
     return st;
 }

@@ -208,8 +208,16 @@ static inline void zw_fail_interval(zw_real *lo, zw_real *hi, bool *nonempty)
 static inline void zw_fail_coeffs(zw_coeffs *out)
 {
     if (out == NULL) return;
-    out->delta = out->e = out->c1 = out->c2 = out->d12 = ZW_NAN;
-    out->s = out->g = out->sigma = out->hs = out->delta_relerr = ZW_NAN;
+    out->delta = ZW_NAN;
+    out->e = ZW_NAN;
+    out->c1 = ZW_NAN;
+    out->c2 = ZW_NAN;
+    out->d12 = ZW_NAN;
+    out->s = ZW_NAN;
+    out->g = ZW_NAN;
+    out->sigma = ZW_NAN;
+    out->hs = ZW_NAN;
+    out->delta_relerr = ZW_NAN;
 }
 
 /* Validate one finite real input: ZW_ERR_NAN / ZW_ERR_INF, else ZW_OK. */
@@ -228,7 +236,8 @@ static inline zw_status zw_require_coeffs(const zw_coeffs *c, bool need_hs)
 {
     zw_status st;
     if (c == NULL) return ZW_ERR_NULL;
-    if ((st = zw_require_finite(c->delta)) != ZW_OK) return st;
+    st = zw_require_finite(c->delta);
+    if (st != ZW_OK) return st;
     if (!(c->delta_relerr >= ZW_R(0.0) && ZW_IS_FINITE(c->delta_relerr))) return ZW_ERR_ARG;
     if (need_hs && !ZW_IS_FINITE(c->hs)) return ZW_ERR_RANGE;
     return ZW_OK;

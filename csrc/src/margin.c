@@ -42,8 +42,14 @@ static void char_poly(const zw_coeffs *c, const zw_gains *g, zw_eb a_eb[3], bool
 static zw_status check_inputs(const zw_coeffs *c, zw_real alpha, zw_real beta)
 {
     zw_status st;
-    if ((st = zw_require_coeffs(c, false)) != ZW_OK) return st;
-    if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
+    st = zw_require_coeffs(c, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_require_finite(alpha);
+    if (st != ZW_OK) {
+        return st;
+    }
     return zw_require_finite(beta);
 }
 
@@ -52,10 +58,16 @@ static zw_status char_poly_checked(const zw_coeffs *c, zw_real alpha, zw_real be
     zw_eb a[3];
     zw_gains g = zw_gains_exact(alpha, beta);
     zw_status st = check_inputs(c, alpha, beta);
-    if (st != ZW_OK) return st;
-    if (p == NULL) return ZW_ERR_NULL;
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (p == NULL) {
+        return ZW_ERR_NULL;
+    }
     char_poly(c, &g, a, false);
-    if (!ZW_IS_FINITE(a[0].v) || !ZW_IS_FINITE(a[1].v) || !ZW_IS_FINITE(a[2].v)) return ZW_ERR_RANGE;
+    if (!ZW_IS_FINITE(a[0].v) || !ZW_IS_FINITE(a[1].v) || !ZW_IS_FINITE(a[2].v)) {
+        return ZW_ERR_RANGE;
+    }
     p[0] = ZW_R(2.0);
     p[1] = a[0].v;
     p[2] = a[1].v;
@@ -66,7 +78,12 @@ static zw_status char_poly_checked(const zw_coeffs *c, zw_real alpha, zw_real be
 zw_status zw_char_poly(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real p[4])
 {
     zw_status st = char_poly_checked(c, alpha, beta, p);
-    if (st != ZW_OK && p != NULL) p[0] = p[1] = p[2] = p[3] = ZW_NAN;
+    if (st != ZW_OK && p != NULL) {
+        p[0] = ZW_NAN;
+        p[1] = ZW_NAN;
+        p[2] = ZW_NAN;
+        p[3] = ZW_NAN;
+    }
     return st;
 }
 
@@ -85,20 +102,33 @@ static zw_real real_root(zw_real A, zw_real B, zw_real C)
 {
     zw_real bound = ZW_R(1.0) + ZW_FABS(A), lo, hi, z, f, df;
     int iter;
-    if (ZW_FABS(B) + ZW_R(1.0) > bound) bound = ZW_FABS(B) + ZW_R(1.0);
-    if (ZW_FABS(C) + ZW_R(1.0) > bound) bound = ZW_FABS(C) + ZW_R(1.0);
+    if (ZW_FABS(B) + ZW_R(1.0) > bound) {
+        bound = ZW_FABS(B) + ZW_R(1.0);
+    }
+    if (ZW_FABS(C) + ZW_R(1.0) > bound) {
+        bound = ZW_FABS(C) + ZW_R(1.0);
+    }
     lo = -bound; /* Cauchy: every root lies in [-bound, bound]; cubic(lo) < 0 < cubic(hi) */
     hi = bound;
     z = C > ZW_R(0.0) ? -ZW_R(1.0) : ZW_R(1.0); /* poles cluster near the unit circle */
     for (iter = 0; iter < 400; ++iter) {
         zw_real next, width = hi - lo;
         f = cubic(A, B, C, z, &df);
-        if (f == ZW_R(0.0)) return z;
-        if (f < ZW_R(0.0)) lo = z;
-        else hi = z;
+        if (f == ZW_R(0.0)) {
+            return z;
+        }
+        if (f < ZW_R(0.0)) {
+            lo = z;
+        } else {
+            hi = z;
+        }
         next = df != ZW_R(0.0) ? z - f / df : lo + ZW_R(0.5) * width;
-        if (!(next > lo && next < hi)) next = lo + ZW_R(0.5) * (hi - lo);
-        if (next == z || hi - lo <= ZW_R(2.0) * ZW_U * (ZW_FABS(lo) + ZW_FABS(hi))) return next;
+        if (!(next > lo && next < hi)) {
+            next = lo + ZW_R(0.5) * (hi - lo);
+        }
+        if (next == z || hi - lo <= ZW_R(2.0) * ZW_U * (ZW_FABS(lo) + ZW_FABS(hi))) {
+            return next;
+        }
         z = next;
     }
     return z;
@@ -111,15 +141,21 @@ static zw_real quadratic_radius(zw_real p, zw_real q)
     zw_real disc_scaled; /* (hp^2 - q) / hp^2 when |hp| >= 1, else hp^2 - q */
     if (ZW_FABS(hp) >= ZW_R(1.0)) {
         disc_scaled = ZW_R(1.0) - (q / hp) / hp;
-        if (disc_scaled < ZW_R(0.0)) return ZW_SQRT(q); /* complex pair: |z|^2 = q */
+        if (disc_scaled < ZW_R(0.0)) { /* complex pair: |z|^2 = q */
+            return ZW_SQRT(q);
+        }
         sd = ZW_FABS(hp) * ZW_SQRT(disc_scaled);
     } else {
         disc_scaled = hp * hp - q;
-        if (disc_scaled < ZW_R(0.0)) return ZW_SQRT(q);
+        if (disc_scaled < ZW_R(0.0)) {
+            return ZW_SQRT(q);
+        }
         sd = ZW_SQRT(disc_scaled);
     }
     big = ZW_FABS(hp) + sd; /* |-hp - sign(hp) sd|, the larger root; the other is q / big */
-    if (big == ZW_R(0.0)) return ZW_R(0.0);
+    if (big == ZW_R(0.0)) {
+        return ZW_R(0.0);
+    }
     return big >= ZW_FABS(q) / big ? big : ZW_FABS(q) / big;
 }
 
@@ -129,13 +165,19 @@ static zw_status spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta
     zw_real A, B, C, r, p, q, rq; /* rq: largest modulus found so far */
     zw_gains g = zw_gains_exact(alpha, beta);
     zw_status st = check_inputs(c, alpha, beta);
-    if (st != ZW_OK) return st;
-    if (rho == NULL) return ZW_ERR_NULL;
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (rho == NULL) {
+        return ZW_ERR_NULL;
+    }
     char_poly(c, &g, a, false);
     A = ZW_R(0.5) * a[0].v;
     B = ZW_R(0.5) * a[1].v;
     C = ZW_R(0.5) * a[2].v;
-    if (!ZW_IS_FINITE(A) || !ZW_IS_FINITE(B) || !ZW_IS_FINITE(C)) return ZW_ERR_RANGE;
+    if (!ZW_IS_FINITE(A) || !ZW_IS_FINITE(B) || !ZW_IS_FINITE(C)) {
+        return ZW_ERR_RANGE;
+    }
 
     r = real_root(A, B, C);
     /* Deflate (z - r)(z^2 + p z + q): p = A + r errs by u (|A| + |r|), small against the
@@ -144,8 +186,12 @@ static zw_status spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta
     p = A + r;
     q = r != ZW_R(0.0) ? -C / r : B;
     rq = quadratic_radius(p, q);
-    if (ZW_FABS(r) > rq) rq = ZW_FABS(r);
-    if (!ZW_IS_FINITE(rq)) return ZW_ERR_RANGE;
+    if (ZW_FABS(r) > rq) {
+        rq = ZW_FABS(r);
+    }
+    if (!ZW_IS_FINITE(rq)) {
+        return ZW_ERR_RANGE;
+    }
     *rho = rq;
     return ZW_OK;
 }
@@ -153,7 +199,9 @@ static zw_status spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta
 zw_status zw_spectral_radius(const zw_coeffs *c, zw_real alpha, zw_real beta, zw_real *rho)
 {
     zw_status st = spectral_radius(c, alpha, beta, rho);
-    if (st != ZW_OK) zw_fail_real(rho, ZW_INF);
+    if (st != ZW_OK) {
+        zw_fail_real(rho, ZW_INF);
+    }
     return st;
 }
 
@@ -168,13 +216,17 @@ static bool jury_surely(const zw_eb b[3])
     const zw_eb two = zw_eb_exact(ZW_R(2.0));
     const zw_eb zero = zw_eb_exact(ZW_R(0.0));
     zw_eb lhs, rhs;
-    if (zw_eb_compare(zero, zw_eb_add(zw_eb_add(two, b2), zw_eb_add(b1, b0))) != ZW_CMP_LT)
+    if (zw_eb_compare(zero, zw_eb_add(zw_eb_add(two, b2), zw_eb_add(b1, b0))) != ZW_CMP_LT) {
         return false;
-    if (zw_eb_compare(zw_eb_add(zw_eb_sub(b2, two), zw_eb_sub(b0, b1)), zero) != ZW_CMP_LT)
+    }
+    if (zw_eb_compare(zw_eb_add(zw_eb_sub(b2, two), zw_eb_sub(b0, b1)), zero) != ZW_CMP_LT) {
         return false;
+    }
     lhs = b0;
     lhs.v = ZW_FABS(b0.v);
-    if (zw_eb_compare(lhs, two) != ZW_CMP_LT) return false;
+    if (zw_eb_compare(lhs, two) != ZW_CMP_LT) {
+        return false;
+    }
     rhs = zw_eb_sub(zw_eb_exact(ZW_R(4.0)), zw_eb_mul(b0, b0));
     lhs = zw_eb_sub(zw_eb_mul(b0, b2), zw_eb_mul(two, b1));
     lhs.v = ZW_FABS(lhs.v);
@@ -185,10 +237,18 @@ static zw_status radius_within(const zw_coeffs *c, const zw_gains *g, zw_real r,
 {
     zw_eb b[3], r_eb;
     zw_status st = check_inputs(c, g->alpha.v, g->beta.v);
-    if (st != ZW_OK) return st;
-    if (within == NULL) return ZW_ERR_NULL;
-    if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
-    if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (within == NULL) {
+        return ZW_ERR_NULL;
+    }
+    if (ZW_IS_NAN(r)) {
+        return ZW_ERR_NAN;
+    }
+    if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) {
+        return ZW_ERR_ARG;
+    }
     char_poly(c, g, b, true);
     /* q(z) = p(r z) / r^3 = 2 z^3 + b[0] z^2 + b[1] z + b[2] */
     r_eb = zw_eb_exact(r);
@@ -203,7 +263,9 @@ zw_status zw_radius_within_bounded(const zw_coeffs *c, const zw_gains *g, zw_rea
                                    bool *within)
 {
     zw_status st = radius_within(c, g, r, within);
-    if (st != ZW_OK) zw_fail_bool(within);
+    if (st != ZW_OK) {
+        zw_fail_bool(within);
+    }
     return st;
 }
 

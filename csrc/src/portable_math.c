@@ -6,6 +6,8 @@
 /* Portable C99 fallbacks for expm1 and nextafterf (zwidth/portable_math.h). */
 #include "zwidth/portable_math.h"
 
+#include <stdbool.h>
+
 /* 1/(k+2)! for k = 0.. : Q(x) = (e^x - 1 - x) / x^2 = sum_k x^k / (k+2)!.  Enough terms
  * that the first one left out is below u/8 of Q for |x| <= 1. */
 #ifdef ZW_REAL_FLOAT
@@ -43,10 +45,14 @@ zw_real zw_expm1_portable(zw_real x)
     /* Away from 0 there is no cancellation to avoid: exp(x) - 1 loses at most a factor
      * e / (e - 1) = 1.58 of exp's relative error (at x = 1; less beyond).  NaN and the
      * infinities take this path too. */
-    if (!(ZW_FABS(x) <= ZW_R(1.0))) return ZW_EXP(x) - ZW_R(1.0);
+    if (!(ZW_FABS(x) <= ZW_R(1.0))) {
+        return ZW_EXP(x) - ZW_R(1.0);
+    }
     /* x + x^2 Q(x): x is exact, and the correction is at most 0.58 of the result. */
     q = k_inv_factorial[EXPM1_TERMS - 1u];
-    for (k = EXPM1_TERMS - 1u; k > 0u; --k) q = q * x + k_inv_factorial[k - 1u];
+    for (k = EXPM1_TERMS - 1u; k > 0u; --k) {
+        q = q * x + k_inv_factorial[k - 1u];
+    }
     return x + (x * x) * q;
 }
 
@@ -56,22 +62,38 @@ float zw_nextafterf_portable(float x, float toward)
     float m;
     float step;
     float next_mag;
-    int away; /* moving away from zero */
-    if (x != x || toward != toward) return x + toward; /* NaN */
-    if (x == toward) return toward;
+    bool away; /* moving away from zero */
+    if (x != x || toward != toward) { /* NaN */
+        return x + toward;
+    }
+    if (x == toward) {
+        return toward;
+    }
     /* from zero: the smallest subnormal, 2^(FLT_MIN_EXP - FLT_MANT_DIG) = 2^-149 */
     if (x == 0.0f) {
         const float smallest = ldexpf(1.0f, FLT_MIN_EXP - FLT_MANT_DIG);
         return toward > 0.0f ? smallest : -smallest;
     }
-    if (!(fabsf(x) <= FLT_MAX)) return x > 0.0f ? FLT_MAX : -FLT_MAX; /* from an infinity */
+    if (!(fabsf(x) <= FLT_MAX)) { /* from an infinity */
+        return x > 0.0f ? FLT_MAX : -FLT_MAX;
+    }
     /* x = m 2^e with 0.5 <= |m| < 1: the spacing above |x| is 2^(e - 24); just below a
      * power of two it is half that; below FLT_MIN it is fixed at 2^-149.  x +- step is
      * exact (or overflows to infinity above FLT_MAX, as nextafterf does). */
     m = frexpf(x, &e);
     away = (toward > x) == (x > 0.0f);
-    if (!away && fabsf(m) == 0.5f) e -= 1;
-    if (e < FLT_MIN_EXP) e = FLT_MIN_EXP;
+    /* x is finite and nonzero: e is in [-148, 128]; clamping to FLT_MIN_EXP here as well
+     * as below changes nothing and keeps the decrement from overflowing whatever a frexpf
+     * returned (tools/eva.sh cannot know its range otherwise). */
+    if (e < FLT_MIN_EXP) {
+        e = FLT_MIN_EXP;
+    }
+    if (!away && fabsf(m) == 0.5f) {
+        e -= 1;
+    }
+    if (e < FLT_MIN_EXP) {
+        e = FLT_MIN_EXP;
+    }
     step = ldexpf(1.0f, e - FLT_MANT_DIG);
     /* on the magnitude, so that a step to zero keeps x's sign (-2^-149 -> -0, as in C99) */
     next_mag = away ? fabsf(x) + step : fabsf(x) - step;

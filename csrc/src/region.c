@@ -33,20 +33,26 @@ typedef struct verdict_builder {
 /* Record the outcome of "lhs < rhs must hold" (err bounds both sides' errors). */
 static void require_less(verdict_builder *vb, zw_bound bit, zw_real lhs, zw_real rhs, zw_real err)
 {
-    zw_cmp cmp = zw_compare(lhs, rhs, err);
-    if (cmp == ZW_CMP_GE) vb->surely = (uint_least16_t)(vb->surely | bit);
-    else if (cmp == ZW_CMP_UNSURE) vb->unsure = (uint_least16_t)(vb->unsure | bit);
+    const zw_cmp cmp = zw_compare(lhs, rhs, err);
+    if (cmp == ZW_CMP_GE) {
+        vb->surely = (uint_least16_t)(vb->surely | (uint_least16_t)bit);
+    } else if (cmp == ZW_CMP_UNSURE) {
+        vb->unsure = (uint_least16_t)(vb->unsure | (uint_least16_t)bit);
+    } else {
+        /* surely holds: nothing to record */
+    }
 }
 
 static void finish(const verdict_builder *vb, zw_verdict *out)
 {
-    uint_least16_t decisive = vb->surely != 0 ? vb->surely : vb->unsure;
+    const uint_least16_t decisive = (vb->surely != 0u) ? vb->surely : vb->unsure;
+    /* lowest set bit: the first violated constraint in the order of zw_bound */
+    const uint_least16_t lowest = (uint_least16_t)(decisive & (uint_least16_t)(~decisive + 1u));
     zw_verdict v;
     v.violated = (uint_least16_t)(vb->surely | vb->unsure);
-    v.stable = v.violated == 0;
-    v.marginal = vb->surely == 0 && vb->unsure != 0;
-    /* lowest set bit: the first violated constraint in the order of zw_bound */
-    v.deciding = (zw_bound)(decisive & (uint_least16_t)(~decisive + 1u));
+    v.stable = (v.violated == 0u);
+    v.marginal = (vb->surely == 0u) && (vb->unsure != 0u);
+    v.deciding = (zw_bound)lowest;
     *out = v;
 }
 
@@ -73,9 +79,9 @@ static void exact_region(verdict_builder *vb, const zw_coeffs *c, const zw_gains
     require_less(vb, ZW_BOUND_DAMPING, ZW_R(0.0), x.v, x.e);
     require_less(vb, ZW_BOUND_STIFFNESS, ZW_R(0.0), g->alpha.v, g->alpha.e);
 
-    if ((vb->surely | vb->unsure) & ZW_BOUND_DAMPING) {
+    if (((uint_least16_t)(vb->surely | vb->unsure) & (uint_least16_t)ZW_BOUND_DAMPING) != 0u) {
         /* the hyperbola form divides by x: meaningless unless x is surely positive */
-        vb->unsure = (uint_least16_t)(vb->unsure | ZW_BOUND_HYPERBOLA);
+        vb->unsure = (uint_least16_t)(vb->unsure | (uint_least16_t)ZW_BOUND_HYPERBOLA);
     } else {
         zw_constraint k = zw_hyperbola_constraint(c, coef_err, g, x);
         require_less(vb, ZW_BOUND_HYPERBOLA, k.lhs, k.rhs, k.err);
@@ -96,12 +102,20 @@ static zw_status check_bounded(zw_region region, const zw_coeffs *c, const zw_ga
 {
     verdict_builder vb = {0, 0};
     zw_status st;
-    if (out == NULL) return ZW_ERR_NULL;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
     /* only the exact and legacy regions use hs */
-    if ((st = zw_require_coeffs(c, region == ZW_REGION_EXACT || region == ZW_REGION_LEGACY)) != ZW_OK)
+    st = zw_require_coeffs(c, (region == ZW_REGION_EXACT) || (region == ZW_REGION_LEGACY));
+    if (st == ZW_OK) {
+        st = zw_require_finite(g->alpha.v);
+    }
+    if (st == ZW_OK) {
+        st = zw_require_finite(g->beta.v);
+    }
+    if (st != ZW_OK) {
         return st;
-    if ((st = zw_require_finite(g->alpha.v)) != ZW_OK) return st;
-    if ((st = zw_require_finite(g->beta.v)) != ZW_OK) return st;
+    }
 
     switch (region) {
     case ZW_REGION_EXACT: exact_region(&vb, c, g, true); break;
@@ -118,10 +132,12 @@ static zw_status check_bounded(zw_region region, const zw_coeffs *c, const zw_ga
     case ZW_REGION_SMALL: /* alpha/2 - beta < delta */
         linear_region(&vb, ZW_BOUND_HYPERBOLA, c, g, ZW_R(-1.0), false);
         break;
-    default: return ZW_ERR_ARG;
+    default: st = ZW_ERR_ARG; break;
     }
-    finish(&vb, out);
-    return ZW_OK;
+    if (st == ZW_OK) {
+        finish(&vb, out);
+    }
+    return st;
 }
 
 /* Every public check ends here: the one place the fail-safe verdict is written. */
@@ -129,7 +145,9 @@ zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, const zw_gains 
                            zw_verdict *out)
 {
     zw_status st = check_bounded(region, c, g, out);
-    if (st != ZW_OK) zw_fail_verdict(out);
+    if (st != ZW_OK) {
+        zw_fail_verdict(out);
+    }
     return st;
 }
 

@@ -16,6 +16,7 @@
  */
 #include "zwidth/selftest.h"
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #include "zwidth/real.h"
@@ -26,9 +27,15 @@
 #define ST_ONE_2U (ZW_R(1.0) + ZW_R(2.0) * ST_U) /* successor of 1 */
 #define ST_ONE_4U (ZW_R(1.0) + ZW_R(4.0) * ST_U) /* second successor of 1 */
 
-static uint_least16_t flag(int failed, uint_least16_t bit)
+static uint_least16_t flag(unsigned failed, uint_least16_t bit)
 {
-    return failed != 0 ? bit : (uint_least16_t)0u;
+    return (failed != 0u) ? bit : (uint_least16_t)0u;
+}
+
+/* 1 when a property does not hold; the checks "or" these, so every one always runs. */
+static unsigned fails(bool holds)
+{
+    return holds ? 0u : 1u;
 }
 
 /* Round to nearest, ties to even, one rounding per operation (no excess precision). */
@@ -36,14 +43,14 @@ static uint_least16_t check_rounding(zw_real one, zw_real u)
 {
     const zw_real three_u = ZW_R(3.0) * u; /* exact */
     const zw_real up = one + ZW_R(2.0) * u, down = one - ZW_R(2.0) * u; /* exact */
-    int bad = 0;
-    bad |= !(one + u == ZW_R(1.0));          /* tie 1 | 1+2u: even is 1 (not up, not away) */
-    bad |= !(one + three_u == ST_ONE_4U);    /* tie 1+2u | 1+4u: even is 1+4u (not truncated) */
-    bad |= !(-one - u == ZW_R(-1.0));        /* the same below zero (not toward -inf) */
-    bad |= !(-one - three_u == -ST_ONE_4U);  /* (not toward zero) */
-    bad |= !(up * down == ZW_R(1.0));        /* 1 - 4u^2: nearest is 1, truncation 1 - u */
-    bad |= !(up * up == ST_ONE_4U);          /* 1 + 4u + 4u^2: nearest 1 + 4u, upward 1 + 6u */
-    bad |= !(ST_ONE_4U / up == ST_ONE_2U);   /* 1 + 2u - 4u^2 + ...: nearest 1 + 2u, down 1 */
+    unsigned bad = 0u;
+    bad |= fails(one + u == ZW_R(1.0));          /* tie 1 | 1+2u: even is 1 (not up, not away) */
+    bad |= fails(one + three_u == ST_ONE_4U);    /* tie 1+2u | 1+4u: even is 1+4u (not truncated) */
+    bad |= fails(-one - u == ZW_R(-1.0));        /* the same below zero (not toward -inf) */
+    bad |= fails(-one - three_u == -ST_ONE_4U);  /* (not toward zero) */
+    bad |= fails(up * down == ZW_R(1.0));        /* 1 - 4u^2: nearest is 1, truncation 1 - u */
+    bad |= fails(up * up == ST_ONE_4U);          /* 1 + 4u + 4u^2: nearest 1 + 4u, upward 1 + 6u */
+    bad |= fails(ST_ONE_4U / up == ST_ONE_2U);   /* 1 + 2u - 4u^2 + ...: nearest 1 + 2u, down 1 */
     return flag(bad, ZW_SELFTEST_ROUNDING);
 }
 
@@ -51,9 +58,9 @@ static uint_least16_t check_rounding(zw_real one, zw_real u)
 static uint_least16_t check_precision(zw_real one, zw_real u)
 {
     const zw_real up = one + ZW_R(2.0) * u;
-    int bad = 0;
-    bad |= !(up != ZW_R(1.0));
-    bad |= !(up - one == ZW_R(2.0) * ST_U);
+    unsigned bad = 0u;
+    bad |= fails(up != ZW_R(1.0));
+    bad |= fails(up - one == ZW_R(2.0) * ST_U);
     return flag(bad, ZW_SELFTEST_PRECISION);
 }
 
@@ -64,19 +71,19 @@ static uint_least16_t check_nan(zw_real zero, zw_real one, zw_real big)
     const zw_real nan1 = zero / zero;
     const zw_real inf = big * ZW_R(2.0);
     const zw_real nan2 = inf - inf;
-    int bad = 0;
-    bad |= !(nan1 != nan1);
-    bad |= nan1 == nan1;
-    bad |= nan1 < one;
-    bad |= nan1 > one;
-    bad |= nan1 <= one;
-    bad |= nan1 >= one;
-    bad |= nan1 < inf;  /* NaN treated as infinity (TI C28x) fails here or above */
-    bad |= nan1 >= inf;
-    bad |= !ZW_IS_NAN(nan2);
-    bad |= ZW_IS_FINITE(nan1);
-    bad |= ZW_IS_FINITE(nan2);
-    bad |= !ZW_IS_NAN(nan1 * zero + one); /* NaN propagates through arithmetic */
+    unsigned bad = 0u;
+    bad |= fails(nan1 != nan1);
+    bad |= fails(!(nan1 == nan1));
+    bad |= fails(!(nan1 < one));
+    bad |= fails(!(nan1 > one));
+    bad |= fails(!(nan1 <= one));
+    bad |= fails(!(nan1 >= one));
+    bad |= fails(!(nan1 < inf));  /* NaN treated as infinity (TI C28x) fails here or above */
+    bad |= fails(!(nan1 >= inf));
+    bad |= fails(ZW_IS_NAN(nan2));
+    bad |= fails(!(ZW_IS_FINITE(nan1)));
+    bad |= fails(!(ZW_IS_FINITE(nan2)));
+    bad |= fails(ZW_IS_NAN(nan1 * zero + one)); /* NaN propagates through arithmetic */
     return flag(bad, ZW_SELFTEST_NAN);
 }
 
@@ -85,14 +92,14 @@ static uint_least16_t check_overflow(zw_real one, zw_real big)
 {
     const zw_real inf = big * ZW_R(2.0);
     const zw_real ninf = -big * ZW_R(2.0);
-    int bad = 0;
-    bad |= !(inf > big);
-    bad |= !(inf == big * ZW_R(4.0));
-    bad |= !(ninf < -big);
-    bad |= !(one / inf == ZW_R(0.0));
-    bad |= ZW_IS_FINITE(inf);
-    bad |= ZW_IS_FINITE(ninf);
-    bad |= !(big + one == ZW_REAL_MAX); /* no spurious overflow below the threshold */
+    unsigned bad = 0u;
+    bad |= fails(inf > big);
+    bad |= fails(inf == big * ZW_R(4.0));
+    bad |= fails(ninf < -big);
+    bad |= fails(one / inf == ZW_R(0.0));
+    bad |= fails(!(ZW_IS_FINITE(inf)));
+    bad |= fails(!(ZW_IS_FINITE(ninf)));
+    bad |= fails(big + one == ZW_REAL_MAX); /* no spurious overflow below the threshold */
     return flag(bad, ZW_SELFTEST_OVERFLOW);
 }
 
@@ -107,14 +114,14 @@ static uint_least16_t check_underflow(zw_real tiny, zw_real sub, zw_real one)
 {
     const zw_real half = tiny * ZW_R(0.5);
     const zw_real square = tiny * tiny;
-    int bad = 0;
-    bad |= !(tiny > ZW_R(0.0));
-    bad |= !(tiny * one == ZW_REAL_MIN);
-    bad |= !(half > ZW_R(0.0) && half + half == ZW_REAL_MIN);      /* FTZ gives 0 */
-    bad |= !(sub > ZW_R(0.0) && sub + sub == ZW_REAL_MIN);         /* DAZ reads 0 */
-    bad |= !(-sub < ZW_R(0.0));
-    bad |= !(square == ZW_R(0.0)); /* below the subnormal range: 0 */
-    bad |= !((tiny * ZW_R(3.0)) * ZW_R(0.5) == ZW_R(1.5) * ZW_REAL_MIN); /* normal: exact */
+    unsigned bad = 0u;
+    bad |= fails(tiny > ZW_R(0.0));
+    bad |= fails(tiny * one == ZW_REAL_MIN);
+    bad |= fails(half > ZW_R(0.0) && half + half == ZW_REAL_MIN);      /* FTZ gives 0 */
+    bad |= fails(sub > ZW_R(0.0) && sub + sub == ZW_REAL_MIN);         /* DAZ reads 0 */
+    bad |= fails(-sub < ZW_R(0.0));
+    bad |= fails(square == ZW_R(0.0)); /* below the subnormal range: 0 */
+    bad |= fails((tiny * ZW_R(3.0)) * ZW_R(0.5) == ZW_R(1.5) * ZW_REAL_MIN); /* normal: exact */
     return flag(bad, ZW_SELFTEST_UNDERFLOW);
 }
 
@@ -130,15 +137,15 @@ static uint_least16_t check_contraction(const volatile zw_real *a, const volatil
     const zw_real negated = c2 - a2 * a2;
     const zw_real square = a3 * a3;
     const zw_real fused_across_statements = square - c3;
-    int bad = 0;
-    bad |= !(fused_in_expression == ZW_R(0.0));
-    bad |= !(negated == ZW_R(0.0));
-    bad |= !(fused_across_statements == ZW_R(0.0));
+    unsigned bad = 0u;
+    bad |= fails(fused_in_expression == ZW_R(0.0));
+    bad |= fails(negated == ZW_R(0.0));
+    bad |= fails(fused_across_statements == ZW_R(0.0));
     return flag(bad, ZW_SELFTEST_CONTRACTION);
 }
 
 /* |r - ref| within one ulp of ref (an ulp is at most 2u |ref|). */
-static int within_ulp(zw_real r, zw_real ref)
+static bool within_ulp(zw_real r, zw_real ref)
 {
     return ZW_FABS(r - ref) <= ZW_R(2.0) * ST_U * ZW_FABS(ref);
 }
@@ -153,22 +160,22 @@ static uint_least16_t check_libm(zw_real zero, zw_real one, zw_real u)
     int e2 = 0, e3 = 0;
     const zw_real m2 = ZW_FREXP(one + one, &e2);
     const zw_real m3 = ZW_FREXP(ZW_R(3.0) * one, &e3);
-    int bad = 0;
-    bad |= !(ZW_EXP(zero) == ZW_R(1.0));
-    bad |= !(ZW_EXPM1(zero) == ZW_R(0.0));
-    bad |= !(ZW_EXPM1(tiny_x) == tiny_x);
-    bad |= !within_ulp(ZW_EXP(one), ZW_R(2.718281828459045235360287));
-    bad |= !within_ulp(ZW_EXP(-one), ZW_R(0.3678794411714423215955238));
-    bad |= !within_ulp(ZW_EXP(ZW_R(10.0) * one), ZW_R(22026.46579480671651695790));
-    bad |= !within_ulp(ZW_EXPM1(one), ZW_R(1.718281828459045235360287));
-    bad |= !within_ulp(ZW_EXPM1(-one), ZW_R(-0.6321205588285576784044762));
-    bad |= !within_ulp(ZW_EXPM1(ZW_R(0.0078125) * one), ZW_R(0.007843097206447977120265683));
-    bad |= !(ZW_SQRT(square) == ZW_R(4095.0));
-    bad |= !(ZW_SQRT(ZW_R(0.25) * one) == ZW_R(0.5));
-    bad |= !(ZW_SQRT(up2) == ST_ONE_2U); /* 1 + 2u - 2u^2 + ...: correctly rounded */
-    bad |= !(m2 == ZW_R(0.5) && e2 == 2);
-    bad |= !(m3 == ZW_R(0.75) && e3 == 2);
-    bad |= !(ZW_LDEXP(one, -3) == ZW_R(0.125));
+    unsigned bad = 0u;
+    bad |= fails(ZW_EXP(zero) == ZW_R(1.0));
+    bad |= fails(ZW_EXPM1(zero) == ZW_R(0.0));
+    bad |= fails(ZW_EXPM1(tiny_x) == tiny_x);
+    bad |= fails(within_ulp(ZW_EXP(one), ZW_R(2.718281828459045235360287)));
+    bad |= fails(within_ulp(ZW_EXP(-one), ZW_R(0.3678794411714423215955238)));
+    bad |= fails(within_ulp(ZW_EXP(ZW_R(10.0) * one), ZW_R(22026.46579480671651695790)));
+    bad |= fails(within_ulp(ZW_EXPM1(one), ZW_R(1.718281828459045235360287)));
+    bad |= fails(within_ulp(ZW_EXPM1(-one), ZW_R(-0.6321205588285576784044762)));
+    bad |= fails(within_ulp(ZW_EXPM1(ZW_R(0.0078125) * one), ZW_R(0.007843097206447977120265683)));
+    bad |= fails(ZW_SQRT(square) == ZW_R(4095.0));
+    bad |= fails(ZW_SQRT(ZW_R(0.25) * one) == ZW_R(0.5));
+    bad |= fails(ZW_SQRT(up2) == ST_ONE_2U); /* 1 + 2u - 2u^2 + ...: correctly rounded */
+    bad |= fails(m2 == ZW_R(0.5) && e2 == 2);
+    bad |= fails(m3 == ZW_R(0.75) && e3 == 2);
+    bad |= fails(ZW_LDEXP(one, -3) == ZW_R(0.125));
     return flag(bad, ZW_SELFTEST_LIBM);
 }
 
@@ -181,7 +188,9 @@ zw_status zw_selftest_failures(uint_least16_t *failed)
     volatile zw_real v_succ1 = ST_ONE_2U, v_succ2 = ST_ONE_4U;
     const zw_real zero = v_zero, one = v_one, u = v_u, big = v_big, tiny = v_tiny, sub = v_sub;
     uint_least16_t bits;
-    if (failed == NULL) return ZW_ERR_NULL;
+    if (failed == NULL) {
+        return ZW_ERR_NULL;
+    }
     bits = (uint_least16_t)(check_rounding(one, u) | check_precision(one, u) |
                             check_nan(zero, one, big) | check_overflow(one, big) |
                             check_underflow(tiny, sub, one) | check_contraction(&v_succ1, &v_succ2) |

@@ -7,24 +7,25 @@
 
 const char *zw_status_name(zw_status status)
 {
+    const char *name;
     switch (status) {
-    case ZW_OK: return "ZW_OK";
-    case ZW_ERR_NULL: return "ZW_ERR_NULL";
-    case ZW_ERR_NAN: return "ZW_ERR_NAN";
-    case ZW_ERR_INF: return "ZW_ERR_INF";
-    case ZW_ERR_MASS: return "ZW_ERR_MASS";
-    case ZW_ERR_PERIOD: return "ZW_ERR_PERIOD";
-    case ZW_ERR_DAMPING: return "ZW_ERR_DAMPING";
-    case ZW_ERR_DELTA: return "ZW_ERR_DELTA";
-    case ZW_ERR_RANGE: return "ZW_ERR_RANGE";
-    case ZW_ERR_ARG: return "ZW_ERR_ARG";
-    case ZW_ERR_DOMAIN: return "ZW_ERR_DOMAIN";
-    case ZW_ERR_FPENV: return "ZW_ERR_FPENV";
-    case ZW_ERR_DELAY: return "ZW_ERR_DELAY";
-    case ZW_ERR_FILTER: return "ZW_ERR_FILTER";
-    case ZW_ERR_BUSY: return "ZW_ERR_BUSY";
-    case ZW_ERR_BOX: return "ZW_ERR_BOX";
-    default: break; /* a value outside the enumeration: named below */
+    case ZW_OK: name = "ZW_OK"; break;
+    case ZW_ERR_NULL: name = "ZW_ERR_NULL"; break;
+    case ZW_ERR_NAN: name = "ZW_ERR_NAN"; break;
+    case ZW_ERR_INF: name = "ZW_ERR_INF"; break;
+    case ZW_ERR_MASS: name = "ZW_ERR_MASS"; break;
+    case ZW_ERR_PERIOD: name = "ZW_ERR_PERIOD"; break;
+    case ZW_ERR_DAMPING: name = "ZW_ERR_DAMPING"; break;
+    case ZW_ERR_DELTA: name = "ZW_ERR_DELTA"; break;
+    case ZW_ERR_RANGE: name = "ZW_ERR_RANGE"; break;
+    case ZW_ERR_ARG: name = "ZW_ERR_ARG"; break;
+    case ZW_ERR_DOMAIN: name = "ZW_ERR_DOMAIN"; break;
+    case ZW_ERR_FPENV: name = "ZW_ERR_FPENV"; break;
+    case ZW_ERR_DELAY: name = "ZW_ERR_DELAY"; break;
+    case ZW_ERR_FILTER: name = "ZW_ERR_FILTER"; break;
+    case ZW_ERR_BUSY: name = "ZW_ERR_BUSY"; break;
+    case ZW_ERR_BOX: name = "ZW_ERR_BOX"; break;
+    default: name = "ZW_UNKNOWN"; break; /* a value outside the enumeration */
     }
-    return "ZW_UNKNOWN";
+    return name;
 }
