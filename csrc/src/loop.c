@@ -9,7 +9,6 @@
  */
 #include "zwidth/loop.h"
 
-#include <float.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -31,6 +30,14 @@
 #define LOOP_HOT __attribute__((always_inline)) inline
 #else
 #define LOOP_HOT
+#endif
+
+/* Inlined in every build: the root test's deepest chain (eval_p's products) is shallower
+ * with these in their callers' frames (tools/footprint.sh). */
+#if defined(__GNUC__)
+#define LOOP_INLINE __attribute__((always_inline)) inline
+#else
+#define LOOP_INLINE
 #endif
 
 #define LOOP_PI ZW_R(3.14159265358979323846)
@@ -125,13 +132,13 @@ static LOOP_HOT zw_eb eb_make(zw_real v, zw_real e)
 }
 
 /* A coefficient field with its relative bound and the subnormal floor. */
-static zw_eb coef_field(const zw_coeffs *c, zw_real v)
+static LOOP_INLINE zw_eb coef_field(const zw_coeffs *c, zw_real v)
 {
     return eb_make(v, zw_coef_relerr(c) * ZW_FABS(v) + zw_coef_floor(v));
 }
 
 /* f1 x + f0 for the factor in the context's variable. */
-static void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
+static LOOP_INLINE void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
 {
     const zw_coeffs *c = ctx->c;
     const bool s = ctx->bilinear;
@@ -194,7 +201,7 @@ static void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
 
 /* Product of two bounded values whose error is exactly zero when both are exact and one
  * of them is 0, +-1 or +-2 (factors of that form are common and must not add rounding). */
-static LOOP_HOT zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
+static LOOP_INLINE zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
 {
     if (a.e == ZW_R(0.0) && b.e == ZW_R(0.0)) {
         zw_real m = ZW_FABS(a.v) < ZW_FABS(b.v) ? ZW_FABS(a.v) : ZW_FABS(b.v);
@@ -204,7 +211,7 @@ static LOOP_HOT zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
 }
 
 /* Sum whose error is the inputs' when one of them is an exact zero. */
-static LOOP_HOT zw_eb eb_add_exactish(zw_eb a, zw_eb b)
+static LOOP_INLINE zw_eb eb_add_exactish(zw_eb a, zw_eb b)
 {
     if (a.v == ZW_R(0.0) && a.e == ZW_R(0.0)) return b;
     if (b.v == ZW_R(0.0) && b.e == ZW_R(0.0)) return a;
@@ -463,29 +470,51 @@ zw_status zw_loop_poly(const zw_loop *loop, zw_real alpha, zw_real beta,
     return ZW_OK;
 }
 
-/* ---- stored error bounds --------------------------------------------------------------------- */
+/* ---- coefficients with error bounds ----------------------------------------------------- */
 
-/* The working arrays of the tests keep their error bounds in float (rounded up), which
- * halves their stack in the double build; a bound needs no more than a few digits. */
-typedef float loop_err;
-
-static LOOP_HOT loop_err err_up(zw_real e)
-{
-    float f;
-    if (!(e <= (zw_real)FLT_MAX)) return ZW_HUGE_VALF; /* also NaN: "cannot tell" */
-    f = (float)e;
-#ifndef ZW_REAL_FLOAT
-    /* rounded down: one float ulp up without a libm call.  For normal f, f (1 + 2^-23) is
-     * exactly f + f 2^-23 >= f + ulp(f) before rounding, so its rounding to nearest is at
-     * least the next float (or +inf); 2^-149 covers a subnormal or zero f. */
-    if ((zw_real)f < e) f = f * (1.0f + FLT_EPSILON) + 0x1p-149f;
-#endif
-    return f;
-}
+/* The working rows of the tests live in the caller's zw_loop_workspace (loop.h), with
+ * their error bounds in zw_real. */
+typedef zw_real loop_err;
 
 static LOOP_HOT zw_eb eb_stored(zw_real v, loop_err e)
 {
-    return eb_make(v, (zw_real)e);
+    return eb_make(v, e);
+}
+
+/* Coefficient i of d + alpha na + beta nb (parts with error bounds de, nae, nbe), with a
+ * bound on its error.  First branch-free: the bounds of zw_eb_mul / zw_eb_add written out
+ * (a rounding u|result| per operation, the underflow quantum per operation).  Where that
+ * leaves the sign in doubt, again through the exact-where-possible operations, whose bound
+ * is zero for exact parts and gains (the z = +-1 coefficients at a gain's exact zero, tiny
+ * gains).  Both bounds are rigorous; the first only skips branches on the common path. */
+static LOOP_HOT zw_eb combine(const zw_real d[], const zw_real de[], const zw_real na[],
+                              const zw_real nae[], const zw_real nb[], const zw_real nbe[],
+                              unsigned i, zw_real alpha, zw_real beta)
+{
+    const zw_real pa = alpha * na[i], pb = beta * nb[i], t = d[i] + pa, w = t + pb;
+    const zw_real err = ((de[i] + ZW_FABS(alpha) * nae[i]) + ZW_FABS(beta) * nbe[i]) +
+                        ZW_U * (((ZW_FABS(pa) + ZW_FABS(pb)) + ZW_FABS(t)) + ZW_FABS(w)) +
+                        ZW_R(4.0) * ZW_ETA;
+    if (ZW_FABS(w) > ZW_R(2.0) * err) return eb_make(w, err);
+    {
+        zw_eb v = eb_add_exactish(eb_make(d[i], de[i]),
+                                  eb_mul_exactish(zw_eb_exact(alpha), eb_make(na[i], nae[i])));
+        return eb_add_exactish(v, eb_mul_exactish(zw_eb_exact(beta), eb_make(nb[i], nbe[i])));
+    }
+}
+
+/* Coefficient i of the bilinear P = Ds + alpha Nas + beta Nbs, and of p = D + alpha Na +
+ * beta Nb. */
+static LOOP_HOT zw_eb bilinear_coef(const zw_loop *loop, unsigned i, zw_real alpha, zw_real beta)
+{
+    return combine(loop->Ds, loop->Ds_err, loop->Nas, loop->Nas_err, loop->Nbs, loop->Nbs_err, i,
+                   alpha, beta);
+}
+
+static LOOP_HOT zw_eb z_coef(const zw_loop *loop, unsigned i, zw_real alpha, zw_real beta)
+{
+    return combine(loop->D, loop->D_err, loop->Na, loop->Na_err, loop->Nb, loop->Nb_err, i, alpha,
+                   beta);
 }
 
 /* ---- guarded Hurwitz test (Routh) ---------------------------------------------------------- */
@@ -539,7 +568,7 @@ static routh_result routh(zw_real w[], loop_err we[], unsigned n)
             zw_eb b1 = j + 1u < len_b ? eb_stored(w[ib], we[ib]) : zw_eb_exact(ZW_R(0.0));
             zw_eb c = zw_eb_sub(zw_eb_mul(b0, a1), zw_eb_mul(a0, b1));
             w[off + 2u * j] = c.v;
-            we[off + 2u * j] = err_up(c.e);
+            we[off + 2u * j] = c.e;
             if (ZW_FABS(c.v) > big) big = ZW_FABS(c.v);
         }
         if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
@@ -547,7 +576,7 @@ static routh_result routh(zw_real w[], loop_err we[], unsigned n)
             (void)ZW_FREXP(big, &ex);
             for (j = 0u; j < len; ++j) {
                 w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
-                we[off + 2u * j] = err_up(ZW_LDEXP((zw_real)we[off + 2u * j], -ex) + ZW_ETA);
+                we[off + 2u * j] = ZW_LDEXP(we[off + 2u * j], -ex) + ZW_ETA;
             }
         }
         res = sign_result(w[off], (zw_real)we[off]);
@@ -558,23 +587,19 @@ static routh_result routh(zw_real w[], loop_err we[], unsigned n)
 
 /* P = Ds + alpha Nas + beta Nbs with bounds, then Routh.  *lead / *trail: the results of
  * the leading (z = -1) and constant (z = 1) coefficients alone. */
-ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_real alpha, zw_real beta,
-                                               routh_result *lead, routh_result *trail)
+ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                   zw_real beta, routh_result *lead, routh_result *trail)
 {
-    zw_real w[LOOP_N];
-    loop_err we[LOOP_N];
-    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
+    zw_real *w = ws->row, *we = ws->row_err;
     const unsigned n = loop->degree;
     unsigned i;
     for (i = 0u; i <= n; ++i) {
-        zw_eb v = eb_add_exactish(eb_make(loop->Ds[i], loop->Ds_err[i]),
-                                  eb_mul_exactish(ga, eb_make(loop->Nas[i], loop->Nas_err[i])));
-        v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nbs[i], loop->Nbs_err[i])));
+        const zw_eb v = bilinear_coef(loop, i, alpha, beta);
         w[i] = v.v;
-        we[i] = err_up(v.e);
+        we[i] = v.e;
     }
-    *lead = sign_result(w[0], (zw_real)we[0]);
-    *trail = sign_result(w[n], (zw_real)we[n]);
+    *lead = sign_result(w[0], we[0]);
+    *trail = sign_result(w[n], we[n]);
     return routh(w, we, n);
 }
 
@@ -597,18 +622,15 @@ ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_real alph
  * reflection coefficients k, each step is w[t] - k w[m - t] with |k| << 1, and the bound
  * grows slowly; it widens only as |k| -> 1 (roots near the circle), where the Routh test
  * does well.  Costs n^2 / 2 multiply-adds; one array, reduced in place. */
-ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_real alpha, zw_real beta)
+ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                               zw_real beta)
 {
-    zw_real w[LOOP_N];
-    loop_err we[LOOP_N];
-    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
+    zw_real *w = ws->row, *we = ws->row_err;
     unsigned m = loop->degree, t;
     for (t = 0u; t <= m; ++t) {
-        zw_eb v = eb_add_exactish(eb_make(loop->D[t], loop->D_err[t]),
-                                  eb_mul_exactish(ga, eb_make(loop->Na[t], loop->Na_err[t])));
-        v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nb[t], loop->Nb_err[t])));
+        const zw_eb v = z_coef(loop, t, alpha, beta);
         w[t] = v.v;
-        we[t] = err_up(v.e);
+        we[t] = v.e;
     }
     for (; m > 0u; --m) {
         const zw_eb lead = eb_stored(w[0], we[0]), con = eb_stored(w[m], we[m]);
@@ -632,11 +654,11 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_real alpha, z
             const zw_eb x = eb_stored(w[t], we[t]), y = eb_stored(w[t2], we[t2]);
             const zw_eb nx = zw_eb_sub(x, zw_eb_mul(k, y));
             w[t] = nx.v;
-            we[t] = err_up(nx.e);
+            we[t] = nx.e;
             if (t2 != t && t2 < m) {
                 const zw_eb ny = zw_eb_sub(y, zw_eb_mul(k, x));
                 w[t2] = ny.v;
-                we[t2] = err_up(ny.e);
+                we[t2] = ny.e;
             }
         }
         /* rescale by a power of two (exact but for underflow: ETA) against overflow */
@@ -647,7 +669,7 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_real alpha, z
             (void)ZW_FREXP(big, &ex);
             for (t = 0u; t < m; ++t) {
                 w[t] = ZW_LDEXP(w[t], -ex);
-                we[t] = err_up(ZW_LDEXP((zw_real)we[t], -ex) + ZW_ETA);
+                we[t] = ZW_LDEXP(we[t], -ex) + ZW_ETA;
             }
         }
     }
@@ -659,11 +681,8 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_real alpha, z
 static void bilinear_end(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i,
                          routh_result *out)
 {
-    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
-    zw_eb v = eb_add_exactish(eb_make(loop->Ds[i], loop->Ds_err[i]),
-                              eb_mul_exactish(ga, eb_make(loop->Nas[i], loop->Nas_err[i])));
-    v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nbs[i], loop->Nbs_err[i])));
-    *out = sign_result(v.v, (zw_real)err_up(v.e));
+    const zw_eb v = bilinear_coef(loop, i, alpha, beta);
+    *out = sign_result(v.v, v.e);
 }
 
 /* From this degree on (long delays and moving averages) the Schur-Cohn test goes first:
@@ -676,27 +695,25 @@ static void bilinear_end(const zw_loop *loop, zw_real alpha, zw_real beta, unsig
  * Schur-Cohn test on the z coefficients, the second only where the first cannot tell
  * (either proves stability alone; UNSTABLE from either is certain).  *lead, *trail as
  * check_bilinear. */
-static routh_result decide(const zw_loop *loop, zw_real alpha, zw_real beta, routh_result *lead,
-                           routh_result *trail)
+static routh_result decide(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                           routh_result *lead, routh_result *trail)
 {
     routh_result res;
     if (loop->degree >= LOOP_SCHUR_FIRST) {
         const unsigned n = loop->degree;
         bilinear_end(loop, alpha, beta, 0u, lead);
         bilinear_end(loop, alpha, beta, n, trail);
-        res = schur_cohn(loop, alpha, beta);
-        return res == ROUTH_UNSURE ? check_bilinear(loop, alpha, beta, lead, trail) : res;
+        res = schur_cohn(loop, ws, alpha, beta);
+        return res == ROUTH_UNSURE ? check_bilinear(loop, ws, alpha, beta, lead, trail) : res;
     }
-    res = check_bilinear(loop, alpha, beta, lead, trail);
-    if (res == ROUTH_UNSURE) res = schur_cohn(loop, alpha, beta);
+    res = check_bilinear(loop, ws, alpha, beta, lead, trail);
+    if (res == ROUTH_UNSURE) res = schur_cohn(loop, ws, alpha, beta);
     return res;
 }
 
 /* ---- roots (informational) ------------------------------------------------------------------ */
 
-typedef struct cplx {
-    zw_real re, im;
-} cplx;
+typedef zw_loop_complex cplx;
 
 static cplx c_make(zw_real re, zw_real im)
 {
@@ -725,12 +742,17 @@ static cplx c_div(cplx a, cplx b)
     den = b.re * t + b.im;
     return c_make((a.re * t + a.im) / den, (a.im * t - a.re) / den);
 }
-static zw_real c_abs(cplx a)
+static LOOP_INLINE zw_real c_abs_inline(cplx a)
 {
     zw_real x = ZW_FABS(a.re), y = ZW_FABS(a.im), big = x > y ? x : y, small = x > y ? y : x;
     if (big == ZW_R(0.0)) return ZW_R(0.0);
     small /= big;
     return big * ZW_SQRT(ZW_R(1.0) + small * small);
+}
+
+static zw_real c_abs(cplx a)
+{
+    return c_abs_inline(a);
 }
 
 static zw_real poly_coef(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i)
@@ -754,9 +776,9 @@ static ceb ceb_make(cplx v, zw_real e)
 
 /* acc *= f (f with absolute error fe); |fl(a b) - a b| <= sqrt(2) gamma_2 |a||b| < 5 u |a||b|
  * for complex products.  In place, through pointers: small frames on an MCU. */
-static void ceb_times(ceb *acc, cplx f, zw_real fe)
+static LOOP_INLINE void ceb_times(ceb *acc, cplx f, zw_real fe)
 {
-    const zw_real aa = c_abs(acc->v), af = c_abs(f);
+    const zw_real aa = c_abs_inline(acc->v), af = c_abs_inline(f);
     acc->e = aa * fe + af * acc->e + acc->e * fe + ZW_R(5.0) * ZW_U * aa * af + ZW_R(2.0) * ZW_ETA;
     acc->v = c_mul(acc->v, f);
 }
@@ -959,13 +981,14 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
 }
 
 /* The root of largest modulus (0 when every root is an exact zero). */
-static cplx largest_root(const zw_loop *loop, zw_real alpha, zw_real beta, bool accurate, bool *ok)
+static cplx largest_root(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                         bool accurate, bool *ok)
 {
-    cplx z[ZW_LOOP_MAX_DEGREE];
+    const cplx *z = ws->root;
     cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
     zw_real best = -ZW_R(1.0);
     unsigned m = 0u, i;
-    *ok = aberth(loop, alpha, beta, z, &m, accurate);
+    *ok = aberth(loop, alpha, beta, ws->root, &m, accurate);
     for (i = 0u; i < m; ++i) {
         zw_real a = c_abs(z[i]);
         if (a > best) {
@@ -1027,16 +1050,17 @@ static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta
  * and disjoint from all others holds exactly one root, by the continuity argument of
  * Braess and Hadeler on p_t = prod (z - z_j) + t sum_i W_i prod_{j != i} (z - z_j)), or
  * UNSURE.  *top: the root of largest modulus, for the deciding boundary. */
-static routh_result roots_test(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
-                               cplx *top, bool *top_ok)
+/* The verdict from the m roots in ws->root.  Out of line: its frame is not on the stack
+ * while the Aberth run is (the deepest chain of the checks). */
+ZW_NOINLINE static routh_result inclusion_verdict(const zw_loop *loop, zw_loop_workspace *ws,
+                                                  zw_real alpha, zw_real beta, zw_real r,
+                                                  unsigned m, cplx *top)
 {
-    cplx z[ZW_LOOP_MAX_DEGREE];
-    unsigned m = 0u, i, j;
+    const cplx *z = ws->root;
+    zw_real *radius = ws->radius;
+    unsigned i, j;
     zw_real lead_low, best = -ZW_R(1.0);
     bool all_inside = true;
-    *top = c_make(ZW_R(0.0), ZW_R(0.0));
-    *top_ok = aberth(loop, alpha, beta, z, &m, true);
-    if (!*top_ok) return ROUTH_UNSURE;
     for (i = 0u; i < m; ++i)
         if (c_abs(z[i]) > best) {
             best = c_abs(z[i]);
@@ -1051,9 +1075,11 @@ static routh_result roots_test(const zw_loop *loop, zw_real alpha, zw_real beta,
         lead_low = (ZW_FABS(p0) - e0) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U);
         if (!(lead_low > ZW_R(0.0))) return ROUTH_UNSURE;
     }
+    /* each radius once (the isolation test below reads every other one) */
+    for (i = 0u; i < m; ++i) radius[i] = inclusion_radius(loop, alpha, beta, z, m, i, lead_low);
     for (i = 0u; i < m; ++i) {
         const zw_real az = c_abs(z[i]);
-        const zw_real ri = inclusion_radius(loop, alpha, beta, z, m, i, lead_low);
+        const zw_real ri = radius[i];
         if (all_inside && !((az * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + ri) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U) < r))
             all_inside = false;
         if ((az * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) - ri) * (ZW_R(1.0) - ZW_R(2.0) * ZW_U) > r) {
@@ -1061,12 +1087,22 @@ static routh_result roots_test(const zw_loop *loop, zw_real alpha, zw_real beta,
             for (j = 0u; j < m && isolated; ++j)
                 if (j != i &&
                     !(c_abs(c_sub(z[i], z[j])) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) >
-                      (ri + inclusion_radius(loop, alpha, beta, z, m, j, lead_low)) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U)))
+                      (ri + radius[j]) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U)))
                     isolated = false;
             if (isolated) return ROUTH_UNSTABLE;
         }
     }
     return all_inside ? ROUTH_STABLE : ROUTH_UNSURE;
+}
+
+static routh_result roots_test(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                               zw_real beta, zw_real r, cplx *top, bool *top_ok)
+{
+    unsigned m = 0u;
+    *top = c_make(ZW_R(0.0), ZW_R(0.0));
+    *top_ok = aberth(loop, alpha, beta, ws->root, &m, true);
+    if (!*top_ok) return ROUTH_UNSURE;
+    return inclusion_verdict(loop, ws, alpha, beta, r, m, top);
 }
 
 /* Angle in [0, pi] of a root; within ~sqrt(u) of the real axis counts as real (a double
@@ -1078,22 +1114,22 @@ static zw_real root_angle(cplx z)
     return ZW_ATAN2(ZW_FABS(z.im), z.re);
 }
 
-zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real beta,
-                                  zw_real *rho, zw_real *theta)
+zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                  zw_real beta, zw_real *rho, zw_real *theta)
 {
     zw_status st;
     bool ok;
     cplx top;
     if (rho != NULL) *rho = ZW_HUGE_VAL;
     if (theta != NULL) *theta = ZW_R(0.0);
-    if (rho == NULL || theta == NULL) return ZW_ERR_NULL;
+    if (rho == NULL || theta == NULL || ws == NULL) return ZW_ERR_NULL;
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
     {
         unsigned i;
         for (i = 0u; i <= loop->degree; ++i)
             if (!ZW_IS_FINITE(poly_coef(loop, alpha, beta, i))) return ZW_ERR_RANGE;
     }
-    top = largest_root(loop, alpha, beta, true, &ok);
+    top = largest_root(loop, ws, alpha, beta, true, &ok);
     if (!ok) return ZW_ERR_RANGE;
     *rho = c_abs(top);
     *theta = root_angle(top);
@@ -1102,7 +1138,8 @@ zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real be
 
 /* ---- verdicts ------------------------------------------------------------------------------ */
 
-zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loop_verdict *out)
+zw_status zw_loop_check(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                        zw_loop_verdict *out)
 {
     zw_status st;
     routh_result res, lead, trail;
@@ -1110,8 +1147,9 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
     bool ok = true;
     if (out == NULL) return ZW_ERR_NULL;
     zw_fail_loop_verdict(out);
+    if (ws == NULL) return ZW_ERR_NULL;
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
-    res = decide(loop, alpha, beta, &lead, &trail);
+    res = decide(loop, ws, alpha, beta, &lead, &trail);
     if (res == ROUTH_STABLE) {
         out->stable = true;
         return ZW_OK;
@@ -1119,8 +1157,8 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
     /* the boundary: z = 1 (p(1) = alpha Na(1)), z = -1 (the leading coefficient of P),
      * else where the root of largest modulus is */
     if (res == ROUTH_UNSURE || (trail == ROUTH_STABLE && lead == ROUTH_STABLE)) {
-        if (res == ROUTH_UNSURE) res = roots_test(loop, alpha, beta, ZW_R(1.0), &top, &ok);
-        else top = largest_root(loop, alpha, beta, false, &ok);
+        if (res == ROUTH_UNSURE) res = roots_test(loop, ws, alpha, beta, ZW_R(1.0), &top, &ok);
+        else top = largest_root(loop, ws, alpha, beta, false, &ok);
     }
     if (res == ROUTH_STABLE) {
         out->stable = true;
@@ -1150,30 +1188,31 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
 /* The boolean fast path: the same two tests as zw_loop_check, in the same order, so the
  * answer is the same for every point; only the deciding boundary of a not-stable point
  * (an Aberth run) is skipped. */
-zw_status zw_loop_is_stable(const zw_loop *loop, zw_real alpha, zw_real beta, bool *stable)
+zw_status zw_loop_is_stable(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                            bool *stable)
 {
     zw_status st;
     routh_result res, lead, trail;
     if (stable == NULL) return ZW_ERR_NULL;
     *stable = false;
+    if (ws == NULL) return ZW_ERR_NULL;
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
-    res = decide(loop, alpha, beta, &lead, &trail);
+    res = decide(loop, ws, alpha, beta, &lead, &trail);
     if (res == ROUTH_UNSURE) {
         cplx top;
         bool ok;
-        res = roots_test(loop, alpha, beta, ZW_R(1.0), &top, &ok);
+        res = roots_test(loop, ws, alpha, beta, ZW_R(1.0), &top, &ok);
     }
     *stable = res == ROUTH_STABLE;
     return ZW_OK;
 }
 
 /* (1 - s)^n p(r (1 + s)/(1 - s)) = sum_k p_k (r (1 + s))^(n-k) (1 - s)^k by Horner in
- * r (1 + s), with running bounds, then the Routh test.  Out of line, so that its arrays are
- * off the stack before the root test runs. */
-ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r)
+ * r (1 + s), with running bounds (in the workspace's row), then the Routh test. */
+ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                 zw_real beta, zw_real r)
 {
-    zw_real w[LOOP_N];
-    loop_err we[LOOP_N];
+    zw_real *w = ws->row, *we = ws->row_err;
     unsigned k, i, deg = 0u;
     const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta), re = zw_eb_exact(r);
     for (k = 0u; k <= loop->degree; ++k) {
@@ -1188,17 +1227,17 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_real alpha,
                                      : eb_stored(w[i - 1u], we[i - 1u]);
                 sum = eb_mul_exactish(re, sum);
                 w[i] = sum.v;
-                we[i] = err_up(sum.e);
+                we[i] = sum.e;
             }
             {
                 zw_eb top = eb_mul_exactish(re, eb_stored(w[0], we[0]));
                 w[0] = top.v;
-                we[0] = err_up(top.e);
+                we[0] = top.e;
             }
             deg += 1u;
         } else {
             w[0] = ZW_R(0.0);
-            we[0] = 0.0f;
+            we[0] = ZW_R(0.0);
         }
         /* + p_k (1 - s)^k: s^i at index k - i */
         for (i = 0u; i <= k; ++i) {
@@ -1206,28 +1245,29 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_real alpha,
             zw_eb t = eb_add_exactish(eb_stored(w[k - i], we[k - i]),
                                       eb_mul_exactish(pk, zw_eb_exact(coef)));
             w[k - i] = t.v;
-            we[k - i] = err_up(t.e);
+            we[k - i] = t.e;
             binom = binom * (uint_least32_t)(k - i) / (uint_least32_t)(i + 1u);
         }
     }
     return routh(w, we, loop->degree);
 }
 
-zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
-                                bool *within)
+zw_status zw_loop_radius_within(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                zw_real beta, zw_real r, bool *within)
 {
     zw_status st;
     routh_result res;
     if (within == NULL) return ZW_ERR_NULL;
     *within = false;
+    if (ws == NULL) return ZW_ERR_NULL;
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
     if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
     if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
-    res = radius_routh(loop, alpha, beta, r);
+    res = radius_routh(loop, ws, alpha, beta, r);
     if (res == ROUTH_UNSURE) {
         cplx top;
         bool ok;
-        res = roots_test(loop, alpha, beta, r, &top, &ok);
+        res = roots_test(loop, ws, alpha, beta, r, &top, &ok);
     }
     *within = res == ROUTH_STABLE;
     return ZW_OK;

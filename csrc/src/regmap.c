@@ -412,7 +412,7 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm, bool *any)
         B = e.B_at_K_mmax;
     } else {
         zw_device_loop_extremes e;
-        st = zw_device_loop_extremes_compute(&rm->loop, &e);
+        st = zw_device_loop_extremes_compute(&rm->loop, &rm->ws, &e);
         K = e.K_mmax;
         B = e.B_at_K_mmax;
     }
@@ -493,38 +493,38 @@ static bool step_within(float a, float b, float limit)
 /* The two rules that need the plant, each in its own small function: the deepest chains of
  * the core (zw_device_radius_within) then start right below a small frame (stack).  Any
  * error of the core (a normalization that overflows) counts against the pair. */
-static bool stable_ok(const zw_regmap *rm, float K, float B)
+static bool stable_ok(zw_regmap *rm, float K, float B)
 {
     if (ideal_loop(rm)) {
         zw_verdict v;
         return zw_device_check(&rm->loop.dev, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
     } else {
         zw_loop_verdict v;
-        return zw_device_loop_check(&rm->loop, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
+        return zw_device_loop_check(&rm->loop, &rm->ws, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
     }
 }
 
-static bool radius_ok(const zw_regmap *rm, float K, float B)
+static bool radius_ok(zw_regmap *rm, float K, float B)
 {
     bool within = false;
     zw_status st = ideal_loop(rm)
                        ? zw_device_radius_within(&rm->loop.dev, (zw_real)K, (zw_real)B,
                                                  (zw_real)rm->sealed.r, &within)
-                       : zw_device_loop_radius_within(&rm->loop, (zw_real)K, (zw_real)B,
+                       : zw_device_loop_radius_within(&rm->loop, &rm->ws, (zw_real)K, (zw_real)B,
                                                       (zw_real)rm->sealed.r, &within);
     return st == ZW_OK && within;
 }
 
 /* K_max at B of the drive's loop (certified; 0 on error, by the core's fail-safe).  The
  * general loop's is taken from the cache when B is the one it holds. */
-static zw_status drive_k_max(const zw_regmap *rm, float B, zw_real *k_max)
+static zw_status drive_k_max(zw_regmap *rm, float B, zw_real *k_max)
 {
     if (ideal_loop(rm)) return zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max);
     if (rm->kmax_cached != 0u && rm->kmax_B == B) {
         *k_max = rm->kmax_value;
         return ZW_OK;
     }
-    return zw_device_loop_k_max(&rm->loop, (zw_real)B, k_max);
+    return zw_device_loop_k_max(&rm->loop, &rm->ws, (zw_real)B, k_max);
 }
 
 /* Keep K_max(B) for the gains now in force (general loop; the ideal one is cheap). */
@@ -536,7 +536,7 @@ static void cache_k_max(zw_regmap *rm, float B, zw_real k_max)
 }
 
 /* The rules of regmap.h, in its order; the first that fails is the reason. */
-static zw_reason certify(const zw_regmap *rm, float K, float B, zw_real *k_max_out)
+static zw_reason certify(zw_regmap *rm, float K, float B, zw_real *k_max_out)
 {
     const zw_cert *c = &rm->sealed;
     zw_real k_max;
@@ -656,7 +656,7 @@ ZW_NOINLINE static void live_refresh(zw_regmap *rm)
     rm->live[L_B_LO] = value_or_nan(st, x);
     rm->live[L_B_HI] = value_or_nan(st, y);
     st = ideal_loop(rm) ? zw_device_spectral_radius(d, (zw_real)rm->K, (zw_real)rm->B, &x)
-                        : zw_device_loop_spectral_radius(&rm->loop, (zw_real)rm->K, (zw_real)rm->B, &x, &th);
+                        : zw_device_loop_spectral_radius(&rm->loop, &rm->ws, (zw_real)rm->K, (zw_real)rm->B, &x, &th);
     rm->live[L_RHO] = value_or_nan(st, x);
     rm->live[L_DELTA] = to_float(d->co.delta);
 }

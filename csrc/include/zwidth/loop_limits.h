@@ -68,7 +68,8 @@ extern "C" {
  * 0 when alpha just above 0 is not stable (or cannot be proved so).
  * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF (beta), ZW_ERR_ARG (uninitialized loop),
  * ZW_ERR_RANGE (delta too large for the factored response).  *alpha_max = 0 on error. */
-zw_status zw_loop_alpha_max(const zw_loop *loop, zw_real beta, zw_real *alpha_max);
+zw_status zw_loop_alpha_max(const zw_loop *loop, zw_loop_workspace *ws, zw_real beta,
+                            zw_real *alpha_max);
 
 /* The stable beta intervals on the horizontal line alpha = const (> 0), in increasing
  * order.  For the ideal loop there is one; a general loop may have several (the region
@@ -86,12 +87,13 @@ typedef struct zw_loop_beta_set {
 
 /* Errors: as zw_loop_alpha_max (for alpha).  count = 0 (and every entry 0) on error and
  * when alpha <= 0. */
-zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_real alpha, zw_loop_beta_set *out);
+zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                 zw_loop_beta_set *out);
 
 /* The widest of those intervals (the one a drive tuning B at fixed K has most room in);
  * *nonempty false and lo = hi = 0 when there is none or on error. */
-zw_status zw_loop_beta_interval(const zw_loop *loop, zw_real alpha, zw_real *lo, zw_real *hi,
-                                bool *nonempty);
+zw_status zw_loop_beta_interval(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                zw_real *lo, zw_real *hi, bool *nonempty);
 
 /* Extremes of the general loop (all certified: never beyond the true values).
  *   alpha_mmax: max over beta of zw_loop_alpha_max, attained (as a certified limit) at
@@ -114,7 +116,8 @@ typedef struct zw_loop_extremes {
 
 /* Errors: ZW_ERR_NULL, ZW_ERR_ARG, ZW_ERR_DOMAIN (no beta is stable as alpha -> 0+: no
  * gains are stable, e.g. Tustin with an even average).  Every field 0 on error. */
-zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_extremes *out);
+zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_workspace *ws,
+                                   zw_loop_extremes *out);
 
 /* The complex-pair boundary curve at angle theta in (0, pi) (rad per sample): the one
  * (alpha, beta) at which p has the roots e^{+-j theta}.  ZW_ERR_DOMAIN where the 2x2 system
