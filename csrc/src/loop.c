@@ -528,11 +528,16 @@ typedef enum routh_result { ROUTH_STABLE, ROUTH_UNSURE, ROUTH_UNSTABLE } routh_r
 #define LOOP_SCALE_LO ZW_R(1.52587890625e-05)
 #define LOOP_SCALE_HI ZW_R(65536.0)
 
+/* zw_compare(0, v, err) as a verdict on v's sign.  Written out for speed, without its test
+ * of the bound for infinity: every bound in this file is a sum of non-negative terms (or
+ * NaN / +inf after an overflow), and a comparison with a NaN or infinite bound is false,
+ * so such a bound still gives UNSURE. */
 static LOOP_HOT routh_result sign_result(zw_real v, zw_real err)
 {
-    zw_cmp cmp = zw_compare(ZW_R(0.0), v, err);
-    if (cmp == ZW_CMP_LT) return ROUTH_STABLE;
-    return cmp == ZW_CMP_GE ? ROUTH_UNSTABLE : ROUTH_UNSURE;
+    const zw_real bound = zw_compare_bound(v, err);
+    if (v > bound) return ROUTH_STABLE;
+    if (v < -bound) return ROUTH_UNSTABLE;
+    return ROUTH_UNSURE;
 }
 
 /* Is P(s) = w[0] s^n + ... + w[n] (errors we[]) surely Hurwitz?  Every coefficient must be
@@ -544,16 +549,38 @@ static LOOP_HOT routh_result sign_result(zw_real v, zw_real err)
  * the slots (k mod 2) + 2 j of w, overwriting row k - 2 (whose entry j + 1 is read before
  * entry j is written).  UNSTABLE is certain: the first entry that is not surely positive
  * is surely non-positive while all before it are surely positive. */
+static routh_result routh_rows(zw_real w[], loop_err we[], unsigned n);
+
+/* The signs of the coefficients (res: their combined verdict), then the rows. */
+static routh_result routh_after_signs(zw_real w[], loop_err we[], unsigned n, routh_result res)
+{
+    return res != ROUTH_STABLE ? res : routh_rows(w, we, n);
+}
+
+/* Combined verdict of one more coefficient's sign: UNSTABLE wins, then UNSURE. */
+static LOOP_HOT routh_result sign_and(routh_result acc, routh_result r)
+{
+    if (acc == ROUTH_UNSTABLE || r == ROUTH_UNSTABLE) return ROUTH_UNSTABLE;
+    return acc == ROUTH_UNSURE || r == ROUTH_UNSURE ? ROUTH_UNSURE : ROUTH_STABLE;
+}
+
 static routh_result routh(zw_real w[], loop_err we[], unsigned n)
 {
-    unsigned i, k;
+    unsigned i;
     routh_result res = ROUTH_STABLE;
     for (i = 0u; i <= n; ++i) {
         routh_result r = sign_result(w[i], (zw_real)we[i]);
         if (r == ROUTH_UNSTABLE) return r;
         if (r == ROUTH_UNSURE) res = r;
     }
-    if (res != ROUTH_STABLE) return res;
+    return routh_after_signs(w, we, n, res);
+}
+
+/* The rows of the array (every coefficient already surely positive). */
+static routh_result routh_rows(zw_real w[], loop_err we[], unsigned n)
+{
+    unsigned k;
+    routh_result res;
     for (k = 2u; k < n; ++k) {
         const unsigned off = k & 1u, len = (n - k) / 2u + 1u;
         const unsigned len_a = (n - k + 2u) / 2u + 1u, len_b = (n - k + 1u) / 2u + 1u;
@@ -593,14 +620,18 @@ ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_loop_work
     zw_real *w = ws->row, *we = ws->row_err;
     const unsigned n = loop->degree;
     unsigned i;
+    routh_result signs = ROUTH_STABLE;
+    /* the coefficients and their signs in one pass (routh's first step) */
     for (i = 0u; i <= n; ++i) {
         const zw_eb v = bilinear_coef(loop, i, alpha, beta);
+        const routh_result r = sign_result(v.v, v.e);
         w[i] = v.v;
         we[i] = v.e;
+        if (i == 0u) *lead = r;
+        if (i == n) *trail = r;
+        signs = sign_and(signs, r);
     }
-    *lead = sign_result(w[0], we[0]);
-    *trail = sign_result(w[n], we[n]);
-    return routh(w, we, n);
+    return routh_after_signs(w, we, n, signs);
 }
 
 /* ---- guarded Schur-Cohn test on the z coefficients ------------------------------------------ */
@@ -622,6 +653,18 @@ ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_loop_work
  * reflection coefficients k, each step is w[t] - k w[m - t] with |k| << 1, and the bound
  * grows slowly; it widens only as |k| -> 1 (roots near the circle), where the Routh test
  * does well.  Costs n^2 / 2 multiply-adds; one array, reduced in place. */
+/* x - k y with its bound: zw_eb_sub(x, zw_eb_mul(k, y)) written out, with |k| + e_k and
+ * e_k hoisted out of the row (ak_ke, ke): e_x + (|k| + e_k) e_y + |y| e_k + u (|k y| + |r|)
+ * plus the two underflow quanta. */
+static LOOP_HOT zw_real sc_step(zw_real x, zw_real xe, zw_real y, zw_real ye, zw_real k,
+                                zw_real ak_ke, zw_real ke, zw_real *err)
+{
+    const zw_real ky = k * y, r = x - ky;
+    *err = ((xe + ak_ke * ye) + ZW_FABS(y) * ke) + ZW_U * (ZW_FABS(ky) + ZW_FABS(r)) +
+           ZW_R(2.0) * ZW_ETA;
+    return r;
+}
+
 ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
                                zw_real beta)
 {
@@ -648,22 +691,28 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspac
             return con_lo > lead_hi ? ROUTH_UNSTABLE : ROUTH_UNSURE;
         }
         k = zw_eb_div(con, lead);
-        /* the pairs (t, m - t) at once: each new entry reads both old ones */
-        for (t = 0u; 2u * t <= m; ++t) {
-            const unsigned t2 = m - t;
-            const zw_eb x = eb_stored(w[t], we[t]), y = eb_stored(w[t2], we[t2]);
-            const zw_eb nx = zw_eb_sub(x, zw_eb_mul(k, y));
-            w[t] = nx.v;
-            we[t] = nx.e;
-            if (t2 != t && t2 < m) {
-                const zw_eb ny = zw_eb_sub(y, zw_eb_mul(k, x));
-                w[t2] = ny.v;
-                we[t2] = ny.e;
+        /* the pairs (t, m - t) at once: each new entry reads both old ones; big: the largest
+         * new entry (0..m-1).  Entry m is dropped (the degree falls by one), so t = 0 updates
+         * w[0] alone, and so does t = m / 2 for even m. */
+        {
+            const zw_real ak = ZW_FABS(k.v), ke = k.e, ak_ke = ak + ke;
+            const unsigned half = m / 2u;
+            w[0] = sc_step(w[0], we[0], w[m], we[m], k.v, ak_ke, ke, &we[0]);
+            big = ZW_FABS(w[0]);
+            for (t = 1u; 2u * t < m; ++t) {
+                const unsigned t2 = m - t;
+                const zw_real x = w[t], xe = we[t], y = w[t2], ye = we[t2];
+                w[t] = sc_step(x, xe, y, ye, k.v, ak_ke, ke, &we[t]);
+                w[t2] = sc_step(y, ye, x, xe, k.v, ak_ke, ke, &we[t2]);
+                if (ZW_FABS(w[t]) > big) big = ZW_FABS(w[t]);
+                if (ZW_FABS(w[t2]) > big) big = ZW_FABS(w[t2]);
+            }
+            if (half > 0u && 2u * half == m) {
+                w[half] = sc_step(w[half], we[half], w[half], we[half], k.v, ak_ke, ke, &we[half]);
+                if (ZW_FABS(w[half]) > big) big = ZW_FABS(w[half]);
             }
         }
         /* rescale by a power of two (exact but for underflow: ETA) against overflow */
-        for (t = 0u; t < m; ++t)
-            if (ZW_FABS(w[t]) > big) big = ZW_FABS(w[t]);
         if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
         if (big > ZW_R(0.0) && (big < LOOP_SCALE_LO || big > LOOP_SCALE_HI)) {
             (void)ZW_FREXP(big, &ex);

@@ -532,10 +532,60 @@ static void test_small_delta_approximation(void **state)
     }
 }
 
+/* The workspace (loop.h): NULL is refused with fail-safe outputs, and its contents never
+ * matter: a workspace full of garbage (NaN patterns, another loop's leftovers) gives the same
+ * verdicts, bit for bit, as a zeroed one, on points of every path (Routh, Schur-Cohn, the
+ * root test near the boundary). */
+static void test_workspace(void **state)
+{
+    static zw_loop_workspace zeroed, garbage;
+    zw_loop_spec s = spec_of(8u, ZW_DIFF_BACKWARD, ZW_VFILTER_AVERAGE, R(0.0), 16u);
+    const zw_loop *loop = new_loop(R(0.5), &s);
+    zw_loop_verdict v, w;
+    zw_real rho = R(0.0), theta = R(1.0), rho2, theta2;
+    bool b = true, b2;
+    unsigned i, j;
+    (void)state;
+    memset(&v, ZWT_SENTINEL, sizeof v);
+    EXPECT_STATUS(zw_loop_check(loop, NULL, R(0.01), R(0.1), &v), ZW_ERR_NULL);
+    fail_safe_verdict(&v);
+    EXPECT_STATUS(zw_loop_is_stable(loop, NULL, R(0.01), R(0.1), &b), ZW_ERR_NULL);
+    assert_false(b);
+    b = true;
+    EXPECT_STATUS(zw_loop_radius_within(loop, NULL, R(0.01), R(0.1), R(1.0), &b), ZW_ERR_NULL);
+    assert_false(b);
+    EXPECT_STATUS(zw_loop_spectral_radius(loop, NULL, R(0.01), R(0.1), &rho, &theta), ZW_ERR_NULL);
+    assert_true(rho == (zw_real)INFINITY);
+    assert_true(theta == R(0.0));
+    for (i = 0u; i < 40u; ++i) {
+        /* alpha from 0 to past the limit, beta across the stable range: every path */
+        const zw_real alpha = R(0.004) * (zw_real)i, beta = R(-0.4) + R(0.05) * (zw_real)(i % 20u);
+        for (j = 0u; j < 2u; ++j) {
+            memset(&zeroed, 0, sizeof zeroed);
+            memset(&garbage, j == 0u ? 0xFF : ZWT_SENTINEL, sizeof garbage); /* NaN / junk */
+            EXPECT_OK(zw_loop_check(loop, &zeroed, alpha, beta, &v));
+            EXPECT_OK(zw_loop_check(loop, &garbage, alpha, beta, &w));
+            assert_int_equal(v.stable, w.stable);
+            assert_int_equal(v.marginal, w.marginal);
+            assert_int_equal(v.deciding, w.deciding);
+            assert_true(v.theta == w.theta);
+            EXPECT_OK(zw_loop_is_stable(loop, &garbage, alpha, beta, &b));
+            assert_int_equal(b, v.stable);
+            EXPECT_OK(zw_loop_radius_within(loop, &zeroed, alpha, beta, R(1.0), &b));
+            EXPECT_OK(zw_loop_radius_within(loop, &garbage, alpha, beta, R(1.0), &b2));
+            assert_int_equal(b, b2);
+            EXPECT_OK(zw_loop_spectral_radius(loop, &zeroed, alpha, beta, &rho, &theta));
+            EXPECT_OK(zw_loop_spectral_radius(loop, &garbage, alpha, beta, &rho2, &theta2));
+            assert_true(rho == rho2 && theta == theta2);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_note_formula_lowpass),
+        cmocka_unit_test(test_workspace),
         cmocka_unit_test(test_ideal_is_paper_cubic),
         cmocka_unit_test(test_bilinear_parts),
         cmocka_unit_test(test_degrees),

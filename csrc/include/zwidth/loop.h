@@ -185,12 +185,11 @@ typedef struct zw_loop_verdict {
  * Cost (host, double, bench/loop): 0.1-0.3 us for points the Routh / Schur-Cohn tests
  * settle up to degree 11, ~1.5 us at degree 18, ~10 us at 26; the root test and the
  * deciding root of an unstable point cost an Aberth run (tens of us at degree 10,
- * hundreds at 26); zw_loop_is_stable skips the latter.  Stack (worst chain,
- * tools/footprint.sh, Cortex-M4F float): Routh path ~520 B, Schur-Cohn path ~440 B; with
- * the root test 720 B (M0 ~780 B, x86-64 double ~1.2 KB): over the issue's 512 B
- * (docs/footprint.md lists it as over target, not gated).
- * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an uninitialized loop).  On
- * error *out = {stable = false, marginal = false, NONE, 0}. */
+ * hundreds at 26); zw_loop_is_stable skips the latter.  Stack (worst chain with the root
+ * test, tools/footprint.sh, arrays in *ws): 464 B on the Cortex-M4F float (M0 480 B), within
+ * the issue's 512 B (gated).
+ * Errors: ZW_ERR_NULL (also ws), ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an uninitialized loop).
+ * On error *out = {stable = false, marginal = false, NONE, 0}. */
 zw_status zw_loop_check(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
                         zw_loop_verdict *out);
 

@@ -45,9 +45,11 @@
  *
  * Firmware part: no heap, no recursion, fixed sizes, bounded iteration counts.  Costs (host,
  * x86-64): alpha_max 0.02-0.06 ms (degree 3-4) to 1-5 ms (degree 26); extremes 1-14 ms, 0.1-0.5 s at
- * degree 26 (a commissioning-time computation, not a control-loop one).  Stack (Cortex-M4F,
- * float, -Os, own frames without zw_loop_check's): alpha_max 592 B, beta intervals 816 B,
- * extremes 904 B.
+ * degree 26 (a commissioning-time computation, not a control-loop one).  Stack (worst chain,
+ * Cortex-M4F float, -Os, the check's arrays in the caller's zw_loop_workspace): alpha_max
+ * 600 B, beta intervals 760 B, extremes 912 B: over the issue's 512 B (the scan's and the
+ * walk's own frames; docs/footprint.md lists them as over target, not gated).
+ * ws: the caller's scratch (loop.h); ZW_ERR_NULL when NULL.
  */
 #ifndef ZWIDTH_LOOP_LIMITS_H
 #define ZWIDTH_LOOP_LIMITS_H
