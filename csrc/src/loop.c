@@ -441,6 +441,8 @@ static zw_status check_gains(const zw_loop *loop, zw_real alpha, zw_real beta)
 {
     zw_status st;
     if ((st = check_loop(loop)) != ZW_OK) return st;
+    /* one comparison for the common case (false for NaN and infinities), then which error */
+    if (ZW_FABS(alpha) <= ZW_REAL_MAX && ZW_FABS(beta) <= ZW_REAL_MAX) return ZW_OK;
     if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
     return zw_require_finite(beta);
 }
@@ -503,35 +505,18 @@ static LOOP_HOT zw_eb combine(const zw_real d[], const zw_real de[], const zw_re
     }
 }
 
-/* Every coefficient 0..n of d + alpha na + beta nb into w, we: combine's two bounds, the
- * branch-free one for all first (a loop the compiler can vectorize), then the careful one
- * where the sign is in doubt. */
-static void combine_all(const zw_real d[], const zw_real de[], const zw_real na[],
-                        const zw_real nae[], const zw_real nb[], const zw_real nbe[], unsigned n,
-                        zw_real alpha, zw_real beta, zw_real w[], zw_real we[])
-{
-    const zw_real aa = ZW_FABS(alpha), ab = ZW_FABS(beta);
-    unsigned i;
-    for (i = 0u; i <= n; ++i) {
-        const zw_real pa = alpha * na[i], pb = beta * nb[i], t = d[i] + pa, v = t + pb;
-        w[i] = v;
-        we[i] = ((de[i] + aa * nae[i]) + ab * nbe[i]) +
-                ZW_U * (((ZW_FABS(pa) + ZW_FABS(pb)) + ZW_FABS(t)) + ZW_FABS(v)) + ZW_R(4.0) * ZW_ETA;
-    }
-    for (i = 0u; i <= n; ++i) {
-        if (!(ZW_FABS(w[i]) > ZW_R(2.0) * we[i])) {
-            const zw_eb v = combine(d, de, na, nae, nb, nbe, i, alpha, beta);
-            w[i] = v.v;
-            we[i] = v.e;
-        }
-    }
-}
-
-/* Coefficient i of the bilinear P = Ds + alpha Nas + beta Nbs. */
+/* Coefficient i of the bilinear P = Ds + alpha Nas + beta Nbs, and of p = D + alpha Na +
+ * beta Nb. */
 static LOOP_HOT zw_eb bilinear_coef(const zw_loop *loop, unsigned i, zw_real alpha, zw_real beta)
 {
     return combine(loop->Ds, loop->Ds_err, loop->Nas, loop->Nas_err, loop->Nbs, loop->Nbs_err, i,
                    alpha, beta);
+}
+
+static LOOP_HOT zw_eb z_coef(const zw_loop *loop, unsigned i, zw_real alpha, zw_real beta)
+{
+    return combine(loop->D, loop->D_err, loop->Na, loop->Na_err, loop->Nb, loop->Nb_err, i, alpha,
+                   beta);
 }
 
 /* ---- guarded Hurwitz test (Routh) ---------------------------------------------------------- */
@@ -638,12 +623,16 @@ ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_loop_work
     const unsigned n = loop->degree;
     unsigned i;
     routh_result signs = ROUTH_STABLE;
-    combine_all(loop->Ds, loop->Ds_err, loop->Nas, loop->Nas_err, loop->Nbs, loop->Nbs_err, n, alpha,
-                beta, w, we);
-    /* the coefficients' signs (routh's first step), the ends kept for the deciding boundary */
-    for (i = 0u; i <= n; ++i) signs = sign_and(signs, sign_result(w[i], we[i]));
-    *lead = sign_result(w[0], we[0]);
-    *trail = sign_result(w[n], we[n]);
+    /* the coefficients and their signs in one pass (routh's first step) */
+    for (i = 0u; i <= n; ++i) {
+        const zw_eb v = bilinear_coef(loop, i, alpha, beta);
+        const routh_result r = sign_result(v.v, v.e);
+        w[i] = v.v;
+        we[i] = v.e;
+        if (i == 0u) *lead = r;
+        if (i == n) *trail = r;
+        signs = sign_and(signs, r);
+    }
     return routh_after_signs(w, we, n, signs);
 }
 
@@ -683,8 +672,11 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspac
 {
     zw_real *w = ws->row, *we = ws->row_err;
     unsigned m = loop->degree, t;
-    combine_all(loop->D, loop->D_err, loop->Na, loop->Na_err, loop->Nb, loop->Nb_err, m, alpha, beta,
-                w, we);
+    for (t = 0u; t <= m; ++t) {
+        const zw_eb v = z_coef(loop, t, alpha, beta);
+        w[t] = v.v;
+        we[t] = v.e;
+    }
     for (; m > 0u; --m) {
         const zw_eb lead = eb_stored(w[0], we[0]), con = eb_stored(w[m], we[m]);
         /* |exact con| < |exact lead| surely: upper bound of one below lower bound of the
