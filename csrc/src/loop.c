@@ -780,7 +780,7 @@ static cplx c_mul(cplx a, cplx b)
     return c_make(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re);
 }
 /* Smith's division; b = 0 gives an infinite quotient. */
-static cplx c_div(cplx a, cplx b)
+static LOOP_INLINE cplx c_div_inline(cplx a, cplx b)
 {
     zw_real t, den;
     if (ZW_FABS(b.re) >= ZW_FABS(b.im)) {
@@ -792,6 +792,11 @@ static cplx c_div(cplx a, cplx b)
     t = b.re / b.im;
     den = b.re * t + b.im;
     return c_make((a.re * t + a.im) / den, (a.im * t - a.re) / den);
+}
+
+static cplx c_div(cplx a, cplx b)
+{
+    return c_div_inline(a, b);
 }
 static LOOP_INLINE zw_real c_abs_inline(cplx a)
 {
@@ -839,7 +844,7 @@ static void ceb_times_factor(ceb *acc, const zw_loop *loop, factor_kind kind, cp
 {
     build_ctx ctx;
     zw_eb f1, f0;
-    const zw_real az = c_abs(z);
+    const zw_real az = c_abs_inline(z);
     ctx.c = &loop->c;
     ctx.a = loop->spec.filter_pole;
     ctx.bilinear = false;
@@ -942,9 +947,9 @@ ZW_NOINLINE static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real 
             mag = accurate->e;
         }
         *noise = mag / c_abs(dv);
-        return c_div(v, dv);
+        return c_div_inline(v, dv);
     } else {
-        cplx w = c_div(c_make(ZW_R(1.0), ZW_R(0.0)), z), den;
+        cplx w = c_div_inline(c_make(ZW_R(1.0), ZW_R(0.0)), z), den;
         const zw_real aw = c_abs(w);
         for (i = m + 1u; i > 0u; --i) {
             const zw_real pk = poly_coef(loop, alpha, beta, i - 1u);
@@ -955,7 +960,7 @@ ZW_NOINLINE static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real 
         /* v = q(w), dv = q'(w) */
         den = c_sub(c_mul(c_make((zw_real)m, ZW_R(0.0)), v), c_mul(w, dv));
         *noise = ZW_R(8.0) * (zw_real)(m + 1u) * ZW_U * mag * az / c_abs(den);
-        return c_div(c_mul(z, v), den);
+        return c_div_inline(c_mul(z, v), den);
     }
 }
 

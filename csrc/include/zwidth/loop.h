@@ -186,7 +186,7 @@ typedef struct zw_loop_verdict {
  * settle up to degree 11, ~1.5 us at degree 18, ~10 us at 26; the root test and the
  * deciding root of an unstable point cost an Aberth run (tens of us at degree 10,
  * hundreds at 26); zw_loop_is_stable skips the latter.  Stack (worst chain with the root
- * test, tools/footprint.sh, arrays in *ws): 464 B on the Cortex-M4F float (M0 480 B), within
+ * test, tools/footprint.sh, arrays in *ws): 448 B on the Cortex-M4F float (M0 456 B), within
  * the issue's 512 B (gated).
  * Errors: ZW_ERR_NULL (also ws), ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an uninitialized loop).
  * On error *out = {stable = false, marginal = false, NONE, 0}. */
