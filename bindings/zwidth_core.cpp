@@ -738,6 +738,15 @@ zw_status check_of(const zw_device_loop *p, double K, double B, zw_loop_verdict 
     zw_loop_workspace ws;
     return zw_device_loop_check(p, &ws, K, B, v);
 }
+// The verdict alone (the fast path: no root run for the deciding boundary of an unstable point).
+zw_status stable_of(const zw_loop *l, double a, double b, bool *stable) {
+    zw_loop_workspace ws;
+    return zw_loop_is_stable(l, &ws, a, b, stable);
+}
+zw_status stable_of(const zw_device_loop *p, double K, double B, bool *stable) {
+    zw_loop_workspace ws;
+    return zw_device_loop_is_stable(p, &ws, K, B, stable);
+}
 zw_status radius_of(const zw_loop *l, double a, double b, double *rho, double *theta) {
     zw_loop_workspace ws;
     return zw_loop_spectral_radius(l, &ws, a, b, rho, theta);
@@ -784,6 +793,7 @@ py::dict loop_check_kernel(const std::array<f64array, Keys + 2> &inputs, const L
     LoopVerdictOut out;
     return loop_kernel<Cache, Keys, N>(inputs, kind,
         [&out](const auto *p, ssize i, double g1, double g2, const std::array<double, N> &) {
+            if (!out.marginal) return stable_of(p, g1, g2, &out.stable[i]); // "stable" only
             zw_loop_verdict v;
             const zw_status s = check_of(p, g1, g2, &v);
             if (s != ZW_OK) return s;

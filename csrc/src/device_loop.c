@@ -103,6 +103,18 @@ zw_status zw_device_loop_check(const zw_device_loop *dl, zw_loop_workspace *ws, 
     return zw_loop_check(&dl->loop, ws, alpha, beta, out);
 }
 
+zw_status zw_device_loop_is_stable(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
+                                   zw_real B, bool *stable)
+{
+    zw_real alpha, beta;
+    zw_status st = gains(dl, K, B, &alpha, &beta);
+    if (st != ZW_OK) {
+        zw_fail_bool(stable);
+        return st;
+    }
+    return zw_loop_is_stable(&dl->loop, ws, alpha, beta, stable);
+}
+
 zw_status zw_device_loop_radius_within(const zw_device_loop *dl, zw_loop_workspace *ws,
                                        zw_real K, zw_real B, zw_real r, bool *within)
 {

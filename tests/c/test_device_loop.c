@@ -165,6 +165,11 @@ static void test_verdict_is_safe_at_its_switch(void **state)
                 const zw_real mid = lo + (hi - lo) / R(2.0);
                 if (mid == lo || mid == hi) break;
                 EXPECT_OK(zw_device_loop_check(&dl, &g_ws, mid, Bs[j], &v));
+                {
+                    bool fast = !v.stable;
+                    EXPECT_OK(zw_device_loop_is_stable(&dl, &g_ws, mid, Bs[j], &fast));
+                    assert_int_equal(fast, v.stable); /* the fast path: the same verdict */
+                }
                 if (v.stable) lo = mid;
                 else hi = mid;
             }
@@ -308,6 +313,14 @@ static void test_errors_are_fail_safe(void **state)
     v.stable = true;
     EXPECT_STATUS(zw_device_loop_check(&dl, &g_ws, (zw_real)NAN, R(0.0), &v), ZW_ERR_NAN);
     assert_false(v.stable);
+    {
+        bool fast = true;
+        EXPECT_STATUS(zw_device_loop_is_stable(&dl, &g_ws, (zw_real)NAN, R(0.0), &fast), ZW_ERR_NAN);
+        assert_false(fast);
+        fast = true;
+        EXPECT_STATUS(zw_device_loop_is_stable(&dl, NULL, R(1.0), R(0.0), &fast), ZW_ERR_NULL);
+        assert_false(fast);
+    }
     K = R(5.0);
     EXPECT_STATUS(zw_device_loop_k_max(&dl, &g_ws, (zw_real)INFINITY, &K), ZW_ERR_INF);
     assert_true(K == R(0.0));

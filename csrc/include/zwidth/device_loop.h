@@ -57,6 +57,10 @@ zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real
 /* zw_loop_check of the exact (alpha, beta) of (K, B), guarded for the conversion. */
 zw_status zw_device_loop_check(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
                                zw_real B, zw_loop_verdict *out);
+/* The verdict alone (zw_loop_is_stable: *stable as zw_device_loop_check's .stable, without
+ * the deciding boundary's root run); *stable = false on error. */
+zw_status zw_device_loop_is_stable(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
+                                   zw_real B, bool *stable);
 /* zw_loop_radius_within likewise (r finite > 0). */
 zw_status zw_device_loop_radius_within(const zw_device_loop *dl, zw_loop_workspace *ws,
                                        zw_real K, zw_real B, zw_real r, bool *within);
