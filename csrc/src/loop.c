@@ -32,8 +32,9 @@
 #define LOOP_HOT
 #endif
 
-/* Inlined in every build: the root test's deepest chain (eval_p's products) is shallower
- * with these in their callers' frames (tools/footprint.sh). */
+/* Inlined in every build: the deepest chains of the checks (the root test's products and
+ * Newton steps, the careful coefficient bound) are shallower with these in their callers'
+ * frames (the 512 B stack target, tools/footprint.sh; about 1.8 KB more code on the M4F). */
 #if defined(__GNUC__)
 #define LOOP_INLINE __attribute__((always_inline)) inline
 #else
@@ -542,15 +543,6 @@ static LOOP_HOT routh_result sign_result(zw_real v, zw_real err)
     return ROUTH_UNSURE;
 }
 
-/* Is P(s) = w[0] s^n + ... + w[n] (errors we[]) surely Hurwitz?  Every coefficient must be
- * surely positive (necessary), then the first column of the division-free Routh array:
- *   row k, entry j = B0 A[j+1] - A0 B[j+1]  (A = row k-2, B = row k-1),
- * which has the sign of the classical entry when B0 > 0 (checked first).  Rows are
- * rescaled by powers of two (exact) against overflow (LOOP_SCALE_LO/HI).  The last row is
- * the constant coefficient times positive factors and is not recomputed.  Row k lives in
- * the slots (k mod 2) + 2 j of w, overwriting row k - 2 (whose entry j + 1 is read before
- * entry j is written).  UNSTABLE is certain: the first entry that is not surely positive
- * is surely non-positive while all before it are surely positive. */
 static routh_result routh_rows(zw_real w[], loop_err we[], unsigned n);
 
 /* The signs of the coefficients (res: their combined verdict), then the rows. */
@@ -566,6 +558,15 @@ static LOOP_HOT routh_result sign_and(routh_result acc, routh_result r)
     return acc == ROUTH_UNSURE || r == ROUTH_UNSURE ? ROUTH_UNSURE : ROUTH_STABLE;
 }
 
+/* Is P(s) = w[0] s^n + ... + w[n] (errors we[]) surely Hurwitz?  Every coefficient must be
+ * surely positive (necessary), then the first column of the division-free Routh array:
+ *   row k, entry j = B0 A[j+1] - A0 B[j+1]  (A = row k-2, B = row k-1),
+ * which has the sign of the classical entry when B0 > 0 (checked first).  Rows are
+ * rescaled by powers of two (exact) against overflow (LOOP_SCALE_LO/HI).  The last row is
+ * the constant coefficient times positive factors and is not recomputed.  Row k lives in
+ * the slots (k mod 2) + 2 j of w, overwriting row k - 2 (whose entry j + 1 is read before
+ * entry j is written).  UNSTABLE is certain: the first entry that is not surely positive
+ * is surely non-positive while all before it are surely positive. */
 static routh_result routh(zw_real w[], loop_err we[], unsigned n)
 {
     unsigned i;
@@ -616,8 +617,9 @@ static routh_result routh_rows(zw_real w[], loop_err we[], unsigned n)
 
 /* P = Ds + alpha Nas + beta Nbs with bounds, then Routh.  *lead / *trail: the results of
  * the leading (z = -1) and constant (z = 1) coefficients alone. */
-ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
-                                   zw_real beta, routh_result *lead, routh_result *trail)
+ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_loop_workspace *ws,
+                                               zw_real alpha, zw_real beta, routh_result *lead,
+                                               routh_result *trail)
 {
     zw_real *w = ws->row, *we = ws->row_err;
     const unsigned n = loop->degree;
@@ -667,8 +669,8 @@ static LOOP_HOT zw_real sc_step(zw_real x, zw_real xe, zw_real y, zw_real ye, zw
     return r;
 }
 
-ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
-                               zw_real beta)
+ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspace *ws,
+                                           zw_real alpha, zw_real beta)
 {
     zw_real *w = ws->row, *we = ws->row_err;
     unsigned m = loop->degree, t;
@@ -1265,8 +1267,8 @@ zw_status zw_loop_is_stable(const zw_loop *loop, zw_loop_workspace *ws, zw_real 
 
 /* (1 - s)^n p(r (1 + s)/(1 - s)) = sum_k p_k (r (1 + s))^(n-k) (1 - s)^k by Horner in
  * r (1 + s), with running bounds (in the workspace's row), then the Routh test. */
-ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
-                                 zw_real beta, zw_real r)
+ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_workspace *ws,
+                                             zw_real alpha, zw_real beta, zw_real r)
 {
     zw_real *w = ws->row, *we = ws->row_err;
     unsigned k, i, deg = 0u;
