@@ -732,22 +732,41 @@ class DeviceLoopCache {
 };
 
 // One element's call: the normalized loop at (alpha, beta), or the device's loop at (K, B)
-// through device_loop.h, which normalizes and carries (or refuses) the conversion.
-zw_status check_of(const zw_loop *l, double a, double b, zw_loop_verdict *v) { return zw_loop_check(l, a, b, v); }
+// through device_loop.h, which normalizes and carries (or refuses) the conversion.  Each
+// call has its own scratch (loop.h's zw_loop_workspace, about 1 KB: the host stack is
+// large, and no two calls, on whatever threads, share one).
+zw_status check_of(const zw_loop *l, double a, double b, zw_loop_verdict *v) {
+    zw_loop_workspace ws;
+    return zw_loop_check(l, &ws, a, b, v);
+}
 zw_status check_of(const zw_device_loop *p, double K, double B, zw_loop_verdict *v) {
-    return zw_device_loop_check(p, K, B, v);
+    zw_loop_workspace ws;
+    return zw_device_loop_check(p, &ws, K, B, v);
+}
+// The verdict alone (the fast path: no root run for the deciding boundary of an unstable point).
+zw_status stable_of(const zw_loop *l, double a, double b, bool *stable) {
+    zw_loop_workspace ws;
+    return zw_loop_is_stable(l, &ws, a, b, stable);
+}
+zw_status stable_of(const zw_device_loop *p, double K, double B, bool *stable) {
+    zw_loop_workspace ws;
+    return zw_device_loop_is_stable(p, &ws, K, B, stable);
 }
 zw_status radius_of(const zw_loop *l, double a, double b, double *rho, double *theta) {
-    return zw_loop_spectral_radius(l, a, b, rho, theta);
+    zw_loop_workspace ws;
+    return zw_loop_spectral_radius(l, &ws, a, b, rho, theta);
 }
 zw_status radius_of(const zw_device_loop *p, double K, double B, double *rho, double *theta) {
-    return zw_device_loop_spectral_radius(p, K, B, rho, theta);
+    zw_loop_workspace ws;
+    return zw_device_loop_spectral_radius(p, &ws, K, B, rho, theta);
 }
 zw_status within_of(const zw_loop *l, double a, double b, double r, bool *within) {
-    return zw_loop_radius_within(l, a, b, r, within);
+    zw_loop_workspace ws;
+    return zw_loop_radius_within(l, &ws, a, b, r, within);
 }
 zw_status within_of(const zw_device_loop *p, double K, double B, double r, bool *within) {
-    return zw_device_loop_radius_within(p, K, B, r, within);
+    zw_loop_workspace ws;
+    return zw_device_loop_radius_within(p, &ws, K, B, r, within);
 }
 
 // Inputs: 2 plant keys (delta, pole) or 4 (m, b, T, f_c), then the two gains (alpha, beta
@@ -779,6 +798,7 @@ py::dict loop_check_kernel(const std::array<f64array, Keys + 2> &inputs, const L
     LoopVerdictOut out;
     return loop_kernel<Cache, Keys, N>(inputs, kind,
         [&out](const auto *p, ssize i, double g1, double g2, const std::array<double, N> &) {
+            if (!out.marginal) return stable_of(p, g1, g2, &out.stable[i]); // "stable" only
             zw_loop_verdict v;
             const zw_status s = check_of(p, g1, g2, &v);
             if (s != ZW_OK) return s;
@@ -906,10 +926,10 @@ py::dict loop_alpha_max(f64array delta, f64array pole, f64array beta, long delay
     Result r(bc);
     double *out = r.add<double>(bc, "alpha_max");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = NLC(kind)](ssize i, const std::array<double, 3> &x) mutable {
+        return [&, cache = NLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 3> &x) mutable {
             const zw_loop *l;
             const zw_status s = cache.get(x, &l);
-            return s != ZW_OK ? s : zw_loop_alpha_max(l, x[2], &out[i]);
+            return s != ZW_OK ? s : zw_loop_alpha_max(l, &ws, x[2], &out[i]);
         };
     });
     return r.finish(errors);
@@ -925,12 +945,12 @@ py::dict loop_beta_interval(f64array delta, f64array pole, f64array alpha, long 
     uint8_t *count = r.add<uint8_t>(bc, "count");
     bool *truncated = r.add<bool>(bc, "truncated");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = NLC(kind)](ssize i, const std::array<double, 3> &x) mutable {
+        return [&, cache = NLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 3> &x) mutable {
             const zw_loop *l;
             zw_status s = cache.get(x, &l);
             zw_loop_beta_set set;
-            if (s == ZW_OK) s = zw_loop_beta_intervals(l, x[2], &set);
-            if (s == ZW_OK) s = zw_loop_beta_interval(l, x[2], &lo[i], &hi[i], &nonempty[i]);
+            if (s == ZW_OK) s = zw_loop_beta_intervals(l, &ws, x[2], &set);
+            if (s == ZW_OK) s = zw_loop_beta_interval(l, &ws, x[2], &lo[i], &hi[i], &nonempty[i]);
             if (s == ZW_OK) count[i] = static_cast<uint8_t>(set.count), truncated[i] = set.truncated;
             return s;
         };
@@ -946,11 +966,11 @@ py::dict loop_extremes(f64array delta, f64array pole, long delay, int diff, int 
     double *apmax = r.add<double>(bc, "alpha_p_max"), *bmax = r.add<double>(bc, "beta_mmax");
     double *bmin = r.add<double>(bc, "beta_mmin");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = NLC(kind)](ssize i, const std::array<double, 2> &x) mutable {
+        return [&, cache = NLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 2> &x) mutable {
             const zw_loop *l;
             zw_status s = cache.get(x, &l);
             zw_loop_extremes ex;
-            if (s == ZW_OK) s = zw_loop_extremes_compute(l, &ex);
+            if (s == ZW_OK) s = zw_loop_extremes_compute(l, &ws, &ex);
             if (s == ZW_OK)
                 amax[i] = ex.alpha_mmax, bat[i] = ex.beta_at_alpha_mmax, apmax[i] = ex.alpha_p_max,
                 bmax[i] = ex.beta_mmax, bmin[i] = ex.beta_mmin;
@@ -983,10 +1003,10 @@ py::dict device_loop_k_max(f64array m, f64array b, f64array T, f64array cutoff, 
     Result r(bc);
     double *out = r.add<double>(bc, "K_max");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = DLC(kind)](ssize i, const std::array<double, 5> &x) mutable {
+        return [&, cache = DLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 5> &x) mutable {
             const zw_device_loop *p;
             const zw_status s = cache.get(x, &p);
-            return s != ZW_OK ? s : zw_device_loop_k_max(p, x[4], &out[i]);
+            return s != ZW_OK ? s : zw_device_loop_k_max(p, &ws, x[4], &out[i]);
         };
     });
     return r.finish(errors);
@@ -1000,10 +1020,10 @@ py::dict device_loop_b_range(f64array m, f64array b, f64array T, f64array cutoff
     double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
     bool *nonempty = r.add<bool>(bc, "nonempty");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = DLC(kind)](ssize i, const std::array<double, 5> &x) mutable {
+        return [&, cache = DLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 5> &x) mutable {
             const zw_device_loop *p;
             const zw_status s = cache.get(x, &p);
-            return s != ZW_OK ? s : zw_device_loop_b_range(p, x[4], &lo[i], &hi[i], &nonempty[i]);
+            return s != ZW_OK ? s : zw_device_loop_b_range(p, &ws, x[4], &lo[i], &hi[i], &nonempty[i]);
         };
     });
     return r.finish(errors);
@@ -1018,11 +1038,11 @@ py::dict device_loop_extremes(f64array m, f64array b, f64array T, f64array cutof
     double *K_p_max = r.add<double>(bc, "K_p_max"), *B_mmax = r.add<double>(bc, "B_mmax");
     double *B_mmin = r.add<double>(bc, "B_mmin");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = DLC(kind)](ssize i, const std::array<double, 4> &x) mutable {
+        return [&, cache = DLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 4> &x) mutable {
             const zw_device_loop *p;
             zw_status s = cache.get(x, &p);
             zw_device_loop_extremes ex;
-            if (s == ZW_OK) s = zw_device_loop_extremes_compute(p, &ex);
+            if (s == ZW_OK) s = zw_device_loop_extremes_compute(p, &ws, &ex);
             if (s == ZW_OK)
                 K_mmax[i] = ex.K_mmax, B_at[i] = ex.B_at_K_mmax, K_p_max[i] = ex.K_p_max, B_mmax[i] = ex.B_mmax,
                 B_mmin[i] = ex.B_mmin;

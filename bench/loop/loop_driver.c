@@ -14,6 +14,7 @@
 #include "zwidth/zwidth.h"
 
 static zw_loop g_loop; /* large: static, like a drive would keep it */
+static zw_loop_workspace g_ws; /* the checks' scratch (loop.h) */
 
 int main(int argc, char **argv)
 {
@@ -51,10 +52,10 @@ int main(int argc, char **argv)
     for (i = 0; i < n; ++i) {
         if (fast) {
             bool s = false;
-            if (zw_loop_is_stable(&g_loop, alphas[i], betas[i], &s) != ZW_OK) return 5;
+            if (zw_loop_is_stable(&g_loop, &g_ws, alphas[i], betas[i], &s) != ZW_OK) return 5;
             v.stable = s;
             v.marginal = false;
-        } else if (zw_loop_check(&g_loop, alphas[i], betas[i], &v) != ZW_OK) {
+        } else if (zw_loop_check(&g_loop, &g_ws, alphas[i], betas[i], &v) != ZW_OK) {
             return 5;
         }
         stable += v.stable ? 1u : 0u;
@@ -73,9 +74,9 @@ int main(int argc, char **argv)
             if (verdict[i]) {
                 if (fast) {
                     bool s;
-                    (void)zw_loop_is_stable(&g_loop, alphas[i], betas[i], &s);
+                    (void)zw_loop_is_stable(&g_loop, &g_ws, alphas[i], betas[i], &s);
                 } else {
-                    (void)zw_loop_check(&g_loop, alphas[i], betas[i], &v);
+                    (void)zw_loop_check(&g_loop, &g_ws, alphas[i], betas[i], &v);
                 }
                 ns++;
             }

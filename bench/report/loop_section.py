@@ -119,8 +119,9 @@ def section(rows: List[Dict[str, Any]], md_table, fmt_int, m4f: Dict[str, Dict[s
     else:
         w("Cortex-M4F instruction counts: skipped in this run (--no-mcu or the Arm toolchain / QEMU missing).")
     w("")
-    w("Stack and flash of the loop modules: section 3 and docs/footprint.md (the root test's chain is over "
-      "the issue's 512 B on the Cortex-M4F; listed there as over target, not gated).")
+    w("Stack and flash of the loop modules: section 3 and docs/footprint.md (the checks, root test "
+      "included, are within the issue's 512 B on the Cortex-M4F, their arrays in the caller's "
+      "zw_loop_workspace; the limits are still over, listed there as over target, not gated).")
     return "\n".join(L)
 
 

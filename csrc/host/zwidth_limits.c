@@ -71,6 +71,7 @@ static const char *bound_advice(zw_bound b)
 /* The same plant with a delay of d samples (device_loop.h): its certified limits, and how
  * much of the ideal loop's largest stiffness it keeps.  Large: static storage. */
 static zw_device_loop g_delayed;
+static zw_loop_workspace g_ws; /* the checks' scratch (loop.h) */
 
 static zw_status print_delayed(double m, double b, double T, unsigned d, double K_mmax_ideal)
 {
@@ -80,7 +81,7 @@ static zw_status print_delayed(double m, double b, double T, unsigned d, double 
     memset(&spec, 0, sizeof spec);
     spec.delay = d;
     if ((st = zw_device_loop_init(&g_delayed, m, b, T, &spec)) != ZW_OK ||
-        (st = zw_device_loop_extremes_compute(&g_delayed, &y)) != ZW_OK)
+        (st = zw_device_loop_extremes_compute(&g_delayed, &g_ws, &y)) != ZW_OK)
         return st;
     printf("\nLimits with a delay of %u sample%s (certified, D-decomposition; loop.h)\n", d,
            d == 1 ? "" : "s");
@@ -187,7 +188,7 @@ int main(int argc, char **argv)
 
     if (have_pair && have_delay && d > 0u) { /* the verdict for the loop the drive runs */
         zw_loop_verdict v;
-        if ((st = zw_device_loop_check(&g_delayed, K, B, &v)) != ZW_OK) {
+        if ((st = zw_device_loop_check(&g_delayed, &g_ws, K, B, &v)) != ZW_OK) {
             fprintf(stderr, "zwidth-limits: cannot check K=%g, B=%g: %s\n", K, B, zw_status_name(st));
             return 2;
         }

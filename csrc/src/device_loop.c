@@ -96,8 +96,8 @@ static zw_status gains(const zw_device_loop *dl, zw_real K, zw_real B, zw_real *
     return ZW_OK;
 }
 
-zw_status zw_device_loop_check(const zw_device_loop *dl, zw_real K, zw_real B,
-                               zw_loop_verdict *out)
+zw_status zw_device_loop_check(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
+                               zw_real B, zw_loop_verdict *out)
 {
     zw_real alpha, beta;
     zw_status st = gains(dl, K, B, &alpha, &beta);
@@ -105,11 +105,23 @@ zw_status zw_device_loop_check(const zw_device_loop *dl, zw_real K, zw_real B,
         zw_fail_loop_verdict(out);
         return st;
     }
-    return zw_loop_check(&dl->loop, alpha, beta, out);
+    return zw_loop_check(&dl->loop, ws, alpha, beta, out);
 }
 
-zw_status zw_device_loop_radius_within(const zw_device_loop *dl, zw_real K, zw_real B,
-                                       zw_real r, bool *within)
+zw_status zw_device_loop_is_stable(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
+                                   zw_real B, bool *stable)
+{
+    zw_real alpha, beta;
+    zw_status st = gains(dl, K, B, &alpha, &beta);
+    if (st != ZW_OK) {
+        zw_fail_bool(stable);
+        return st;
+    }
+    return zw_loop_is_stable(&dl->loop, ws, alpha, beta, stable);
+}
+
+zw_status zw_device_loop_radius_within(const zw_device_loop *dl, zw_loop_workspace *ws,
+                                       zw_real K, zw_real B, zw_real r, bool *within)
 {
     zw_real alpha, beta;
     zw_status st = gains(dl, K, B, &alpha, &beta);
@@ -117,11 +129,11 @@ zw_status zw_device_loop_radius_within(const zw_device_loop *dl, zw_real K, zw_r
         zw_fail_bool(within);
         return st;
     }
-    return zw_loop_radius_within(&dl->loop, alpha, beta, r, within);
+    return zw_loop_radius_within(&dl->loop, ws, alpha, beta, r, within);
 }
 
-zw_status zw_device_loop_spectral_radius(const zw_device_loop *dl, zw_real K, zw_real B,
-                                         zw_real *rho, zw_real *theta)
+zw_status zw_device_loop_spectral_radius(const zw_device_loop *dl, zw_loop_workspace *ws,
+                                         zw_real K, zw_real B, zw_real *rho, zw_real *theta)
 {
     zw_real alpha, beta;
     zw_status st = gains(dl, K, B, &alpha, &beta);
@@ -130,7 +142,7 @@ zw_status zw_device_loop_spectral_radius(const zw_device_loop *dl, zw_real K, zw
         zw_fail_real(theta, ZW_R(0.0));
         return st;
     }
-    return zw_loop_spectral_radius(&dl->loop, alpha, beta, rho, theta);
+    return zw_loop_spectral_radius(&dl->loop, ws, alpha, beta, rho, theta);
 }
 
 /* x scale, rounded toward zero past every rounding (x and the exact scale both >= 0 or x
@@ -168,10 +180,10 @@ static void widen_by(zw_real x, zw_real rel, zw_real *lo, zw_real *hi)
     *hi = x + w;
 }
 
-static bool proved_stable(const zw_loop *loop, zw_real alpha, zw_real beta)
+static bool proved_stable(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta)
 {
-    zw_loop_verdict v;
-    return zw_loop_check(loop, alpha, beta, &v) == ZW_OK && v.stable;
+    bool stable = false;
+    return zw_loop_is_stable(loop, ws, alpha, beta, &stable) == ZW_OK && stable;
 }
 
 /* Why K_max(B) below is never above the true k* alpha_max(beta*).
@@ -194,7 +206,7 @@ static bool proved_stable(const zw_loop *loop, zw_real alpha, zw_real beta)
  *  4. K < K_max = fl(At k_scale)(1 - 8u) gives alpha* = K / k* < At (k_scale's and the
  *     products' roundings are < 8u).
  * B = 0 is exact (beta* = 0): the certified alpha_max(0) directly, no box. */
-static zw_status k_max(const zw_device_loop *dl, zw_real B, zw_real *K_max)
+static zw_status k_max(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real B, zw_real *K_max)
 {
     zw_real alpha, beta, b_lo, b_hi, a_lo, a_hi, A, K;
     zw_status st;
@@ -203,16 +215,16 @@ static zw_status k_max(const zw_device_loop *dl, zw_real B, zw_real *K_max)
     if (K_max == NULL) return ZW_ERR_NULL;
     if ((st = gains(dl, ZW_R(0.0), B, &alpha, &beta)) != ZW_OK) return st;
     if (beta == ZW_R(0.0)) {
-        if ((st = zw_loop_alpha_max(&dl->loop, ZW_R(0.0), &A)) != ZW_OK) return st;
+        if ((st = zw_loop_alpha_max(&dl->loop, ws, ZW_R(0.0), &A)) != ZW_OK) return st;
     } else {
         widen_by(beta, ZW_BETA_RELERR, &b_lo, &b_hi);
-        if ((st = zw_loop_alpha_max(&dl->loop, b_lo, &a_lo)) != ZW_OK) return st;
-        if ((st = zw_loop_alpha_max(&dl->loop, b_hi, &a_hi)) != ZW_OK) return st;
+        if ((st = zw_loop_alpha_max(&dl->loop, ws, b_lo, &a_lo)) != ZW_OK) return st;
+        if ((st = zw_loop_alpha_max(&dl->loop, ws, b_hi, &a_hi)) != ZW_OK) return st;
         A = a_lo < a_hi ? a_lo : a_hi;
         proved = false;
         for (i = 0u; i < N_RETREATS && !proved && A > ZW_R(0.0); ++i) {
             const zw_real At = A * (ZW_R(1.0) - k_retreat[i]);
-            if (proved_stable(&dl->loop, At, beta)) {
+            if (proved_stable(&dl->loop, ws, At, beta)) {
                 proved = true;
                 A = At;
             }
@@ -225,9 +237,10 @@ static zw_status k_max(const zw_device_loop *dl, zw_real B, zw_real *K_max)
     return ZW_OK;
 }
 
-zw_status zw_device_loop_k_max(const zw_device_loop *dl, zw_real B, zw_real *K_max)
+zw_status zw_device_loop_k_max(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real B,
+                              zw_real *K_max)
 {
-    zw_status st = k_max(dl, B, K_max);
+    zw_status st = k_max(dl, ws, B, K_max);
     if (st != ZW_OK) zw_fail_real(K_max, ZW_R(0.0));
     return st;
 }
@@ -240,8 +253,8 @@ zw_status zw_device_loop_k_max(const zw_device_loop *dl, zw_real B, zw_real *K_m
  * [lo, hi] x [a_lo, a_hi] are stable and so is the box (edge theorem; alpha > 0, so no
  * corner of the region on alpha = 0 is involved).  Then B in [B_lo, B_hi] with
  * B_lo >= lo s*, B_hi <= hi s* has beta* = B / s* in [lo, hi]. */
-static zw_status loop_b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo, zw_real *B_hi,
-                         bool *nonempty)
+static zw_status loop_b_range(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
+                              zw_real *B_lo, zw_real *B_hi, bool *nonempty)
 {
     zw_real alpha, beta, a_lo, a_hi, l1, h1, l2, h2, lo, hi, w, Bl, Bh;
     bool ok1, ok2, proved = false;
@@ -252,13 +265,13 @@ static zw_status loop_b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo
     *B_lo = *B_hi = ZW_R(0.0);
     *nonempty = false;
     if (!(alpha > ZW_R(0.0))) { /* empty, but an empty loop is still refused */
-        st = zw_loop_beta_interval(&dl->loop, alpha, &l1, &h1, &ok1);
+        st = zw_loop_beta_interval(&dl->loop, ws, alpha, &l1, &h1, &ok1);
         return st;
     }
     widen_by(alpha, ZW_ALPHA_RELERR, &a_lo, &a_hi);
     if (!(a_lo > ZW_R(0.0))) return ZW_OK;
-    if ((st = zw_loop_beta_interval(&dl->loop, a_lo, &l1, &h1, &ok1)) != ZW_OK) return st;
-    if ((st = zw_loop_beta_interval(&dl->loop, a_hi, &l2, &h2, &ok2)) != ZW_OK) return st;
+    if ((st = zw_loop_beta_interval(&dl->loop, ws, a_lo, &l1, &h1, &ok1)) != ZW_OK) return st;
+    if ((st = zw_loop_beta_interval(&dl->loop, ws, a_hi, &l2, &h2, &ok2)) != ZW_OK) return st;
     if (!ok1 || !ok2) return ZW_OK;
     lo = l1 > l2 ? l1 : l2;
     hi = h1 < h2 ? h1 : h2;
@@ -266,8 +279,8 @@ static zw_status loop_b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo
     w = hi - lo;
     for (i = 0u; i < N_RETREATS && !proved; ++i) {
         const zw_real l = lo + w * k_retreat[i], h = hi - w * k_retreat[i];
-        if (l < h && l >= lo && h <= hi && proved_stable(&dl->loop, alpha, l) &&
-            proved_stable(&dl->loop, alpha, h)) {
+        if (l < h && l >= lo && h <= hi && proved_stable(&dl->loop, ws, alpha, l) &&
+            proved_stable(&dl->loop, ws, alpha, h)) {
             proved = true;
             lo = l;
             hi = h;
@@ -285,17 +298,18 @@ static zw_status loop_b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo
     return ZW_OK;
 }
 
-zw_status zw_device_loop_b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo,
-                                 zw_real *B_hi, bool *nonempty)
+zw_status zw_device_loop_b_range(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
+                                 zw_real *B_lo, zw_real *B_hi, bool *nonempty)
 {
-    zw_status st = loop_b_range(dl, K, B_lo, B_hi, nonempty);
+    zw_status st = loop_b_range(dl, ws, K, B_lo, B_hi, nonempty);
     if (st != ZW_OK) zw_fail_interval(B_lo, B_hi, nonempty);
     return st;
 }
 
 /* The extremes are sups / infs over all gains of the exact region, so only the scales'
  * rounding matters: each is pulled inward past it. */
-static zw_status extremes(const zw_device_loop *dl, zw_device_loop_extremes *out)
+static zw_status extremes(const zw_device_loop *dl, zw_loop_workspace *ws,
+                          zw_device_loop_extremes *out)
 {
     zw_loop_extremes x;
     zw_status st;
@@ -304,7 +318,7 @@ static zw_status extremes(const zw_device_loop *dl, zw_device_loop_extremes *out
     if (dl == NULL || out == NULL) return ZW_ERR_NULL;
     /* refuses a device a failed init left NaN */
     if ((st = zw_device_normalize(&dl->dev, ZW_R(0.0), ZW_R(0.0), &v[0], &v[1])) != ZW_OK) return st;
-    if ((st = zw_loop_extremes_compute(&dl->loop, &x)) != ZW_OK) return st;
+    if ((st = zw_loop_extremes_compute(&dl->loop, ws, &x)) != ZW_OK) return st;
     v[0] = scale_inward(x.alpha_mmax, dl->dev.k_scale);
     v[1] = x.beta_at_alpha_mmax * dl->dev.b_scale;
     v[2] = scale_inward(x.alpha_p_max, dl->dev.k_scale);
@@ -320,9 +334,10 @@ static zw_status extremes(const zw_device_loop *dl, zw_device_loop_extremes *out
     return ZW_OK;
 }
 
-zw_status zw_device_loop_extremes_compute(const zw_device_loop *dl, zw_device_loop_extremes *out)
+zw_status zw_device_loop_extremes_compute(const zw_device_loop *dl, zw_loop_workspace *ws,
+                                          zw_device_loop_extremes *out)
 {
-    zw_status st = extremes(dl, out);
+    zw_status st = extremes(dl, ws, out);
     if (st != ZW_OK && out != NULL) {
         out->K_mmax = out->B_at_K_mmax = out->K_p_max = out->B_mmax = out->B_mmin = ZW_R(0.0);
     }

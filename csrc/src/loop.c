@@ -14,7 +14,6 @@
  */
 #include "zwidth/loop.h"
 
-#include <float.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -36,6 +35,15 @@
 #define LOOP_HOT __attribute__((always_inline)) inline
 #else
 #define LOOP_HOT
+#endif
+
+/* Inlined in every build: the deepest chains of the checks (the root test's products and
+ * Newton steps, the careful coefficient bound) are shallower with these in their callers'
+ * frames (the 512 B stack target, tools/footprint.sh; about 1.8 KB more code on the M4F). */
+#if defined(__GNUC__)
+#define LOOP_INLINE __attribute__((always_inline)) inline
+#else
+#define LOOP_INLINE
 #endif
 
 #define LOOP_PI ZW_R(3.14159265358979323846)
@@ -130,13 +138,13 @@ static LOOP_HOT zw_eb eb_make(zw_real v, zw_real e)
 }
 
 /* A coefficient field with its relative bound and the subnormal floor. */
-static zw_eb coef_field(const zw_coeffs *c, zw_real v)
+static LOOP_INLINE zw_eb coef_field(const zw_coeffs *c, zw_real v)
 {
     return eb_make(v, zw_coef_relerr(c) * ZW_FABS(v) + zw_coef_floor(v));
 }
 
 /* f1 x + f0 for the factor in the context's variable. */
-static void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
+static LOOP_INLINE void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
 {
     const zw_coeffs *c = ctx->c;
     const bool s = ctx->bilinear;
@@ -199,7 +207,7 @@ static void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
 
 /* Product of two bounded values whose error is exactly zero when both are exact and one
  * of them is 0, +-1 or +-2 (factors of that form are common and must not add rounding). */
-static LOOP_HOT zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
+static LOOP_INLINE zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
 {
     if (a.e == ZW_R(0.0) && b.e == ZW_R(0.0)) {
         zw_real m = ZW_FABS(a.v) < ZW_FABS(b.v) ? ZW_FABS(a.v) : ZW_FABS(b.v);
@@ -209,7 +217,7 @@ static LOOP_HOT zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
 }
 
 /* Sum whose error is the inputs' when one of them is an exact zero. */
-static LOOP_HOT zw_eb eb_add_exactish(zw_eb a, zw_eb b)
+static LOOP_INLINE zw_eb eb_add_exactish(zw_eb a, zw_eb b)
 {
     if (a.v == ZW_R(0.0) && a.e == ZW_R(0.0)) return b;
     if (b.v == ZW_R(0.0) && b.e == ZW_R(0.0)) return a;
@@ -439,6 +447,8 @@ static zw_status check_gains(const zw_loop *loop, zw_real alpha, zw_real beta)
 {
     zw_status st;
     if ((st = check_loop(loop)) != ZW_OK) return st;
+    /* one comparison for the common case (false for NaN and infinities), then which error */
+    if (ZW_FABS(alpha) <= ZW_REAL_MAX && ZW_FABS(beta) <= ZW_REAL_MAX) return ZW_OK;
     if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
     return zw_require_finite(beta);
 }
@@ -468,29 +478,51 @@ zw_status zw_loop_poly(const zw_loop *loop, zw_real alpha, zw_real beta,
     return ZW_OK;
 }
 
-/* ---- stored error bounds --------------------------------------------------------------------- */
+/* ---- coefficients with error bounds ----------------------------------------------------- */
 
-/* The working arrays of the tests keep their error bounds in float (rounded up), which
- * halves their stack in the double build; a bound needs no more than a few digits. */
-typedef float loop_err;
-
-static LOOP_HOT loop_err err_up(zw_real e)
-{
-    float f;
-    if (!(e <= (zw_real)FLT_MAX)) return ZW_HUGE_VALF; /* also NaN: "cannot tell" */
-    f = (float)e;
-#ifndef ZW_REAL_FLOAT
-    /* rounded down: one float ulp up without a libm call.  For normal f, f (1 + 2^-23) is
-     * exactly f + f 2^-23 >= f + ulp(f) before rounding, so its rounding to nearest is at
-     * least the next float (or +inf); 2^-149 covers a subnormal or zero f. */
-    if ((zw_real)f < e) f = f * (1.0f + FLT_EPSILON) + 0x1p-149f;
-#endif
-    return f;
-}
+/* The working rows of the tests live in the caller's zw_loop_workspace (loop.h), with
+ * their error bounds in zw_real. */
+typedef zw_real loop_err;
 
 static LOOP_HOT zw_eb eb_stored(zw_real v, loop_err e)
 {
-    return eb_make(v, (zw_real)e);
+    return eb_make(v, e);
+}
+
+/* Coefficient i of d + alpha na + beta nb (parts with error bounds de, nae, nbe), with a
+ * bound on its error.  First branch-free: the bounds of zw_eb_mul / zw_eb_add written out
+ * (a rounding u|result| per operation, the underflow quantum per operation).  Where that
+ * leaves the sign in doubt, again through the exact-where-possible operations, whose bound
+ * is zero for exact parts and gains (the z = +-1 coefficients at a gain's exact zero, tiny
+ * gains).  Both bounds are rigorous; the first only skips branches on the common path. */
+static LOOP_HOT zw_eb combine(const zw_real d[], const zw_real de[], const zw_real na[],
+                              const zw_real nae[], const zw_real nb[], const zw_real nbe[],
+                              unsigned i, zw_real alpha, zw_real beta)
+{
+    const zw_real pa = alpha * na[i], pb = beta * nb[i], t = d[i] + pa, w = t + pb;
+    const zw_real err = ((de[i] + ZW_FABS(alpha) * nae[i]) + ZW_FABS(beta) * nbe[i]) +
+                        ZW_U * (((ZW_FABS(pa) + ZW_FABS(pb)) + ZW_FABS(t)) + ZW_FABS(w)) +
+                        ZW_R(4.0) * ZW_ETA;
+    if (ZW_FABS(w) > ZW_R(2.0) * err) return eb_make(w, err);
+    {
+        zw_eb v = eb_add_exactish(eb_make(d[i], de[i]),
+                                  eb_mul_exactish(zw_eb_exact(alpha), eb_make(na[i], nae[i])));
+        return eb_add_exactish(v, eb_mul_exactish(zw_eb_exact(beta), eb_make(nb[i], nbe[i])));
+    }
+}
+
+/* Coefficient i of the bilinear P = Ds + alpha Nas + beta Nbs, and of p = D + alpha Na +
+ * beta Nb. */
+static LOOP_HOT zw_eb bilinear_coef(const zw_loop *loop, unsigned i, zw_real alpha, zw_real beta)
+{
+    return combine(loop->Ds, loop->Ds_err, loop->Nas, loop->Nas_err, loop->Nbs, loop->Nbs_err, i,
+                   alpha, beta);
+}
+
+static LOOP_HOT zw_eb z_coef(const zw_loop *loop, unsigned i, zw_real alpha, zw_real beta)
+{
+    return combine(loop->D, loop->D_err, loop->Na, loop->Na_err, loop->Nb, loop->Nb_err, i, alpha,
+                   beta);
 }
 
 /* ---- guarded Hurwitz test (Routh) ---------------------------------------------------------- */
@@ -504,11 +536,31 @@ typedef enum routh_result { ROUTH_STABLE, ROUTH_UNSURE, ROUTH_UNSTABLE } routh_r
 #define LOOP_SCALE_LO ZW_R(1.52587890625e-05)
 #define LOOP_SCALE_HI ZW_R(65536.0)
 
+/* zw_compare(0, v, err) as a verdict on v's sign.  Written out for speed, without its test
+ * of the bound for infinity: every bound in this file is a sum of non-negative terms (or
+ * NaN / +inf after an overflow), and a comparison with a NaN or infinite bound is false,
+ * so such a bound still gives UNSURE. */
 static LOOP_HOT routh_result sign_result(zw_real v, zw_real err)
 {
-    zw_cmp cmp = zw_compare(ZW_R(0.0), v, err);
-    if (cmp == ZW_CMP_LT) return ROUTH_STABLE;
-    return cmp == ZW_CMP_GE ? ROUTH_UNSTABLE : ROUTH_UNSURE;
+    const zw_real bound = zw_compare_bound(v, err);
+    if (v > bound) return ROUTH_STABLE;
+    if (v < -bound) return ROUTH_UNSTABLE;
+    return ROUTH_UNSURE;
+}
+
+static routh_result routh_rows(zw_real w[], loop_err we[], unsigned n);
+
+/* The signs of the coefficients (res: their combined verdict), then the rows. */
+static routh_result routh_after_signs(zw_real w[], loop_err we[], unsigned n, routh_result res)
+{
+    return res != ROUTH_STABLE ? res : routh_rows(w, we, n);
+}
+
+/* Combined verdict of one more coefficient's sign: UNSTABLE wins, then UNSURE. */
+static LOOP_HOT routh_result sign_and(routh_result acc, routh_result r)
+{
+    if (acc == ROUTH_UNSTABLE || r == ROUTH_UNSTABLE) return ROUTH_UNSTABLE;
+    return acc == ROUTH_UNSURE || r == ROUTH_UNSURE ? ROUTH_UNSURE : ROUTH_STABLE;
 }
 
 /* Is P(s) = w[0] s^n + ... + w[n] (errors we[]) surely Hurwitz?  Every coefficient must be
@@ -522,14 +574,21 @@ static LOOP_HOT routh_result sign_result(zw_real v, zw_real err)
  * is surely non-positive while all before it are surely positive. */
 static routh_result routh(zw_real w[], loop_err we[], unsigned n)
 {
-    unsigned i, k;
+    unsigned i;
     routh_result res = ROUTH_STABLE;
     for (i = 0u; i <= n; ++i) {
         routh_result r = sign_result(w[i], (zw_real)we[i]);
         if (r == ROUTH_UNSTABLE) return r;
         if (r == ROUTH_UNSURE) res = r;
     }
-    if (res != ROUTH_STABLE) return res;
+    return routh_after_signs(w, we, n, res);
+}
+
+/* The rows of the array (every coefficient already surely positive). */
+static routh_result routh_rows(zw_real w[], loop_err we[], unsigned n)
+{
+    unsigned k;
+    routh_result res;
     for (k = 2u; k < n; ++k) {
         const unsigned off = k & 1u, len = (n - k) / 2u + 1u;
         const unsigned len_a = (n - k + 2u) / 2u + 1u, len_b = (n - k + 1u) / 2u + 1u;
@@ -544,7 +603,7 @@ static routh_result routh(zw_real w[], loop_err we[], unsigned n)
             zw_eb b1 = j + 1u < len_b ? eb_stored(w[ib], we[ib]) : zw_eb_exact(ZW_R(0.0));
             zw_eb c = zw_eb_sub(zw_eb_mul(b0, a1), zw_eb_mul(a0, b1));
             w[off + 2u * j] = c.v;
-            we[off + 2u * j] = err_up(c.e);
+            we[off + 2u * j] = c.e;
             if (ZW_FABS(c.v) > big) big = ZW_FABS(c.v);
         }
         if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
@@ -552,7 +611,7 @@ static routh_result routh(zw_real w[], loop_err we[], unsigned n)
             (void)ZW_FREXP(big, &ex);
             for (j = 0u; j < len; ++j) {
                 w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
-                we[off + 2u * j] = err_up(ZW_LDEXP((zw_real)we[off + 2u * j], -ex) + ZW_ETA);
+                we[off + 2u * j] = ZW_LDEXP(we[off + 2u * j], -ex) + ZW_ETA;
             }
         }
         res = sign_result(w[off], (zw_real)we[off]);
@@ -563,24 +622,25 @@ static routh_result routh(zw_real w[], loop_err we[], unsigned n)
 
 /* P = Ds + alpha Nas + beta Nbs with bounds, then Routh.  *lead / *trail: the results of
  * the leading (z = -1) and constant (z = 1) coefficients alone. */
-ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_real alpha, zw_real beta,
-                                               routh_result *lead, routh_result *trail)
+ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_loop_workspace *ws,
+                                               zw_real alpha, zw_real beta, routh_result *lead,
+                                               routh_result *trail)
 {
-    zw_real w[LOOP_N];
-    loop_err we[LOOP_N];
-    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
+    zw_real *w = ws->row, *we = ws->row_err;
     const unsigned n = loop->degree;
     unsigned i;
+    routh_result signs = ROUTH_STABLE;
+    /* the coefficients and their signs in one pass (routh's first step) */
     for (i = 0u; i <= n; ++i) {
-        zw_eb v = eb_add_exactish(eb_make(loop->Ds[i], loop->Ds_err[i]),
-                                  eb_mul_exactish(ga, eb_make(loop->Nas[i], loop->Nas_err[i])));
-        v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nbs[i], loop->Nbs_err[i])));
+        const zw_eb v = bilinear_coef(loop, i, alpha, beta);
+        const routh_result r = sign_result(v.v, v.e);
         w[i] = v.v;
-        we[i] = err_up(v.e);
+        we[i] = v.e;
+        if (i == 0u) *lead = r;
+        if (i == n) *trail = r;
+        signs = sign_and(signs, r);
     }
-    *lead = sign_result(w[0], (zw_real)we[0]);
-    *trail = sign_result(w[n], (zw_real)we[n]);
-    return routh(w, we, n);
+    return routh_after_signs(w, we, n, signs);
 }
 
 /* ---- guarded Schur-Cohn test on the z coefficients ------------------------------------------ */
@@ -602,18 +662,27 @@ ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_real alph
  * reflection coefficients k, each step is w[t] - k w[m - t] with |k| << 1, and the bound
  * grows slowly; it widens only as |k| -> 1 (roots near the circle), where the Routh test
  * does well.  Costs n^2 / 2 multiply-adds; one array, reduced in place. */
-ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_real alpha, zw_real beta)
+/* x - k y with its bound: zw_eb_sub(x, zw_eb_mul(k, y)) written out, with |k| + e_k and
+ * e_k hoisted out of the row (ak_ke, ke): e_x + (|k| + e_k) e_y + |y| e_k + u (|k y| + |r|)
+ * plus the two underflow quanta. */
+static LOOP_HOT zw_real sc_step(zw_real x, zw_real xe, zw_real y, zw_real ye, zw_real k,
+                                zw_real ak_ke, zw_real ke, zw_real *err)
 {
-    zw_real w[LOOP_N];
-    loop_err we[LOOP_N];
-    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
+    const zw_real ky = k * y, r = x - ky;
+    *err = ((xe + ak_ke * ye) + ZW_FABS(y) * ke) + ZW_U * (ZW_FABS(ky) + ZW_FABS(r)) +
+           ZW_R(2.0) * ZW_ETA;
+    return r;
+}
+
+ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspace *ws,
+                                           zw_real alpha, zw_real beta)
+{
+    zw_real *w = ws->row, *we = ws->row_err;
     unsigned m = loop->degree, t;
     for (t = 0u; t <= m; ++t) {
-        zw_eb v = eb_add_exactish(eb_make(loop->D[t], loop->D_err[t]),
-                                  eb_mul_exactish(ga, eb_make(loop->Na[t], loop->Na_err[t])));
-        v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nb[t], loop->Nb_err[t])));
+        const zw_eb v = z_coef(loop, t, alpha, beta);
         w[t] = v.v;
-        we[t] = err_up(v.e);
+        we[t] = v.e;
     }
     for (; m > 0u; --m) {
         const zw_eb lead = eb_stored(w[0], we[0]), con = eb_stored(w[m], we[m]);
@@ -631,28 +700,34 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_real alpha, z
             return con_lo > lead_hi ? ROUTH_UNSTABLE : ROUTH_UNSURE;
         }
         k = zw_eb_div(con, lead);
-        /* the pairs (t, m - t) at once: each new entry reads both old ones */
-        for (t = 0u; 2u * t <= m; ++t) {
-            const unsigned t2 = m - t;
-            const zw_eb x = eb_stored(w[t], we[t]), y = eb_stored(w[t2], we[t2]);
-            const zw_eb nx = zw_eb_sub(x, zw_eb_mul(k, y));
-            w[t] = nx.v;
-            we[t] = err_up(nx.e);
-            if (t2 != t && t2 < m) {
-                const zw_eb ny = zw_eb_sub(y, zw_eb_mul(k, x));
-                w[t2] = ny.v;
-                we[t2] = err_up(ny.e);
+        /* the pairs (t, m - t) at once: each new entry reads both old ones; big: the largest
+         * new entry (0..m-1).  Entry m is dropped (the degree falls by one), so t = 0 updates
+         * w[0] alone, and so does t = m / 2 for even m. */
+        {
+            const zw_real ak = ZW_FABS(k.v), ke = k.e, ak_ke = ak + ke;
+            const unsigned half = m / 2u;
+            w[0] = sc_step(w[0], we[0], w[m], we[m], k.v, ak_ke, ke, &we[0]);
+            big = ZW_FABS(w[0]);
+            for (t = 1u; 2u * t < m; ++t) {
+                const unsigned t2 = m - t;
+                const zw_real x = w[t], xe = we[t], y = w[t2], ye = we[t2];
+                w[t] = sc_step(x, xe, y, ye, k.v, ak_ke, ke, &we[t]);
+                w[t2] = sc_step(y, ye, x, xe, k.v, ak_ke, ke, &we[t2]);
+                if (ZW_FABS(w[t]) > big) big = ZW_FABS(w[t]);
+                if (ZW_FABS(w[t2]) > big) big = ZW_FABS(w[t2]);
+            }
+            if (half > 0u && 2u * half == m) {
+                w[half] = sc_step(w[half], we[half], w[half], we[half], k.v, ak_ke, ke, &we[half]);
+                if (ZW_FABS(w[half]) > big) big = ZW_FABS(w[half]);
             }
         }
         /* rescale by a power of two (exact but for underflow: ETA) against overflow */
-        for (t = 0u; t < m; ++t)
-            if (ZW_FABS(w[t]) > big) big = ZW_FABS(w[t]);
         if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
         if (big > ZW_R(0.0) && (big < LOOP_SCALE_LO || big > LOOP_SCALE_HI)) {
             (void)ZW_FREXP(big, &ex);
             for (t = 0u; t < m; ++t) {
                 w[t] = ZW_LDEXP(w[t], -ex);
-                we[t] = err_up(ZW_LDEXP((zw_real)we[t], -ex) + ZW_ETA);
+                we[t] = ZW_LDEXP(we[t], -ex) + ZW_ETA;
             }
         }
     }
@@ -664,11 +739,8 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_real alpha, z
 static void bilinear_end(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i,
                          routh_result *out)
 {
-    const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta);
-    zw_eb v = eb_add_exactish(eb_make(loop->Ds[i], loop->Ds_err[i]),
-                              eb_mul_exactish(ga, eb_make(loop->Nas[i], loop->Nas_err[i])));
-    v = eb_add_exactish(v, eb_mul_exactish(gb, eb_make(loop->Nbs[i], loop->Nbs_err[i])));
-    *out = sign_result(v.v, (zw_real)err_up(v.e));
+    const zw_eb v = bilinear_coef(loop, i, alpha, beta);
+    *out = sign_result(v.v, v.e);
 }
 
 /* From this degree on (long delays and moving averages) the Schur-Cohn test goes first:
@@ -681,27 +753,25 @@ static void bilinear_end(const zw_loop *loop, zw_real alpha, zw_real beta, unsig
  * Schur-Cohn test on the z coefficients, the second only where the first cannot tell
  * (either proves stability alone; UNSTABLE from either is certain).  *lead, *trail as
  * check_bilinear. */
-static routh_result decide(const zw_loop *loop, zw_real alpha, zw_real beta, routh_result *lead,
-                           routh_result *trail)
+static routh_result decide(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                           routh_result *lead, routh_result *trail)
 {
     routh_result res;
     if (loop->degree >= LOOP_SCHUR_FIRST) {
         const unsigned n = loop->degree;
         bilinear_end(loop, alpha, beta, 0u, lead);
         bilinear_end(loop, alpha, beta, n, trail);
-        res = schur_cohn(loop, alpha, beta);
-        return res == ROUTH_UNSURE ? check_bilinear(loop, alpha, beta, lead, trail) : res;
+        res = schur_cohn(loop, ws, alpha, beta);
+        return res == ROUTH_UNSURE ? check_bilinear(loop, ws, alpha, beta, lead, trail) : res;
     }
-    res = check_bilinear(loop, alpha, beta, lead, trail);
-    if (res == ROUTH_UNSURE) res = schur_cohn(loop, alpha, beta);
+    res = check_bilinear(loop, ws, alpha, beta, lead, trail);
+    if (res == ROUTH_UNSURE) res = schur_cohn(loop, ws, alpha, beta);
     return res;
 }
 
 /* ---- roots (informational) ------------------------------------------------------------------ */
 
-typedef struct cplx {
-    zw_real re, im;
-} cplx;
+typedef zw_loop_complex cplx;
 
 static cplx c_make(zw_real re, zw_real im)
 {
@@ -717,7 +787,7 @@ static cplx c_mul(cplx a, cplx b)
     return c_make(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re);
 }
 /* Smith's division; b = 0 gives an infinite quotient. */
-static cplx c_div(cplx a, cplx b)
+static LOOP_INLINE cplx c_div_inline(cplx a, cplx b)
 {
     zw_real t, den;
     if (ZW_FABS(b.re) >= ZW_FABS(b.im)) {
@@ -730,12 +800,22 @@ static cplx c_div(cplx a, cplx b)
     den = b.re * t + b.im;
     return c_make((a.re * t + a.im) / den, (a.im * t - a.re) / den);
 }
-static zw_real c_abs(cplx a)
+
+static cplx c_div(cplx a, cplx b)
+{
+    return c_div_inline(a, b);
+}
+static LOOP_INLINE zw_real c_abs_inline(cplx a)
 {
     zw_real x = ZW_FABS(a.re), y = ZW_FABS(a.im), big = x > y ? x : y, small = x > y ? y : x;
     if (big == ZW_R(0.0)) return ZW_R(0.0);
     small /= big;
     return big * ZW_SQRT(ZW_R(1.0) + small * small);
+}
+
+static zw_real c_abs(cplx a)
+{
+    return c_abs_inline(a);
 }
 
 static zw_real poly_coef(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i)
@@ -759,9 +839,9 @@ static ceb ceb_make(cplx v, zw_real e)
 
 /* acc *= f (f with absolute error fe); |fl(a b) - a b| <= sqrt(2) gamma_2 |a||b| < 5 u |a||b|
  * for complex products.  In place, through pointers: small frames on an MCU. */
-static void ceb_times(ceb *acc, cplx f, zw_real fe)
+static LOOP_INLINE void ceb_times(ceb *acc, cplx f, zw_real fe)
 {
-    const zw_real aa = c_abs(acc->v), af = c_abs(f);
+    const zw_real aa = c_abs_inline(acc->v), af = c_abs_inline(f);
     acc->e = aa * fe + af * acc->e + acc->e * fe + ZW_R(5.0) * ZW_U * aa * af + ZW_R(2.0) * ZW_ETA;
     acc->v = c_mul(acc->v, f);
 }
@@ -771,7 +851,7 @@ static void ceb_times_factor(ceb *acc, const zw_loop *loop, factor_kind kind, cp
 {
     build_ctx ctx;
     zw_eb f1, f0;
-    const zw_real az = c_abs(z);
+    const zw_real az = c_abs_inline(z);
     ctx.c = &loop->c;
     ctx.a = loop->spec.filter_pole;
     ctx.bilinear = false;
@@ -874,9 +954,9 @@ ZW_NOINLINE static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real 
             mag = accurate->e;
         }
         *noise = mag / c_abs(dv);
-        return c_div(v, dv);
+        return c_div_inline(v, dv);
     } else {
-        cplx w = c_div(c_make(ZW_R(1.0), ZW_R(0.0)), z), den;
+        cplx w = c_div_inline(c_make(ZW_R(1.0), ZW_R(0.0)), z), den;
         const zw_real aw = c_abs(w);
         for (i = m + 1u; i > 0u; --i) {
             const zw_real pk = poly_coef(loop, alpha, beta, i - 1u);
@@ -887,7 +967,7 @@ ZW_NOINLINE static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real 
         /* v = q(w), dv = q'(w) */
         den = c_sub(c_mul(c_make((zw_real)m, ZW_R(0.0)), v), c_mul(w, dv));
         *noise = ZW_R(8.0) * (zw_real)(m + 1u) * ZW_U * mag * az / c_abs(den);
-        return c_div(c_mul(z, v), den);
+        return c_div_inline(c_mul(z, v), den);
     }
 }
 
@@ -964,13 +1044,14 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
 }
 
 /* The root of largest modulus (0 when every root is an exact zero). */
-static cplx largest_root(const zw_loop *loop, zw_real alpha, zw_real beta, bool accurate, bool *ok)
+static cplx largest_root(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                         bool accurate, bool *ok)
 {
-    cplx z[ZW_LOOP_MAX_DEGREE];
+    const cplx *z = ws->root;
     cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
     zw_real best = -ZW_R(1.0);
     unsigned m = 0u, i;
-    *ok = aberth(loop, alpha, beta, z, &m, accurate);
+    *ok = aberth(loop, alpha, beta, ws->root, &m, accurate);
     for (i = 0u; i < m; ++i) {
         zw_real a = c_abs(z[i]);
         if (a > best) {
@@ -1032,16 +1113,17 @@ static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta
  * and disjoint from all others holds exactly one root, by the continuity argument of
  * Braess and Hadeler on p_t = prod (z - z_j) + t sum_i W_i prod_{j != i} (z - z_j)), or
  * UNSURE.  *top: the root of largest modulus, for the deciding boundary. */
-static routh_result roots_test(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
-                               cplx *top, bool *top_ok)
+/* The verdict from the m roots in ws->root.  Out of line: its frame is not on the stack
+ * while the Aberth run is (the deepest chain of the checks). */
+ZW_NOINLINE static routh_result inclusion_verdict(const zw_loop *loop, zw_loop_workspace *ws,
+                                                  zw_real alpha, zw_real beta, zw_real r,
+                                                  unsigned m, cplx *top)
 {
-    cplx z[ZW_LOOP_MAX_DEGREE];
-    unsigned m = 0u, i, j;
+    const cplx *z = ws->root;
+    zw_real *radius = ws->radius;
+    unsigned i, j;
     zw_real lead_low, best = -ZW_R(1.0);
     bool all_inside = true;
-    *top = c_make(ZW_R(0.0), ZW_R(0.0));
-    *top_ok = aberth(loop, alpha, beta, z, &m, true);
-    if (!*top_ok) return ROUTH_UNSURE;
     for (i = 0u; i < m; ++i)
         if (c_abs(z[i]) > best) {
             best = c_abs(z[i]);
@@ -1056,9 +1138,11 @@ static routh_result roots_test(const zw_loop *loop, zw_real alpha, zw_real beta,
         lead_low = (ZW_FABS(p0) - e0) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U);
         if (!(lead_low > ZW_R(0.0))) return ROUTH_UNSURE;
     }
+    /* each radius once (the isolation test below reads every other one) */
+    for (i = 0u; i < m; ++i) radius[i] = inclusion_radius(loop, alpha, beta, z, m, i, lead_low);
     for (i = 0u; i < m; ++i) {
         const zw_real az = c_abs(z[i]);
-        const zw_real ri = inclusion_radius(loop, alpha, beta, z, m, i, lead_low);
+        const zw_real ri = radius[i];
         if (all_inside && !((az * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + ri) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U) < r))
             all_inside = false;
         if ((az * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) - ri) * (ZW_R(1.0) - ZW_R(2.0) * ZW_U) > r) {
@@ -1066,12 +1150,22 @@ static routh_result roots_test(const zw_loop *loop, zw_real alpha, zw_real beta,
             for (j = 0u; j < m && isolated; ++j)
                 if (j != i &&
                     !(c_abs(c_sub(z[i], z[j])) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) >
-                      (ri + inclusion_radius(loop, alpha, beta, z, m, j, lead_low)) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U)))
+                      (ri + radius[j]) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U)))
                     isolated = false;
             if (isolated) return ROUTH_UNSTABLE;
         }
     }
     return all_inside ? ROUTH_STABLE : ROUTH_UNSURE;
+}
+
+static routh_result roots_test(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                               zw_real beta, zw_real r, cplx *top, bool *top_ok)
+{
+    unsigned m = 0u;
+    *top = c_make(ZW_R(0.0), ZW_R(0.0));
+    *top_ok = aberth(loop, alpha, beta, ws->root, &m, true);
+    if (!*top_ok) return ROUTH_UNSURE;
+    return inclusion_verdict(loop, ws, alpha, beta, r, m, top);
 }
 
 /* Angle in [0, pi] of a root; within ~sqrt(u) of the real axis counts as real (a double
@@ -1083,22 +1177,22 @@ static zw_real root_angle(cplx z)
     return ZW_ATAN2(ZW_FABS(z.im), z.re);
 }
 
-zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real beta,
-                                  zw_real *rho, zw_real *theta)
+zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                  zw_real beta, zw_real *rho, zw_real *theta)
 {
     zw_status st;
     bool ok;
     cplx top;
     if (rho != NULL) *rho = ZW_HUGE_VAL;
     if (theta != NULL) *theta = ZW_R(0.0);
-    if (rho == NULL || theta == NULL) return ZW_ERR_NULL;
+    if (rho == NULL || theta == NULL || ws == NULL) return ZW_ERR_NULL;
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
     {
         unsigned i;
         for (i = 0u; i <= loop->degree; ++i)
             if (!ZW_IS_FINITE(poly_coef(loop, alpha, beta, i))) return ZW_ERR_RANGE;
     }
-    top = largest_root(loop, alpha, beta, true, &ok);
+    top = largest_root(loop, ws, alpha, beta, true, &ok);
     if (!ok) return ZW_ERR_RANGE;
     *rho = c_abs(top);
     *theta = root_angle(top);
@@ -1107,7 +1201,8 @@ zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real be
 
 /* ---- verdicts ------------------------------------------------------------------------------ */
 
-zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loop_verdict *out)
+zw_status zw_loop_check(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                        zw_loop_verdict *out)
 {
     zw_status st;
     routh_result res, lead, trail;
@@ -1115,8 +1210,9 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
     bool ok = true;
     if (out == NULL) return ZW_ERR_NULL;
     zw_fail_loop_verdict(out);
+    if (ws == NULL) return ZW_ERR_NULL;
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
-    res = decide(loop, alpha, beta, &lead, &trail);
+    res = decide(loop, ws, alpha, beta, &lead, &trail);
     if (res == ROUTH_STABLE) {
         out->stable = true;
         return ZW_OK;
@@ -1124,8 +1220,8 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
     /* the boundary: z = 1 (p(1) = alpha Na(1)), z = -1 (the leading coefficient of P),
      * else where the root of largest modulus is */
     if (res == ROUTH_UNSURE || (trail == ROUTH_STABLE && lead == ROUTH_STABLE)) {
-        if (res == ROUTH_UNSURE) res = roots_test(loop, alpha, beta, ZW_R(1.0), &top, &ok);
-        else top = largest_root(loop, alpha, beta, false, &ok);
+        if (res == ROUTH_UNSURE) res = roots_test(loop, ws, alpha, beta, ZW_R(1.0), &top, &ok);
+        else top = largest_root(loop, ws, alpha, beta, false, &ok);
     }
     if (res == ROUTH_STABLE) {
         out->stable = true;
@@ -1155,30 +1251,31 @@ zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta, zw_loo
 /* The boolean fast path: the same two tests as zw_loop_check, in the same order, so the
  * answer is the same for every point; only the deciding boundary of a not-stable point
  * (an Aberth run) is skipped. */
-zw_status zw_loop_is_stable(const zw_loop *loop, zw_real alpha, zw_real beta, bool *stable)
+zw_status zw_loop_is_stable(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                            bool *stable)
 {
     zw_status st;
     routh_result res, lead, trail;
     if (stable == NULL) return ZW_ERR_NULL;
     *stable = false;
+    if (ws == NULL) return ZW_ERR_NULL;
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
-    res = decide(loop, alpha, beta, &lead, &trail);
+    res = decide(loop, ws, alpha, beta, &lead, &trail);
     if (res == ROUTH_UNSURE) {
         cplx top;
         bool ok;
-        res = roots_test(loop, alpha, beta, ZW_R(1.0), &top, &ok);
+        res = roots_test(loop, ws, alpha, beta, ZW_R(1.0), &top, &ok);
     }
     *stable = res == ROUTH_STABLE;
     return ZW_OK;
 }
 
 /* (1 - s)^n p(r (1 + s)/(1 - s)) = sum_k p_k (r (1 + s))^(n-k) (1 - s)^k by Horner in
- * r (1 + s), with running bounds, then the Routh test.  Out of line, so that its arrays are
- * off the stack before the root test runs. */
-ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r)
+ * r (1 + s), with running bounds (in the workspace's row), then the Routh test. */
+ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_workspace *ws,
+                                             zw_real alpha, zw_real beta, zw_real r)
 {
-    zw_real w[LOOP_N];
-    loop_err we[LOOP_N];
+    zw_real *w = ws->row, *we = ws->row_err;
     unsigned k, i, deg = 0u;
     const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta), re = zw_eb_exact(r);
     for (k = 0u; k <= loop->degree; ++k) {
@@ -1193,17 +1290,17 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_real alpha,
                                      : eb_stored(w[i - 1u], we[i - 1u]);
                 sum = eb_mul_exactish(re, sum);
                 w[i] = sum.v;
-                we[i] = err_up(sum.e);
+                we[i] = sum.e;
             }
             {
                 zw_eb top = eb_mul_exactish(re, eb_stored(w[0], we[0]));
                 w[0] = top.v;
-                we[0] = err_up(top.e);
+                we[0] = top.e;
             }
             deg += 1u;
         } else {
             w[0] = ZW_R(0.0);
-            we[0] = 0.0f;
+            we[0] = ZW_R(0.0);
         }
         /* + p_k (1 - s)^k: s^i at index k - i */
         for (i = 0u; i <= k; ++i) {
@@ -1211,28 +1308,29 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_real alpha,
             zw_eb t = eb_add_exactish(eb_stored(w[k - i], we[k - i]),
                                       eb_mul_exactish(pk, zw_eb_exact(coef)));
             w[k - i] = t.v;
-            we[k - i] = err_up(t.e);
+            we[k - i] = t.e;
             binom = binom * (uint_least32_t)(k - i) / (uint_least32_t)(i + 1u);
         }
     }
     return routh(w, we, loop->degree);
 }
 
-zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
-                                bool *within)
+zw_status zw_loop_radius_within(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                zw_real beta, zw_real r, bool *within)
 {
     zw_status st;
     routh_result res;
     if (within == NULL) return ZW_ERR_NULL;
     *within = false;
+    if (ws == NULL) return ZW_ERR_NULL;
     if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
     if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
     if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
-    res = radius_routh(loop, alpha, beta, r);
+    res = radius_routh(loop, ws, alpha, beta, r);
     if (res == ROUTH_UNSURE) {
         cplx top;
         bool ok;
-        res = roots_test(loop, alpha, beta, r, &top, &ok);
+        res = roots_test(loop, ws, alpha, beta, r, &top, &ok);
     }
     *within = res == ROUTH_STABLE;
     return ZW_OK;

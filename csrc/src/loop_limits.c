@@ -81,6 +81,7 @@ static zw_real cabs1(ll_cplx a)
 
 typedef struct ll_plant {
     const zw_loop *loop;
+    zw_loop_workspace *ws; /* the caller's scratch, for the guarded checks */
     zw_real one_minus_e; /* 1 - e = delta (c1 + c2) / 2, accurate for small delta */
     zw_real r12;         /* d12 / c1: (c1 z + c2) / c1 = (z + 1) - r12 */
     zw_real two_c1;      /* 2 / c1 */
@@ -91,8 +92,9 @@ typedef struct ll_plant {
     unsigned grid_n;     /* uniform grid intervals */
 } ll_plant;
 
-/* The loop's own consistency (loop.c keeps the same rule): degree matches the spec. */
-static zw_status plant_init(ll_plant *p, const zw_loop *loop)
+/* The loop's own consistency (loop.c keeps the same rule): degree matches the spec.  ws may
+ * be NULL for the functions that run no check (the callers that do refuse it). */
+static zw_status plant_init(ll_plant *p, const zw_loop *loop, zw_loop_workspace *ws)
 {
     const zw_loop_spec *sp;
     unsigned est_deg;
@@ -124,6 +126,7 @@ static zw_status plant_init(ll_plant *p, const zw_loop *loop)
     if ((st = zw_require_coeffs(&loop->c, false)) != ZW_OK) return st;
     if (!(loop->c.c1 > ZW_R(0.0))) return ZW_ERR_RANGE;
     p->loop = loop;
+    p->ws = ws;
     p->one_minus_e = ZW_R(0.5) * (loop->c.s * loop->c.delta);
     p->r12 = loop->c.d12 / loop->c.c1;
     p->two_c1 = ZW_R(2.0) / loop->c.c1;
@@ -525,16 +528,17 @@ static void offer_line(ll_scan *x, bool *degenerate)
 
 /* ---- alpha_max ------------------------------------------------------------------------- */
 
-static bool checked_stable(const zw_loop *loop, zw_real alpha, zw_real beta)
+/* zw_loop_is_stable: zw_loop_check's verdict, without the deciding boundary's root run. */
+static bool checked_stable(const ll_plant *p, zw_real alpha, zw_real beta)
 {
-    zw_loop_verdict v;
-    return zw_loop_check(loop, alpha, beta, &v) == ZW_OK && v.stable;
+    bool stable = false;
+    return zw_loop_is_stable(p->loop, p->ws, alpha, beta, &stable) == ZW_OK && stable;
 }
 
-static bool checked_unstable(const zw_loop *loop, zw_real alpha, zw_real beta)
+static bool checked_unstable(const ll_plant *p, zw_real alpha, zw_real beta)
 {
     zw_loop_verdict v;
-    return zw_loop_check(loop, alpha, beta, &v) == ZW_OK && !v.stable && !v.marginal;
+    return zw_loop_check(p->loop, p->ws, alpha, beta, &v) == ZW_OK && !v.stable && !v.marginal;
 }
 
 static zw_status alpha_max_of(const ll_plant *p, zw_real beta, zw_real *alpha_max)
@@ -562,20 +566,22 @@ static zw_status alpha_max_of(const ll_plant *p, zw_real beta, zw_real *alpha_ma
     /* the cell (0, a1): every interior point must check stable, a1 itself not unstable */
     for (k = 1u; k <= LL_CELL_CHECKS; ++k) {
         zw_real t = a1 * ((zw_real)k / (zw_real)(LL_CELL_CHECKS + 1u));
-        if (!checked_stable(p->loop, t, beta)) return ZW_OK;
+        if (!checked_stable(p, t, beta)) return ZW_OK;
     }
-    if (checked_unstable(p->loop, a1, beta)) return ZW_OK;
+    if (checked_unstable(p, a1, beta)) return ZW_OK;
     *alpha_max = a1;
     return ZW_OK;
 }
 
-zw_status zw_loop_alpha_max(const zw_loop *loop, zw_real beta, zw_real *alpha_max)
+zw_status zw_loop_alpha_max(const zw_loop *loop, zw_loop_workspace *ws, zw_real beta,
+                            zw_real *alpha_max)
 {
     ll_plant p;
     zw_status st;
     if (alpha_max == NULL) return ZW_ERR_NULL;
     *alpha_max = ZW_R(0.0);
-    if ((st = plant_init(&p, loop)) != ZW_OK) return st;
+    if (ws == NULL) return ZW_ERR_NULL;
+    if ((st = plant_init(&p, loop, ws)) != ZW_OK) return st;
     if ((st = zw_require_finite(beta)) != ZW_OK) return st;
     return alpha_max_of(&p, beta, alpha_max);
 }
@@ -641,7 +647,7 @@ static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_be
                 if ((st = alpha_max_of(p, mid, &am)) != ZW_OK) return st;
                 stable = am > ZW_R(0.0);
             } else {
-                stable = checked_stable(p->loop, alpha, mid);
+                stable = checked_stable(p, alpha, mid);
             }
             if (stable) {
                 if (out->count < ZW_LOOP_MAX_INTERVALS) {
@@ -664,14 +670,16 @@ static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_be
     return ZW_OK;
 }
 
-zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_real alpha, zw_loop_beta_set *out)
+zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                 zw_loop_beta_set *out)
 {
     zw_real outer[2];
     ll_plant p;
     zw_status st;
     if (out == NULL) return ZW_ERR_NULL;
     clear_set(out);
-    if ((st = plant_init(&p, loop)) != ZW_OK) return st;
+    if (ws == NULL) return ZW_ERR_NULL;
+    if ((st = plant_init(&p, loop, ws)) != ZW_OK) return st;
     if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
     if (!(alpha > ZW_R(0.0))) return ZW_OK;
     st = walk(&p, LL_FIX_ALPHA, alpha, out, outer);
@@ -679,15 +687,15 @@ zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_real alpha, zw_loop_bet
     return st;
 }
 
-zw_status zw_loop_beta_interval(const zw_loop *loop, zw_real alpha, zw_real *lo, zw_real *hi,
-                                bool *nonempty)
+zw_status zw_loop_beta_interval(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                zw_real *lo, zw_real *hi, bool *nonempty)
 {
     zw_loop_beta_set set;
     zw_status st;
     unsigned i, best = 0u;
     zw_fail_interval(lo, hi, nonempty); /* every non-NULL output certifies nothing */
     if (lo == NULL || hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
-    st = zw_loop_beta_intervals(loop, alpha, &set);
+    st = zw_loop_beta_intervals(loop, ws, alpha, &set);
     if (st != ZW_OK || set.count == 0u) return st;
     for (i = 1u; i < set.count; ++i)
         if (set.hi[i] - set.lo[i] > set.hi[best] - set.lo[best]) best = i;
@@ -831,7 +839,8 @@ static void clear_extremes(zw_loop_extremes *out)
     out->beta_mmax = out->beta_mmin = ZW_R(0.0);
 }
 
-zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_extremes *out)
+zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_workspace *ws,
+                                   zw_loop_extremes *out)
 {
     ll_plant p;
     zw_loop_beta_set cells;
@@ -841,7 +850,8 @@ zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_extremes *out)
     unsigned i;
     if (out == NULL) return ZW_ERR_NULL;
     clear_extremes(out);
-    if ((st = plant_init(&p, loop)) != ZW_OK) return st;
+    if (ws == NULL) return ZW_ERR_NULL;
+    if ((st = plant_init(&p, loop, ws)) != ZW_OK) return st;
     clear_set(&cells);
     clear_extremes(&x);
     if ((st = walk(&p, LL_ALPHA_ZERO, ZW_R(0.0), &cells, outer)) != ZW_OK) return st;
@@ -878,7 +888,7 @@ zw_status zw_loop_boundary_point(const zw_loop *loop, zw_real theta, zw_real *al
     zw_fail_real(alpha, ZW_R(0.0));
     zw_fail_real(beta, ZW_R(0.0));
     if (alpha == NULL || beta == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&p, loop)) != ZW_OK) return st;
+    if ((st = plant_init(&p, loop, NULL)) != ZW_OK) return st;
     if ((st = zw_require_finite(theta)) != ZW_OK) return st;
     if (!(theta > ZW_R(0.0) && theta <= LL_PI_BELOW)) return ZW_ERR_ARG;
     response(&p, theta, &r0, &s);
@@ -903,7 +913,7 @@ zw_status zw_loop_boundary_line(const zw_loop *loop, zw_loop_boundary which, zw_
     zw_fail_real(ca, ZW_R(0.0));
     zw_fail_real(cb, ZW_R(0.0));
     if (c0 == NULL || ca == NULL || cb == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&p, loop)) != ZW_OK) return st;
+    if ((st = plant_init(&p, loop, NULL)) != ZW_OK) return st;
     switch (which) {
     case ZW_LOOP_BOUNDARY_Z_PLUS1:
         *ca = ZW_R(1.0); /* p(1) = alpha (c1 + c2) Dv(1) */

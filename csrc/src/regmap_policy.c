@@ -84,7 +84,7 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm, bool *any)
         B = e.B_at_K_mmax;
     } else {
         zw_device_loop_extremes e;
-        st = zw_device_loop_extremes_compute(&rm->loop, &e);
+        st = zw_device_loop_extremes_compute(&rm->loop, &rm->ws, &e);
         K = e.K_mmax;
         B = e.B_at_K_mmax;
     }
@@ -234,38 +234,38 @@ static bool step_within(float a, float b, float limit)
 /* The two rules that need the plant, each in its own small function: the deepest chains of
  * the core (zw_device_radius_within) then start right below a small frame (stack).  Any
  * error of the core (a normalization that overflows) counts against the pair. */
-static bool stable_ok(const zw_regmap *rm, float K, float B)
+static bool stable_ok(zw_regmap *rm, float K, float B)
 {
     if (ideal_loop(rm)) {
         zw_verdict v;
         return zw_device_check(&rm->loop.dev, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
     } else {
         zw_loop_verdict v;
-        return zw_device_loop_check(&rm->loop, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
+        return zw_device_loop_check(&rm->loop, &rm->ws, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable;
     }
 }
 
-static bool radius_ok(const zw_regmap *rm, float r, float K, float B)
+static bool radius_ok(zw_regmap *rm, float r, float K, float B)
 {
     bool within = false;
     zw_status st = ideal_loop(rm)
                        ? zw_device_radius_within(&rm->loop.dev, (zw_real)K, (zw_real)B,
                                                  (zw_real)r, &within)
-                       : zw_device_loop_radius_within(&rm->loop, (zw_real)K, (zw_real)B,
+                       : zw_device_loop_radius_within(&rm->loop, &rm->ws, (zw_real)K, (zw_real)B,
                                                       (zw_real)r, &within);
     return st == ZW_OK && within;
 }
 
 /* K_max at B of the drive's loop (certified; 0 on error, by the core's fail-safe).  The
  * general loop's is taken from the cache when B is the one it holds. */
-static zw_status drive_k_max(const zw_regmap *rm, float B, zw_real *k_max)
+static zw_status drive_k_max(zw_regmap *rm, float B, zw_real *k_max)
 {
     if (ideal_loop(rm)) return zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max);
     if (rm->kmax_cached != 0u && rm->kmax_B == B) {
         *k_max = rm->kmax_value;
         return ZW_OK;
     }
-    return zw_device_loop_k_max(&rm->loop, (zw_real)B, k_max);
+    return zw_device_loop_k_max(&rm->loop, &rm->ws, (zw_real)B, k_max);
 }
 
 /* Keep K_max(B) for the gains now in force (general loop; the ideal one is cheap). */
@@ -278,7 +278,7 @@ static void cache_k_max(zw_regmap *rm, float B, zw_real k_max)
 
 /* The rules of regmap_policy.h, in its order, for a write from (K0, B0) under block c (the
  * loop in rm->loop is c's); the first that fails is the reason. */
-static zw_reason certify_under(const zw_regmap *rm, const zw_cert *c, float K0, float B0, float K,
+static zw_reason certify_under(zw_regmap *rm, const zw_cert *c, float K0, float B0, float K,
                                float B, zw_real *k_max_out)
 {
     zw_real k_max;
@@ -439,7 +439,7 @@ ZW_NOINLINE static void live_refresh(zw_regmap *rm)
     rm->live[L_B_LO] = value_or_nan(st, x);
     rm->live[L_B_HI] = value_or_nan(st, y);
     st = ideal_loop(rm) ? zw_device_spectral_radius(d, (zw_real)rm->K, (zw_real)rm->B, &x)
-                        : zw_device_loop_spectral_radius(&rm->loop, (zw_real)rm->K, (zw_real)rm->B, &x, &th);
+                        : zw_device_loop_spectral_radius(&rm->loop, &rm->ws, (zw_real)rm->K, (zw_real)rm->B, &x, &th);
     rm->live[L_RHO] = value_or_nan(st, x);
     rm->live[L_DELTA] = zw_rm_to_float(d->co.delta);
 }

@@ -13,6 +13,9 @@
  */
 #include "zw_test.h"
 
+/* The checks' scratch (loop.h): static, as a drive keeps it; tests run one at a time. */
+static zw_loop_workspace g_ws;
+
 #define REF_N (ZW_LOOP_MAX_DEGREE + 2u)
 
 typedef struct ref_loop {
@@ -161,12 +164,17 @@ static void test_verdict_is_safe_at_its_switch(void **state)
             zw_real lo = R(1e-6) * pc->m / (pc->T * pc->T), hi = R(10.0) * pc->m / (pc->T * pc->T);
             zw_loop_verdict v;
             int it;
-            EXPECT_OK(zw_device_loop_check(&dl, lo, Bs[j], &v));
+            EXPECT_OK(zw_device_loop_check(&dl, &g_ws, lo, Bs[j], &v));
             if (!v.stable) continue; /* nothing stable at this B (checked by K_max below) */
             for (it = 0; it < 200; ++it) {
                 const zw_real mid = lo + (hi - lo) / R(2.0);
                 if (mid == lo || mid == hi) break;
-                EXPECT_OK(zw_device_loop_check(&dl, mid, Bs[j], &v));
+                EXPECT_OK(zw_device_loop_check(&dl, &g_ws, mid, Bs[j], &v));
+                {
+                    bool fast = !v.stable;
+                    EXPECT_OK(zw_device_loop_is_stable(&dl, &g_ws, mid, Bs[j], &fast));
+                    assert_int_equal(fast, v.stable); /* the fast path: the same verdict */
+                }
                 if (v.stable) lo = mid;
                 else hi = mid;
             }
@@ -193,7 +201,7 @@ static void test_k_max_certified_and_tight(void **state)
         for (j = 0; j < ZWT_ARRAY_LEN(Bs); ++j) {
             zw_real K_max = R(-1.0);
             const long double beta = beta_of(pc, Bs[j]);
-            EXPECT_OK(zw_device_loop_k_max(&dl, Bs[j], &K_max));
+            EXPECT_OK(zw_device_loop_k_max(&dl, &g_ws, Bs[j], &K_max));
             assert_true(K_max > R(0.0));
             for (k = 1; k <= 64; ++k) {
                 const long double K = (long double)K_max * (long double)k / 64.0L;
@@ -219,14 +227,14 @@ static void test_b_range_certified_and_tight(void **state)
         ref_loop ref;
         zw_real K_p = R(0.0);
         build_case(pc, &dl, &ref);
-        EXPECT_OK(zw_device_loop_k_max(&dl, R(0.0), &K_p));
+        EXPECT_OK(zw_device_loop_k_max(&dl, &g_ws, R(0.0), &K_p));
         for (j = 1; j <= 3; ++j) {
             const zw_real K = K_p * (zw_real)j / R(4.0);
             const long double alpha = alpha_of(pc, K);
             zw_real lo, hi;
             bool ok = false;
             long double w;
-            EXPECT_OK(zw_device_loop_b_range(&dl, K, &lo, &hi, &ok));
+            EXPECT_OK(zw_device_loop_b_range(&dl, &g_ws, K, &lo, &hi, &ok));
             assert_true(ok && lo < hi);
             w = (long double)hi - (long double)lo;
             for (k = 0; k <= 64; ++k) {
@@ -254,8 +262,8 @@ static void test_extremes_scale_the_normalized_ones(void **state)
         zw_device_loop_extremes x;
         zw_real K_p = R(0.0);
         build_case(pc, &dl, &ref);
-        EXPECT_OK(zw_device_loop_extremes_compute(&dl, &x));
-        EXPECT_OK(zw_device_loop_k_max(&dl, R(0.0), &K_p));
+        EXPECT_OK(zw_device_loop_extremes_compute(&dl, &g_ws, &x));
+        EXPECT_OK(zw_device_loop_k_max(&dl, &g_ws, R(0.0), &K_p));
         assert_true(x.K_p_max == K_p);
         assert_true(x.K_mmax >= x.K_p_max && x.B_mmin < R(0.0) && R(0.0) < x.B_mmax);
         EXPECT_TRUE_MSG(ref_stable(&ref, alpha_of(pc, x.K_mmax) * (1.0L - PREC(1e-9L, 1e-4L)),
@@ -291,50 +299,58 @@ static void test_errors_are_fail_safe(void **state)
     EXPECT_STATUS(zw_device_loop_init(&dl, R(1.0), R(1.0), R(1e-3), &spec), ZW_ERR_NAN);
     /* the failed loop is refused with fail-safe outputs */
     v.stable = true;
-    assert_int_not_equal(zw_device_loop_check(&dl, R(1.0), R(0.0), &v), ZW_OK);
+    assert_int_not_equal(zw_device_loop_check(&dl, &g_ws, R(1.0), R(0.0), &v), ZW_OK);
     assert_false(v.stable);
-    assert_int_not_equal(zw_device_loop_k_max(&dl, R(0.0), &K), ZW_OK);
+    assert_int_not_equal(zw_device_loop_k_max(&dl, &g_ws, R(0.0), &K), ZW_OK);
     assert_true(K == R(0.0));
-    assert_int_not_equal(zw_device_loop_b_range(&dl, R(1.0), &lo, &hi, &ok), ZW_OK);
+    assert_int_not_equal(zw_device_loop_b_range(&dl, &g_ws, R(1.0), &lo, &hi, &ok), ZW_OK);
     assert_true(!ok && lo == R(0.0) && hi == R(0.0));
-    assert_int_not_equal(zw_device_loop_radius_within(&dl, R(1.0), R(0.0), R(1.0), &within), ZW_OK);
+    assert_int_not_equal(zw_device_loop_radius_within(&dl, &g_ws, R(1.0), R(0.0), R(1.0), &within), ZW_OK);
     assert_false(within);
-    assert_int_not_equal(zw_device_loop_spectral_radius(&dl, R(1.0), R(0.0), &rho, &th), ZW_OK);
+    assert_int_not_equal(zw_device_loop_spectral_radius(&dl, &g_ws, R(1.0), R(0.0), &rho, &th), ZW_OK);
     assert_true(rho == (zw_real)INFINITY);
     x.K_mmax = R(1.0);
-    assert_int_not_equal(zw_device_loop_extremes_compute(&dl, &x), ZW_OK);
+    assert_int_not_equal(zw_device_loop_extremes_compute(&dl, &g_ws, &x), ZW_OK);
     assert_true(x.K_mmax == R(0.0) && x.B_mmax == R(0.0));
     /* a good loop: bad gains */
     spec.cutoff_hz = R(100.0);
     EXPECT_OK(zw_device_loop_init(&dl, R(0.12), R(0.8), R(1e-3), &spec));
     v.stable = true;
-    EXPECT_STATUS(zw_device_loop_check(&dl, (zw_real)NAN, R(0.0), &v), ZW_ERR_NAN);
+    EXPECT_STATUS(zw_device_loop_check(&dl, &g_ws, (zw_real)NAN, R(0.0), &v), ZW_ERR_NAN);
     assert_false(v.stable);
+    {
+        bool fast = true;
+        EXPECT_STATUS(zw_device_loop_is_stable(&dl, &g_ws, (zw_real)NAN, R(0.0), &fast), ZW_ERR_NAN);
+        assert_false(fast);
+        fast = true;
+        EXPECT_STATUS(zw_device_loop_is_stable(&dl, NULL, R(1.0), R(0.0), &fast), ZW_ERR_NULL);
+        assert_false(fast);
+    }
     K = R(5.0);
-    EXPECT_STATUS(zw_device_loop_k_max(&dl, (zw_real)INFINITY, &K), ZW_ERR_INF);
+    EXPECT_STATUS(zw_device_loop_k_max(&dl, &g_ws, (zw_real)INFINITY, &K), ZW_ERR_INF);
     assert_true(K == R(0.0));
-    EXPECT_STATUS(zw_device_loop_k_max(&dl, R(0.0), NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_device_loop_k_max(&dl, &g_ws, R(0.0), NULL), ZW_ERR_NULL);
     /* a non-zero gain normalized to 0 (or a subnormal) has no relative error bound */
     v.stable = true;
-    EXPECT_STATUS(zw_device_loop_check(&dl, ZWT_TRUE_MIN, R(0.0), &v), ZW_ERR_RANGE);
+    EXPECT_STATUS(zw_device_loop_check(&dl, &g_ws, ZWT_TRUE_MIN, R(0.0), &v), ZW_ERR_RANGE);
     assert_false(v.stable);
     K = R(5.0);
-    EXPECT_STATUS(zw_device_loop_k_max(&dl, ZWT_TRUE_MIN, &K), ZW_ERR_RANGE);
+    EXPECT_STATUS(zw_device_loop_k_max(&dl, &g_ws, ZWT_TRUE_MIN, &K), ZW_ERR_RANGE);
     assert_true(K == R(0.0));
-    EXPECT_STATUS(zw_device_loop_k_max(&dl, -ZWT_TRUE_MIN, &K), ZW_ERR_RANGE);
+    EXPECT_STATUS(zw_device_loop_k_max(&dl, &g_ws, -ZWT_TRUE_MIN, &K), ZW_ERR_RANGE);
     assert_true(K == R(0.0));
-    EXPECT_OK(zw_device_loop_b_range(&dl, R(-1.0), &lo, &hi, &ok)); /* K <= 0: empty */
+    EXPECT_OK(zw_device_loop_b_range(&dl, &g_ws, R(-1.0), &lo, &hi, &ok)); /* K <= 0: empty */
     assert_true(!ok && lo == R(0.0) && hi == R(0.0));
-    EXPECT_STATUS(zw_device_loop_check(NULL, R(1.0), R(0.0), &v), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_device_loop_check(NULL, &g_ws, R(1.0), R(0.0), &v), ZW_ERR_NULL);
     /* one output NULL: the others are still written (status.h) */
     lo = hi = R(5.0);
     ok = true;
-    EXPECT_STATUS(zw_device_loop_b_range(&dl, R(1.0), &lo, NULL, &ok), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_device_loop_b_range(&dl, &g_ws, R(1.0), &lo, NULL, &ok), ZW_ERR_NULL);
     assert_true(!ok && lo == R(0.0));
-    EXPECT_STATUS(zw_device_loop_b_range(&dl, R(1.0), NULL, &hi, NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_device_loop_b_range(&dl, &g_ws, R(1.0), NULL, &hi, NULL), ZW_ERR_NULL);
     assert_true(hi == R(0.0));
     rho = R(0.0);
-    EXPECT_STATUS(zw_device_loop_spectral_radius(&dl, R(1.0), R(0.0), &rho, NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_device_loop_spectral_radius(&dl, &g_ws, R(1.0), R(0.0), &rho, NULL), ZW_ERR_NULL);
     assert_true(rho == (zw_real)INFINITY);
     /* the cut-off became the pole exp(-2 pi f_c T) */
     EXPECT_NEAR(dl.loop.spec.filter_pole, expl(-2.0L * 3.14159265358979323846L * 0.1L), 0, TOLL(8));

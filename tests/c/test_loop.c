@@ -9,6 +9,9 @@
  * digits is tests/py/test_loop_reference.py. */
 #include "zw_test.h"
 
+/* The checks' scratch (loop.h): static, as a drive keeps it; tests run one at a time. */
+static zw_loop_workspace g_ws;
+
 static zw_loop_spec spec_of(unsigned d, zw_differentiator diff, zw_velocity_filter filt, zw_real a,
                             unsigned n)
 {
@@ -323,16 +326,16 @@ static void test_check_errors(void **state)
 #define CHECK_FAILS(l, a, b, want)                                                                 \
     do {                                                                                         \
         memset(&v, ZWT_SENTINEL, sizeof v);                                                      \
-        EXPECT_STATUS(zw_loop_check((l), (a), (b), &v), (want));                                  \
+        EXPECT_STATUS(zw_loop_check((l), &g_ws, (a), (b), &v), (want));                                  \
         fail_safe_verdict(&v);                                                                   \
         within = true;                                                                           \
-        EXPECT_STATUS(zw_loop_radius_within((l), (a), (b), R(1.0), &within), (want));             \
+        EXPECT_STATUS(zw_loop_radius_within((l), &g_ws, (a), (b), R(1.0), &within), (want));             \
         assert_false(within);                                                                    \
         within = true;                                                                           \
-        EXPECT_STATUS(zw_loop_is_stable((l), (a), (b), &within), (want));                         \
+        EXPECT_STATUS(zw_loop_is_stable((l), &g_ws, (a), (b), &within), (want));                         \
         assert_false(within);                                                                    \
         rho = R(0.0);                                                                            \
-        EXPECT_STATUS(zw_loop_spectral_radius((l), (a), (b), &rho, &theta), (want));              \
+        EXPECT_STATUS(zw_loop_spectral_radius((l), &g_ws, (a), (b), &rho, &theta), (want));              \
         assert_true(rho == (zw_real)INFINITY);                                                   \
     } while (0)
     CHECK_FAILS(loop, (zw_real)NAN, R(0.1), ZW_ERR_NAN);
@@ -343,18 +346,18 @@ static void test_check_errors(void **state)
     CHECK_FAILS(&zeroed, R(0.1), R(0.1), ZW_ERR_ARG);
     CHECK_FAILS(&garbage, R(0.1), R(0.1), ZW_ERR_ARG);
 #undef CHECK_FAILS
-    EXPECT_STATUS(zw_loop_check(loop, R(0.1), R(0.1), NULL), ZW_ERR_NULL);
-    EXPECT_STATUS(zw_loop_is_stable(loop, R(0.1), R(0.1), NULL), ZW_ERR_NULL);
-    EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), R(1.0), NULL), ZW_ERR_NULL);
-    EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), R(0.0), &within), ZW_ERR_ARG);
+    EXPECT_STATUS(zw_loop_check(loop, &g_ws, R(0.1), R(0.1), NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_is_stable(loop, &g_ws, R(0.1), R(0.1), NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_radius_within(loop, &g_ws, R(0.1), R(0.1), R(1.0), NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_radius_within(loop, &g_ws, R(0.1), R(0.1), R(0.0), &within), ZW_ERR_ARG);
     assert_false(within);
     within = true;
-    EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), R(-1.0), &within), ZW_ERR_ARG);
-    EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), (zw_real)INFINITY, &within), ZW_ERR_ARG);
-    EXPECT_STATUS(zw_loop_radius_within(loop, R(0.1), R(0.1), (zw_real)NAN, &within), ZW_ERR_NAN);
+    EXPECT_STATUS(zw_loop_radius_within(loop, &g_ws, R(0.1), R(0.1), R(-1.0), &within), ZW_ERR_ARG);
+    EXPECT_STATUS(zw_loop_radius_within(loop, &g_ws, R(0.1), R(0.1), (zw_real)INFINITY, &within), ZW_ERR_ARG);
+    EXPECT_STATUS(zw_loop_radius_within(loop, &g_ws, R(0.1), R(0.1), (zw_real)NAN, &within), ZW_ERR_NAN);
     assert_false(within);
-    EXPECT_STATUS(zw_loop_spectral_radius(loop, R(0.1), R(0.1), NULL, &theta), ZW_ERR_NULL);
-    EXPECT_STATUS(zw_loop_spectral_radius(loop, R(0.1), R(0.1), &rho, NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_spectral_radius(loop, &g_ws, R(0.1), R(0.1), NULL, &theta), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_spectral_radius(loop, &g_ws, R(0.1), R(0.1), &rho, NULL), ZW_ERR_NULL);
     assert_true(rho == (zw_real)INFINITY);
 }
 
@@ -385,10 +388,10 @@ static void test_ideal_matches_closed_form(void **state)
                 seed = seed * 1103515245u + 12345u;
                 b = (zw_real)((double)(seed >> 8) / 16777216.0) * (x.beta_mmax + ds[k] + R(0.5)) - ds[k] - R(0.25);
                 EXPECT_OK(zw_check(&c, a, b, &ref));
-                EXPECT_OK(zw_loop_check(loop, a, b, &v));
+                EXPECT_OK(zw_loop_check(loop, &g_ws, a, b, &v));
                 {
                     bool fast = !v.stable;
-                    EXPECT_OK(zw_loop_is_stable(loop, a, b, &fast));
+                    EXPECT_OK(zw_loop_is_stable(loop, &g_ws, a, b, &fast));
                     assert_true(fast == v.stable); /* the fast path: the same verdict */
                 }
                 if (ref.marginal || v.marginal) {
@@ -446,21 +449,21 @@ static void test_verdicts_against_roots(void **state)
                 b = (zw_real)((double)(seed >> 8) / 16777216.0) * R(1.5) - R(0.5) * ds[j];
                 EXPECT_OK(zw_loop_poly(loop, a, b, p, &deg));
                 ref = dk_radius(p, deg, &ang);
-                EXPECT_OK(zw_loop_check(loop, a, b, &v));
-                EXPECT_OK(zw_loop_spectral_radius(loop, a, b, &rho, &theta));
-                EXPECT_OK(zw_loop_radius_within(loop, a, b, R(1.0), &within));
+                EXPECT_OK(zw_loop_check(loop, &g_ws, a, b, &v));
+                EXPECT_OK(zw_loop_spectral_radius(loop, &g_ws, a, b, &rho, &theta));
+                EXPECT_OK(zw_loop_radius_within(loop, &g_ws, a, b, R(1.0), &within));
                 if (fabsl(ref - 1.0L) < 1e-3L) continue; /* the polynomial's own rounding */
                 EXPECT_TRUE_MSG(v.stable == (ref < 1.0L), "spec %zu delta %g a %.9g b %.9g: rho %.12Lg, verdict %d",
                                 k, (double)ds[j], (double)a, (double)b, ref, v.stable);
                 assert_true(within == v.stable);
-                EXPECT_OK(zw_loop_is_stable(loop, a, b, &within));
+                EXPECT_OK(zw_loop_is_stable(loop, &g_ws, a, b, &within));
                 assert_true(within == (ref < 1.0L)); /* the fast path, against the roots */
                 EXPECT_REL(rho, ref, PREC(1e-9, 3e-3));
                 {   /* |z| < r for other radii: never claimed when rho >= r, and not vacuous */
                     static const zw_real rs[] = {R(0.8), R(0.95), R(1.25)};
                     size_t q;
                     for (q = 0; q < ZWT_ARRAY_LEN(rs); ++q) {
-                        EXPECT_OK(zw_loop_radius_within(loop, a, b, rs[q], &within));
+                        EXPECT_OK(zw_loop_radius_within(loop, &g_ws, a, b, rs[q], &within));
                         if (fabsl(ref - rs[q]) < 1e-3L) continue;
                         if (within) EXPECT_TRUE_MSG(ref < rs[q], "rho %.12Lg, r %g", ref, (double)rs[q]);
                         radius_checked++;
@@ -485,33 +488,33 @@ static void test_exact_real_boundaries(void **state)
     const zw_loop *loop = new_loop(R(0.5), &s);
     zw_loop_verdict v;
     (void)state;
-    EXPECT_OK(zw_loop_check(loop, R(-1e-30), R(0.1), &v));
+    EXPECT_OK(zw_loop_check(loop, &g_ws, R(-1e-30), R(0.1), &v));
     assert_false(v.stable);
     assert_false(v.marginal);
     assert_int_equal(v.deciding, ZW_LOOP_BOUNDARY_Z_PLUS1);
-    EXPECT_OK(zw_loop_check(loop, R(0.0), R(0.1), &v));
+    EXPECT_OK(zw_loop_check(loop, &g_ws, R(0.0), R(0.1), &v));
     assert_false(v.stable);
     assert_int_equal(v.deciding, ZW_LOOP_BOUNDARY_Z_PLUS1);
-    EXPECT_OK(zw_loop_check(loop, R(1e-6), R(0.1), &v));
+    EXPECT_OK(zw_loop_check(loop, &g_ws, R(1e-6), R(0.1), &v));
     assert_true(v.stable);
     /* Tustin, d = 0, delta = 0.5: the side of beta = 0 that is stable, by its roots */
     s = spec_of(0u, ZW_DIFF_TUSTIN, ZW_VFILTER_NONE, R(0.0), 0u);
     loop = new_loop(R(0.5), &s);
     {
         zw_loop_verdict pos, neg;
-        EXPECT_OK(zw_loop_check(loop, R(0.05), R(1e-25), &pos));
-        EXPECT_OK(zw_loop_check(loop, R(0.05), R(-1e-25), &neg));
+        EXPECT_OK(zw_loop_check(loop, &g_ws, R(0.05), R(1e-25), &pos));
+        EXPECT_OK(zw_loop_check(loop, &g_ws, R(0.05), R(-1e-25), &neg));
         assert_true(pos.stable != neg.stable);
         assert_false(pos.marginal || neg.marginal);
         assert_int_equal((pos.stable ? neg : pos).deciding, ZW_LOOP_BOUNDARY_Z_MINUS1);
-        EXPECT_OK(zw_loop_check(loop, R(0.05), R(0.0), &v));
+        EXPECT_OK(zw_loop_check(loop, &g_ws, R(0.05), R(0.0), &v));
         assert_false(v.stable); /* a root exactly at -1 */
     }
     /* Tustin with an even-length average: the Tustin mode (-1)^k averages out of the
      * estimate, so z = -1 is a root for every gain: never stable */
     s = spec_of(1u, ZW_DIFF_TUSTIN, ZW_VFILTER_AVERAGE, R(0.0), 4u);
     loop = new_loop(R(0.5), &s);
-    EXPECT_OK(zw_loop_check(loop, R(0.01), R(0.2), &v));
+    EXPECT_OK(zw_loop_check(loop, &g_ws, R(0.01), R(0.2), &v));
     assert_false(v.stable);
 }
 
@@ -526,11 +529,60 @@ static void test_small_delta_approximation(void **state)
         const zw_loop *loop = new_loop(R(1e-4), &s);
         zw_real approx = R(2e-4) / (R(0.5) + (zw_real)d);
         zw_loop_verdict v;
-        EXPECT_OK(zw_loop_check(loop, R(0.9) * approx, R(1e-4), &v));
+        EXPECT_OK(zw_loop_check(loop, &g_ws, R(0.9) * approx, R(1e-4), &v));
         assert_true(v.stable);
-        EXPECT_OK(zw_loop_check(loop, R(1.1) * approx, R(1e-4), &v));
+        EXPECT_OK(zw_loop_check(loop, &g_ws, R(1.1) * approx, R(1e-4), &v));
         assert_false(v.stable);
         assert_false(v.marginal);
+    }
+}
+
+/* The workspace (loop.h): NULL is refused with fail-safe outputs, and its contents never
+ * matter: a workspace full of garbage (NaN patterns, another loop's leftovers) gives the same
+ * verdicts, bit for bit, as a zeroed one, on points of every path (Routh, Schur-Cohn, the
+ * root test near the boundary). */
+static void test_workspace(void **state)
+{
+    static zw_loop_workspace zeroed, garbage;
+    zw_loop_spec s = spec_of(8u, ZW_DIFF_BACKWARD, ZW_VFILTER_AVERAGE, R(0.0), 16u);
+    const zw_loop *loop = new_loop(R(0.5), &s);
+    zw_loop_verdict v, w;
+    zw_real rho = R(0.0), theta = R(1.0), rho2, theta2;
+    bool b = true, b2;
+    unsigned i, j;
+    (void)state;
+    memset(&v, ZWT_SENTINEL, sizeof v);
+    EXPECT_STATUS(zw_loop_check(loop, NULL, R(0.01), R(0.1), &v), ZW_ERR_NULL);
+    fail_safe_verdict(&v);
+    EXPECT_STATUS(zw_loop_is_stable(loop, NULL, R(0.01), R(0.1), &b), ZW_ERR_NULL);
+    assert_false(b);
+    b = true;
+    EXPECT_STATUS(zw_loop_radius_within(loop, NULL, R(0.01), R(0.1), R(1.0), &b), ZW_ERR_NULL);
+    assert_false(b);
+    EXPECT_STATUS(zw_loop_spectral_radius(loop, NULL, R(0.01), R(0.1), &rho, &theta), ZW_ERR_NULL);
+    assert_true(rho == (zw_real)INFINITY);
+    assert_true(theta == R(0.0));
+    for (i = 0u; i < 40u; ++i) {
+        /* alpha from 0 to past the limit, beta across the stable range: every path */
+        const zw_real alpha = R(0.004) * (zw_real)i, beta = R(-0.4) + R(0.05) * (zw_real)(i % 20u);
+        for (j = 0u; j < 2u; ++j) {
+            memset(&zeroed, 0, sizeof zeroed);
+            memset(&garbage, j == 0u ? 0xFF : ZWT_SENTINEL, sizeof garbage); /* NaN / junk */
+            EXPECT_OK(zw_loop_check(loop, &zeroed, alpha, beta, &v));
+            EXPECT_OK(zw_loop_check(loop, &garbage, alpha, beta, &w));
+            assert_int_equal(v.stable, w.stable);
+            assert_int_equal(v.marginal, w.marginal);
+            assert_int_equal(v.deciding, w.deciding);
+            assert_true(v.theta == w.theta);
+            EXPECT_OK(zw_loop_is_stable(loop, &garbage, alpha, beta, &b));
+            assert_int_equal(b, v.stable);
+            EXPECT_OK(zw_loop_radius_within(loop, &zeroed, alpha, beta, R(1.0), &b));
+            EXPECT_OK(zw_loop_radius_within(loop, &garbage, alpha, beta, R(1.0), &b2));
+            assert_int_equal(b, b2);
+            EXPECT_OK(zw_loop_spectral_radius(loop, &zeroed, alpha, beta, &rho, &theta));
+            EXPECT_OK(zw_loop_spectral_radius(loop, &garbage, alpha, beta, &rho2, &theta2));
+            assert_true(rho == rho2 && theta == theta2);
+        }
     }
 }
 
@@ -538,6 +590,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_note_formula_lowpass),
+        cmocka_unit_test(test_workspace),
         cmocka_unit_test(test_ideal_is_paper_cubic),
         cmocka_unit_test(test_bilinear_parts),
         cmocka_unit_test(test_degrees),

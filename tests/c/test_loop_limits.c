@@ -16,6 +16,9 @@
  */
 #include "zw_test.h"
 
+/* The checks' scratch (loop.h): static, as a drive keeps it; tests run one at a time. */
+static zw_loop_workspace g_ws;
+
 /* Measured worst gap of the ideal loop: ~2e4 u x alpha_scale (double and float: the
  * certified limit sits below the truth by the evaluation's error bound, ~190 u relative to
  * the terms of the crossing condition, times the crossing's conditioning); 2x slack. */
@@ -71,7 +74,7 @@ static void test_ideal_alpha_max_matches_closed_form(void **state)
             zw_real beta = -c.delta + (x.beta_mmax + c.delta) * ((zw_real)k / R(12.0));
             zw_real got, want;
             long double gap;
-            EXPECT_OK(zw_loop_alpha_max(&loop, beta, &got));
+            EXPECT_OK(zw_loop_alpha_max(&loop, &g_ws, beta, &got));
             EXPECT_OK(zw_alpha_max(&c, beta, &want));
             /* never above (the closed form itself is within a few ulps of the truth) */
             EXPECT_TRUE_MSG(got <= want * (R(1.0) + TOL(8)), "delta %g beta %g: %.17g > %.17g",
@@ -99,7 +102,7 @@ static void test_ideal_extremes_match_closed_form(void **state)
         long double s, bmax_tol, amax_tol;
         ideal_loop(deltas[i], &c, &loop);
         EXPECT_OK(zw_extremes_compute(&c, &want));
-        EXPECT_OK(zw_loop_extremes_compute(&loop, &got));
+        EXPECT_OK(zw_loop_extremes_compute(&loop, &g_ws, &got));
         s = alpha_scale((long double)c.delta, (long double)want.beta_at_alpha_mmax);
         EXPECT_TRUE_MSG(got.alpha_mmax <= want.alpha_mmax * (R(1.0) + TOL(8)), "delta %g",
                         (double)c.delta);
@@ -152,7 +155,7 @@ static void test_ideal_beta_interval_matches_closed_form(void **state)
             zw_real lo, hi, wlo, whi;
             bool ne, wne;
             long double s = alpha_scale((long double)c.delta, (long double)x.beta_mmax) * (1.0L + (long double)c.delta);
-            EXPECT_OK(zw_loop_beta_interval(&loop, alpha, &lo, &hi, &ne));
+            EXPECT_OK(zw_loop_beta_interval(&loop, &g_ws, alpha, &lo, &hi, &ne));
             EXPECT_OK(zw_beta_interval(&c, alpha, &wlo, &whi, &wne));
             EXPECT_TRUE_MSG(ne && wne, "delta %g alpha %g", (double)c.delta, (double)alpha);
             /* inside the true interval (up to the closed form's ulps), and close to it */
@@ -215,8 +218,8 @@ static void test_delay_lowers_k_mmax(void **state)
     EXPECT_OK(zw_loop_init(&ideal, &c, &spec));
     spec.delay = 1u;
     EXPECT_OK(zw_loop_init(&delayed, &c, &spec));
-    EXPECT_OK(zw_loop_extremes_compute(&ideal, &xi));
-    EXPECT_OK(zw_loop_extremes_compute(&delayed, &xd));
+    EXPECT_OK(zw_loop_extremes_compute(&ideal, &g_ws, &xi));
+    EXPECT_OK(zw_loop_extremes_compute(&delayed, &g_ws, &xd));
     /* paper's drive: ratio 4.6187 (mpmath reference, tests/py) */
     EXPECT_NEAR(xi.alpha_mmax / xd.alpha_mmax, 4.6187, 2e-3, 0);
 }
@@ -238,12 +241,12 @@ static void test_tustin_even_average_is_never_stable(void **state)
     EXPECT_OK(zw_loop_init(&loop, &c, &spec));
     EXPECT_OK(zw_loop_boundary_line(&loop, ZW_LOOP_BOUNDARY_Z_MINUS1, &c0, &ca, &cb));
     assert_true(c0 == R(0.0) && ca == R(0.0) && cb == R(0.0));
-    EXPECT_OK(zw_loop_alpha_max(&loop, R(-0.5), &a));
+    EXPECT_OK(zw_loop_alpha_max(&loop, &g_ws, R(-0.5), &a));
     assert_true(a == R(0.0));
-    EXPECT_OK(zw_loop_beta_intervals(&loop, R(0.1), &set));
+    EXPECT_OK(zw_loop_beta_intervals(&loop, &g_ws, R(0.1), &set));
     assert_true(set.count == 0u);
     memset(&x, ZWT_SENTINEL, sizeof x);
-    EXPECT_STATUS(zw_loop_extremes_compute(&loop, &x), ZW_ERR_DOMAIN);
+    EXPECT_STATUS(zw_loop_extremes_compute(&loop, &g_ws, &x), ZW_ERR_DOMAIN);
     assert_true(x.alpha_mmax == R(0.0) && x.beta_mmax == R(0.0) && x.beta_mmin == R(0.0) &&
                 x.alpha_p_max == R(0.0) && x.beta_at_alpha_mmax == R(0.0));
 }
@@ -263,49 +266,49 @@ static void test_errors_are_fail_safe(void **state)
     EXPECT_OK(zw_loop_init(&loop, &c, &spec));
 #define SENT(v) memset(&(v), ZWT_SENTINEL, sizeof(v))
     SENT(a);
-    EXPECT_STATUS(zw_loop_alpha_max(NULL, R(0.0), &a), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_alpha_max(NULL, &g_ws, R(0.0), &a), ZW_ERR_NULL);
     assert_true(a == R(0.0));
-    EXPECT_STATUS(zw_loop_alpha_max(&loop, R(0.0), NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_alpha_max(&loop, &g_ws, R(0.0), NULL), ZW_ERR_NULL);
     SENT(a);
-    EXPECT_STATUS(zw_loop_alpha_max(&empty, R(0.0), &a), ZW_ERR_ARG);
-    assert_true(a == R(0.0));
-    SENT(a);
-    EXPECT_STATUS(zw_loop_alpha_max(&loop, (zw_real)NAN, &a), ZW_ERR_NAN);
+    EXPECT_STATUS(zw_loop_alpha_max(&empty, &g_ws, R(0.0), &a), ZW_ERR_ARG);
     assert_true(a == R(0.0));
     SENT(a);
-    EXPECT_STATUS(zw_loop_alpha_max(&loop, (zw_real)INFINITY, &a), ZW_ERR_INF);
+    EXPECT_STATUS(zw_loop_alpha_max(&loop, &g_ws, (zw_real)NAN, &a), ZW_ERR_NAN);
+    assert_true(a == R(0.0));
+    SENT(a);
+    EXPECT_STATUS(zw_loop_alpha_max(&loop, &g_ws, (zw_real)INFINITY, &a), ZW_ERR_INF);
     assert_true(a == R(0.0));
 
     SENT(set);
-    EXPECT_STATUS(zw_loop_beta_intervals(&loop, (zw_real)NAN, &set), ZW_ERR_NAN);
+    EXPECT_STATUS(zw_loop_beta_intervals(&loop, &g_ws, (zw_real)NAN, &set), ZW_ERR_NAN);
     assert_true(set.count == 0u && !set.truncated && set.lo[0] == R(0.0) && set.hi[3] == R(0.0));
     SENT(set);
-    EXPECT_STATUS(zw_loop_beta_intervals(&empty, R(1.0), &set), ZW_ERR_ARG);
+    EXPECT_STATUS(zw_loop_beta_intervals(&empty, &g_ws, R(1.0), &set), ZW_ERR_ARG);
     assert_true(set.count == 0u);
-    EXPECT_STATUS(zw_loop_beta_intervals(&loop, R(1.0), NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_beta_intervals(&loop, &g_ws, R(1.0), NULL), ZW_ERR_NULL);
     SENT(set);
-    EXPECT_OK(zw_loop_beta_intervals(&loop, R(0.0), &set)); /* alpha <= 0: empty */
+    EXPECT_OK(zw_loop_beta_intervals(&loop, &g_ws, R(0.0), &set)); /* alpha <= 0: empty */
     assert_true(set.count == 0u);
     SENT(set);
-    EXPECT_OK(zw_loop_beta_intervals(&loop, R(1e6), &set)); /* above alpha_mmax: empty */
+    EXPECT_OK(zw_loop_beta_intervals(&loop, &g_ws, R(1e6), &set)); /* above alpha_mmax: empty */
     assert_true(set.count == 0u);
 
     SENT(lo);
     SENT(hi);
     SENT(ne);
-    EXPECT_STATUS(zw_loop_beta_interval(&loop, (zw_real)INFINITY, &lo, &hi, &ne), ZW_ERR_INF);
+    EXPECT_STATUS(zw_loop_beta_interval(&loop, &g_ws, (zw_real)INFINITY, &lo, &hi, &ne), ZW_ERR_INF);
     assert_true(lo == R(0.0) && hi == R(0.0) && !ne);
     /* with one output NULL the others are still written fail-safe */
     lo = R(1.0);
     ne = true;
-    EXPECT_STATUS(zw_loop_beta_interval(&loop, R(1.0), &lo, NULL, &ne), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_beta_interval(&loop, &g_ws, R(1.0), &lo, NULL, &ne), ZW_ERR_NULL);
     assert_true(lo == R(0.0) && !ne);
 
     SENT(x);
-    EXPECT_STATUS(zw_loop_extremes_compute(&empty, &x), ZW_ERR_ARG);
+    EXPECT_STATUS(zw_loop_extremes_compute(&empty, &g_ws, &x), ZW_ERR_ARG);
     assert_true(x.alpha_mmax == R(0.0) && x.beta_mmax == R(0.0) && x.alpha_p_max == R(0.0));
-    EXPECT_STATUS(zw_loop_extremes_compute(NULL, &x), ZW_ERR_NULL);
-    EXPECT_STATUS(zw_loop_extremes_compute(&loop, NULL), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_extremes_compute(NULL, &g_ws, &x), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_loop_extremes_compute(&loop, &g_ws, NULL), ZW_ERR_NULL);
 
     SENT(a);
     SENT(b);
@@ -339,9 +342,9 @@ static void test_outside_range_is_zero(void **state)
     (void)state;
     ideal_loop(R(2.0), &c, &loop);
     EXPECT_OK(zw_extremes_compute(&c, &x));
-    EXPECT_OK(zw_loop_alpha_max(&loop, -c.delta * R(1.01), &a));
+    EXPECT_OK(zw_loop_alpha_max(&loop, &g_ws, -c.delta * R(1.01), &a));
     assert_true(a == R(0.0));
-    EXPECT_OK(zw_loop_alpha_max(&loop, x.beta_mmax * R(1.01), &a));
+    EXPECT_OK(zw_loop_alpha_max(&loop, &g_ws, x.beta_mmax * R(1.01), &a));
     assert_true(a == R(0.0));
 }
 
@@ -361,13 +364,13 @@ static void test_average_corner_below_minus_delta(void **state)
     spec.filter = ZW_VFILTER_AVERAGE;
     spec.average = 8u;
     EXPECT_OK(zw_loop_init(&loop, &c, &spec));
-    EXPECT_OK(zw_loop_check(&loop, R(20.0), beta, &v));
+    EXPECT_OK(zw_loop_check(&loop, &g_ws, R(20.0), beta, &v));
     assert_true(v.stable);
-    EXPECT_OK(zw_loop_alpha_max(&loop, beta, &a));
+    EXPECT_OK(zw_loop_alpha_max(&loop, &g_ws, beta, &a));
     assert_true(a == R(0.0));
-    EXPECT_OK(zw_loop_alpha_max(&loop, R(-20.0), &a)); /* on the corner itself */
+    EXPECT_OK(zw_loop_alpha_max(&loop, &g_ws, R(-20.0), &a)); /* on the corner itself */
     assert_true(a == R(0.0));
-    EXPECT_OK(zw_loop_alpha_max(&loop, R(-19.0), &a));
+    EXPECT_OK(zw_loop_alpha_max(&loop, &g_ws, R(-19.0), &a));
     assert_true(a > R(40.0));
 }
 

@@ -250,6 +250,9 @@ typedef struct plant {
     bool ideal;
 } plant;
 
+/* The loop checks' scratch (loop.h); the harness runs one input at a time. */
+static zw_loop_workspace g_ws;
+
 NO_COV static bool ideal(const zw_cert *c)
 {
     return c->delay == 0.0f && c->vfilter == 0.0f && c->differentiator == 0.0f;
@@ -262,20 +265,20 @@ NO_COV static bool pair_stable(const plant *p, float K, float B)
         return zw_device_check(&p->dev, (zw_real)K, (zw_real)B, &v) == ZW_OK && v.stable && !v.marginal;
     }
     zw_loop_verdict lv;
-    return zw_device_loop_check(&p->dl, (zw_real)K, (zw_real)B, &lv) == ZW_OK && lv.stable && !lv.marginal;
+    return zw_device_loop_check(&p->dl, &g_ws, (zw_real)K, (zw_real)B, &lv) == ZW_OK && lv.stable && !lv.marginal;
 }
 
 NO_COV static bool pair_k_max(const plant *p, float B, zw_real *kmax)
 {
     return (p->ideal ? zw_device_k_max(&p->dev, (zw_real)B, kmax)
-                     : zw_device_loop_k_max(&p->dl, (zw_real)B, kmax)) == ZW_OK;
+                     : zw_device_loop_k_max(&p->dl, &g_ws, (zw_real)B, kmax)) == ZW_OK;
 }
 
 NO_COV static bool pair_within(const plant *p, float K, float B, float r)
 {
     bool within = false;
     zw_status st = p->ideal ? zw_device_radius_within(&p->dev, (zw_real)K, (zw_real)B, (zw_real)r, &within)
-                            : zw_device_loop_radius_within(&p->dl, (zw_real)K, (zw_real)B, (zw_real)r, &within);
+                            : zw_device_loop_radius_within(&p->dl, &g_ws, (zw_real)K, (zw_real)B, (zw_real)r, &within);
     return st == ZW_OK && within;
 }
 

@@ -172,7 +172,15 @@ def _loop_structs(real, Coeffs):
     class LoopVerdict(ctypes.Structure):
         _fields_ = [("stable", c_bool), ("marginal", c_bool), ("deciding", c_int), ("theta", real)]
 
-    return LoopSpec, Loop, LoopVerdict
+    class LoopWorkspace(ctypes.Structure):
+        """zw_loop_workspace (scratch: row, row_err, root re/im pairs, radius), followed by a
+        guard area that the library must leave alone (a mirror smaller than the C struct
+        fails ws_intact() instead of corrupting memory)."""
+        _fields_ = [("row", real * LOOP_N), ("row_err", real * LOOP_N),
+                    ("root", real * (2 * (LOOP_N - 1))), ("radius", real * (LOOP_N - 1)),
+                    ("guard", ctypes.c_ubyte * 256)]
+
+    return LoopSpec, Loop, LoopVerdict, LoopWorkspace
 
 
 def as_dict(s):
@@ -254,16 +262,20 @@ class ZW:
         for fname, (res, args) in sigs.items():
             fn = getattr(self.lib, fname)
             fn.restype, fn.argtypes = res, args
-        self.LoopSpec, self.Loop, self.LoopVerdict = _loop_structs(R, C)
+        self.LoopSpec, self.Loop, self.LoopVerdict, self.LoopWorkspace = _loop_structs(R, C)
         L = self.Loop
+        # one scratch for every call of this wrapper (the tests call one at a time)
+        self.ws = self.LoopWorkspace()
+        ctypes.memset(byref(self.ws), SENTINEL, ctypes.sizeof(self.ws))  # needs no init
+        W = P(self.LoopWorkspace)
         loop_sigs = {
             "zw_loop_lowpass_pole": (c_int, [R, R, P(R)]),
             "zw_loop_init": (c_int, [P(L), P(C), P(self.LoopSpec)]),
             "zw_loop_poly": (c_int, [P(L), R, R, P(R), P(ctypes.c_uint)]),
-            "zw_loop_check": (c_int, [P(L), R, R, P(self.LoopVerdict)]),
-            "zw_loop_is_stable": (c_int, [P(L), R, R, P(c_bool)]),
-            "zw_loop_radius_within": (c_int, [P(L), R, R, R, P(c_bool)]),
-            "zw_loop_spectral_radius": (c_int, [P(L), R, R, P(R), P(R)]),
+            "zw_loop_check": (c_int, [P(L), W, R, R, P(self.LoopVerdict)]),
+            "zw_loop_is_stable": (c_int, [P(L), W, R, R, P(c_bool)]),
+            "zw_loop_radius_within": (c_int, [P(L), W, R, R, R, P(c_bool)]),
+            "zw_loop_spectral_radius": (c_int, [P(L), W, R, R, P(R), P(R)]),
         }
         self.loop_fn = {}
         for fname, (res, args) in loop_sigs.items():
@@ -408,6 +420,10 @@ class ZW:
         ctypes.memmove(byref(lp), byref(g.loop), ctypes.sizeof(lp))
         return st, lp
 
+    def ws_intact(self):
+        """The guard behind the workspace mirror is untouched (the mirror is large enough)."""
+        return bytes(self.ws.guard) == bytes([SENTINEL]) * 256
+
     def loop_poly(self, lp, alpha, beta):
         p = (self.real * LOOP_N)()
         deg = ctypes.c_uint(99)
@@ -417,7 +433,9 @@ class ZW:
     def loop_check(self, lp, alpha, beta):
         v = self.LoopVerdict()
         ctypes.memset(byref(v), SENTINEL, ctypes.sizeof(v))
-        return self.loop_fn["zw_loop_check"](byref(lp), alpha, beta, byref(v)), v
+        st = self.loop_fn["zw_loop_check"](byref(lp), byref(self.ws), alpha, beta, byref(v))
+        assert self.ws_intact(), "zw_loop_workspace is larger than its ctypes mirror"
+        return st, v
 
     def loop_check_many(self, lp, alphas, betas):
         """zw_loop_check over arrays: (status, stable, marginal, deciding, theta) arrays."""
@@ -428,24 +446,24 @@ class ZW:
         dec = np.empty(n, np.int32)
         th = np.empty(n)
         v = self.LoopVerdict()
-        pv, pl, fn = byref(v), byref(lp), self.loop_fn["zw_loop_check"]
+        pv, pl, pw, fn = byref(v), byref(lp), byref(self.ws), self.loop_fn["zw_loop_check"]
         for i, (a, b) in enumerate(zip(np.asarray(alphas).tolist(), np.asarray(betas).tolist())):
-            st[i] = fn(pl, a, b, pv)
+            st[i] = fn(pl, pw, a, b, pv)
             stab[i], marg[i], dec[i], th[i] = v.stable, v.marginal, v.deciding, v.theta
         return st, stab, marg, dec, th
 
     def loop_is_stable(self, lp, alpha, beta):
         """(status, bool): the fast path, zw_loop_is_stable."""
         s = c_bool(True)
-        return self.loop_fn["zw_loop_is_stable"](byref(lp), alpha, beta, byref(s)), s.value
+        return self.loop_fn["zw_loop_is_stable"](byref(lp), byref(self.ws), alpha, beta, byref(s)), s.value
 
     def loop_radius_within(self, lp, alpha, beta, r):
         w = c_bool(True)
-        return self.loop_fn["zw_loop_radius_within"](byref(lp), alpha, beta, r, byref(w)), w.value
+        return self.loop_fn["zw_loop_radius_within"](byref(lp), byref(self.ws), alpha, beta, r, byref(w)), w.value
 
     def loop_spectral_radius(self, lp, alpha, beta):
         rho, th = self.real(-1.0), self.real(-1.0)
-        st = self.loop_fn["zw_loop_spectral_radius"](byref(lp), alpha, beta, byref(rho), byref(th))
+        st = self.loop_fn["zw_loop_spectral_radius"](byref(lp), byref(self.ws), alpha, beta, byref(rho), byref(th))
         return st, rho.value, th.value
 
     # -- extremes.h ----------------------------------------------------------------------

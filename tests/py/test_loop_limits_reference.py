@@ -58,11 +58,11 @@ def _types(zw):
     class BetaSet(ctypes.Structure):
         _fields_ = [("count", c_uint), ("truncated", c_bool), ("lo", R * 4), ("hi", R * 4)]
 
-    P, L = POINTER, POINTER(zw.Loop)
+    P, L, W = POINTER, POINTER(zw.Loop), POINTER(zw.LoopWorkspace)
     sigs = {
-        "zw_loop_alpha_max": [L, R, P(R)],
-        "zw_loop_beta_intervals": [L, R, P(BetaSet)],
-        "zw_loop_extremes_compute": [L, P(Ext)],
+        "zw_loop_alpha_max": [L, W, R, P(R)],
+        "zw_loop_beta_intervals": [L, W, R, P(BetaSet)],
+        "zw_loop_extremes_compute": [L, W, P(Ext)],
         "zw_loop_boundary_point": [L, R, P(R), P(R)],
         "zw_loop_boundary_line": [L, c_int, P(R), P(R), P(R)],
     }
@@ -91,28 +91,28 @@ class Loop:
     def check_stable(self, alpha, beta):
         """zw_loop_check's verdict (loop.h) is stable."""
         v = self.zw.LoopVerdict()
-        st = self.zw.loop_fn["zw_loop_check"](byref(self.buf), alpha, beta, byref(v))
+        st = self.zw.loop_fn["zw_loop_check"](byref(self.buf), byref(self.zw.ws), alpha, beta, byref(v))
         return st == E["ZW_OK"] and v.stable
 
     def alpha_max(self, beta):
         a = self.zw.real()
-        st = self.zw.lib.zw_loop_alpha_max(self.buf, beta, byref(a))
+        st = self.zw.lib.zw_loop_alpha_max(self.buf, byref(self.zw.ws), beta, byref(a))
         assert st == E["ZW_OK"], self.zw.status_name(st)
         return a.value
 
     def beta_intervals(self, alpha):
         s = self.BetaSet()
-        st = self.zw.lib.zw_loop_beta_intervals(self.buf, alpha, byref(s))
+        st = self.zw.lib.zw_loop_beta_intervals(self.buf, byref(self.zw.ws), alpha, byref(s))
         assert st == E["ZW_OK"], self.zw.status_name(st)
         return [(s.lo[i], s.hi[i]) for i in range(s.count)], s.truncated
 
     def extremes_status(self):
         x = self.Ext()
-        return self.zw.lib.zw_loop_extremes_compute(self.buf, byref(x)), x
+        return self.zw.lib.zw_loop_extremes_compute(self.buf, byref(self.zw.ws), byref(x)), x
 
     def extremes(self):
         x = self.Ext()
-        st = self.zw.lib.zw_loop_extremes_compute(self.buf, byref(x))
+        st = self.zw.lib.zw_loop_extremes_compute(self.buf, byref(self.zw.ws), byref(x))
         assert st == E["ZW_OK"], self.zw.status_name(st)
         return x
 

@@ -22,6 +22,7 @@ extern const unsigned mcu_loop_spec[][5]; /* delay, differentiator, filter, aver
 extern const zw_real mcu_loop_gains[][4]; /* delta, alpha, beta, low-pass pole */
 
 static zw_loop g_loop; /* large: static, as a drive keeps it */
+static zw_loop_workspace g_ws; /* the checks' scratch (loop.h), off the stack */
 
 int main(void)
 {
@@ -46,9 +47,9 @@ int main(void)
             st |= zw_loop_init(&g_loop, &c, &spec);
         }
         report_marker();
-        st |= zw_loop_is_stable(&g_loop, g[1], g[2], &fast);
+        st |= zw_loop_is_stable(&g_loop, &g_ws, g[1], g[2], &fast);
         report_marker();
-        st |= zw_loop_check(&g_loop, g[1], g[2], &v);
+        st |= zw_loop_check(&g_loop, &g_ws, g[1], g[2], &v);
         acc += (uint32_t)st + (uint32_t)fast + (uint32_t)v.stable;
         if (fast != v.stable || st != ZW_OK) semihost_puts("mismatch\n");
     }

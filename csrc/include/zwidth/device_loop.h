@@ -60,26 +60,31 @@ zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real
  * non-zero gain's normalized value underflows), and those of the loop function used. */
 
 /* zw_loop_check of the exact (alpha, beta) of (K, B), guarded for the conversion. */
-zw_status zw_device_loop_check(const zw_device_loop *dl, zw_real K, zw_real B,
-                               zw_loop_verdict *out);
+zw_status zw_device_loop_check(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
+                               zw_real B, zw_loop_verdict *out);
+/* The verdict alone (zw_loop_is_stable: *stable as zw_device_loop_check's .stable, without
+ * the deciding boundary's root run); *stable = false on error. */
+zw_status zw_device_loop_is_stable(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
+                                   zw_real B, bool *stable);
 /* zw_loop_radius_within likewise (r finite > 0). */
-zw_status zw_device_loop_radius_within(const zw_device_loop *dl, zw_real K, zw_real B,
-                                       zw_real r, bool *within);
+zw_status zw_device_loop_radius_within(const zw_device_loop *dl, zw_loop_workspace *ws,
+                                       zw_real K, zw_real B, zw_real r, bool *within);
 /* Informational (zw_loop_spectral_radius at the rounded gains). */
-zw_status zw_device_loop_spectral_radius(const zw_device_loop *dl, zw_real K, zw_real B,
-                                         zw_real *rho, zw_real *theta);
+zw_status zw_device_loop_spectral_radius(const zw_device_loop *dl, zw_loop_workspace *ws,
+                                         zw_real K, zw_real B, zw_real *rho, zw_real *theta);
 
 /* Every K in (0, *K_max) is stable at B, for the exact beta = B T / m (certified; see
  * device_loop.c for why the rounding of beta cannot lift it).  0 when none is proved.
  * Cost: two zw_loop_alpha_max (one when B = 0) and one to a few zw_loop_check. */
-zw_status zw_device_loop_k_max(const zw_device_loop *dl, zw_real B, zw_real *K_max);
+zw_status zw_device_loop_k_max(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real B,
+                              zw_real *K_max);
 
 /* The widest stable B interval at K (> 0): every B in [*B_lo, *B_hi] stable for the exact
  * alpha = K T^2 / m (certified, by the edge theorem on a box of gains; device_loop.c).
  * Empty (nonempty false, 0, 0) when none is proved, and for K <= 0.  Cost: two
  * zw_loop_beta_interval and two or more zw_loop_check. */
-zw_status zw_device_loop_b_range(const zw_device_loop *dl, zw_real K, zw_real *B_lo,
-                                 zw_real *B_hi, bool *nonempty);
+zw_status zw_device_loop_b_range(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
+                                 zw_real *B_lo, zw_real *B_hi, bool *nonempty);
 
 /* zw_loop_extremes in real units.  K_mmax, K_p_max, B_mmax never above, B_mmin never below
  * the true ones (they are sups / infs over every B or K, so only the scale's rounding is
@@ -93,7 +98,8 @@ typedef struct zw_device_loop_extremes {
     zw_real B_mmin;
 } zw_device_loop_extremes;
 
-zw_status zw_device_loop_extremes_compute(const zw_device_loop *dl, zw_device_loop_extremes *out);
+zw_status zw_device_loop_extremes_compute(const zw_device_loop *dl, zw_loop_workspace *ws,
+                                          zw_device_loop_extremes *out);
 
 #ifdef __cplusplus
 }

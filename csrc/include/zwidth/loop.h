@@ -104,6 +104,31 @@ typedef struct zw_loop {
     zw_real alpha_relerr, beta_relerr;
 } zw_loop;
 
+/* A complex number of the workspace below (its roots). */
+typedef struct zw_loop_complex {
+    zw_real re, im;
+} zw_loop_complex;
+
+/* Scratch memory of the checks and limits of the general loop: the arrays of the maximum
+ * degree (Routh / Schur-Cohn rows with their error bounds, Aberth roots, inclusion radii)
+ * that would otherwise sit on the stack (the issue's 512 B stack target at the maximum
+ * degree: tools/footprint.sh).  Passed to every function of loop.h, loop_limits.h and
+ * device_loop.h that can reach the guarded check.
+ *   - Owned by the caller: static storage, a task's own memory, a struct that already
+ *     lives outside the stack (zw_regmap keeps one), or the stack where it is large.
+ *     About 0.5 KB (float) / 1 KB (double).
+ *   - Needs no initialisation, and holds nothing between calls: each call overwrites what
+ *     it reads before reading it, so any contents (garbage, another loop's) are fine.
+ *   - One per concurrent caller: two calls running at the same time (threads, an interrupt
+ *     preempting a task) must not share one.  Calls one after another may.
+ * Its members are private to the library (their layout may change). */
+typedef struct zw_loop_workspace {
+    zw_real row[ZW_LOOP_MAX_DEGREE + 1u];     /* Routh / Schur-Cohn row */
+    zw_real row_err[ZW_LOOP_MAX_DEGREE + 1u]; /* its error bounds */
+    zw_loop_complex root[ZW_LOOP_MAX_DEGREE]; /* Aberth roots */
+    zw_real radius[ZW_LOOP_MAX_DEGREE];       /* their inclusion radii */
+} zw_loop_workspace;
+
 /* Build the loop of spec for the plant c (a copy of *c is kept).  Errors: ZW_ERR_NULL,
  * ZW_ERR_DELAY, ZW_ERR_FILTER (pole outside [0, 1), n outside 1..16, unknown kind),
  * ZW_ERR_NAN (delta or the pole), ZW_ERR_INF (delta) / ZW_ERR_RANGE (a part overflows),
@@ -165,33 +190,33 @@ typedef struct zw_loop_verdict {
  * Cost (host, double, bench/loop): 0.1-0.3 us for points the Routh / Schur-Cohn tests
  * settle up to degree 11, ~1.5 us at degree 18, ~10 us at 26; the root test and the
  * deciding root of an unstable point cost an Aberth run (tens of us at degree 10,
- * hundreds at 26); zw_loop_is_stable skips the latter.  Stack (worst chain,
- * tools/footprint.sh, Cortex-M4F float): Routh path ~520 B, Schur-Cohn path ~440 B; with
- * the root test 720 B (M0 ~780 B, x86-64 double ~1.2 KB): over the issue's 512 B
- * (docs/footprint.md lists it as over target, not gated).
- * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an uninitialized loop).  On
- * error *out = {stable = false, marginal = false, NONE, 0}. */
-zw_status zw_loop_check(const zw_loop *loop, zw_real alpha, zw_real beta,
+ * hundreds at 26); zw_loop_is_stable skips the latter.  Stack (worst chain with the root
+ * test, tools/footprint.sh, arrays in *ws): 448 B on the Cortex-M4F float (M0 456 B), within
+ * the issue's 512 B (gated).
+ * Errors: ZW_ERR_NULL (also ws), ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_ARG (an uninitialized loop).
+ * On error *out = {stable = false, marginal = false, NONE, 0}. */
+zw_status zw_loop_check(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
                         zw_loop_verdict *out);
 
 /* The verdict alone (*stable as zw_loop_check's .stable, for every input): the Routh test,
  * then the root-inclusion test only where Routh cannot tell; never the Aberth run that
  * zw_loop_check spends on the deciding boundary of a not-stable point.  The call for a
  * control loop's "is this gain safe?".  Errors as zw_loop_check; *stable = false on error. */
-zw_status zw_loop_is_stable(const zw_loop *loop, zw_real alpha, zw_real beta, bool *stable);
+zw_status zw_loop_is_stable(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                            bool *stable);
 
 /* "Every root has |z| < r" with the same guard (never true when rho >= r); r finite > 0.
  * Routh on (1 - s)^n p(r (1 + s)/(1 - s)) formed from the z coefficients (wider band than
  * zw_loop_check at r = 1), then the root-inclusion test.  Errors as zw_loop_check, and
  * ZW_ERR_ARG for r <= 0 or infinite; *within = false on error. */
-zw_status zw_loop_radius_within(const zw_loop *loop, zw_real alpha, zw_real beta, zw_real r,
-                                bool *within);
+zw_status zw_loop_radius_within(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                zw_real beta, zw_real r, bool *within);
 
 /* Spectral radius rho (largest root modulus), with the angle in [0, pi] of that root, by
  * Aberth-Ehrlich iteration (at most 100 sweeps, no heap).  Informational (plots,
  * reports): verdicts never rest on it.  *rho = +inf, *theta = 0 on error. */
-zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_real alpha, zw_real beta,
-                                  zw_real *rho, zw_real *theta);
+zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                  zw_real beta, zw_real *rho, zw_real *theta);
 
 #ifdef __cplusplus
 }

@@ -50,9 +50,11 @@
  *
  * Firmware part: no heap, no recursion, fixed sizes, bounded iteration counts.  Costs (host,
  * x86-64): alpha_max 0.02-0.06 ms (degree 3-4) to 1-5 ms (degree 26); extremes 1-14 ms, 0.1-0.5 s at
- * degree 26 (a commissioning-time computation, not a control-loop one).  Stack (Cortex-M4F,
- * float, -Os, own frames without zw_loop_check's): alpha_max 592 B, beta intervals 816 B,
- * extremes 904 B.
+ * degree 26 (a commissioning-time computation, not a control-loop one).  Stack (worst chain,
+ * Cortex-M4F float, -Os, the check's arrays in the caller's zw_loop_workspace): alpha_max
+ * 600 B, beta intervals 760 B, extremes 912 B: over the issue's 512 B (the scan's and the
+ * walk's own frames; docs/footprint.md lists them as over target, not gated).
+ * ws: the caller's scratch (loop.h); ZW_ERR_NULL when NULL.
  */
 #ifndef ZWIDTH_LOOP_LIMITS_H
 #define ZWIDTH_LOOP_LIMITS_H
@@ -73,7 +75,8 @@ extern "C" {
  * 0 when alpha just above 0 is not stable (or cannot be proved so).
  * Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF (beta), ZW_ERR_ARG (uninitialized loop),
  * ZW_ERR_RANGE (delta too large for the factored response).  *alpha_max = 0 on error. */
-zw_status zw_loop_alpha_max(const zw_loop *loop, zw_real beta, zw_real *alpha_max);
+zw_status zw_loop_alpha_max(const zw_loop *loop, zw_loop_workspace *ws, zw_real beta,
+                            zw_real *alpha_max);
 
 /* The stable beta intervals on the horizontal line alpha = const (> 0), in increasing
  * order.  For the ideal loop there is one; a general loop may have several (the region
@@ -91,12 +94,13 @@ typedef struct zw_loop_beta_set {
 
 /* Errors: as zw_loop_alpha_max (for alpha).  count = 0 (and every entry 0) on error and
  * when alpha <= 0. */
-zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_real alpha, zw_loop_beta_set *out);
+zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                 zw_loop_beta_set *out);
 
 /* The widest of those intervals (the one a drive tuning B at fixed K has most room in);
  * *nonempty false and lo = hi = 0 when there is none or on error. */
-zw_status zw_loop_beta_interval(const zw_loop *loop, zw_real alpha, zw_real *lo, zw_real *hi,
-                                bool *nonempty);
+zw_status zw_loop_beta_interval(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                zw_real *lo, zw_real *hi, bool *nonempty);
 
 /* Extremes of the general loop (all certified: never beyond the true values).
  *   alpha_mmax: max over beta of zw_loop_alpha_max, attained (as a certified limit) at
@@ -119,7 +123,8 @@ typedef struct zw_loop_extremes {
 
 /* Errors: ZW_ERR_NULL, ZW_ERR_ARG, ZW_ERR_DOMAIN (no beta is stable as alpha -> 0+: no
  * gains are stable, e.g. Tustin with an even average).  Every field 0 on error. */
-zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_extremes *out);
+zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_workspace *ws,
+                                   zw_loop_extremes *out);
 
 /* The complex-pair boundary curve at angle theta in (0, pi) (rad per sample): the one
  * (alpha, beta) at which p has the roots e^{+-j theta}.  ZW_ERR_DOMAIN where the 2x2 system

@@ -47,6 +47,7 @@
 /* device_loop.h */
 #define zw_device_loop_init zw_device_loop_init_f
 #define zw_device_loop_check zw_device_loop_check_f
+#define zw_device_loop_is_stable zw_device_loop_is_stable_f
 #define zw_device_loop_radius_within zw_device_loop_radius_within_f
 #define zw_device_loop_spectral_radius zw_device_loop_spectral_radius_f
 #define zw_device_loop_k_max zw_device_loop_k_max_f

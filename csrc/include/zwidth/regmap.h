@@ -276,6 +276,8 @@ typedef struct zw_regmap {
      * in its guard.  The largest part of the map: about 1.4 KB with float zw_real (the
      * loop's 12 coefficient arrays of ZW_LOOP_MAX_DEGREE + 1), 2.7 KB with double. */
     zw_device_loop loop;
+    zw_loop_workspace ws;           /* scratch of the general loop's checks (loop.h): here, off
+                                       the stack; one map is served by one task at a time */
     uint_least16_t staged[ZW_CERT_WORDS + 1u]; /* block + CRC being written in commissioning */
     float K, B;                     /* active gains (Modbus task) */
     zw_regmap_gain_slot gains[2];   /* their publication: gains[gains_seq & 1] is in force */
