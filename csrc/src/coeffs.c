@@ -88,19 +88,13 @@ static zw_real power_of_two_above(zw_real delta)
 {
     int exponent = 0;
     zw_real mantissa = ZW_FREXP(delta, &exponent); /* delta = mantissa 2^exponent, mantissa in [1/2, 1) */
-    /* delta > 1 and finite: exponent is in [1, ZW_REAL_MAX_EXP].  Clamping to that range
-     * changes nothing then, and keeps the decrement below from overflowing whatever a
-     * frexp returned (tools/eva.sh cannot know its range otherwise). */
-    if (exponent > ZW_REAL_MAX_EXP) {
-        exponent = ZW_REAL_MAX_EXP;
-    }
-    if (exponent < 1) {
-        exponent = 1;
-    }
-    if (mantissa == ZW_R(0.5)) { /* delta is itself a power of two */
+    /* delta > 1 and finite: exponent is in [1, ZW_REAL_MAX_EXP].  The decrement is guarded
+     * by exponent > 1 all the same, so that it cannot overflow whatever a frexp returned
+     * (tools/eva.sh cannot know its range otherwise). */
+    if ((mantissa == ZW_R(0.5)) && (exponent > 1)) { /* delta is itself a power of two */
         exponent -= 1;
     }
-    if (exponent > ZW_REAL_MAX_EXP - 1) {
+    if (exponent > (ZW_REAL_MAX_EXP - 1)) {
         exponent = ZW_REAL_MAX_EXP - 1;
     }
     return ZW_LDEXP(ZW_R(1.0), exponent);
