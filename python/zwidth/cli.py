@@ -141,7 +141,7 @@ kinds:
   extremes   alpha_mmax, beta_mmax and ratios against delta (no plant; --delta-min/max)
   influence  K_mmax and B_mmax against m, b and T around a real-unit plant
   device     a real-unit plant's stable (K, B) region, its limits and the advice
---json keys: command, kind, file, format ("png"|"svg"), bytes."""
+--json keys: command, kind, file, format ("png"|"pdf"|"svg"|"eps"|"ps"), bytes."""
 
 _SIMULATE_DESCRIPTION = """\
 Simulate a scene in the time domain (paper Fig. 13): the plant behind a zero-order hold,
@@ -1232,12 +1232,12 @@ def build_parser() -> argparse.ArgumentParser:
                     help=f"spectral-radius bound: every pole inside |z| < r (default {DEFAULT_R})")
     p.set_defaults(handler=cmd_advise, needs_gains=False, parser=p)
 
-    p = sub.add_parser("plot", help="draw a figure (PNG or SVG; needs matplotlib)",
+    p = sub.add_parser("plot", help="draw a figure (PNG, PDF, SVG, EPS; needs matplotlib)",
                        description="Draw a figure with zwidth.plot (matplotlib, Agg backend).",
                        epilog=_PLOT_EPILOG, formatter_class=fmt, allow_abbrev=False)
     p.add_argument("kind", choices=("region", "extremes", "influence", "device"))
     p.add_argument("-o", "--output", metavar="FILE",
-                   help="output file, .png or .svg (default zwidth-KIND.png)")
+                   help="output file, .png, .pdf, .svg, .eps or .ps (default zwidth-KIND.png)")
     p.add_argument("--dpi", type=_number, default=100.0, help="resolution of PNG files (default 100)")
     p.add_argument("--delta-min", type=_number, default=1e-3, help="extremes: smallest delta (default 1e-3)")
     p.add_argument("--delta-max", type=_number, default=20.0, help="extremes: largest delta (default 20)")
@@ -1314,8 +1314,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             if not 0.0 < args.dpi < math.inf:
                 raise _Usage(f"argument --dpi: must be > 0, got {args.dpi:g}")
             suffix = Path(args.output).suffix.lower() if args.output else ".png"
-            if suffix not in (".png", ".svg"):
-                raise _Usage(f"argument -o/--output: {args.output!r} must end in .png or .svg")
+            if suffix not in (".png", ".pdf", ".svg", ".eps", ".ps"):
+                raise _Usage(f"argument -o/--output: {args.output!r} must end in .png, .pdf, .svg, .eps or .ps")
             if args.kind == "extremes":
                 if not 0.0 < args.delta_min < args.delta_max < math.inf:
                     raise _Usage(f"need 0 < --delta-min < --delta-max < inf, got "

@@ -92,7 +92,7 @@ def test_exit_codes(args, code):
     (("check", *LINEAR, "--K", "1", "--B", "0", "--region", "nope"), 2, ["--region", "nope"]),
     (("limits",), 2, ["--m", "--delta"]),
     ((), 2, ["check", "limits"]),
-    (("plot", "region", "--delta", "3", "-o", "x.pdf"), 2, ["--output", ".png"]),
+    (("plot", "region", "--delta", "3", "-o", "x.txt"), 2, ["--output", ".png, .pdf"]),
     (("plot", "extremes", "--delta-min", "0"), 2, ["--delta-min"]),
     (("plot", "device", "--delta", "3"), 2, ["real-unit"]),
 ])
