@@ -213,8 +213,8 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
     delta = _scalar("delta", delta)
     ext = _extremes(delta)  # validates delta (ZwidthError)
     assert isinstance(ext, Extremes)  # the paper's loop (no loop keywords)
-    top = hyperbola_top(delta)
-    cor = corner(delta)
+    top = hyperbola_top(delta, errors="mask")  # NaN where the legacy top overflows (delta ~ 1e300)
+    cor = corner(delta, errors="mask")
     lo, hi = -delta, float(ext.beta_mmax)
     has_corner = math.isfinite(float(cor.alpha))
 
@@ -251,8 +251,9 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
         if name == "legacy":
             share = _outline(ax, delta, "legacy", extent, _LEGACY_FILL, _LEGACY_EDGE, resolution, exact)
             label = "legacy region (no line; Gil et al.)"
-            if float(top.alpha) > extent[3] or bool(_check(delta, 1e-9 * y_hi, extent[1], region="legacy")):
-                label += "\n" + rf"(reaches beyond the view, up to $\alpha$ = {float(top.alpha):.3g})"
+            if not float(top.alpha) <= extent[3] or bool(_check(delta, 1e-9 * y_hi, extent[1], region="legacy")):
+                label += "\n" + (rf"(reaches beyond the view, up to $\alpha$ = {float(top.alpha):.3g})"
+                                  if math.isfinite(float(top.alpha)) else "(reaches far beyond the view)")
             edge = _LEGACY_EDGE
         elif name == "passivity":
             share = _outline(ax, delta, "passivity", extent, None, _PASSIVITY_EDGE, resolution)
@@ -596,10 +597,11 @@ def device(device: Device, K: Optional[float] = None, B: Optional[float] = None,
         ax.contour(bb, kk, mask, levels=[0.5], colors=[edge], linestyles="--", linewidths=1.5, zorder=4)
         label = f"{name} region"
         if name == "legacy":
-            top = hyperbola_top(device.delta)
+            top = hyperbola_top(device.delta, errors="mask")
             top_K = float(top.alpha) * m / T ** 2  # unit conversion of the legacy claim
-            if top_K > y1 or bool(device.is_stable(1e-9 * y_hi, x1, region="legacy")):
-                label += f"\n(reaches beyond the view, up to K = {top_K:.3g})"
+            if not top_K <= y1 or bool(device.is_stable(1e-9 * y_hi, x1, region="legacy")):
+                label += (f"\n(reaches beyond the view, up to K = {top_K:.3g})" if math.isfinite(top_K)
+                          else "\n(reaches far beyond the view)")
         if float(differs.mean()) < _VISIBLE_SHARE:
             handles.append(_proxy(color="none", label=f"{name} region: too small to see here"))
         else:

@@ -330,3 +330,12 @@ def test_knob_rendered_stiffness_is_dots_not_a_fan():
     rendered = [l for l in fig.axes[0].get_lines() if l.get_label().startswith("rendered")]
     assert len(rendered) == 1 and rendered[0].get_linestyle() == "None"
     assert rendered[0].get_marker() == "."
+
+
+@pytest.mark.parametrize("draw", [lambda: zp.region(1e300, resolution=(60, 40)),
+                                  lambda: zp.device(zwidth.Device(1e-300, 0.8, 1e-3), resolution=(60, 40))])
+def test_extreme_deltas_draw_where_the_legacy_top_overflows(draw):
+    """delta ~ 1e300: the legacy region's top is out of range (NaN); the figure is still
+    drawn, the legend saying the legacy region reaches far beyond the view."""
+    fig = draw()
+    assert any("far beyond the view" in t for t in legend_texts(fig.axes[0].get_legend()))
