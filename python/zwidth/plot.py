@@ -130,12 +130,12 @@ def _tidy_log_axes(ax: "Axes") -> None:
             continue
         if hi / lo >= 100.0:
             axis.set_major_locator(LogLocator(base=10.0, numticks=8))
-            axis.set_minor_locator(LogLocator(base=10.0, subs=np.arange(2, 10) * 0.1, numticks=8))
+            axis.set_minor_locator(LogLocator(base=10.0, subs=[k / 10 for k in range(2, 10)], numticks=8))
             axis.set_minor_formatter(NullFormatter())
         else:  # under two decades: 1, 2, 5 per decade as plain numbers
             axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0), numticks=12))
             axis.set_major_formatter(plain)
-            axis.set_minor_locator(LogLocator(base=10.0, subs=np.arange(2, 10) * 0.1, numticks=12))
+            axis.set_minor_locator(LogLocator(base=10.0, subs=[k / 10 for k in range(2, 10)], numticks=12))
             axis.set_minor_formatter(NullFormatter())
 
 
@@ -960,3 +960,8 @@ def save(fig: "Figure", path: Union[str, Path], *, dpi: float = 100.0) -> Path:
                          f"{', '.join('.' + f for f in FORMATS[:-1])} or .{FORMATS[-1]}")
     fig.savefig(out, format=fmt, dpi=dpi)
     return out
+
+
+def __dir__() -> List[str]:
+    """The figures, not the typing names this module imports."""
+    return sorted(__all__)
