@@ -18,6 +18,9 @@
 /* batch.h */
 #define zw_check_many zw_check_many_f
 #define zw_device_check_many zw_device_check_many_f
+/* sweep.h */
+#define zw_sweep_fields_init zw_sweep_fields_init_f
+#define zw_sweep_check_many zw_sweep_check_many_f
 /* coeffs.h */
 #define zw_coeffs_init zw_coeffs_init_f
 #define zw_coeffs_literal zw_coeffs_literal_f

@@ -15,5 +15,6 @@
 #include "zwidth/regmap.h"
 #include "zwidth/selftest.h"
 #include "zwidth/status.h"
+#include "zwidth/sweep.h"
 
 #endif /* ZWIDTH_ZWIDTH_H */
