@@ -11,7 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-build/amalgamation}
-HEADERS="precision real status portable_math coeffs region margin extremes device batch selftest loop
+HEADERS="precision real status portable_math coeffs region margin extremes device batch sweep selftest loop
     loop_limits device_loop regmap"
 MODULES=$(sed -n '/^set(ZW_CORE_SOURCES/,/)/s/.*csrc\/src\/\([a-z_]*\)\.c.*/\1/p' CMakeLists.txt)
 VERSION=$(sed -n 's/^project(zwidth VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
