@@ -480,20 +480,26 @@ static zw_status sweep_check_many(size_t n, const zw_real *delta, ptrdiff_t delt
         }
     }
     /* Blocks: first every point's fields (independent Horner chains the CPU overlaps),
-     * into arrays; then the constraints over the arrays, a branch-free loop the compiler
-     * vectorizes (as batch.c's); then the bools. */
+     * into arrays; then the constraints over the whole block, a branch-free loop of
+     * constant trip count that the compiler vectorizes (as batch.c's); then the bools. */
     for (i = 0u; i < n; i += ZW_SWEEP_BLOCK) {
         zw_real d[ZW_SWEEP_BLOCK], a[ZW_SWEEP_BLOCK], b[ZW_SWEEP_BLOCK];
         zw_real e[ZW_SWEEP_BLOCK], g[ZW_SWEEP_BLOCK], hs[ZW_SWEEP_BLOCK], d12[ZW_SWEEP_BLOCK];
         zw_real sigma[ZW_SWEEP_BLOCK], ok[ZW_SWEEP_BLOCK];
         const size_t count = (n - i) < ZW_SWEEP_BLOCK ? (n - i) : ZW_SWEEP_BLOCK;
         size_t j;
-        for (j = 0u; j < count; ++j) {
-            const ptrdiff_t k = (ptrdiff_t)(i + j);
+        for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
             zw_sweep_fields f;
-            d[j] = delta[k * delta_stride];
-            a[j] = alpha[k * alpha_stride];
-            b[j] = beta[k * beta_stride];
+            if (j < count) {
+                const ptrdiff_t k = (ptrdiff_t)(i + j);
+                d[j] = delta[k * delta_stride];
+                a[j] = alpha[k * alpha_stride];
+                b[j] = beta[k * beta_stride];
+            } else { /* a full block keeps the next loop's trip count constant (vectorized) */
+                d[j] = ZW_R(1.0);
+                a[j] = ZW_R(0.0);
+                b[j] = ZW_R(0.0);
+            }
             if (d[j] < ZW_SWEEP_TABLE_END) {
                 sweep_from_tables(&f, d[j]);
             } else {
@@ -508,7 +514,7 @@ static zw_status sweep_check_many(size_t n, const zw_real *delta, ptrdiff_t delt
             d12[j] = f.d12;
             sigma[j] = f.sigma;
         }
-        for (j = 0u; j < count; ++j) {
+        for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
             ok[j] = sweep_stable01(d[j], e[j], g[j], hs[j], d12[j], sigma[j], a[j], b[j]);
         }
         for (j = 0u; j < count; ++j) {
