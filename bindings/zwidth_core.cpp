@@ -351,7 +351,32 @@ py::dict check(f64array delta, f64array alpha, f64array beta, int region, bool f
                 std::memset(status + seg.flat, ZW_OK, static_cast<std::size_t>(seg.count));
                 return ssize{0};
             }
+            // A plant per point (a design sweep): the sweep's fields (sweep.h), as safe.
+            if (one_plant(seg, 0) &&
+                zw_sweep_check_many(static_cast<size_t>(seg.count), as_doubles(seg.ptr[0]), seg.stride[0] / 8,
+                                    as_doubles(seg.ptr[1]), seg.stride[1] / 8, as_doubles(seg.ptr[2]),
+                                    seg.stride[2] / 8, out.stable + seg.flat, nullptr) == ZW_OK) {
+                std::memset(status + seg.flat, ZW_OK, static_cast<std::size_t>(seg.count));
+                return ssize{0};
+            }
             return Broadcast<3>::each(seg, status, elem);  // some element is invalid: name it
+        };
+    });
+    return r.finish(errors);
+}
+
+// The sweep's coefficient fields per element (sweep.h; tests compare them with mpmath).
+py::dict sweep_fields(f64array delta) {
+    Broadcast<1> bc({delta});
+    Result r(bc);
+    double *e = r.add<double>(bc, "e"), *g = r.add<double>(bc, "g"), *hs = r.add<double>(bc, "hs");
+    double *d12 = r.add<double>(bc, "d12"), *sigma = r.add<double>(bc, "sigma");
+    const ssize errors = bc.run(r.status(), [&] {
+        return [&](ssize i, const std::array<double, 1> &x) {
+            zw_sweep_fields f;
+            const zw_status st = zw_sweep_fields_init(&f, x[0]);
+            if (st == ZW_OK) e[i] = f.e, g[i] = f.g, hs[i] = f.hs, d12[i] = f.d12, sigma[i] = f.sigma;
+            return st;
         };
     });
     return r.finish(errors);
@@ -1105,6 +1130,7 @@ PYBIND11_MODULE(_core, mod) {
     mod.def("radius_within", &radius_within, d, a, be, py::arg("radius"), "zw_radius_within per element.");
     mod.def("char_poly", &char_poly, d, a, be, "zw_char_poly per element (trailing axis of 4).");
     mod.def("coefficients", &coefficients, d, "zw_coeffs_init per element.");
+    mod.def("sweep_fields", &sweep_fields, d, "zw_sweep_fields_init per element (the per-plant sweep's fields).");
     mod.def("coefficients_literal", &coefficients_literal, d, "zw_coeffs_literal per element.");
     mod.def("extremes", &extremes, d, "zw_extremes_compute per element.");
     mod.def("hyperbola_top", &boundary_point<zw_hyperbola_top>, d, "zw_hyperbola_top per element.");

@@ -11,10 +11,12 @@ numpy arrays and run their loops in C.
 
 Normalized space (delta = b T/m, alpha = K T^2/m, beta = B T/m):
     check, verdict, spectral_radius, radius_within, char_poly, coefficients,
-    extremes, alpha_max, beta_interval, hyperbola_top, corner
+    extremes, alpha_max, beta_interval, hyperbola_top, corner, boundary (the outline as arrays)
 Real units:
     Device(m, b, T) / Device.rotary(J, b, T) with is_stable, verdict, margin,
-    spectral_radius, radius_within, k_max, b_range, extremes, influence, normalize
+    spectral_radius, radius_within, k_max, b_range, boundary, extremes, influence, normalize
+Results print and compare by name: Verdict.deciding is a Bound ('line' == Bound.LINE), the
+Influence trends are Trends ('rises'); arrays print as a summary (shape, range).
 The loop a real drive runs (delay, velocity filter, Tustin differentiator; zwidth.loop):
     check(..., delay=1, filter_pole=a), Device(..., delay=1, velocity_filter=("lowpass", 30.0)),
     LoopVerdict (the deciding boundary: z=1, z=-1 or a complex pair at X Hz), loop_poly
@@ -26,18 +28,19 @@ a drive, optional extra "modbus"; import it explicitly), the ``zwidth`` command 
 """
 from __future__ import annotations
 
-from typing import Dict
+from typing import Dict as _Dict
 
 from . import _core
-from ._kernels import STATUS_NAMES, ZwidthError
+from ._kernels import STATUS_NAMES, ZwidthError, ZwidthTypeError
 from .box import PlantBox
 from .device import Device, LoopNotSupported
 from .loop import Loop
-from .normalized import (alpha_max, beta_interval, char_poly, check, coefficients,
+from .normalized import (alpha_max, beta_interval, boundary, char_poly, check, coefficients,
                          coefficients_literal, corner, extremes, hyperbola_top, loop_boundary, loop_poly,
                          radius_within, spectral_radius, verdict)
-from .results import (BoundaryPoint, Coefficients, DeviceExtremes, DeviceLoopExtremes, Extremes, Influence,
-                      Interval, LoopExtremes, LoopInfluence, LoopVerdict, Normalized, Verdict)
+from .results import (Bound, Boundary, BoundaryPoint, Coefficients, DeviceBoundary, DeviceExtremes,
+                      DeviceLoopExtremes, Extremes, Influence, Interval, LoopBoundary, LoopExtremes, LoopInfluence,
+                      LoopVerdict, Normalized, Trend, Verdict)
 from .scene import Scene, SceneError, load_scene
 from .sim import Simulation, SimulationSet, SimVerdict, simulate
 
@@ -45,7 +48,7 @@ from .sim import Simulation, SimulationSet, SimVerdict, simulate
 __version__: str = _core.VERSION
 
 #: The critical normalized dampings and K_mmax ratios of the paper (from the C headers).
-CONSTANTS: Dict[str, float] = dict(_core.CONSTANTS)
+CONSTANTS: _Dict[str, float] = dict(_core.CONSTANTS)
 DELTA0: float = CONSTANTS["DELTA0"]        #: the line starts to bite (legacy region wrong above)
 DELTA1: float = CONSTANTS["DELTA1"]        #: alpha_mmax moves from the hyperbola's top to the corner
 DELTA2: float = CONSTANTS["DELTA2"]        #: beta at alpha_mmax turns negative
@@ -55,14 +58,15 @@ DELTA_B: float = CONSTANTS["DELTA_B"]      #: local min of beta_mmax / delta
 DELTA_BB: float = CONSTANTS["DELTA_BB"]    #: local min of beta_mmax
 DELTA_KM: float = CONSTANTS["DELTA_KM"]    #: below delta_K1, where alpha_mmax/delta regains its local max
 #: Constraint bits of Verdict.deciding / Verdict.violated ('damping', 'stiffness', ...).
-BOUNDS: Dict[str, int] = dict(_core.BOUNDS)
+BOUNDS: _Dict[str, int] = dict(_core.BOUNDS)
 #: Deciding boundaries of a LoopVerdict ('none', 'z=1', 'z=-1', 'complex').
-LOOP_BOUNDARIES: Dict[str, int] = dict(_core.LOOP_BOUNDARIES)
+LOOP_BOUNDARIES: _Dict[str, int] = dict(_core.LOOP_BOUNDARIES)
 #: Region names accepted by check(..., region=...).
 REGIONS = tuple(_core.REGIONS)
 
 __all__ = [
-    "__version__", "ZwidthError", "STATUS_NAMES", "CONSTANTS", "BOUNDS", "REGIONS",
+    "__version__", "ZwidthError", "ZwidthTypeError", "Bound", "LoopBoundary", "Trend", "boundary", "Boundary",
+    "DeviceBoundary", "STATUS_NAMES", "CONSTANTS", "BOUNDS", "REGIONS",
     "DELTA0", "DELTA1", "DELTA2", "DELTA_K1", "DELTA_K2", "DELTA_B", "DELTA_BB", "DELTA_KM",
     "LOOP_BOUNDARIES", "Loop", "LoopVerdict", "LoopNotSupported", "loop_poly", "loop_boundary",
     "LoopExtremes", "DeviceLoopExtremes", "LoopInfluence",
@@ -72,3 +76,4 @@ __all__ = [
     "DeviceExtremes", "Influence",
     "load_scene", "Scene", "SceneError", "simulate", "Simulation", "SimulationSet", "SimVerdict",
 ]
+del annotations  # the __future__ import, not part of the API

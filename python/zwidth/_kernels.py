@@ -92,6 +92,58 @@ def _describe(function: str, status: str, names: Sequence[str], values: Sequence
     return ZwidthError(f"zwidth.{function}: {what}{where} [{status}]", status, parameter, index, given)
 
 
+class ZwidthTypeError(TypeError):
+    """An argument that is not a number or an array of numbers (None, a string, a bool, a
+    masked array), named: ``parameter`` is the argument's name."""
+
+    def __init__(self, message: str, parameter: str) -> None:
+        super().__init__(message)
+        self.parameter = parameter
+
+    def __reduce__(self) -> Tuple[Any, ...]:
+        return (type(self), (str(self), self.parameter))
+
+
+def as_numbers(function: str, name: str, value: Any) -> NDArray[np.float64]:
+    """``value`` as a float64 array, refusing what numpy would silently turn into a number
+    or into NaN: None, strings ('0.12' included), masked arrays with masked elements (the
+    mask would be dropped), objects that are not numbers (ZwidthTypeError naming the
+    parameter).  Bools are 0 and 1, as in numpy."""
+    if type(value) is float or type(value) is int:  # the common scalar case, fast
+        return np.asarray(value, dtype=np.float64)
+    if isinstance(value, np.ndarray) and value.dtype == np.float64 and not isinstance(value, np.ma.MaskedArray):
+        return value
+    what = None
+    if value is None:
+        what = "None"
+    elif isinstance(value, (str, bytes)):
+        what = f"a string ({value!r}); convert it with float() if you mean the number"
+    elif isinstance(value, np.ma.MaskedArray) and np.ma.getmask(value) is not np.ma.nomask and np.ma.getmask(value).any():
+        what = "a masked array with masked elements (fill or drop them first: masks are not carried)"
+    if what is None:
+        array = np.asarray(np.ma.getdata(value) if isinstance(value, np.ma.MaskedArray) else value)
+        if array.dtype.kind in "fiub":  # bools as 0 and 1, as numpy converts them
+            return array.astype(np.float64, copy=False)
+        if array.dtype.kind in "US":
+            what = f"an array of strings (e.g. {array.flat[0]!r})" if array.size else "an array of strings"
+        else:
+            try:
+                return array.astype(np.float64)
+            except (TypeError, ValueError):
+                what = f"not a number or an array of numbers (a {type(value).__name__}, dtype {array.dtype})"
+    raise ZwidthTypeError(f"zwidth.{function}: {name} must be a number or an array of numbers, got {what}", name)
+
+
+def check_shapes(function: str, names: Sequence[str], arrays: Sequence[NDArray[Any]]) -> None:
+    """Raise ValueError naming every parameter and its shape when they do not broadcast
+    (numpy's own message lists bare shapes, some of them of internal arguments)."""
+    try:
+        np.broadcast_shapes(*(a.shape for a in arrays))
+    except ValueError:
+        shapes = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays))
+        raise ValueError(f"zwidth.{function}: the shapes of {shapes} do not broadcast together") from None
+
+
 def _as_result(array: NDArray[Any]) -> Any:
     """0-d arrays become numpy scalars, as numpy's ufuncs return them."""
     return array[()] if array.ndim == 0 else array
@@ -108,6 +160,9 @@ def call(function: str, kernel: Callable[..., Dict[str, Any]], names: Sequence[s
     """
     if errors not in ("raise", "mask"):
         raise ValueError(f"zwidth.{function}: errors must be 'raise' or 'mask', got {errors!r}")
+    arrays = [as_numbers(function, name, a) for name, a in zip(names, args)]
+    check_shapes(function, names, arrays)
+    args = arrays
     result = kernel(*args, **options)
     outputs: Dict[str, NDArray[Any]] = dict(result["outputs"])
     status: NDArray[np.int8] = result["status"]

@@ -18,6 +18,8 @@ import textwrap
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Sequence, TextIO, Tuple
 
+from numpy.typing import NDArray
+
 import numpy as np
 
 from . import (BOUNDS, DELTA0, REGIONS, Device, ZwidthError, __version__, alpha_max, beta_interval,
@@ -41,7 +43,9 @@ and how m, b, T move the limits."""
 EPILOG = """\
 plant and gains (check, limits, advise, plot):
   real units (default): --m M (kg) or --J J (kg m^2, rotary), --b (N s/m | N m s/rad),
-    --T (s), gains --K (N/m | N m/rad) and --B (N s/m | N m s/rad)
+    --T (s), gains --K (N/m | N m/rad) and --B (N s/m | N m s/rad); nothing is filled in:
+    a missing option is an error, unless --preset paper-drive names the paper's drive
+    (J = 85.78e-7, b = 2.197e-3, T = 0.02; options given override it)
   normalized instead:   --delta = bT/m, --alpha = K T^2/m, --beta = B T/m
 
 exit status:
@@ -71,7 +75,7 @@ _PLANT_KEYS = """\
   command  the subcommand
   mode     "real" or "normalized" (--delta)
   plant    {m, b, T: number|null (null in normalized mode; m is J with --J),
-            rotary: bool, delta: number}
+            rotary: bool, delta: number, preset: "paper-drive"|null}
   units    {m, b, T, K, B: unit strings} or null in normalized mode
   loop     the loop analysed (--delay, --velocity-filter, --differentiator): {delay,
            differentiator, filter: "none"|"lowpass"|"average", cutoff (Hz) | null,
@@ -123,9 +127,15 @@ advise keys:
   trends, advice   strings
   gains       null without gains, else {K, B, alpha, beta, verdict, stable, marginal,
               deciding, spectral_radius, K_max, B_range: {lo, hi, nonempty},
+              margins: {sigma, r}, certified: bool (stable, K <= sigma K_max(B) and every
+              pole inside |z| < r: what the drive accepts),
               suggestions: [{change: "K"|"B"|"m"|"b"|"T", lo: number|null,
-              hi: number|null, value: number|null, text}]}
-exit status 1 when gains are given and are not stable."""
+              hi: number|null, value: number|null, text}]}: for gains that are not
+              certified, the certified interval of K at this B and of B at this K (closed,
+              both ends certified) with the value nearest the current one, and the nearest
+              certified m, b, T on a log grid
+exit status 1 when gains are given and are not certified (not stable, or outside the
+margins --sigma, default 0.8, and --r, default 0.999)."""
 
 _PLOT_EPILOG = """\
 kinds:
@@ -136,7 +146,7 @@ kinds:
   extremes   alpha_mmax, beta_mmax and ratios against delta (no plant; --delta-min/max)
   influence  K_mmax and B_mmax against m, b and T around a real-unit plant
   device     a real-unit plant's stable (K, B) region, its limits and the advice
---json keys: command, kind, file, format ("png"|"svg"), bytes."""
+--json keys: command, kind, file, format ("png"|"pdf"|"svg"|"eps"|"ps"), bytes."""
 
 _SIMULATE_DESCRIPTION = """\
 Simulate a scene in the time domain (paper Fig. 13): the plant behind a zero-order hold,
@@ -287,6 +297,7 @@ class _Plant:
     alpha: Optional[float] = None  # gains as given (normalized mode) or normalized image
     beta: Optional[float] = None
     loop: Loop = dataclasses.field(default_factory=Loop)  # what the drive runs (--delay, ...)
+    preset: Optional[str] = None   # --preset, when the plant came from one
 
     @property
     def real(self) -> bool:
@@ -310,7 +321,8 @@ class _Plant:
     def summary(self) -> Dict[str, Any]:
         dev = self.device
         return {"m": None if dev is None else dev.m, "b": None if dev is None else dev.b,
-                "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta}
+                "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta,
+                "preset": self.preset}
 
     def loop_kwargs(self) -> Dict[str, Any]:
         """The normalized functions' loop keywords."""
@@ -324,7 +336,8 @@ class _Plant:
             return f"Plant (normalized): delta = bT/m = {_fmt(self.delta)}" + loop
         u = self.units() or {}
         d = self.device
-        return (f"Plant: {self.mass} = {_fmt(d.m)} {u['m']}, b = {_fmt(d.b)} {u['b']}, "
+        preset = "" if self.preset is None else f"Preset {self.preset}: the paper's drive, load motor short-circuited\n"
+        return (preset + f"Plant: {self.mass} = {_fmt(d.m)} {u['m']}, b = {_fmt(d.b)} {u['b']}, "
                 f"T = {_fmt(d.T)} s  ->  delta = bT/{self.mass} = {_fmt(self.delta)}" + loop)
 
     def gains_text(self) -> str:
@@ -334,8 +347,33 @@ class _Plant:
         return f"K = {_fmt(self.K)} {u['K']}, B = {_fmt(self.B)} {u['B']}"
 
 
+#: Named plants for --preset (only when asked for: nothing is filled in silently).
+PRESETS: Dict[str, Dict[str, float]] = {
+    # the paper's experimental drive, load motor short-circuited (rotary)
+    "paper-drive": {"J": 85.78e-7, "b": 2.197e-3, "T": 0.02},
+}
+
+
+def _apply_preset(args: argparse.Namespace) -> None:
+    """Fill the plant options the preset names where they were not given (the options
+    given override it); refused with a normalized plant."""
+    name = getattr(args, "preset", None)
+    if name is None:
+        return
+    norm_given = [f"--{n}" for n in ("delta", "alpha", "beta") if getattr(args, n) is not None]
+    if norm_given:
+        raise _Usage(f"--preset {name} is a real-unit plant: it cannot be combined with {', '.join(norm_given)}")
+    preset = PRESETS[name]
+    if args.m is None and args.J is None:
+        args.J = preset["J"]
+    for key in ("b", "T"):
+        if getattr(args, key) is None:
+            setattr(args, key, preset[key])
+
+
 def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Plant]:
     """Build the plant from the options (usage errors as _Usage, values as ZwidthError)."""
+    _apply_preset(args)
     real_given = [f"--{n}" for n in ("m", "J", "b", "T", "K", "B") if getattr(args, n) is not None]
     norm_given = [f"--{n}" for n in ("delta", "alpha", "beta") if getattr(args, n) is not None]
     if real_given and norm_given:
@@ -343,7 +381,8 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
                      f"cannot be combined with {', '.join(norm_given)}")
     if not real_given and not norm_given:
         if need_plant:
-            raise _Usage("no plant: give --m (or --J), --b and --T, or --delta for the normalized space")
+            raise _Usage("no plant: give --m (or --J), --b and --T (or --preset paper-drive), or --delta "
+                         "for the normalized space")
         return None
     if norm_given:
         if args.delta is None:
@@ -357,13 +396,14 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
                                      ("--b", args.b is not None), ("--T", args.T is not None))
                if not ok]
     if missing:
-        raise _Usage(f"the plant needs {', '.join(missing)}")
+        raise _Usage(f"the plant needs {', '.join(missing)} (or --preset paper-drive)")
     if (args.K is None) != (args.B is None):
         raise _Usage("give both --K and --B (or neither)")
     loop_options = _device_loop_options(args)
     dev = (Device.rotary(args.J, args.b, args.T, **loop_options) if args.J is not None
            else Device(args.m, args.b, args.T, **loop_options))
-    plant = _Plant(delta=float(dev.delta), device=dev, K=args.K, B=args.B, loop=dev.loop)
+    plant = _Plant(delta=float(dev.delta), device=dev, K=args.K, B=args.B, loop=dev.loop,
+                   preset=getattr(args, "preset", None))
     if args.K is not None:
         n = dev.normalize(args.K, args.B)
         plant.alpha, plant.beta = float(n.alpha), float(n.beta)
@@ -701,41 +741,141 @@ def cmd_advise_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
                      f"most: K_mmax = {_fmt(inf.K_mmax_at_best_cutoff)}{ku}")
     status = EXIT_OK
     if plant.has_gains:
-        _, _, v, suggestions, data["gains"] = _gains_advice(plant, dev, " with this loop")
-        if not bool(v.stable):
+        margins = _margins(args)
+        _, _, v, certified, suggestions, data["gains"] = _gains_advice(plant, dev, " with this loop", margins)
+        if not certified:
             status = EXIT_UNSTABLE
         lines += ["", f"Gains {plant.gains_text()}: {v.word.upper()}"
-                  + (f" ({v.deciding_name})" if v.deciding_name else "")]
+                  + (f" ({v.deciding_name})" if v.deciding_name else "")
+                  + f"; margins {margins.text()}: " + ("CERTIFIED" if certified else "NOT CERTIFIED")]
         lines += [f"   - {x['text']}" for x in suggestions]
     return _Outcome(status, data, lines)
 
 
-def _gains_advice(plant: _Plant, dev: Device, which_loop: str
-                  ) -> Tuple[float, float, Any, List[Dict[str, Any]], Dict[str, Any]]:
-    """The plant's gains on dev (real or normalized): (K, B, verdict, suggestions, the
-    "gains" JSON object).  Unstable gains get the K interval at this B and the B interval at
-    this K as suggestions (which_loop ends their text); the list is the object's own."""
+#: The margins the drive certifies with (docs/modbus.md: zwidth-drive, zwidth-tune commission
+#: --paper-defaults): K <= sigma K_max(B) and every pole inside |z| < r.
+DEFAULT_SIGMA = 0.8
+DEFAULT_R = 0.999
+
+
+@dataclasses.dataclass(frozen=True)
+class _Margins:
+    """Gains are certified when stable, K <= sigma K_max(B) and all poles inside |z| < r,
+    the rules of the drive's register map (regmap.h)."""
+
+    sigma: float = DEFAULT_SIGMA
+    r: float = DEFAULT_R
+
+    def text(self) -> str:
+        return f"sigma = {self.sigma:g}, r = {self.r:g}"
+
+    def certified(self, dev: Device, K: Any, B: Any) -> Any:
+        """Elementwise: stable, K <= sigma K_max(B), all poles within r (guarded checks)."""
+        K, B = np.broadcast_arrays(np.asarray(K, dtype=float), np.asarray(B, dtype=float))
+        ok = np.asarray(dev.is_stable(K, B), dtype=bool)
+        ok &= K <= self.sigma * np.asarray(dev.k_max(B), dtype=float)
+        ok &= np.asarray(dev.radius_within(K, B, self.r), dtype=bool)
+        return ok
+
+
+def _margins(args: argparse.Namespace) -> _Margins:
+    sigma, r = getattr(args, "sigma", DEFAULT_SIGMA), getattr(args, "r", DEFAULT_R)
+    for name, value in (("--sigma", sigma), ("--r", r)):
+        if not 0.0 < value <= 1.0:
+            raise _Usage(f"argument {name}: must be in (0, 1], got {value:g}")
+    return _Margins(sigma, r)
+
+
+def _run_around(ok: NDArray[np.bool_], i: int) -> Tuple[int, int]:
+    """The run of True in ok nearest to index i: (first, last) indices, or (-1, -1)."""
+    good = np.flatnonzero(ok)
+    if good.size == 0:
+        return -1, -1
+    j = int(good[np.argmin(np.abs(good - i))])
+    lo = j
+    while lo > 0 and ok[lo - 1]:
+        lo -= 1
+    hi = j
+    while hi + 1 < ok.size and ok[hi + 1]:
+        hi += 1
+    return lo, hi
+
+
+def _refine(edge: float, outside: float, good: Callable[[float], bool]) -> float:
+    """Move a certified end (good(edge)) toward the uncertified neighbour by bisection,
+    keeping it certified: the returned value passes good()."""
+    for _ in range(40):
+        mid = 0.5 * (edge + outside)
+        if mid in (edge, outside):
+            break
+        if good(mid):
+            edge = mid
+        else:
+            outside = mid
+    return edge
+
+
+def _certified_interval(grid: NDArray[np.float64], ok: NDArray[np.bool_], current: float,
+                        good: Callable[[float], bool], below: float, above: float
+                        ) -> Optional[Tuple[float, float, float]]:
+    """The certified run of a 1-D grid nearest to current, its ends refined by bisection
+    toward the next grid point (below / above: the uncertified values beyond the grid's
+    ends): (lo, hi, the value in [lo, hi] nearest to current), or None."""
+    i = int(np.argmin(np.abs(grid - current)))
+    first, last = _run_around(ok, i)
+    if first < 0:
+        return None
+    lo = _refine(float(grid[first]), float(grid[first - 1]) if first > 0 else below, good)
+    hi = _refine(float(grid[last]), float(grid[last + 1]) if last + 1 < grid.size else above, good)
+    return lo, hi, min(max(current, lo), hi)
+
+
+def _gains_advice(plant: _Plant, dev: Device, which_loop: str, margins: _Margins
+                  ) -> Tuple[float, float, Any, bool, List[Dict[str, Any]], Dict[str, Any]]:
+    """The plant's gains on dev (real or normalized): (K, B, verdict, certified,
+    suggestions, the "gains" JSON object).  Gains that are not certified (not stable, or
+    outside the margins) get the certified K interval at this B and the certified B
+    interval at this K, each with the value nearest the current one (which_loop ends
+    their text); the list is the object's own."""
     K = float(plant.K) if plant.real else float(plant.alpha)  # type: ignore[arg-type]
     B = float(plant.B) if plant.real else float(plant.beta)  # type: ignore[arg-type]
     v = dev.verdict(K, B)
     k_max, b_range = dev.k_max(B), dev.b_range(K)
+    certified = bool(margins.certified(dev, K, B))
     Kn, Bn = ("K", "B") if plant.real else ("alpha", "beta")
     kunit = f" {plant.units()['K']}" if plant.real else ""  # type: ignore[index]
     bunit = f" {plant.units()['B']}" if plant.real else ""  # type: ignore[index]
     suggestions: List[Dict[str, Any]] = []
-    if not bool(v.stable):
-        if float(k_max) > 0.0:
-            suggestions.append({"change": "K", "lo": 0.0, "hi": k_max, "value": None,
-                                "text": f"set {Kn} in (0, {_fmt(k_max)}){kunit}: stable at this {Bn}{which_loop}"})
+    if not certified:
+        k_cap = margins.sigma * float(k_max)
+        if k_cap > 0.0:
+            grid = np.linspace(0.0, k_cap, 2001)[1:]
+            found = _certified_interval(grid, margins.certified(dev, grid, B), K,
+                                        lambda k: bool(margins.certified(dev, k, B)), 0.0, k_cap)
+            if found is not None:
+                lo, hi, best = found
+                suggestions.append({
+                    "change": "K", "lo": lo, "hi": hi, "value": best,
+                    "text": f"set {Kn} = {_fmt(best)}{kunit} (certified for {Kn} in [{_fmt(lo)}, {_fmt(hi)}] "
+                            f"at this {Bn}{which_loop})"})
         if bool(b_range.nonempty):
-            suggestions.append({"change": "B", "lo": b_range.lo, "hi": b_range.hi, "value": None,
-                                "text": f"set {Bn} in ({_fmt(b_range.lo)}, {_fmt(b_range.hi)}){bunit}: "
-                                        f"stable at this {Kn}{which_loop}"})
+            grid = np.linspace(float(b_range.lo), float(b_range.hi), 2003)[1:-1]
+            found = _certified_interval(grid, margins.certified(dev, K, grid), B,
+                                        lambda bb: bool(margins.certified(dev, K, bb)),
+                                        float(b_range.lo), float(b_range.hi))
+            if found is not None:
+                lo, hi, best = found
+                suggestions.append({
+                    "change": "B", "lo": lo, "hi": hi, "value": best,
+                    "text": f"set {Bn} = {_fmt(best)}{bunit} (certified for {Bn} in [{_fmt(lo)}, {_fmt(hi)}] "
+                            f"at this {Kn}{which_loop})"})
     gains = {"K": plant.K, "B": plant.B, "alpha": plant.alpha, "beta": plant.beta,
              "verdict": v.word, "stable": bool(v.stable), "marginal": bool(v.marginal),
              "deciding": str(v.deciding_name) or None, "spectral_radius": dev.spectral_radius(K, B),
-             "K_max": k_max, "B_range": _interval(b_range), "suggestions": suggestions}
-    return K, B, v, suggestions, gains
+             "K_max": k_max, "B_range": _interval(b_range),
+             "margins": {"sigma": margins.sigma, "r": margins.r}, "certified": certified,
+             "suggestions": suggestions}
+    return K, B, v, certified, suggestions, gains
 
 
 def _advise_device(plant: _Plant) -> Device:
@@ -744,9 +884,9 @@ def _advise_device(plant: _Plant) -> Device:
     return Device(1.0, plant.delta, 1.0)  # normalized: m = T = 1, so K = alpha, B = beta
 
 
-def _plant_changes(plant: _Plant, K: float, B: float) -> List[Dict[str, Any]]:
-    """Nearest stable m, b and T on log grids (three decades either way), checked with
-    Device.is_stable, for keeping unstable gains as they are."""
+def _plant_changes(plant: _Plant, K: float, B: float, margins: _Margins) -> List[Dict[str, Any]]:
+    """Nearest m, b and T on log grids (three decades either way) at which the gains as
+    they are would be certified (stable and within the margins)."""
     dev = plant.device
     if dev is None:
         return []  # normalized gains move with m and T: only alpha and beta changes make sense
@@ -760,7 +900,7 @@ def _plant_changes(plant: _Plant, K: float, B: float) -> List[Dict[str, Any]]:
         plant_with: Tuple[Any, Any, Any] = {plant.mass: (grid, b, T), "b": (m, grid, T),
                                             "T": (m, b, grid)}[name]
         trial = Device(*plant_with, rotary=plant.rotary)
-        ok = np.asarray(trial.is_stable(K, B))
+        ok = margins.certified(trial, K, B)
         if not ok.any():
             continue
         distance = np.abs(np.log(grid / base))
@@ -770,7 +910,7 @@ def _plant_changes(plant: _Plant, K: float, B: float) -> List[Dict[str, Any]]:
         ratio = f"{best / value:.3g} x now; " if value > 0.0 else ""
         out.append({"change": "m" if name == "J" else name, "lo": None, "hi": None, "value": best,
                     "text": f"keep the gains, set {name} = {_fmt(best)} {unit} "
-                            f"({ratio}the nearest stable value on a log grid)"})
+                            f"({ratio}the nearest certified value on a log grid)"})
     return out
 
 
@@ -808,23 +948,26 @@ def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     lines += textwrap.wrap(f"advice: {inf.advice}", 92, initial_indent="  ", subsequent_indent="          ")
     status = EXIT_OK
     if plant.has_gains:
-        K, B, v, suggestions, data["gains"] = _gains_advice(plant, dev, "")
+        margins = _margins(args)
+        K, B, v, certified, suggestions, data["gains"] = _gains_advice(plant, dev, "", margins)
         word, k_max = v.word, data["gains"]["K_max"]
         Kn, Bn = ("K", "B") if plant.real else ("alpha", "beta")
         kunit = f" {plant.units()['K']}" if plant.real else ""  # type: ignore[index]
-        if not bool(v.stable):
+        if not certified:
             status = EXIT_UNSTABLE
-            suggestions += _plant_changes(plant, K, B)
+            suggestions += _plant_changes(plant, K, B, margins)
         lines += ["", f"Gains {plant.gains_text()}: {word.upper()}"
                   + (f" ({v.deciding_name})" if v.deciding_name else "")
                   + f", spectral radius {_fmt(data['gains']['spectral_radius'])}"]
-        if bool(v.stable):
+        if float(k_max) > 0.0:
             lines.append(f"  {Kn} is {100.0 * K / float(k_max):.4g} % of {Kn}_max = {_fmt(k_max)}{kunit} at this {Bn}")
-        elif suggestions:
-            lines.append("  to make them stable:")
+        lines.append(f"  margins as the drive certifies ({Kn} <= sigma {Kn}_max({Bn}), spectral radius < r; "
+                     f"{margins.text()}): " + ("CERTIFIED" if certified else "NOT CERTIFIED"))
+        if not certified and suggestions:
+            lines.append("  to certify them:")
             lines += [f"   - {s['text']}" for s in suggestions]
-        else:
-            lines.append("  no change of one gain or of m, b or T (within 1e-3..1e3 x) makes them stable")
+        elif not certified:
+            lines.append("  no change of one gain or of m, b or T (within 1e-3..1e3 x) certifies them")
     return _Outcome(status, data, lines)
 
 
@@ -1081,6 +1224,9 @@ def _add_plant_options(p: argparse.ArgumentParser) -> None:
     real.add_argument("--T", type=_number, metavar="T", help="sampling period [s] (> 0)")
     real.add_argument("--K", type=_number, metavar="K", help="virtual stiffness [N/m]")
     real.add_argument("--B", type=_number, metavar="B", help="virtual damping [N s/m]")
+    real.add_argument("--preset", choices=sorted(PRESETS),
+                      help="a named plant: paper-drive is the paper's drive (--J 85.78e-7 --b 2.197e-3 "
+                           "--T 0.02); options given override it")
     norm = p.add_argument_group("normalized space instead (not with the options above)")
     norm.add_argument("--delta", type=_number, metavar="DELTA", help="normalized damping bT/m (>= 0)")
     norm.add_argument("--alpha", type=_number, metavar="ALPHA", help="normalized stiffness K T^2/m")
@@ -1134,14 +1280,19 @@ def build_parser() -> argparse.ArgumentParser:
                                          "IV); with gains, what to change to make them stable."),
                        epilog=_ADVISE_EPILOG, formatter_class=fmt, allow_abbrev=False)
     _add_plant_options(p)
+    mg = p.add_argument_group("margins the advice certifies with (those of the drive, docs/modbus.md)")
+    mg.add_argument("--sigma", type=_number, default=DEFAULT_SIGMA, metavar="SIGMA",
+                    help=f"stiffness fraction: K <= sigma K_max(B) (default {DEFAULT_SIGMA})")
+    mg.add_argument("--r", type=_number, default=DEFAULT_R, metavar="R",
+                    help=f"spectral-radius bound: every pole inside |z| < r (default {DEFAULT_R})")
     p.set_defaults(handler=cmd_advise, needs_gains=False, parser=p)
 
-    p = sub.add_parser("plot", help="draw a figure (PNG or SVG; needs matplotlib)",
+    p = sub.add_parser("plot", help="draw a figure (PNG, PDF, SVG, EPS; needs matplotlib)",
                        description="Draw a figure with zwidth.plot (matplotlib, Agg backend).",
                        epilog=_PLOT_EPILOG, formatter_class=fmt, allow_abbrev=False)
     p.add_argument("kind", choices=("region", "extremes", "influence", "device"))
     p.add_argument("-o", "--output", metavar="FILE",
-                   help="output file, .png or .svg (default zwidth-KIND.png)")
+                   help="output file, .png, .pdf, .svg, .eps or .ps (default zwidth-KIND.png)")
     p.add_argument("--dpi", type=_number, default=100.0, help="resolution of PNG files (default 100)")
     p.add_argument("--delta-min", type=_number, default=1e-3, help="extremes: smallest delta (default 1e-3)")
     p.add_argument("--delta-max", type=_number, default=20.0, help="extremes: largest delta (default 20)")
@@ -1177,7 +1328,8 @@ def _emit(outcome: _Outcome, command: str, plant: Optional[_Plant], as_json: boo
 
 
 _NUMBER_OPTIONS = frozenset({"--m", "--J", "--b", "--T", "--K", "--B", "--delta", "--alpha",
-                              "--beta", "--dpi", "--delta-min", "--delta-max"})
+                              "--beta", "--dpi", "--delta-min", "--delta-max",
+                              "--sigma", "--r"})
 
 
 def _join_negative_numbers(argv: Sequence[str]) -> List[str]:
@@ -1220,8 +1372,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             if not 0.0 < args.dpi < math.inf:
                 raise _Usage(f"argument --dpi: must be > 0, got {args.dpi:g}")
             suffix = Path(args.output).suffix.lower() if args.output else ".png"
-            if suffix not in (".png", ".svg"):
-                raise _Usage(f"argument -o/--output: {args.output!r} must end in .png or .svg")
+            if suffix not in (".png", ".pdf", ".svg", ".eps", ".ps"):
+                raise _Usage(f"argument -o/--output: {args.output!r} must end in .png, .pdf, .svg, .eps or .ps")
             if args.kind == "extremes":
                 if not 0.0 < args.delta_min < args.delta_max < math.inf:
                     raise _Usage(f"need 0 < --delta-min < --delta-max < inf, got "
@@ -1234,6 +1386,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                     raise _Usage(f"plot {args.kind} needs a real-unit plant (--m or --J, --b, --T)")
         else:
             plant = _plant(args)
+            if args.command == "limits" and plant is not None and plant.has_gains:
+                raise _Usage("limits takes no gains (they would be ignored): 'zwidth check' or "
+                             "'zwidth advise' checks --K/--B")
             if args.needs_gains and plant is not None and not plant.has_gains:
                 raise _Usage(f"{args.command} needs the gains: --K and --B (or --alpha and --beta with --delta)")
         assert plant is not None or args.command == "plot"

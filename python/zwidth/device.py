@@ -19,10 +19,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from ._kernels import Errors, ZwidthError, _as_result, call, region_code
+from ._kernels import Errors, ZwidthError, _as_result, as_numbers, call, region_code
 from .loop import Loop, VelocityFilter, device_loop
-from .results import (DeviceExtremes, DeviceLoopExtremes, Influence, Interval, LoopInfluence, LoopVerdict,
-                      Normalized, Verdict)
+from .results import (DeviceBoundary, DeviceExtremes, DeviceLoopExtremes, Influence, Interval, LoopInfluence,
+                      LoopVerdict, Normalized, Verdict)
 
 _PLANT = ("m", "b", "T")
 
@@ -44,12 +44,12 @@ class Device:
     def __init__(self, m: ArrayLike, b: ArrayLike, T: ArrayLike, *, errors: Errors = "raise",
                  rotary: bool = False, delay: int = 0, velocity_filter: VelocityFilter = None,
                  differentiator: str = "backward") -> None:
-        self._m: NDArray[np.float64] = np.asarray(m, dtype=np.float64)
-        self._b: NDArray[np.float64] = np.asarray(b, dtype=np.float64)
-        self._T: NDArray[np.float64] = np.asarray(T, dtype=np.float64)
+        self._names = ("J", "b", "T") if rotary else _PLANT  # how errors name the parameters
+        self._m: NDArray[np.float64] = as_numbers("Device", self._names[0], m)
+        self._b: NDArray[np.float64] = as_numbers("Device", "b", b)
+        self._T: NDArray[np.float64] = as_numbers("Device", "T", T)
         self.errors: Errors = errors
         self.is_rotary = rotary  #: J, N m/rad, N m s/rad instead of m, N/m, N s/m
-        self._names = ("J", "b", "T") if rotary else _PLANT  # how errors name the parameters
         #: The loop the drive runs (:class:`zwidth.loop.Loop`): delay, velocity filter,
         #: differentiator.  The default is the paper's loop.
         self.loop: Loop = device_loop("Device", delay, velocity_filter, differentiator)
@@ -204,6 +204,22 @@ class Device:
             return out["K_max"]
         out, _ = self._call("k_max", _core.device_k_max, ("B",), (B,))
         return out["K_max"]
+
+    def boundary(self, *, points: int = 1001) -> DeviceBoundary:
+        """The region's outline as arrays (one plant): B from -b to B_mmax (``points``
+        evenly spaced, plus the B of K_mmax, B = 0 and, for the paper's loop, the corner)
+        and K = :meth:`k_max` there (0 at both ends).  ``B, K = dev.boundary()``."""
+        if np.ndim(self.delta) != 0:
+            raise ValueError("Device.boundary is about one plant; build a Device with scalar m, b, T")
+        lim = self.extremes()
+        special = [lim.B_at_K_mmax, 0.0]
+        if self.loop.ideal:
+            from .normalized import corner
+            special.append(float(corner(self.delta).beta) * float(self._m) / float(self._T))
+        lo, hi = float(lim.B_mmin), float(lim.B_mmax)
+        grid = np.linspace(lo, hi, max(2, int(points)))
+        Bs = np.unique(np.concatenate([grid, [float(b) for b in special if lo < float(b) < hi]]))
+        return DeviceBoundary(B=Bs, K=np.asarray(self.k_max(Bs), dtype=float))
 
     def b_range(self, K: ArrayLike) -> Interval:
         """The open interval (lo, hi) of B [N s/m] stable at stiffness K [N/m].  For a loop

@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike
 from . import _core
 from ._kernels import Errors, _as_result, call, region_code
 from .loop import Loop, normalized_loop
-from .results import BoundaryPoint, Coefficients, Extremes, Interval, LoopExtremes, LoopVerdict, Verdict
+from .results import Boundary, BoundaryPoint, Coefficients, Extremes, Interval, LoopExtremes, LoopVerdict, Verdict
 
 _DAB = ("delta", "alpha", "beta")
 _DPAB = ("delta", "filter_pole", "alpha", "beta")
@@ -203,6 +203,28 @@ def alpha_max(delta: ArrayLike, beta: ArrayLike, *, delay: int = 0, filter_pole:
         return out["alpha_max"]
     out, _ = call("alpha_max", _core.alpha_max, ("delta", "beta"), (delta, beta), errors)
     return out["alpha_max"]
+
+
+def boundary_betas(delta: float, beta_mmax: float, points: int, special: Any) -> Any:
+    """points betas from -delta to beta_mmax, with the special ones (kinks) inside."""
+    grid = np.linspace(-delta, beta_mmax, max(2, int(points)))
+    inside = [float(b) for b in special if -delta < float(b) < beta_mmax]
+    return np.unique(np.concatenate([grid, inside]))
+
+
+def boundary(delta: float, *, points: int = 1001) -> Boundary:
+    """The exact region's outline at one delta as arrays: beta from -delta to beta_mmax
+    (``points`` evenly spaced, plus the hyperbola's top, the point of alpha_mmax and the
+    corner) and alpha = :func:`alpha_max` there, 0 at both ends.  Draw it with
+    ``plt.fill_between(*zwidth.boundary(5.122))``."""
+    if np.ndim(delta) != 0:
+        raise ValueError(f"zwidth.boundary: delta must be a scalar (one region), got shape {np.shape(delta)}")
+    ext = extremes(delta)
+    assert isinstance(ext, Extremes)
+    top, cor = hyperbola_top(delta, errors="mask"), corner(delta)
+    betas = boundary_betas(float(delta), float(ext.beta_mmax), points,
+                           [top.beta, cor.beta, ext.beta_at_alpha_mmax])
+    return Boundary(beta=betas, alpha=np.asarray(alpha_max(delta, betas), dtype=float))
 
 
 def beta_interval(delta: ArrayLike, alpha: ArrayLike, *, delay: int = 0, filter_pole: ArrayLike = 0.0,

@@ -8,7 +8,7 @@
     influence(device)    K_mmax and B_mmax against m, b and T around a plant, Figs. 11-12
     device(device, K, B) a plant's region in real units (K against B), with the advice
     simulation(sims)     simulated responses with their verdicts (Fig. 15); knobs: Fig. 23
-    save(fig, path)      PNG or SVG by suffix
+    save(fig, path)      PNG, PDF, SVG, EPS or PS by suffix
 
 Every number drawn comes from zwidth's functions (the C core); this module only samples
 them on grids and draws.  matplotlib is imported when a function is called, so
@@ -44,7 +44,7 @@ if TYPE_CHECKING:
     from .sim import Simulation, SimulationSet
 
 __all__ = ["region", "loop_region", "extremes", "influence", "device", "simulation", "save",
-           "CRITICAL_DELTAS", "box_region"]
+           "CRITICAL_DELTAS", "FORMATS", "box_region"]
 
 _INSTALL_HINT = "zwidth.plot needs matplotlib: pip install zwidth[plot]"
 
@@ -84,14 +84,19 @@ def _subplots(nrows: int = 1, ncols: int = 1, **kwargs: Any) -> Tuple["Figure", 
     return fig, axes
 
 
-def _axes_grid(fig: Optional["Figure"], nrows: int, ncols: int,
-               figsize: Tuple[float, float]) -> Tuple["Figure", List["Axes"]]:
-    """A new figure of nrows x ncols axes, or the given one cleared and refilled."""
+def _axes_grid(fig: Optional["Figure"], nrows: int, ncols: int, figsize: Tuple[float, float],
+               margins: Optional[Dict[str, float]] = None) -> Tuple["Figure", List["Axes"]]:
+    """A new figure of nrows x ncols axes, or the given one cleared and refilled.  With
+    ``margins`` (subplots_adjust's keywords) the layout is fixed instead of constrained:
+    constrained layout of many log axes costs seconds per draw."""
     if fig is None:
-        fig, _ = _subplots(nrows, ncols, figsize=figsize, layout="constrained")
+        fig, _ = _subplots(nrows, ncols, figsize=figsize, layout=None if margins else "constrained")
     else:
         fig.clear()
         fig.subplots(nrows, ncols)
+    if margins:
+        fig.set_layout_engine("none")
+        fig.subplots_adjust(**margins)
     return fig, list(fig.axes)
 
 
@@ -116,6 +121,28 @@ def _proxy(**kwargs: Any) -> Any:
     return Line2D([], [], **kwargs)
 
 
+def _tidy_log_axes(ax: "Axes") -> None:
+    """Label only the decades of log axes (no "2x10^0, 3x10^0, ..." minor labels: they
+    clutter narrow ranges and their mathtext made a figure take seconds to lay out);
+    minor ticks stay, unlabelled."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+    plain = FuncFormatter(lambda v, _: f"{v:g}")
+    for axis, scale, limits in ((ax.xaxis, ax.get_xscale(), ax.get_xlim()),
+                                (ax.yaxis, ax.get_yscale(), ax.get_ylim())):
+        lo, hi = sorted(limits)
+        if scale != "log" or lo <= 0.0:
+            continue
+        if hi / lo >= 100.0:
+            axis.set_major_locator(LogLocator(base=10.0, numticks=8))
+            axis.set_minor_locator(LogLocator(base=10.0, subs=[k / 10 for k in range(2, 10)], numticks=8))
+            axis.set_minor_formatter(NullFormatter())
+        else:  # under two decades: 1, 2, 5 per decade as plain numbers
+            axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0), numticks=12))
+            axis.set_major_formatter(plain)
+            axis.set_minor_locator(LogLocator(base=10.0, subs=[k / 10 for k in range(2, 10)], numticks=12))
+            axis.set_minor_formatter(NullFormatter())
+
+
 def _scalar(name: str, value: Any) -> float:
     if np.ndim(value) != 0:
         raise ValueError(f"zwidth.plot: {name} must be a scalar, got shape {np.shape(value)}")
@@ -135,35 +162,38 @@ def _mark_verdict(ax: "Axes", x: float, y: float, v: Union[Verdict, LoopVerdict]
 # ---------------------------------------------------------------------------------------
 
 
-def _legacy_right_edge(delta: float, start: float) -> float:
-    """Right end of the legacy region along alpha -> 0+ (found with check(region='legacy'),
-    which has no closed form in the API): doubling, then a fine scan."""
-    tiny = 1e-9 * max(1.0, delta)
-    hi = max(start, 1.0)
-    for _ in range(60):
-        if not bool(_check(delta, tiny, 2.0 * hi, region="legacy")):
-            break
-        hi *= 2.0
-    probe = np.linspace(hi, 2.0 * hi, 4001)
-    inside = np.asarray(_check(delta, tiny, probe, region="legacy"))
-    return float(probe[inside][-1]) if inside.any() else hi
-
-
 def _outline(ax: "Axes", delta: float, name: str, extent: Tuple[float, float, float, float],
-             fill: Optional[str], edge: str, resolution: Tuple[int, int]) -> None:
-    """A comparison region's outline: contour of check(..., region=name) on a grid."""
+             fill: Optional[str], edge: str, resolution: Tuple[int, int],
+             inside_exact: Optional[Any] = None) -> float:
+    """A comparison region's outline: contour of check(..., region=name) on a grid over the
+    view.  Returns the share of the view's grid cells where it differs from the exact
+    region (``inside_exact(bb, aa)``, else where it is inside), to tell whether it can be
+    seen at all."""
     x0, x1, y0, y1 = extent
     betas = np.linspace(x0, x1, resolution[0])
     alphas = np.linspace(y0, y1, resolution[1])
     bb, aa = np.meshgrid(betas, alphas)
-    mask = np.asarray(_check(delta, aa, bb, region=name), dtype=float)
+    inside = np.asarray(_check(delta, aa, bb, region=name), dtype=bool)
+    differs = inside if inside_exact is None else inside != inside_exact(bb, aa)
+    mask = inside.astype(float)
     if fill is not None:
         ax.contourf(bb, aa, mask, levels=[0.5, 1.5], colors=[fill], zorder=1)
     ax.contour(bb, aa, mask, levels=[0.5], colors=[edge], linestyles="--", linewidths=1.5,
                zorder=4)
+    return float(differs.mean())
 
 
 Point = Tuple[float, float]
+
+#: An overlay covering less than this share of the view is not listed as drawn (it cannot
+#: be seen); the legend says so instead.
+_VISIBLE_SHARE = 2e-3
+
+
+def _legend_outside(ax: "Axes", handles: List[Any]) -> None:
+    """The legend right of the axes, where it covers no curve or marker."""
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small",
+              framealpha=0.9, borderaxespad=0.0)
 
 
 def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
@@ -173,19 +203,22 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
 
     x = beta = B T/m (normalized virtual damping), y = alpha = K T^2/m (normalized virtual
     stiffness).  The exact boundary is ``zwidth.alpha_max(delta, beta)`` over
-    (-delta, beta_mmax), filled.  ``overlays`` draws comparison regions as dashed outlines,
-    sampled with ``zwidth.check(..., region=name)`` on a ``resolution`` grid: 'legacy'
-    (Gil et al., no line; shaded light green where it claims more than the exact region)
-    and 'passivity'; any other region name of ``zwidth.REGIONS`` works too.  Marked:
-    alpha_mmax, the corner where line meets hyperbola (delta > delta0), and ``point`` =
-    (beta, alpha) (or a list of such pairs), coloured by its exact verdict.  Returns the
-    Figure (``ax``'s, if given).
+    (-delta, beta_mmax), filled; the view is the exact region (and ``point``), whatever
+    the overlays.  ``overlays`` draws comparison regions as dashed outlines, sampled with
+    ``zwidth.check(..., region=name)`` on a ``resolution`` grid over the view: 'legacy'
+    (Gil et al., no line; shaded light green where it claims more than the exact region;
+    for delta > delta0 it reaches far beyond the view, which the legend says; for delta <=
+    delta0 it is the exact region and not drawn) and 'passivity'; any other region name of
+    ``zwidth.REGIONS`` works too.  An overlay too small to see is named in the legend as
+    such.  Marked: alpha_mmax, the corner where line meets hyperbola (delta > delta0), and
+    ``point`` = (beta, alpha) (or a list of such pairs), coloured by its exact verdict.  The
+    legend sits right of the axes.  Returns the Figure (``ax``'s, if given).
     """
     delta = _scalar("delta", delta)
     ext = _extremes(delta)  # validates delta (ZwidthError)
     assert isinstance(ext, Extremes)  # the paper's loop (no loop keywords)
-    top = hyperbola_top(delta)
-    cor = corner(delta)
+    top = hyperbola_top(delta, errors="mask")  # NaN where the legacy top overflows (delta ~ 1e300)
+    cor = corner(delta, errors="mask")
     lo, hi = -delta, float(ext.beta_mmax)
     has_corner = math.isfinite(float(cor.alpha))
 
@@ -195,41 +228,47 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
                                       [b for b in special if lo < b < hi]]))
     alphas = np.asarray(alpha_max(delta, betas), dtype=float)
 
-    # View: the exact region, plus the overlays' extents (the legacy region reaches
-    # beta ~ delta^2 for large delta, so it is clipped at three widths of the exact one).
-    width = hi - lo
-    x_hi = hi
-    y_hi = float(ext.alpha_mmax)
-    if "legacy" in overlays:
-        x_hi = max(x_hi, min(_legacy_right_edge(delta, hi), hi + 2.0 * width))
-        y_hi = max(y_hi, float(top.alpha))
-    if "passivity" in overlays:
-        x_hi = max(x_hi, delta)
+    # View: the exact region and the points.  The legacy region reaches beta ~ delta^2 and
+    # alpha ~ delta^2 for large delta; following it would shrink the exact region to a
+    # sliver, so it is clipped to the view (and the legend says how far it goes).
+    x_lo, x_hi, y_hi = lo, hi, float(ext.alpha_mmax)
     points = [] if point is None else np.asarray(point, dtype=float).reshape(-1, 2).tolist()
     for pb, pa in points:
-        x_hi, y_hi = max(x_hi, pb), max(y_hi, pa)
-    pad = 0.06 * (x_hi - lo)
-    extent = (lo - pad, x_hi + pad, 0.0, 1.1 * y_hi)
+        x_lo, x_hi, y_hi = min(x_lo, pb), max(x_hi, pb), max(y_hi, pa)
+    pad = 0.06 * (x_hi - x_lo)
+    extent = (x_lo - pad, x_hi + pad, 0.0, 1.15 * y_hi)
 
-    fig, ax = _own_axes(ax, (7.5, 5.2))
+    fig, ax = _own_axes(ax, (9.5, 5.2))
     handles: List[Any] = []
     ax.fill_between(betas, 0.0, alphas, color=_EXACT_FILL, alpha=0.75, linewidth=0, zorder=2)
     ax.plot(betas, alphas, color=_EXACT_EDGE, linewidth=2.0, zorder=5)
     handles.append(_proxy(color=_EXACT_EDGE, linewidth=6, alpha=0.75,
                           label="exact region (eq. (10))"))
 
+    def exact(bb: Any, aa: Any) -> Any:
+        return np.asarray(_check(delta, aa, bb), dtype=bool)
+
     for name in overlays:
+        if name == "legacy" and delta <= DELTA0:
+            handles.append(_proxy(color="none", label=r"legacy region = exact ($\delta \leq \delta_0$)"))
+            continue
         if name == "legacy":
-            _outline(ax, delta, "legacy", extent, _LEGACY_FILL, _LEGACY_EDGE, resolution)
-            handles.append(_proxy(color=_LEGACY_EDGE, linestyle="--",
-                                  label="legacy region (no line; Gil et al.)"))
+            share = _outline(ax, delta, "legacy", extent, _LEGACY_FILL, _LEGACY_EDGE, resolution, exact)
+            label = "legacy region (no line; Gil et al.)"
+            if not float(top.alpha) <= extent[3] or bool(_check(delta, 1e-9 * y_hi, extent[1], region="legacy")):
+                label += "\n" + (rf"(reaches beyond the view, up to $\alpha$ = {float(top.alpha):.3g})"
+                                  if math.isfinite(float(top.alpha)) else "(reaches far beyond the view)")
+            edge = _LEGACY_EDGE
         elif name == "passivity":
-            _outline(ax, delta, "passivity", extent, None, _PASSIVITY_EDGE, resolution)
-            handles.append(_proxy(color=_PASSIVITY_EDGE, linestyle="--",
-                                  label="passivity (eq. (16))"))
+            share = _outline(ax, delta, "passivity", extent, None, _PASSIVITY_EDGE, resolution)
+            label, edge = "passivity (eq. (16))", _PASSIVITY_EDGE
         else:
-            _outline(ax, delta, name, extent, None, "0.35", resolution)
-            handles.append(_proxy(color="0.35", linestyle="--", label=f"'{name}' region"))
+            share = _outline(ax, delta, name, extent, None, "0.35", resolution)
+            label, edge = f"'{name}' region", "0.35"
+        if share < _VISIBLE_SHARE:
+            handles.append(_proxy(color="none", label=f"{label.split(' (')[0]}: too small to see here"))
+        else:
+            handles.append(_proxy(color=edge, linestyle="--", label=label))
 
     where = "corner" if bool(ext.at_corner) else "hyperbola top"
     handles += ax.plot([float(ext.beta_at_alpha_mmax)], [float(ext.alpha_mmax)], "*", color="gold",
@@ -255,7 +294,7 @@ def region(delta: float, *, overlays: Sequence[str] = ("legacy", "passivity"),
         side = rf"$\delta \leq \delta_0$ = {DELTA0:.4g}: hyperbola only (legacy region exact)"
     ax.set_title(rf"Stability region, $\delta = bT/m$ = {delta:.4g}" + "\n" + side)
     ax.grid(True, color="0.9", zorder=0)
-    ax.legend(handles=handles, loc="upper right", fontsize="small", framealpha=0.9)
+    _legend_outside(ax, handles)
     return fig
 
 
@@ -317,7 +356,8 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
     b_max = np.asarray(ex.beta_mmax, dtype=float)
     a_p = np.asarray(ex.alpha_p_max, dtype=float)
 
-    fig, axes = _axes_grid(fig, 3, 2, (11.0, 11.0))
+    fig, axes = _axes_grid(fig, 3, 2, (11.0, 11.5),
+                           dict(left=0.07, right=0.98, top=0.94, bottom=0.16, wspace=0.22, hspace=0.32))
     ax_a, ax_ad, ax_bat, ax_b, ax_bd, ax_ratio = axes
     at = {name: _extremes(value) for name, _, value, _ in CRITICAL_DELTAS}
 
@@ -388,6 +428,7 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
     corners: Tuple[Any, ...] = ("upper left", "upper right", "lower left", "lower right", "upper right", "upper left")
     for ax, where in zip(axes, corners):
         ax.set_xscale("log")
+        _tidy_log_axes(ax)
         ax.set_xlim(delta_min, delta_max)
         _mark_criticals(ax, delta_min, delta_max)
         ax.grid(True, which="major", color="0.9")
@@ -399,8 +440,8 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
                     for (_, label, value, meaning), colour in zip(CRITICAL_DELTAS, _CRITICAL_COLOURS)
                     if delta_min <= value <= delta_max]
     if crit_handles:
-        fig.legend(handles=crit_handles, loc="outside lower center", ncols=2, fontsize="small",
-                   title="critical normalized dampings")
+        fig.legend(handles=crit_handles, loc="lower center", ncols=2, fontsize="small",
+                   title="critical normalized dampings", bbox_to_anchor=(0.5, 0.005))
     fig.suptitle("Impedance extremes against the normalized physical damping")
     return fig
 
@@ -453,7 +494,8 @@ def influence(device: Device, *, fig: Optional["Figure"] = None) -> "Figure":
     inf = device.influence()
     f = {k: float(v) for k, v in inf.as_dict().items() if k != "m"}
 
-    fig, axes = _axes_grid(fig, 2, 3, (13.0, 7.6))
+    fig, axes = _axes_grid(fig, 2, 3, (13.0, 7.8),
+                           dict(left=0.06, right=0.99, top=0.93, bottom=0.15, wspace=0.27, hspace=0.3))
 
     m_marks = {"m_K2": f["m_K2"], "m_K1": f["m_K1"], "m_K_match": f["m_K_match"],
                "m_0": f["m_0"], "m_B": f["m_B"]}
@@ -493,6 +535,7 @@ def influence(device: Device, *, fig: Optional["Figure"] = None) -> "Figure":
                 ax.plot([], [], " ", label=f"plant: {name} = 0 (off the log axis)")
             ax.set_xscale("log")
             ax.set_yscale("log")
+            _tidy_log_axes(ax)
             ax.set_xlabel(f"{name} [{unit}]")
             ax.set_ylabel(f"{key}_mmax [{limit_unit}]")
             ax.grid(True, which="major", color="0.9")
@@ -502,7 +545,6 @@ def influence(device: Device, *, fig: Optional["Figure"] = None) -> "Figure":
                  f"{held} (δ = {float(device.delta):.4g})")
     fig.text(0.01, 0.005, "\n".join(textwrap.wrap(inf.trends + ". " + inf.advice, 170)),
              fontsize="small", va="bottom", ha="left")
-    fig.get_layout_engine().set(rect=(0.0, 0.06, 1.0, 0.94))  # type: ignore[union-attr, call-arg]
     return fig
 
 
@@ -530,20 +572,16 @@ def device(device: Device, K: Optional[float] = None, B: Optional[float] = None,
     bs = bs[(bs >= lo) & (bs <= hi)]
     ks = np.asarray(device.k_max(bs), dtype=float)
 
-    fig, (ax,) = _axes_grid(fig, 1, 1, (7.5, 5.8))
-    x_hi, y_hi = hi, float(lim.K_mmax)
+    fig, (ax,) = _axes_grid(fig, 1, 1, (9.8, 5.8))
+    # View: the exact region and the gains; the legacy overlay (delta > delta0 only; it is
+    # the exact region below) is clipped to it, as in region().
+    x_lo, x_hi, y_hi = lo, hi, float(lim.K_mmax)
     legacy = "legacy" in overlays and float(device.delta) > DELTA0
-    if legacy:
-        top = hyperbola_top(device.delta)
-        # Unit conversion of the legacy hyperbola top: alpha m/T^2, beta m/T.
-        y_hi = max(y_hi, float(top.alpha) * m / T ** 2)
-        x_hi = max(x_hi, min(_legacy_right_edge(float(device.delta), float(device.delta)) * m / T,
-                             hi + 2.0 * (hi - lo)))
     have_gains = K is not None and B is not None
     if have_gains:
-        x_hi, y_hi = max(x_hi, float(B)), max(y_hi, float(K))  # type: ignore[arg-type]
-    pad = 0.06 * (x_hi - lo)
-    x0, x1, y0, y1 = lo - pad, x_hi + pad, 0.0, 1.1 * y_hi
+        x_lo, x_hi, y_hi = min(x_lo, float(B)), max(x_hi, float(B)), max(y_hi, float(K))  # type: ignore[arg-type]
+    pad = 0.06 * (x_hi - x_lo)
+    x0, x1, y0, y1 = x_lo - pad, x_hi + pad, 0.0, 1.15 * y_hi
 
     handles: List[Any] = []
     ax.fill_between(bs, 0.0, ks, color=_EXACT_FILL, alpha=0.75, linewidth=0, zorder=2)
@@ -551,14 +589,27 @@ def device(device: Device, K: Optional[float] = None, B: Optional[float] = None,
     handles.append(_proxy(color=_EXACT_EDGE, linewidth=6, alpha=0.75, label="stable (exact region)"))
     for name in overlays:
         if name == "legacy" and not legacy:
-            continue  # identical to the exact region for delta <= delta0
+            handles.append(_proxy(color="none", label="legacy region = exact (δ ≤ δ0)"))
+            continue
         bb, kk = np.meshgrid(np.linspace(x0, x1, resolution[0]), np.linspace(y0, y1, resolution[1]))
-        mask = np.asarray(device.is_stable(kk, bb, region=name), dtype=float)
+        inside = np.asarray(device.is_stable(kk, bb, region=name), dtype=bool)
+        differs = inside != np.asarray(device.is_stable(kk, bb), dtype=bool) if name == "legacy" else inside
+        mask = inside.astype(float)
         edge = {"legacy": _LEGACY_EDGE, "passivity": _PASSIVITY_EDGE}.get(name, "0.35")
         if name == "legacy":
             ax.contourf(bb, kk, mask, levels=[0.5, 1.5], colors=[_LEGACY_FILL], zorder=1)
         ax.contour(bb, kk, mask, levels=[0.5], colors=[edge], linestyles="--", linewidths=1.5, zorder=4)
-        handles.append(_proxy(color=edge, linestyle="--", label=f"{name} region"))
+        label = f"{name} region"
+        if name == "legacy":
+            top = hyperbola_top(device.delta, errors="mask")
+            top_K = float(top.alpha) * m / T ** 2  # unit conversion of the legacy claim
+            if not top_K <= y1 or bool(device.is_stable(1e-9 * y_hi, x1, region="legacy")):
+                label += (f"\n(reaches beyond the view, up to K = {top_K:.3g})" if math.isfinite(top_K)
+                          else "\n(reaches far beyond the view)")
+        if float(differs.mean()) < _VISIBLE_SHARE:
+            handles.append(_proxy(color="none", label=f"{name} region: too small to see here"))
+        else:
+            handles.append(_proxy(color=edge, linestyle="--", label=label))
 
     corner_word = "corner" if bool(lim.at_corner) else "hyperbola top"
     handles += ax.plot([float(lim.B_at_K_mmax)], [float(lim.K_mmax)], "*", color="gold",
@@ -582,9 +633,9 @@ def device(device: Device, K: Optional[float] = None, B: Optional[float] = None,
     ax.set_title(f"Stable gains for {u['m']} = {m:.4g} {u['m_unit']}, b = {b:.4g} {u['b_unit']}, "
                  f"T = {T:.4g} s\n(δ = bT/{u['m']} = {float(device.delta):.4g})")
     ax.grid(True, color="0.9", zorder=0)
-    ax.legend(handles=handles, loc="upper right", fontsize="small", framealpha=0.9)
+    _legend_outside(ax, handles)
     advice = device.influence().advice
-    fig.text(0.01, 0.005, "\n".join(textwrap.wrap("Advice: " + advice, 110)), fontsize="small",
+    fig.text(0.01, 0.005, "\n".join(textwrap.wrap("Advice: " + advice, 140)), fontsize="small",
              va="bottom", ha="left")
     fig.get_layout_engine().set(rect=(0.0, 0.07, 1.0, 0.93))  # type: ignore[union-attr, call-arg]
     return fig
@@ -662,9 +713,10 @@ def _response_panel(ax: "Axes", sim: "Simulation", scene: "Scene") -> None:
     lo, hi = min(marks) * scale, max(marks) * scale
     finite = x[np.isfinite(x)]
     t_end = float(t[-1]) if len(t) > 1 else 1.0
-    if scene.linear and finite.size:
-        # Unstable responses grow without bound: show the band around the step, as Fig. 15,
-        # and the time until the response leaves it; stable ones until they settle.
+    if finite.size and (scene.linear or sim.verdict.outcome != "stable"):
+        # Unstable responses grow without bound (with effects too: a delay, quantization):
+        # show the band around the step, as Fig. 15, and the time until the response leaves
+        # it; stable linear ones until they settle.
         span = (hi - lo) or 1.0
         top, bottom = hi + 1.5 * span, lo - 1.5 * span
         outside = np.flatnonzero(~((x >= bottom) & (x <= top)))
@@ -688,7 +740,12 @@ def _response_panel(ax: "Axes", sim: "Simulation", scene: "Scene") -> None:
     ax.set_title(_case_title(sim, scene.rotary), fontsize="medium")
 
 
-def _force_panel(ax: "Axes", sim: "Simulation", scene: "Scene") -> None:
+def _force_panel(ax: "Axes", sim: "Simulation", scene: "Scene",
+                 window: Optional[Tuple[float, float]] = None,
+                 band: Optional[Tuple[float, float]] = None) -> None:
+    """The forces; ``window``: the time span of the response panel above, ``band`` its
+    position range: the forces of the samples shown there set the y range (an unstable
+    run's forces reach 1e150 by the end; the rest is clipped like the position)."""
     unit = _pretty(sim.units["force"])
     ax.plot(sim.t, sim.force, color="C0", linewidth=1.2, label="force applied")
     names = {"force_command": "controller command", "wall_force": "wall", "hand_force": "hand",
@@ -697,6 +754,22 @@ def _force_panel(ax: "Axes", sim: "Simulation", scene: "Scene") -> None:
         if name in sim.signals:
             ax.plot(sim.t, sim.signals[name], color=f"C{i + 1}", linewidth=1.0, label=text,
                     linestyle="--" if name == "force_command" else "-")
+    if window is not None:
+        ax.set_xlim(*window)
+        shown = (sim.t >= window[0]) & (sim.t <= window[1])
+        if band is not None:
+            x = sim.x * _position_scale(scene.rotary)[0]
+            within = (x >= band[0]) & (x <= band[1])
+            first_out = np.flatnonzero(shown & ~within)
+            if first_out.size:  # the forces until the position leaves the band
+                shown &= np.arange(sim.t.size) <= first_out[0] + 2
+        traces = [sim.force] + [sim.signals[n] for n in names if n in sim.signals]
+        values = np.concatenate([np.asarray(tr)[shown] for tr in traces])
+        values = values[np.isfinite(values)]
+        if values.size:
+            lo, hi = float(values.min()), float(values.max())
+            pad = 0.08 * (hi - lo) or 1.0
+            ax.set_ylim(lo - pad, hi + pad)
     ax.set_xlabel("t [s]")
     ax.set_ylabel(f"force [{unit}]")
     ax.grid(True, color="0.92")
@@ -731,8 +804,10 @@ def _knob_panels(ax_k: "Axes", ax_x: "Axes", sim: "Simulation", scene: "Scene") 
     ax_k.plot(grid * scale, planned, color="0.2", linewidth=2.0, drawstyle="steps-mid",
               label="planned (knob map)")
     rendered = sim.signals["stiffness"]
-    ax_k.plot(sim.x * scale, rendered, color=colour, linewidth=0.7, alpha=0.8, marker=".",
-              markersize=3, label="rendered: K used at each sample, at the true position")
+    # dots, not a line: consecutive samples are joined by nothing physical, and a line
+    # between them draws a fan across the figure whenever the knob jumps
+    ax_k.plot(sim.x * scale, rendered, color=colour, alpha=0.6, marker=".", markersize=3,
+              linestyle="none", label="rendered: K used at each sample, at the true position")
     ax_k.set_xlabel(f"position [{unit}]")
     ax_k.set_ylabel(f"stiffness [{k_unit}]")
     ax_k.grid(True, color="0.92")
@@ -782,7 +857,7 @@ def simulation(sims: "SimulationSet", *, fig: Optional["Figure"] = None,
         fig, axes = _axes_grid(fig, 2, 1, (9.0, 7.5))
         _response_panel(axes[0], sims[0], scene)
         axes[0].legend(loc="upper left", fontsize="small")
-        _force_panel(axes[1], sims[0], scene)
+        _force_panel(axes[1], sims[0], scene, window=axes[0].get_xlim(), band=axes[0].get_ylim())
     else:
         ncols = columns or min(4, n)
         if ncols < 1:
@@ -872,15 +947,21 @@ def _loop_text(kw: Dict[str, Any]) -> str:
                            kw["differentiator"]).describe()
 
 
+#: File formats :func:`save` writes, by suffix (vector formats for papers: pdf, svg, eps).
+FORMATS = ("png", "pdf", "svg", "eps", "ps")
+
+
 def save(fig: "Figure", path: Union[str, Path], *, dpi: float = 100.0) -> Path:
-    """Write ``fig`` as PNG or SVG, chosen by the suffix of ``path``; returns the Path.
+    """Write ``fig`` as PNG, PDF, SVG, EPS or PS, chosen by the suffix of ``path``;
+    returns the Path.  ``dpi`` applies to PNG (and to images inside vector files).
 
     Raises ValueError for any other suffix and OSError if the file cannot be written.
     """
     out = Path(path)
     fmt = out.suffix.lower().lstrip(".")
-    if fmt not in ("png", "svg"):
-        raise ValueError(f"zwidth.plot.save: {out.name!r}: the file must end in .png or .svg")
+    if fmt not in FORMATS:
+        raise ValueError(f"zwidth.plot.save: {out.name!r}: the file must end in "
+                         f"{', '.join('.' + f for f in FORMATS[:-1])} or .{FORMATS[-1]}")
     fig.savefig(out, format=fmt, dpi=dpi)
     return out
 
@@ -950,3 +1031,8 @@ def box_region(box: "PlantBox", K: Optional[float] = None, B: Optional[float] = 
     ax.grid(True, color="0.9", zorder=0)
     ax.legend(handles=handles, loc="upper right", fontsize="small", framealpha=0.9)
     return fig
+
+
+def __dir__() -> List[str]:
+    """The figures, not the typing names this module imports."""
+    return sorted(__all__)

@@ -12,6 +12,8 @@ N/m as N m/rad and N s/m as N m s/rad).
 from __future__ import annotations
 
 import dataclasses
+import enum
+import html
 from typing import Any, Dict, Iterator, Mapping, Type, TypeVar
 
 import numpy as np
@@ -22,11 +24,120 @@ _BOUND_NAMES = {int(bit): name for name, bit in _core.BOUNDS.items()}
 _TREND_WORDS = {-1: "falls", 0: "is flat", 1: "rises"}
 
 
+class _Named:
+    """Mixin: print as the lower-case name ('hyperbola', 'line|hyperbola') and compare
+    equal to that name as well as to the integer code."""
+
+    def _text(self) -> str:
+        raise NotImplementedError
+
+    def __str__(self) -> str:
+        return self._text()
+
+    def __format__(self, spec: str) -> str:
+        return format(self._text(), spec)
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, str):
+            return self._text() == other
+        return int(self) == other  # type: ignore[call-overload, no-any-return]
+
+    def __ne__(self, other: object) -> bool:
+        return not self == other
+
+    def __hash__(self) -> int:
+        return hash(int(self))  # type: ignore[call-overload]
+
+
+class Bound(_Named, enum.IntFlag):
+    """The constraints of the exact region (paper eq (10)) and passivity: the bits of
+    ``Verdict.deciding`` and ``Verdict.violated``.  A member prints as its name
+    (``str(Bound.LINE) == 'line'``, a combination as 'hyperbola|line', none as '') and
+    compares equal to its name and to its integer bit."""
+
+    NONE = 0
+    DAMPING = int(_core.BOUNDS["damping"])      #: beta > -delta (B > -b)
+    STIFFNESS = int(_core.BOUNDS["stiffness"])  #: alpha > 0 (K > 0)
+    HYPERBOLA = int(_core.BOUNDS["hyperbola"])  #: alpha < f(beta)
+    LINE = int(_core.BOUNDS["line"])            #: alpha < L(beta), delta > delta0
+    PASSIVITY = int(_core.BOUNDS["passivity"])  #: K T/2 < b - |B| (region 'passivity')
+
+    def _text(self) -> str:
+        return "|".join(_BOUND_NAMES[int(bit)] for bit in sorted(_BOUND_NAMES) if int(self) & bit)
+
+    def __repr__(self) -> str:
+        return f"Bound({self._text()!r})" if int(self) else "Bound.NONE"
+
+
+class LoopBoundary(_Named, enum.IntEnum):
+    """Where the root of largest modulus of a general loop crosses the unit circle
+    (``LoopVerdict.boundary``); prints as 'z=1', 'z=-1', 'complex' or 'none'."""
+
+    NONE = int(_core.LOOP_BOUNDARIES["none"])
+    Z_PLUS_1 = int(_core.LOOP_BOUNDARIES["z=1"])    #: static divergence
+    Z_MINUS_1 = int(_core.LOOP_BOUNDARIES["z=-1"])  #: oscillation at the Nyquist frequency
+    COMPLEX = int(_core.LOOP_BOUNDARIES["complex"])  #: a complex pair: oscillation at its frequency
+
+    def _text(self) -> str:
+        return {0: "none", 1: "z=1", 2: "z=-1", 3: "complex"}[int(self)]
+
+    def __repr__(self) -> str:
+        return f"LoopBoundary({self._text()!r})"
+
+
+class Trend(_Named, enum.IntEnum):
+    """The sign of a limit's derivative against m, b or T at a plant (``Influence.K_vs_m``
+    ...): prints as 'falls', 'is flat' or 'rises'; compares equal to -1, 0, +1 too."""
+
+    FALLS = -1
+    FLAT = 0
+    RISES = 1
+
+    def _text(self) -> str:
+        return _TREND_WORDS[int(self)]
+
+    def __repr__(self) -> str:
+        return f"Trend({self._text()!r})"
+
+
+def _named(kind: Any, value: Any) -> Any:
+    """A scalar code as its named member (arrays stay integer codes, which compare with
+    the members elementwise: ``v.deciding == Bound.LINE``)."""
+    if value is None or np.ndim(value) != 0 or isinstance(value, kind):
+        return value
+    return kind(int(value))
+
+
+#: Arrays longer than this print as a summary (shape, range) instead of their values.
+_SHORT_ARRAY = 8
+
+
+def _summary(value: "np.ndarray[Any, Any]") -> str:
+    """array(shape=(200, 300), 0.0123..4.56, 3 NaN): a sweep's result at a glance."""
+    head = f"array(shape={value.shape}"
+    if value.size == 0:
+        return head + ")"
+    if value.dtype.kind == "b":
+        return head + f", {100.0 * float(value.mean()):.3g} % True)"
+    if value.dtype.kind in "iu":
+        return head + f", {int(value.min())}..{int(value.max())})"
+    if value.dtype.kind == "f":
+        finite = value[np.isfinite(value)]
+        text = head + (f", {float(finite.min()):.4g}..{float(finite.max()):.4g}" if finite.size else "")
+        nan = int(np.isnan(value).sum())
+        return text + (f", {nan} NaN)" if nan else ")")
+    return head + f", dtype={value.dtype})"
+
+
 def _format(value: Any) -> str:
     if isinstance(value, np.ndarray):
-        # 6 significant digits, as for scalars; long arrays are summarized
-        return np.array2string(value, separator=", ", threshold=8, edgeitems=2,
+        if value.size > _SHORT_ARRAY:
+            return _summary(value)
+        # 6 significant digits, as for scalars
+        return np.array2string(value, separator=", ", threshold=_SHORT_ARRAY, edgeitems=2,
                                formatter={"float_kind": lambda v: f"{v:.6g}"})
+    if isinstance(value, _Named):
+        return repr(str(value))
     if isinstance(value, (bool, np.bool_)):
         return str(bool(value))
     if isinstance(value, (int, np.integer)):
@@ -62,6 +173,15 @@ class Result:
                 parts.append(f"{f.name}={_format(getattr(self, f.name))}")
         return f"{type(self).__name__}({', '.join(parts)})"
 
+    def _repr_html_(self) -> str:
+        """A table for notebooks: one row per field, arrays summarized (shape, range)."""
+        doc = (type(self).__doc__ or "").strip().split("\n")[0]
+        rows = "".join(f"<tr><th style='text-align:left'>{html.escape(f.name)}</th>"
+                       f"<td style='text-align:left'><code>{html.escape(_format(getattr(self, f.name)))}</code></td></tr>"
+                       for f in dataclasses.fields(self) if f.repr)
+        return (f"<table><caption style='text-align:left'><b>{type(self).__name__}</b> "
+                f"{html.escape(doc)}</caption>{rows}</table>")
+
     @classmethod
     def from_outputs(cls: Type[R], outputs: Mapping[str, Any], **extra: Any) -> R:
         """Build from a kernel's outputs (extra keys ignored) plus ``extra`` fields."""
@@ -82,8 +202,11 @@ class Verdict(Result):
     stable:   True only if the point is stable for every value within the rounding-error
               bound (an unstable point is never called stable).
     marginal: within the rounding band of a boundary: could not be proved stable.
-    deciding: the first violated constraint (a ``zwidth.BOUNDS`` bit, 0 when stable).
-    violated: every violated or unprovable constraint, as ``zwidth.BOUNDS`` bits.
+    deciding: the first violated constraint, a :class:`zwidth.Bound` (prints and compares
+              as its name: ``v.deciding == 'line'``; ``Bound.NONE`` when stable); for
+              arrays the integer bits (``v.deciding == zwidth.Bound.LINE`` elementwise).
+    violated: every violated or unprovable constraint, a :class:`zwidth.Bound`
+              combination ('hyperbola|line'); for arrays the integer bits.
     status:   the C core's status code per element (0 = ok; see ``zwidth.STATUS_NAMES``);
               with ``errors="mask"`` it tells which elements were invalid.
     """
@@ -93,6 +216,10 @@ class Verdict(Result):
     deciding: Any
     violated: Any
     status: Any
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "deciding", _named(Bound, self.deciding))
+        object.__setattr__(self, "violated", _named(Bound, self.violated))
 
     @property
     def word(self) -> Any:
@@ -110,12 +237,18 @@ class Verdict(Result):
         if np.ndim(self.stable) == 0:
             if self.status:
                 return f"Verdict(invalid: {_core.STATUS_NAMES[int(self.status)]})"
-            violated = [name for bit, name in _BOUND_NAMES.items() if int(self.violated) & bit]
             text = f"Verdict(stable={bool(self.stable)}, marginal={bool(self.marginal)}"
             if not self.stable:
-                text += f", deciding={self.deciding_name!r}, violated={violated}"
+                violated = [name for bit, name in _BOUND_NAMES.items() if int(self.violated) & bit]
+                text += f", deciding={str(self.deciding)!r}, violated={violated}"
             return text + ")"
-        return super().__repr__()
+        stable = np.asarray(self.stable)
+        codes = np.asarray(self.deciding)
+        counts = ", ".join(f"{_BOUND_NAMES[int(c)]}: {int((codes == c).sum())}"
+                           for c in np.unique(codes) if int(c) in _BOUND_NAMES)
+        return (f"Verdict(shape={stable.shape}, stable={int(stable.sum())} of {stable.size}, "
+                f"marginal={int(np.asarray(self.marginal).sum())}"
+                + (f", deciding={{{counts}}}" if counts else "") + ")")
 
 
 @dataclasses.dataclass(frozen=True, repr=False)
@@ -157,6 +290,27 @@ class BoundaryPoint(Result):
 
     alpha: Any
     beta: Any
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class Boundary(Result):
+    """The exact region's outline at one delta as arrays, beta ascending from -delta to
+    beta_mmax, alpha = alpha_max(beta) (0 at both ends, which the region does not
+    contain); the hyperbola's top and the corner where the line meets it (delta > delta0)
+    are among the points, so the corner stays sharp.  ``beta, alpha = boundary`` unpacks."""
+
+    beta: Any
+    alpha: Any
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class DeviceBoundary(Result):
+    """A plant's region as arrays in real units: B [N s/m] ascending from B_mmin = -b to
+    B_mmax, K = K_max(B) [N/m] (rotary: N m s/rad, N m/rad), the point of K_mmax and the
+    corner included.  ``B, K = dev.boundary()`` unpacks."""
+
+    B: Any
+    K: Any
 
 
 @dataclasses.dataclass(frozen=True, repr=False)
@@ -238,6 +392,10 @@ class Influence(Result):
     #: "m", or "J" for a rotary device: the name the sentences use for the mass
     mass_symbol: str = dataclasses.field(default="m", repr=False, metadata={"result": False})
 
+    def __post_init__(self) -> None:
+        for name in ("K_vs_m", "K_vs_b", "K_vs_T", "B_vs_m", "B_vs_b", "B_vs_T"):
+            object.__setattr__(self, name, _named(Trend, getattr(self, name)))
+
     @property
     def trends(self) -> str:
         """The six trends in words ('K_mmax falls with m, rises with b, ...')."""
@@ -277,7 +435,8 @@ class LoopVerdict(Result):
                the unit circle for every value within the rounding-error bound.
     marginal:  within the rounding band of a boundary: could not be proved stable.
     boundary:  where the root of largest modulus crosses (or nearly does): a
-               ``zwidth.LOOP_BOUNDARIES`` code, 0 ('none') when stable; see ``deciding_name``.
+               :class:`zwidth.LoopBoundary` ('z=1', 'z=-1', 'complex', 'none' when
+               stable; integer codes for arrays); see ``deciding_name``.
     theta:     for a complex pair, its angle in (0, pi) rad per sample, else 0.
     frequency: theta / (2 pi T) [Hz] for a Device; theta / (2 pi) [cycles per sample] in
                the normalized space.
@@ -292,6 +451,9 @@ class LoopVerdict(Result):
     status: Any
     #: "Hz" (a Device) or "cycles/sample" (normalized): the unit of frequency
     frequency_unit: str = dataclasses.field(default="cycles/sample", repr=False, metadata={"result": False})
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "boundary", _named(LoopBoundary, self.boundary))
 
     @property
     def word(self) -> Any:

@@ -614,14 +614,14 @@ def test_scalar_inputs_give_numpy_scalars():
                      (zwidth.alpha_max(1.0, 0.5), np.float64),
                      (zwidth.coefficients(1.0).c1, np.float64),
                      (zwidth.extremes(1.0).at_corner, np.bool_),
-                     (zwidth.verdict(1.0, 2.0, 0.5).deciding, np.uint8),
-                     (zwidth.verdict(1.0, 2.0, 0.5).violated, np.uint16),
+                     (zwidth.verdict(1.0, 2.0, 0.5).deciding, zwidth.Bound),  # named (results.py)
+                     (zwidth.verdict(1.0, 2.0, 0.5).violated, zwidth.Bound),
                      (zwidth.verdict(1.0, 2.0, 0.5).status, np.int8),
                      (zwidth.beta_interval(1.0, 2.0).nonempty, np.bool_),
                      (zwidth.Device(1.0, 1.0, 0.1).is_stable(10.0, 0.0), np.bool_),
                      (zwidth.Device(1.0, 1.0, 0.1).margin(10.0, 0.0), np.float64),
                      (zwidth.Device(1.0, 1.0, 0.1).k_max(0.0), np.float64),
-                     (zwidth.Device(1.0, 1.0, 0.1).influence().K_vs_m, np.int8),
+                     (zwidth.Device(1.0, 1.0, 0.1).influence().K_vs_m, zwidth.Trend),
                      (zwidth.Device(1.0, 1.0, 0.1).delta, np.float64)):
         assert type(value) is t, (value, type(value), t)
     poly = zwidth.char_poly(1.0, 2.0, 0.5)
@@ -640,7 +640,8 @@ def test_broadcasting_equals_elementwise_scalar_calls(shapes):
     db, ab, bb = np.broadcast_arrays(d, a, b)
     for fn, args, dtype in ((zwidth.check, (d, a, b), np.bool_), (zwidth.spectral_radius, (d, a, b), np.float64),
                             (lambda x, y, z: zwidth.radius_within(x, y, z, r), (d, a, b), np.bool_),
-                            (lambda x, y, z: zwidth.verdict(x, y, z).violated, (d, a, b), np.uint16),
+                            (lambda x, y, z: np.asarray(zwidth.verdict(x, y, z).violated, dtype=np.uint16), (d, a, b),
+                             np.uint16),  # a scalar is a named zwidth.Bound, arrays the bits
                             (lambda x, y, z: zwidth.alpha_max(x, z) + 0 * y, (d, a, b), np.float64),
                             (lambda x, y, z: zwidth.beta_interval(x, y).hi + 0 * z, (d, a, b), np.float64)):
         out = np.asarray(fn(*args))
@@ -760,6 +761,9 @@ def test_non_broadcastable_shapes_raise_value_error():
             case()
         assert not isinstance(info.value, ZwidthError)
         assert "broadcast" in str(info.value)
+    # the message names the parameters (numpy's lists bare shapes, some of internal arguments)
+    with pytest.raises(ValueError, match=r"m \(2,\), b \(\), T \(\), K \(3,\), B \(\) do not broadcast"):
+        zwidth.Device(np.ones(2), 1.0, 1.0).is_stable(np.ones(3), 0.0)
 
 
 # ---------------------------------------------------------------------------------------

@@ -95,7 +95,7 @@ def test_exit_codes(args, code):
     (("check", *LINEAR, "--K", "1", "--B", "0", "--region", "nope"), 2, ["--region", "nope"]),
     (("limits",), 2, ["--m", "--delta"]),
     ((), 2, ["check", "limits"]),
-    (("plot", "region", "--delta", "3", "-o", "x.pdf"), 2, ["--output", ".png"]),
+    (("plot", "region", "--delta", "3", "-o", "x.txt"), 2, ["--output", ".png, .pdf"]),
     (("plot", "extremes", "--delta-min", "0"), 2, ["--delta-min"]),
     (("plot", "device", "--delta", "3"), 2, ["real-unit"]),
 ])
@@ -117,7 +117,7 @@ NUM = (float, type(None))
 INTERVAL = {"lo": NUM, "hi": NUM, "nonempty": bool}
 COMMON = {
     "command": str, "mode": str,
-    "plant": {"m": NUM, "b": NUM, "T": NUM, "rotary": bool, "delta": float},
+    "plant": {"m": NUM, "b": NUM, "T": NUM, "rotary": bool, "delta": float, "preset": (str, type(None))},
     "units": (dict, type(None)),
     "loop": dict,   # the loop analysed (test_loop_cli.py)
 }
@@ -139,7 +139,8 @@ SCHEMAS = {
 }
 GAINS = {"K": NUM, "B": NUM, "alpha": NUM, "beta": NUM, "verdict": str, "stable": bool,
          "marginal": bool, "deciding": (str, type(None)), "spectral_radius": float, "K_max": float,
-         "B_range": INTERVAL, "suggestions": list}
+         "B_range": INTERVAL, "margins": {"sigma": float, "r": float}, "certified": bool,
+         "suggestions": list}
 SUGGESTION = {"change": str, "lo": NUM, "hi": NUM, "value": NUM, "text": str}
 INFLUENCE_INTS = ("K_vs_m", "K_vs_b", "K_vs_T", "B_vs_m", "B_vs_b", "B_vs_T")
 
@@ -203,7 +204,7 @@ def test_check_json_normalized_line():
     iv = zwidth.beta_interval(5.122, 23.0)
     assert same(obj["beta_range"]["lo"], iv.lo) and same(obj["beta_range"]["hi"], iv.hi)
     assert obj["K"] is obj["K_max"] is obj["B_range"] is obj["units"] is None
-    assert obj["plant"] == {"m": None, "b": None, "T": None, "rotary": False, "delta": 5.122}
+    assert obj["plant"] == {"m": None, "b": None, "T": None, "rotary": False, "delta": 5.122, "preset": None}
     assert obj["loop"]["ideal"] is True
 
 
@@ -269,12 +270,62 @@ def test_advise_json_matches_api():
     assert obj["advice"] == inf.advice
     gains = obj["gains"]
     assert gains["verdict"] == "unstable" and same(gains["K_max"], dev.k_max(-1.36e-3))
+    assert gains["margins"] == {"sigma": 0.8, "r": 0.999} and gains["certified"] is False
     changes = {s["change"]: s for s in gains["suggestions"]}
-    assert same(changes["K"]["hi"], dev.k_max(-1.36e-3))
-    for name in ("b", "T"):  # a suggested plant change really makes the gains stable
+    k = changes["K"]
+    # the certified K interval at this B ends at sigma K_max(B), the drive's LIVE_K_CERT 0.39420
+    assert k["hi"] == pytest.approx(0.8 * float(dev.k_max(-1.36e-3)), rel=1e-9) and k["value"] == k["hi"]
+    for K in (k["lo"], k["value"], k["hi"]):  # every end is certified: stable, sigma, radius
+        assert bool(dev.is_stable(K, -1.36e-3)) and bool(dev.radius_within(K, -1.36e-3, 0.999))
+        assert K <= 0.8 * float(dev.k_max(-1.36e-3))
+    assert not bool(dev.radius_within(k["lo"] * 0.99, -1.36e-3, 0.999))  # the lower end is the radius'
+    for name in ("b", "T"):  # a suggested plant change certifies the gains as they are
         plant = dict(J=85.78e-7, b=2.197e-3, T=0.02)
         plant[name] = changes[name]["value"]
-        assert bool(zwidth.Device.rotary(plant["J"], plant["b"], plant["T"]).is_stable(0.5, -1.36e-3))
+        moved = zwidth.Device.rotary(plant["J"], plant["b"], plant["T"])
+        assert bool(moved.is_stable(0.5, -1.36e-3)) and bool(moved.radius_within(0.5, -1.36e-3, 0.999))
+        assert 0.5 <= 0.8 * float(moved.k_max(-1.36e-3))
+
+
+def test_advise_takes_the_drives_margins():
+    """Stable gains above sigma K_max(B) are not certified (exit 1) and get the certified
+    value; a looser sigma certifies them; the B suggestion keeps K within sigma K_max(B)."""
+    dev = zwidth.Device.rotary(85.78e-7, 2.197e-3, 0.02)
+    K, B = 0.3, 0.0  # stable (84 % of K_max(B) = 0.3577), above the drive's 80 %
+    assert bool(dev.is_stable(K, B))
+    obj = run_json("advise", *SHORT, "--K", str(K), "--B", str(B), code=1)
+    assert obj["gains"]["stable"] is True and obj["gains"]["certified"] is False
+    changes = {s["change"]: s for s in obj["gains"]["suggestions"]}
+    assert changes["K"]["value"] == pytest.approx(0.8 * float(dev.k_max(B)), rel=1e-9)
+    lo, hi = changes["B"]["lo"], changes["B"]["hi"]
+    for b in np.linspace(lo, hi, 25):
+        assert K <= 0.8 * float(dev.k_max(b)) and bool(dev.radius_within(K, b, 0.999))
+    assert changes["B"]["lo"] < changes["B"]["value"] == changes["B"]["hi"] < B  # more negative B
+    assert run_json("advise", *SHORT, "--K", str(K), "--B", str(B), "--sigma", "0.9",
+                    code=0)["gains"]["certified"] is True
+    assert run_json("advise", *SHORT, "--K", "0.39", "--B", "-1.36e-3", "--r", "0.9",
+                    code=1)["gains"]["certified"] is False  # spectral radius 0.947
+    text = run("advise", *SHORT, "--K", str(K), "--B", str(B)).stdout
+    assert "sigma = 0.8, r = 0.999): NOT CERTIFIED" in text
+
+
+@pytest.mark.parametrize("bad", ["0", "1.5", "-0.8"])
+def test_advise_refuses_margins_outside_0_1(bad):
+    r = run("advise", *SHORT, "--K", "0.39", "--B", "-1.36e-3", "--sigma", bad)
+    assert r.returncode == 2 and "--sigma" in r.stderr
+
+
+def test_preset_names_the_papers_drive_and_nothing_is_filled_in():
+    obj = run_json("limits", "--preset", "paper-drive")
+    assert obj["plant"]["preset"] == "paper-drive" and obj["plant"]["rotary"] is True
+    assert same(obj["K_mmax"], zwidth.Device.rotary(85.78e-7, 2.197e-3, 0.02).extremes().K_mmax)
+    assert run_json("limits", "--preset", "paper-drive", "--T", "0.008")["plant"]["T"] == 0.008
+    r = run("limits", "--m", "0.12", "--b", "0.8")
+    assert r.returncode == 2 and "the plant needs --T (or --preset paper-drive)" in r.stderr
+    r = run("limits", "--preset", "paper-drive", "--delta", "3")
+    assert r.returncode == 2 and "--preset" in r.stderr
+    r = run("limits", *SHORT, "--K", "0.39", "--B", "-1.36e-3")  # would be ignored: refused
+    assert r.returncode == 2 and "zwidth check" in r.stderr
 
 
 def test_advise_normalized_uses_unit_plant():

@@ -480,3 +480,95 @@ def test_device_call_error_paths(zw):
         assert st == E["ZW_ERR_NAN"] and zw.failsafe()
     assert zw.lib.zw_device_check(None, 1.0, 1.0, None) == E["ZW_ERR_NULL"]
     assert zw.lib.zw_device_influence(None, None) == E["ZW_ERR_NULL"]
+
+
+# ---------------------------------------------------------------------------------------
+# The Python API's results and errors (issue 15): named flags, named errors, boundary
+# ---------------------------------------------------------------------------------------
+
+
+def test_verdict_deciding_prints_and_compares_by_name():
+    import zwidth
+    v = zwidth.verdict(5.122, 23.0, -1.5)  # paper Fig. 19(a): beyond the line
+    assert v.deciding == "line" and v.deciding == zwidth.Bound.LINE == zwidth.BOUNDS["line"]
+    assert str(v.deciding) == "line" and f"{v.deciding}" == "line" and v.deciding != "hyperbola"
+    assert repr(v) == "Verdict(stable=False, marginal=False, deciding='line', violated=['line'])"
+    both = zwidth.Device.rotary(85.78e-7, 2.197e-3, 0.02).verdict(0.5, -1.36e-3)
+    assert both.deciding == "hyperbola" and str(both.violated) == "hyperbola|line"
+    assert zwidth.Bound.LINE in both.violated
+    assert zwidth.verdict(5.122, 10.0, 0.0).deciding == zwidth.Bound.NONE == ""
+    # arrays keep the bits, which compare with the members elementwise; the repr counts them
+    many = zwidth.verdict(5.122, np.array([10.0, 23.0, 30.0]), -1.5)
+    np.testing.assert_array_equal(many.deciding == zwidth.Bound.LINE, [False, True, False])
+    assert "stable=1 of 3" in repr(many)
+    inf = zwidth.Device(0.12, 0.8, 1e-3).influence()
+    assert inf.K_vs_m == "rises" == zwidth.Trend.RISES == 1 and "K_vs_T='falls'" in repr(inf)
+    lv = zwidth.verdict(5.122, 18.19, -3.17, delay=1)
+    assert lv.boundary == "complex" == zwidth.LoopBoundary.COMPLEX
+
+
+@pytest.mark.parametrize("bad, words", [
+    (None, "got None"),
+    ("0.12", "got a string ('0.12')"),
+    ("abc", "got a string ('abc')"),
+    (np.array(["0.1", "0.2"]), "an array of strings"),
+    (np.ma.masked_array([0.1, 0.2], [0, 1]), "masked array with masked elements"),
+])
+def test_inputs_that_are_not_numbers_are_refused_by_name(bad, words):
+    import zwidth
+    with pytest.raises(TypeError, match=r"zwidth\.Device: m must be a number") as info:
+        zwidth.Device(bad, 0.8, 1e-3)
+    assert words in str(info.value) and info.value.parameter == "m"
+    with pytest.raises(TypeError, match="J must be a number"):
+        zwidth.Device.rotary(bad, 0.8, 1e-3)
+    with pytest.raises(TypeError, match=r"Device\.is_stable: K must be a number"):
+        zwidth.Device(0.12, 0.8, 1e-3).is_stable(bad, 0.0)
+    with pytest.raises(TypeError, match=r"zwidth\.check: beta must be a number"):
+        zwidth.check(1.0, 1.0, bad)
+    # a masked array without masked elements is its data
+    assert zwidth.check(np.ma.masked_array([1.0, 2.0], [0, 0]), 1.0, 0.0).tolist() == [True, True]
+
+
+def test_shape_mismatch_names_the_parameters():
+    import zwidth
+    with pytest.raises(ValueError, match=r"zwidth\.Device: the shapes of m \(3,\), b \(\), T \(2,\) do not broadcast"):
+        zwidth.Device([1.0, 2.0, 3.0], 0.8, [1e-3, 2e-3])
+    dev = zwidth.Device.rotary(85.78e-7, 2.197e-3, 0.02)
+    with pytest.raises(ValueError, match=r"J \(\), b \(\), T \(\), K \(3,\), B \(2,\) do not broadcast"):
+        dev.is_stable([0.1, 0.2, 0.3], [0.0, 1e-3])
+
+
+def test_sweep_results_print_compactly():
+    import zwidth
+    lim = zwidth.Device(np.geomspace(1e-3, 1, 200)[:, None], 0.8, np.geomspace(1e-4, 1e-2, 300)).extremes()
+    text = repr(lim)
+    assert text.count("\n") == 0 and len(text) < 600, text
+    assert "K_mmax=array(shape=(200, 300), " in text and "% True" in text
+    page = lim._repr_html_()
+    assert page.startswith("<table>") and "K_mmax" in page and "shape=(200, 300)" in page
+    assert repr(zwidth.extremes([0.013, 2.049, 5.122])).startswith("Extremes(alpha_mmax=[0.70373, 6.09966, 23.0048]")
+
+
+def test_boundary_as_arrays_has_the_corner_and_the_ends():
+    """zwidth.boundary / Device.boundary: the outline as arrays, with the corner exactly
+    (against the 50-digit corner of eqs (21), (22)) and alpha = 0 at both ends."""
+    import zwidth
+    beta, alpha = zwidth.boundary(5.122, points=201)
+    assert beta[0] == -5.122 and beta[-1] == zwidth.extremes(5.122).beta_mmax
+    assert alpha[0] == 0.0 and alpha[-1] == 0.0 and np.all(np.diff(beta) > 0)
+    a2, b2 = ref.corner(5.122)
+    i = int(np.argmax(alpha))
+    assert abs(beta[i] - float(b2)) <= 8 * abs(math.ulp(float(b2)))
+    assert abs(alpha[i] - float(a2)) <= 8 * math.ulp(float(a2))
+    for k in (1, 50, 150, 199):  # every point: the 50-digit min{f, L} (near beta_mmax the line
+        exact, _ = ref.alpha_max_at(5.122, beta[k])  # L = 4(1+e)/d12 - 2 beta cancels: ulps of 2 beta)
+        assert abs(alpha[k] - float(exact)) <= 8 * math.ulp(max(float(exact), 2 * abs(beta[k]))), k
+    dev = zwidth.Device.rotary(85.78e-7, 2.197e-3, 0.02)
+    B, K = dev.boundary(points=101)
+    lim = dev.extremes()
+    assert B[0] == lim.B_mmin and B[-1] == lim.B_mmax and K[0] == K[-1] == 0.0
+    # K = k_max(B), never above the region: at B_at_K_mmax within rounding below K_mmax
+    assert B[int(np.argmax(K))] == lim.B_at_K_mmax
+    assert 0.0 <= lim.K_mmax - K.max() <= 4 * math.ulp(float(lim.K_mmax))
+    with pytest.raises(ValueError, match="one plant"):
+        zwidth.Device([0.1, 0.2], 1.0, 0.01).boundary()

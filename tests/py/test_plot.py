@@ -87,8 +87,44 @@ def test_region_above_delta0():
              if len(l.get_xdata()) == 1}
     assert (float(cor.beta), float(cor.alpha)) in marks and (-1.5, 23.0) in marks
     assert "5.122" in ax.get_title() and "delta_0" in ax.get_title()
-    # the legacy region reaches past the exact one on the right (delta > delta0)
-    assert ax.get_xlim()[1] > 2 * float(zwidth.extremes(5.122).beta_mmax)
+    # the view is the exact region (and the points); the legacy region reaches beyond it
+    # (delta > delta0), which the legend says instead of shrinking the exact region
+    ext = zwidth.extremes(5.122)
+    assert ax.get_xlim()[1] < 1.2 * float(ext.beta_mmax) and ax.get_ylim()[1] < 1.2 * float(ext.alpha_mmax)
+    assert any(t.startswith("legacy region") and "beyond the view" in t for t in texts)
+
+
+def legend_outside(fig, ax):
+    """The legend lies right of the axes: it covers no curve or marker."""
+    fig.canvas.draw()
+    return ax.get_legend().get_window_extent().x0 >= ax.get_window_extent().x1
+
+
+@pytest.mark.parametrize("delta", [30.0, 1e6])
+def test_region_at_large_delta_shows_the_exact_region(delta):
+    """At large delta the legacy region reaches beta ~ delta^2; the axes still follow the
+    exact region, which fills the view instead of being a sliver in a corner."""
+    fig = zp.region(delta, resolution=(120, 90))
+    (ax,) = fig.axes
+    ext = zwidth.extremes(delta)
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    width = float(ext.beta_mmax) + delta
+    assert x0 >= -delta - 0.1 * width and x1 <= float(ext.beta_mmax) + 0.1 * width
+    assert y0 == 0.0 and float(ext.alpha_mmax) < y1 < 1.2 * float(ext.alpha_mmax)
+    assert any("beyond the view" in t for t in legend_texts(ax.get_legend()))
+    assert legend_outside(fig, ax)
+
+
+def test_region_legend_lists_only_what_can_be_seen():
+    """delta = 0.0067: the legacy region is the exact one and passivity a sub-pixel
+    triangle; the legend says so instead of listing them as drawn."""
+    fig = zp.region(0.0067, resolution=(200, 150))
+    (ax,) = fig.axes
+    texts = legend_texts(ax.get_legend())
+    assert not any(t.startswith("legacy region (") for t in texts)
+    assert any(t.startswith("legacy region = exact") for t in texts)
+    assert "passivity: too small to see here" in texts
+    assert legend_outside(fig, ax)
 
 
 def test_region_below_delta0_into_given_axes():
@@ -178,6 +214,19 @@ def test_device_region_in_real_units(K, word):
     assert any(t.startswith("legacy region") for t in texts)  # delta = 5.122 > delta0
     assert any(word in t for t in texts)
     assert any(t.get_text().startswith("Advice:") for t in fig.texts)
+    assert legend_outside(fig, ax)  # the K_mmax star is never under it
+
+
+def test_device_at_large_delta_follows_the_exact_region():
+    """m = 0.01 kg, b = 30 N s/m, T = 0.01 s (delta = 30): the view is the exact region."""
+    dev = zwidth.Device(0.01, 30.0, 0.01)
+    lim = dev.extremes()
+    fig = zp.device(dev, resolution=(120, 90))
+    (ax,) = fig.axes
+    width = float(lim.B_mmax) - float(lim.B_mmin)
+    assert ax.get_xlim()[1] <= float(lim.B_mmax) + 0.1 * width
+    assert ax.get_ylim()[1] < 1.2 * float(lim.K_mmax)
+    assert any("beyond the view" in t for t in legend_texts(ax.get_legend()))
 
 
 # ---------------------------------------------------------------------------------------
@@ -193,8 +242,11 @@ def test_save_png_and_svg(tmp_path):
     svg = zp.save(fig, tmp_path / "region.SVG")
     text = svg.read_text()
     assert text.lstrip().startswith("<?xml") and "<svg" in text and "</svg>" in text
-    with pytest.raises(ValueError, match=".png or .svg"):
-        zp.save(fig, tmp_path / "region.pdf")
+    pdf = zp.save(fig, tmp_path / "region.pdf")
+    assert pdf.read_bytes()[:5] == b"%PDF-"
+    assert zp.save(fig, tmp_path / "region.eps").read_bytes()[:4] == b"%!PS"
+    with pytest.raises(ValueError, match=r"\.pdf, \.svg"):
+        zp.save(fig, tmp_path / "region.txt")
 
 
 def test_missing_matplotlib_gives_install_hint(monkeypatch):
@@ -216,6 +268,10 @@ def test_cli_plot_writes_files(tmp_path):
     r = run("plot", "device", *SHORT, "--K", "0.39", "--B", "-1.36e-3", "-o", out)
     assert r.returncode == 0, r.stderr
     assert str(out) in r.stdout and "<svg" in out.read_text()
+    out = tmp_path / "device.pdf"
+    r = run("plot", "device", *SHORT, "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert out.read_bytes()[:5] == b"%PDF-"
 
 
 def test_cli_plot_exit_4(tmp_path):
@@ -228,3 +284,61 @@ def test_cli_plot_exit_4(tmp_path):
     r = run("plot", "extremes", "-o", tmp_path / "e.png", env=env)
     assert r.returncode == 4 and "pip install zwidth[plot]" in r.stderr
     assert not (tmp_path / "e.png").exists()
+
+
+# ---------------------------------------------------------------------------------------
+# Simulations
+# ---------------------------------------------------------------------------------------
+
+DELAY_SCENE = """
+[scene]
+name = "delay-quantized"
+duration = "1 s"
+[plant]
+m = "0.12 kg"
+b = "0.8 N*s/m"
+T = "1 ms"
+[controller]
+K = "50000 N/m"
+B = "50 N*s/m"
+[reference]
+from = "0 m"
+to = "0.01 m"
+at = "0.1 s"
+[delay]
+samples = 1
+[quantization]
+resolution = "1 um"
+"""
+
+
+def test_unstable_response_with_effects_is_clipped(tmp_path):
+    """A delay with quantization (not a linear scene) blows up to ~1e150 m: the position
+    panel keeps the band around the step, and the force panel the forces of the samples
+    shown there, on the same time axis."""
+    scene = tmp_path / "delay.toml"
+    scene.write_text(DELAY_SCENE)
+    sims = zwidth.simulate(scene)
+    assert sims[0].verdict.outcome == "unstable" and not sims.scene.linear
+    assert np.nanmax(np.abs(sims[0].x)) > 1e6
+    fig = zp.simulation(sims)
+    position, force = fig.axes
+    assert max(abs(v) for v in position.get_ylim()) < 0.1  # metres around the 10 mm step
+    assert position.get_xlim() == force.get_xlim()
+    assert max(abs(v) for v in force.get_ylim()) < 1e5
+
+
+def test_knob_rendered_stiffness_is_dots_not_a_fan():
+    fig = zp.simulation(zwidth.simulate(Path(__file__).resolve().parents[2] / "scenes" / "knob-legacy.toml"))
+    rendered = [l for l in fig.axes[0].get_lines() if l.get_label().startswith("rendered")]
+    assert len(rendered) == 1 and rendered[0].get_linestyle() == "None"
+    assert rendered[0].get_marker() == "."
+
+
+@pytest.mark.parametrize("draw", [lambda: zp.region(1e300, resolution=(60, 40)),
+                                  lambda: zp.device(zwidth.Device(1e-300, 0.8, 1e-3), resolution=(60, 40))])
+def test_extreme_deltas_draw_where_the_legacy_top_overflows(draw):
+    """delta ~ 1e300: the legacy region's top is out of range (NaN); the figure is still
+    drawn, the legend saying the legacy region reaches far beyond the view."""
+    fig = draw()
+    assert any("far beyond the view" in t for t in legend_texts(fig.axes[0].get_legend()))

@@ -30,6 +30,9 @@
 #define zw_box_check zw_box_check_f
 #define zw_box_b_range zw_box_b_range_f
 #define zw_box_k_mmax zw_box_k_mmax_f
+/* sweep.h */
+#define zw_sweep_fields_init zw_sweep_fields_init_f
+#define zw_sweep_check_many zw_sweep_check_many_f
 /* coeffs.h */
 #define zw_coeffs_init zw_coeffs_init_f
 #define zw_coeffs_literal zw_coeffs_literal_f

@@ -21,6 +21,7 @@
 #include "zwidth/regmap.h"
 #include "zwidth/selftest.h"
 #include "zwidth/status.h"
+#include "zwidth/sweep.h"
 #include "zwidth/version.h"
 
 #endif /* ZWIDTH_ZWIDTH_H */
