@@ -7,29 +7,37 @@
 #
 # Usage:  tools/eva.sh [--keep]      (--keep: leave the full Eva logs in build-eva/)
 #
-# tests/eva/eva_driver.c calls every public function of EVA_MODULES with every input
-# unconstrained (NaN and infinities included) and reads every output afterwards, so an
-# alarm is a possible run-time error (invalid access, uninitialized read, signed overflow,
-# invalid shift or conversion, ...) or an output some path leaves unwritten.  Two runs:
+# One analysis per driver, tests/eva/eva_*.c: a driver calls every public function of the
+# modules named on its "eva-modules:" line with every input unconstrained (NaN and
+# infinities included) and reads every output afterwards, so an alarm is a possible
+# run-time error (invalid access, uninitialized read, signed overflow, invalid shift or
+# conversion, ...) or an output some path leaves unwritten.  Its "eva-split-return:" and
+# "eva-slevel:" lines give the per-function options of that analysis ({f}: the suffix of
+# public names in the build, _f for float).  Two runs of each:
 #   double  -machdep x86_64  (LP64: a host, the Python bindings)
 #   float   -machdep x86_32  (ILP32: the data model of a Cortex-M firmware) -DZW_REAL_FLOAT
 # Fails (exit 1) on any alarm, on an Eva warning or error, or when a function of
-# EVA_MODULES is not reached by the analysis; exit 2 when Frama-C is missing.
+# a driver's modules is not reached by its analysis; exit 2 when Frama-C is missing.
 # About 45 s of CPU: 1 to 1.5 min on 2 cores (both runs in parallel).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# The modules analysed: the gated ones of tools/misra.sh.  Add a module here (and its
-# entry points to the driver) when it is cleaned.
-EVA_MODULES=(status coeffs region margin extremes device batch selftest portable_math)
+# The drivers; their modules are the gated ones of tools/misra.sh.  A module is added by
+# naming it on a driver's "eva-modules:" line (a new area: a new driver file).
+DRIVERS=(tests/eva/eva_*.c)
 
-# Options, explained in docs/eva.md.  $1: the suffix of public names in this build (_f in
-# the float build, zwidth/precision.h).
+# A driver's header line "eva-KEY: value" (empty when absent).
+driver_line() { sed -n "s/^ \* eva-$2: *//p" "$1" | head -n 1; }
+
+# Options, explained in docs/eva.md.  $1: the driver, $2: the suffix of public names in this
+# build (_f in the float build, zwidth/precision.h).
 eva_options() {
-    local f=$1
-    printf '%s\n' -eva -warn-special-float none -eva-precision 3 -eva-split-return auto \
-        -eva-split-return-function "check_many:0,device_check_many:0,fail_all:0,zw_check_many$f:0,zw_device_check_many$f:0" \
-        -eva-slevel-function store_block:100,fail_all:100,drive_batch:200
+    local driver=$1 f=$2 split slevel
+    split=$(driver_line "$driver" split-return)
+    slevel=$(driver_line "$driver" slevel)
+    printf '%s\n' -eva -warn-special-float none -eva-precision 3 -eva-split-return auto
+    [ -z "$split" ] || printf '%s\n' -eva-split-return-function "${split//\{f\}/$f}"
+    [ -z "$slevel" ] || printf '%s\n' -eva-slevel-function "${slevel//\{f\}/$f}"
 }
 
 keep=0
@@ -45,9 +53,6 @@ if ! command -v frama-c >/dev/null 2>&1; then
     exit 2
 fi
 
-sources=()
-for module in "${EVA_MODULES[@]}"; do sources+=("csrc/src/$module.c"); done
-
 if [ "$keep" = 1 ]; then
     out=build-eva
     mkdir -p "$out"
@@ -56,32 +61,49 @@ else
     trap 'rm -rf "$out"' EXIT
 fi
 
-run() {
-    local name=$1 machdep=$2 defines=$3 suffix=$4 options
-    mapfile -t options < <(eva_options "$suffix")
+run() { # run DRIVER NAME MACHDEP DEFINES SUFFIX
+    local driver=$1 name=$2 machdep=$3 defines=$4 suffix=$5 options sources=() module
+    for module in $(driver_line "$driver" modules); do sources+=("csrc/src/$module.c"); done
+    mapfile -t options < <(eva_options "$driver" "$suffix")
     frama-c -machdep "$machdep" -cpp-extra-args="-Icsrc/include -Icsrc/src $defines" \
-        "${sources[@]}" tests/eva/libm_spec.c tests/eva/eva_driver.c "${options[@]}" \
+        "${sources[@]}" tests/eva/libm_spec.c "$driver" "${options[@]}" \
         -then -metrics -metrics-eva-cover >"$out/$name.log" 2>&1
 }
-run double x86_64 "" "" &
-double_pid=$!
-run float x86_32 "-DZW_REAL_FLOAT" _f &
-float_pid=$!
-status=0
-wait "$double_pid" || status=$?
-wait "$float_pid" || status=$?
-if [ "$status" != 0 ]; then
-    echo "eva.sh: frama-c failed (exit $status); the logs:" >&2
-    tail -n 20 "$out"/*.log >&2
-    exit 2
-fi
+analyses=()
+for driver in "${DRIVERS[@]}"; do
+    area=$(basename "$driver" .c)
+    area=${area#eva_}
+    if [ -z "$(driver_line "$driver" modules)" ]; then
+        echo "eva.sh: $driver has no 'eva-modules:' line" >&2
+        exit 2
+    fi
+    # both precisions of one driver in parallel (2 cores), drivers one after another
+    run "$driver" "$area-double" x86_64 "" "" &
+    double_pid=$!
+    run "$driver" "$area-float" x86_32 "-DZW_REAL_FLOAT" _f &
+    float_pid=$!
+    status=0
+    wait "$double_pid" || status=$?
+    wait "$float_pid" || status=$?
+    if [ "$status" != 0 ]; then
+        echo "eva.sh: frama-c failed on $driver (exit $status); the logs:" >&2
+        tail -n 20 "$out/$area"-*.log >&2
+        exit 2
+    fi
+    analyses+=("$area:$(driver_line "$driver" modules | tr ' ' ',')")
+done
 
-python3 - "$out" "${EVA_MODULES[@]}" <<'PY'
+python3 - "$out" "${analyses[@]}" <<'PY'
 import os, re, sys
 
-out, modules = sys.argv[1], sys.argv[2:]
+out = sys.argv[1]
+runs = []
+for analysis in sys.argv[2:]:
+    area, mods = analysis.split(":")
+    for precision in ("double", "float"):
+        runs.append((f"{area}-{precision}", mods.split(",")))
 failed = False
-for name in ("double", "float"):
+for name, modules in runs:
     log = open(os.path.join(out, name + ".log"), encoding="utf-8").read()
     alarms = re.findall(r"^\[eva:alarm\] (\S+): Warning: \n\s*(.*)$", log, re.M)
     m = re.search(r"(\d+) alarms? generated by the analysis|No alarm", log)
@@ -113,5 +135,5 @@ for name in ("double", "float"):
 if failed:
     print("eva: FAILED (docs/eva.md: fix the code, or explain the alarm there and prove it away)", file=sys.stderr)
     sys.exit(1)
-print("eva: no alarm, every function of the modules reached, in both builds")
+print("eva: no alarm, every function of the modules reached, in both builds of every driver")
 PY

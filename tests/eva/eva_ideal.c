@@ -1,7 +1,11 @@
 /* SPDX-FileCopyrightText: 2026 The zwidth authors
    SPDX-License-Identifier: Apache-2.0 */
-/* Frama-C Eva driver (tools/eva.sh, docs/eva.md): every public entry point of the gated
- * core modules, with every input unconstrained.
+/* Frama-C Eva driver (tools/eva.sh, docs/eva.md): every public entry point of the ideal
+ * core's modules, with every input unconstrained.
+ *
+ * eva-modules: status coeffs region margin extremes device batch selftest portable_math
+ * eva-split-return: check_many:0,device_check_many:0,fail_all:0,zw_check_many{f}:0,zw_device_check_many{f}:0
+ * eva-slevel: store_block:100,fail_all:100,drive_batch:200
  *
  * A read of a volatile zw_real is any value of the type, NaN and both infinities included
  * (Eva runs with -warn-special-float none: IEEE-754 arithmetic on them is defined and the
