@@ -15,7 +15,22 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/bootstrap.sh
 
-step() { printf '\n==== %s\n' "$*"; }
+# Each step says how long the one before it took (wall seconds), and the run ends with a
+# summary, so a slow step shows in the CI log.
+timings=()
+step_name="" step_start=$SECONDS
+end_step() {
+    if [ -n "$step_name" ]; then
+        timings+=("$(printf '%5d s  %s' $((SECONDS - step_start)) "$step_name")")
+        printf '(%d s)\n' $((SECONDS - step_start))
+    fi
+}
+step() {
+    end_step
+    step_name=$*
+    step_start=$SECONDS
+    printf '\n==== %s\n' "$*"
+}
 
 step "build (Release, double + float, shared libraries for the reference tests)"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -92,3 +107,7 @@ step "release: every file tagged (reuse lint), the firmware source tarball built
 tools/spdx.sh --check | tail -n 1
 tools/firmware_release.sh --check build/release
 tools/dist_check.sh build/dist
+end_step
+printf '\n==== every test passed; wall time per step:\n'
+printf '%s\n' "${timings[@]}"
+printf '%5d s  in all\n' "$SECONDS"
