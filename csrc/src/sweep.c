@@ -357,22 +357,30 @@ static void sweep_block_from_tables(const zw_real *delta, zw_real *e, zw_real *g
     }
 }
 
-static inline void sweep_closed_form(zw_sweep_fields *f, zw_real delta)
+/* The closed forms at delta in [2, 64) given e = exp(-delta), branch-free (a vector loop
+ * in sweep_block_beyond). */
+static inline void sweep_closed_from_e(zw_sweep_fields *f, zw_real delta, zw_real e)
 {
-    const zw_real e = ZW_EXP(-delta);
     const zw_real one_minus_e = ZW_R(1.0) - e;                 /* in (0.86, 1) */
     const zw_real n2 = one_minus_e - delta * e;                /* delta^2 c2 / 2, in (0.59, 1) */
     const zw_real t1 = delta - one_minus_e;                    /* delta^2 c1 / 2, >= 1.13 */
     const zw_real n12 = (delta + ZW_R(2.0)) * e + (delta - ZW_R(2.0)); /* delta^2 d12 / 2 */
-    zw_real sigma = ZW_R(2.0);
-    while (sigma < delta) { /* at most five doublings below 64 */
-        sigma += sigma;
-    }
+    /* the least power of two >= delta (and >= 2), exactly: sums of powers of two */
+    const zw_real sigma = ((((ZW_R(2.0) + ((delta > ZW_R(2.0)) ? ZW_R(2.0) : ZW_R(0.0))) +
+                             ((delta > ZW_R(4.0)) ? ZW_R(4.0) : ZW_R(0.0))) +
+                            ((delta > ZW_R(8.0)) ? ZW_R(8.0) : ZW_R(0.0))) +
+                           ((delta > ZW_R(16.0)) ? ZW_R(16.0) : ZW_R(0.0))) +
+                          ((delta > ZW_R(32.0)) ? ZW_R(32.0) : ZW_R(0.0));
     f->sigma = sigma;
     f->e = e;
     f->g = t1 / (delta * one_minus_e);                         /* c1 / (c1 + c2) */
     f->hs = (delta / sigma) * (delta / n2);                    /* 2 / c2 / sigma */
     f->d12 = ((n12 + n12) / delta) / delta;
+}
+
+static inline void sweep_closed_form(zw_sweep_fields *f, zw_real delta)
+{
+    sweep_closed_from_e(f, delta, ZW_EXP(-delta));
 }
 
 static zw_status sweep_general(zw_sweep_fields *f, zw_real delta)
@@ -416,6 +424,71 @@ static zw_status sweep_fields(zw_sweep_fields *f, zw_real delta)
         sweep_closed_form(f, delta);
     } else {
         st = sweep_general(f, delta);
+    }
+    return st;
+}
+
+/* Every point of the block by its own route (scalar loads: where table rows are not
+ * gathered, a block holding a point beyond the tables goes point by point).  On an
+ * error, *at is the point's index in the block. */
+static zw_status sweep_block_each(const zw_real *delta, zw_real *e, zw_real *g, zw_real *hs, zw_real *d12,
+                                  zw_real *inv_sigma, size_t count, size_t *at)
+{
+    zw_status st = ZW_OK;
+    size_t j;
+    for (j = 0u; (j < ZW_SWEEP_BLOCK) && (st == ZW_OK); ++j) {
+        zw_sweep_fields f;
+        st = (j < count) ? sweep_fields(&f, delta[j]) : ZW_OK;
+        if (j >= count) {
+            sweep_from_tables(&f, ZW_R(1.0)); /* padding */
+        }
+        *at = j;
+        e[j] = f.e;
+        g[j] = f.g;
+        hs[j] = f.hs;
+        d12[j] = f.d12;
+        inv_sigma[j] = ZW_R(1.0) / f.sigma; /* exact: a power of two */
+    }
+    return st;
+}
+
+/* The fields of the block's points beyond the tables (delta >= 2), replacing the table
+ * loop's: the exponentials one by one, then the closed forms over the whole block in a
+ * vector loop (evaluated at 2 for the other points, then selected), then delta >= 64 by
+ * zw_coeffs_init.  On an error, *at is the point's index in the block. */
+static zw_status sweep_block_beyond(const zw_real *delta, zw_real *e, zw_real *g, zw_real *hs, zw_real *d12,
+                                    zw_real *inv_sigma, size_t count, size_t *at)
+{
+    zw_real ex[ZW_SWEEP_BLOCK];
+    zw_real far = ZW_R(0.0);
+    zw_status st = ZW_OK;
+    size_t j;
+    for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
+        const bool closed = (delta[j] >= ZW_SWEEP_TABLE_END) && (delta[j] < ZW_SWEEP_CLOSED_END);
+        ex[j] = closed ? ZW_EXP(-delta[j]) : ZW_R(0.125); /* 0.125: any value the forms take */
+        far += (delta[j] < ZW_SWEEP_CLOSED_END) ? ZW_R(0.0) : ZW_R(1.0);
+    }
+    for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) { /* branch-free: vectorizes */
+        const bool closed = (delta[j] >= ZW_SWEEP_TABLE_END) && (delta[j] < ZW_SWEEP_CLOSED_END);
+        zw_sweep_fields f;
+        sweep_closed_from_e(&f, closed ? delta[j] : ZW_SWEEP_TABLE_END, ex[j]);
+        e[j] = closed ? f.e : e[j];
+        g[j] = closed ? f.g : g[j];
+        hs[j] = closed ? f.hs : hs[j];
+        d12[j] = closed ? f.d12 : d12[j];
+        inv_sigma[j] = closed ? (ZW_R(1.0) / f.sigma) : inv_sigma[j]; /* exact: a power of two */
+    }
+    for (j = 0u; (j < count) && (far != ZW_R(0.0)) && (st == ZW_OK); ++j) {
+        if (!(delta[j] < ZW_SWEEP_CLOSED_END)) {
+            zw_sweep_fields f;
+            st = sweep_general(&f, delta[j]);
+            *at = j;
+            e[j] = f.e;
+            g[j] = f.g;
+            hs[j] = f.hs;
+            d12[j] = f.d12;
+            inv_sigma[j] = ZW_R(1.0) / f.sigma; /* exact: a power of two */
+        }
     }
     return st;
 }
@@ -506,6 +579,19 @@ static inline zw_real sweep_stable01(zw_real delta, zw_real e, zw_real g, zw_rea
            sweep_less01(h_diff, sweep_bound(h_diff, h_err)) * sweep_less01(l_diff, sweep_bound(l_diff, l_err));
 }
 
+/* The status zw_check gives for these inputs before it computes anything, or ZW_OK. */
+static zw_status sweep_point_status(zw_real delta, zw_real alpha, zw_real beta)
+{
+    zw_status st = sweep_delta_status(delta);
+    if (st == ZW_OK) {
+        st = zw_require_finite(alpha);
+    }
+    if (st == ZW_OK) {
+        st = zw_require_finite(beta);
+    }
+    return st;
+}
+
 static zw_status sweep_invalid_at(zw_status st, size_t i, size_t *first_invalid)
 {
     if (first_invalid != NULL) {
@@ -523,31 +609,21 @@ static zw_status sweep_check_many(size_t n, const zw_real *delta, ptrdiff_t delt
     if ((delta == NULL) || (alpha == NULL) || (beta == NULL) || (stable == NULL)) {
         return sweep_invalid_at(ZW_ERR_NULL, 0u, first_invalid);
     }
-    for (i = 0u; (i < n) && (st == ZW_OK); ++i) { /* the statuses zw_check gives, in its order */
-        const ptrdiff_t k = (ptrdiff_t)i;
-        st = sweep_delta_status(delta[k * delta_stride]);
-        if (st == ZW_OK) {
-            st = zw_require_finite(alpha[k * alpha_stride]);
-        }
-        if (st == ZW_OK) {
-            st = zw_require_finite(beta[k * beta_stride]);
-        }
-        if (st != ZW_OK) {
-            return sweep_invalid_at(st, i, first_invalid);
-        }
-    }
-    /* Blocks: first the table fields of every point, branch-free (a point at delta >= 2
-     * reads the last interval and is overwritten next; independent Horner chains the CPU
-     * overlaps, or a vector loop); then the few points beyond the tables; then the
-     * constraints over the whole block, a branch-free loop of constant trip count that
-     * the compiler vectorizes (as batch.c's); then the bools. */
+    /* Blocks of 16 points, each a few loops of constant trip count that the compiler
+     * vectorizes: the inputs' validity (only a block with an invalid point is scanned
+     * point by point, for the first one and zw_check's status); the table fields,
+     * branch-free; the points beyond the tables (or, without gathers, a block holding
+     * one goes point by point); the constraints; then the bools.  The first refused
+     * point is the first in index order, its status the one zw_check gives it. */
     for (i = 0u; i < n; i += ZW_SWEEP_BLOCK) {
         zw_real d[ZW_SWEEP_BLOCK], a[ZW_SWEEP_BLOCK], b[ZW_SWEEP_BLOCK];
         zw_real e[ZW_SWEEP_BLOCK], g[ZW_SWEEP_BLOCK], hs[ZW_SWEEP_BLOCK], d12[ZW_SWEEP_BLOCK];
         zw_real inv_sigma[ZW_SWEEP_BLOCK], ok[ZW_SWEEP_BLOCK];
         const size_t count = (n - i) < ZW_SWEEP_BLOCK ? (n - i) : ZW_SWEEP_BLOCK;
         size_t j;
-        size_t beyond = 0u; /* points of the block beyond the tables (delta >= 2) */
+        zw_real beyond = ZW_R(0.0);  /* points of the block beyond the tables (delta >= 2) */
+        zw_real invalid = ZW_R(0.0); /* points zw_check refuses for their inputs */
+        size_t far = 0u;
         for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
             if (j < count) {
                 const ptrdiff_t k = (ptrdiff_t)(i + j);
@@ -559,25 +635,28 @@ static zw_status sweep_check_many(size_t n, const zw_real *delta, ptrdiff_t delt
                 a[j] = ZW_R(0.0);
                 b[j] = ZW_R(0.0);
             }
-            beyond += (d[j] < ZW_SWEEP_TABLE_END) ? 0u : 1u;
         }
-        if ((beyond == 0u) || (ZW_SWEEP_GATHER != 0)) {
+        for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) { /* branch-free: vectorizes */
+            beyond += (d[j] < ZW_SWEEP_TABLE_END) ? ZW_R(0.0) : ZW_R(1.0);
+            invalid += ((d[j] >= ZW_R(0.0)) && (ZW_FABS(d[j]) <= ZW_REAL_MAX) && (ZW_FABS(a[j]) <= ZW_REAL_MAX) &&
+                        (ZW_FABS(b[j]) <= ZW_REAL_MAX)) ? ZW_R(0.0) : ZW_R(1.0);
+        }
+        if (invalid != ZW_R(0.0)) { /* name the first, with the status zw_check gives */
+            for (j = 0u; j < count; ++j) {
+                st = sweep_point_status(d[j], a[j], b[j]);
+                if (st != ZW_OK) {
+                    return sweep_invalid_at(st, i + j, first_invalid);
+                }
+            }
+        }
+        if ((beyond == ZW_R(0.0)) || (ZW_SWEEP_GATHER != 0)) {
             sweep_block_from_tables(d, e, g, hs, d12, inv_sigma);
         }
-        if (beyond != 0u) { /* the points beyond the tables, or every point of the block */
-            for (j = 0u; j < count; ++j) {
-                if ((ZW_SWEEP_GATHER == 0) || !(d[j] < ZW_SWEEP_TABLE_END)) {
-                    zw_sweep_fields f;
-                    st = sweep_fields(&f, d[j]);
-                    if (st != ZW_OK) {
-                        return sweep_invalid_at(st, i + j, first_invalid);
-                    }
-                    e[j] = f.e;
-                    g[j] = f.g;
-                    hs[j] = f.hs;
-                    d12[j] = f.d12;
-                    inv_sigma[j] = ZW_R(1.0) / f.sigma; /* exact: a power of two */
-                }
+        if (beyond != ZW_R(0.0)) {
+            st = (ZW_SWEEP_GATHER != 0) ? sweep_block_beyond(d, e, g, hs, d12, inv_sigma, count, &far)
+                                        : sweep_block_each(d, e, g, hs, d12, inv_sigma, count, &far);
+            if (st != ZW_OK) {
+                return sweep_invalid_at(st, i + far, first_invalid);
             }
         }
         for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
