@@ -478,16 +478,18 @@ static zw_status sweep_block_beyond(const zw_real *delta, zw_real *e, zw_real *g
         d12[j] = closed ? f.d12 : d12[j];
         inv_sigma[j] = closed ? (ZW_R(1.0) / f.sigma) : inv_sigma[j]; /* exact: a power of two */
     }
-    for (j = 0u; (j < count) && (far != ZW_R(0.0)) && (st == ZW_OK); ++j) {
-        if (!(delta[j] < ZW_SWEEP_CLOSED_END)) {
-            zw_sweep_fields f;
-            st = sweep_general(&f, delta[j]);
-            *at = j;
-            e[j] = f.e;
-            g[j] = f.g;
-            hs[j] = f.hs;
-            d12[j] = f.d12;
-            inv_sigma[j] = ZW_R(1.0) / f.sigma; /* exact: a power of two */
+    if (far != ZW_R(0.0)) {
+        for (j = 0u; (j < count) && (st == ZW_OK); ++j) {
+            if (!(delta[j] < ZW_SWEEP_CLOSED_END)) {
+                zw_sweep_fields f;
+                st = sweep_general(&f, delta[j]);
+                *at = j;
+                e[j] = f.e;
+                g[j] = f.g;
+                hs[j] = f.hs;
+                d12[j] = f.d12;
+                inv_sigma[j] = ZW_R(1.0) / f.sigma; /* exact: a power of two */
+            }
         }
     }
     return st;
@@ -626,7 +628,7 @@ static zw_status sweep_check_many(size_t n, const zw_real *delta, ptrdiff_t delt
         size_t far = 0u;
         for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
             if (j < count) {
-                const ptrdiff_t k = (ptrdiff_t)(i + j);
+                const ptrdiff_t k = (ptrdiff_t)i + (ptrdiff_t)j;
                 d[j] = delta[k * delta_stride];
                 a[j] = alpha[k * alpha_stride];
                 b[j] = beta[k * beta_stride];
