@@ -14,8 +14,10 @@
  *   [2, 64):  e = exp(-delta) (one ulp), then sums of non-negative terms and quotients:
  *             hs within 6.3 u, g 5.3 u, d12 7 u, e 2 u.
  *   [64, inf): zw_coeffs_init (rare in sweeps; it also carries the overflow cases).
- * The constraints are those of internal.h, as in batch.c, so a verdict is as safe as
- * zw_check's.
+ * The constraints are those of internal.h (written out for exact gains and an exact
+ * delta: the same bounds without their zero terms), so a verdict is as safe as zw_check's.
+ * Every loop over a block is branch-free where it can be, so that it vectorizes; the
+ * Python bindings also build this file for AVX2 and AVX-512 (bindings/sweep_avx*.c).
  */
 #include "zwidth/sweep.h"
 
