@@ -3,7 +3,7 @@
  * SPDX-License-Identifier: Apache-2.0
  */
 /* The per-plant sweep (csrc/src/sweep.c) compiled a second time for AVX2, for the Python
- * bindings only: there the table loop loads the rows of four points at once (gathers).
+ * bindings only: there the table loop runs on four points at once.
  * Same source, same operations in the same order, no contraction (-ffp-contract=off): the
  * results are bit for bit those of the portable build.  zwidth_core.cpp calls it when the
  * CPU has AVX2. */

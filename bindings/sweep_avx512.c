@@ -3,7 +3,7 @@
  * SPDX-License-Identifier: Apache-2.0
  */
 /* The per-plant sweep (csrc/src/sweep.c) compiled again for AVX-512 (F, DQ, VL), for the
- * Python bindings only: as sweep_avx2.c, with masked gathers and compares (about a quarter
+ * Python bindings only: as sweep_avx2.c, with masked compares and blends (about a quarter
  * faster than AVX2 on a mixed sweep).  Same source, same operations in the same order, no
  * contraction: bit for bit the portable build's results.  zwidth_core.cpp calls it when
  * the CPU has these extensions. */

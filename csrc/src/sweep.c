@@ -305,10 +305,11 @@ static const zw_real zw_sweep_q[ZW_SWEEP_INTERVALS][ZW_SWEEP_TERMS_Q] = {
 #define ZW_SWEEP_CLOSED_END ZW_R(64.0) /* zw_coeffs_init from here */
 #define ZW_SWEEP_PER_UNIT ZW_R(32.0)   /* intervals per unit of delta */
 #define ZW_SWEEP_BLOCK 16u             /* points whose fields wait on the stack */
-/* 1 where the target loads table rows for several points at once (the Python bindings
- * build this file a second time for AVX2, bindings/sweep_avx2.c): a block then takes
- * every point through the vector table loop and redoes those beyond the tables; 0 (the
- * default, scalar loads) takes a block with a point beyond the tables point by point. */
+/* 1 where wide vectors pay for the table loop (the Python bindings build this file again
+ * for AVX2 and AVX-512, bindings/sweep_avx*.c): a block then takes every point through the
+ * vector table loop and redoes those beyond the tables over the block; 0 (the default:
+ * with SSE2's two lanes the vector loop gains nothing) takes a block with a point beyond
+ * the tables point by point. */
 #ifndef ZW_SWEEP_GATHER
 #define ZW_SWEEP_GATHER 0
 #endif
@@ -430,9 +431,8 @@ static zw_status sweep_fields(zw_sweep_fields *f, zw_real delta)
     return st;
 }
 
-/* Every point of the block by its own route (scalar loads: where table rows are not
- * gathered, a block holding a point beyond the tables goes point by point).  On an
- * error, *at is the point's index in the block. */
+/* Every point of the block by its own route (ZW_SWEEP_GATHER 0).  On an error, *at is
+ * the point's index in the block. */
 static zw_status sweep_block_each(const zw_real *delta, zw_real *e, zw_real *g, zw_real *hs, zw_real *d12,
                                   zw_real *inv_sigma, size_t count, size_t *at)
 {
@@ -616,8 +616,8 @@ static zw_status sweep_check_many(size_t n, const zw_real *delta, ptrdiff_t delt
     /* Blocks of 16 points, each a few loops of constant trip count that the compiler
      * vectorizes: the inputs' validity (only a block with an invalid point is scanned
      * point by point, for the first one and zw_check's status); the table fields,
-     * branch-free; the points beyond the tables (or, without gathers, a block holding
-     * one goes point by point); the constraints; then the bools.  The first refused
+     * branch-free; the points beyond the tables (or, with ZW_SWEEP_GATHER 0, a block
+     * holding one goes point by point); the constraints; then the bools.  The first refused
      * point is the first in index order, its status the one zw_check gives it. */
     for (i = 0u; i < n; i += ZW_SWEEP_BLOCK) {
         zw_real d[ZW_SWEEP_BLOCK], a[ZW_SWEEP_BLOCK], b[ZW_SWEEP_BLOCK];
