@@ -324,6 +324,33 @@ py::dict one_output(const std::array<f64array, N> &inputs, const char *name, Cal
 
 // ---- normalized space: (delta, alpha, beta) -----------------------------------------
 
+// The per-plant sweep: its AVX-512 or AVX2 build (bindings/sweep_avx*.c, the same results,
+// bit for bit) where the CPU has it, else the portable one.
+#ifdef ZW_HAVE_SWEEP_SIMD
+#define ZW_SWEEP_DECLARE(name)                                                                              \
+    extern "C" zw_status name(size_t n, const double *delta, ptrdiff_t delta_stride, const double *alpha,  \
+                              ptrdiff_t alpha_stride, const double *beta, ptrdiff_t beta_stride, bool *stable, \
+                              size_t *first_invalid);
+ZW_SWEEP_DECLARE(zw_sweep_check_many_avx2)
+ZW_SWEEP_DECLARE(zw_sweep_check_many_avx512)
+#undef ZW_SWEEP_DECLARE
+#endif
+using SweepCheck = decltype(&zw_sweep_check_many);
+SweepCheck choose_sweep_check_many() {
+#ifdef ZW_HAVE_SWEEP_SIMD
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+        __builtin_cpu_supports("avx512vl"))
+        return zw_sweep_check_many_avx512;
+    if (__builtin_cpu_supports("avx2")) return zw_sweep_check_many_avx2;
+#endif
+    return zw_sweep_check_many;
+}
+SweepCheck sweep_check_many() {
+    static const SweepCheck chosen = choose_sweep_check_many();
+    return chosen;
+}
+
 py::dict check(f64array delta, f64array alpha, f64array beta, int region, bool full) {
     const zw_region reg = region_from(region);
     Broadcast<3> bc({delta, alpha, beta});
@@ -353,7 +380,7 @@ py::dict check(f64array delta, f64array alpha, f64array beta, int region, bool f
             }
             // A plant per point (a design sweep): the sweep's fields (sweep.h), as safe.
             if (one_plant(seg, 0) &&
-                zw_sweep_check_many(static_cast<size_t>(seg.count), as_doubles(seg.ptr[0]), seg.stride[0] / 8,
+                sweep_check_many()(static_cast<size_t>(seg.count), as_doubles(seg.ptr[0]), seg.stride[0] / 8,
                                     as_doubles(seg.ptr[1]), seg.stride[1] / 8, as_doubles(seg.ptr[2]),
                                     seg.stride[2] / 8, out.stable + seg.flat, nullptr) == ZW_OK) {
                 std::memset(status + seg.flat, ZW_OK, static_cast<std::size_t>(seg.count));

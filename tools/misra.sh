@@ -37,7 +37,6 @@ NOT_YET_GATED=(
     "csrc/src/device_loop.c" "csrc/include/zwidth/device_loop.h"
     "csrc/src/regmap*.c" "csrc/src/regmap*.h" "csrc/include/zwidth/regmap*.h"
     "csrc/src/box*.c" "csrc/include/zwidth/box*.h"
-    "csrc/src/sweep*.c" "csrc/include/zwidth/sweep*.h"
 )
 
 list=0

@@ -373,9 +373,13 @@ class Bench:
             tg: Dict[str, Any] = {"scenario": scenario, "kind": kind, "method": zr["method"],
                                   "x_closed_form": zr["points_per_s"] / closed["points_per_s"]}
             tg["beats_closed_form"] = tg["x_closed_form"] > 1.0
+            # per CPU second (zwidth's kernels use every core, numpy's one): the same ratio
+            # on a machine whose cores are busy with other work
+            tg["x_closed_form_cpu"] = (closed["cpu_seconds"] / closed["points"]) / (zr["cpu_seconds"] / zr["points"])
             if eig is not None:
                 tg["x_eigvals"] = zr["points_per_s"] / eig["points_per_s"]
                 tg["eigvals_100x"] = tg["x_eigvals"] >= 100.0
+                tg["x_eigvals_cpu"] = (eig["cpu_seconds"] / eig["points"]) / (zr["cpu_seconds"] / zr["points"])
             self.targets.append(tg)
         wrong = [r["arbiter"]["zwidth_wrong_away"] for r in compared if r.get("arbiter")]
         self.targets.append({"scenario": scenario, "kind": kind, "method": "agreement",
@@ -554,10 +558,12 @@ def report_targets(targets: List[Dict[str, Any]]) -> Tuple[List[bool], List[bool
              f"{where}: {tg['method']} faster than the numpy closed form ({tg['x_closed_form']:.3g}x)")
         if tg["scenario"].startswith("(b)") and tg["method"] == "zwidth check (C)" and tg["kind"] == "stability":
             # issue 15: a plant per point goes through the sweep (sweep.h); its target is 2x
-            line(tg["x_closed_form"] >= 2.0, False,
+            line(tg["x_closed_form"] >= 2.0 and tg.get("x_eigvals", 0.0) >= 100.0, False,
                  f"{where}: per-plant sweep (sweep.h) >= 2x the numpy closed form on the literal "
-                 f"coefficients ({tg['x_closed_form']:.3g}x) and >= 100x batched eigvals "
-                 f"({tg.get('x_eigvals', float('nan')):.3g}x), same run")
+                 f"coefficients ({tg['x_closed_form']:.3g}x; per CPU second "
+                 f"{tg['x_closed_form_cpu']:.3g}x) and >= 100x batched eigvals "
+                 f"({tg.get('x_eigvals', float('nan')):.3g}x; per CPU second "
+                 f"{tg.get('x_eigvals_cpu', float('nan')):.3g}x), same run")
     return issue, extra
 
 

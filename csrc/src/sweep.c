@@ -14,8 +14,10 @@
  *   [2, 64):  e = exp(-delta) (one ulp), then sums of non-negative terms and quotients:
  *             hs within 6.3 u, g 5.3 u, d12 7 u, e 2 u.
  *   [64, inf): zw_coeffs_init (rare in sweeps; it also carries the overflow cases).
- * The constraints are those of internal.h, as in batch.c, so a verdict is as safe as
- * zw_check's.
+ * The constraints are those of internal.h (written out for exact gains and an exact
+ * delta: the same bounds without their zero terms), so a verdict is as safe as zw_check's.
+ * Every loop over a block is branch-free where it can be, so that it vectorizes; the
+ * Python bindings also build this file for AVX2 and AVX-512 (bindings/sweep_avx*.c).
  */
 #include "zwidth/sweep.h"
 
@@ -303,6 +305,14 @@ static const zw_real zw_sweep_q[ZW_SWEEP_INTERVALS][ZW_SWEEP_TERMS_Q] = {
 #define ZW_SWEEP_CLOSED_END ZW_R(64.0) /* zw_coeffs_init from here */
 #define ZW_SWEEP_PER_UNIT ZW_R(32.0)   /* intervals per unit of delta */
 #define ZW_SWEEP_BLOCK 16u             /* points whose fields wait on the stack */
+/* 1 where wide vectors pay for the table loop (the Python bindings build this file again
+ * for AVX2 and AVX-512, bindings/sweep_avx*.c): a block then takes every point through the
+ * vector table loop and redoes those beyond the tables over the block; 0 (the default:
+ * with SSE2's two lanes the vector loop gains nothing) takes a block with a point beyond
+ * the tables point by point. */
+#ifndef ZW_SWEEP_GATHER
+#define ZW_SWEEP_GATHER 0
+#endif
 
 /* Horner's rule, lowest power first in a[0 .. terms-1] (terms a constant at each call:
  * the compiler unrolls it). */
@@ -331,22 +341,49 @@ static inline void sweep_from_tables(zw_sweep_fields *f, zw_real delta)
     f->d12 = delta * sweep_poly(zw_sweep_q[j], ZW_SWEEP_TERMS_Q, h);
 }
 
-static inline void sweep_closed_form(zw_sweep_fields *f, zw_real delta)
+/* The table fields of a block, branch-free (a vector loop): delta >= 2 is evaluated at 1
+ * instead (its fields are replaced by the caller). */
+static void sweep_block_from_tables(const zw_real *delta, zw_real *e, zw_real *g, zw_real *hs,
+                                    zw_real *d12, zw_real *inv_sigma)
 {
-    const zw_real e = ZW_EXP(-delta);
+    size_t j;
+    for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
+        const zw_real x = (delta[j] < ZW_SWEEP_TABLE_END) ? delta[j] : ZW_R(1.0);
+        const int k = (int)(x * ZW_SWEEP_PER_UNIT); /* x * 32 is exact and below 64 */
+        const zw_real centre = ((zw_real)k + ZW_R(0.5)) / ZW_SWEEP_PER_UNIT;
+        const zw_real h = x - centre;
+        e[j] = sweep_poly(zw_sweep_e[k], ZW_SWEEP_TERMS_E, h);
+        g[j] = sweep_poly(zw_sweep_g[k], ZW_SWEEP_TERMS_G, h);
+        hs[j] = sweep_poly(zw_sweep_w[k], ZW_SWEEP_TERMS_W, h);
+        d12[j] = x * sweep_poly(zw_sweep_q[k], ZW_SWEEP_TERMS_Q, h);
+        inv_sigma[j] = ZW_R(1.0);
+    }
+}
+
+/* The closed forms at delta in [2, 64) given e = exp(-delta), branch-free (a vector loop
+ * in sweep_block_beyond). */
+static inline void sweep_closed_from_e(zw_sweep_fields *f, zw_real delta, zw_real e)
+{
     const zw_real one_minus_e = ZW_R(1.0) - e;                 /* in (0.86, 1) */
     const zw_real n2 = one_minus_e - delta * e;                /* delta^2 c2 / 2, in (0.59, 1) */
     const zw_real t1 = delta - one_minus_e;                    /* delta^2 c1 / 2, >= 1.13 */
     const zw_real n12 = (delta + ZW_R(2.0)) * e + (delta - ZW_R(2.0)); /* delta^2 d12 / 2 */
-    zw_real sigma = ZW_R(2.0);
-    while (sigma < delta) { /* at most five doublings below 64 */
-        sigma += sigma;
-    }
+    /* the least power of two >= delta (and >= 2), exactly: sums of powers of two */
+    const zw_real sigma = ((((ZW_R(2.0) + ((delta > ZW_R(2.0)) ? ZW_R(2.0) : ZW_R(0.0))) +
+                             ((delta > ZW_R(4.0)) ? ZW_R(4.0) : ZW_R(0.0))) +
+                            ((delta > ZW_R(8.0)) ? ZW_R(8.0) : ZW_R(0.0))) +
+                           ((delta > ZW_R(16.0)) ? ZW_R(16.0) : ZW_R(0.0))) +
+                          ((delta > ZW_R(32.0)) ? ZW_R(32.0) : ZW_R(0.0));
     f->sigma = sigma;
     f->e = e;
     f->g = t1 / (delta * one_minus_e);                         /* c1 / (c1 + c2) */
     f->hs = (delta / sigma) * (delta / n2);                    /* 2 / c2 / sigma */
     f->d12 = ((n12 + n12) / delta) / delta;
+}
+
+static inline void sweep_closed_form(zw_sweep_fields *f, zw_real delta)
+{
+    sweep_closed_from_e(f, delta, ZW_EXP(-delta));
 }
 
 static zw_status sweep_general(zw_sweep_fields *f, zw_real delta)
@@ -394,6 +431,72 @@ static zw_status sweep_fields(zw_sweep_fields *f, zw_real delta)
     return st;
 }
 
+/* Every point of the block by its own route (ZW_SWEEP_GATHER 0).  On an error, *at is
+ * the point's index in the block. */
+static zw_status sweep_block_each(const zw_real *delta, zw_real *e, zw_real *g, zw_real *hs, zw_real *d12,
+                                  zw_real *inv_sigma, size_t count, size_t *at)
+{
+    zw_status st = ZW_OK;
+    size_t j;
+    for (j = 0u; (j < ZW_SWEEP_BLOCK) && (st == ZW_OK); ++j) {
+        zw_sweep_fields f;
+        st = (j < count) ? sweep_fields(&f, delta[j]) : ZW_OK;
+        if (j >= count) {
+            sweep_from_tables(&f, ZW_R(1.0)); /* padding */
+        }
+        *at = j;
+        e[j] = f.e;
+        g[j] = f.g;
+        hs[j] = f.hs;
+        d12[j] = f.d12;
+        inv_sigma[j] = ZW_R(1.0) / f.sigma; /* exact: a power of two */
+    }
+    return st;
+}
+
+/* The fields of the block's points beyond the tables (delta >= 2), replacing the table
+ * loop's: the exponentials one by one, then the closed forms over the whole block in a
+ * vector loop (evaluated at 2 for the other points, then selected), then delta >= 64 by
+ * zw_coeffs_init.  On an error, *at is the point's index in the block. */
+static zw_status sweep_block_beyond(const zw_real *delta, zw_real *e, zw_real *g, zw_real *hs, zw_real *d12,
+                                    zw_real *inv_sigma, size_t count, size_t *at)
+{
+    zw_real ex[ZW_SWEEP_BLOCK];
+    zw_real far = ZW_R(0.0);
+    zw_status st = ZW_OK;
+    size_t j;
+    for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
+        const bool closed = (delta[j] >= ZW_SWEEP_TABLE_END) && (delta[j] < ZW_SWEEP_CLOSED_END);
+        ex[j] = closed ? ZW_EXP(-delta[j]) : ZW_R(0.125); /* 0.125: any value the forms take */
+        far += (delta[j] < ZW_SWEEP_CLOSED_END) ? ZW_R(0.0) : ZW_R(1.0);
+    }
+    for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) { /* branch-free: vectorizes */
+        const bool closed = (delta[j] >= ZW_SWEEP_TABLE_END) && (delta[j] < ZW_SWEEP_CLOSED_END);
+        zw_sweep_fields f;
+        sweep_closed_from_e(&f, closed ? delta[j] : ZW_SWEEP_TABLE_END, ex[j]);
+        e[j] = closed ? f.e : e[j];
+        g[j] = closed ? f.g : g[j];
+        hs[j] = closed ? f.hs : hs[j];
+        d12[j] = closed ? f.d12 : d12[j];
+        inv_sigma[j] = closed ? (ZW_R(1.0) / f.sigma) : inv_sigma[j]; /* exact: a power of two */
+    }
+    if (far != ZW_R(0.0)) {
+        for (j = 0u; (j < count) && (st == ZW_OK); ++j) {
+            if (!(delta[j] < ZW_SWEEP_CLOSED_END)) {
+                zw_sweep_fields f;
+                st = sweep_general(&f, delta[j]);
+                *at = j;
+                e[j] = f.e;
+                g[j] = f.g;
+                hs[j] = f.hs;
+                d12[j] = f.d12;
+                inv_sigma[j] = ZW_R(1.0) / f.sigma; /* exact: a power of two */
+            }
+        }
+    }
+    return st;
+}
+
 static void sweep_fail_fields(zw_sweep_fields *out)
 {
     out->e = ZW_NAN;
@@ -419,34 +522,78 @@ zw_status zw_sweep_fields_init(zw_sweep_fields *out, zw_real delta)
     return st;
 }
 
-/* zw_check's stable bit on these fields (batch.c's exact_stable01; constraints of
- * internal.h, the coefficient budget of zw_coef_relerr with an exact delta).  Scalars in
- * and out, branch-free: the block loop below vectorizes like batch.c's. */
-static inline zw_real sweep_stable01(zw_real delta, zw_real e, zw_real g_c, zw_real hs, zw_real d12,
-                                     zw_real sigma, zw_real alpha, zw_real beta)
+/* zw_check's stable bit on these fields: the constraints of internal.h
+ * (zw_exact_x, zw_hyperbola_constraint, zw_line_constraint, zw_surely_less01) with exact
+ * gains and an exact delta, so every error term those carry for the gains' and delta's
+ * uncertainty is exactly 0 (finite inputs): written out without them, each bound has the
+ * same value, and the constant parts fold (coef_err = zw_coef_relerr = 2 ZW_COEF_ULPS u).
+ * inv_sigma = 1/sigma, exact (a power of two).  Scalars in and out, branch-free: the block
+ * loop below vectorizes.  tests/py/test_sweep.py compares the verdicts with zw_check's. */
+#define ZW_SWEEP_COEF_ERR (ZW_R(2.0) * (zw_real)ZW_COEF_ULPS * ZW_U)
+
+/* zw_compare_bound */
+static inline zw_real sweep_bound(zw_real diff, zw_real err)
 {
-    zw_coeffs c;
-    zw_gains g;
-    zw_eb x;
-    zw_constraint h, l;
-    zw_real coef_err;
-    c.delta = delta;
-    c.delta_relerr = ZW_R(0.0);
-    c.e = e;
-    c.g = g_c;
-    c.hs = hs;
-    c.d12 = d12;
-    c.sigma = sigma;
-    c.c1 = ZW_R(0.0); /* not read by the exact-region constraints */
-    c.c2 = ZW_R(0.0);
-    c.s = ZW_R(0.0);
-    coef_err = zw_coef_relerr(&c);
-    g = zw_gains_exact(alpha, beta);
-    x = zw_exact_x(&c, &g);
-    h = zw_hyperbola_constraint(&c, coef_err, &g, x);
-    l = zw_line_constraint(&c, coef_err, &g);
-    return zw_surely_less01(ZW_R(0.0), x.v, x.e) * zw_surely_less01(ZW_R(0.0), alpha, g.alpha.e) *
-           zw_surely_less01(h.lhs, h.rhs, h.err) * zw_surely_less01(l.lhs, l.rhs, l.err);
+    return ((err * (ZW_R(1.0) + (ZW_R(16.0) * ZW_U))) + ((ZW_R(2.0) * ZW_U) * ZW_FABS(diff))) + ZW_ETA;
+}
+
+/* zw_surely_less01(lhs, rhs, err) with diff = rhs - lhs and bound = sweep_bound(diff, err) */
+static inline zw_real sweep_less01(zw_real diff, zw_real bound)
+{
+    const zw_real less = (diff > bound) ? ZW_R(1.0) : ZW_R(0.0);
+    return (ZW_FABS(bound) <= ZW_REAL_MAX) ? less : ZW_R(0.0);
+}
+
+static inline zw_real sweep_stable01(zw_real delta, zw_real e, zw_real g, zw_real hs, zw_real d12,
+                                     zw_real inv_sigma, zw_real alpha, zw_real beta)
+{
+    const zw_real coef_err = ZW_SWEEP_COEF_ERR;
+    /* damping: 0 < x = beta + delta */
+    const zw_real xv = beta + delta;
+    const zw_real xe = (ZW_U * ZW_FABS(xv)) + ZW_ETA;
+    /* hyperbola: (alpha/sigma) g + (alpha/sigma)/x < hs - beta/sigma */
+    const zw_real as = alpha * inv_sigma;
+    const zw_real t1 = as * g;
+    const zw_real t2 = as / xv;
+    const zw_real h_lhs = t1 + t2;
+    const zw_real h_rhs = hs - (beta * inv_sigma);
+    const zw_real h_err = (((((((ZW_FABS(t1) * (coef_err + ZW_U)) + (ZW_ETA * g)) +
+                               ((ZW_ETA + (ZW_FABS(t2) * xe)) / (xv - xe))) +
+                              (ZW_U * ZW_FABS(t2))) +
+                             (ZW_U * ZW_FABS(h_lhs))) +
+                            (hs * coef_err)) +
+                           (ZW_U * ZW_FABS(h_rhs))) +
+                          (ZW_R(4.0) * ZW_ETA);
+    /* line: d12 (alpha/2) + d12 beta < 2 (1 + e) */
+    const zw_real t3 = d12 * (ZW_R(0.5) * alpha);
+    const zw_real t4 = d12 * beta;
+    const zw_real l_lhs = t3 + t4;
+    const zw_real l_rhs = ZW_R(2.0) * (ZW_R(1.0) + e);
+    const zw_real d12_floor = (ZW_FABS(d12) < ZW_REAL_MIN) ? ZW_COEF_ABSERR : ZW_R(0.0);
+    const zw_real e_abserr = (coef_err * e) + ZW_ETA;
+    const zw_real l_err = ((((((ZW_FABS(t3) + ZW_FABS(t4)) * (coef_err + ZW_U)) +
+                             (d12_floor * ((ZW_R(0.5) * ZW_FABS(alpha)) + ZW_FABS(beta)))) +
+                            (ZW_U * ZW_FABS(l_lhs))) +
+                           (ZW_R(2.0) * e_abserr)) +
+                          (ZW_U * l_rhs)) +
+                         (ZW_R(3.0) * ZW_ETA);
+    const zw_real h_diff = h_rhs - h_lhs;
+    const zw_real l_diff = l_rhs - l_lhs;
+    return sweep_less01(xv, sweep_bound(xv, xe)) * sweep_less01(alpha, sweep_bound(alpha, ZW_R(0.0))) *
+           sweep_less01(h_diff, sweep_bound(h_diff, h_err)) * sweep_less01(l_diff, sweep_bound(l_diff, l_err));
+}
+
+/* The status zw_check gives for these inputs before it computes anything, or ZW_OK. */
+static zw_status sweep_point_status(zw_real delta, zw_real alpha, zw_real beta)
+{
+    zw_status st = sweep_delta_status(delta);
+    if (st == ZW_OK) {
+        st = zw_require_finite(alpha);
+    }
+    if (st == ZW_OK) {
+        st = zw_require_finite(beta);
+    }
+    return st;
 }
 
 static zw_status sweep_invalid_at(zw_status st, size_t i, size_t *first_invalid)
@@ -466,56 +613,58 @@ static zw_status sweep_check_many(size_t n, const zw_real *delta, ptrdiff_t delt
     if ((delta == NULL) || (alpha == NULL) || (beta == NULL) || (stable == NULL)) {
         return sweep_invalid_at(ZW_ERR_NULL, 0u, first_invalid);
     }
-    for (i = 0u; (i < n) && (st == ZW_OK); ++i) { /* the statuses zw_check gives, in its order */
-        const ptrdiff_t k = (ptrdiff_t)i;
-        st = sweep_delta_status(delta[k * delta_stride]);
-        if (st == ZW_OK) {
-            st = zw_require_finite(alpha[k * alpha_stride]);
-        }
-        if (st == ZW_OK) {
-            st = zw_require_finite(beta[k * beta_stride]);
-        }
-        if (st != ZW_OK) {
-            return sweep_invalid_at(st, i, first_invalid);
-        }
-    }
-    /* Blocks: first every point's fields (independent Horner chains the CPU overlaps),
-     * into arrays; then the constraints over the whole block, a branch-free loop of
-     * constant trip count that the compiler vectorizes (as batch.c's); then the bools. */
+    /* Blocks of 16 points, each a few loops of constant trip count that the compiler
+     * vectorizes: the inputs' validity (only a block with an invalid point is scanned
+     * point by point, for the first one and zw_check's status); the table fields,
+     * branch-free; the points beyond the tables (or, with ZW_SWEEP_GATHER 0, a block
+     * holding one goes point by point); the constraints; then the bools.  The first refused
+     * point is the first in index order, its status the one zw_check gives it. */
     for (i = 0u; i < n; i += ZW_SWEEP_BLOCK) {
         zw_real d[ZW_SWEEP_BLOCK], a[ZW_SWEEP_BLOCK], b[ZW_SWEEP_BLOCK];
         zw_real e[ZW_SWEEP_BLOCK], g[ZW_SWEEP_BLOCK], hs[ZW_SWEEP_BLOCK], d12[ZW_SWEEP_BLOCK];
-        zw_real sigma[ZW_SWEEP_BLOCK], ok[ZW_SWEEP_BLOCK];
+        zw_real inv_sigma[ZW_SWEEP_BLOCK], ok[ZW_SWEEP_BLOCK];
         const size_t count = (n - i) < ZW_SWEEP_BLOCK ? (n - i) : ZW_SWEEP_BLOCK;
         size_t j;
+        zw_real beyond = ZW_R(0.0);  /* points of the block beyond the tables (delta >= 2) */
+        zw_real invalid = ZW_R(0.0); /* points zw_check refuses for their inputs */
+        size_t far = 0u;
         for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
-            zw_sweep_fields f;
             if (j < count) {
-                const ptrdiff_t k = (ptrdiff_t)(i + j);
+                const ptrdiff_t k = (ptrdiff_t)i + (ptrdiff_t)j;
                 d[j] = delta[k * delta_stride];
                 a[j] = alpha[k * alpha_stride];
                 b[j] = beta[k * beta_stride];
-            } else { /* a full block keeps the next loop's trip count constant (vectorized) */
+            } else { /* a full block keeps the next loops' trip counts constant (vectorized) */
                 d[j] = ZW_R(1.0);
                 a[j] = ZW_R(0.0);
                 b[j] = ZW_R(0.0);
             }
-            if (d[j] < ZW_SWEEP_TABLE_END) {
-                sweep_from_tables(&f, d[j]);
-            } else {
-                st = sweep_fields(&f, d[j]);
+        }
+        for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) { /* branch-free: vectorizes */
+            beyond += (d[j] < ZW_SWEEP_TABLE_END) ? ZW_R(0.0) : ZW_R(1.0);
+            invalid += ((d[j] >= ZW_R(0.0)) && (ZW_FABS(d[j]) <= ZW_REAL_MAX) && (ZW_FABS(a[j]) <= ZW_REAL_MAX) &&
+                        (ZW_FABS(b[j]) <= ZW_REAL_MAX)) ? ZW_R(0.0) : ZW_R(1.0);
+        }
+        if (invalid != ZW_R(0.0)) { /* name the first, with the status zw_check gives */
+            for (j = 0u; j < count; ++j) {
+                st = sweep_point_status(d[j], a[j], b[j]);
                 if (st != ZW_OK) {
                     return sweep_invalid_at(st, i + j, first_invalid);
                 }
             }
-            e[j] = f.e;
-            g[j] = f.g;
-            hs[j] = f.hs;
-            d12[j] = f.d12;
-            sigma[j] = f.sigma;
+        }
+        if ((beyond == ZW_R(0.0)) || (ZW_SWEEP_GATHER != 0)) {
+            sweep_block_from_tables(d, e, g, hs, d12, inv_sigma);
+        }
+        if (beyond != ZW_R(0.0)) {
+            st = (ZW_SWEEP_GATHER != 0) ? sweep_block_beyond(d, e, g, hs, d12, inv_sigma, count, &far)
+                                        : sweep_block_each(d, e, g, hs, d12, inv_sigma, count, &far);
+            if (st != ZW_OK) {
+                return sweep_invalid_at(st, i + far, first_invalid);
+            }
         }
         for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
-            ok[j] = sweep_stable01(d[j], e[j], g[j], hs[j], d12[j], sigma[j], a[j], b[j]);
+            ok[j] = sweep_stable01(d[j], e[j], g[j], hs[j], d12[j], inv_sigma[j], a[j], b[j]);
         }
         for (j = 0u; j < count; ++j) {
             stable[i + j] = ok[j] != ZW_R(0.0);

@@ -270,6 +270,27 @@ def test_equals_zw_check_away_from_the_band():
     assert int((fast & ~one).sum()) <= int((~away).sum())
 
 
+def test_bindings_vector_build_equals_the_library():
+    """zwidth.check on a plant per point runs an AVX-512 or AVX2 build of sweep.c where the
+    CPU has one (bindings/sweep_avx*.c): its verdicts are the portable library's bit for bit,
+    on the boundary set (so its false-stable count is that test's, 0) and on random points
+    through every route (tables, closed forms, zw_coeffs_init), in blocks of every mix."""
+    import zwidth
+    sweep = ("double", *load("double"))
+    d, a, b = boundary_points("double")
+    rng = np.random.default_rng(11)
+    n = 20000
+    d2 = np.exp(rng.uniform(math.log(1e-6), math.log(500.0), n))
+    d2[rng.random(n) < 0.5] *= 0.01  # blocks all in the tables, and mixed ones
+    ex = zwidth.extremes(d2)
+    a2 = rng.uniform(0, 1.3, n) * ex.alpha_mmax
+    b2 = -d2 + rng.uniform(0, 1, n) * (ex.beta_mmax + d2)
+    for dd, aa, bb in ((d, a, b), (d2, a2, b2), (d2[:1000:3], a2[:1000:3], b2[:1000:3])):
+        st, lib_verdict, _ = run_many(sweep, dd, aa, bb)
+        assert st == ZW_OK
+        assert np.array_equal(zwidth.check(dd, aa, bb), lib_verdict)
+
+
 def test_error_paths_name_the_point_and_fail_safe(sweep):
     d = np.array([1.0, 2.5, -1.0, 3.0])
     st, out, first = run_many(sweep, d, np.ones(4), np.zeros(4))
