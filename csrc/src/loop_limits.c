@@ -48,6 +48,7 @@
 #define LL_MAX_CROSSINGS (4u * ZW_LOOP_MAX_DEGREE + 8u) /* bound on the steps of a walk */
 #define LL_CELL_CHECKS 7u                      /* interior checks of an alpha_max cell */
 #define LL_EXT_GRID 24u                        /* beta grid before the golden section */
+#define LL_EXT_GRID_N ZW_R(25.0)               /* its intervals: LL_EXT_GRID + 1 */
 
 typedef struct ll_cplx {
     zw_real re, im;
@@ -106,37 +107,58 @@ static zw_status plant_init(ll_plant *p, const zw_loop *loop, zw_loop_workspace 
     unsigned est_deg;
     zw_real u = ZW_U, rel, filt;
     zw_status st;
-    if (loop == NULL) return ZW_ERR_NULL;
+    if (loop == NULL) {
+        return ZW_ERR_NULL;
+    }
     sp = &loop->spec;
-    if (sp->delay > ZW_LOOP_MAX_DELAY) return ZW_ERR_ARG;
-    if (sp->differentiator != ZW_DIFF_BACKWARD && sp->differentiator != ZW_DIFF_TUSTIN)
+    if (sp->delay > ZW_LOOP_MAX_DELAY) {
         return ZW_ERR_ARG;
+    }
+    if (sp->differentiator != ZW_DIFF_BACKWARD && sp->differentiator != ZW_DIFF_TUSTIN) {
+        return ZW_ERR_ARG;
+    }
     switch (sp->filter) {
     case ZW_VFILTER_NONE:
         est_deg = 1u;
         filt = ZW_R(0.0);
         break;
     case ZW_VFILTER_LOWPASS:
-        if (!(sp->filter_pole >= ZW_R(0.0) && sp->filter_pole < ZW_R(1.0))) return ZW_ERR_ARG;
-        est_deg = sp->differentiator == ZW_DIFF_TUSTIN ? 2u : 1u;
+        if (!(sp->filter_pole >= ZW_R(0.0) && sp->filter_pole < ZW_R(1.0))) {
+            return ZW_ERR_ARG;
+        }
+        est_deg = 1u;
+        if (sp->differentiator == ZW_DIFF_TUSTIN) {
+            est_deg = 2u;
+        }
         filt = ZW_R(16.0) * u;
         break;
     case ZW_VFILTER_AVERAGE:
-        if (sp->average < 1u || sp->average > ZW_LOOP_MAX_AVERAGE) return ZW_ERR_ARG;
+        if (sp->average < 1u || sp->average > ZW_LOOP_MAX_AVERAGE) {
+            return ZW_ERR_ARG;
+        }
         est_deg = sp->average;
         filt = (ZW_R(8.0) + ZW_R(4.0) * (zw_real)sp->average) * u;
         break;
     default: return ZW_ERR_ARG;
     }
-    if (loop->degree != 2u + sp->delay + est_deg) return ZW_ERR_ARG;
-    if ((st = zw_require_coeffs(&loop->c, false)) != ZW_OK) return st;
-    if (!(loop->c.c1 > ZW_R(0.0))) return ZW_ERR_RANGE;
+    if (loop->degree != 2u + sp->delay + est_deg) {
+        return ZW_ERR_ARG;
+    }
+    st = zw_require_coeffs(&loop->c, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (!(loop->c.c1 > ZW_R(0.0))) {
+        return ZW_ERR_RANGE;
+    }
     p->loop = loop;
     p->ws = ws;
     p->one_minus_e = ZW_R(0.5) * (loop->c.s * loop->c.delta);
     p->r12 = loop->c.d12 / loop->c.c1;
     p->two_c1 = ZW_R(2.0) / loop->c.c1;
-    if (!ZW_IS_FINITE(p->two_c1) || !ZW_IS_FINITE(p->one_minus_e)) return ZW_ERR_RANGE;
+    if (!ZW_IS_FINITE(p->two_c1) || !ZW_IS_FINITE(p->one_minus_e)) {
+        return ZW_ERR_RANGE;
+    }
     p->phase = (zw_real)sp->delay + ZW_R(0.5);
     p->one_minus_a = ZW_R(1.0) - sp->filter_pole;
     /* z - e and (c1 z + c2)/c1 lose at most a factor 3 to cancellation (|z - e| >= 1 - e,
@@ -250,7 +272,9 @@ static void eval_point(const ll_scan *x, zw_real theta, ll_point *pt)
                         ? (eps * a0 + ZW_FABS(pt->v) * eps * as) / den + ZW_R(4.0) * ZW_U * ZW_FABS(pt->v) + ZW_ETA
                         : ZW_REAL_MAX;
     }
-    if (!ZW_IS_FINITE(pt->v) || !ZW_IS_FINITE(pt->v_err)) pt->v_err = ZW_REAL_MAX;
+    if (!ZW_IS_FINITE(pt->v) || !ZW_IS_FINITE(pt->v_err)) {
+        pt->v_err = ZW_REAL_MAX;
+    }
 }
 
 static bool is_neg(zw_real f)
@@ -293,8 +317,12 @@ static void offer_root(ll_scan *x, zw_real theta_lo, zw_real theta_hi, bool cert
                        zw_real est, zw_real lo, zw_real hi)
 {
     bool unbounded = !(lo > -ZW_REAL_MAX && hi < ZW_REAL_MAX);
-    if (unbounded && theta_hi > LL_PI - x->p->grid_h) return;
-    if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p->grid_h) return;
+    if (unbounded && theta_hi > LL_PI - x->p->grid_h) {
+        return;
+    }
+    if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p->grid_h) {
+        return;
+    }
     offer(x, est, lo, hi);
 }
 
@@ -306,37 +334,50 @@ static void widen(const ll_point *pt, zw_real *lo, zw_real *hi)
         l = -ZW_REAL_MAX;
         h = ZW_REAL_MAX;
     }
-    if (l < *lo) *lo = l;
-    if (h > *hi) *hi = h;
+    if (l < *lo) {
+        *lo = l;
+    }
+    if (h > *hi) {
+        *hi = h;
+    }
 }
 
 /* A root of f between a and b (f(a), f(b) of opposite computed signs): bisect, then step
  * outwards to the nearest points where f's sign is certain (the exact root lies between
  * them), and offer the value there with its bounds.  One point at a time (small stack). */
-static void refine(ll_scan *x, zw_real a, zw_real b)
+static void refine(ll_scan *x, zw_real a0, zw_real b0)
 {
     ll_point *pt = x->pt;
     bool neg_a, certified;
-    zw_real a0 = a, b0 = b, h, t, lo, hi, est, th_lo, th_hi;
+    zw_real a = a0, b = b0, h, t, lo, hi, est, th_lo, th_hi;
     unsigned it;
     eval_point(x, a, pt);
     neg_a = is_neg(pt->f);
     for (it = 0u; it < LL_ITER; ++it) {
         zw_real m = a + ZW_R(0.5) * (b - a);
-        if (!(m > a && m < b)) break;
+        if (!(m > a && m < b)) {
+            break;
+        }
         eval_point(x, m, pt);
-        if (is_neg(pt->f) == neg_a) a = m;
-        else b = m;
+        if (is_neg(pt->f) == neg_a) {
+            a = m;
+        } else {
+            b = m;
+        }
     }
     eval_point(x, a + ZW_R(0.5) * (b - a), pt);
-    est = lo = hi = pt->v;
+    est = pt->v;
+    lo = pt->v;
+    hi = pt->v;
     widen(pt, &lo, &hi);
     h = b - a;
     t = a;
     for (it = 0u; it < LL_ITER; ++it) {
         t = a - h > a0 ? a - h : a0;
         eval_point(x, t, pt);
-        if ((certain(pt) && is_neg(pt->f) == neg_a) || !(t > a0)) break;
+        if ((certain(pt) && is_neg(pt->f) == neg_a) || !(t > a0)) {
+            break;
+        }
         h *= ZW_R(4.0);
     }
     certified = certain(pt);
@@ -347,7 +388,9 @@ static void refine(ll_scan *x, zw_real a, zw_real b)
     for (it = 0u; it < LL_ITER; ++it) {
         t = b + h < b0 ? b + h : b0;
         eval_point(x, t, pt);
-        if ((certain(pt) && is_neg(pt->f) != neg_a) || !(t < b0)) break;
+        if ((certain(pt) && is_neg(pt->f) != neg_a) || !(t < b0)) {
+            break;
+        }
         h *= ZW_R(4.0);
     }
     certified = certified && certain(pt);
@@ -358,11 +401,11 @@ static void refine(ll_scan *x, zw_real a, zw_real b)
 
 /* f keeps its sign at a, m, b but |f(m)| is a local minimum of the grid: look for a hidden
  * pair of roots by golden-section minimisation of sign * f on [a, b]. */
-static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
+static void hidden_pair(ll_scan *x, zw_real a_start, zw_real m, zw_real b_start)
 {
     ll_point *pt = x->pt;
     bool neg;
-    zw_real c, d, fc, fd, best_t, best_f, lo, hi;
+    zw_real a = a_start, b = b_start, c, d, fc, fd, best_t, best_f, lo, hi;
     unsigned it;
     eval_point(x, m, pt);
     neg = is_neg(pt->f);
@@ -375,7 +418,9 @@ static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
     eval_point(x, d, pt);
     fd = pt->f;
     for (it = 0u; it < LL_ITER && d > c; ++it) {
-        if (is_neg(fc) != neg || is_neg(fd) != neg) break;
+        if (is_neg(fc) != neg || is_neg(fd) != neg) {
+            break;
+        }
         if (ZW_FABS(fc) < best_f) {
             best_f = ZW_FABS(fc);
             best_t = c;
@@ -410,7 +455,8 @@ static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
     if (!certain(pt)) {
         /* a near-tangency within the rounding band: keep it as a crossing, with the values
          * over the whole bracket */
-        lo = hi = pt->v;
+        lo = pt->v;
+        hi = pt->v;
         widen(pt, &lo, &hi);
         eval_point(x, a, pt);
         widen(pt, &lo, &hi);
@@ -425,9 +471,13 @@ static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
 static zw_real grid_theta(const ll_plant *p, unsigned j)
 {
     unsigned n = p->grid_n;
-    if (j < LL_GEO) return ZW_LDEXP(p->grid_h, -(int)(LL_GEO - j));
-    if (j < LL_GEO + n - 1u) return (zw_real)(j - LL_GEO + 1u) * p->grid_h;
-    return LL_PI_BELOW - ZW_LDEXP(p->grid_h, -(int)(j - (LL_GEO + n - 1u) + 1u));
+    if (j < LL_GEO) {
+        return ZW_LDEXP(p->grid_h, (int)j - (int)LL_GEO);
+    }
+    if (j < LL_GEO + n - 1u) {
+        return ((zw_real)j - (zw_real)LL_GEO + ZW_R(1.0)) * p->grid_h;
+    }
+    return LL_PI_BELOW - ZW_LDEXP(p->grid_h, (int)LL_GEO + (int)n - (int)j - 2);
 }
 
 /* Every crossing in (0, pi) offered to x.  On a vertical line the scan starts at theta = 0
@@ -445,9 +495,11 @@ static void scan(ll_scan *x)
     if (x->mode == LL_FIX_BETA) {
         zw_real v1 = pt->v + pt->v_err;
         eval_point(x, ZW_R(0.0), pt);
-        if (!certain(pt)) offer(x, ZW_R(0.0), ZW_R(0.0), v1);
-        else if (is_neg(pt->f) != is_neg(f1)) refine(x, ZW_R(0.0), t1);
-        else {
+        if (!certain(pt)) {
+            offer(x, ZW_R(0.0), ZW_R(0.0), v1);
+        } else if (is_neg(pt->f) != is_neg(f1)) {
+            refine(x, ZW_R(0.0), t1);
+        } else {
             /* no crossing below the first grid angle */
         }
     }
@@ -490,7 +542,9 @@ static void line_minus1(const ll_plant *p, zw_real *c0, zw_real *ca, zw_real *cb
         nv *= p->one_minus_a;
         dv *= ZW_R(1.0) + sp->filter_pole;
     } else if (sp->filter == ZW_VFILTER_AVERAGE) {
-        if ((sp->average % 2u) == 0u) nv = ZW_R(0.0);
+        if ((sp->average % 2u) == 0u) {
+            nv = ZW_R(0.0);
+        }
         dv *= (zw_real)sp->average;
     } else {
         /* no filter */
@@ -520,12 +574,16 @@ static void offer_line(ll_scan *x, bool *degenerate)
     }
     if (ZW_FABS(den) <= rel * ZW_FABS(den) + ZW_ETA) {
         /* the line is parallel to the search line: a crossing everywhere or nowhere */
-        if (ZW_FABS(num) <= ZW_R(2.0) * rel * num_mag + ZW_ETA) *degenerate = true;
+        if (ZW_FABS(num) <= ZW_R(2.0) * rel * num_mag + ZW_ETA) {
+            *degenerate = true;
+        }
         return;
     }
     v = -num / den;
     err = ZW_R(2.0) * rel * (num_mag / ZW_FABS(den) + ZW_FABS(v)) + ZW_R(4.0) * ZW_U * ZW_FABS(v) + ZW_ETA;
-    if (!ZW_IS_FINITE(v) || !ZW_IS_FINITE(err)) return;
+    if (!ZW_IS_FINITE(v) || !ZW_IS_FINITE(err)) {
+        return;
+    }
     offer(x, v, v - err, v + err);
 }
 
@@ -549,11 +607,13 @@ static bool checked_stable(zw_loop_workspace *ws, zw_real alpha, zw_real beta)
 ZW_NOINLINE static void scan_line(ll_scan *x)
 {
     offer_line(x, &x->degenerate);
-    if (!x->degenerate) scan(x);
+    if (!x->degenerate) {
+        scan(x);
+    }
 }
 
 static void scan_setup(zw_loop_workspace *ws, unsigned mode, zw_real fixed, unsigned take,
-                       zw_real floor)
+                       zw_real above)
 {
     ll_scan *x = &ws->lim_scan;
     x->p = &ws->lim_plant;
@@ -561,10 +621,12 @@ static void scan_setup(zw_loop_workspace *ws, unsigned mode, zw_real fixed, unsi
     x->mode = mode;
     x->fixed = fixed;
     x->take = take;
-    x->floor = floor;
+    x->floor = above;
     x->found = false;
     x->degenerate = false;
-    x->est = x->lo = x->hi = ZW_R(0.0);
+    x->est = ZW_R(0.0);
+    x->lo = ZW_R(0.0);
+    x->hi = ZW_R(0.0);
 }
 
 /* The k-th of the interior points of the cell (0, a1 = lim_scan.lo) is stable.  Out of
@@ -572,7 +634,7 @@ static void scan_setup(zw_loop_workspace *ws, unsigned mode, zw_real fixed, unsi
 ZW_NOINLINE static bool cell_point_stable(zw_loop_workspace *ws, unsigned k)
 {
     const ll_scan *x = &ws->lim_scan;
-    zw_real t = x->lo * ((zw_real)k / (zw_real)(LL_CELL_CHECKS + 1u));
+    zw_real t = x->lo * ((zw_real)k / ((zw_real)LL_CELL_CHECKS + ZW_R(1.0)));
     return checked_stable(ws, t, x->fixed);
 }
 
@@ -585,15 +647,23 @@ ZW_NOINLINE static void alpha_max_of(zw_loop_workspace *ws, zw_real beta)
     ws->lim_amax = ZW_R(0.0);
     scan_setup(ws, LL_FIX_BETA, beta, LL_TAKE_MIN_LO, ZW_R(0.0));
     scan_line(&ws->lim_scan);
-    if (x->degenerate) return;
+    if (x->degenerate) {
+        return;
+    }
     /* No crossing above 0: the half-line alpha > 0 is one cell, and it is unstable (d + 2
      * roots go to infinity with alpha), so nothing is certified. */
-    if (!x->found) return;
-    if (!(x->lo > ZW_R(0.0))) return;
+    if (!x->found) {
+        return;
+    }
+    if (!(x->lo > ZW_R(0.0))) {
+        return;
+    }
     /* the cell (0, a1 = x->lo): every interior point must check stable, a1 itself not
      * unstable (the checks leave ws->lim_scan alone) */
     for (k = 1u; k <= LL_CELL_CHECKS; ++k) {
-        if (!cell_point_stable(ws, k)) return;
+        if (!cell_point_stable(ws, k)) {
+            return;
+        }
     }
     if (zw_loop_check(ws->lim_plant.loop, ws, x->lo, x->fixed, &v) == ZW_OK && !v.stable &&
         !v.marginal) {
@@ -606,11 +676,21 @@ zw_status zw_loop_alpha_max(const zw_loop *loop, zw_loop_workspace *ws, zw_real 
                             zw_real *alpha_max)
 {
     zw_status st;
-    if (alpha_max == NULL) return ZW_ERR_NULL;
+    if (alpha_max == NULL) {
+        return ZW_ERR_NULL;
+    }
     *alpha_max = ZW_R(0.0);
-    if (ws == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&ws->lim_plant, loop, ws)) != ZW_OK) return st;
-    if ((st = zw_require_finite(beta)) != ZW_OK) return st;
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = plant_init(&ws->lim_plant, loop, ws);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_require_finite(beta);
+    if (st != ZW_OK) {
+        return st;
+    }
     alpha_max_of(ws, beta);
     *alpha_max = ws->lim_amax;
     return ZW_OK;
@@ -633,11 +713,20 @@ static void walk_begin(ll_walk *w, zw_real alpha)
     w->truncated = false;
     w->step = 0u;
     w->count = 0u;
-    w->prev_est = w->prev_lo = w->prev_hi = ZW_R(0.0);
+    w->prev_est = ZW_R(0.0);
+    w->prev_lo = ZW_R(0.0);
+    w->prev_hi = ZW_R(0.0);
     w->floor = -ZW_REAL_MAX;
-    w->est = w->lo = w->hi = w->mid = ZW_R(0.0);
-    for (i = 0u; i < ZW_LOOP_MAX_INTERVALS; ++i) w->cell_lo[i] = w->cell_hi[i] = ZW_R(0.0);
-    w->outer[0] = w->outer[1] = ZW_R(0.0);
+    w->est = ZW_R(0.0);
+    w->lo = ZW_R(0.0);
+    w->hi = ZW_R(0.0);
+    w->mid = ZW_R(0.0);
+    for (i = 0u; i < ZW_LOOP_MAX_INTERVALS; ++i) {
+        w->cell_lo[i] = ZW_R(0.0);
+        w->cell_hi[i] = ZW_R(0.0);
+    }
+    w->outer[0] = ZW_R(0.0);
+    w->outer[1] = ZW_R(0.0);
 }
 
 /* The next crossing above the floor: false when the walk is over (none left, the step
@@ -649,7 +738,9 @@ ZW_NOINLINE static bool walk_step(zw_loop_workspace *ws, unsigned mode)
     ll_walk *w = &ws->lim_walk;
     ll_scan *x = &ws->lim_scan;
     w->cell = false;
-    if (w->step >= LL_MAX_CROSSINGS) return false;
+    if (w->step >= LL_MAX_CROSSINGS) {
+        return false;
+    }
     w->step++;
     scan_setup(ws, mode, w->alpha, LL_TAKE_NEXT_ABOVE, w->floor);
     offer_line(x, &x->degenerate);
@@ -659,7 +750,9 @@ ZW_NOINLINE static bool walk_step(zw_loop_workspace *ws, unsigned mode)
         offer(x, pt->v, pt->v - pt->v_err, pt->v + pt->v_err);
     }
     scan(x);
-    if (!x->found) return false;
+    if (!x->found) {
+        return false;
+    }
     if (x->degenerate) {
         w->count = 0u;
         w->truncated = false;
@@ -680,7 +773,9 @@ static void walk_record(ll_walk *w, bool stable)
 {
     if (w->cell && stable) {
         if (w->count < ZW_LOOP_MAX_INTERVALS) {
-            if (w->count == 0u) w->outer[0] = w->prev_lo;
+            if (w->count == 0u) {
+                w->outer[0] = w->prev_lo;
+            }
             w->outer[1] = w->hi;
             w->cell_lo[w->count] = w->prev_hi;
             w->cell_hi[w->count] = w->lo;
@@ -701,9 +796,17 @@ static zw_status beta_walk(const zw_loop *loop, zw_loop_workspace *ws, zw_real a
 {
     zw_status st;
     walk_begin(&ws->lim_walk, alpha);
-    if ((st = plant_init(&ws->lim_plant, loop, ws)) != ZW_OK) return st;
-    if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
-    if (!(alpha > ZW_R(0.0))) return ZW_OK;
+    st = plant_init(&ws->lim_plant, loop, ws);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_require_finite(alpha);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (!(alpha > ZW_R(0.0))) {
+        return ZW_OK;
+    }
     while (walk_step(ws, LL_FIX_ALPHA)) {
         walk_record(&ws->lim_walk,
                     ws->lim_walk.cell && checked_stable(ws, ws->lim_walk.alpha, ws->lim_walk.mid));
@@ -716,7 +819,10 @@ static void clear_set(zw_loop_beta_set *out)
     unsigned i;
     out->count = 0u;
     out->truncated = false;
-    for (i = 0u; i < ZW_LOOP_MAX_INTERVALS; ++i) out->lo[i] = out->hi[i] = ZW_R(0.0);
+    for (i = 0u; i < ZW_LOOP_MAX_INTERVALS; ++i) {
+        out->lo[i] = ZW_R(0.0);
+        out->hi[i] = ZW_R(0.0);
+    }
 }
 
 zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
@@ -725,10 +831,17 @@ zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_loop_workspace *ws, zw_
     const ll_walk *w;
     zw_status st;
     unsigned i;
-    if (out == NULL) return ZW_ERR_NULL;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
     clear_set(out);
-    if (ws == NULL) return ZW_ERR_NULL;
-    if ((st = beta_walk(loop, ws, alpha)) != ZW_OK) return st;
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = beta_walk(loop, ws, alpha);
+    if (st != ZW_OK) {
+        return st;
+    }
     w = &ws->lim_walk;
     out->count = w->count;
     out->truncated = w->truncated;
@@ -746,13 +859,22 @@ zw_status zw_loop_beta_interval(const zw_loop *loop, zw_loop_workspace *ws, zw_r
     zw_status st;
     unsigned i, best = 0u;
     zw_fail_interval(lo, hi, nonempty); /* every non-NULL output certifies nothing */
-    if (lo == NULL || hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
-    if (ws == NULL) return ZW_ERR_NULL;
+    if (lo == NULL || hi == NULL || nonempty == NULL) {
+        return ZW_ERR_NULL;
+    }
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
     st = beta_walk(loop, ws, alpha);
     w = &ws->lim_walk;
-    if (st != ZW_OK || w->count == 0u) return st;
-    for (i = 1u; i < w->count; ++i)
-        if (w->cell_hi[i] - w->cell_lo[i] > w->cell_hi[best] - w->cell_lo[best]) best = i;
+    if (st != ZW_OK || w->count == 0u) {
+        return st;
+    }
+    for (i = 1u; i < w->count; ++i) {
+        if (w->cell_hi[i] - w->cell_lo[i] > w->cell_hi[best] - w->cell_lo[best]) {
+            best = i;
+        }
+    }
     *lo = w->cell_lo[best];
     *hi = w->cell_hi[best];
     *nonempty = true;
@@ -773,7 +895,9 @@ static bool corner_minus1(const ll_plant *p, zw_real *alpha_c, zw_real *beta_c)
     const zw_loop_spec *sp = &p->loop->spec;
     const zw_coeffs *c = &p->loop->c;
     zw_real q, dq, v, dv, den, b;
-    if (sp->differentiator == ZW_DIFF_TUSTIN || !(c->d12 > ZW_R(0.0))) return false;
+    if (sp->differentiator == ZW_DIFF_TUSTIN || !(c->d12 > ZW_R(0.0))) {
+        return false;
+    }
     /* Q0 = -2 z^d (z - e) / (c1 z + c2) */
     q = -ZW_R(2.0) * ((sp->delay % 2u) == 0u ? ZW_R(1.0) : ZW_R(-1.0)) * (ZW_R(1.0) + c->e) / c->d12;
     dq = q * (-(zw_real)sp->delay - ZW_R(1.0) / (ZW_R(1.0) + c->e) + c->c1 / c->d12);
@@ -800,7 +924,9 @@ static bool corner_minus1(const ll_plant *p, zw_real *alpha_c, zw_real *beta_c)
         /* backward alone */
     }
     den = ZW_R(0.5) * v - dv;
-    if (!(ZW_FABS(den) > ZW_R(64.0) * ZW_U * (ZW_FABS(v) + ZW_FABS(dv)))) return false;
+    if (!(ZW_FABS(den) > ZW_R(64.0) * ZW_U * (ZW_FABS(v) + ZW_FABS(dv)))) {
+        return false;
+    }
     b = (ZW_R(0.5) * q - dq) / den;
     *beta_c = b;
     *alpha_c = -ZW_R(2.0) * (q - b * v);
@@ -812,30 +938,36 @@ static bool corner_minus1(const ll_plant *p, zw_real *alpha_c, zw_real *beta_c)
 ZW_NOINLINE static void maximise(zw_loop_workspace *ws, zw_real bl, zw_real bh)
 {
     ll_ext *e = &ws->lim_ext;
+    unsigned k;
     e->ibest = 0u;
     e->bl = bl;
     e->bh = bh;
     e->w = bh - bl;
     e->best_a = ZW_R(0.0);
     e->best_b = ZW_R(0.5) * bl + ZW_R(0.5) * bh;
-    for (e->i = 0u; e->i < LL_EXT_GRID; ++e->i) {
-        e->t = e->bl + e->w * ((zw_real)(e->i + 1u) / (zw_real)(LL_EXT_GRID + 1u));
+    e->i = 0u;
+    while (e->i < LL_EXT_GRID) {
+        k = e->i + 1u;
+        e->t = e->bl + e->w * ((zw_real)k / LL_EXT_GRID_N);
         alpha_max_of(ws, e->t);
         if (ws->lim_amax > e->best_a) {
             e->best_a = ws->lim_amax;
             e->best_b = e->t;
             e->ibest = e->i;
         }
+        ++e->i;
     }
-    e->a = e->bl + e->w * ((zw_real)e->ibest / (zw_real)(LL_EXT_GRID + 1u));
-    e->b = e->bl + e->w * ((zw_real)(e->ibest + 2u) / (zw_real)(LL_EXT_GRID + 1u));
+    k = e->ibest + 2u;
+    e->a = e->bl + e->w * ((zw_real)e->ibest / LL_EXT_GRID_N);
+    e->b = e->bl + e->w * ((zw_real)k / LL_EXT_GRID_N);
     e->c = e->b - LL_INVPHI * (e->b - e->a);
     e->d = e->a + LL_INVPHI * (e->b - e->a);
     alpha_max_of(ws, e->c);
     e->fc = ws->lim_amax;
     alpha_max_of(ws, e->d);
     e->fd = ws->lim_amax;
-    for (e->it = 0u; e->it < LL_ITER && e->c < e->d; ++e->it) {
+    e->it = 0u;
+    while (e->it < LL_ITER && e->c < e->d) {
         if (e->fc > e->best_a) {
             e->best_a = e->fc;
             e->best_b = e->c;
@@ -859,17 +991,20 @@ ZW_NOINLINE static void maximise(zw_loop_workspace *ws, zw_real bl, zw_real bh)
             alpha_max_of(ws, e->d);
             e->fd = ws->lim_amax;
         }
+        ++e->it;
     }
     /* The corner at z = -1, if in this cell: the golden section only approaches it from
      * the side it happens to sample, where the pair next to z = -1 is poorly resolved. */
     if (corner_minus1(&ws->lim_plant, &e->a, &e->t) && e->t > e->bl && e->t < e->bh) {
-        for (e->i = 0u; e->i < 5u; ++e->i) {
-            e->b = e->t + (zw_real)((int)e->i - 2) * (ZW_R(4.0) * ZW_U) * (ZW_FABS(e->t) + e->w);
+        e->i = 0u;
+        while (e->i < 5u) {
+            e->b = e->t + ((zw_real)e->i - ZW_R(2.0)) * (ZW_R(4.0) * ZW_U) * (ZW_FABS(e->t) + e->w);
             alpha_max_of(ws, e->b);
             if (ws->lim_amax > e->best_a) {
                 e->best_a = ws->lim_amax;
                 e->best_b = e->b;
             }
+            ++e->i;
         }
     }
 }
@@ -881,34 +1016,45 @@ ZW_NOINLINE static void push_end(zw_loop_workspace *ws, zw_real end, zw_real far
     ll_ext *e = &ws->lim_ext;
     e->a = end;
     e->b = far;
-    if (!ZW_IS_FINITE(far) || !ZW_IS_FINITE(far - e->a)) return;
-    for (e->it = 0u; e->it < LL_ITER / 2u; ++e->it) {
+    if (!ZW_IS_FINITE(far) || !ZW_IS_FINITE(far - e->a)) {
+        return;
+    }
+    e->it = 0u;
+    while (e->it < LL_ITER / 2u) {
         e->t = e->a + ZW_R(0.5) * (e->b - e->a);
-        if (!(e->t != e->a && e->t != e->b)) break;
+        if (!(e->t != e->a && e->t != e->b)) {
+            break;
+        }
         alpha_max_of(ws, e->t);
-        if (ws->lim_amax > ZW_R(0.0)) e->a = e->t;
-        else e->b = e->t;
+        if (ws->lim_amax > ZW_R(0.0)) {
+            e->a = e->t;
+        } else {
+            e->b = e->t;
+        }
+        ++e->it;
     }
 }
 
 static void clear_extremes(zw_loop_extremes *out)
 {
-    out->alpha_mmax = out->beta_at_alpha_mmax = out->alpha_p_max = ZW_R(0.0);
-    out->beta_mmax = out->beta_mmin = ZW_R(0.0);
+    out->alpha_mmax = ZW_R(0.0);
+    out->beta_at_alpha_mmax = ZW_R(0.0);
+    out->alpha_p_max = ZW_R(0.0);
+    out->beta_mmax = ZW_R(0.0);
+    out->beta_mmin = ZW_R(0.0);
 }
 
 /* The stable beta ranges as alpha -> 0+ into ws->lim_walk. */
 ZW_NOINLINE static void zero_walk(zw_loop_workspace *ws)
 {
-    bool stable;
     walk_begin(&ws->lim_walk, ZW_R(0.0));
     while (walk_step(ws, LL_ALPHA_ZERO)) {
-        stable = false;
         if (ws->lim_walk.cell) {
             alpha_max_of(ws, ws->lim_walk.mid);
-            stable = ws->lim_amax > ZW_R(0.0);
+            walk_record(&ws->lim_walk, ws->lim_amax > ZW_R(0.0));
+        } else {
+            walk_record(&ws->lim_walk, false);
         }
-        walk_record(&ws->lim_walk, stable);
     }
 }
 
@@ -919,7 +1065,9 @@ ZW_NOINLINE static zw_status extremes_of(zw_loop_workspace *ws, zw_loop_extremes
     const ll_walk *w;
     zero_walk(ws);
     w = &ws->lim_walk;
-    if (w->count == 0u) return ZW_ERR_DOMAIN;
+    if (w->count == 0u) {
+        return ZW_ERR_DOMAIN;
+    }
     /* Where a closing crossing is poorly resolved (its pair next to z = -1, e.g. near
      * delta0), push the ends outwards by bisection on "alpha_max(beta) > 0": every beta
      * where it holds is in the stable range at alpha -> 0+ (certified by alpha_max). */
@@ -929,12 +1077,14 @@ ZW_NOINLINE static zw_status extremes_of(zw_loop_workspace *ws, zw_loop_extremes
     out->beta_mmax = ws->lim_ext.a;
     push_end(ws, out->beta_mmin, w->outer[0]);
     out->beta_mmin = ws->lim_ext.a;
-    for (ws->lim_walk.i = 0u; ws->lim_walk.i < w->count; ++ws->lim_walk.i) {
+    ws->lim_walk.i = 0u;
+    while (ws->lim_walk.i < w->count) {
         maximise(ws, w->cell_lo[ws->lim_walk.i], w->cell_hi[ws->lim_walk.i]);
         if (ws->lim_ext.best_a > out->alpha_mmax) {
             out->alpha_mmax = ws->lim_ext.best_a;
             out->beta_at_alpha_mmax = ws->lim_ext.best_b;
         }
+        ++ws->lim_walk.i;
     }
     alpha_max_of(ws, ZW_R(0.0));
     out->alpha_p_max = ws->lim_amax;
@@ -945,10 +1095,17 @@ zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_workspace *ws,
                                    zw_loop_extremes *out)
 {
     zw_status st;
-    if (out == NULL) return ZW_ERR_NULL;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
     clear_extremes(out);
-    if (ws == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&ws->lim_plant, loop, ws)) != ZW_OK) return st;
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = plant_init(&ws->lim_plant, loop, ws);
+    if (st != ZW_OK) {
+        return st;
+    }
     return extremes_of(ws, out);
 }
 
@@ -963,17 +1120,30 @@ zw_status zw_loop_boundary_point(const zw_loop *loop, zw_real theta, zw_real *al
     zw_real b;
     zw_fail_real(alpha, ZW_R(0.0));
     zw_fail_real(beta, ZW_R(0.0));
-    if (alpha == NULL || beta == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&p, loop, NULL)) != ZW_OK) return st;
-    if ((st = zw_require_finite(theta)) != ZW_OK) return st;
-    if (!(theta > ZW_R(0.0) && theta <= LL_PI_BELOW)) return ZW_ERR_ARG;
+    if (alpha == NULL || beta == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = plant_init(&p, loop, NULL);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_require_finite(theta);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (!(theta > ZW_R(0.0) && theta <= LL_PI_BELOW)) {
+        return ZW_ERR_ARG;
+    }
     response(&p, theta, &r0, &s);
-    if (!(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) return ZW_ERR_DOMAIN;
+    if (!(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) {
+        return ZW_ERR_DOMAIN;
+    }
     b = r0.re / s.re;
     *alpha = -ZW_R(2.0) * ZW_SIN(ZW_R(0.5) * theta) * (r0.im - b * s.im);
     *beta = b;
     if (!ZW_IS_FINITE(*alpha) || !ZW_IS_FINITE(b)) {
-        *alpha = *beta = ZW_R(0.0);
+        *alpha = ZW_R(0.0);
+        *beta = ZW_R(0.0);
         return ZW_ERR_DOMAIN;
     }
     return ZW_OK;
@@ -988,8 +1158,13 @@ zw_status zw_loop_boundary_line(const zw_loop *loop, zw_loop_boundary which, zw_
     zw_fail_real(c0, ZW_R(0.0));
     zw_fail_real(ca, ZW_R(0.0));
     zw_fail_real(cb, ZW_R(0.0));
-    if (c0 == NULL || ca == NULL || cb == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&p, loop, NULL)) != ZW_OK) return st;
+    if (c0 == NULL || ca == NULL || cb == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = plant_init(&p, loop, NULL);
+    if (st != ZW_OK) {
+        return st;
+    }
     switch (which) {
     case ZW_LOOP_BOUNDARY_Z_PLUS1:
         *ca = ZW_R(1.0); /* p(1) = alpha (c1 + c2) Dv(1) */
