@@ -18,6 +18,15 @@
 
 #include "internal.h"
 
+/* Out of line (GCC): a helper that runs the guarded check or a scan keeps its own small
+ * frame instead of merging into its caller's (the stack target of tools/footprint.sh).
+ * Only a hint: nothing depends on it for correctness. */
+#if defined(__GNUC__)
+#define ZW_NOINLINE __attribute__((noinline))
+#else
+#define ZW_NOINLINE
+#endif
+
 #ifdef ZW_REAL_FLOAT
 #define LL_ITER 40u    /* bisection / golden-section steps: enough for float's 24 bits */
 #define LL_GEO 24u     /* geometric grid points towards 0 and pi */
@@ -39,6 +48,7 @@
 #define LL_MAX_CROSSINGS (4u * ZW_LOOP_MAX_DEGREE + 8u) /* bound on the steps of a walk */
 #define LL_CELL_CHECKS 7u                      /* interior checks of an alpha_max cell */
 #define LL_EXT_GRID 24u                        /* beta grid before the golden section */
+#define LL_EXT_GRID_N ZW_R(25.0)               /* its intervals: LL_EXT_GRID + 1 */
 
 typedef struct ll_cplx {
     zw_real re, im;
@@ -79,18 +89,15 @@ static zw_real cabs1(ll_cplx a)
 
 /* ---- the loop's factored frequency response ----------------------------------------- */
 
-typedef struct ll_plant {
-    const zw_loop *loop;
-    zw_loop_workspace *ws; /* the caller's scratch, for the guarded checks */
-    zw_real one_minus_e; /* 1 - e = delta (c1 + c2) / 2, accurate for small delta */
-    zw_real r12;         /* d12 / c1: (c1 z + c2) / c1 = (z + 1) - r12 */
-    zw_real two_c1;      /* 2 / c1 */
-    zw_real phase;       /* d + 1/2 */
-    zw_real one_minus_a; /* low-pass */
-    zw_real eps;         /* relative error bound of R0 and S (and of the line coefficients) */
-    zw_real grid_h;      /* uniform grid step in theta */
-    unsigned grid_n;     /* uniform grid intervals */
-} ll_plant;
+/* In the caller's workspace (loop.h) for the limits, a local for the plot functions:
+ *   one_minus_e  1 - e = delta (c1 + c2) / 2, accurate for small delta
+ *   r12          d12 / c1: (c1 z + c2) / c1 = (z + 1) - r12
+ *   two_c1       2 / c1
+ *   phase        d + 1/2
+ *   one_minus_a  low-pass
+ *   eps          relative error bound of R0 and S (and of the line coefficients)
+ *   grid_h       uniform grid step in theta; grid_n its intervals */
+typedef struct zw_loop_lim_plant ll_plant;
 
 /* The loop's own consistency (loop.c keeps the same rule): degree matches the spec.  ws may
  * be NULL for the functions that run no check (the callers that do refuse it). */
@@ -100,37 +107,58 @@ static zw_status plant_init(ll_plant *p, const zw_loop *loop, zw_loop_workspace 
     unsigned est_deg;
     zw_real u = ZW_U, rel, filt;
     zw_status st;
-    if (loop == NULL) return ZW_ERR_NULL;
+    if (loop == NULL) {
+        return ZW_ERR_NULL;
+    }
     sp = &loop->spec;
-    if (sp->delay > ZW_LOOP_MAX_DELAY) return ZW_ERR_ARG;
-    if (sp->differentiator != ZW_DIFF_BACKWARD && sp->differentiator != ZW_DIFF_TUSTIN)
+    if (sp->delay > ZW_LOOP_MAX_DELAY) {
         return ZW_ERR_ARG;
+    }
+    if (sp->differentiator != ZW_DIFF_BACKWARD && sp->differentiator != ZW_DIFF_TUSTIN) {
+        return ZW_ERR_ARG;
+    }
     switch (sp->filter) {
     case ZW_VFILTER_NONE:
         est_deg = 1u;
         filt = ZW_R(0.0);
         break;
     case ZW_VFILTER_LOWPASS:
-        if (!(sp->filter_pole >= ZW_R(0.0) && sp->filter_pole < ZW_R(1.0))) return ZW_ERR_ARG;
-        est_deg = sp->differentiator == ZW_DIFF_TUSTIN ? 2u : 1u;
+        if (!(sp->filter_pole >= ZW_R(0.0) && sp->filter_pole < ZW_R(1.0))) {
+            return ZW_ERR_ARG;
+        }
+        est_deg = 1u;
+        if (sp->differentiator == ZW_DIFF_TUSTIN) {
+            est_deg = 2u;
+        }
         filt = ZW_R(16.0) * u;
         break;
     case ZW_VFILTER_AVERAGE:
-        if (sp->average < 1u || sp->average > ZW_LOOP_MAX_AVERAGE) return ZW_ERR_ARG;
+        if (sp->average < 1u || sp->average > ZW_LOOP_MAX_AVERAGE) {
+            return ZW_ERR_ARG;
+        }
         est_deg = sp->average;
         filt = (ZW_R(8.0) + ZW_R(4.0) * (zw_real)sp->average) * u;
         break;
     default: return ZW_ERR_ARG;
     }
-    if (loop->degree != 2u + sp->delay + est_deg) return ZW_ERR_ARG;
-    if ((st = zw_require_coeffs(&loop->c, false)) != ZW_OK) return st;
-    if (!(loop->c.c1 > ZW_R(0.0))) return ZW_ERR_RANGE;
+    if (loop->degree != 2u + sp->delay + est_deg) {
+        return ZW_ERR_ARG;
+    }
+    st = zw_require_coeffs(&loop->c, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (!(loop->c.c1 > ZW_R(0.0))) {
+        return ZW_ERR_RANGE;
+    }
     p->loop = loop;
     p->ws = ws;
     p->one_minus_e = ZW_R(0.5) * (loop->c.s * loop->c.delta);
     p->r12 = loop->c.d12 / loop->c.c1;
     p->two_c1 = ZW_R(2.0) / loop->c.c1;
-    if (!ZW_IS_FINITE(p->two_c1) || !ZW_IS_FINITE(p->one_minus_e)) return ZW_ERR_RANGE;
+    if (!ZW_IS_FINITE(p->two_c1) || !ZW_IS_FINITE(p->one_minus_e)) {
+        return ZW_ERR_RANGE;
+    }
     p->phase = (zw_real)sp->delay + ZW_R(0.5);
     p->one_minus_a = ZW_R(1.0) - sp->filter_pole;
     /* z - e and (c1 z + c2)/c1 lose at most a factor 3 to cancellation (|z - e| >= 1 - e,
@@ -192,30 +220,27 @@ static void response(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
 
 /* ---- crossing conditions --------------------------------------------------------------- */
 
-typedef enum ll_mode {
-    LL_FIX_BETA = 0,  /* f = Re R0 - beta Re S,  value alpha = -2 sin(theta/2) Im(R0 - beta S) */
-    LL_FIX_ALPHA = 1, /* f = -2 sin(theta/2) Im(R0 conj S) - alpha Re S,  value beta = Re R0 / Re S */
-    LL_ALPHA_ZERO = 2 /* f = Im(R0 conj S),  value beta = Re R0 / Re S */
-} ll_mode;
+/* modes (ll_scan.mode) */
+#define LL_FIX_BETA 0u   /* f = Re R0 - beta Re S,  value alpha = -2 sin(theta/2) Im(R0 - beta S) */
+#define LL_FIX_ALPHA 1u  /* f = -2 sin(theta/2) Im(R0 conj S) - alpha Re S,  value beta = Re R0 / Re S */
+#define LL_ALPHA_ZERO 2u /* f = Im(R0 conj S),  value beta = Re R0 / Re S */
 
-typedef enum ll_take {
-    LL_TAKE_MIN_LO = 0,    /* keep the crossing with the least lower bound above floor */
-    LL_TAKE_NEXT_ABOVE = 1 /* keep the least estimate above floor */
-} ll_take;
+/* which crossing a scan keeps (ll_scan.take) */
+#define LL_TAKE_MIN_LO 0u     /* the least lower bound above floor */
+#define LL_TAKE_NEXT_ABOVE 1u /* the least estimate above floor */
 
-typedef struct ll_scan {
-    const ll_plant *p;
-    ll_mode mode;
-    zw_real fixed; /* beta (FIX_BETA) or alpha (FIX_ALPHA) */
-    ll_take take;
-    zw_real floor;
-    bool found;
-    zw_real est, lo, hi; /* the crossing kept */
-} ll_scan;
+/* In the caller's workspace (loop.h): fixed is beta (FIX_BETA) or alpha (FIX_ALPHA);
+ * found, est, lo, hi the crossing kept; degenerate: the z = -1 line is the search line. */
+typedef struct zw_loop_lim_scan ll_scan;
+typedef struct zw_loop_lim_walk ll_walk;
+typedef struct zw_loop_lim_ext ll_ext;
 
-typedef struct ll_point {
-    zw_real theta, f, f_err, v, v_err;
-} ll_point;
+/* The workspace holds the cells of a walk in arrays of 4 (loop.h). */
+#if ZW_LOOP_MAX_INTERVALS != 4u
+#error "zw_loop_workspace.lim_walk's cell arrays must have ZW_LOOP_MAX_INTERVALS entries"
+#endif
+
+typedef struct zw_loop_lim_point ll_point;
 
 static void eval_point(const ll_scan *x, zw_real theta, ll_point *pt)
 {
@@ -247,7 +272,9 @@ static void eval_point(const ll_scan *x, zw_real theta, ll_point *pt)
                         ? (eps * a0 + ZW_FABS(pt->v) * eps * as) / den + ZW_R(4.0) * ZW_U * ZW_FABS(pt->v) + ZW_ETA
                         : ZW_REAL_MAX;
     }
-    if (!ZW_IS_FINITE(pt->v) || !ZW_IS_FINITE(pt->v_err)) pt->v_err = ZW_REAL_MAX;
+    if (!ZW_IS_FINITE(pt->v) || !ZW_IS_FINITE(pt->v_err)) {
+        pt->v_err = ZW_REAL_MAX;
+    }
 }
 
 static bool is_neg(zw_real f)
@@ -290,8 +317,12 @@ static void offer_root(ll_scan *x, zw_real theta_lo, zw_real theta_hi, bool cert
                        zw_real est, zw_real lo, zw_real hi)
 {
     bool unbounded = !(lo > -ZW_REAL_MAX && hi < ZW_REAL_MAX);
-    if (unbounded && theta_hi > LL_PI - x->p->grid_h) return;
-    if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p->grid_h) return;
+    if (unbounded && theta_hi > LL_PI - x->p->grid_h) {
+        return;
+    }
+    if (x->mode == LL_ALPHA_ZERO && !certified && theta_lo < x->p->grid_h) {
+        return;
+    }
     offer(x, est, lo, hi);
 }
 
@@ -303,76 +334,93 @@ static void widen(const ll_point *pt, zw_real *lo, zw_real *hi)
         l = -ZW_REAL_MAX;
         h = ZW_REAL_MAX;
     }
-    if (l < *lo) *lo = l;
-    if (h > *hi) *hi = h;
+    if (l < *lo) {
+        *lo = l;
+    }
+    if (h > *hi) {
+        *hi = h;
+    }
 }
 
 /* A root of f between a and b (f(a), f(b) of opposite computed signs): bisect, then step
  * outwards to the nearest points where f's sign is certain (the exact root lies between
  * them), and offer the value there with its bounds.  One point at a time (small stack). */
-static void refine(ll_scan *x, zw_real a, zw_real b)
+static void refine(ll_scan *x, zw_real a0, zw_real b0)
 {
-    ll_point pt;
+    ll_point *pt = x->pt;
     bool neg_a, certified;
-    zw_real a0 = a, b0 = b, h, t, lo, hi, est, th_lo, th_hi;
+    zw_real a = a0, b = b0, h, t, lo, hi, est, th_lo, th_hi;
     unsigned it;
-    eval_point(x, a, &pt);
-    neg_a = is_neg(pt.f);
+    eval_point(x, a, pt);
+    neg_a = is_neg(pt->f);
     for (it = 0u; it < LL_ITER; ++it) {
         zw_real m = a + ZW_R(0.5) * (b - a);
-        if (!(m > a && m < b)) break;
-        eval_point(x, m, &pt);
-        if (is_neg(pt.f) == neg_a) a = m;
-        else b = m;
+        if (!(m > a && m < b)) {
+            break;
+        }
+        eval_point(x, m, pt);
+        if (is_neg(pt->f) == neg_a) {
+            a = m;
+        } else {
+            b = m;
+        }
     }
-    eval_point(x, a + ZW_R(0.5) * (b - a), &pt);
-    est = lo = hi = pt.v;
-    widen(&pt, &lo, &hi);
+    eval_point(x, a + ZW_R(0.5) * (b - a), pt);
+    est = pt->v;
+    lo = pt->v;
+    hi = pt->v;
+    widen(pt, &lo, &hi);
     h = b - a;
     t = a;
     for (it = 0u; it < LL_ITER; ++it) {
         t = a - h > a0 ? a - h : a0;
-        eval_point(x, t, &pt);
-        if ((certain(&pt) && is_neg(pt.f) == neg_a) || !(t > a0)) break;
+        eval_point(x, t, pt);
+        if ((certain(pt) && is_neg(pt->f) == neg_a) || !(t > a0)) {
+            break;
+        }
         h *= ZW_R(4.0);
     }
-    certified = certain(&pt);
+    certified = certain(pt);
     th_lo = t;
-    widen(&pt, &lo, &hi);
+    widen(pt, &lo, &hi);
     h = b - a;
     t = b;
     for (it = 0u; it < LL_ITER; ++it) {
         t = b + h < b0 ? b + h : b0;
-        eval_point(x, t, &pt);
-        if ((certain(&pt) && is_neg(pt.f) != neg_a) || !(t < b0)) break;
+        eval_point(x, t, pt);
+        if ((certain(pt) && is_neg(pt->f) != neg_a) || !(t < b0)) {
+            break;
+        }
         h *= ZW_R(4.0);
     }
-    certified = certified && certain(&pt);
+    certified = certified && certain(pt);
     th_hi = t;
-    widen(&pt, &lo, &hi);
+    widen(pt, &lo, &hi);
     offer_root(x, th_lo, th_hi, certified, est, lo, hi);
 }
 
 /* f keeps its sign at a, m, b but |f(m)| is a local minimum of the grid: look for a hidden
  * pair of roots by golden-section minimisation of sign * f on [a, b]. */
-static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
+static void hidden_pair(ll_scan *x, zw_real a_start, zw_real m, zw_real b_start)
 {
-    ll_point pt;
+    ll_point *pt = x->pt;
     bool neg;
-    zw_real c, d, fc, fd, best_t, best_f, lo, hi;
+    zw_real a = a_start, b = b_start, c, d, fc, fd, best_t, best_f, lo, hi;
     unsigned it;
-    eval_point(x, m, &pt);
-    neg = is_neg(pt.f);
+    eval_point(x, m, pt);
+    neg = is_neg(pt->f);
     best_t = m;
-    best_f = ZW_FABS(pt.f);
+    best_f = ZW_FABS(pt->f);
     c = b - LL_INVPHI * (b - a);
     d = a + LL_INVPHI * (b - a);
-    eval_point(x, c, &pt);
-    fc = pt.f;
-    eval_point(x, d, &pt);
-    fd = pt.f;
+    eval_point(x, c, pt);
+    fc = pt->f;
+    eval_point(x, d, pt);
+    fd = pt->f;
     for (it = 0u; it < LL_ITER && d > c; ++it) {
-        if (is_neg(fc) != neg || is_neg(fd) != neg) break;
+        if (is_neg(fc) != neg || is_neg(fd) != neg) {
+            break;
+        }
         if (ZW_FABS(fc) < best_f) {
             best_f = ZW_FABS(fc);
             best_t = c;
@@ -386,15 +434,15 @@ static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
             d = c;
             fd = fc;
             c = b - LL_INVPHI * (b - a);
-            eval_point(x, c, &pt);
-            fc = pt.f;
+            eval_point(x, c, pt);
+            fc = pt->f;
         } else {
             a = c;
             c = d;
             fc = fd;
             d = a + LL_INVPHI * (b - a);
-            eval_point(x, d, &pt);
-            fd = pt.f;
+            eval_point(x, d, pt);
+            fd = pt->f;
         }
     }
     if (is_neg(fc) != neg || is_neg(fd) != neg) {
@@ -403,16 +451,17 @@ static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
         refine(x, t, b > t ? b : t);
         return;
     }
-    eval_point(x, best_t, &pt);
-    if (!certain(&pt)) {
+    eval_point(x, best_t, pt);
+    if (!certain(pt)) {
         /* a near-tangency within the rounding band: keep it as a crossing, with the values
          * over the whole bracket */
-        lo = hi = pt.v;
-        widen(&pt, &lo, &hi);
-        eval_point(x, a, &pt);
-        widen(&pt, &lo, &hi);
-        eval_point(x, b, &pt);
-        widen(&pt, &lo, &hi);
+        lo = pt->v;
+        hi = pt->v;
+        widen(pt, &lo, &hi);
+        eval_point(x, a, pt);
+        widen(pt, &lo, &hi);
+        eval_point(x, b, pt);
+        widen(pt, &lo, &hi);
         offer_root(x, a, b, false, lo + ZW_R(0.5) * (hi - lo), lo, hi);
     }
 }
@@ -422,9 +471,13 @@ static void hidden_pair(ll_scan *x, zw_real a, zw_real m, zw_real b)
 static zw_real grid_theta(const ll_plant *p, unsigned j)
 {
     unsigned n = p->grid_n;
-    if (j < LL_GEO) return ZW_LDEXP(p->grid_h, -(int)(LL_GEO - j));
-    if (j < LL_GEO + n - 1u) return (zw_real)(j - LL_GEO + 1u) * p->grid_h;
-    return LL_PI_BELOW - ZW_LDEXP(p->grid_h, -(int)(j - (LL_GEO + n - 1u) + 1u));
+    if (j < LL_GEO) {
+        return ZW_LDEXP(p->grid_h, (int)j - (int)LL_GEO);
+    }
+    if (j < LL_GEO + n - 1u) {
+        return ((zw_real)j - (zw_real)LL_GEO + ZW_R(1.0)) * p->grid_h;
+    }
+    return LL_PI_BELOW - ZW_LDEXP(p->grid_h, (int)LL_GEO + (int)n - (int)j - 2);
 }
 
 /* Every crossing in (0, pi) offered to x.  On a vertical line the scan starts at theta = 0
@@ -433,18 +486,20 @@ static zw_real grid_theta(const ll_plant *p, unsigned j)
  * the error of -delta, where the region's corner is) a crossing at alpha = 0 is assumed. */
 static void scan(ll_scan *x)
 {
-    ll_point pt;
+    ll_point *pt = x->pt;
     zw_real t2, t1, f2, f1;
     unsigned j, total = 2u * LL_GEO + x->p->grid_n - 1u;
     t1 = grid_theta(x->p, 0u);
-    eval_point(x, t1, &pt);
-    f1 = pt.f;
+    eval_point(x, t1, pt);
+    f1 = pt->f;
     if (x->mode == LL_FIX_BETA) {
-        zw_real v1 = pt.v + pt.v_err;
-        eval_point(x, ZW_R(0.0), &pt);
-        if (!certain(&pt)) offer(x, ZW_R(0.0), ZW_R(0.0), v1);
-        else if (is_neg(pt.f) != is_neg(f1)) refine(x, ZW_R(0.0), t1);
-        else {
+        zw_real v1 = pt->v + pt->v_err;
+        eval_point(x, ZW_R(0.0), pt);
+        if (!certain(pt)) {
+            offer(x, ZW_R(0.0), ZW_R(0.0), v1);
+        } else if (is_neg(pt->f) != is_neg(f1)) {
+            refine(x, ZW_R(0.0), t1);
+        } else {
             /* no crossing below the first grid angle */
         }
     }
@@ -452,8 +507,8 @@ static void scan(ll_scan *x)
     f2 = f1;
     for (j = 1u; j < total; ++j) {
         zw_real t0 = grid_theta(x->p, j), f0;
-        eval_point(x, t0, &pt);
-        f0 = pt.f;
+        eval_point(x, t0, pt);
+        f0 = pt->f;
         if (is_neg(f0) != is_neg(f1)) {
             refine(x, t1, t0);
         } else if (j >= 2u && is_neg(f2) == is_neg(f1) && ZW_FABS(f1) < ZW_FABS(f2) &&
@@ -487,7 +542,9 @@ static void line_minus1(const ll_plant *p, zw_real *c0, zw_real *ca, zw_real *cb
         nv *= p->one_minus_a;
         dv *= ZW_R(1.0) + sp->filter_pole;
     } else if (sp->filter == ZW_VFILTER_AVERAGE) {
-        if ((sp->average % 2u) == 0u) nv = ZW_R(0.0);
+        if ((sp->average % 2u) == 0u) {
+            nv = ZW_R(0.0);
+        }
         dv *= (zw_real)sp->average;
     } else {
         /* no filter */
@@ -517,101 +574,244 @@ static void offer_line(ll_scan *x, bool *degenerate)
     }
     if (ZW_FABS(den) <= rel * ZW_FABS(den) + ZW_ETA) {
         /* the line is parallel to the search line: a crossing everywhere or nowhere */
-        if (ZW_FABS(num) <= ZW_R(2.0) * rel * num_mag + ZW_ETA) *degenerate = true;
+        if (ZW_FABS(num) <= ZW_R(2.0) * rel * num_mag + ZW_ETA) {
+            *degenerate = true;
+        }
         return;
     }
     v = -num / den;
     err = ZW_R(2.0) * rel * (num_mag / ZW_FABS(den) + ZW_FABS(v)) + ZW_R(4.0) * ZW_U * ZW_FABS(v) + ZW_ETA;
-    if (!ZW_IS_FINITE(v) || !ZW_IS_FINITE(err)) return;
+    if (!ZW_IS_FINITE(v) || !ZW_IS_FINITE(err)) {
+        return;
+    }
     offer(x, v, v - err, v + err);
 }
 
 /* ---- alpha_max ------------------------------------------------------------------------- */
 
+/* Every function from here on keeps its state in the workspace (ws->lim_*), not in its
+ * frame: the guarded check (zw_loop_check, ~450 B on the Cortex-M4F) runs under them, and
+ * the issue's 512 B are for the whole chain.  The scan (offer_line, scan and below) runs
+ * to completion before any check, so its frames are not on the check's chain. */
+
 /* zw_loop_is_stable: zw_loop_check's verdict, without the deciding boundary's root run. */
-static bool checked_stable(const ll_plant *p, zw_real alpha, zw_real beta)
+static bool checked_stable(zw_loop_workspace *ws, zw_real alpha, zw_real beta)
 {
-    bool stable = false;
-    return zw_loop_is_stable(p->loop, p->ws, alpha, beta, &stable) == ZW_OK && stable;
+    ws->lim_stable = false;
+    return zw_loop_is_stable(ws->lim_plant.loop, ws, alpha, beta, &ws->lim_stable) == ZW_OK &&
+           ws->lim_stable;
 }
 
-static bool checked_unstable(const ll_plant *p, zw_real alpha, zw_real beta)
+/* The crossings of the line set up in ws->lim_scan (the z = -1 line's, then the scan's);
+ * nothing scanned when the line is the z = -1 boundary itself (lim_scan.degenerate). */
+ZW_NOINLINE static void scan_line(ll_scan *x)
 {
+    offer_line(x, &x->degenerate);
+    if (!x->degenerate) {
+        scan(x);
+    }
+}
+
+static void scan_setup(zw_loop_workspace *ws, unsigned mode, zw_real fixed, unsigned take,
+                       zw_real above)
+{
+    ll_scan *x = &ws->lim_scan;
+    x->p = &ws->lim_plant;
+    x->pt = &ws->lim_pt;
+    x->mode = mode;
+    x->fixed = fixed;
+    x->take = take;
+    x->floor = above;
+    x->found = false;
+    x->degenerate = false;
+    x->est = ZW_R(0.0);
+    x->lo = ZW_R(0.0);
+    x->hi = ZW_R(0.0);
+}
+
+/* The k-th of the interior points of the cell (0, a1 = lim_scan.lo) is stable.  Out of
+ * line: its float temporaries stay out of alpha_max_of's frame. */
+ZW_NOINLINE static bool cell_point_stable(zw_loop_workspace *ws, unsigned k)
+{
+    const ll_scan *x = &ws->lim_scan;
+    zw_real t = x->lo * ((zw_real)k / ((zw_real)LL_CELL_CHECKS + ZW_R(1.0)));
+    return checked_stable(ws, t, x->fixed);
+}
+
+/* ws->lim_amax = the certified alpha_max at beta (0 when nothing is certified). */
+ZW_NOINLINE static void alpha_max_of(zw_loop_workspace *ws, zw_real beta)
+{
+    const ll_scan *x = &ws->lim_scan;
     zw_loop_verdict v;
-    return zw_loop_check(p->loop, p->ws, alpha, beta, &v) == ZW_OK && !v.stable && !v.marginal;
-}
-
-static zw_status alpha_max_of(const ll_plant *p, zw_real beta, zw_real *alpha_max)
-{
-    ll_scan x;
-    bool degenerate;
     unsigned k;
-    zw_real a1;
-    *alpha_max = ZW_R(0.0);
-    x.p = p;
-    x.mode = LL_FIX_BETA;
-    x.fixed = beta;
-    x.take = LL_TAKE_MIN_LO;
-    x.floor = ZW_R(0.0);
-    x.found = false;
-    x.est = x.lo = x.hi = ZW_R(0.0);
-    offer_line(&x, &degenerate);
-    if (degenerate) return ZW_OK;
-    scan(&x);
+    ws->lim_amax = ZW_R(0.0);
+    scan_setup(ws, LL_FIX_BETA, beta, LL_TAKE_MIN_LO, ZW_R(0.0));
+    scan_line(&ws->lim_scan);
+    if (x->degenerate) {
+        return;
+    }
     /* No crossing above 0: the half-line alpha > 0 is one cell, and it is unstable (d + 2
      * roots go to infinity with alpha), so nothing is certified. */
-    if (!x.found) return ZW_OK;
-    a1 = x.lo;
-    if (!(a1 > ZW_R(0.0))) return ZW_OK;
-    /* the cell (0, a1): every interior point must check stable, a1 itself not unstable */
-    for (k = 1u; k <= LL_CELL_CHECKS; ++k) {
-        zw_real t = a1 * ((zw_real)k / (zw_real)(LL_CELL_CHECKS + 1u));
-        if (!checked_stable(p, t, beta)) return ZW_OK;
+    if (!x->found) {
+        return;
     }
-    if (checked_unstable(p, a1, beta)) return ZW_OK;
-    *alpha_max = a1;
-    return ZW_OK;
+    if (!(x->lo > ZW_R(0.0))) {
+        return;
+    }
+    /* the cell (0, a1 = x->lo): every interior point must check stable, a1 itself not
+     * unstable (the checks leave ws->lim_scan alone) */
+    for (k = 1u; k <= LL_CELL_CHECKS; ++k) {
+        if (!cell_point_stable(ws, k)) {
+            return;
+        }
+    }
+    if (zw_loop_check(ws->lim_plant.loop, ws, x->lo, x->fixed, &v) == ZW_OK && !v.stable &&
+        !v.marginal) {
+        return;
+    }
+    ws->lim_amax = x->lo;
 }
 
 zw_status zw_loop_alpha_max(const zw_loop *loop, zw_loop_workspace *ws, zw_real beta,
                             zw_real *alpha_max)
 {
-    ll_plant p;
     zw_status st;
-    if (alpha_max == NULL) return ZW_ERR_NULL;
+    if (alpha_max == NULL) {
+        return ZW_ERR_NULL;
+    }
     *alpha_max = ZW_R(0.0);
-    if (ws == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&p, loop, ws)) != ZW_OK) return st;
-    if ((st = zw_require_finite(beta)) != ZW_OK) return st;
-    return alpha_max_of(&p, beta, alpha_max);
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = plant_init(&ws->lim_plant, loop, ws);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_require_finite(beta);
+    if (st != ZW_OK) {
+        return st;
+    }
+    alpha_max_of(ws, beta);
+    *alpha_max = ws->lim_amax;
+    return ZW_OK;
 }
 
 /* ---- walks along a horizontal line ----------------------------------------------------- */
 
-/* The next crossing above floor on the line alpha = const (mode FIX_ALPHA) or alpha = 0+
- * (ALPHA_ZERO, where theta = 0 adds the double root at z = 1: beta = R0(1) / S(1)). */
-static bool next_crossing(const ll_plant *p, ll_mode mode, zw_real alpha, zw_real floor,
-                          bool *degenerate, zw_real *est, zw_real *lo, zw_real *hi)
+/* A walk visits the crossings of the line alpha = const (mode FIX_ALPHA) or alpha = 0+
+ * (ALPHA_ZERO) in increasing beta; the caller labels each gap between two crossings (a
+ * cell) and walk_record keeps the stable ones in ws->lim_walk.  ALPHA_ZERO labels a cell by
+ * alpha_max(mid) > 0 (stable just above alpha = 0), FIX_ALPHA by the check at mid.
+ * outer[0], outer[1]: the far bounds of the crossings that open the first and close the
+ * last stable cell (the exact ends lie between them and the cell's certified ends). */
+static void walk_begin(ll_walk *w, zw_real alpha)
 {
-    ll_scan x;
-    x.p = p;
-    x.mode = mode;
-    x.fixed = alpha;
-    x.take = LL_TAKE_NEXT_ABOVE;
-    x.floor = floor;
-    x.found = false;
-    x.est = x.lo = x.hi = ZW_R(0.0);
-    offer_line(&x, degenerate);
-    if (mode == LL_ALPHA_ZERO) {
-        ll_point pt;
-        eval_point(&x, ZW_R(0.0), &pt);
-        offer(&x, pt.v, pt.v - pt.v_err, pt.v + pt.v_err);
+    unsigned i;
+    w->alpha = alpha;
+    w->have_prev = false;
+    w->cell = false;
+    w->truncated = false;
+    w->step = 0u;
+    w->count = 0u;
+    w->prev_est = ZW_R(0.0);
+    w->prev_lo = ZW_R(0.0);
+    w->prev_hi = ZW_R(0.0);
+    w->floor = -ZW_REAL_MAX;
+    w->est = ZW_R(0.0);
+    w->lo = ZW_R(0.0);
+    w->hi = ZW_R(0.0);
+    w->mid = ZW_R(0.0);
+    for (i = 0u; i < ZW_LOOP_MAX_INTERVALS; ++i) {
+        w->cell_lo[i] = ZW_R(0.0);
+        w->cell_hi[i] = ZW_R(0.0);
     }
-    scan(&x);
-    *est = x.est;
-    *lo = x.lo;
-    *hi = x.hi;
-    return x.found;
+    w->outer[0] = ZW_R(0.0);
+    w->outer[1] = ZW_R(0.0);
+}
+
+/* The next crossing above the floor: false when the walk is over (none left, the step
+ * bound, or a degenerate line, whose set is emptied).  Then w->cell tells whether the gap
+ * before it is a cell to label at w->mid.  On ALPHA_ZERO, theta = 0 adds the double root
+ * at z = 1: beta = R0(1) / S(1). */
+ZW_NOINLINE static bool walk_step(zw_loop_workspace *ws, unsigned mode)
+{
+    ll_walk *w = &ws->lim_walk;
+    ll_scan *x = &ws->lim_scan;
+    w->cell = false;
+    if (w->step >= LL_MAX_CROSSINGS) {
+        return false;
+    }
+    w->step++;
+    scan_setup(ws, mode, w->alpha, LL_TAKE_NEXT_ABOVE, w->floor);
+    offer_line(x, &x->degenerate);
+    if (mode == LL_ALPHA_ZERO) {
+        ll_point *pt = x->pt;
+        eval_point(x, ZW_R(0.0), pt);
+        offer(x, pt->v, pt->v - pt->v_err, pt->v + pt->v_err);
+    }
+    scan(x);
+    if (!x->found) {
+        return false;
+    }
+    if (x->degenerate) {
+        w->count = 0u;
+        w->truncated = false;
+        return false;
+    }
+    w->est = x->est;
+    w->lo = x->lo;
+    w->hi = x->hi;
+    if (w->have_prev && w->prev_hi < w->lo) {
+        w->cell = true;
+        w->mid = ZW_R(0.5) * w->prev_est + ZW_R(0.5) * w->est;
+    }
+    return true;
+}
+
+/* After walk_step: keep its cell if stable, and move on. */
+static void walk_record(ll_walk *w, bool stable)
+{
+    if (w->cell && stable) {
+        if (w->count < ZW_LOOP_MAX_INTERVALS) {
+            if (w->count == 0u) {
+                w->outer[0] = w->prev_lo;
+            }
+            w->outer[1] = w->hi;
+            w->cell_lo[w->count] = w->prev_hi;
+            w->cell_hi[w->count] = w->lo;
+            w->count++;
+        } else {
+            w->truncated = true;
+        }
+    }
+    w->have_prev = true;
+    w->prev_est = w->est;
+    w->prev_lo = w->lo;
+    w->prev_hi = w->hi;
+    w->floor = w->est;
+}
+
+/* The stable beta intervals at alpha into ws->lim_walk (count 0 when alpha <= 0). */
+static zw_status beta_walk(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha)
+{
+    zw_status st;
+    walk_begin(&ws->lim_walk, alpha);
+    st = plant_init(&ws->lim_plant, loop, ws);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_require_finite(alpha);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (!(alpha > ZW_R(0.0))) {
+        return ZW_OK;
+    }
+    while (walk_step(ws, LL_FIX_ALPHA)) {
+        walk_record(&ws->lim_walk,
+                    ws->lim_walk.cell && checked_stable(ws, ws->lim_walk.alpha, ws->lim_walk.mid));
+    }
+    return ZW_OK;
 }
 
 static void clear_set(zw_loop_beta_set *out)
@@ -619,88 +819,64 @@ static void clear_set(zw_loop_beta_set *out)
     unsigned i;
     out->count = 0u;
     out->truncated = false;
-    for (i = 0u; i < ZW_LOOP_MAX_INTERVALS; ++i) out->lo[i] = out->hi[i] = ZW_R(0.0);
-}
-
-/* Stable cells of the walk, in increasing beta.  ALPHA_ZERO labels a cell by
- * alpha_max(mid) > 0 (stable just above alpha = 0), FIX_ALPHA by the check at mid.
- * outer[0], outer[1]: the far bounds of the crossings that open the first and close the
- * last stable cell (the exact ends lie between them and the cell's certified ends). */
-static zw_status walk(const ll_plant *p, ll_mode mode, zw_real alpha, zw_loop_beta_set *out,
-                      zw_real outer[2])
-{
-    bool have_prev = false, degenerate = false;
-    zw_real prev_est = ZW_R(0.0), prev_hi = ZW_R(0.0), prev_lo = ZW_R(0.0), floor = -ZW_REAL_MAX;
-    unsigned step;
-    zw_status st;
-    for (step = 0u; step < LL_MAX_CROSSINGS; ++step) {
-        zw_real est, lo, hi;
-        if (!next_crossing(p, mode, alpha, floor, &degenerate, &est, &lo, &hi)) break;
-        if (degenerate) {
-            clear_set(out);
-            return ZW_OK;
-        }
-        if (have_prev && prev_hi < lo) {
-            zw_real mid = ZW_R(0.5) * prev_est + ZW_R(0.5) * est, am = ZW_R(0.0);
-            bool stable;
-            if (mode == LL_ALPHA_ZERO) {
-                if ((st = alpha_max_of(p, mid, &am)) != ZW_OK) return st;
-                stable = am > ZW_R(0.0);
-            } else {
-                stable = checked_stable(p, alpha, mid);
-            }
-            if (stable) {
-                if (out->count < ZW_LOOP_MAX_INTERVALS) {
-                    if (out->count == 0u) outer[0] = prev_lo;
-                    outer[1] = hi;
-                    out->lo[out->count] = prev_hi;
-                    out->hi[out->count] = lo;
-                    out->count++;
-                } else {
-                    out->truncated = true;
-                }
-            }
-        }
-        have_prev = true;
-        prev_est = est;
-        prev_lo = lo;
-        prev_hi = hi;
-        floor = est;
+    for (i = 0u; i < ZW_LOOP_MAX_INTERVALS; ++i) {
+        out->lo[i] = ZW_R(0.0);
+        out->hi[i] = ZW_R(0.0);
     }
-    return ZW_OK;
 }
 
 zw_status zw_loop_beta_intervals(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
                                  zw_loop_beta_set *out)
 {
-    zw_real outer[2];
-    ll_plant p;
+    const ll_walk *w;
     zw_status st;
-    if (out == NULL) return ZW_ERR_NULL;
+    unsigned i;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
     clear_set(out);
-    if (ws == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&p, loop, ws)) != ZW_OK) return st;
-    if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
-    if (!(alpha > ZW_R(0.0))) return ZW_OK;
-    st = walk(&p, LL_FIX_ALPHA, alpha, out, outer);
-    if (st != ZW_OK) clear_set(out);
-    return st;
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = beta_walk(loop, ws, alpha);
+    if (st != ZW_OK) {
+        return st;
+    }
+    w = &ws->lim_walk;
+    out->count = w->count;
+    out->truncated = w->truncated;
+    for (i = 0u; i < w->count; ++i) {
+        out->lo[i] = w->cell_lo[i];
+        out->hi[i] = w->cell_hi[i];
+    }
+    return ZW_OK;
 }
 
 zw_status zw_loop_beta_interval(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
                                 zw_real *lo, zw_real *hi, bool *nonempty)
 {
-    zw_loop_beta_set set;
+    const ll_walk *w;
     zw_status st;
     unsigned i, best = 0u;
     zw_fail_interval(lo, hi, nonempty); /* every non-NULL output certifies nothing */
-    if (lo == NULL || hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
-    st = zw_loop_beta_intervals(loop, ws, alpha, &set);
-    if (st != ZW_OK || set.count == 0u) return st;
-    for (i = 1u; i < set.count; ++i)
-        if (set.hi[i] - set.lo[i] > set.hi[best] - set.lo[best]) best = i;
-    *lo = set.lo[best];
-    *hi = set.hi[best];
+    if (lo == NULL || hi == NULL || nonempty == NULL) {
+        return ZW_ERR_NULL;
+    }
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = beta_walk(loop, ws, alpha);
+    w = &ws->lim_walk;
+    if (st != ZW_OK || w->count == 0u) {
+        return st;
+    }
+    for (i = 1u; i < w->count; ++i) {
+        if (w->cell_hi[i] - w->cell_lo[i] > w->cell_hi[best] - w->cell_lo[best]) {
+            best = i;
+        }
+    }
+    *lo = w->cell_lo[best];
+    *hi = w->cell_hi[best];
     *nonempty = true;
     return ZW_OK;
 }
@@ -719,7 +895,9 @@ static bool corner_minus1(const ll_plant *p, zw_real *alpha_c, zw_real *beta_c)
     const zw_loop_spec *sp = &p->loop->spec;
     const zw_coeffs *c = &p->loop->c;
     zw_real q, dq, v, dv, den, b;
-    if (sp->differentiator == ZW_DIFF_TUSTIN || !(c->d12 > ZW_R(0.0))) return false;
+    if (sp->differentiator == ZW_DIFF_TUSTIN || !(c->d12 > ZW_R(0.0))) {
+        return false;
+    }
     /* Q0 = -2 z^d (z - e) / (c1 z + c2) */
     q = -ZW_R(2.0) * ((sp->delay % 2u) == 0u ? ZW_R(1.0) : ZW_R(-1.0)) * (ZW_R(1.0) + c->e) / c->d12;
     dq = q * (-(zw_real)sp->delay - ZW_R(1.0) / (ZW_R(1.0) + c->e) + c->c1 / c->d12);
@@ -746,134 +924,189 @@ static bool corner_minus1(const ll_plant *p, zw_real *alpha_c, zw_real *beta_c)
         /* backward alone */
     }
     den = ZW_R(0.5) * v - dv;
-    if (!(ZW_FABS(den) > ZW_R(64.0) * ZW_U * (ZW_FABS(v) + ZW_FABS(dv)))) return false;
+    if (!(ZW_FABS(den) > ZW_R(64.0) * ZW_U * (ZW_FABS(v) + ZW_FABS(dv)))) {
+        return false;
+    }
     b = (ZW_R(0.5) * q - dq) / den;
     *beta_c = b;
     *alpha_c = -ZW_R(2.0) * (q - b * v);
     return ZW_IS_FINITE(b) && ZW_IS_FINITE(*alpha_c);
 }
 
-/* max of alpha_max over (bl, bh): grid, then golden section around the best grid point. */
-static zw_status maximise(const ll_plant *p, zw_real bl, zw_real bh, zw_real *best_a,
-                          zw_real *best_b)
+/* max of alpha_max over (bl, bh) into e->best_a, attained at e->best_b: grid, then golden
+ * section around the best grid point. */
+ZW_NOINLINE static void maximise(zw_loop_workspace *ws, zw_real bl, zw_real bh)
 {
-    zw_real w = bh - bl, a, b, c, d, fc, fd, v, t;
-    unsigned i, ibest = 0u, it;
-    zw_status st;
-    *best_a = ZW_R(0.0);
-    *best_b = ZW_R(0.5) * bl + ZW_R(0.5) * bh;
-    for (i = 0u; i < LL_EXT_GRID; ++i) {
-        t = bl + w * ((zw_real)(i + 1u) / (zw_real)(LL_EXT_GRID + 1u));
-        if ((st = alpha_max_of(p, t, &v)) != ZW_OK) return st;
-        if (v > *best_a) {
-            *best_a = v;
-            *best_b = t;
-            ibest = i;
+    ll_ext *e = &ws->lim_ext;
+    unsigned k;
+    e->ibest = 0u;
+    e->bl = bl;
+    e->bh = bh;
+    e->w = bh - bl;
+    e->best_a = ZW_R(0.0);
+    e->best_b = ZW_R(0.5) * bl + ZW_R(0.5) * bh;
+    e->i = 0u;
+    while (e->i < LL_EXT_GRID) {
+        k = e->i + 1u;
+        e->t = e->bl + e->w * ((zw_real)k / LL_EXT_GRID_N);
+        alpha_max_of(ws, e->t);
+        if (ws->lim_amax > e->best_a) {
+            e->best_a = ws->lim_amax;
+            e->best_b = e->t;
+            e->ibest = e->i;
         }
+        ++e->i;
     }
-    a = bl + w * ((zw_real)ibest / (zw_real)(LL_EXT_GRID + 1u));
-    b = bl + w * ((zw_real)(ibest + 2u) / (zw_real)(LL_EXT_GRID + 1u));
-    c = b - LL_INVPHI * (b - a);
-    d = a + LL_INVPHI * (b - a);
-    if ((st = alpha_max_of(p, c, &fc)) != ZW_OK) return st;
-    if ((st = alpha_max_of(p, d, &fd)) != ZW_OK) return st;
-    for (it = 0u; it < LL_ITER && c < d; ++it) {
-        if (fc > *best_a) {
-            *best_a = fc;
-            *best_b = c;
+    k = e->ibest + 2u;
+    e->a = e->bl + e->w * ((zw_real)e->ibest / LL_EXT_GRID_N);
+    e->b = e->bl + e->w * ((zw_real)k / LL_EXT_GRID_N);
+    e->c = e->b - LL_INVPHI * (e->b - e->a);
+    e->d = e->a + LL_INVPHI * (e->b - e->a);
+    alpha_max_of(ws, e->c);
+    e->fc = ws->lim_amax;
+    alpha_max_of(ws, e->d);
+    e->fd = ws->lim_amax;
+    e->it = 0u;
+    while (e->it < LL_ITER && e->c < e->d) {
+        if (e->fc > e->best_a) {
+            e->best_a = e->fc;
+            e->best_b = e->c;
         }
-        if (fd > *best_a) {
-            *best_a = fd;
-            *best_b = d;
+        if (e->fd > e->best_a) {
+            e->best_a = e->fd;
+            e->best_b = e->d;
         }
-        if (fc >= fd) {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - LL_INVPHI * (b - a);
-            if ((st = alpha_max_of(p, c, &fc)) != ZW_OK) return st;
+        if (e->fc >= e->fd) {
+            e->b = e->d;
+            e->d = e->c;
+            e->fd = e->fc;
+            e->c = e->b - LL_INVPHI * (e->b - e->a);
+            alpha_max_of(ws, e->c);
+            e->fc = ws->lim_amax;
         } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + LL_INVPHI * (b - a);
-            if ((st = alpha_max_of(p, d, &fd)) != ZW_OK) return st;
+            e->a = e->c;
+            e->c = e->d;
+            e->fc = e->fd;
+            e->d = e->a + LL_INVPHI * (e->b - e->a);
+            alpha_max_of(ws, e->d);
+            e->fd = ws->lim_amax;
         }
+        ++e->it;
     }
     /* The corner at z = -1, if in this cell: the golden section only approaches it from
      * the side it happens to sample, where the pair next to z = -1 is poorly resolved. */
-    if (corner_minus1(p, &v, &t) && t > bl && t < bh) {
-        for (i = 0u; i < 5u; ++i) {
-            zw_real bt = t + (zw_real)((int)i - 2) * (ZW_R(4.0) * ZW_U) * (ZW_FABS(t) + w);
-            if ((st = alpha_max_of(p, bt, &v)) != ZW_OK) return st;
-            if (v > *best_a) {
-                *best_a = v;
-                *best_b = bt;
+    if (corner_minus1(&ws->lim_plant, &e->a, &e->t) && e->t > e->bl && e->t < e->bh) {
+        e->i = 0u;
+        while (e->i < 5u) {
+            e->b = e->t + ((zw_real)e->i - ZW_R(2.0)) * (ZW_R(4.0) * ZW_U) * (ZW_FABS(e->t) + e->w);
+            alpha_max_of(ws, e->b);
+            if (ws->lim_amax > e->best_a) {
+                e->best_a = ws->lim_amax;
+                e->best_b = e->b;
             }
+            ++e->i;
         }
     }
-    return ZW_OK;
 }
 
-/* Move the certified end *end towards the bound far (exclusive) while alpha_max > 0. */
-static zw_status push_end(const ll_plant *p, zw_real *end, zw_real far)
+/* Move the certified end towards the bound far (exclusive) while alpha_max > 0: from end
+ * to e->a. */
+ZW_NOINLINE static void push_end(zw_loop_workspace *ws, zw_real end, zw_real far)
 {
-    zw_real a = *end, b = far, v;
-    unsigned it;
-    zw_status st;
-    if (!ZW_IS_FINITE(far) || !ZW_IS_FINITE(far - a)) return ZW_OK;
-    for (it = 0u; it < LL_ITER / 2u; ++it) {
-        zw_real m = a + ZW_R(0.5) * (b - a);
-        if (!(m != a && m != b)) break;
-        if ((st = alpha_max_of(p, m, &v)) != ZW_OK) return st;
-        if (v > ZW_R(0.0)) a = m;
-        else b = m;
+    ll_ext *e = &ws->lim_ext;
+    e->a = end;
+    e->b = far;
+    if (!ZW_IS_FINITE(far) || !ZW_IS_FINITE(far - e->a)) {
+        return;
     }
-    *end = a;
-    return ZW_OK;
+    e->it = 0u;
+    while (e->it < LL_ITER / 2u) {
+        e->t = e->a + ZW_R(0.5) * (e->b - e->a);
+        if (!(e->t != e->a && e->t != e->b)) {
+            break;
+        }
+        alpha_max_of(ws, e->t);
+        if (ws->lim_amax > ZW_R(0.0)) {
+            e->a = e->t;
+        } else {
+            e->b = e->t;
+        }
+        ++e->it;
+    }
 }
 
 static void clear_extremes(zw_loop_extremes *out)
 {
-    out->alpha_mmax = out->beta_at_alpha_mmax = out->alpha_p_max = ZW_R(0.0);
-    out->beta_mmax = out->beta_mmin = ZW_R(0.0);
+    out->alpha_mmax = ZW_R(0.0);
+    out->beta_at_alpha_mmax = ZW_R(0.0);
+    out->alpha_p_max = ZW_R(0.0);
+    out->beta_mmax = ZW_R(0.0);
+    out->beta_mmin = ZW_R(0.0);
+}
+
+/* The stable beta ranges as alpha -> 0+ into ws->lim_walk. */
+ZW_NOINLINE static void zero_walk(zw_loop_workspace *ws)
+{
+    walk_begin(&ws->lim_walk, ZW_R(0.0));
+    while (walk_step(ws, LL_ALPHA_ZERO)) {
+        if (ws->lim_walk.cell) {
+            alpha_max_of(ws, ws->lim_walk.mid);
+            walk_record(&ws->lim_walk, ws->lim_amax > ZW_R(0.0));
+        } else {
+            walk_record(&ws->lim_walk, false);
+        }
+    }
+}
+
+/* The extremes of the loop in ws->lim_plant.  Nothing here fails once the loop is
+ * accepted: *out (cleared) is written field by field, and stays cleared on ZW_ERR_DOMAIN. */
+ZW_NOINLINE static zw_status extremes_of(zw_loop_workspace *ws, zw_loop_extremes *out)
+{
+    const ll_walk *w;
+    zero_walk(ws);
+    w = &ws->lim_walk;
+    if (w->count == 0u) {
+        return ZW_ERR_DOMAIN;
+    }
+    /* Where a closing crossing is poorly resolved (its pair next to z = -1, e.g. near
+     * delta0), push the ends outwards by bisection on "alpha_max(beta) > 0": every beta
+     * where it holds is in the stable range at alpha -> 0+ (certified by alpha_max). */
+    out->beta_mmin = w->cell_lo[0];
+    out->beta_mmax = w->cell_hi[w->count - 1u];
+    push_end(ws, out->beta_mmax, w->outer[1]);
+    out->beta_mmax = ws->lim_ext.a;
+    push_end(ws, out->beta_mmin, w->outer[0]);
+    out->beta_mmin = ws->lim_ext.a;
+    ws->lim_walk.i = 0u;
+    while (ws->lim_walk.i < w->count) {
+        maximise(ws, w->cell_lo[ws->lim_walk.i], w->cell_hi[ws->lim_walk.i]);
+        if (ws->lim_ext.best_a > out->alpha_mmax) {
+            out->alpha_mmax = ws->lim_ext.best_a;
+            out->beta_at_alpha_mmax = ws->lim_ext.best_b;
+        }
+        ++ws->lim_walk.i;
+    }
+    alpha_max_of(ws, ZW_R(0.0));
+    out->alpha_p_max = ws->lim_amax;
+    return ZW_OK;
 }
 
 zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_workspace *ws,
                                    zw_loop_extremes *out)
 {
-    ll_plant p;
-    zw_loop_beta_set cells;
-    zw_loop_extremes x;
-    zw_real outer[2] = {ZW_R(0.0), ZW_R(0.0)};
     zw_status st;
-    unsigned i;
-    if (out == NULL) return ZW_ERR_NULL;
-    clear_extremes(out);
-    if (ws == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&p, loop, ws)) != ZW_OK) return st;
-    clear_set(&cells);
-    clear_extremes(&x);
-    if ((st = walk(&p, LL_ALPHA_ZERO, ZW_R(0.0), &cells, outer)) != ZW_OK) return st;
-    if (cells.count == 0u) return ZW_ERR_DOMAIN;
-    /* Where a closing crossing is poorly resolved (its pair next to z = -1, e.g. near
-     * delta0), push the ends outwards by bisection on "alpha_max(beta) > 0": every beta
-     * where it holds is in the stable range at alpha -> 0+ (certified by alpha_max). */
-    x.beta_mmin = cells.lo[0];
-    x.beta_mmax = cells.hi[cells.count - 1u];
-    if ((st = push_end(&p, &x.beta_mmax, outer[1])) != ZW_OK) return st;
-    if ((st = push_end(&p, &x.beta_mmin, outer[0])) != ZW_OK) return st;
-    for (i = 0u; i < cells.count; ++i) {
-        zw_real a, b;
-        if ((st = maximise(&p, cells.lo[i], cells.hi[i], &a, &b)) != ZW_OK) return st;
-        if (a > x.alpha_mmax) {
-            x.alpha_mmax = a;
-            x.beta_at_alpha_mmax = b;
-        }
+    if (out == NULL) {
+        return ZW_ERR_NULL;
     }
-    if ((st = alpha_max_of(&p, ZW_R(0.0), &x.alpha_p_max)) != ZW_OK) return st;
-    *out = x;
-    return ZW_OK;
+    clear_extremes(out);
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = plant_init(&ws->lim_plant, loop, ws);
+    if (st != ZW_OK) {
+        return st;
+    }
+    return extremes_of(ws, out);
 }
 
 /* ---- boundary for plots ---------------------------------------------------------------- */
@@ -887,17 +1120,30 @@ zw_status zw_loop_boundary_point(const zw_loop *loop, zw_real theta, zw_real *al
     zw_real b;
     zw_fail_real(alpha, ZW_R(0.0));
     zw_fail_real(beta, ZW_R(0.0));
-    if (alpha == NULL || beta == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&p, loop, NULL)) != ZW_OK) return st;
-    if ((st = zw_require_finite(theta)) != ZW_OK) return st;
-    if (!(theta > ZW_R(0.0) && theta <= LL_PI_BELOW)) return ZW_ERR_ARG;
+    if (alpha == NULL || beta == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = plant_init(&p, loop, NULL);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_require_finite(theta);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (!(theta > ZW_R(0.0) && theta <= LL_PI_BELOW)) {
+        return ZW_ERR_ARG;
+    }
     response(&p, theta, &r0, &s);
-    if (!(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) return ZW_ERR_DOMAIN;
+    if (!(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) {
+        return ZW_ERR_DOMAIN;
+    }
     b = r0.re / s.re;
     *alpha = -ZW_R(2.0) * ZW_SIN(ZW_R(0.5) * theta) * (r0.im - b * s.im);
     *beta = b;
     if (!ZW_IS_FINITE(*alpha) || !ZW_IS_FINITE(b)) {
-        *alpha = *beta = ZW_R(0.0);
+        *alpha = ZW_R(0.0);
+        *beta = ZW_R(0.0);
         return ZW_ERR_DOMAIN;
     }
     return ZW_OK;
@@ -912,8 +1158,13 @@ zw_status zw_loop_boundary_line(const zw_loop *loop, zw_loop_boundary which, zw_
     zw_fail_real(c0, ZW_R(0.0));
     zw_fail_real(ca, ZW_R(0.0));
     zw_fail_real(cb, ZW_R(0.0));
-    if (c0 == NULL || ca == NULL || cb == NULL) return ZW_ERR_NULL;
-    if ((st = plant_init(&p, loop, NULL)) != ZW_OK) return st;
+    if (c0 == NULL || ca == NULL || cb == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = plant_init(&p, loop, NULL);
+    if (st != ZW_OK) {
+        return st;
+    }
     switch (which) {
     case ZW_LOOP_BOUNDARY_Z_PLUS1:
         *ca = ZW_R(1.0); /* p(1) = alpha (c1 + c2) Dv(1) */

@@ -178,6 +178,7 @@ def _loop_structs(real, Coeffs):
         fails ws_intact() instead of corrupting memory)."""
         _fields_ = [("row", real * LOOP_N), ("row_err", real * LOOP_N),
                     ("root", real * (2 * (LOOP_N - 1))), ("radius", real * (LOOP_N - 1)),
+                    ("limits", ctypes.c_ubyte * 640),  # the limits' state: 520 B (double), 296 (float)
                     ("guard", ctypes.c_ubyte * 256)]
 
     return LoopSpec, Loop, LoopVerdict, LoopWorkspace

@@ -116,7 +116,7 @@ typedef struct zw_loop_complex {
  * device_loop.h that can reach the guarded check.
  *   - Owned by the caller: static storage, a task's own memory, a struct that already
  *     lives outside the stack (zw_regmap keeps one), or the stack where it is large.
- *     About 0.5 KB (float) / 1 KB (double).
+ *     About 0.8 KB (float) / 1.5 KB (double).
  *   - Needs no initialisation, and holds nothing between calls: each call overwrites what
  *     it reads before reading it, so any contents (garbage, another loop's) are fine.
  *   - One per concurrent caller: two calls running at the same time (threads, an interrupt
@@ -127,6 +127,40 @@ typedef struct zw_loop_workspace {
     zw_real row_err[ZW_LOOP_MAX_DEGREE + 1u]; /* its error bounds */
     zw_loop_complex root[ZW_LOOP_MAX_DEGREE]; /* Aberth roots */
     zw_real radius[ZW_LOOP_MAX_DEGREE];       /* their inclusion radii */
+    /* The limits' state (loop_limits.c), kept here so that the D-decomposition's frames
+     * are small under the guarded check's chain (512 B target). */
+    struct zw_loop_lim_plant { /* the loop's factored frequency response */
+        const zw_loop *loop;
+        struct zw_loop_workspace *ws; /* this workspace, for the guarded checks */
+        zw_real one_minus_e, r12, two_c1, phase, one_minus_a, eps, grid_h;
+        unsigned grid_n;
+    } lim_plant;
+    struct zw_loop_lim_point { /* the crossing condition f at theta, its value v */
+        zw_real theta, f, f_err, v, v_err;
+    } lim_pt;
+    zw_loop_complex lim_r0, lim_s; /* the response at theta */
+    struct zw_loop_lim_scan { /* one search for crossings of a line */
+        const struct zw_loop_lim_plant *p;
+        struct zw_loop_lim_point *pt; /* where the scan evaluates (lim_pt) */
+        unsigned mode, take;
+        zw_real fixed, floor;
+        bool found, degenerate;
+        zw_real est, lo, hi;
+    } lim_scan;
+    struct zw_loop_lim_walk { /* crossings along a horizontal line, the stable cells */
+        bool have_prev, cell, truncated;
+        unsigned step, count, i;
+        zw_real alpha; /* the line's (0 for alpha = 0+) */
+        zw_real prev_est, prev_lo, prev_hi, floor, est, lo, hi, mid;
+        zw_real cell_lo[4], cell_hi[4]; /* ZW_LOOP_MAX_INTERVALS (loop_limits.h) */
+        zw_real outer[2];
+    } lim_walk;
+    struct zw_loop_lim_ext { /* the extremes' searches over beta */
+        zw_real bl, bh, w, a, b, c, d, fc, fd, t, best_a, best_b;
+        unsigned i, ibest, it;
+    } lim_ext;
+    zw_real lim_amax; /* the last alpha_max found */
+    bool lim_stable;  /* the last guarded verdict */
 } zw_loop_workspace;
 
 /* Build the loop of spec for the plant c (a copy of *c is kept).  Errors: ZW_ERR_NULL,

@@ -51,9 +51,9 @@
  * Firmware part: no heap, no recursion, fixed sizes, bounded iteration counts.  Costs (host,
  * x86-64): alpha_max 0.02-0.06 ms (degree 3-4) to 1-5 ms (degree 26); extremes 1-14 ms, 0.1-0.5 s at
  * degree 26 (a commissioning-time computation, not a control-loop one).  Stack (worst chain,
- * Cortex-M4F float, -Os, the check's arrays in the caller's zw_loop_workspace): alpha_max
- * 600 B, beta intervals 760 B, extremes 912 B: over the issue's 512 B (the scan's and the
- * walk's own frames; docs/footprint.md lists them as over target, not gated).
+ * Cortex-M4F float, -Os, tools/footprint.sh, gated): alpha_max 496 B, beta intervals 480 /
+ * 488 B, extremes 512 B, within the issue's 512 B: the check's arrays and the scan's, walk's
+ * and extremes' state are in the caller's zw_loop_workspace.
  * ws: the caller's scratch (loop.h); ZW_ERR_NULL when NULL.
  */
 #ifndef ZWIDTH_LOOP_LIMITS_H
