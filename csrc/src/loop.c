@@ -647,6 +647,22 @@ typedef enum routh_result { ROUTH_STABLE, ROUTH_UNSURE, ROUTH_UNSTABLE } routh_r
 #define LOOP_SCALE_LO ZW_R(1.52587890625e-05)
 #define LOOP_SCALE_HI ZW_R(65536.0)
 
+/* The exponent e of a finite big > 0 = f 2^e, f in [1/2, 1): within [-(ZW_REAL_MAX_EXP + 64),
+ * ZW_REAL_MAX_EXP] (subnormals included); clamped to that range all the same, so that -e
+ * cannot overflow whatever a frexp returned (no change for any finite big > 0). */
+static int scale_exponent(zw_real big)
+{
+    int ex = 0;
+    (void)ZW_FREXP(big, &ex);
+    if (ex > ZW_REAL_MAX_EXP) {
+        ex = ZW_REAL_MAX_EXP;
+    }
+    if (ex < -(ZW_REAL_MAX_EXP + 64)) {
+        ex = -(ZW_REAL_MAX_EXP + 64);
+    }
+    return ex;
+}
+
 /* zw_compare(0, v, err) as a verdict on v's sign.  Written out for speed, without its test
  * of the bound for infinity: every bound in this file is a sum of non-negative terms (or
  * NaN / +inf after an overflow), and a comparison with a NaN or infinite bound is false,
@@ -733,7 +749,7 @@ static routh_result routh_rows(zw_real w[], loop_err we[], unsigned n)
             return ROUTH_UNSURE;
         }
         if ((big > ZW_R(0.0)) && ((big < LOOP_SCALE_LO) || (big > LOOP_SCALE_HI))) {
-            (void)ZW_FREXP(big, &ex);
+            ex = scale_exponent(big);
             for (j = 0u; j < len; ++j) {
                 w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
                 we[off + 2u * j] = ZW_LDEXP(we[off + 2u * j], -ex) + ZW_ETA;
@@ -865,7 +881,7 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspac
             return ROUTH_UNSURE;
         }
         if ((big > ZW_R(0.0)) && ((big < LOOP_SCALE_LO) || (big > LOOP_SCALE_HI))) {
-            (void)ZW_FREXP(big, &ex);
+            ex = scale_exponent(big);
             for (t = 0u; t < m; ++t) {
                 w[t] = ZW_LDEXP(w[t], -ex);
                 we[t] = ZW_LDEXP(we[t], -ex) + ZW_ETA;
