@@ -13,12 +13,15 @@
 # run-time error (invalid access, uninitialized read, signed overflow, invalid shift or
 # conversion, ...) or an output some path leaves unwritten.  Its "eva-split-return:" and
 # "eva-slevel:" lines give the per-function options of that analysis ({f}: the suffix of
-# public names in the build, _f for float).  Two runs of each:
+# public names in the build, _f for float); its "eva-support:" line names modules it calls
+# into that another driver covers (compiled and analysed here too, alarms count, but not
+# required to be reached).  Two runs of each:
 #   double  -machdep x86_64  (LP64: a host, the Python bindings)
 #   float   -machdep x86_32  (ILP32: the data model of a Cortex-M firmware) -DZW_REAL_FLOAT
 # Fails (exit 1) on any alarm, on an Eva warning or error, or when a function of
 # a driver's modules is not reached by its analysis; exit 2 when Frama-C is missing.
-# About 45 s of CPU: 1 to 1.5 min on 2 cores (both runs in parallel).
+# About 2.5 min of CPU: 2 to 2.5 min on 2 cores (the two builds of a driver in parallel;
+# eva_ideal.c ~1 min, eva_box.c ~1.5 min).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -63,7 +66,9 @@ fi
 
 run() { # run DRIVER NAME MACHDEP DEFINES SUFFIX
     local driver=$1 name=$2 machdep=$3 defines=$4 suffix=$5 options sources=() module
-    for module in $(driver_line "$driver" modules); do sources+=("csrc/src/$module.c"); done
+    for module in $(driver_line "$driver" modules) $(driver_line "$driver" support); do
+        sources+=("csrc/src/$module.c")
+    done
     mapfile -t options < <(eva_options "$driver" "$suffix")
     frama-c -machdep "$machdep" -cpp-extra-args="-Icsrc/include -Icsrc/src $defines" \
         "${sources[@]}" tests/eva/libm_spec.c "$driver" "${options[@]}" \

@@ -45,13 +45,17 @@
  * its lower (upper) bound is that finite value (and inf - inf would be NaN). */
 static zw_real box_widen_down(zw_real r)
 {
-    if (r > ZW_REAL_MAX) return ZW_REAL_MAX;
+    if (r > ZW_REAL_MAX) {
+        return ZW_REAL_MAX;
+    }
     return r - (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA);
 }
 
 static zw_real box_widen_up(zw_real r)
 {
-    if (r < -ZW_REAL_MAX) return -ZW_REAL_MAX;
+    if (r < -ZW_REAL_MAX) {
+        return -ZW_REAL_MAX;
+    }
     return r + (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA);
 }
 
@@ -68,12 +72,12 @@ static zw_real box_coef_up(zw_real v)
 
 static zw_real box_min_real(zw_real a, zw_real b)
 {
-    return a < b ? a : b;
+    return (a < b) ? a : b;
 }
 
 static zw_real box_max_real(zw_real a, zw_real b)
 {
-    return a > b ? a : b;
+    return (a > b) ? a : b;
 }
 
 /* ---- validation ------------------------------------------------------------------- */
@@ -82,24 +86,46 @@ static zw_status box_validate(const zw_plant_box *box)
 {
     zw_device d;
     zw_real delta_hi;
-    if (box == NULL) return ZW_ERR_NULL;
+    if (box == NULL) {
+        return ZW_ERR_NULL;
+    }
     if (ZW_IS_NAN(box->m_lo) || ZW_IS_NAN(box->m_hi) || ZW_IS_NAN(box->b_lo) ||
-        ZW_IS_NAN(box->b_hi) || ZW_IS_NAN(box->T))
+        ZW_IS_NAN(box->b_hi) || ZW_IS_NAN(box->T)) {
         return ZW_ERR_NAN;
+    }
     if (!ZW_IS_FINITE(box->m_lo) || !ZW_IS_FINITE(box->m_hi) || !ZW_IS_FINITE(box->b_lo) ||
-        !ZW_IS_FINITE(box->b_hi) || !ZW_IS_FINITE(box->T))
+        !ZW_IS_FINITE(box->b_hi) || !ZW_IS_FINITE(box->T)) {
         return ZW_ERR_INF;
-    if (!(box->m_lo > ZW_R(0.0))) return ZW_ERR_MASS;
-    if (box->b_lo < ZW_R(0.0)) return ZW_ERR_DAMPING;
-    if (!(box->T > ZW_R(0.0))) return ZW_ERR_PERIOD;
-    if (box->m_lo > box->m_hi || box->b_lo > box->b_hi) return ZW_ERR_BOX;
+    }
+    if (!(box->m_lo > ZW_R(0.0))) {
+        return ZW_ERR_MASS;
+    }
+    if (box->b_lo < ZW_R(0.0)) {
+        return ZW_ERR_DAMPING;
+    }
+    if (!(box->T > ZW_R(0.0))) {
+        return ZW_ERR_PERIOD;
+    }
+    if ((box->m_lo > box->m_hi) || (box->b_lo > box->b_hi)) {
+        return ZW_ERR_BOX;
+    }
     /* the corners span every range a cell can reach (m/T, m/T^2, T/m, b T/m) */
-    if (zw_device_init(&d, box->m_lo, box->b_lo, box->T) != ZW_OK) return ZW_ERR_RANGE;
-    if (zw_device_init(&d, box->m_hi, box->b_hi, box->T) != ZW_OK) return ZW_ERR_RANGE;
-    if (zw_device_init(&d, box->m_lo, box->b_hi, box->T) != ZW_OK) return ZW_ERR_RANGE;
-    if (zw_device_init(&d, box->m_hi, box->b_lo, box->T) != ZW_OK) return ZW_ERR_RANGE;
+    if (zw_device_init(&d, box->m_lo, box->b_lo, box->T) != ZW_OK) {
+        return ZW_ERR_RANGE;
+    }
+    if (zw_device_init(&d, box->m_hi, box->b_hi, box->T) != ZW_OK) {
+        return ZW_ERR_RANGE;
+    }
+    if (zw_device_init(&d, box->m_lo, box->b_hi, box->T) != ZW_OK) {
+        return ZW_ERR_RANGE;
+    }
+    if (zw_device_init(&d, box->m_hi, box->b_lo, box->T) != ZW_OK) {
+        return ZW_ERR_RANGE;
+    }
     delta_hi = box_widen_up(box_widen_up(box->b_hi * box->T) / box->m_lo);
-    if (!(delta_hi <= ZW_BOX_DELTA_MAX)) return ZW_ERR_RANGE;
+    if (!(delta_hi <= ZW_BOX_DELTA_MAX)) {
+        return ZW_ERR_RANGE;
+    }
     return ZW_OK;
 }
 
@@ -110,18 +136,27 @@ zw_status zw_box_validate(const zw_plant_box *box)
 
 static zw_status box_validate_work(const zw_box_work *work)
 {
-    if (work == NULL || work->cells == NULL) return ZW_ERR_NULL;
-    if (work->capacity < ZW_BOX_MIN_CELLS || work->max_evals < 1u ||
-        work->max_evals > ZW_BOX_MAX_EVALS)
+    if ((work == NULL) || (work->cells == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    if ((work->capacity < ZW_BOX_MIN_CELLS) || (work->max_evals < 1u) ||
+        (work->max_evals > ZW_BOX_MAX_EVALS)) {
         return ZW_ERR_ARG;
-    if (!(work->rel_tol >= ZW_R(0.0) && work->rel_tol < ZW_R(1.0))) return ZW_ERR_ARG;
+    }
+    if (!((work->rel_tol >= ZW_R(0.0)) && (work->rel_tol < ZW_R(1.0)))) {
+        return ZW_ERR_ARG;
+    }
     return ZW_OK;
 }
 
 zw_status zw_box_work_init(zw_box_work *work, zw_box_cell *cells, uint_least32_t capacity)
 {
-    if (work == NULL || cells == NULL) return ZW_ERR_NULL;
-    if (capacity < ZW_BOX_MIN_CELLS) return ZW_ERR_ARG;
+    if ((work == NULL) || (cells == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    if (capacity < ZW_BOX_MIN_CELLS) {
+        return ZW_ERR_ARG;
+    }
     work->cells = cells;
     work->capacity = capacity;
     work->max_evals = ZW_BOX_DEFAULT_EVALS;
@@ -135,10 +170,17 @@ static zw_status box_validate_gain(const zw_plant_box *box, zw_real gain, bool s
 {
     zw_status st;
     zw_real scale;
-    if ((st = zw_require_finite(gain)) != ZW_OK) return st;
+    st = zw_require_finite(gain);
+    if (st != ZW_OK) {
+        return st;
+    }
     scale = box->m_lo / box->T;
-    if (stiffness) scale = scale / box->T;
-    if (!ZW_IS_FINITE(gain / scale)) return ZW_ERR_RANGE;
+    if (stiffness) {
+        scale = scale / box->T;
+    }
+    if (!ZW_IS_FINITE(gain / scale)) {
+        return ZW_ERR_RANGE;
+    }
     return ZW_OK;
 }
 
@@ -147,8 +189,12 @@ static zw_status box_validate_gain(const zw_plant_box *box, zw_real gain, bool s
 /* Upper bound of d12 over [delta_lo, delta_hi] from its values at the ends. */
 static zw_real box_d12_upper(const zw_coeffs *lo, const zw_coeffs *hi)
 {
-    if (hi->delta <= ZW_BOX_D12_PEAK_LO) return box_coef_up(hi->d12); /* rising */
-    if (lo->delta >= ZW_BOX_D12_PEAK_HI) return box_coef_up(lo->d12); /* falling */
+    if (hi->delta <= ZW_BOX_D12_PEAK_LO) {
+        return box_coef_up(hi->d12); /* rising */
+    }
+    if (lo->delta >= ZW_BOX_D12_PEAK_HI) {
+        return box_coef_up(lo->d12); /* falling */
+    }
     return ZW_BOX_D12_MAX_UP;
 }
 
@@ -161,18 +207,28 @@ static zw_status box_cell_bound(zw_real T, zw_real B, zw_box_cell *cell)
     zw_real d12_hi;
     cell->bound = ZW_R(0.0);
     sum_lo = box_widen_down(B + cell->b_lo);
-    if (!(sum_lo > ZW_R(0.0))) return ZW_OK; /* some plant has B + b <= 0: nothing stable */
+    if (!(sum_lo > ZW_R(0.0))) {
+        return ZW_OK; /* some plant has B + b <= 0: nothing stable */
+    }
     x_lo = box_widen_down(box_widen_down(sum_lo * T) / cell->m_hi);
     delta_lo = box_max_real(ZW_R(0.0), box_widen_down(box_widen_down(cell->b_lo * T) / cell->m_hi));
     delta_hi = box_widen_up(box_widen_up(cell->b_hi * T) / cell->m_lo);
-    if ((st = zw_coeffs_init(&at_lo, delta_lo)) != ZW_OK) return st;
-    if ((st = zw_coeffs_init(&at_hi, delta_hi)) != ZW_OK) return st;
+    st = zw_coeffs_init(&at_lo, delta_lo);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_coeffs_init(&at_hi, delta_hi);
+    if (st != ZW_OK) {
+        return st;
+    }
     k_lo = box_widen_down(box_widen_down(cell->m_lo / T) / T);
     bt_hi = box_widen_up(B / T);
     h_lo = box_coef_down(at_lo.hs * at_lo.sigma); /* sigma a power of two: the product is exact */
     g_hi = box_coef_up(at_hi.g);
     num = box_widen_down(box_widen_down(k_lo * h_lo) - bt_hi);
-    if (!(num > ZW_R(0.0)) || !(x_lo > ZW_R(0.0))) return ZW_OK;
+    if (!(num > ZW_R(0.0)) || !(x_lo > ZW_R(0.0))) {
+        return ZW_OK;
+    }
     den = box_widen_up(g_hi + box_widen_up(ZW_R(1.0) / x_lo));
     k_f = box_widen_down(num / den);
     bound = k_f;
@@ -185,7 +241,9 @@ static zw_status box_cell_bound(zw_real T, zw_real B, zw_box_cell *cell)
         zw_real k_l = box_widen_down(ZW_R(2.0) * room);
         bound = box_min_real(bound, k_l);
     }
-    if (!ZW_IS_FINITE(bound)) return ZW_ERR_RANGE;
+    if (!ZW_IS_FINITE(bound)) {
+        return ZW_ERR_RANGE;
+    }
     cell->bound = box_max_real(ZW_R(0.0), bound);
     return ZW_OK;
 }
@@ -195,8 +253,9 @@ static zw_status box_cell_bound(zw_real T, zw_real B, zw_box_cell *cell)
 typedef struct zw_box_search {
     const zw_plant_box *box;
     const zw_box_work *work;
+    zw_box_cell *cells;    /* work->cells */
     zw_real B;
-    uint_least32_t live;   /* cells in work->cells[0 .. live) */
+    uint_least32_t live;   /* cells in cells[0 .. live) */
     uint_least32_t evals;
     zw_real dropped_min;   /* least bound of the cells dropped (pruned) */
     zw_real upper;         /* least point value of K_max found */
@@ -220,8 +279,14 @@ static zw_status box_point_value(zw_box_search *s, zw_real m, zw_real b)
     zw_device d;
     zw_real k;
     zw_status st;
-    if ((st = zw_device_init(&d, m, b, s->box->T)) != ZW_OK) return st;
-    if ((st = zw_device_k_max(&d, s->B, &k)) != ZW_OK) return st;
+    st = zw_device_init(&d, m, b, s->box->T);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_device_k_max(&d, s->B, &k);
+    if (st != ZW_OK) {
+        return st;
+    }
     if (k < s->upper) {
         s->upper = k;
         s->m_worst = m;
@@ -247,11 +312,11 @@ static bool box_split_cell(zw_real T, const zw_box_cell *c, zw_box_cell *left, z
     zw_real m_mid = box_cell_m_mid(c), b_mid = box_cell_b_mid(c);
     zw_real wm = (c->m_hi - c->m_lo) / c->m_hi;
     zw_real wb = (c->b_hi - c->b_lo) / (b_mid + m_mid / T);
-    bool can_m = m_mid > c->m_lo && m_mid < c->m_hi;
-    bool can_b = b_mid > c->b_lo && b_mid < c->b_hi;
+    bool can_m = (m_mid > c->m_lo) && (m_mid < c->m_hi);
+    bool can_b = (b_mid > c->b_lo) && (b_mid < c->b_hi);
     *left = *c;
     *right = *c;
-    if (can_m && (!can_b || wm >= wb)) {
+    if (can_m && (!can_b || (wm >= wb))) {
         left->m_hi = m_mid;
         right->m_lo = m_mid;
         return true;
@@ -278,25 +343,35 @@ static void box_heap_swap(zw_box_cell *cells, uint_least32_t i, uint_least32_t j
     cells[j] = t;
 }
 
-static void box_sift_up(zw_box_cell *cells, uint_least32_t i)
+static void box_sift_up(zw_box_cell *cells, uint_least32_t start)
 {
+    uint_least32_t i = start;
     while (i > 0u) {
         uint_least32_t parent = (i - 1u) / 2u;
-        if (!box_heap_less(cells, i, parent)) break;
+        if (!box_heap_less(cells, i, parent)) {
+            break;
+        }
         box_heap_swap(cells, i, parent);
         i = parent;
     }
 }
 
-static void box_sift_down(zw_box_cell *cells, uint_least32_t live, uint_least32_t i)
+static void box_sift_down(zw_box_cell *cells, uint_least32_t live, uint_least32_t start)
 {
+    uint_least32_t i = start;
     for (;;) {
         uint_least32_t least = i;
         uint_least32_t left = 2u * i + 1u;
         uint_least32_t right = left + 1u;
-        if (left < live && box_heap_less(cells, left, least)) least = left;
-        if (right < live && box_heap_less(cells, right, least)) least = right;
-        if (least == i) break;
+        if ((left < live) && box_heap_less(cells, left, least)) {
+            least = left;
+        }
+        if ((right < live) && box_heap_less(cells, right, least)) {
+            least = right;
+        }
+        if (least == i) {
+            break;
+        }
         box_heap_swap(cells, i, least);
         i = least;
     }
@@ -305,7 +380,7 @@ static void box_sift_down(zw_box_cell *cells, uint_least32_t live, uint_least32_
 /* The least bound of any cell, live or dropped: the search's certified lower bound. */
 static zw_real box_search_lower(const zw_box_search *s)
 {
-    return s->live > 0u ? box_min_real(s->work->cells[0].bound, s->dropped_min) : s->dropped_min;
+    return (s->live > 0u) ? box_min_real(s->cells[0].bound, s->dropped_min) : s->dropped_min;
 }
 
 /* Drop the cells that cannot hold a value below the best plant found, then re-heap. */
@@ -313,27 +388,31 @@ static void box_prune(zw_box_search *s)
 {
     uint_least32_t i, kept = 0u;
     for (i = 0u; i < s->live; ++i) {
-        const zw_box_cell *c = &s->work->cells[i];
+        const zw_box_cell *c = &s->cells[i];
         if (c->bound >= s->upper) {
             s->dropped_min = box_min_real(s->dropped_min, c->bound);
         } else {
-            s->work->cells[kept] = *c;
+            s->cells[kept] = *c;
             kept += 1u;
         }
     }
     s->live = kept;
-    for (i = kept / 2u; i > 0u; --i) box_sift_down(s->work->cells, kept, i - 1u);
+    for (i = kept / 2u; i > 0u; --i) {
+        box_sift_down(s->cells, kept, i - 1u);
+    }
 }
 
 static zw_status box_add_cell(zw_box_search *s, const zw_box_cell *c)
 {
     zw_status st = box_point_value(s, box_cell_m_mid(c), box_cell_b_mid(c));
-    if (st != ZW_OK) return st;
+    if (st != ZW_OK) {
+        return st;
+    }
     if (c->bound >= s->upper) {
         s->dropped_min = box_min_real(s->dropped_min, c->bound);
     } else {
-        s->work->cells[s->live] = *c;
-        box_sift_up(s->work->cells, s->live);
+        s->cells[s->live] = *c;
+        box_sift_up(s->cells, s->live);
         s->live += 1u;
     }
     return ZW_OK;
@@ -346,6 +425,7 @@ static zw_status box_search_init(zw_box_search *s, const zw_plant_box *box, cons
     zw_status st;
     s->box = box;
     s->work = work;
+    s->cells = work->cells;
     s->B = B;
     s->live = 0u;
     s->evals = 1u;
@@ -357,12 +437,27 @@ static zw_status box_search_init(zw_box_search *s, const zw_plant_box *box, cons
     root.m_hi = box->m_hi;
     root.b_lo = box->b_lo;
     root.b_hi = box->b_hi;
-    if ((st = box_cell_bound(box->T, B, &root)) != ZW_OK) return st;
+    st = box_cell_bound(box->T, B, &root);
+    if (st != ZW_OK) {
+        return st;
+    }
     /* the corners first: where K_max is monotone, one of them is the worst plant */
-    if ((st = box_point_value(s, box->m_lo, box->b_lo)) != ZW_OK) return st;
-    if ((st = box_point_value(s, box->m_hi, box->b_lo)) != ZW_OK) return st;
-    if ((st = box_point_value(s, box->m_lo, box->b_hi)) != ZW_OK) return st;
-    if ((st = box_point_value(s, box->m_hi, box->b_hi)) != ZW_OK) return st;
+    st = box_point_value(s, box->m_lo, box->b_lo);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_point_value(s, box->m_hi, box->b_lo);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_point_value(s, box->m_lo, box->b_hi);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_point_value(s, box->m_hi, box->b_hi);
+    if (st != ZW_OK) {
+        return st;
+    }
     return box_add_cell(s, &root);
 }
 
@@ -383,38 +478,66 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
             if (s->upper <= K) {
                 zw_device d;
                 zw_verdict v;
-                if ((st = zw_device_init(&d, s->m_worst, s->b_worst, s->box->T)) != ZW_OK) return st;
-                if ((st = zw_device_check(&d, K, s->B, &v)) != ZW_OK) return st;
+                st = zw_device_init(&d, s->m_worst, s->b_worst, s->box->T);
+                if (st != ZW_OK) {
+                    return st;
+                }
+                st = zw_device_check(&d, K, s->B, &v);
+                if (st != ZW_OK) {
+                    return st;
+                }
                 if (!v.stable) {
                     *outcome = ZW_BOX_REFUTED;
                     return ZW_OK;
                 }
             }
         }
-        if (s->live == 0u || s->upper - *lower <= s->work->rel_tol * s->upper) {
+        if ((s->live == 0u) || (s->upper - *lower <= s->work->rel_tol * s->upper)) {
             /* no cell below the best plant, or the gap is closed */
-            if (goal == ZW_BOX_GOAL_BOUND) *outcome = ZW_BOX_CONVERGED;
-            if (s->live == 0u || goal == ZW_BOX_GOAL_BOUND) return ZW_OK;
+            if (goal == ZW_BOX_GOAL_BOUND) {
+                *outcome = ZW_BOX_CONVERGED;
+            }
+            if ((s->live == 0u) || (goal == ZW_BOX_GOAL_BOUND)) {
+                return ZW_OK;
+            }
         }
-        if (s->evals + 2u > s->work->max_evals) return ZW_OK;
+        if (s->evals + 2u > s->work->max_evals) {
+            return ZW_OK;
+        }
         if (s->live + 1u > s->work->capacity) {
             box_prune(s);
-            if (s->live + 1u > s->work->capacity) return ZW_OK;
+            if (s->live + 1u > s->work->capacity) {
+                return ZW_OK;
+            }
             continue;
         }
-        parent = s->work->cells[0];
-        if (!box_split_cell(s->box->T, &parent, &left, &right)) return ZW_OK; /* cannot refine */
+        parent = s->cells[0];
+        if (!box_split_cell(s->box->T, &parent, &left, &right)) {
+            return ZW_OK; /* cannot refine */
+        }
         s->live -= 1u;
-        s->work->cells[0] = s->work->cells[s->live];
-        box_sift_down(s->work->cells, s->live, 0u);
-        if ((st = box_cell_bound(s->box->T, s->B, &left)) != ZW_OK) return st;
-        if ((st = box_cell_bound(s->box->T, s->B, &right)) != ZW_OK) return st;
+        s->cells[0] = s->cells[s->live];
+        box_sift_down(s->cells, s->live, 0u);
+        st = box_cell_bound(s->box->T, s->B, &left);
+        if (st != ZW_OK) {
+            return st;
+        }
+        st = box_cell_bound(s->box->T, s->B, &right);
+        if (st != ZW_OK) {
+            return st;
+        }
         s->evals += 2u;
         /* a child's bound is at least its parent's (a cell's enclosure contains its parts') */
         left.bound = box_max_real(left.bound, parent.bound);
         right.bound = box_max_real(right.bound, parent.bound);
-        if ((st = box_add_cell(s, &left)) != ZW_OK) return st;
-        if ((st = box_add_cell(s, &right)) != ZW_OK) return st;
+        st = box_add_cell(s, &left);
+        if (st != ZW_OK) {
+            return st;
+        }
+        st = box_add_cell(s, &right);
+        if (st != ZW_OK) {
+            return st;
+        }
     }
 }
 
@@ -422,9 +545,13 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
 
 static void box_fail_bound(zw_box_bound *out)
 {
-    if (out == NULL) return;
-    out->K_lower = out->K_upper = ZW_R(0.0);
-    out->m_worst = out->b_worst = ZW_NAN;
+    if (out == NULL) {
+        return;
+    }
+    out->K_lower = ZW_R(0.0);
+    out->K_upper = ZW_R(0.0);
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
     out->evals = 0u;
     out->converged = false;
 }
@@ -436,18 +563,35 @@ static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work
     zw_box_outcome outcome;
     zw_real lower;
     zw_status st;
-    if (out == NULL) return ZW_ERR_NULL;
-    if ((st = box_validate(box)) != ZW_OK) return st;
-    if ((st = box_validate_work(work)) != ZW_OK) return st;
-    if ((st = box_validate_gain(box, B, false)) != ZW_OK) return st;
-    if ((st = box_search_init(&s, box, work, B)) != ZW_OK) return st;
-    if ((st = box_search_run(&s, ZW_BOX_GOAL_BOUND, ZW_R(0.0), &outcome, &lower)) != ZW_OK) return st;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = box_validate(box);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_validate_work(work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_validate_gain(box, B, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_search_init(&s, box, work, B);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_search_run(&s, ZW_BOX_GOAL_BOUND, ZW_R(0.0), &outcome, &lower);
+    if (st != ZW_OK) {
+        return st;
+    }
     out->K_lower = lower;
     out->K_upper = s.upper;
     out->m_worst = s.m_worst;
     out->b_worst = s.b_worst;
     out->evals = s.evals;
-    out->converged = outcome == ZW_BOX_CONVERGED;
+    out->converged = (outcome == ZW_BOX_CONVERGED);
     return ZW_OK;
 }
 
@@ -455,17 +599,22 @@ zw_status zw_box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work *wo
                        zw_box_bound *out)
 {
     zw_status st = box_k_max(box, B, work, out);
-    if (st != ZW_OK) box_fail_bound(out);
+    if (st != ZW_OK) {
+        box_fail_bound(out);
+    }
     return st;
 }
 
 static void box_fail_box_verdict(zw_box_verdict *out)
 {
-    if (out == NULL) return;
+    if (out == NULL) {
+        return;
+    }
     out->stable = false;
     out->decided = false;
     out->K_lower = ZW_R(0.0);
-    out->m_worst = out->b_worst = ZW_NAN;
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
 }
 
 /* Decide (K, B) over the box; *outcome CERTIFIED, REFUTED or OPEN. */
@@ -473,7 +622,10 @@ static zw_status box_decide(const zw_plant_box *box, zw_real K, zw_real B, const
                             zw_box_outcome *outcome, zw_box_search *s, zw_real *lower)
 {
     zw_status st;
-    if ((st = box_search_init(s, box, work, B)) != ZW_OK) return st;
+    st = box_search_init(s, box, work, B);
+    if (st != ZW_OK) {
+        return st;
+    }
     if (!(K > ZW_R(0.0))) { /* K <= 0 is unstable at every plant */
         *lower = ZW_R(0.0);
         *outcome = ZW_BOX_REFUTED;
@@ -489,14 +641,31 @@ static zw_status box_check(const zw_plant_box *box, zw_real K, zw_real B, const 
     zw_box_outcome outcome;
     zw_real lower;
     zw_status st;
-    if (out == NULL) return ZW_ERR_NULL;
-    if ((st = box_validate(box)) != ZW_OK) return st;
-    if ((st = box_validate_work(work)) != ZW_OK) return st;
-    if ((st = box_validate_gain(box, K, true)) != ZW_OK) return st;
-    if ((st = box_validate_gain(box, B, false)) != ZW_OK) return st;
-    if ((st = box_decide(box, K, B, work, &outcome, &s, &lower)) != ZW_OK) return st;
-    out->stable = outcome == ZW_BOX_CERTIFIED;
-    out->decided = outcome == ZW_BOX_CERTIFIED || outcome == ZW_BOX_REFUTED;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = box_validate(box);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_validate_work(work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_validate_gain(box, K, true);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_validate_gain(box, B, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_decide(box, K, B, work, &outcome, &s, &lower);
+    if (st != ZW_OK) {
+        return st;
+    }
+    out->stable = (outcome == ZW_BOX_CERTIFIED);
+    out->decided = (outcome == ZW_BOX_CERTIFIED) || (outcome == ZW_BOX_REFUTED);
     out->K_lower = lower;
     out->m_worst = s.m_worst;
     out->b_worst = s.b_worst;
@@ -507,7 +676,9 @@ zw_status zw_box_check(const zw_plant_box *box, zw_real K, zw_real B, const zw_b
                        zw_box_verdict *out)
 {
     zw_status st = box_check(box, K, B, work, out);
-    if (st != ZW_OK) box_fail_box_verdict(out);
+    if (st != ZW_OK) {
+        box_fail_box_verdict(out);
+    }
     return st;
 }
 
@@ -517,9 +688,15 @@ static zw_status box_k_box_lower(const zw_plant_box *box, zw_real B, const zw_bo
 {
     zw_box_outcome outcome;
     zw_status st;
-    if ((st = box_search_init(s, box, work, B)) != ZW_OK) return st;
-    if ((st = box_search_run(s, ZW_BOX_GOAL_BOUND, ZW_R(0.0), &outcome, lower)) != ZW_OK) return st;
-    *converged = outcome == ZW_BOX_CONVERGED;
+    st = box_search_init(s, box, work, B);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_search_run(s, ZW_BOX_GOAL_BOUND, ZW_R(0.0), &outcome, lower);
+    if (st != ZW_OK) {
+        return st;
+    }
+    *converged = (outcome == ZW_BOX_CONVERGED);
     return ZW_OK;
 }
 
@@ -532,10 +709,16 @@ static zw_status box_b_bracket(const zw_plant_box *box, zw_real *left, zw_real *
     int corner;
     zw_real least = ZW_INF;
     for (corner = 0; corner < 4; ++corner) {
-        zw_real m = (corner & 1) != 0 ? box->m_hi : box->m_lo;
-        zw_real b = (corner & 2) != 0 ? box->b_hi : box->b_lo;
-        if ((st = zw_device_init(&d, m, b, box->T)) != ZW_OK) return st;
-        if ((st = zw_device_extremes_compute(&d, &x)) != ZW_OK) return st;
+        zw_real m = ((corner & 1) != 0) ? box->m_hi : box->m_lo;
+        zw_real b = ((corner & 2) != 0) ? box->b_hi : box->b_lo;
+        st = zw_device_init(&d, m, b, box->T);
+        if (st != ZW_OK) {
+            return st;
+        }
+        st = zw_device_extremes_compute(&d, &x);
+        if (st != ZW_OK) {
+            return st;
+        }
         least = box_min_real(least, x.B_mmax);
     }
     *left = -box->b_lo;
@@ -545,9 +728,15 @@ static zw_status box_b_bracket(const zw_plant_box *box, zw_real *left, zw_real *
 
 static void box_fail_extremes(zw_box_extremes *out)
 {
-    if (out == NULL) return;
-    out->K_mmax = out->K_upper_at = out->K_mmax_upper = ZW_R(0.0);
-    out->B_at = out->m_worst = out->b_worst = ZW_NAN;
+    if (out == NULL) {
+        return;
+    }
+    out->K_mmax = ZW_R(0.0);
+    out->K_upper_at = ZW_R(0.0);
+    out->K_mmax_upper = ZW_R(0.0);
+    out->B_at = ZW_NAN;
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
     out->converged = false;
 }
 
@@ -563,35 +752,69 @@ static zw_status box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw
     bool conv;
     int step;
     zw_status st;
-    if (out == NULL) return ZW_ERR_NULL;
-    if ((st = box_validate(box)) != ZW_OK) return st;
-    if ((st = box_validate_work(work)) != ZW_OK) return st;
-    if ((st = box_b_bracket(box, &a, &b)) != ZW_OK) return st;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = box_validate(box);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_validate_work(work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_b_bracket(box, &a, &b);
+    if (st != ZW_OK) {
+        return st;
+    }
     c1 = b - k_inv_phi * (b - a);
     c2 = a + k_inv_phi * (b - a);
-    if ((st = box_k_box_lower(box, c1, work, &s, &f1, &conv)) != ZW_OK) return st;
-    if ((st = box_k_box_lower(box, c2, work, &s, &f2, &conv)) != ZW_OK) return st;
+    st = box_k_box_lower(box, c1, work, &s, &f1, &conv);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_k_box_lower(box, c2, work, &s, &f2, &conv);
+    if (st != ZW_OK) {
+        return st;
+    }
     for (step = 0; step < ZW_BOX_GOLDEN_STEPS; ++step) {
-        if (!(c2 - c1 > work->rel_tol * (ZW_FABS(c1) + ZW_FABS(c2)) + ZW_ETA)) break;
+        if (!(c2 - c1 > work->rel_tol * (ZW_FABS(c1) + ZW_FABS(c2)) + ZW_ETA)) {
+            break;
+        }
         if (f1 < f2) {
             a = c1;
             c1 = c2;
             f1 = f2;
             c2 = a + k_inv_phi * (b - a);
-            if ((st = box_k_box_lower(box, c2, work, &s, &f2, &conv)) != ZW_OK) return st;
+            st = box_k_box_lower(box, c2, work, &s, &f2, &conv);
+            if (st != ZW_OK) {
+                return st;
+            }
         } else {
             b = c2;
             c2 = c1;
             f2 = f1;
             c1 = b - k_inv_phi * (b - a);
-            if ((st = box_k_box_lower(box, c1, work, &s, &f1, &conv)) != ZW_OK) return st;
+            st = box_k_box_lower(box, c1, work, &s, &f1, &conv);
+            if (st != ZW_OK) {
+                return st;
+            }
         }
     }
-    best_b = f1 >= f2 ? c1 : c2;
+    best_b = (f1 >= f2) ? c1 : c2;
     /* the final search at the chosen B gives the reported figures */
-    if ((st = box_k_box_lower(box, best_b, work, &s, &lower, &conv)) != ZW_OK) return st;
-    if ((st = zw_device_init(&d, s.m_worst, s.b_worst, box->T)) != ZW_OK) return st;
-    if ((st = zw_device_extremes_compute(&d, &x)) != ZW_OK) return st;
+    st = box_k_box_lower(box, best_b, work, &s, &lower, &conv);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_device_init(&d, s.m_worst, s.b_worst, box->T);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_device_extremes_compute(&d, &x);
+    if (st != ZW_OK) {
+        return st;
+    }
     out->K_mmax = lower;
     out->B_at = best_b;
     out->K_upper_at = s.upper;
@@ -605,7 +828,9 @@ static zw_status box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw
 zw_status zw_box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw_box_extremes *out)
 {
     zw_status st = box_k_mmax(box, work, out);
-    if (st != ZW_OK) box_fail_extremes(out);
+    if (st != ZW_OK) {
+        box_fail_extremes(out);
+    }
     return st;
 }
 
@@ -617,67 +842,125 @@ static zw_status box_certified_at(const zw_plant_box *box, zw_real K, zw_real B,
     zw_box_outcome outcome;
     zw_real lower;
     zw_status st = box_decide(box, K, B, work, &outcome, &s, &lower);
-    *yes = st == ZW_OK && outcome == ZW_BOX_CERTIFIED;
+    *yes = (st == ZW_OK) && (outcome == ZW_BOX_CERTIFIED);
     return st;
 }
 
 /* Bisection between a certified B (inside) and an uncertified one (outside): returns the
  * last certified B. */
 static zw_status box_bisect_end(const zw_plant_box *box, zw_real K, const zw_box_work *work,
-                                zw_real inside, zw_real outside, zw_real *end)
+                                zw_real inside_start, zw_real outside_start, zw_real *end)
 {
     int step;
     zw_status st;
-    zw_real scale = ZW_FABS(inside) + ZW_FABS(outside) + box->b_hi;
+    zw_real inside = inside_start, outside = outside_start;
+    const zw_real scale = ZW_FABS(inside) + ZW_FABS(outside) + box->b_hi;
     for (step = 0; step < ZW_BOX_BISECT_STEPS; ++step) {
         bool yes;
         zw_real mid = inside + ZW_R(0.5) * (outside - inside);
-        if (!(ZW_FABS(outside - inside) > work->rel_tol * scale) || mid == inside || mid == outside)
+        if (!(ZW_FABS(outside - inside) > work->rel_tol * scale) || (mid == inside) || (mid == outside)) {
             break;
-        if ((st = box_certified_at(box, K, mid, work, &yes)) != ZW_OK) return st;
-        if (yes) inside = mid;
-        else outside = mid;
+        }
+        st = box_certified_at(box, K, mid, work, &yes);
+        if (st != ZW_OK) {
+            return st;
+        }
+        if (yes) {
+            inside = mid;
+        } else {
+            outside = mid;
+        }
     }
     *end = inside;
     return ZW_OK;
 }
 
+/* The middle of the nominal plant's B range at K as a start (*start), and whether it is
+ * certified for the whole box (*yes; false when that range is empty). */
+static zw_status box_nominal_start(const zw_plant_box *box, zw_real K, const zw_box_work *work,
+                                   zw_real *start, bool *yes)
+{
+    zw_device d;
+    zw_real nom_lo, nom_hi;
+    bool any;
+    zw_status st;
+    *start = ZW_R(0.0);
+    *yes = false;
+    st = zw_device_init(&d, box->m_lo + ZW_R(0.5) * (box->m_hi - box->m_lo),
+                        box->b_lo + ZW_R(0.5) * (box->b_hi - box->b_lo), box->T);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_device_b_range(&d, K, &nom_lo, &nom_hi, &any);
+    if ((st == ZW_OK) && any) {
+        *start = nom_lo + ZW_R(0.5) * (nom_hi - nom_lo);
+        st = box_certified_at(box, K, *start, work, yes);
+    }
+    return st;
+}
+
 static zw_status box_b_range(const zw_plant_box *box, zw_real K, const zw_box_work *work,
                              zw_real *B_lo, zw_real *B_hi, bool *nonempty)
 {
-    zw_device d;
     zw_box_extremes x;
-    zw_real lo_out, hi_out, start, nom_lo, nom_hi, lo, hi;
-    bool yes, any;
+    zw_real lo_out, hi_out, start, lo, hi;
+    bool yes;
     zw_status st;
-    if (B_lo == NULL || B_hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
-    if ((st = box_validate(box)) != ZW_OK) return st;
-    if ((st = box_validate_work(work)) != ZW_OK) return st;
-    if ((st = box_validate_gain(box, K, true)) != ZW_OK) return st;
-    *B_lo = *B_hi = ZW_R(0.0);
-    *nonempty = false;
-    if (!(K > ZW_R(0.0))) return ZW_OK;
-    if ((st = box_b_bracket(box, &lo_out, &hi_out)) != ZW_OK) return st;
-    /* A certified start: the middle of the nominal plant's range, else the K_mmax B. */
-    if ((st = zw_device_init(&d, box->m_lo + ZW_R(0.5) * (box->m_hi - box->m_lo),
-                             box->b_lo + ZW_R(0.5) * (box->b_hi - box->b_lo), box->T)) != ZW_OK)
+    if ((B_lo == NULL) || (B_hi == NULL) || (nonempty == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = box_validate(box);
+    if (st != ZW_OK) {
         return st;
-    if ((st = zw_device_b_range(&d, K, &nom_lo, &nom_hi, &any)) != ZW_OK) return st;
-    yes = false;
-    start = ZW_R(0.0);
-    if (any) {
-        start = nom_lo + ZW_R(0.5) * (nom_hi - nom_lo);
-        if ((st = box_certified_at(box, K, start, work, &yes)) != ZW_OK) return st;
+    }
+    st = box_validate_work(work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_validate_gain(box, K, true);
+    if (st != ZW_OK) {
+        return st;
+    }
+    *B_lo = ZW_R(0.0);
+    *B_hi = ZW_R(0.0);
+    *nonempty = false;
+    if (!(K > ZW_R(0.0))) {
+        return ZW_OK;
+    }
+    st = box_b_bracket(box, &lo_out, &hi_out);
+    if (st != ZW_OK) {
+        return st;
+    }
+    /* A certified start: the middle of the nominal plant's range, else the K_mmax B. */
+    st = box_nominal_start(box, K, work, &start, &yes);
+    if (st != ZW_OK) {
+        return st;
     }
     if (!yes) {
-        if ((st = box_k_mmax(box, work, &x)) != ZW_OK) return st;
+        st = box_k_mmax(box, work, &x);
+        if (st != ZW_OK) {
+            return st;
+        }
         start = x.B_at;
-        if (!(K < x.K_mmax)) return ZW_OK; /* nothing certified: empty */
-        if ((st = box_certified_at(box, K, start, work, &yes)) != ZW_OK) return st;
-        if (!yes) return ZW_OK;
+        if (!(K < x.K_mmax)) {
+            return ZW_OK; /* nothing certified: empty */
+        }
+        st = box_certified_at(box, K, start, work, &yes);
+        if (st != ZW_OK) {
+            return st;
+        }
+        if (!yes) {
+            return ZW_OK;
+        }
     }
-    if ((st = box_bisect_end(box, K, work, start, lo_out, &lo)) != ZW_OK) return st;
-    if ((st = box_bisect_end(box, K, work, start, hi_out, &hi)) != ZW_OK) return st;
+    st = box_bisect_end(box, K, work, start, lo_out, &lo);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_bisect_end(box, K, work, start, hi_out, &hi);
+    if (st != ZW_OK) {
+        return st;
+    }
     *B_lo = lo;
     *B_hi = hi;
     *nonempty = true;
@@ -688,6 +971,8 @@ zw_status zw_box_b_range(const zw_plant_box *box, zw_real K, const zw_box_work *
                          zw_real *B_lo, zw_real *B_hi, bool *nonempty)
 {
     zw_status st = box_b_range(box, K, work, B_lo, B_hi, nonempty);
-    if (st != ZW_OK) zw_fail_interval(B_lo, B_hi, nonempty);
+    if (st != ZW_OK) {
+        zw_fail_interval(B_lo, B_hi, nonempty);
+    }
     return st;
 }

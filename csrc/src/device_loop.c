@@ -38,8 +38,6 @@
  * x * (exact scale); one more factor (1 -+ 8u), itself rounded, pulls it inward. */
 #define SCALE_INWARD (ZW_R(8.0) * ZW_U)
 
-static const zw_loop k_no_loop; /* zero: degree 0, refused by every loop function */
-
 /* Relative retreats from a certified limit tried by the edge checks: the limit may sit
  * inside the check's rounding band (loop.h: up to 1e5 ulps), so back off until one is
  * proved.  0 first: most limits are proved where they are. */
@@ -52,7 +50,10 @@ static zw_status device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_
 {
     zw_loop_spec ls;
     zw_status st;
-    if ((st = zw_device_init(&out->dev, m, b, T)) != ZW_OK) return st;
+    st = zw_device_init(&out->dev, m, b, T);
+    if (st != ZW_OK) {
+        return st;
+    }
     /* zeroed padding too: the loop keeps a copy, and a map rebuilt from the same block must
      * be the same bytes (test_regmap compares the whole struct after a refused SEAL) */
     (void)memset(&ls, 0, sizeof ls);
@@ -61,19 +62,28 @@ static zw_status device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_
     ls.filter = spec->filter;
     ls.average = spec->average;
     ls.filter_pole = spec->pole;
-    if (spec->filter == ZW_VFILTER_LOWPASS && !(spec->cutoff_hz == ZW_R(0.0))) {
-        if ((st = zw_loop_lowpass_pole(spec->cutoff_hz, T, &ls.filter_pole)) != ZW_OK) return st;
+    if ((spec->filter == ZW_VFILTER_LOWPASS) && !(spec->cutoff_hz == ZW_R(0.0))) {
+        st = zw_loop_lowpass_pole(spec->cutoff_hz, T, &ls.filter_pole);
+        if (st != ZW_OK) {
+            return st;
+        }
     }
-    if ((st = zw_loop_init(&out->loop, &out->dev.co, &ls)) != ZW_OK) return st;
+    st = zw_loop_init(&out->loop, &out->dev.co, &ls);
+    if (st != ZW_OK) {
+        return st;
+    }
     return zw_loop_carry_gain_rounding(&out->loop, GAIN_ALPHA_RELERR, GAIN_BETA_RELERR);
 }
 
 zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real T,
                               const zw_device_loop_spec *spec)
 {
+    static const zw_loop k_no_loop; /* zero: degree 0, refused by every loop function */
     zw_status st;
-    if (out == NULL) return ZW_ERR_NULL;
-    st = spec == NULL ? ZW_ERR_NULL : device_loop_init(out, m, b, T, spec);
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = (spec == NULL) ? ZW_ERR_NULL : device_loop_init(out, m, b, T, spec);
     if (st != ZW_OK) {
         (void)zw_device_init(&out->dev, ZW_NAN, ZW_NAN, ZW_NAN); /* every field NaN */
         out->loop = k_no_loop;
@@ -88,11 +98,17 @@ zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real
 static zw_status gains(const zw_device_loop *dl, zw_real K, zw_real B, zw_real *alpha, zw_real *beta)
 {
     zw_status st;
-    if (dl == NULL) return ZW_ERR_NULL;
-    if ((st = zw_device_normalize(&dl->dev, K, B, alpha, beta)) != ZW_OK) return st;
-    if ((K != ZW_R(0.0) && !(ZW_FABS(*alpha) >= ZW_REAL_MIN)) ||
-        (B != ZW_R(0.0) && !(ZW_FABS(*beta) >= ZW_REAL_MIN)))
+    if (dl == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_device_normalize(&dl->dev, K, B, alpha, beta);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (((K != ZW_R(0.0)) && !(ZW_FABS(*alpha) >= ZW_REAL_MIN)) ||
+        ((B != ZW_R(0.0)) && !(ZW_FABS(*beta) >= ZW_REAL_MIN))) {
         return ZW_ERR_RANGE;
+    }
     return ZW_OK;
 }
 
@@ -162,13 +178,13 @@ static zw_real scale_outward(zw_real x, zw_real scale)
  * is >= lo s* (so B / s* >= lo). */
 static zw_real lower_to_real(zw_real lo, zw_real scale)
 {
-    return lo >= ZW_R(0.0) ? scale_outward(lo, scale) : scale_inward(lo, scale);
+    return (lo >= ZW_R(0.0)) ? scale_outward(lo, scale) : scale_inward(lo, scale);
 }
 
 /* An upper end hi, pulled down: B <= hi s*. */
 static zw_real upper_to_real(zw_real hi, zw_real scale)
 {
-    return hi >= ZW_R(0.0) ? scale_inward(hi, scale) : scale_outward(hi, scale);
+    return (hi >= ZW_R(0.0)) ? scale_inward(hi, scale) : scale_outward(hi, scale);
 }
 
 /* [x (1 - rel), x (1 + rel)] rounded outward: 2u of room covers the roundings of w and of
@@ -182,8 +198,43 @@ static void widen_by(zw_real x, zw_real rel, zw_real *lo, zw_real *hi)
 
 static bool proved_stable(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta)
 {
-    bool stable = false;
-    return zw_loop_is_stable(loop, ws, alpha, beta, &stable) == ZW_OK && stable;
+    bool stable; /* written by zw_loop_is_stable on every path */
+    const zw_status st = zw_loop_is_stable(loop, ws, alpha, beta, &stable);
+    return (st == ZW_OK) && stable;
+}
+
+/* The first of A (1 - k_retreat[i]) that one check at (., beta) proves stable, else 0. */
+static zw_real retreat_alpha(const zw_loop *loop, zw_loop_workspace *ws, zw_real A, zw_real beta)
+{
+    unsigned i;
+    if (A > ZW_R(0.0)) {
+        for (i = 0u; i < N_RETREATS; ++i) {
+            const zw_real At = A * (ZW_R(1.0) - k_retreat[i]);
+            if (proved_stable(loop, ws, At, beta)) {
+                return At;
+            }
+        }
+    }
+    return ZW_R(0.0);
+}
+
+/* [*lo, *hi] pulled inward by (hi - lo) k_retreat[i] at both ends, for the first i whose
+ * two ends one check each at alpha proves stable; false (and unchanged) when none is. */
+static bool retreat_range(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real *lo,
+                          zw_real *hi)
+{
+    const zw_real lo0 = *lo, hi0 = *hi, w = hi0 - lo0;
+    unsigned i;
+    for (i = 0u; i < N_RETREATS; ++i) {
+        const zw_real l = lo0 + w * k_retreat[i], h = hi0 - w * k_retreat[i];
+        if ((l < h) && (l >= lo0) && (h <= hi0) && proved_stable(loop, ws, alpha, l) &&
+            proved_stable(loop, ws, alpha, h)) {
+            *lo = l;
+            *hi = h;
+            return true;
+        }
+    }
+    return false;
 }
 
 /* Why K_max(B) below is never above the true k* alpha_max(beta*).
@@ -210,30 +261,35 @@ static zw_status k_max(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real 
 {
     zw_real alpha, beta, b_lo, b_hi, a_lo, a_hi, A, K;
     zw_status st;
-    unsigned i;
-    bool proved;
-    if (K_max == NULL) return ZW_ERR_NULL;
-    if ((st = gains(dl, ZW_R(0.0), B, &alpha, &beta)) != ZW_OK) return st;
+    if (K_max == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = gains(dl, ZW_R(0.0), B, &alpha, &beta);
+    if (st != ZW_OK) {
+        return st;
+    }
     if (beta == ZW_R(0.0)) {
-        if ((st = zw_loop_alpha_max(&dl->loop, ws, ZW_R(0.0), &A)) != ZW_OK) return st;
+        st = zw_loop_alpha_max(&dl->loop, ws, ZW_R(0.0), &A);
+        if (st != ZW_OK) {
+            return st;
+        }
     } else {
         widen_by(beta, ZW_BETA_RELERR, &b_lo, &b_hi);
-        if ((st = zw_loop_alpha_max(&dl->loop, ws, b_lo, &a_lo)) != ZW_OK) return st;
-        if ((st = zw_loop_alpha_max(&dl->loop, ws, b_hi, &a_hi)) != ZW_OK) return st;
-        A = a_lo < a_hi ? a_lo : a_hi;
-        proved = false;
-        for (i = 0u; i < N_RETREATS && !proved && A > ZW_R(0.0); ++i) {
-            const zw_real At = A * (ZW_R(1.0) - k_retreat[i]);
-            if (proved_stable(&dl->loop, ws, At, beta)) {
-                proved = true;
-                A = At;
-            }
+        st = zw_loop_alpha_max(&dl->loop, ws, b_lo, &a_lo);
+        if (st != ZW_OK) {
+            return st;
         }
-        if (!proved) A = ZW_R(0.0);
+        st = zw_loop_alpha_max(&dl->loop, ws, b_hi, &a_hi);
+        if (st != ZW_OK) {
+            return st;
+        }
+        A = retreat_alpha(&dl->loop, ws, (a_lo < a_hi) ? a_lo : a_hi, beta);
     }
     K = scale_inward(A, dl->dev.k_scale);
-    if (!ZW_IS_FINITE(K)) return ZW_ERR_RANGE;
-    *K_max = K > ZW_R(0.0) ? K : ZW_R(0.0);
+    if (!ZW_IS_FINITE(K)) {
+        return ZW_ERR_RANGE;
+    }
+    *K_max = (K > ZW_R(0.0)) ? K : ZW_R(0.0);
     return ZW_OK;
 }
 
@@ -241,7 +297,9 @@ zw_status zw_device_loop_k_max(const zw_device_loop *dl, zw_loop_workspace *ws, 
                               zw_real *K_max)
 {
     zw_status st = k_max(dl, ws, B, K_max);
-    if (st != ZW_OK) zw_fail_real(K_max, ZW_R(0.0));
+    if (st != ZW_OK) {
+        zw_fail_real(K_max, ZW_R(0.0));
+    }
     return st;
 }
 
@@ -256,40 +314,51 @@ zw_status zw_device_loop_k_max(const zw_device_loop *dl, zw_loop_workspace *ws, 
 static zw_status loop_b_range(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
                               zw_real *B_lo, zw_real *B_hi, bool *nonempty)
 {
-    zw_real alpha, beta, a_lo, a_hi, l1, h1, l2, h2, lo, hi, w, Bl, Bh;
-    bool ok1, ok2, proved = false;
-    unsigned i;
+    zw_real alpha, beta, a_lo, a_hi, l1, h1, l2, h2, lo, hi, Bl, Bh;
+    bool ok1, ok2;
     zw_status st;
-    if (B_lo == NULL || B_hi == NULL || nonempty == NULL) return ZW_ERR_NULL;
-    if ((st = gains(dl, K, ZW_R(0.0), &alpha, &beta)) != ZW_OK) return st;
-    *B_lo = *B_hi = ZW_R(0.0);
+    if ((B_lo == NULL) || (B_hi == NULL) || (nonempty == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = gains(dl, K, ZW_R(0.0), &alpha, &beta);
+    if (st != ZW_OK) {
+        return st;
+    }
+    *B_lo = ZW_R(0.0);
+    *B_hi = ZW_R(0.0);
     *nonempty = false;
     if (!(alpha > ZW_R(0.0))) { /* empty, but an empty loop is still refused */
         st = zw_loop_beta_interval(&dl->loop, ws, alpha, &l1, &h1, &ok1);
         return st;
     }
     widen_by(alpha, ZW_ALPHA_RELERR, &a_lo, &a_hi);
-    if (!(a_lo > ZW_R(0.0))) return ZW_OK;
-    if ((st = zw_loop_beta_interval(&dl->loop, ws, a_lo, &l1, &h1, &ok1)) != ZW_OK) return st;
-    if ((st = zw_loop_beta_interval(&dl->loop, ws, a_hi, &l2, &h2, &ok2)) != ZW_OK) return st;
-    if (!ok1 || !ok2) return ZW_OK;
-    lo = l1 > l2 ? l1 : l2;
-    hi = h1 < h2 ? h1 : h2;
-    if (!(lo < hi)) return ZW_OK;
-    w = hi - lo;
-    for (i = 0u; i < N_RETREATS && !proved; ++i) {
-        const zw_real l = lo + w * k_retreat[i], h = hi - w * k_retreat[i];
-        if (l < h && l >= lo && h <= hi && proved_stable(&dl->loop, ws, alpha, l) &&
-            proved_stable(&dl->loop, ws, alpha, h)) {
-            proved = true;
-            lo = l;
-            hi = h;
-        }
+    if (!(a_lo > ZW_R(0.0))) {
+        return ZW_OK;
     }
-    if (!proved) return ZW_OK;
+    st = zw_loop_beta_interval(&dl->loop, ws, a_lo, &l1, &h1, &ok1);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_loop_beta_interval(&dl->loop, ws, a_hi, &l2, &h2, &ok2);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (!ok1 || !ok2) {
+        return ZW_OK;
+    }
+    lo = (l1 > l2) ? l1 : l2;
+    hi = (h1 < h2) ? h1 : h2;
+    if (!(lo < hi)) {
+        return ZW_OK;
+    }
+    if (!retreat_range(&dl->loop, ws, alpha, &lo, &hi)) {
+        return ZW_OK;
+    }
     Bl = lower_to_real(lo, dl->dev.b_scale);
     Bh = upper_to_real(hi, dl->dev.b_scale);
-    if (!ZW_IS_FINITE(Bl) || !ZW_IS_FINITE(Bh)) return ZW_ERR_RANGE;
+    if (!ZW_IS_FINITE(Bl) || !ZW_IS_FINITE(Bh)) {
+        return ZW_ERR_RANGE;
+    }
     if (Bl < Bh) {
         *B_lo = Bl;
         *B_hi = Bh;
@@ -302,7 +371,9 @@ zw_status zw_device_loop_b_range(const zw_device_loop *dl, zw_loop_workspace *ws
                                  zw_real *B_lo, zw_real *B_hi, bool *nonempty)
 {
     zw_status st = loop_b_range(dl, ws, K, B_lo, B_hi, nonempty);
-    if (st != ZW_OK) zw_fail_interval(B_lo, B_hi, nonempty);
+    if (st != ZW_OK) {
+        zw_fail_interval(B_lo, B_hi, nonempty);
+    }
     return st;
 }
 
@@ -315,17 +386,28 @@ static zw_status extremes(const zw_device_loop *dl, zw_loop_workspace *ws,
     zw_status st;
     zw_real v[5];
     unsigned i;
-    if (dl == NULL || out == NULL) return ZW_ERR_NULL;
+    if ((dl == NULL) || (out == NULL)) {
+        return ZW_ERR_NULL;
+    }
     /* refuses a device a failed init left NaN */
-    if ((st = zw_device_normalize(&dl->dev, ZW_R(0.0), ZW_R(0.0), &v[0], &v[1])) != ZW_OK) return st;
-    if ((st = zw_loop_extremes_compute(&dl->loop, ws, &x)) != ZW_OK) return st;
+    st = zw_device_normalize(&dl->dev, ZW_R(0.0), ZW_R(0.0), &v[0], &v[1]);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_loop_extremes_compute(&dl->loop, ws, &x);
+    if (st != ZW_OK) {
+        return st;
+    }
     v[0] = scale_inward(x.alpha_mmax, dl->dev.k_scale);
     v[1] = x.beta_at_alpha_mmax * dl->dev.b_scale;
     v[2] = scale_inward(x.alpha_p_max, dl->dev.k_scale);
     v[3] = upper_to_real(x.beta_mmax, dl->dev.b_scale);
     v[4] = lower_to_real(x.beta_mmin, dl->dev.b_scale);
-    for (i = 0u; i < 5u; ++i)
-        if (!ZW_IS_FINITE(v[i])) return ZW_ERR_RANGE;
+    for (i = 0u; i < 5u; ++i) {
+        if (!ZW_IS_FINITE(v[i])) {
+            return ZW_ERR_RANGE;
+        }
+    }
     out->K_mmax = v[0];
     out->B_at_K_mmax = v[1];
     out->K_p_max = v[2];
@@ -338,8 +420,12 @@ zw_status zw_device_loop_extremes_compute(const zw_device_loop *dl, zw_loop_work
                                           zw_device_loop_extremes *out)
 {
     zw_status st = extremes(dl, ws, out);
-    if (st != ZW_OK && out != NULL) {
-        out->K_mmax = out->B_at_K_mmax = out->K_p_max = out->B_mmax = out->B_mmin = ZW_R(0.0);
+    if ((st != ZW_OK) && (out != NULL)) {
+        out->K_mmax = ZW_R(0.0);
+        out->B_at_K_mmax = ZW_R(0.0);
+        out->K_p_max = ZW_R(0.0);
+        out->B_mmax = ZW_R(0.0);
+        out->B_mmin = ZW_R(0.0);
     }
     return st;
 }

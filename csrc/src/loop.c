@@ -55,18 +55,32 @@ zw_status zw_loop_lowpass_pole(zw_real f_c, zw_real T, zw_real *a)
 {
     zw_status st;
     zw_real x;
-    if (a == NULL) return ZW_ERR_NULL;
+    if (a == NULL) {
+        return ZW_ERR_NULL;
+    }
     *a = ZW_R(0.0);
-    if ((st = zw_require_finite(f_c)) != ZW_OK) return st;
-    if ((st = zw_require_finite(T)) != ZW_OK) return st;
-    if (!(T > ZW_R(0.0))) return ZW_ERR_PERIOD;
+    st = zw_require_finite(f_c);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_require_finite(T);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (!(T > ZW_R(0.0))) {
+        return ZW_ERR_PERIOD;
+    }
     /* f_c T >= 1/2 implies fl(f_c T) >= 1/2 (rounding is monotone, 1/2 representable), so a
      * cut-off at or above Nyquist is always refused; one a rounding below it may be too */
     x = f_c * T;
-    if (!(f_c > ZW_R(0.0)) || !(x < ZW_R(0.5))) return ZW_ERR_FILTER;
+    if (!(f_c > ZW_R(0.0)) || !(x < ZW_R(0.5))) {
+        return ZW_ERR_FILTER;
+    }
     x = ZW_EXP(-(ZW_R(2.0) * LOOP_PI) * x);
     /* a cut-off so low that the pole rounds to 1 is an integrator, not a filter */
-    if (!(x < ZW_R(1.0))) return ZW_ERR_FILTER;
+    if (!(x < ZW_R(1.0))) {
+        return ZW_ERR_FILTER;
+    }
     *a = x;
     return ZW_OK;
 }
@@ -74,37 +88,66 @@ zw_status zw_loop_lowpass_pole(zw_real f_c, zw_real T, zw_real *a)
 /* Degree of the velocity estimate Nv / Dv (numerator and denominator). */
 static unsigned estimate_degree(const zw_loop_spec *spec)
 {
-    if (spec->filter == ZW_VFILTER_AVERAGE) return spec->average;
-    if (spec->filter == ZW_VFILTER_LOWPASS && spec->differentiator == ZW_DIFF_TUSTIN) return 2u;
+    if (spec->filter == ZW_VFILTER_AVERAGE) {
+        return spec->average;
+    }
+    if ((spec->filter == ZW_VFILTER_LOWPASS) && (spec->differentiator == ZW_DIFF_TUSTIN)) {
+        return 2u;
+    }
     return 1u;
 }
 
 static zw_status check_spec(const zw_loop_spec *spec)
 {
-    if (spec == NULL) return ZW_ERR_NULL;
-    if (spec->delay > ZW_LOOP_MAX_DELAY) return ZW_ERR_DELAY;
-    if (spec->differentiator != ZW_DIFF_BACKWARD && spec->differentiator != ZW_DIFF_TUSTIN)
+    zw_status st;
+    if (spec == NULL) {
+        return ZW_ERR_NULL;
+    }
+    if (spec->delay > ZW_LOOP_MAX_DELAY) {
+        return ZW_ERR_DELAY;
+    }
+    if ((spec->differentiator != ZW_DIFF_BACKWARD) && (spec->differentiator != ZW_DIFF_TUSTIN)) {
         return ZW_ERR_FILTER;
+    }
     switch (spec->filter) {
-    case ZW_VFILTER_NONE: break;
+    case ZW_VFILTER_NONE:
+        st = ZW_OK;
+        break;
     case ZW_VFILTER_LOWPASS:
-        if (ZW_IS_NAN(spec->filter_pole)) return ZW_ERR_NAN;
-        if (!(spec->filter_pole >= ZW_R(0.0) && spec->filter_pole < ZW_R(1.0))) return ZW_ERR_FILTER;
+        if (ZW_IS_NAN(spec->filter_pole)) {
+            st = ZW_ERR_NAN;
+        } else if (!((spec->filter_pole >= ZW_R(0.0)) && (spec->filter_pole < ZW_R(1.0)))) {
+            st = ZW_ERR_FILTER;
+        } else {
+            st = ZW_OK;
+        }
         break;
     case ZW_VFILTER_AVERAGE:
-        if (spec->average < 1u || spec->average > ZW_LOOP_MAX_AVERAGE) return ZW_ERR_FILTER;
+        if ((spec->average < 1u) || (spec->average > ZW_LOOP_MAX_AVERAGE)) {
+            st = ZW_ERR_FILTER;
+        } else {
+            st = ZW_OK;
+        }
         break;
-    default: return ZW_ERR_FILTER;
+    default:
+        st = ZW_ERR_FILTER;
+        break;
     }
-    return ZW_OK;
+    return st;
 }
 
 /* An initialized loop: its degree matches its spec (a zeroed or garbage struct fails). */
 static zw_status check_loop(const zw_loop *loop)
 {
-    if (loop == NULL) return ZW_ERR_NULL;
-    if (check_spec(&loop->spec) != ZW_OK) return ZW_ERR_ARG;
-    if (loop->degree != 2u + loop->spec.delay + estimate_degree(&loop->spec)) return ZW_ERR_ARG;
+    if (loop == NULL) {
+        return ZW_ERR_NULL;
+    }
+    if (check_spec(&loop->spec) != ZW_OK) {
+        return ZW_ERR_ARG;
+    }
+    if (loop->degree != 2u + loop->spec.delay + estimate_degree(&loop->spec)) {
+        return ZW_ERR_ARG;
+    }
     return ZW_OK;
 }
 
@@ -209,9 +252,11 @@ static LOOP_INLINE void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1
  * of them is 0, +-1 or +-2 (factors of that form are common and must not add rounding). */
 static LOOP_INLINE zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
 {
-    if (a.e == ZW_R(0.0) && b.e == ZW_R(0.0)) {
+    if ((a.e == ZW_R(0.0)) && (b.e == ZW_R(0.0))) {
         zw_real m = ZW_FABS(a.v) < ZW_FABS(b.v) ? ZW_FABS(a.v) : ZW_FABS(b.v);
-        if (m == ZW_R(0.0) || m == ZW_R(1.0) || m == ZW_R(2.0)) return zw_eb_exact(a.v * b.v);
+        if ((m == ZW_R(0.0)) || (m == ZW_R(1.0)) || (m == ZW_R(2.0))) {
+            return zw_eb_exact(a.v * b.v);
+        }
     }
     return zw_eb_mul(a, b);
 }
@@ -219,8 +264,12 @@ static LOOP_INLINE zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
 /* Sum whose error is the inputs' when one of them is an exact zero. */
 static LOOP_INLINE zw_eb eb_add_exactish(zw_eb a, zw_eb b)
 {
-    if (a.v == ZW_R(0.0) && a.e == ZW_R(0.0)) return b;
-    if (b.v == ZW_R(0.0) && b.e == ZW_R(0.0)) return a;
+    if ((a.v == ZW_R(0.0)) && (a.e == ZW_R(0.0))) {
+        return b;
+    }
+    if ((b.v == ZW_R(0.0)) && (b.e == ZW_R(0.0))) {
+        return a;
+    }
     return zw_eb_add(a, b);
 }
 
@@ -231,7 +280,7 @@ static void mul_linear(zw_real v[], zw_real e[], unsigned deg, zw_eb f1, zw_eb f
     unsigned i;
     for (i = deg + 1u; i > 0u; --i) {
         zw_eb lo = eb_mul_exactish(f0, eb_make(v[i - 1u], e[i - 1u]));
-        zw_eb hi = i <= deg ? eb_mul_exactish(f1, eb_make(v[i], e[i])) : zw_eb_exact(ZW_R(0.0));
+        zw_eb hi = (i <= deg) ? eb_mul_exactish(f1, eb_make(v[i], e[i])) : zw_eb_exact(ZW_R(0.0));
         zw_eb sum = eb_add_exactish(hi, lo);
         v[i] = sum.v;
         e[i] = sum.e;
@@ -288,9 +337,14 @@ static void set_power_minus_one(const build_ctx *ctx, zw_real v[], zw_real e[], 
         return;
     }
     for (i = 0u; i <= n; ++i) {
-        unsigned k = n - i; /* power of s at index i */
-        if (i > 0u) binom = binom * (zw_real)(k + 1u) / (zw_real)(n - k); /* C(n,k) from C(n,k+1) */
-        if ((k & 1u) != 0u) v[i] = ZW_R(2.0) * binom;
+        const unsigned k = n - i; /* power of s at index i */
+        if (i > 0u) {
+            const unsigned k_above = k + 1u, n_less = n - k;
+            binom = binom * (zw_real)k_above / (zw_real)n_less; /* C(n,k) from C(n,k+1) */
+        }
+        if ((k & 1u) != 0u) {
+            v[i] = ZW_R(2.0) * binom;
+        }
     }
 }
 
@@ -298,7 +352,7 @@ static void set_power_minus_one(const build_ctx *ctx, zw_real v[], zw_real e[], 
 static void velocity_estimate(const build_ctx *ctx, const zw_loop_spec *spec, zw_real dv[],
                               zw_real dv_e[], zw_real nv[], zw_real nv_e[])
 {
-    const bool tustin = spec->differentiator == ZW_DIFF_TUSTIN;
+    const bool tustin = (spec->differentiator == ZW_DIFF_TUSTIN);
     unsigned dd, nd;
     set_one(dv, dv_e, &dd);
     set_one(nv, nv_e, &nd);
@@ -307,7 +361,7 @@ static void velocity_estimate(const build_ctx *ctx, const zw_loop_spec *spec, zw
         /* backward: (z^n - 1) / (n z^n);  Tustin: 2 (z^n - 1) / (n z^(n-1) (z + 1)) */
         const unsigned n = spec->average;
         set_power_minus_one(ctx, nv, nv_e, n);
-        mul_factor(ctx, dv, dv_e, &dd, F_Z, tustin ? n - 1u : n);
+        mul_factor(ctx, dv, dv_e, &dd, F_Z, tustin ? (n - 1u) : n);
         if (tustin) {
             mul_factor(ctx, dv, dv_e, &dd, F_ZP1, 1u);
             mul_scalar(nv, nv_e, n, zw_eb_exact(ZW_R(2.0)));
@@ -335,7 +389,9 @@ static void velocity_estimate(const build_ctx *ctx, const zw_loop_spec *spec, zw
         /* backward: (z - 1) / z;  Tustin: 2 (z - 1) / (z + 1) */
         mul_factor(ctx, dv, dv_e, &dd, tustin ? F_ZP1 : F_Z, 1u);
         mul_factor(ctx, nv, nv_e, &nd, F_ZM1, 1u);
-        if (tustin) mul_scalar(nv, nv_e, nd, zw_eb_exact(ZW_R(2.0)));
+        if (tustin) {
+            mul_scalar(nv, nv_e, nd, zw_eb_exact(ZW_R(2.0)));
+        }
         break;
     }
 }
@@ -367,8 +423,11 @@ static void build_parts(const build_ctx *ctx, const zw_loop_spec *spec, unsigned
 static bool all_finite(const zw_real v[], const zw_real e[], unsigned n)
 {
     unsigned i;
-    for (i = 0u; i <= n; ++i)
-        if (!ZW_IS_FINITE(v[i]) || !ZW_IS_FINITE(e[i])) return false;
+    for (i = 0u; i <= n; ++i) {
+        if (!ZW_IS_FINITE(v[i]) || !ZW_IS_FINITE(e[i])) {
+            return false;
+        }
+    }
     return true;
 }
 
@@ -379,14 +438,24 @@ zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spe
     zw_status st;
     build_ctx ctx;
     unsigned n;
-    if (out == NULL) return ZW_ERR_NULL;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
     *out = k_empty_loop;
-    if (spec == NULL) return ZW_ERR_NULL;
-    if ((st = zw_require_coeffs(c, false)) != ZW_OK) return st;
-    if ((st = check_spec(spec)) != ZW_OK) return st;
+    if (spec == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_require_coeffs(c, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = check_spec(spec);
+    if (st != ZW_OK) {
+        return st;
+    }
     n = 2u + spec->delay + estimate_degree(spec);
     ctx.c = c;
-    ctx.a = spec->filter == ZW_VFILTER_LOWPASS ? spec->filter_pole : ZW_R(0.0);
+    ctx.a = (spec->filter == ZW_VFILTER_LOWPASS) ? spec->filter_pole : ZW_R(0.0);
     ctx.bilinear = false;
     build_parts(&ctx, spec, n, out->D, out->D_err, out->Na, out->Na_err, out->Nb, out->Nb_err);
     ctx.bilinear = true;
@@ -400,8 +469,12 @@ zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spe
     }
     out->c = *c;
     out->spec = *spec;
-    if (spec->filter != ZW_VFILTER_LOWPASS) out->spec.filter_pole = ZW_R(0.0);
-    if (spec->filter != ZW_VFILTER_AVERAGE) out->spec.average = 0u;
+    if (spec->filter != ZW_VFILTER_LOWPASS) {
+        out->spec.filter_pole = ZW_R(0.0);
+    }
+    if (spec->filter != ZW_VFILTER_AVERAGE) {
+        out->spec.average = 0u;
+    }
     out->degree = n;
     return ZW_OK;
 }
@@ -412,17 +485,32 @@ static zw_real widened(zw_real bound, zw_real v, zw_real rel)
     return (bound + ZW_FABS(v) * rel) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
 }
 
+/* Are the gain parts' bounds all finite (after widening)? */
+static bool gain_bounds_finite(const zw_loop *loop)
+{
+    unsigned i;
+    for (i = 0u; i <= loop->degree; ++i) {
+        if (!ZW_IS_FINITE(loop->Na_err[i]) || !ZW_IS_FINITE(loop->Nas_err[i]) ||
+            !ZW_IS_FINITE(loop->Nb_err[i]) || !ZW_IS_FINITE(loop->Nbs_err[i])) {
+            return false;
+        }
+    }
+    return true;
+}
+
 zw_status zw_loop_carry_gain_rounding(zw_loop *loop, zw_real alpha_relerr, zw_real beta_relerr)
 {
     const zw_real cap = ZW_R(0.0625);
     zw_status st = check_loop(loop);
     unsigned i;
-    bool finite = true;
-    if (st == ZW_OK && !(alpha_relerr >= ZW_R(0.0) && alpha_relerr < cap && beta_relerr >= ZW_R(0.0) &&
-                         beta_relerr < cap))
+    if ((st == ZW_OK) && !((alpha_relerr >= ZW_R(0.0)) && (alpha_relerr < cap) &&
+                           (beta_relerr >= ZW_R(0.0)) && (beta_relerr < cap))) {
         st = ZW_ERR_ARG;
+    }
     if (st != ZW_OK) {
-        if (loop != NULL) *loop = k_empty_loop;
+        if (loop != NULL) {
+            *loop = k_empty_loop;
+        }
         return st;
     }
     for (i = 0u; i <= loop->degree; ++i) {
@@ -430,13 +518,11 @@ zw_status zw_loop_carry_gain_rounding(zw_loop *loop, zw_real alpha_relerr, zw_re
         loop->Nas_err[i] = widened(loop->Nas_err[i], loop->Nas[i], alpha_relerr);
         loop->Nb_err[i] = widened(loop->Nb_err[i], loop->Nb[i], beta_relerr);
         loop->Nbs_err[i] = widened(loop->Nbs_err[i], loop->Nbs[i], beta_relerr);
-        finite = finite && ZW_IS_FINITE(loop->Na_err[i]) && ZW_IS_FINITE(loop->Nas_err[i]) &&
-                 ZW_IS_FINITE(loop->Nb_err[i]) && ZW_IS_FINITE(loop->Nbs_err[i]);
     }
     /* eval_p multiplies |gain| by it once more: (1 + 4u) rounds that product up too */
     loop->alpha_relerr = (loop->alpha_relerr + alpha_relerr) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
     loop->beta_relerr = (loop->beta_relerr + beta_relerr) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
-    if (!finite) {
+    if (!gain_bounds_finite(loop)) {
         *loop = k_empty_loop;
         return ZW_ERR_RANGE;
     }
@@ -446,11 +532,28 @@ zw_status zw_loop_carry_gain_rounding(zw_loop *loop, zw_real alpha_relerr, zw_re
 static zw_status check_gains(const zw_loop *loop, zw_real alpha, zw_real beta)
 {
     zw_status st;
-    if ((st = check_loop(loop)) != ZW_OK) return st;
+    st = check_loop(loop);
+    if (st != ZW_OK) {
+        return st;
+    }
     /* one comparison for the common case (false for NaN and infinities), then which error */
-    if (ZW_FABS(alpha) <= ZW_REAL_MAX && ZW_FABS(beta) <= ZW_REAL_MAX) return ZW_OK;
-    if ((st = zw_require_finite(alpha)) != ZW_OK) return st;
+    if ((ZW_FABS(alpha) <= ZW_REAL_MAX) && (ZW_FABS(beta) <= ZW_REAL_MAX)) {
+        return ZW_OK;
+    }
+    st = zw_require_finite(alpha);
+    if (st != ZW_OK) {
+        return st;
+    }
     return zw_require_finite(beta);
+}
+
+/* Every coefficient of a zw_loop_poly output 0 (its fail-safe value). */
+static void zero_poly(zw_real p[])
+{
+    unsigned i;
+    for (i = 0u; i < LOOP_N; ++i) {
+        p[i] = ZW_R(0.0);
+    }
 }
 
 zw_status zw_loop_poly(const zw_loop *loop, zw_real alpha, zw_real beta,
@@ -458,19 +561,25 @@ zw_status zw_loop_poly(const zw_loop *loop, zw_real alpha, zw_real beta,
 {
     zw_status st;
     unsigned i;
-    if (p == NULL || degree == NULL) {
-        if (degree != NULL) *degree = 0u;
-        if (p != NULL)
-            for (i = 0u; i < LOOP_N; ++i) p[i] = ZW_R(0.0);
+    if ((p == NULL) || (degree == NULL)) {
+        if (degree != NULL) {
+            *degree = 0u;
+        }
+        if (p != NULL) {
+            zero_poly(p);
+        }
         return ZW_ERR_NULL;
     }
-    for (i = 0u; i < LOOP_N; ++i) p[i] = ZW_R(0.0);
+    zero_poly(p);
     *degree = 0u;
-    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    st = check_gains(loop, alpha, beta);
+    if (st != ZW_OK) {
+        return st;
+    }
     for (i = 0u; i <= loop->degree; ++i) {
         p[i] = (loop->D[i] + alpha * loop->Na[i]) + beta * loop->Nb[i];
         if (!ZW_IS_FINITE(p[i])) {
-            for (i = 0u; i < LOOP_N; ++i) p[i] = ZW_R(0.0);
+            zero_poly(p);
             return ZW_ERR_RANGE;
         }
     }
@@ -503,7 +612,9 @@ static LOOP_HOT zw_eb combine(const zw_real d[], const zw_real de[], const zw_re
     const zw_real err = ((de[i] + ZW_FABS(alpha) * nae[i]) + ZW_FABS(beta) * nbe[i]) +
                         ZW_U * (((ZW_FABS(pa) + ZW_FABS(pb)) + ZW_FABS(t)) + ZW_FABS(w)) +
                         ZW_R(4.0) * ZW_ETA;
-    if (ZW_FABS(w) > ZW_R(2.0) * err) return eb_make(w, err);
+    if (ZW_FABS(w) > ZW_R(2.0) * err) {
+        return eb_make(w, err);
+    }
     {
         zw_eb v = eb_add_exactish(eb_make(d[i], de[i]),
                                   eb_mul_exactish(zw_eb_exact(alpha), eb_make(na[i], nae[i])));
@@ -536,6 +647,22 @@ typedef enum routh_result { ROUTH_STABLE, ROUTH_UNSURE, ROUTH_UNSTABLE } routh_r
 #define LOOP_SCALE_LO ZW_R(1.52587890625e-05)
 #define LOOP_SCALE_HI ZW_R(65536.0)
 
+/* The exponent e of a finite big > 0 = f 2^e, f in [1/2, 1): within [-(ZW_REAL_MAX_EXP + 64),
+ * ZW_REAL_MAX_EXP] (subnormals included); clamped to that range all the same, so that -e
+ * cannot overflow whatever a frexp returned (no change for any finite big > 0). */
+static int scale_exponent(zw_real big)
+{
+    int ex = 0;
+    (void)ZW_FREXP(big, &ex);
+    if (ex > ZW_REAL_MAX_EXP) {
+        ex = ZW_REAL_MAX_EXP;
+    }
+    if (ex < -(ZW_REAL_MAX_EXP + 64)) {
+        ex = -(ZW_REAL_MAX_EXP + 64);
+    }
+    return ex;
+}
+
 /* zw_compare(0, v, err) as a verdict on v's sign.  Written out for speed, without its test
  * of the bound for infinity: every bound in this file is a sum of non-negative terms (or
  * NaN / +inf after an overflow), and a comparison with a NaN or infinite bound is false,
@@ -543,8 +670,12 @@ typedef enum routh_result { ROUTH_STABLE, ROUTH_UNSURE, ROUTH_UNSTABLE } routh_r
 static LOOP_HOT routh_result sign_result(zw_real v, zw_real err)
 {
     const zw_real bound = zw_compare_bound(v, err);
-    if (v > bound) return ROUTH_STABLE;
-    if (v < -bound) return ROUTH_UNSTABLE;
+    if (v > bound) {
+        return ROUTH_STABLE;
+    }
+    if (v < -bound) {
+        return ROUTH_UNSTABLE;
+    }
     return ROUTH_UNSURE;
 }
 
@@ -553,14 +684,16 @@ static routh_result routh_rows(zw_real w[], loop_err we[], unsigned n);
 /* The signs of the coefficients (res: their combined verdict), then the rows. */
 static routh_result routh_after_signs(zw_real w[], loop_err we[], unsigned n, routh_result res)
 {
-    return res != ROUTH_STABLE ? res : routh_rows(w, we, n);
+    return (res != ROUTH_STABLE) ? res : routh_rows(w, we, n);
 }
 
 /* Combined verdict of one more coefficient's sign: UNSTABLE wins, then UNSURE. */
 static LOOP_HOT routh_result sign_and(routh_result acc, routh_result r)
 {
-    if (acc == ROUTH_UNSTABLE || r == ROUTH_UNSTABLE) return ROUTH_UNSTABLE;
-    return acc == ROUTH_UNSURE || r == ROUTH_UNSURE ? ROUTH_UNSURE : ROUTH_STABLE;
+    if ((acc == ROUTH_UNSTABLE) || (r == ROUTH_UNSTABLE)) {
+        return ROUTH_UNSTABLE;
+    }
+    return ((acc == ROUTH_UNSURE) || (r == ROUTH_UNSURE)) ? ROUTH_UNSURE : ROUTH_STABLE;
 }
 
 /* Is P(s) = w[0] s^n + ... + w[n] (errors we[]) surely Hurwitz?  Every coefficient must be
@@ -578,8 +711,12 @@ static routh_result routh(zw_real w[], loop_err we[], unsigned n)
     routh_result res = ROUTH_STABLE;
     for (i = 0u; i <= n; ++i) {
         routh_result r = sign_result(w[i], (zw_real)we[i]);
-        if (r == ROUTH_UNSTABLE) return r;
-        if (r == ROUTH_UNSURE) res = r;
+        if (r == ROUTH_UNSTABLE) {
+            return r;
+        }
+        if (r == ROUTH_UNSURE) {
+            res = r;
+        }
     }
     return routh_after_signs(w, we, n, res);
 }
@@ -599,23 +736,29 @@ static routh_result routh_rows(zw_real w[], loop_err we[], unsigned n)
         unsigned j;
         for (j = 0u; j < len; ++j) {
             const unsigned ia = off + 2u * (j + 1u), ib = (1u - off) + 2u * (j + 1u);
-            zw_eb a1 = j + 1u < len_a ? eb_stored(w[ia], we[ia]) : zw_eb_exact(ZW_R(0.0));
-            zw_eb b1 = j + 1u < len_b ? eb_stored(w[ib], we[ib]) : zw_eb_exact(ZW_R(0.0));
+            zw_eb a1 = (j + 1u < len_a) ? eb_stored(w[ia], we[ia]) : zw_eb_exact(ZW_R(0.0));
+            zw_eb b1 = (j + 1u < len_b) ? eb_stored(w[ib], we[ib]) : zw_eb_exact(ZW_R(0.0));
             zw_eb c = zw_eb_sub(zw_eb_mul(b0, a1), zw_eb_mul(a0, b1));
             w[off + 2u * j] = c.v;
             we[off + 2u * j] = c.e;
-            if (ZW_FABS(c.v) > big) big = ZW_FABS(c.v);
+            if (ZW_FABS(c.v) > big) {
+                big = ZW_FABS(c.v);
+            }
         }
-        if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
-        if (big > ZW_R(0.0) && (big < LOOP_SCALE_LO || big > LOOP_SCALE_HI)) {
-            (void)ZW_FREXP(big, &ex);
+        if (!ZW_IS_FINITE(big)) {
+            return ROUTH_UNSURE;
+        }
+        if ((big > ZW_R(0.0)) && ((big < LOOP_SCALE_LO) || (big > LOOP_SCALE_HI))) {
+            ex = scale_exponent(big);
             for (j = 0u; j < len; ++j) {
                 w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
                 we[off + 2u * j] = ZW_LDEXP(we[off + 2u * j], -ex) + ZW_ETA;
             }
         }
         res = sign_result(w[off], (zw_real)we[off]);
-        if (res != ROUTH_STABLE) return res;
+        if (res != ROUTH_STABLE) {
+            return res;
+        }
     }
     return ROUTH_STABLE;
 }
@@ -636,8 +779,12 @@ ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_loop_work
         const routh_result r = sign_result(v.v, v.e);
         w[i] = v.v;
         we[i] = v.e;
-        if (i == 0u) *lead = r;
-        if (i == n) *trail = r;
+        if (i == 0u) {
+            *lead = r;
+        }
+        if (i == n) {
+            *trail = r;
+        }
         signs = sign_and(signs, r);
     }
     return routh_after_signs(w, we, n, signs);
@@ -693,11 +840,13 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspac
         zw_eb k;
         zw_real big = ZW_R(0.0);
         int ex = 0;
-        if (!ZW_IS_FINITE(con_hi) || !ZW_IS_FINITE(lead_lo)) return ROUTH_UNSURE;
+        if (!ZW_IS_FINITE(con_hi) || !ZW_IS_FINITE(lead_lo)) {
+            return ROUTH_UNSURE;
+        }
         if (!(con_hi < lead_lo)) {
             const zw_real con_lo = (ZW_FABS(con.v) - con.e) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U);
             const zw_real lead_hi = (ZW_FABS(lead.v) + lead.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
-            return con_lo > lead_hi ? ROUTH_UNSTABLE : ROUTH_UNSURE;
+            return (con_lo > lead_hi) ? ROUTH_UNSTABLE : ROUTH_UNSURE;
         }
         k = zw_eb_div(con, lead);
         /* the pairs (t, m - t) at once: each new entry reads both old ones; big: the largest
@@ -713,18 +862,26 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspac
                 const zw_real x = w[t], xe = we[t], y = w[t2], ye = we[t2];
                 w[t] = sc_step(x, xe, y, ye, k.v, ak_ke, ke, &we[t]);
                 w[t2] = sc_step(y, ye, x, xe, k.v, ak_ke, ke, &we[t2]);
-                if (ZW_FABS(w[t]) > big) big = ZW_FABS(w[t]);
-                if (ZW_FABS(w[t2]) > big) big = ZW_FABS(w[t2]);
+                if (ZW_FABS(w[t]) > big) {
+                    big = ZW_FABS(w[t]);
+                }
+                if (ZW_FABS(w[t2]) > big) {
+                    big = ZW_FABS(w[t2]);
+                }
             }
-            if (half > 0u && 2u * half == m) {
+            if ((half > 0u) && (2u * half == m)) {
                 w[half] = sc_step(w[half], we[half], w[half], we[half], k.v, ak_ke, ke, &we[half]);
-                if (ZW_FABS(w[half]) > big) big = ZW_FABS(w[half]);
+                if (ZW_FABS(w[half]) > big) {
+                    big = ZW_FABS(w[half]);
+                }
             }
         }
         /* rescale by a power of two (exact but for underflow: ETA) against overflow */
-        if (!ZW_IS_FINITE(big)) return ROUTH_UNSURE;
-        if (big > ZW_R(0.0) && (big < LOOP_SCALE_LO || big > LOOP_SCALE_HI)) {
-            (void)ZW_FREXP(big, &ex);
+        if (!ZW_IS_FINITE(big)) {
+            return ROUTH_UNSURE;
+        }
+        if ((big > ZW_R(0.0)) && ((big < LOOP_SCALE_LO) || (big > LOOP_SCALE_HI))) {
+            ex = scale_exponent(big);
             for (t = 0u; t < m; ++t) {
                 w[t] = ZW_LDEXP(w[t], -ex);
                 we[t] = ZW_LDEXP(we[t], -ex) + ZW_ETA;
@@ -762,10 +919,12 @@ static routh_result decide(const zw_loop *loop, zw_loop_workspace *ws, zw_real a
         bilinear_end(loop, alpha, beta, 0u, lead);
         bilinear_end(loop, alpha, beta, n, trail);
         res = schur_cohn(loop, ws, alpha, beta);
-        return res == ROUTH_UNSURE ? check_bilinear(loop, ws, alpha, beta, lead, trail) : res;
+        return (res == ROUTH_UNSURE) ? check_bilinear(loop, ws, alpha, beta, lead, trail) : res;
     }
     res = check_bilinear(loop, ws, alpha, beta, lead, trail);
-    if (res == ROUTH_UNSURE) res = schur_cohn(loop, ws, alpha, beta);
+    if (res == ROUTH_UNSURE) {
+        res = schur_cohn(loop, ws, alpha, beta);
+    }
     return res;
 }
 
@@ -791,7 +950,9 @@ static LOOP_INLINE cplx c_div_inline(cplx a, cplx b)
 {
     zw_real t, den;
     if (ZW_FABS(b.re) >= ZW_FABS(b.im)) {
-        if (b.re == ZW_R(0.0)) return c_make(ZW_REAL_MAX * ZW_R(2.0), ZW_R(0.0));
+        if (b.re == ZW_R(0.0)) {
+            return c_make(ZW_REAL_MAX * ZW_R(2.0), ZW_R(0.0));
+        }
         t = b.im / b.re;
         den = b.re + b.im * t;
         return c_make((a.re + a.im * t) / den, (a.im - a.re * t) / den);
@@ -807,8 +968,10 @@ static cplx c_div(cplx a, cplx b)
 }
 static LOOP_INLINE zw_real c_abs_inline(cplx a)
 {
-    zw_real x = ZW_FABS(a.re), y = ZW_FABS(a.im), big = x > y ? x : y, small = x > y ? y : x;
-    if (big == ZW_R(0.0)) return ZW_R(0.0);
+    zw_real x = ZW_FABS(a.re), y = ZW_FABS(a.im), big = (x > y) ? x : y, small = (x > y) ? y : x;
+    if (big == ZW_R(0.0)) {
+        return ZW_R(0.0);
+    }
     small /= big;
     return big * ZW_SQRT(ZW_R(1.0) + small * small);
 }
@@ -868,7 +1031,9 @@ static void ceb_times_real(ceb *acc, zw_real k, zw_real ke)
 static void ceb_times_power(ceb *acc, cplx z, unsigned k)
 {
     unsigned i;
-    for (i = 0u; i < k; ++i) ceb_times(acc, z, ZW_R(0.0));
+    for (i = 0u; i < k; ++i) {
+        ceb_times(acc, z, ZW_R(0.0));
+    }
 }
 
 /* acc = x + y */
@@ -883,19 +1048,23 @@ static void ceb_add_into(ceb *x, const ceb *y)
 static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
 {
     const zw_loop_spec *spec = &loop->spec;
-    const bool tustin = spec->differentiator == ZW_DIFF_TUSTIN;
+    const bool tustin = (spec->differentiator == ZW_DIFF_TUSTIN);
     ceb dv, nv, d;
     dv = ceb_make(c_make(ZW_R(1.0), ZW_R(0.0)), ZW_R(0.0));
     nv = dv;
     switch (spec->filter) {
     case ZW_VFILTER_AVERAGE: /* (z^n - 1) / (n z^n);  2 (z^n - 1) / (n z^(n-1) (z + 1)) */
-        ceb_times_power(&dv, z, tustin ? spec->average - 1u : spec->average);
+        ceb_times_power(&dv, z, tustin ? (spec->average - 1u) : spec->average);
         ceb_times_real(&dv, (zw_real)spec->average, ZW_R(0.0));
-        if (tustin) ceb_times_factor(&dv, loop, F_ZP1, z);
+        if (tustin) {
+            ceb_times_factor(&dv, loop, F_ZP1, z);
+        }
         ceb_times_power(&nv, z, spec->average);
         nv.v.re -= ZW_R(1.0);
         nv.e += ZW_R(2.0) * ZW_U * c_abs(nv.v) + ZW_ETA;
-        if (tustin) ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
+        if (tustin) {
+            ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
+        }
         break;
     case ZW_VFILTER_LOWPASS: /* (1 - a)(z - 1) / (z - a);  2 (1 - a) z (z - 1) / ((z + 1)(z - a)) */
         ceb_times_factor(&dv, loop, F_ZMA, z);
@@ -909,10 +1078,15 @@ static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
         break;
     case ZW_VFILTER_NONE:
     default: /* (z - 1) / z;  2 (z - 1) / (z + 1) */
-        if (tustin) ceb_times_factor(&dv, loop, F_ZP1, z);
-        else ceb_times_power(&dv, z, 1u);
+        if (tustin) {
+            ceb_times_factor(&dv, loop, F_ZP1, z);
+        } else {
+            ceb_times_power(&dv, z, 1u);
+        }
         ceb_times_factor(&nv, loop, F_ZM1, z);
-        if (tustin) ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
+        if (tustin) {
+            ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
+        }
         break;
     }
     d = dv; /* D = 2 z^d (z - 1)(z - e) Dv */
@@ -937,6 +1111,7 @@ ZW_NOINLINE static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real 
 {
     cplx v = c_make(ZW_R(0.0), ZW_R(0.0)), dv = v;
     zw_real mag = ZW_R(0.0), az = c_abs(z);
+    const unsigned terms = m + 1u;
     unsigned i;
     if (az <= ZW_R(1.0)) {
         for (i = 0u; i <= m; ++i) {
@@ -945,7 +1120,7 @@ ZW_NOINLINE static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real 
             v = c_add(c_mul(v, z), c_make(pk, ZW_R(0.0)));
             mag = mag * az + ZW_FABS(pk);
         }
-        mag *= ZW_R(8.0) * (zw_real)(m + 1u) * ZW_U;
+        mag *= ZW_R(8.0) * (zw_real)terms * ZW_U;
         /* the value from the factors where it is accurate (computed by the caller, so
          * that eval_p's frame does not stack on this one); the derivative needs no such
          * accuracy */
@@ -966,7 +1141,7 @@ ZW_NOINLINE static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real 
         }
         /* v = q(w), dv = q'(w) */
         den = c_sub(c_mul(c_make((zw_real)m, ZW_R(0.0)), v), c_mul(w, dv));
-        *noise = ZW_R(8.0) * (zw_real)(m + 1u) * ZW_U * mag * az / c_abs(den);
+        *noise = ZW_R(8.0) * (zw_real)terms * ZW_U * mag * az / c_abs(den);
         return c_div_inline(c_mul(z, v), den);
     }
 }
@@ -977,9 +1152,9 @@ ZW_NOINLINE static cplx newton_step(const zw_loop *loop, zw_real alpha, zw_real 
 /* Is coefficient i of p exactly zero (value and every part's bound)? */
 static bool coef_exact_zero(const zw_loop *loop, zw_real alpha, zw_real beta, unsigned i)
 {
-    return loop->D[i] == ZW_R(0.0) && loop->D_err[i] == ZW_R(0.0) &&
-           (alpha == ZW_R(0.0) || (loop->Na[i] == ZW_R(0.0) && loop->Na_err[i] == ZW_R(0.0))) &&
-           (beta == ZW_R(0.0) || (loop->Nb[i] == ZW_R(0.0) && loop->Nb_err[i] == ZW_R(0.0)));
+    return (loop->D[i] == ZW_R(0.0)) && (loop->D_err[i] == ZW_R(0.0)) &&
+           ((alpha == ZW_R(0.0)) || ((loop->Na[i] == ZW_R(0.0)) && (loop->Na_err[i] == ZW_R(0.0)))) &&
+           ((beta == ZW_R(0.0)) || ((loop->Nb[i] == ZW_R(0.0)) && (loop->Nb_err[i] == ZW_R(0.0))));
 }
 
 /* The roots of p by Aberth-Ehrlich iteration (simultaneous, no deflation) into z[0..*m-1];
@@ -991,13 +1166,19 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
     unsigned m = loop->degree, i, j, it, pass;
     uint_least32_t done = 0u, all;
     zw_real lead = poly_coef(loop, alpha, beta, 0u), r0;
-    while (m > 0u && coef_exact_zero(loop, alpha, beta, m)) --m;
+    while ((m > 0u) && coef_exact_zero(loop, alpha, beta, m)) {
+        --m;
+    }
     *m_out = m;
-    if (m == 0u) return true;
+    if (m == 0u) {
+        return true;
+    }
     all = (uint_least32_t)(((uint_least32_t)1u << (m - 1u)) * 2u - 1u); /* m <= 26 bits */
     /* start on the circle of the roots' geometric mean, off the real axis */
     r0 = ZW_POW(ZW_FABS(poly_coef(loop, alpha, beta, m) / lead), ZW_R(1.0) / (zw_real)m);
-    if (!(r0 > ZW_R(0.0)) || !ZW_IS_FINITE(r0)) r0 = ZW_R(1.0);
+    if (!(r0 > ZW_R(0.0)) || !ZW_IS_FINITE(r0)) {
+        r0 = ZW_R(1.0);
+    }
     for (i = 0u; i < m; ++i) {
         zw_real ang = ZW_R(2.0) * LOOP_PI * (zw_real)i / (zw_real)m + ZW_R(0.7);
         z[i] = c_make(r0 * ZW_COS(ang), r0 * ZW_SIN(ang));
@@ -1006,20 +1187,25 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
      * from its factors, from that good start */
     for (pass = 0u; pass < (accurate ? 2u : 1u); ++pass) {
         done = 0u;
-        for (it = 0u; it < (pass == 0u ? LOOP_ABERTH_ITER : LOOP_ABERTH_POLISH) && done != all; ++it) {
+        for (it = 0u; (it < ((pass == 0u) ? LOOP_ABERTH_ITER : LOOP_ABERTH_POLISH)) && (done != all); ++it) {
             for (i = 0u; i < m; ++i) {
                 cplx n, s = c_make(ZW_R(0.0), ZW_R(0.0)), step;
                 zw_real noise = ZW_R(0.0);
-                if ((done & ((uint_least32_t)1u << i)) != 0u) continue; /* converged: frozen */
-                if (pass == 1u && m == loop->degree && c_abs(z[i]) <= ZW_R(1.0)) {
+                if ((done & ((uint_least32_t)1u << i)) != 0u) {
+                    continue; /* converged: frozen */
+                }
+                if ((pass == 1u) && (m == loop->degree) && (c_abs(z[i]) <= ZW_R(1.0))) {
                     /* p from its factors (the deflated polynomial is p / z^(n - m)) */
                     const ceb pz = eval_p(loop, alpha, beta, z[i]);
                     n = newton_step(loop, alpha, beta, m, z[i], &pz, &noise);
                 } else {
                     n = newton_step(loop, alpha, beta, m, z[i], NULL, &noise);
                 }
-                for (j = 0u; j < m; ++j)
-                    if (j != i) s = c_add(s, c_div(c_make(ZW_R(1.0), ZW_R(0.0)), c_sub(z[i], z[j])));
+                for (j = 0u; j < m; ++j) {
+                    if (j != i) {
+                        s = c_add(s, c_div(c_make(ZW_R(1.0), ZW_R(0.0)), c_sub(z[i], z[j])));
+                    }
+                }
                 step = c_div(n, c_sub(c_make(ZW_R(1.0), ZW_R(0.0)), c_mul(n, s)));
                 if (!ZW_IS_FINITE(step.re) || !ZW_IS_FINITE(step.im)) {
                     /* p' = 0 or coincident estimates: nudge */
@@ -1031,15 +1217,20 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
                  * a cluster deep inside converges slowly and matters little) */
                 {
                     const zw_real st = c_abs(step), az = c_abs(z[i]);
-                    if (st <= ZW_R(2.0) * noise + ZW_R(8.0) * ZW_U * az ||
-                        st * (zw_real)(64u * m) <= ZW_R(1e-3) * ZW_FABS(ZW_R(1.0) - az))
+                    const unsigned m64 = 64u * m;
+                    if ((st <= ZW_R(2.0) * noise + ZW_R(8.0) * ZW_U * az) ||
+                        (st * (zw_real)m64 <= ZW_R(1e-3) * ZW_FABS(ZW_R(1.0) - az))) {
                         done |= (uint_least32_t)1u << i;
+                    }
                 }
             }
         }
     }
-    for (i = 0u; i < m; ++i)
-        if (!ZW_IS_FINITE(c_abs(z[i]))) return false;
+    for (i = 0u; i < m; ++i) {
+        if (!ZW_IS_FINITE(c_abs(z[i]))) {
+            return false;
+        }
+    }
     return true;
 }
 
@@ -1088,6 +1279,7 @@ static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta
          * by at most ~(2 sqrt 2 + 1) u of |v||z| + |p_k| each */
         cplx v = c_make(ZW_R(0.0), ZW_R(0.0));
         zw_real mag = ZW_R(0.0), unc = ZW_R(0.0);
+        const unsigned terms = m + 1u;
         for (k = 0u; k <= m; ++k) {
             const zw_real pk = poly_coef(loop, alpha, beta, k);
             const zw_real ek = loop->D_err[k] + ZW_FABS(alpha) * loop->Na_err[k] +
@@ -1100,13 +1292,31 @@ static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta
         }
         num = c_abs(v) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) +
               ((ZW_R(8.0) * (zw_real)m + ZW_R(8.0)) * ZW_U * mag + unc) * (ZW_R(1.0) + ZW_R(4.0) * (zw_real)m * ZW_U) +
-              ZW_R(8.0) * (zw_real)(m + 1u) * ZW_ETA;
+              ZW_R(8.0) * (zw_real)terms * ZW_ETA;
     }
-    for (j = 0u; j < m; ++j)
-        if (j != i) den *= c_abs(c_sub(z[i], z[j]));
+    for (j = 0u; j < m; ++j) {
+        if (j != i) {
+            den *= c_abs(c_sub(z[i], z[j]));
+        }
+    }
     den *= ZW_R(1.0) - (ZW_R(8.0) * (zw_real)m + ZW_R(8.0)) * ZW_U;
-    if (!(den > ZW_REAL_MIN) || !ZW_IS_FINITE(num)) return ZW_HUGE_VAL;
+    if (!(den > ZW_REAL_MIN) || !ZW_IS_FINITE(num)) {
+        return ZW_HUGE_VAL;
+    }
     return (zw_real)m * (num / den) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+}
+
+/* Is disk i (centre z[i], radius radius[i]) disjoint from every other one? */
+static bool disk_isolated(const cplx z[], const zw_real radius[], unsigned m, unsigned i)
+{
+    unsigned j;
+    for (j = 0u; j < m; ++j) {
+        if ((j != i) && !(c_abs(c_sub(z[i], z[j])) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) >
+                          (radius[i] + radius[j]) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U))) {
+            return false;
+        }
+    }
+    return true;
 }
 
 /* Every root inside |z| < r (STABLE), one surely outside (UNSTABLE: a disk wholly outside
@@ -1121,14 +1331,14 @@ ZW_NOINLINE static routh_result inclusion_verdict(const zw_loop *loop, zw_loop_w
 {
     const cplx *z = ws->root;
     zw_real *radius = ws->radius;
-    unsigned i, j;
+    unsigned i;
     zw_real lead_low, best = -ZW_R(1.0);
-    bool all_inside = true;
-    for (i = 0u; i < m; ++i)
+    for (i = 0u; i < m; ++i) {
         if (c_abs(z[i]) > best) {
             best = c_abs(z[i]);
             *top = z[i];
         }
+    }
     {
         const zw_real p0 = poly_coef(loop, alpha, beta, 0u);
         const zw_real e0 = loop->D_err[0] + ZW_FABS(alpha) * loop->Na_err[0] +
@@ -1136,26 +1346,30 @@ ZW_NOINLINE static routh_result inclusion_verdict(const zw_loop *loop, zw_loop_w
                            ZW_R(4.0) * ZW_U * (ZW_FABS(loop->D[0]) + ZW_FABS(alpha * loop->Na[0]) +
                                                ZW_FABS(beta * loop->Nb[0])) + ZW_R(4.0) * ZW_ETA;
         lead_low = (ZW_FABS(p0) - e0) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U);
-        if (!(lead_low > ZW_R(0.0))) return ROUTH_UNSURE;
-    }
-    /* each radius once (the isolation test below reads every other one) */
-    for (i = 0u; i < m; ++i) radius[i] = inclusion_radius(loop, alpha, beta, z, m, i, lead_low);
-    for (i = 0u; i < m; ++i) {
-        const zw_real az = c_abs(z[i]);
-        const zw_real ri = radius[i];
-        if (all_inside && !((az * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + ri) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U) < r))
-            all_inside = false;
-        if ((az * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) - ri) * (ZW_R(1.0) - ZW_R(2.0) * ZW_U) > r) {
-            bool isolated = true;
-            for (j = 0u; j < m && isolated; ++j)
-                if (j != i &&
-                    !(c_abs(c_sub(z[i], z[j])) * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) >
-                      (ri + radius[j]) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U)))
-                    isolated = false;
-            if (isolated) return ROUTH_UNSTABLE;
+        if (!(lead_low > ZW_R(0.0))) {
+            return ROUTH_UNSURE;
         }
     }
-    return all_inside ? ROUTH_STABLE : ROUTH_UNSURE;
+    /* each radius once (the isolation test below reads every other one) */
+    for (i = 0u; i < m; ++i) {
+        radius[i] = inclusion_radius(loop, alpha, beta, z, m, i, lead_low);
+    }
+    /* a disk wholly outside and isolated: one root surely outside */
+    for (i = 0u; i < m; ++i) {
+        const zw_real az = c_abs(z[i]);
+        if (((az * (ZW_R(1.0) - ZW_R(4.0) * ZW_U) - radius[i]) * (ZW_R(1.0) - ZW_R(2.0) * ZW_U) > r) &&
+            disk_isolated(z, radius, m, i)) {
+            return ROUTH_UNSTABLE;
+        }
+    }
+    /* every disk wholly inside: every root inside */
+    for (i = 0u; i < m; ++i) {
+        const zw_real az = c_abs(z[i]);
+        if (!((az * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + radius[i]) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U) < r)) {
+            return ROUTH_UNSURE;
+        }
+    }
+    return ROUTH_STABLE;
 }
 
 static routh_result roots_test(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
@@ -1164,7 +1378,9 @@ static routh_result roots_test(const zw_loop *loop, zw_loop_workspace *ws, zw_re
     unsigned m = 0u;
     *top = c_make(ZW_R(0.0), ZW_R(0.0));
     *top_ok = aberth(loop, alpha, beta, ws->root, &m, true);
-    if (!*top_ok) return ROUTH_UNSURE;
+    if (!*top_ok) {
+        return ROUTH_UNSURE;
+    }
     return inclusion_verdict(loop, ws, alpha, beta, r, m, top);
 }
 
@@ -1173,7 +1389,9 @@ static routh_result roots_test(const zw_loop *loop, zw_loop_workspace *ws, zw_re
 static zw_real root_angle(cplx z)
 {
     const zw_real tol = ZW_R(8.0) * ZW_SQRT(ZW_U);
-    if (ZW_FABS(z.im) <= tol * c_abs(z)) return z.re >= ZW_R(0.0) ? ZW_R(0.0) : LOOP_PI;
+    if (ZW_FABS(z.im) <= tol * c_abs(z)) {
+        return (z.re >= ZW_R(0.0)) ? ZW_R(0.0) : LOOP_PI;
+    }
     return ZW_ATAN2(ZW_FABS(z.im), z.re);
 }
 
@@ -1183,17 +1401,31 @@ zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_loop_workspace *ws, zw
     zw_status st;
     bool ok;
     cplx top;
-    if (rho != NULL) *rho = ZW_HUGE_VAL;
-    if (theta != NULL) *theta = ZW_R(0.0);
-    if (rho == NULL || theta == NULL || ws == NULL) return ZW_ERR_NULL;
-    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    if (rho != NULL) {
+        *rho = ZW_HUGE_VAL;
+    }
+    if (theta != NULL) {
+        *theta = ZW_R(0.0);
+    }
+    if ((rho == NULL) || (theta == NULL) || (ws == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = check_gains(loop, alpha, beta);
+    if (st != ZW_OK) {
+        return st;
+    }
     {
         unsigned i;
-        for (i = 0u; i <= loop->degree; ++i)
-            if (!ZW_IS_FINITE(poly_coef(loop, alpha, beta, i))) return ZW_ERR_RANGE;
+        for (i = 0u; i <= loop->degree; ++i) {
+            if (!ZW_IS_FINITE(poly_coef(loop, alpha, beta, i))) {
+                return ZW_ERR_RANGE;
+            }
+        }
     }
     top = largest_root(loop, ws, alpha, beta, true, &ok);
-    if (!ok) return ZW_ERR_RANGE;
+    if (!ok) {
+        return ZW_ERR_RANGE;
+    }
     *rho = c_abs(top);
     *theta = root_angle(top);
     return ZW_OK;
@@ -1201,33 +1433,55 @@ zw_status zw_loop_spectral_radius(const zw_loop *loop, zw_loop_workspace *ws, zw
 
 /* ---- verdicts ------------------------------------------------------------------------------ */
 
+/* After decide left a point not stable: the root test where it could not tell (which may
+ * still prove stability), and the boundary: z = 1 (p(1) = alpha Na(1)), z = -1 (the leading
+ * coefficient of P), else where the root of largest modulus is (*top, *top_ok; without a
+ * root run, 0 and false, which the caller does not read).  Inlined: no frame of its own on
+ * the root test's chain (the stack target, tools/footprint.sh). */
+static LOOP_INLINE routh_result settle(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                       zw_real beta, routh_result res, routh_result lead,
+                                       routh_result trail, cplx *top, bool *top_ok)
+{
+    *top = c_make(ZW_R(0.0), ZW_R(0.0));
+    *top_ok = false;
+    if (res == ROUTH_UNSURE) {
+        return roots_test(loop, ws, alpha, beta, ZW_R(1.0), top, top_ok);
+    }
+    if ((trail == ROUTH_STABLE) && (lead == ROUTH_STABLE)) {
+        *top = largest_root(loop, ws, alpha, beta, false, top_ok);
+    }
+    return res;
+}
+
 zw_status zw_loop_check(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
                         zw_loop_verdict *out)
 {
     zw_status st;
     routh_result res, lead, trail;
-    cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
-    bool ok = true;
-    if (out == NULL) return ZW_ERR_NULL;
+    cplx top;
+    bool ok;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
     zw_fail_loop_verdict(out);
-    if (ws == NULL) return ZW_ERR_NULL;
-    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = check_gains(loop, alpha, beta);
+    if (st != ZW_OK) {
+        return st;
+    }
     res = decide(loop, ws, alpha, beta, &lead, &trail);
     if (res == ROUTH_STABLE) {
         out->stable = true;
         return ZW_OK;
     }
-    /* the boundary: z = 1 (p(1) = alpha Na(1)), z = -1 (the leading coefficient of P),
-     * else where the root of largest modulus is */
-    if (res == ROUTH_UNSURE || (trail == ROUTH_STABLE && lead == ROUTH_STABLE)) {
-        if (res == ROUTH_UNSURE) res = roots_test(loop, ws, alpha, beta, ZW_R(1.0), &top, &ok);
-        else top = largest_root(loop, ws, alpha, beta, false, &ok);
-    }
+    res = settle(loop, ws, alpha, beta, res, lead, trail, &top, &ok);
     if (res == ROUTH_STABLE) {
         out->stable = true;
         return ZW_OK;
     }
-    out->marginal = res == ROUTH_UNSURE;
+    out->marginal = (res == ROUTH_UNSURE);
     if (trail != ROUTH_STABLE) {
         out->deciding = ZW_LOOP_BOUNDARY_Z_PLUS1;
     } else if (lead != ROUTH_STABLE) {
@@ -1256,17 +1510,24 @@ zw_status zw_loop_is_stable(const zw_loop *loop, zw_loop_workspace *ws, zw_real 
 {
     zw_status st;
     routh_result res, lead, trail;
-    if (stable == NULL) return ZW_ERR_NULL;
+    if (stable == NULL) {
+        return ZW_ERR_NULL;
+    }
     *stable = false;
-    if (ws == NULL) return ZW_ERR_NULL;
-    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = check_gains(loop, alpha, beta);
+    if (st != ZW_OK) {
+        return st;
+    }
     res = decide(loop, ws, alpha, beta, &lead, &trail);
     if (res == ROUTH_UNSURE) {
         cplx top;
         bool ok;
         res = roots_test(loop, ws, alpha, beta, ZW_R(1.0), &top, &ok);
     }
-    *stable = res == ROUTH_STABLE;
+    *stable = (res == ROUTH_STABLE);
     return ZW_OK;
 }
 
@@ -1286,7 +1547,7 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
         if (k > 0u) {
             /* w *= r (1 + s), in place, highest power first */
             for (i = deg + 1u; i > 0u; --i) {
-                zw_eb sum = i <= deg ? zw_eb_add(eb_stored(w[i], we[i]), eb_stored(w[i - 1u], we[i - 1u]))
+                zw_eb sum = (i <= deg) ? zw_eb_add(eb_stored(w[i], we[i]), eb_stored(w[i - 1u], we[i - 1u]))
                                      : eb_stored(w[i - 1u], we[i - 1u]);
                 sum = eb_mul_exactish(re, sum);
                 w[i] = sum.v;
@@ -1304,7 +1565,7 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
         }
         /* + p_k (1 - s)^k: s^i at index k - i */
         for (i = 0u; i <= k; ++i) {
-            zw_real coef = (i & 1u) != 0u ? -(zw_real)binom : (zw_real)binom;
+            zw_real coef = ((i & 1u) != 0u) ? -(zw_real)binom : (zw_real)binom;
             zw_eb t = eb_add_exactish(eb_stored(w[k - i], we[k - i]),
                                       eb_mul_exactish(pk, zw_eb_exact(coef)));
             w[k - i] = t.v;
@@ -1320,18 +1581,29 @@ zw_status zw_loop_radius_within(const zw_loop *loop, zw_loop_workspace *ws, zw_r
 {
     zw_status st;
     routh_result res;
-    if (within == NULL) return ZW_ERR_NULL;
+    if (within == NULL) {
+        return ZW_ERR_NULL;
+    }
     *within = false;
-    if (ws == NULL) return ZW_ERR_NULL;
-    if ((st = check_gains(loop, alpha, beta)) != ZW_OK) return st;
-    if (ZW_IS_NAN(r)) return ZW_ERR_NAN;
-    if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) return ZW_ERR_ARG;
+    if (ws == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = check_gains(loop, alpha, beta);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (ZW_IS_NAN(r)) {
+        return ZW_ERR_NAN;
+    }
+    if (!ZW_IS_FINITE(r) || !(r > ZW_R(0.0))) {
+        return ZW_ERR_ARG;
+    }
     res = radius_routh(loop, ws, alpha, beta, r);
     if (res == ROUTH_UNSURE) {
         cplx top;
         bool ok;
         res = roots_test(loop, ws, alpha, beta, r, &top, &ok);
     }
-    *within = res == ROUTH_STABLE;
+    *within = (res == ROUTH_STABLE);
     return ZW_OK;
 }
