@@ -35,7 +35,6 @@ NOT_YET_GATED=(
     "csrc/src/loop.c" "csrc/include/zwidth/loop.h"
     "csrc/src/loop_limits.c" "csrc/include/zwidth/loop_limits.h"
     "csrc/src/device_loop.c" "csrc/include/zwidth/device_loop.h"
-    "csrc/src/regmap*.c" "csrc/src/regmap*.h" "csrc/include/zwidth/regmap*.h"
     "csrc/src/box*.c" "csrc/include/zwidth/box*.h"
     "csrc/src/sweep*.c" "csrc/include/zwidth/sweep*.h"
 )
