@@ -5,7 +5,8 @@
 # tools/eva.sh - run-time-error analysis of the gated core modules with Frama-C's Eva
 # (Debian's frama-c-base, installed by tools/bootstrap.sh); docs/eva.md explains it.
 #
-# Usage:  tools/eva.sh [--keep]      (--keep: leave the full Eva logs in build-eva/)
+# Usage:  tools/eva.sh [--keep] [DRIVER...]   (--keep: leave the full Eva logs in build-eva/;
+#         DRIVER: analyse these drivers instead of tests/eva/eva_*.c, e.g. a pending one)
 #
 # One analysis per driver, tests/eva/eva_*.c: a driver calls every public function of the
 # modules named on its "eva-modules:" line with every input unconstrained (NaN and
@@ -13,7 +14,9 @@
 # run-time error (invalid access, uninitialized read, signed overflow, invalid shift or
 # conversion, ...) or an output some path leaves unwritten.  Its "eva-split-return:" and
 # "eva-slevel:" lines give the per-function options of that analysis ({f}: the suffix of
-# public names in the build, _f for float).  Two runs of each:
+# public names in the build, _f for float); "eva-sources:" further modules analysed with it
+# but not counted for its coverage (another driver's modules that these call);
+# "eva-defines:" preprocessor options of its analysis.  Two runs of each:
 #   double  -machdep x86_64  (LP64: a host, the Python bindings)
 #   float   -machdep x86_32  (ILP32: the data model of a Cortex-M firmware) -DZW_REAL_FLOAT
 # Fails (exit 1) on any alarm, on an Eva warning or error, or when a function of
@@ -43,9 +46,15 @@ eva_options() {
 keep=0
 case "${1:-}" in
     "") ;;
-    --keep) keep=1 ;;
+    --keep) keep=1; shift ;;
     -h|--help) sed -n '2,/^[^#]/{/^#/p}' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "eva.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+    -*) echo "eva.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+    *) ;;
+esac
+case "${1:-}" in
+    "") ;;
+    -*) echo "eva.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+    *) DRIVERS=("$@") ;;
 esac
 
 if ! command -v frama-c >/dev/null 2>&1; then
@@ -63,8 +72,11 @@ fi
 
 run() { # run DRIVER NAME MACHDEP DEFINES SUFFIX
     local driver=$1 name=$2 machdep=$3 defines=$4 suffix=$5 options sources=() module
-    for module in $(driver_line "$driver" modules); do sources+=("csrc/src/$module.c"); done
+    for module in $(driver_line "$driver" modules) $(driver_line "$driver" sources); do
+        sources+=("csrc/src/$module.c")
+    done
     mapfile -t options < <(eva_options "$driver" "$suffix")
+    defines="$defines $(driver_line "$driver" defines)"
     frama-c -machdep "$machdep" -cpp-extra-args="-Icsrc/include -Icsrc/src $defines" \
         "${sources[@]}" tests/eva/libm_spec.c "$driver" "${options[@]}" \
         -then -metrics -metrics-eva-cover >"$out/$name.log" 2>&1

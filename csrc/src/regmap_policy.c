@@ -71,7 +71,6 @@ static zw_reason build_loop(zw_regmap *rm, bool staged)
     for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
         f[i] = staged ? zw_rm_staged_float(rm, i) : zw_cert_field(&rm->sealed, i);
     }
-    spec.delay = (unsigned)f[F_DELAY];
     spec.differentiator = (f[F_DIFF] == 1.0f) ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
     if (f[F_VFILTER] == 1.0f) {
         spec.filter = ZW_VFILTER_LOWPASS;
@@ -80,10 +79,18 @@ static zw_reason build_loop(zw_regmap *rm, bool staged)
     } else {
         spec.filter = ZW_VFILTER_NONE;
     }
+    rm->kmax_cached = 0u;
+    /* Never true (check_loop_fields passed these fields, now or when the block was sealed);
+     * checked again so that the float-to-unsigned conversions below are defined for any
+     * block, which the run-time-error analysis cannot relate to the earlier check. */
+    if (!whole_in(f[F_DELAY], (float)ZW_LOOP_MAX_DELAY) ||
+        ((spec.filter == ZW_VFILTER_AVERAGE) && !whole_in(f[F_VF_PARAM], (float)ZW_LOOP_MAX_AVERAGE))) {
+        return ZW_REASON_BAD_POLICY;
+    }
+    spec.delay = (unsigned)f[F_DELAY];
     spec.cutoff_hz = (spec.filter == ZW_VFILTER_LOWPASS) ? (zw_real)f[F_VF_PARAM] : ZW_R(0.0);
     spec.pole = ZW_R(0.0);
     spec.average = (spec.filter == ZW_VFILTER_AVERAGE) ? (unsigned)f[F_VF_PARAM] : 0u;
-    rm->kmax_cached = 0u;
     st = zw_device_loop_init(&rm->loop, (zw_real)f[F_M], (zw_real)f[F_B], (zw_real)f[F_T], &spec);
     if (st == ZW_OK) {
         return ZW_REASON_NONE;
