@@ -5,7 +5,8 @@
 # tools/eva.sh - run-time-error analysis of the gated core modules with Frama-C's Eva
 # (Debian's frama-c-base, installed by tools/bootstrap.sh); docs/eva.md explains it.
 #
-# Usage:  tools/eva.sh [--keep]      (--keep: leave the full Eva logs in build-eva/)
+# Usage:  tools/eva.sh [--keep] [DRIVER...]   (--keep: leave the full Eva logs in build-eva/;
+#         DRIVER: analyse these drivers instead of tests/eva/eva_*.c, e.g. a pending one)
 #
 # One analysis per driver, tests/eva/eva_*.c: a driver calls every public function of the
 # modules named on its "eva-modules:" line with every input unconstrained (NaN and
@@ -15,7 +16,8 @@
 # "eva-slevel:" lines give the per-function options of that analysis ({f}: the suffix of
 # public names in the build, _f for float); its "eva-support:" line names modules it calls
 # into that another driver covers (compiled and analysed here too, alarms count, but not
-# required to be reached).  Two runs of each:
+# required to be reached); its "eva-defines:" line, preprocessor options of its analysis.
+# Two runs of each:
 #   double  -machdep x86_64  (LP64: a host, the Python bindings)
 #   float   -machdep x86_32  (ILP32: the data model of a Cortex-M firmware) -DZW_REAL_FLOAT
 # Fails (exit 1) on any alarm, on an Eva warning or error, or when a function of
@@ -46,9 +48,15 @@ eva_options() {
 keep=0
 case "${1:-}" in
     "") ;;
-    --keep) keep=1 ;;
+    --keep) keep=1; shift ;;
     -h|--help) sed -n '2,/^[^#]/{/^#/p}' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "eva.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+    -*) echo "eva.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+    *) ;;
+esac
+case "${1:-}" in
+    "") ;;
+    -*) echo "eva.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+    *) DRIVERS=("$@") ;;
 esac
 
 if ! command -v frama-c >/dev/null 2>&1; then
@@ -70,6 +78,7 @@ run() { # run DRIVER NAME MACHDEP DEFINES SUFFIX
         sources+=("csrc/src/$module.c")
     done
     mapfile -t options < <(eva_options "$driver" "$suffix")
+    defines="$defines $(driver_line "$driver" defines)"
     frama-c -machdep "$machdep" -cpp-extra-args="-Icsrc/include -Icsrc/src $defines" \
         "${sources[@]}" tests/eva/libm_spec.c "$driver" "${options[@]}" \
         -then -metrics -metrics-eva-cover >"$out/$name.log" 2>&1

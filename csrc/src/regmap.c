@@ -112,7 +112,9 @@ static bool read_state(const zw_regmap *rm, state_sample *out)
         out->f = SHARED_LOAD(slot->f);
         out->step = SHARED_LOAD(slot->step);
         SHARED_ORDER();
-        if (SHARED_LOAD(rm->state_seq) == seq) return true;
+        if (SHARED_LOAD(rm->state_seq) == seq) {
+            return true;
+        }
     }
     return false;
 }
@@ -121,28 +123,30 @@ typedef struct reg_range {
     uint_least16_t first, last, kind;
 } reg_range;
 
-/* The map of regmap.h; every address not covered here is unmapped. */
-static const reg_range k_ranges[] = {
-    {ZW_REG_MAGIC, ZW_REG_LAST_EXCEPTION, RK_RO},
-    {ZW_REG_ACCEPTED, ZW_REG_REFUSED + 1, RK_RO | RK_PAIR},
-    {ZW_REG_K, ZW_REG_B + 1, RK_GAIN | RK_PAIR},
-    {ZW_REG_LIVE_K_MAX, ZW_REG_STATE_STEP + 1, RK_RO | RK_PAIR},
-    {ZW_REG_LIVE_POLE, ZW_REG_LIVE_POLE + 1, RK_RO | RK_PAIR},
-    {ZW_REG_CERT_M, ZW_REG_CERT_CRC - 1, RK_CERT | RK_PAIR},
-    {ZW_REG_CERT_CRC, ZW_REG_CERT_CRC, RK_CERT},
-    {ZW_REG_COMMAND, ZW_REG_COMMAND, RK_CMD},
-    {ZW_REG_CONSENT, ZW_REG_WORD_ORDER, RK_RO},
-    {ZW_REG_NONCE, ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS - 1u, RK_RO},
-    {ZW_REG_MAC, ZW_REG_MAC + ZW_AUTH_MAC_WORDS - 1u, RK_MAC},
-};
-
 /* Kind bits of one address, 0 when unmapped. */
 static uint_least16_t reg_kind(uint_least32_t addr)
 {
+    /* The map of regmap.h; every address not covered here is unmapped. */
+    static const reg_range k_ranges[] = {
+        {ZW_REG_MAGIC, ZW_REG_LAST_EXCEPTION, RK_RO},
+        {ZW_REG_ACCEPTED, ZW_REG_REFUSED + 1, RK_RO | RK_PAIR},
+        {ZW_REG_K, ZW_REG_B + 1, RK_GAIN | RK_PAIR},
+        {ZW_REG_LIVE_K_MAX, ZW_REG_STATE_STEP + 1, RK_RO | RK_PAIR},
+        {ZW_REG_LIVE_POLE, ZW_REG_LIVE_POLE + 1, RK_RO | RK_PAIR},
+        {ZW_REG_CERT_M, ZW_REG_CERT_CRC - 1, RK_CERT | RK_PAIR},
+        {ZW_REG_CERT_CRC, ZW_REG_CERT_CRC, RK_CERT},
+        {ZW_REG_COMMAND, ZW_REG_COMMAND, RK_CMD},
+        {ZW_REG_CONSENT, ZW_REG_WORD_ORDER, RK_RO},
+        {ZW_REG_NONCE, ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS - 1u, RK_RO},
+        {ZW_REG_MAC, ZW_REG_MAC + ZW_AUTH_MAC_WORDS - 1u, RK_MAC},
+    };
     size_t i;
-    for (i = 0; i < sizeof k_ranges / sizeof k_ranges[0]; ++i)
-        if (addr >= k_ranges[i].first && addr <= k_ranges[i].last) return k_ranges[i].kind;
-    return 0;
+    for (i = 0u; i < (sizeof k_ranges / sizeof k_ranges[0]); ++i) {
+        if ((addr >= k_ranges[i].first) && (addr <= k_ranges[i].last)) {
+            return k_ranges[i].kind;
+        }
+    }
+    return 0u;
 }
 
 /* ---- reads --------------------------------------------------------------------------------- */
@@ -156,13 +160,18 @@ static void read_pair(const zw_regmap *rm, const state_sample *st, uint_least16_
     float f;
     if (base >= ZW_REG_CERT_M) { /* the block: staged in commissioning, else sealed */
         unsigned i = (unsigned)(base - ZW_REG_CERT_M);
-        w[0] = rm->mode != 0u ? rm->staged[i] : zw_rm_sealed_word(rm, i);
-        w[1] = rm->mode != 0u ? rm->staged[i + 1u] : zw_rm_sealed_word(rm, i + 1u);
+        w[0] = (rm->mode != 0u) ? rm->staged[i] : zw_rm_sealed_word(rm, i);
+        w[1] = (rm->mode != 0u) ? rm->staged[i + 1u] : zw_rm_sealed_word(rm, i + 1u);
         return;
     }
-    if (base == ZW_REG_ACCEPTED || base == ZW_REG_REFUSED || base == ZW_REG_STATE_STEP) {
-        u = base == ZW_REG_ACCEPTED ? rm->accepted
-            : base == ZW_REG_REFUSED ? rm->refused : st->step;
+    if ((base == ZW_REG_ACCEPTED) || (base == ZW_REG_REFUSED) || (base == ZW_REG_STATE_STEP)) {
+        if (base == ZW_REG_ACCEPTED) {
+            u = rm->accepted;
+        } else if (base == ZW_REG_REFUSED) {
+            u = rm->refused;
+        } else {
+            u = st->step;
+        }
         w[0] = (uint_least16_t)((u >> 16) & 0xFFFFu);
         w[1] = (uint_least16_t)(u & 0xFFFFu);
         return;
@@ -173,7 +182,9 @@ static void read_pair(const zw_regmap *rm, const state_sample *st, uint_least16_
     case ZW_REG_STATE_X: f = st->x; break;
     case ZW_REG_STATE_V: f = st->v; break;
     case ZW_REG_STATE_F: f = st->f; break;
-    case ZW_REG_LIVE_POLE: f = rm->is_sealed ? zw_rm_to_float(rm->loop.loop.spec.filter_pole) : QUIET_NAN_F; break;
+    case ZW_REG_LIVE_POLE:
+        f = (rm->is_sealed != 0u) ? zw_rm_to_float(rm->loop.loop.spec.filter_pole) : QUIET_NAN_F;
+        break;
     default: f = rm->live[(unsigned)(base - ZW_REG_LIVE_K_MAX) / 2u]; break;
     }
     zw_float_to_words(f, w);
@@ -182,42 +193,50 @@ static void read_pair(const zw_regmap *rm, const state_sample *st, uint_least16_
 /* A one-word register. */
 static uint_least16_t read_single(const zw_regmap *rm, uint_least16_t addr)
 {
+    uint_least16_t w = 0u; /* ZW_REG_COMMAND reads as 0 */
     switch (addr) {
-    case ZW_REG_MAGIC: return ZW_REGMAP_MAGIC;
-    case ZW_REG_VERSION: return ZW_REGMAP_VERSION;
-    case ZW_REG_MODE: return rm->mode;
-    case ZW_REG_SEALED: return rm->is_sealed;
-    case ZW_REG_LAST_REASON: return rm->last_reason;
-    case ZW_REG_LAST_EXCEPTION: return rm->last_exception;
-    case ZW_REG_CONSENT: return rm->consent;
-    case ZW_REG_RESTORE_SOURCE: return rm->restore_source;
-    case ZW_REG_RESTORE_REASON: return rm->restore_reason;
-    case ZW_REG_WORD_ORDER: return rm->word_order;
+    case ZW_REG_MAGIC: w = ZW_REGMAP_MAGIC; break;
+    case ZW_REG_VERSION: w = ZW_REGMAP_VERSION; break;
+    case ZW_REG_MODE: w = rm->mode; break;
+    case ZW_REG_SEALED: w = rm->is_sealed; break;
+    case ZW_REG_LAST_REASON: w = rm->last_reason; break;
+    case ZW_REG_LAST_EXCEPTION: w = rm->last_exception; break;
+    case ZW_REG_CONSENT: w = rm->consent; break;
+    case ZW_REG_RESTORE_SOURCE: w = rm->restore_source; break;
+    case ZW_REG_RESTORE_REASON: w = rm->restore_reason; break;
+    case ZW_REG_WORD_ORDER: w = rm->word_order; break;
     case ZW_REG_CERT_CRC:
-        return rm->mode != 0u ? rm->staged[CRC_INDEX] : zw_rm_sealed_word(rm, CRC_INDEX);
-    default: break;
+        w = (rm->mode != 0u) ? rm->staged[CRC_INDEX] : zw_rm_sealed_word(rm, CRC_INDEX);
+        break;
+    default:
+        if ((addr >= ZW_REG_NONCE) && (addr < (ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS))) {
+            w = rm->nonce[addr - ZW_REG_NONCE];
+        } else if ((addr >= ZW_REG_MAC) && (addr < (ZW_REG_MAC + ZW_AUTH_MAC_WORDS))) {
+            w = rm->mac[addr - ZW_REG_MAC];
+        } else {
+            /* the command register and the unmapped words in between (never asked) */
+        }
+        break;
     }
-    if (addr >= ZW_REG_NONCE && addr < ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS)
-        return rm->nonce[addr - ZW_REG_NONCE];
-    if (addr >= ZW_REG_MAC && addr < ZW_REG_MAC + ZW_AUTH_MAC_WORDS)
-        return rm->mac[addr - ZW_REG_MAC];
-    return 0u; /* ZW_REG_COMMAND reads as 0 */
+    return w;
 }
 
 /* ---- requests ------------------------------------------------------------------------------ */
 
 static zw_mb_exception exception_of(zw_reason reason)
 {
+    zw_mb_exception exc;
     switch (reason) {
-    case ZW_REASON_NONE: return ZW_MB_OK;
-    case ZW_REASON_BAD_FUNCTION: return ZW_MB_ILLEGAL_FUNCTION;
+    case ZW_REASON_NONE: exc = ZW_MB_OK; break;
+    case ZW_REASON_BAD_FUNCTION: exc = ZW_MB_ILLEGAL_FUNCTION; break;
     case ZW_REASON_UNMAPPED:
     case ZW_REASON_READ_ONLY:
     case ZW_REASON_HALF_FLOAT:
     case ZW_REASON_LOCKED:
-    case ZW_REASON_NOT_SEALED: return ZW_MB_ILLEGAL_ADDRESS;
-    default: return ZW_MB_ILLEGAL_VALUE;
+    case ZW_REASON_NOT_SEALED: exc = ZW_MB_ILLEGAL_ADDRESS; break;
+    default: exc = ZW_MB_ILLEGAL_VALUE; break;
     }
+    return exc;
 }
 
 /* Record a refusal: only the three refusal registers change.  (Whether a pending UNLOCK1
@@ -228,7 +247,9 @@ static zw_mb_exception refuse(zw_regmap *rm, zw_reason reason, zw_reason *out)
     rm->last_reason = (uint_least16_t)reason;
     rm->last_exception = (uint_least16_t)exc;
     rm->refused = (rm->refused + 1u) & 0xFFFFFFFFu;
-    if (out != NULL) *out = reason;
+    if (out != NULL) {
+        *out = reason;
+    }
     return exc;
 }
 
@@ -236,7 +257,9 @@ static zw_mb_exception refuse(zw_regmap *rm, zw_reason reason, zw_reason *out)
 uint_least16_t zw_rm_payload_word(const uint_least16_t *words, const uint_least8_t *bytes,
                                    size_t i)
 {
-    if (words != NULL) return (uint_least16_t)(words[i] & 0xFFFFu);
+    if (words != NULL) {
+        return (uint_least16_t)(words[i] & 0xFFFFu);
+    }
     return (uint_least16_t)((((unsigned)bytes[2u * i] & 0xFFu) << 8) |
                             ((unsigned)bytes[2u * i + 1u] & 0xFFu));
 }
@@ -252,7 +275,7 @@ float zw_rm_payload_float(const uint_least16_t *words, const uint_least8_t *byte
 uint_least16_t zw_rm_pair_word(const zw_regmap *rm, const uint_least16_t *words,
                                const uint_least8_t *bytes, size_t i)
 {
-    return zw_rm_payload_word(words, bytes, rm->word_order == ZW_WORD_ORDER_CDAB ? (i ^ 1u) : i);
+    return zw_rm_payload_word(words, bytes, (rm->word_order == ZW_WORD_ORDER_CDAB) ? (i ^ 1u) : i);
 }
 
 float zw_rm_pair_float(const zw_regmap *rm, const uint_least16_t *words,
@@ -266,8 +289,9 @@ float zw_rm_pair_float(const zw_regmap *rm, const uint_least16_t *words,
 
 void zw_regmap_set_word_order(zw_regmap *rm, unsigned order)
 {
-    if (rm == NULL || (order != ZW_WORD_ORDER_ABCD && order != ZW_WORD_ORDER_CDAB)) return;
-    rm->word_order = (uint_least16_t)order;
+    if ((rm != NULL) && ((order == ZW_WORD_ORDER_ABCD) || (order == ZW_WORD_ORDER_CDAB))) {
+        rm->word_order = (uint_least16_t)order;
+    }
 }
 
 /* Quantity and addresses, shared by reads and writes: the kind bits of all the words, or
@@ -277,10 +301,17 @@ static zw_reason check_range(uint_least16_t addr, uint_least16_t count, uint_lea
 {
     uint_least32_t a, end = (uint_least32_t)addr + count;
     uint_least16_t k, all = 0u;
-    if (count < 1u || count > max_count) return ZW_REASON_MALFORMED;
-    if (end > 0x10000u) return ZW_REASON_UNMAPPED;
+    if ((count < 1u) || (count > max_count)) {
+        return ZW_REASON_MALFORMED;
+    }
+    if (end > 0x10000u) {
+        return ZW_REASON_UNMAPPED;
+    }
     for (a = addr; a < end; ++a) {
-        if ((k = reg_kind(a)) == 0u) return ZW_REASON_UNMAPPED;
+        k = reg_kind(a);
+        if (k == 0u) {
+            return ZW_REASON_UNMAPPED;
+        }
         all = (uint_least16_t)(all | k);
     }
     *kinds = all;
@@ -300,9 +331,12 @@ static zw_reason read_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t co
     *sampled = true;
     /* reads leave a pending UNLOCK1 armed: a client polling the map must not be able to
      * block commissioning */
-    if ((why = check_range(addr, count, ZW_MB_READ_MAX, &kinds)) != ZW_REASON_NONE) return why;
+    why = check_range(addr, count, ZW_MB_READ_MAX, &kinds);
+    if (why != ZW_REASON_NONE) {
+        return why;
+    }
     /* one sample for the whole read, so that x, v, f and step belong together */
-    if ((uint_least32_t)addr + count > ZW_REG_STATE_X && addr <= ZW_REG_STATE_STEP + 1u &&
+    if ((((uint_least32_t)addr + count) > ZW_REG_STATE_X) && (addr <= (ZW_REG_STATE_STEP + 1u)) &&
         !read_state(rm, &st)) {
         *sampled = false;
         return ZW_REASON_NONE;
@@ -319,17 +353,20 @@ static zw_reason read_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t co
                 w[1] = hi;
             }
             first = a & 1u;
-            if (first == 0u && i + 1u < count) n = 2;
+            if ((first == 0u) && ((i + 1u) < count)) {
+                n = 2;
+            }
         } else {
             w[0] = read_single(rm, a);
         }
-        for (j = first; j < first + n; ++j, ++i) {
+        for (j = first; j < (first + n); ++j) {
             if (words != NULL) {
                 words[i] = w[j];
             } else {
                 bytes[2u * i] = (uint_least8_t)(((unsigned)w[j] >> 8) & 0xFFu);
-                bytes[2u * i + 1u] = (uint_least8_t)((unsigned)w[j] & 0xFFu);
+                bytes[(2u * i) + 1u] = (uint_least8_t)((unsigned)w[j] & 0xFFu);
             }
+            ++i;
         }
     }
     return ZW_REASON_NONE;
@@ -344,29 +381,45 @@ static zw_reason write_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t c
     bool armed = rm->unlock_armed != 0u;
     zw_reason why;
     rm->unlock_armed = 0u;
-    if ((why = check_range(addr, count, ZW_MB_WRITE_MAX, &kinds)) != ZW_REASON_NONE) return why;
-    if ((kinds & RK_RO) != 0u) return ZW_REASON_READ_ONLY;
+    why = check_range(addr, count, ZW_MB_WRITE_MAX, &kinds);
+    if (why != ZW_REASON_NONE) {
+        return why;
+    }
+    if ((kinds & RK_RO) != 0u) {
+        return ZW_REASON_READ_ONLY;
+    }
     /* Pairs start at even addresses, so a write splits a value exactly when it starts on
      * an odd word or ends on an even one of an RK_PAIR range. */
     last = (uint_least16_t)(addr + count - 1u);
-    if (((reg_kind(addr) & RK_PAIR) != 0u && (addr & 1u) != 0u) ||
-        ((reg_kind(last) & RK_PAIR) != 0u && (last & 1u) == 0u))
+    if ((((reg_kind(addr) & RK_PAIR) != 0u) && ((addr & 1u) != 0u)) ||
+        (((reg_kind(last) & RK_PAIR) != 0u) && ((last & 1u) == 0u))) {
         return ZW_REASON_HALF_FLOAT;
+    }
     /* Past the checks above the request lies in exactly one group (the map has unmapped
      * or read-only words between groups). */
     if ((kinds & RK_MAC) != 0u) {
-        if (rm->mode == 0u) return ZW_REASON_LOCKED;
+        if (rm->mode == 0u) {
+            return ZW_REASON_LOCKED;
+        }
         return zw_rm_write_mac(rm, addr, count, words, bytes);
     }
     if ((kinds & RK_CERT) != 0u) {
-        if (rm->mode == 0u) return ZW_REASON_LOCKED;
+        if (rm->mode == 0u) {
+            return ZW_REASON_LOCKED;
+        }
         return zw_rm_write_cert(rm, addr, count, words, bytes);
     }
     if ((kinds & RK_GAIN) != 0u) {
         float K = rm->K, B = rm->B;
-        if (rm->mode != 0u || !rm->is_sealed) return ZW_REASON_NOT_SEALED;
-        if (addr == ZW_REG_K) K = zw_rm_pair_float(rm, words, bytes, 0);
-        if (addr == ZW_REG_B || count == 4u) B = zw_rm_pair_float(rm, words, bytes, count - 2u);
+        if ((rm->mode != 0u) || (rm->is_sealed == 0u)) {
+            return ZW_REASON_NOT_SEALED;
+        }
+        if (addr == ZW_REG_K) {
+            K = zw_rm_pair_float(rm, words, bytes, 0u);
+        }
+        if ((addr == ZW_REG_B) || (count == 4u)) {
+            B = zw_rm_pair_float(rm, words, bytes, (size_t)count - 2u);
+        }
         return zw_rm_apply_gains(rm, K, B); /* a tail call: this frame is gone (stack) */
     }
     return zw_rm_command(rm, zw_rm_payload_word(words, bytes, 0), armed);
@@ -382,15 +435,19 @@ ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert)
     zw_reason why = ZW_REASON_NONE;
     /* the floats are set explicitly rather than trusting all-zero bits to mean 0.0f */
     (void)memset(rm, 0, sizeof *rm);
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(&rm->sealed, i, 0.0f);
-    for (i = 0; i < 2u; ++i) { /* both slots of each double buffer */
+    for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
+        zw_cert_set_field(&rm->sealed, i, 0.0f);
+    }
+    for (i = 0u; i < 2u; ++i) { /* both slots of each double buffer */
         zw_rm_publish_gains(rm, 0.0f, 0.0f);
         zw_regmap_set_state(rm, 0.0f, 0.0f, 0.0f, 0u);
     }
     if (cert != NULL) {
         zw_cert_encode(cert, rm->staged);
         why = zw_rm_seal_staged(rm, false);
-        for (i = 0; i <= ZW_CERT_WORDS; ++i) rm->staged[i] = 0u;
+        for (i = 0u; i <= ZW_CERT_WORDS; ++i) {
+            rm->staged[i] = 0u;
+        }
     }
     return why;
 }
@@ -398,21 +455,33 @@ ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert)
 zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason)
 {
     zw_reason why;
-    if (rm == NULL) return ZW_ERR_NULL;
+    if (rm == NULL) {
+        return ZW_ERR_NULL;
+    }
     why = power_up(rm, cert);
-    if (reason != NULL) *reason = why;
+    if (reason != NULL) {
+        *reason = why;
+    }
     (void)zw_rm_live_all(rm);
-    if (why == ZW_REASON_NONE) return ZW_OK;
+    if (why == ZW_REASON_NONE) {
+        return ZW_OK;
+    }
     /* otherwise a valid unsealed drive with the output off */
-    return why == ZW_REASON_FPENV ? ZW_ERR_FPENV : ZW_ERR_ARG;
+    return (why == ZW_REASON_FPENV) ? ZW_ERR_FPENV : ZW_ERR_ARG;
 }
 
 zw_status zw_regmap_active_gains(const zw_regmap *rm, float *K, float *B)
 {
     unsigned tries;
-    if (K != NULL) *K = 0.0f; /* output off unless a consistent pair is read */
-    if (B != NULL) *B = 0.0f;
-    if (rm == NULL || K == NULL || B == NULL) return ZW_ERR_NULL;
+    if (K != NULL) {
+        *K = 0.0f; /* output off unless a consistent pair is read */
+    }
+    if (B != NULL) {
+        *B = 0.0f;
+    }
+    if ((rm == NULL) || (K == NULL) || (B == NULL)) {
+        return ZW_ERR_NULL;
+    }
     for (tries = 0u; tries < ZW_REGMAP_READ_TRIES; ++tries) {
         uint_least32_t seq = SHARED_LOAD(rm->gains_seq);
         const zw_regmap_gain_slot *slot = &rm->gains[seq & 1u];
@@ -435,7 +504,9 @@ void zw_regmap_set_state(zw_regmap *rm, float x, float v, float f, uint_least32_
 {
     uint_least32_t seq;
     zw_regmap_state_slot *slot;
-    if (rm == NULL) return;
+    if (rm == NULL) {
+        return;
+    }
     seq = next_seq(SHARED_LOAD(rm->state_seq));
     slot = &rm->state[seq & 1u];
     SHARED_ORDER(); /* the previous sequence word before this slot changes */
@@ -453,26 +524,31 @@ void zw_regmap_set_state(zw_regmap *rm, float x, float v, float f, uint_least32_
 static void fail_safe_words(uint_least16_t addr, uint_least16_t count, uint_least16_t *words)
 {
     size_t i;
-    if (words == NULL || count < 1u || count > ZW_MB_READ_MAX) return;
-    for (i = 0; i < count; ++i)
-        words[i] = (uint_least16_t)((uint_least32_t)addr + i == ZW_REG_LIVE_RHO ? 0x7F80u : 0u);
+    if ((words == NULL) || (count < 1u) || (count > ZW_MB_READ_MAX)) {
+        return;
+    }
+    for (i = 0u; i < count; ++i) {
+        words[i] = (uint_least16_t)((((uint_least32_t)addr + i) == ZW_REG_LIVE_RHO) ? 0x7F80u : 0u);
+    }
 }
 
 zw_mb_exception zw_regmap_read(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
                                uint_least16_t *words, zw_reason *reason)
 {
     zw_reason why;
-    bool sampled = true;
-    if (rm == NULL || words == NULL) {
+    bool sampled;
+    if ((rm == NULL) || (words == NULL)) {
         fail_safe_words(addr, count, words);
         return ZW_MB_SERVER_FAILURE;
     }
     why = read_core(rm, addr, count, words, NULL, &sampled);
-    if (why != ZW_REASON_NONE || !sampled) {
+    if ((why != ZW_REASON_NONE) || !sampled) {
         fail_safe_words(addr, count, words);
         return !sampled ? ZW_MB_SERVER_FAILURE : refuse(rm, why, reason);
     }
-    if (reason != NULL) *reason = ZW_REASON_NONE;
+    if (reason != NULL) {
+        *reason = ZW_REASON_NONE;
+    }
     return ZW_MB_OK;
 }
 
@@ -480,14 +556,20 @@ zw_mb_exception zw_regmap_write(zw_regmap *rm, uint_least16_t addr, uint_least16
                                 const uint_least16_t *words, zw_reason *reason)
 {
     zw_reason why;
-    if (rm == NULL) return ZW_MB_SERVER_FAILURE;
+    if (rm == NULL) {
+        return ZW_MB_SERVER_FAILURE;
+    }
     if (words == NULL) {
         rm->unlock_armed = 0u;
         return ZW_MB_SERVER_FAILURE;
     }
-    if ((why = write_core(rm, addr, count, words, NULL)) != ZW_REASON_NONE)
+    why = write_core(rm, addr, count, words, NULL);
+    if (why != ZW_REASON_NONE) {
         return refuse(rm, why, reason);
-    if (reason != NULL) *reason = ZW_REASON_NONE;
+    }
+    if (reason != NULL) {
+        *reason = ZW_REASON_NONE;
+    }
     return zw_rm_live_all(rm);
 }
 
@@ -506,6 +588,14 @@ static zw_mb_exception answer_exception(uint_least8_t *resp, size_t *resp_len, u
     return exc;
 }
 
+/* A 0x10 request whose quantity, byte count and length agree. */
+static bool write_multiple_well_formed(const uint_least8_t *req, size_t req_len, uint_least16_t qty)
+{
+    return (req_len >= 6u) && (qty >= 1u) && (qty <= ZW_MB_WRITE_MAX) &&
+           (((unsigned)req[5] & 0xFFu) == (2u * (unsigned)qty)) &&
+           (req_len == (6u + (2u * (size_t)qty)));
+}
+
 zw_mb_exception zw_regmap_handle_pdu(zw_regmap *rm, const uint_least8_t *req, size_t req_len,
                                      uint_least8_t *resp, size_t resp_cap, size_t *resp_len)
 {
@@ -513,60 +603,76 @@ zw_mb_exception zw_regmap_handle_pdu(zw_regmap *rm, const uint_least8_t *req, si
     uint_least16_t addr = 0u, qty = 0u;
     size_t i;
     zw_reason why;
-    bool sampled = true;
+    bool sampled;
     if (rm == NULL) {
-        if (resp_len != NULL) *resp_len = 0;
+        if (resp_len != NULL) {
+            *resp_len = 0u;
+        }
         return ZW_MB_SERVER_FAILURE;
     }
     /* Every request but a read disarms a pending UNLOCK1, even one that cannot be
      * processed; write_core reads the flag before it clears it. */
-    if (resp_len == NULL || req == NULL || resp == NULL || req_len < 1u || resp_cap < 2u) {
+    if ((resp_len == NULL) || (req == NULL) || (resp == NULL) || (req_len < 1u) || (resp_cap < 2u)) {
         /* no room even for an exception, or no function code to answer: not processed */
         rm->unlock_armed = 0u;
-        if (resp_len != NULL) *resp_len = 0;
+        if (resp_len != NULL) {
+            *resp_len = 0u;
+        }
         return ZW_MB_SERVER_FAILURE;
     }
-    *resp_len = 0;
+    *resp_len = 0u;
     fc = (unsigned)req[0] & 0xFFu;
     if (req_len >= 5u) {
-        addr = be16(req + 1);
-        qty = be16(req + 3); /* the value itself for 0x06 */
+        addr = be16(&req[1]);
+        qty = be16(&req[3]); /* the value itself for 0x06 */
     }
     if (fc == ZW_MB_READ_HOLDING) {
-        if (req_len != 5u || qty < 1u || qty > ZW_MB_READ_MAX) {
+        if ((req_len != 5u) || (qty < 1u) || (qty > ZW_MB_READ_MAX)) {
             why = ZW_REASON_MALFORMED;
-        } else if (2u + 2u * (size_t)qty > resp_cap) {
+        } else if ((2u + (2u * (size_t)qty)) > resp_cap) {
             /* the answer would not fit: nothing is processed, not even counted */
             return answer_exception(resp, resp_len, fc, ZW_MB_SERVER_FAILURE);
-        } else if ((why = read_core(rm, addr, qty, NULL, resp + 2, &sampled)) == ZW_REASON_NONE) {
-            if (!sampled) return answer_exception(resp, resp_len, fc, ZW_MB_SERVER_FAILURE);
-            resp[0] = (uint_least8_t)fc;
-            resp[1] = (uint_least8_t)(2u * (unsigned)qty);
-            *resp_len = 2u + 2u * (size_t)qty;
-            return ZW_MB_OK;
+        } else {
+            why = read_core(rm, addr, qty, NULL, &resp[2], &sampled);
+            if (why == ZW_REASON_NONE) {
+                if (!sampled) {
+                    return answer_exception(resp, resp_len, fc, ZW_MB_SERVER_FAILURE);
+                }
+                resp[0] = (uint_least8_t)fc;
+                resp[1] = (uint_least8_t)(2u * (unsigned)qty);
+                *resp_len = 2u + (2u * (size_t)qty);
+                return ZW_MB_OK;
+            }
         }
-    } else if (fc == ZW_MB_WRITE_SINGLE || fc == ZW_MB_WRITE_MULTIPLE) {
-        if (fc == ZW_MB_WRITE_SINGLE ? req_len != 5u
-                                     : req_len < 6u || qty < 1u || qty > ZW_MB_WRITE_MAX ||
-                                           ((unsigned)req[5] & 0xFFu) != 2u * (unsigned)qty ||
-                                           req_len != 6u + 2u * (size_t)qty) {
+    } else if ((fc == ZW_MB_WRITE_SINGLE) || (fc == ZW_MB_WRITE_MULTIPLE)) {
+        const bool well_formed = (fc == ZW_MB_WRITE_SINGLE) ? (req_len == 5u)
+                                                            : write_multiple_well_formed(req, req_len, qty);
+        if (!well_formed) {
             why = ZW_REASON_MALFORMED;
         } else if (resp_cap < 5u) {
             rm->unlock_armed = 0u;
             return answer_exception(resp, resp_len, fc, ZW_MB_SERVER_FAILURE);
-        } else if ((why = fc == ZW_MB_WRITE_SINGLE
-                              ? write_core(rm, addr, 1u, NULL, req + 3)
-                              : write_core(rm, addr, qty, NULL, req + 6)) == ZW_REASON_NONE) {
-            /* 0x06 echoes the request; 0x10 answers its address and quantity: the same
-             * first 5 bytes either way */
-            for (i = 0; i < 5u; ++i) resp[i] = (uint_least8_t)((unsigned)req[i] & 0xFFu);
-            *resp_len = 5u;
-            return zw_rm_live_all(rm);
+        } else {
+            if (fc == ZW_MB_WRITE_SINGLE) {
+                why = write_core(rm, addr, 1u, NULL, &req[3]);
+            } else {
+                why = write_core(rm, addr, qty, NULL, &req[6]);
+            }
+            if (why == ZW_REASON_NONE) {
+                /* 0x06 echoes the request; 0x10 answers its address and quantity: the same
+                 * first 5 bytes either way */
+                for (i = 0u; i < 5u; ++i) {
+                    resp[i] = (uint_least8_t)((unsigned)req[i] & 0xFFu);
+                }
+                *resp_len = 5u;
+                return zw_rm_live_all(rm);
+            }
         }
     } else {
         why = ZW_REASON_BAD_FUNCTION;
     }
-    if (fc != ZW_MB_READ_HOLDING) rm->unlock_armed = 0u; /* a refused read leaves it armed */
+    if (fc != ZW_MB_READ_HOLDING) {
+        rm->unlock_armed = 0u; /* a refused read leaves it armed */
+    }
     return answer_exception(resp, resp_len, fc, refuse(rm, why, NULL));
 }
-

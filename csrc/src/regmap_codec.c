@@ -20,7 +20,9 @@
 void zw_float_to_words(float value, uint_least16_t words[2])
 {
     uint_least32_t bits;
-    if (words == NULL) return;
+    if (words == NULL) {
+        return;
+    }
     if (value != value) {
         bits = 0x7FC00000u; /* every NaN becomes the one quiet NaN */
     } else {
@@ -34,14 +36,18 @@ void zw_float_to_words(float value, uint_least16_t words[2])
             /* a = f 2^e with f in [1/2, 1): both f 2^24 and a 2^149 are integers below
              * 2^24, so every step is exact. */
             float f = frexpf(a, &e);
-            if (e >= FLT_MIN_EXP) /* normal: biased exponent (e - 1) + 127 */
-                bits = ((uint_least32_t)(e + 126) << 23) |
-                       ((uint_least32_t)ldexpf(f, 24) - 0x800000u);
-            else /* subnormal: the significand is a / 2^-149 */
+            if (e >= FLT_MIN_EXP) { /* normal: biased exponent (e - 1) + 127 */
+                const uint_least32_t biased = (uint_least32_t)e + 126u;
+                const uint_least32_t significand = (uint_least32_t)ldexpf(f, 24);
+                bits = (biased << 23) | (significand - 0x800000u);
+            } else { /* subnormal: the significand is a / 2^-149 */
                 bits = (uint_least32_t)ldexpf(a, 149);
+            }
         }
         /* signbit, not value < 0, so that -0.0 keeps its sign */
-        if (signbit(value)) bits |= 0x80000000u;
+        if (signbit(value) != 0) {
+            bits |= 0x80000000u;
+        }
     }
     words[0] = (uint_least16_t)((bits >> 16) & 0xFFFFu);
     words[1] = (uint_least16_t)(bits & 0xFFFFu);
@@ -52,38 +58,49 @@ float zw_words_to_float(const uint_least16_t words[2])
     uint_least32_t bits, frac;
     unsigned expo;
     float v;
-    if (words == NULL) return QUIET_NAN_F;
+    if (words == NULL) {
+        return QUIET_NAN_F;
+    }
     bits = ((uint_least32_t)(words[0] & 0xFFFFu) << 16) | (uint_least32_t)(words[1] & 0xFFFFu);
     expo = (unsigned)((bits >> 23) & 0xFFu);
     frac = bits & 0x7FFFFFu;
-    if (expo == 0xFFu) v = frac != 0u ? QUIET_NAN_F : ZW_HUGE_VALF;
-    else if (expo == 0u) v = ldexpf((float)frac, -149); /* subnormal (or zero) */
-    else v = ldexpf((float)(frac | 0x800000u), (int)expo - 150);
-    return (bits & 0x80000000u) != 0u ? -v : v;
+    if (expo == 0xFFu) {
+        v = (frac != 0u) ? QUIET_NAN_F : ZW_HUGE_VALF;
+    } else if (expo == 0u) { /* subnormal (or zero) */
+        v = ldexpf((float)frac, -149);
+    } else {
+        const uint_least32_t significand = frac | 0x800000u; /* the implicit leading 1 */
+        v = ldexpf((float)significand, (int)expo - 150);
+    }
+    return ((bits & 0x80000000u) != 0u) ? -v : v;
 }
 
-static uint_least16_t crc_byte(uint_least16_t crc, unsigned byte)
+static uint_least16_t crc_byte(uint_least16_t crc_in, unsigned byte)
 {
-    int k;
-    crc = (uint_least16_t)((crc ^ (byte & 0xFFu)) & 0xFFFFu);
-    for (k = 0; k < 8; ++k)
-        crc = (crc & 1u) != 0u ? (uint_least16_t)(((unsigned)crc >> 1) ^ 0xA001u)
-                               : (uint_least16_t)((unsigned)crc >> 1);
+    unsigned k;
+    uint_least16_t crc = (uint_least16_t)((crc_in ^ (byte & 0xFFu)) & 0xFFFFu);
+    for (k = 0u; k < 8u; ++k) {
+        crc = ((crc & 1u) != 0u) ? (uint_least16_t)(((unsigned)crc >> 1) ^ 0xA001u)
+                                 : (uint_least16_t)((unsigned)crc >> 1);
+    }
     return crc;
 }
 
 uint_least16_t zw_rm_crc_word(uint_least16_t crc, uint_least16_t word)
 {
-    crc = crc_byte(crc, ((unsigned)word >> 8) & 0xFFu);
-    return crc_byte(crc, (unsigned)word & 0xFFu);
+    return crc_byte(crc_byte(crc, ((unsigned)word >> 8) & 0xFFu), (unsigned)word & 0xFFu);
 }
 
 uint_least16_t zw_crc16_words(const uint_least16_t *words, size_t count)
 {
     uint_least16_t crc = 0xFFFFu;
     size_t i;
-    if (words == NULL) return crc;
-    for (i = 0; i < count; ++i) crc = zw_rm_crc_word(crc, words[i]);
+    if (words == NULL) {
+        return crc;
+    }
+    for (i = 0u; i < count; ++i) {
+        crc = zw_rm_crc_word(crc, words[i]);
+    }
     return crc;
 }
 
@@ -91,23 +108,25 @@ uint_least16_t zw_crc16_words(const uint_least16_t *words, size_t count)
 
 float zw_cert_field(const zw_cert *c, unsigned i)
 {
+    float v;
     switch (i) {
-    case F_M: return c->m;
-    case F_B: return c->b;
-    case F_T: return c->T;
-    case F_SIGMA: return c->sigma;
-    case F_R: return c->r;
-    case F_K_MIN: return c->k_min;
-    case F_K_MAX: return c->k_max;
-    case F_B_MIN: return c->b_min;
-    case F_B_MAX: return c->b_max;
-    case F_DK_MAX: return c->dk_max;
-    case F_DB_MAX: return c->db_max;
-    case F_DELAY: return c->delay;
-    case F_VFILTER: return c->vfilter;
-    case F_VF_PARAM: return c->vf_param;
-    default: return c->differentiator;
+    case F_M: v = c->m; break;
+    case F_B: v = c->b; break;
+    case F_T: v = c->T; break;
+    case F_SIGMA: v = c->sigma; break;
+    case F_R: v = c->r; break;
+    case F_K_MIN: v = c->k_min; break;
+    case F_K_MAX: v = c->k_max; break;
+    case F_B_MIN: v = c->b_min; break;
+    case F_B_MAX: v = c->b_max; break;
+    case F_DK_MAX: v = c->dk_max; break;
+    case F_DB_MAX: v = c->db_max; break;
+    case F_DELAY: v = c->delay; break;
+    case F_VFILTER: v = c->vfilter; break;
+    case F_VF_PARAM: v = c->vf_param; break;
+    default: v = c->differentiator; break;
     }
+    return v;
 }
 
 void zw_cert_set_field(zw_cert *c, unsigned i, float v)
@@ -134,13 +153,17 @@ void zw_cert_set_field(zw_cert *c, unsigned i, float v)
 void zw_cert_encode(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS + 1u])
 {
     unsigned i;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_float_to_words(zw_cert_field(c, i), &words[2u * i]);
+    for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
+        zw_float_to_words(zw_cert_field(c, i), &words[2u * i]);
+    }
     words[CRC_INDEX] = zw_crc16_words(words, ZW_CERT_WORDS);
 }
 
 void zw_cert_decode(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *c)
 {
     unsigned i;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) zw_cert_set_field(c, i, zw_words_to_float(&words[2u * i]));
+    for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
+        zw_cert_set_field(c, i, zw_words_to_float(&words[2u * i]));
+    }
 }
 

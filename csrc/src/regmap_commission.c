@@ -17,12 +17,14 @@ uint_least16_t zw_rm_sealed_word(const zw_regmap *rm, unsigned i)
 {
     uint_least16_t w[2], crc = 0xFFFFu;
     unsigned f;
-    if (!rm->is_sealed) return 0u;
+    if (rm->is_sealed == 0u) {
+        return 0u;
+    }
     if (i < ZW_CERT_WORDS) {
         zw_float_to_words(zw_cert_field(&rm->sealed, i / 2u), w);
         return w[i & 1u];
     }
-    for (f = 0; f < ZW_CERT_FIELDS; ++f) {
+    for (f = 0u; f < ZW_CERT_FIELDS; ++f) {
         zw_float_to_words(zw_cert_field(&rm->sealed, f), w);
         crc = zw_rm_crc_word(zw_rm_crc_word(crc, w[0]), w[1]);
     }
@@ -33,14 +35,18 @@ void zw_regmap_auth_message(const uint_least16_t nonce[ZW_AUTH_NONCE_WORDS],
                             const uint_least16_t block[ZW_CERT_WORDS + 1u],
                             uint_least8_t msg[ZW_AUTH_MSG_BYTES])
 {
-    size_t i, n = 0u;
-    if (nonce == NULL || block == NULL || msg == NULL) return;
-    msg[n++] = (uint_least8_t)((ZW_REGMAP_VERSION >> 8) & 0xFFu);
-    msg[n++] = (uint_least8_t)(ZW_REGMAP_VERSION & 0xFFu);
-    for (i = 0u; i < ZW_AUTH_NONCE_WORDS + ZW_CERT_WORDS + 1u; ++i) {
-        unsigned w = (unsigned)(i < ZW_AUTH_NONCE_WORDS ? nonce[i] : block[i - ZW_AUTH_NONCE_WORDS]);
-        msg[n++] = (uint_least8_t)((w >> 8) & 0xFFu);
-        msg[n++] = (uint_least8_t)(w & 0xFFu);
+    size_t i;
+    const unsigned version = ZW_REGMAP_VERSION;
+    if ((nonce == NULL) || (block == NULL) || (msg == NULL)) {
+        return;
+    }
+    msg[0] = (uint_least8_t)((version >> 8) & 0xFFu);
+    msg[1] = (uint_least8_t)(version & 0xFFu);
+    /* then the nonce and the block with its CRC, each word high byte first */
+    for (i = 0u; i < (ZW_AUTH_NONCE_WORDS + ZW_CERT_WORDS + 1u); ++i) {
+        const unsigned w = (unsigned)((i < ZW_AUTH_NONCE_WORDS) ? nonce[i] : block[i - ZW_AUTH_NONCE_WORDS]);
+        msg[2u + (2u * i)] = (uint_least8_t)((w >> 8) & 0xFFu);
+        msg[3u + (2u * i)] = (uint_least8_t)(w & 0xFFu);
     }
 }
 
@@ -50,7 +56,9 @@ ZW_NOINLINE static bool mac_verifies(const zw_regmap *rm)
 {
     uint_least8_t msg[ZW_AUTH_MSG_BYTES], mac[2u * ZW_AUTH_MAC_WORDS];
     size_t i;
-    if (rm->auth.verify == NULL) return false;
+    if (rm->auth.verify == NULL) {
+        return false;
+    }
     zw_regmap_auth_message(rm->nonce, rm->staged, msg);
     for (i = 0u; i < ZW_AUTH_MAC_WORDS; ++i) {
         mac[2u * i] = (uint_least8_t)(((unsigned)rm->mac[i] >> 8) & 0xFFu);
@@ -64,8 +72,12 @@ static void end_session(zw_regmap *rm)
 {
     size_t i;
     rm->mode = 0u;
-    for (i = 0u; i < ZW_AUTH_NONCE_WORDS; ++i) rm->nonce[i] = 0u;
-    for (i = 0u; i < ZW_AUTH_MAC_WORDS; ++i) rm->mac[i] = 0u;
+    for (i = 0u; i < ZW_AUTH_NONCE_WORDS; ++i) {
+        rm->nonce[i] = 0u;
+    }
+    for (i = 0u; i < ZW_AUTH_MAC_WORDS; ++i) {
+        rm->mac[i] = 0u;
+    }
 }
 
 /* UNLOCK2's fresh nonce, drawn before anything changes (false: none). */
@@ -73,11 +85,16 @@ static bool draw_nonce(zw_regmap *rm, uint_least16_t nonce[ZW_AUTH_NONCE_WORDS])
 {
     uint_least8_t bytes[2u * ZW_AUTH_NONCE_WORDS];
     size_t i;
-    if (rm->auth.random == NULL || rm->auth.verify == NULL) return false;
-    if (!rm->auth.random(rm->auth.ctx, bytes, sizeof bytes)) return false;
-    for (i = 0u; i < ZW_AUTH_NONCE_WORDS; ++i)
+    if (rm->auth.random == NULL || rm->auth.verify == NULL) {
+        return false;
+    }
+    if (!rm->auth.random(rm->auth.ctx, bytes, sizeof bytes)) {
+        return false;
+    }
+    for (i = 0u; i < ZW_AUTH_NONCE_WORDS; ++i) {
         nonce[i] = (uint_least16_t)((((unsigned)bytes[2u * i] & 0xFFu) << 8) |
-                                    ((unsigned)bytes[2u * i + 1u] & 0xFFu));
+                                    ((unsigned)bytes[(2u * i) + 1u] & 0xFFu));
+    }
     return true;
 }
 
@@ -89,14 +106,22 @@ zw_reason zw_rm_seal_staged(zw_regmap *rm, bool authenticate)
     unsigned i;
     zw_reason why;
     /* every check below, and every certification after it, trusts the arithmetic */
-    if (zw_selftest() != ZW_OK) return ZW_REASON_FPENV;
-    if (zw_crc16_words(rm->staged, ZW_CERT_WORDS) != (rm->staged[CRC_INDEX] & 0xFFFFu))
+    if (zw_selftest() != ZW_OK) {
+        return ZW_REASON_FPENV;
+    }
+    if (zw_crc16_words(rm->staged, ZW_CERT_WORDS) != (rm->staged[CRC_INDEX] & 0xFFFFu)) {
         return ZW_REASON_CRC;
-    if (authenticate && !mac_verifies(rm)) return ZW_REASON_AUTH;
-    if ((why = zw_rm_policy_admit(rm)) != ZW_REASON_NONE) return why;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) { /* -0.0 stored as +0.0 */
-        float v = zw_rm_staged_float(rm, i);
-        zw_cert_set_field(&rm->sealed, i, v == 0.0f ? 0.0f : v);
+    }
+    if (authenticate && !mac_verifies(rm)) {
+        return ZW_REASON_AUTH;
+    }
+    why = zw_rm_policy_admit(rm);
+    if (why != ZW_REASON_NONE) {
+        return why;
+    }
+    for (i = 0u; i < ZW_CERT_FIELDS; ++i) { /* -0.0 stored as +0.0 */
+        const float v = zw_rm_staged_float(rm, i);
+        zw_cert_set_field(&rm->sealed, i, (v == 0.0f) ? 0.0f : v);
     }
     rm->is_sealed = 1u;
     end_session(rm);
@@ -109,14 +134,18 @@ zw_reason zw_rm_write_cert(zw_regmap *rm, uint_least16_t addr, uint_least16_t co
                             const uint_least16_t *words, const uint_least8_t *bytes)
 {
     size_t i;
-    for (i = 0; i < count && (uint_least32_t)addr + i < ZW_REG_CERT_CRC; i += 2u)
-        if (!zw_rm_finite_f(zw_rm_pair_float(rm, words, bytes, i))) return ZW_REASON_NOT_FINITE;
+    for (i = 0u; (i < count) && (((uint_least32_t)addr + i) < ZW_REG_CERT_CRC); i += 2u) {
+        if (!zw_rm_finite_f(zw_rm_pair_float(rm, words, bytes, i))) {
+            return ZW_REASON_NOT_FINITE;
+        }
+    }
     /* the floats in the map's word order (pairs start at even offsets: the write starts
      * on an even address), the CRC word as it is */
-    for (i = 0; i < count; ++i)
-        rm->staged[(size_t)(addr - ZW_REG_CERT_M) + i] =
-            (uint_least32_t)addr + i < ZW_REG_CERT_CRC ? zw_rm_pair_word(rm, words, bytes, i)
-                                                        : zw_rm_payload_word(words, bytes, i);
+    for (i = 0u; i < count; ++i) {
+        rm->staged[((size_t)addr - ZW_REG_CERT_M) + i] =
+            (((uint_least32_t)addr + i) < ZW_REG_CERT_CRC) ? zw_rm_pair_word(rm, words, bytes, i)
+                                                           : zw_rm_payload_word(words, bytes, i);
+    }
     return ZW_REASON_NONE;
 }
 
@@ -125,58 +154,107 @@ zw_reason zw_rm_write_mac(zw_regmap *rm, uint_least16_t addr, uint_least16_t cou
                           const uint_least16_t *words, const uint_least8_t *bytes)
 {
     size_t i;
-    for (i = 0; i < count; ++i)
-        rm->mac[(size_t)(addr - ZW_REG_MAC) + i] = zw_rm_payload_word(words, bytes, i);
+    for (i = 0u; i < count; ++i) {
+        rm->mac[((size_t)addr - ZW_REG_MAC) + i] = zw_rm_payload_word(words, bytes, i);
+    }
+    return ZW_REASON_NONE;
+}
+
+/* UNLOCK2: a commissioning session with a fresh nonce, the staged block a copy of the one
+ * in force (a frame of its own: the nonce is not on SEAL's stack). */
+ZW_NOINLINE static zw_reason unlock2(zw_regmap *rm, bool armed)
+{
+    unsigned i;
+    uint_least16_t nonce[ZW_AUTH_NONCE_WORDS];
+    if ((rm->mode != 0u) || !armed) {
+        return ZW_REASON_BAD_COMMAND;
+    }
+    if (rm->consent == 0u) {
+        return ZW_REASON_NO_CONSENT;
+    }
+    if (rm->has_ceilings == 0u) {
+        return ZW_REASON_NO_CEILINGS;
+    }
+    if (!draw_nonce(rm, nonce)) {
+        return ZW_REASON_RNG;
+    }
+    rm->mode = 1u;
+    zw_rm_publish_gains(rm, 0.0f, 0.0f); /* output off while the block may change */
+    for (i = 0u; i <= ZW_CERT_WORDS; ++i) {
+        rm->staged[i] = zw_rm_sealed_word(rm, i);
+    }
+    for (i = 0u; i < ZW_AUTH_NONCE_WORDS; ++i) {
+        rm->nonce[i] = nonce[i];
+    }
+    for (i = 0u; i < ZW_AUTH_MAC_WORDS; ++i) {
+        rm->mac[i] = 0u;
+    }
     return ZW_REASON_NONE;
 }
 
 zw_reason zw_rm_command(zw_regmap *rm, uint_least16_t cmd, bool armed)
 {
-    unsigned i;
-    uint_least16_t nonce[ZW_AUTH_NONCE_WORDS];
+    zw_reason why;
     switch (cmd) {
     case ZW_CMD_UNLOCK1:
-        if (rm->mode != 0u) return ZW_REASON_BAD_COMMAND; /* already commissioning */
-        if (rm->consent == 0u) return ZW_REASON_NO_CONSENT;
-        rm->unlock_armed = 1u;
-        return ZW_REASON_NONE;
+        if (rm->mode != 0u) { /* already commissioning */
+            why = ZW_REASON_BAD_COMMAND;
+        } else if (rm->consent == 0u) {
+            why = ZW_REASON_NO_CONSENT;
+        } else {
+            rm->unlock_armed = 1u;
+            why = ZW_REASON_NONE;
+        }
+        break;
     case ZW_CMD_UNLOCK2:
-        if (rm->mode != 0u || !armed) return ZW_REASON_BAD_COMMAND;
-        if (rm->consent == 0u) return ZW_REASON_NO_CONSENT;
-        if (rm->has_ceilings == 0u) return ZW_REASON_NO_CEILINGS;
-        if (!draw_nonce(rm, nonce)) return ZW_REASON_RNG;
-        rm->mode = 1u;
-        zw_rm_publish_gains(rm, 0.0f, 0.0f); /* output off while the block may change */
-        for (i = 0; i <= ZW_CERT_WORDS; ++i) rm->staged[i] = zw_rm_sealed_word(rm, i);
-        for (i = 0; i < ZW_AUTH_NONCE_WORDS; ++i) rm->nonce[i] = nonce[i];
-        for (i = 0; i < ZW_AUTH_MAC_WORDS; ++i) rm->mac[i] = 0u;
-        return ZW_REASON_NONE;
+        why = unlock2(rm, armed);
+        break;
     case ZW_CMD_SEAL:
-        if (rm->mode == 0u) return ZW_REASON_BAD_COMMAND;
-        if (rm->consent == 0u) return ZW_REASON_NO_CONSENT;
-        if (rm->has_ceilings == 0u) return ZW_REASON_NO_CEILINGS;
-        return zw_rm_seal_staged(rm, true);
-    case ZW_CMD_SAVE: return zw_rm_save(rm);
+        if (rm->mode == 0u) {
+            why = ZW_REASON_BAD_COMMAND;
+        } else if (rm->consent == 0u) {
+            why = ZW_REASON_NO_CONSENT;
+        } else if (rm->has_ceilings == 0u) {
+            why = ZW_REASON_NO_CEILINGS;
+        } else {
+            why = zw_rm_seal_staged(rm, true);
+        }
+        break;
+    case ZW_CMD_SAVE:
+        why = zw_rm_save(rm);
+        break;
     case ZW_CMD_ABORT:
-        if (rm->mode == 0u) return ZW_REASON_BAD_COMMAND;
-        end_session(rm); /* the sealed block and device were never touched; gains stay off */
-        return ZW_REASON_NONE;
-    default: return ZW_REASON_BAD_COMMAND;
+        if (rm->mode == 0u) {
+            why = ZW_REASON_BAD_COMMAND;
+        } else {
+            end_session(rm); /* the sealed block and device were never touched; gains stay off */
+            why = ZW_REASON_NONE;
+        }
+        break;
+    default:
+        why = ZW_REASON_BAD_COMMAND;
+        break;
     }
+    return why;
 }
-
 
 void zw_regmap_set_consent(zw_regmap *rm, bool enabled)
 {
-    if (rm == NULL) return;
+    if (rm == NULL) {
+        return;
+    }
     rm->consent = (uint_least16_t)(enabled ? 1u : 0u);
 }
 
 void zw_regmap_set_auth(zw_regmap *rm, const zw_regmap_auth *auth)
 {
-    if (rm == NULL) return;
+    if (rm == NULL) {
+        return;
+    }
     rm->auth.random = NULL;
     rm->auth.verify = NULL;
     rm->auth.ctx = NULL;
-    if (auth != NULL && auth->random != NULL && auth->verify != NULL) rm->auth = *auth;
+    if ((auth != NULL) && (auth->random != NULL) && (auth->verify != NULL)) {
+        rm->auth = *auth;
+    }
 }

@@ -51,17 +51,24 @@ static inline float zw_rm_quiet_nan_f(void)
 
 static inline bool zw_rm_finite_f(float x)
 {
-    return x == x && x <= FLT_MAX && x >= -FLT_MAX;
+    return (x == x) && (x <= FLT_MAX) && (x >= -FLT_MAX);
 }
 
 /* zw_real -> float without undefined behaviour when the value does not fit (saturates to
  * an infinity; NaN stays NaN). */
 static inline float zw_rm_to_float(zw_real x)
 {
-    if (x != x) return QUIET_NAN_F;
-    if (x > (zw_real)FLT_MAX) return ZW_HUGE_VALF;
-    if (x < -(zw_real)FLT_MAX) return -ZW_HUGE_VALF;
-    return (float)x;
+    float f;
+    if (x != x) {
+        f = QUIET_NAN_F;
+    } else if (x > (zw_real)FLT_MAX) {
+        f = ZW_HUGE_VALF;
+    } else if (x < -(zw_real)FLT_MAX) {
+        f = -ZW_HUGE_VALF;
+    } else {
+        f = (float)x;
+    }
+    return f;
 }
 
 /* Field `field` of the staged block. */

@@ -17,22 +17,26 @@
 
 static uint_least16_t image_word(const uint_least8_t *img, unsigned i)
 {
-    return (uint_least16_t)((((unsigned)img[2u * i] & 0xFFu) << 8) | ((unsigned)img[2u * i + 1u] & 0xFFu));
+    return (uint_least16_t)((((unsigned)img[2u * i] & 0xFFu) << 8) | ((unsigned)img[(2u * i) + 1u] & 0xFFu));
 }
 
 bool zw_regmap_image(const zw_regmap *rm, uint_least8_t image[ZW_IMAGE_BYTES])
 {
     uint_least16_t w[ZW_IMAGE_WORDS];
     unsigned i;
-    if (rm == NULL || image == NULL || rm->is_sealed == 0u) return false;
+    if ((rm == NULL) || (image == NULL) || (rm->is_sealed == 0u)) {
+        return false;
+    }
     w[0] = IMAGE_MAGIC0;
     w[1] = IMAGE_MAGIC1;
     w[2] = ZW_IMAGE_FORMAT;
-    for (i = 0; i <= ZW_CERT_WORDS; ++i) w[IMAGE_BLOCK + i] = zw_rm_sealed_word(rm, i);
+    for (i = 0u; i <= ZW_CERT_WORDS; ++i) {
+        w[IMAGE_BLOCK + i] = zw_rm_sealed_word(rm, i);
+    }
     zw_float_to_words(rm->K, &w[IMAGE_GAINS]);
     zw_float_to_words(rm->B, &w[IMAGE_GAINS + 2u]);
     w[IMAGE_CRC] = zw_crc16_words(w, IMAGE_CRC);
-    for (i = 0; i < ZW_IMAGE_WORDS; ++i) {
+    for (i = 0u; i < ZW_IMAGE_WORDS; ++i) {
         image[2u * i] = (uint_least8_t)(((unsigned)w[i] >> 8) & 0xFFu);
         image[2u * i + 1u] = (uint_least8_t)((unsigned)w[i] & 0xFFu);
     }
@@ -43,10 +47,18 @@ bool zw_regmap_image(const zw_regmap *rm, uint_least8_t image[ZW_IMAGE_BYTES])
 zw_reason zw_rm_save(zw_regmap *rm)
 {
     uint_least8_t image[ZW_IMAGE_BYTES];
-    if (rm->mode != 0u) return ZW_REASON_BAD_COMMAND;
-    if (rm->consent == 0u) return ZW_REASON_NO_CONSENT;
-    if (rm->is_sealed == 0u) return ZW_REASON_NOT_SEALED;
-    if (rm->storage.save == NULL) return ZW_REASON_NO_STORAGE;
+    if (rm->mode != 0u) {
+        return ZW_REASON_BAD_COMMAND;
+    }
+    if (rm->consent == 0u) {
+        return ZW_REASON_NO_CONSENT;
+    }
+    if (rm->is_sealed == 0u) {
+        return ZW_REASON_NOT_SEALED;
+    }
+    if (rm->storage.save == NULL) {
+        return ZW_REASON_NO_STORAGE;
+    }
     (void)zw_regmap_image(rm, image);
     return rm->storage.save(rm->storage.ctx, image, sizeof image) ? ZW_REASON_NONE
                                                                    : ZW_REASON_STORAGE;
@@ -54,10 +66,14 @@ zw_reason zw_rm_save(zw_regmap *rm)
 
 void zw_regmap_set_storage(zw_regmap *rm, const zw_regmap_storage *storage)
 {
-    if (rm == NULL) return;
+    if (rm == NULL) {
+        return;
+    }
     rm->storage.save = NULL;
     rm->storage.ctx = NULL;
-    if (storage != NULL && storage->save != NULL) rm->storage = *storage;
+    if ((storage != NULL) && (storage->save != NULL)) {
+        rm->storage = *storage;
+    }
 }
 
 /* One image: its format and CRC, then its block through SEAL's checks (no MAC: the image
@@ -72,16 +88,31 @@ static zw_reason restore_one(zw_regmap *rm, const uint_least8_t *img, size_t len
     unsigned i;
     zw_reason why;
     *gains_why = ZW_REASON_NONE;
-    if (img == NULL || len != ZW_IMAGE_BYTES) return ZW_REASON_IMAGE_FORMAT;
-    for (i = 0; i < ZW_IMAGE_WORDS; ++i) w[i] = image_word(img, i);
-    if (w[0] != IMAGE_MAGIC0 || w[1] != IMAGE_MAGIC1 || w[2] != ZW_IMAGE_FORMAT)
+    if ((img == NULL) || (len != ZW_IMAGE_BYTES)) {
         return ZW_REASON_IMAGE_FORMAT;
-    if (zw_crc16_words(w, IMAGE_CRC) != w[IMAGE_CRC]) return ZW_REASON_IMAGE_CRC;
-    for (i = 0; i <= ZW_CERT_WORDS; ++i) rm->staged[i] = w[IMAGE_BLOCK + i];
+    }
+    for (i = 0u; i < ZW_IMAGE_WORDS; ++i) {
+        w[i] = image_word(img, i);
+    }
+    if ((w[0] != IMAGE_MAGIC0) || (w[1] != IMAGE_MAGIC1) || (w[2] != ZW_IMAGE_FORMAT)) {
+        return ZW_REASON_IMAGE_FORMAT;
+    }
+    if (zw_crc16_words(w, IMAGE_CRC) != w[IMAGE_CRC]) {
+        return ZW_REASON_IMAGE_CRC;
+    }
+    for (i = 0u; i <= ZW_CERT_WORDS; ++i) {
+        rm->staged[i] = w[IMAGE_BLOCK + i];
+    }
     why = zw_rm_seal_staged(rm, false); /* sealed: operation, gains off */
-    for (i = 0; i <= ZW_CERT_WORDS; ++i) rm->staged[i] = 0u;
-    if (why == ZW_REASON_CRC) return ZW_REASON_IMAGE_CRC;
-    if (why != ZW_REASON_NONE) return why;
+    for (i = 0u; i <= ZW_CERT_WORDS; ++i) {
+        rm->staged[i] = 0u;
+    }
+    if (why == ZW_REASON_CRC) {
+        return ZW_REASON_IMAGE_CRC;
+    }
+    if (why != ZW_REASON_NONE) {
+        return why;
+    }
     *gains_why = zw_rm_apply_gains(rm, zw_words_to_float(&w[IMAGE_GAINS]),
                                    zw_words_to_float(&w[IMAGE_GAINS + 2u]));
     rm->accepted = accepted; /* a restore is not a gain write */
@@ -94,21 +125,35 @@ zw_status zw_regmap_restore(zw_regmap *rm, const uint_least8_t *newest, size_t n
 {
     zw_reason first = ZW_REASON_NONE, why, gains_why = ZW_REASON_NONE;
     uint_least16_t source = 0u;
-    if (reason != NULL) *reason = ZW_REASON_NONE;
-    if (rm == NULL) return ZW_ERR_NULL;
-    if (newest != NULL || newest_len != 0u) {
-        why = restore_one(rm, newest, newest_len, &gains_why);
-        if (why == ZW_REASON_NONE) source = 1u;
-        else first = why;
+    if (reason != NULL) {
+        *reason = ZW_REASON_NONE;
     }
-    if (source == 0u && (previous != NULL || previous_len != 0u)) {
+    if (rm == NULL) {
+        return ZW_ERR_NULL;
+    }
+    if ((newest != NULL) || (newest_len != 0u)) {
+        why = restore_one(rm, newest, newest_len, &gains_why);
+        if (why == ZW_REASON_NONE) {
+            source = 1u;
+        } else {
+            first = why;
+        }
+    }
+    if ((source == 0u) && ((previous != NULL) || (previous_len != 0u))) {
         why = restore_one(rm, previous, previous_len, &gains_why);
-        if (why == ZW_REASON_NONE) source = 2u;
-        else if (first == ZW_REASON_NONE) first = why;
+        if (why == ZW_REASON_NONE) {
+            source = 2u;
+        } else if (first == ZW_REASON_NONE) {
+            first = why;
+        } else {
+            /* the newest image's reason is the one reported */
+        }
     }
     rm->restore_source = source;
-    rm->restore_reason = (uint_least16_t)(first != ZW_REASON_NONE ? first : gains_why);
-    if (reason != NULL) *reason = (zw_reason)rm->restore_reason;
+    rm->restore_reason = (uint_least16_t)((first != ZW_REASON_NONE) ? first : gains_why);
+    if (reason != NULL) {
+        *reason = (zw_reason)rm->restore_reason;
+    }
     (void)zw_rm_live_all(rm);
-    return source != 0u || first == ZW_REASON_NONE ? ZW_OK : ZW_ERR_ARG;
+    return ((source != 0u) || (first == ZW_REASON_NONE)) ? ZW_OK : ZW_ERR_ARG;
 }

@@ -22,27 +22,40 @@
  * region.h / extremes.h, as in map version 1; any other by the general loop (loop.h). */
 static bool ideal_loop(const zw_regmap *rm)
 {
-    return rm->loop.loop.spec.delay == 0u && rm->loop.loop.spec.filter == ZW_VFILTER_NONE &&
-           rm->loop.loop.spec.differentiator == ZW_DIFF_BACKWARD;
+    return (rm->loop.loop.spec.delay == 0u) && (rm->loop.loop.spec.filter == ZW_VFILTER_NONE) &&
+           (rm->loop.loop.spec.differentiator == ZW_DIFF_BACKWARD);
 }
 
 /* x is a whole number in [0, max]. */
 static bool whole_in(float x, float max)
 {
-    return x >= 0.0f && x <= max && (float)(unsigned)x == x;
+    return (x >= 0.0f) && (x <= max) && ((float)(unsigned)x == x);
 }
 
 /* The loop fields of the staged block, each to its named reason (regmap.h). */
 static zw_reason check_loop_fields(const zw_regmap *rm)
 {
     const float kind = zw_rm_staged_float(rm, F_VFILTER), param = zw_rm_staged_float(rm, F_VF_PARAM);
-    if (!whole_in(zw_rm_staged_float(rm, F_DELAY), (float)ZW_LOOP_MAX_DELAY)) return ZW_REASON_BAD_DELAY;
-    if (!whole_in(kind, 2.0f)) return ZW_REASON_BAD_FILTER;
-    if (kind == 0.0f ? param != 0.0f
-                     : kind == 1.0f ? !(param > 0.0f)
-                                    : !(whole_in(param, (float)ZW_LOOP_MAX_AVERAGE) && param >= 1.0f))
+    bool param_ok;
+    if (!whole_in(zw_rm_staged_float(rm, F_DELAY), (float)ZW_LOOP_MAX_DELAY)) {
+        return ZW_REASON_BAD_DELAY;
+    }
+    if (!whole_in(kind, 2.0f)) {
+        return ZW_REASON_BAD_FILTER;
+    }
+    if (kind == 0.0f) { /* none: no parameter */
+        param_ok = param == 0.0f;
+    } else if (kind == 1.0f) { /* low-pass: a cut-off */
+        param_ok = param > 0.0f;
+    } else { /* moving average: a length */
+        param_ok = whole_in(param, (float)ZW_LOOP_MAX_AVERAGE) && (param >= 1.0f);
+    }
+    if (!param_ok) {
         return ZW_REASON_BAD_FILTER_PARAM;
-    if (!whole_in(zw_rm_staged_float(rm, F_DIFF), 1.0f)) return ZW_REASON_BAD_DIFFERENTIATOR;
+    }
+    if (!whole_in(zw_rm_staged_float(rm, F_DIFF), 1.0f)) {
+        return ZW_REASON_BAD_DIFFERENTIATOR;
+    }
     return ZW_REASON_NONE;
 }
 
@@ -55,19 +68,34 @@ static zw_reason build_loop(zw_regmap *rm, bool staged)
     float f[ZW_CERT_FIELDS];
     unsigned i;
     zw_status st;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) f[i] = staged ? zw_rm_staged_float(rm, i) : zw_cert_field(&rm->sealed, i);
-    spec.delay = (unsigned)f[F_DELAY];
-    spec.differentiator = f[F_DIFF] == 1.0f ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
-    spec.filter = f[F_VFILTER] == 1.0f   ? ZW_VFILTER_LOWPASS
-                  : f[F_VFILTER] == 2.0f ? ZW_VFILTER_AVERAGE
-                                         : ZW_VFILTER_NONE;
-    spec.cutoff_hz = spec.filter == ZW_VFILTER_LOWPASS ? (zw_real)f[F_VF_PARAM] : ZW_R(0.0);
-    spec.pole = ZW_R(0.0);
-    spec.average = spec.filter == ZW_VFILTER_AVERAGE ? (unsigned)f[F_VF_PARAM] : 0u;
+    for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
+        f[i] = staged ? zw_rm_staged_float(rm, i) : zw_cert_field(&rm->sealed, i);
+    }
+    spec.differentiator = (f[F_DIFF] == 1.0f) ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
+    if (f[F_VFILTER] == 1.0f) {
+        spec.filter = ZW_VFILTER_LOWPASS;
+    } else if (f[F_VFILTER] == 2.0f) {
+        spec.filter = ZW_VFILTER_AVERAGE;
+    } else {
+        spec.filter = ZW_VFILTER_NONE;
+    }
     rm->kmax_cached = 0u;
+    /* Never true (check_loop_fields passed these fields, now or when the block was sealed);
+     * checked again so that the float-to-unsigned conversions below are defined for any
+     * block, which the run-time-error analysis cannot relate to the earlier check. */
+    if (!whole_in(f[F_DELAY], (float)ZW_LOOP_MAX_DELAY) ||
+        ((spec.filter == ZW_VFILTER_AVERAGE) && !whole_in(f[F_VF_PARAM], (float)ZW_LOOP_MAX_AVERAGE))) {
+        return ZW_REASON_BAD_POLICY;
+    }
+    spec.delay = (unsigned)f[F_DELAY];
+    spec.cutoff_hz = (spec.filter == ZW_VFILTER_LOWPASS) ? (zw_real)f[F_VF_PARAM] : ZW_R(0.0);
+    spec.pole = ZW_R(0.0);
+    spec.average = (spec.filter == ZW_VFILTER_AVERAGE) ? (unsigned)f[F_VF_PARAM] : 0u;
     st = zw_device_loop_init(&rm->loop, (zw_real)f[F_M], (zw_real)f[F_B], (zw_real)f[F_T], &spec);
-    if (st == ZW_OK) return ZW_REASON_NONE;
-    return st == ZW_ERR_FILTER ? ZW_REASON_BAD_FILTER_PARAM : ZW_REASON_BAD_POLICY;
+    if (st == ZW_OK) {
+        return ZW_REASON_NONE;
+    }
+    return (st == ZW_ERR_FILTER) ? ZW_REASON_BAD_FILTER_PARAM : ZW_REASON_BAD_POLICY;
 }
 
 /* K_MMAX and its B, of the plant and loop in force (the extremes in a frame of their own,
@@ -88,9 +116,9 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm, bool *any)
         K = e.K_mmax;
         B = e.B_at_K_mmax;
     }
-    *any = st == ZW_OK && K > ZW_R(0.0);
-    rm->live[L_K_MMAX] = st == ZW_OK ? zw_rm_to_float(K) : QUIET_NAN_F;
-    rm->live[L_B_AT_KMMAX] = st == ZW_OK ? zw_rm_to_float(B) : QUIET_NAN_F;
+    *any = (st == ZW_OK) && (K > ZW_R(0.0));
+    rm->live[L_K_MMAX] = (st == ZW_OK) ? zw_rm_to_float(K) : QUIET_NAN_F;
+    rm->live[L_B_AT_KMMAX] = (st == ZW_OK) ? zw_rm_to_float(B) : QUIET_NAN_F;
 }
 
 /* SEAL's policy part (after the self-test and the CRC): check the staged block and build
@@ -118,11 +146,13 @@ static zw_reason check_ceilings(const zw_ceilings *k, const float f[ZW_CERT_FIEL
 {
     if (f[F_SIGMA] > k->sigma_max || f[F_R] > k->r_max || f[F_K_MIN] < k->k_min ||
         f[F_K_MAX] > k->k_max || f[F_B_MIN] < k->b_min || f[F_B_MAX] > k->b_max ||
-        f[F_DK_MAX] > k->dk_max || f[F_DB_MAX] > k->db_max)
+        f[F_DK_MAX] > k->dk_max || f[F_DB_MAX] > k->db_max) {
         return ZW_REASON_ABOVE_CEILING;
+    }
     if (!within_tol(f[F_M], k->m, k->plant_tol) || !within_tol(f[F_B], k->b, k->plant_tol) ||
-        !within_tol(f[F_T], k->T, k->plant_tol))
+        !within_tol(f[F_T], k->T, k->plant_tol)) {
         return ZW_REASON_PLANT_MISMATCH;
+    }
     return ZW_REASON_NONE;
 }
 
@@ -130,21 +160,37 @@ static zw_reason check_ceilings(const zw_ceilings *k, const float f[ZW_CERT_FIEL
 static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_FIELDS])
 {
     unsigned i;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i)
-        if (!zw_rm_finite_f(f[i])) return ZW_REASON_BAD_POLICY;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i)
-        if (subnormal_f(f[i])) return ZW_REASON_SUBNORMAL;
-    if (!(f[F_SIGMA] > 0.0f && f[F_SIGMA] <= 1.0f) || !(f[F_R] > 0.0f && f[F_R] <= 1.0f))
+    for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
+        if (!zw_rm_finite_f(f[i])) {
+            return ZW_REASON_BAD_POLICY;
+        }
+    }
+    for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
+        if (subnormal_f(f[i])) {
+            return ZW_REASON_SUBNORMAL;
+        }
+    }
+    if (!(f[F_SIGMA] > 0.0f && f[F_SIGMA] <= 1.0f) || !(f[F_R] > 0.0f && f[F_R] <= 1.0f)) {
         return ZW_REASON_BAD_POLICY;
+    }
     /* a plant that cannot exist is a bad policy, not a mismatch with the nameplate */
-    if (!(f[F_M] > 0.0f) || !(f[F_T] > 0.0f) || !(f[F_B] >= 0.0f)) return ZW_REASON_BAD_POLICY;
-    if (!(f[F_K_MIN] <= f[F_K_MAX]) || !(f[F_B_MIN] <= f[F_B_MAX])) return ZW_REASON_BAD_POLICY;
-    if (!(f[F_DK_MAX] > 0.0f) || !(f[F_DB_MAX] > 0.0f)) return ZW_REASON_BAD_POLICY;
+    if (!(f[F_M] > 0.0f) || !(f[F_T] > 0.0f) || !(f[F_B] >= 0.0f)) {
+        return ZW_REASON_BAD_POLICY;
+    }
+    if (!(f[F_K_MIN] <= f[F_K_MAX]) || !(f[F_B_MIN] <= f[F_B_MAX])) {
+        return ZW_REASON_BAD_POLICY;
+    }
+    if (!(f[F_DK_MAX] > 0.0f) || !(f[F_DB_MAX] > 0.0f)) {
+        return ZW_REASON_BAD_POLICY;
+    }
     /* After a seal the output is off, (0, 0), and steps count from there: refuse a block
      * from which no pair is within the bounds and one step (it could never be used). */
-    if (f[F_K_MIN] > f[F_DK_MAX] || f[F_B_MIN] > f[F_DB_MAX] || f[F_B_MAX] < -f[F_DB_MAX])
+    if (f[F_K_MIN] > f[F_DK_MAX] || f[F_B_MIN] > f[F_DB_MAX] || f[F_B_MAX] < -f[F_DB_MAX]) {
         return ZW_REASON_BAD_POLICY;
-    if (rm->has_ceilings != 0u) return check_ceilings(&rm->ceilings, f);
+    }
+    if (rm->has_ceilings != 0u) {
+        return check_ceilings(&rm->ceilings, f);
+    }
     return ZW_REASON_NONE;
 }
 
@@ -154,23 +200,34 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
     float f[ZW_CERT_FIELDS];
     zw_cert c;
     zw_reason why;
-    bool any = false;
-    for (i = 0; i < ZW_CERT_FIELDS; ++i) {
+    bool any;
+    for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
         f[i] = zw_rm_staged_float(rm, i);
         zw_cert_set_field(&c, i, f[i]);
     }
-    if ((why = check_block_fields(rm, f)) != ZW_REASON_NONE) return why;
-    if ((why = check_loop_fields(rm)) != ZW_REASON_NONE) return why;
+    why = check_block_fields(rm, f);
+    if (why != ZW_REASON_NONE) {
+        return why;
+    }
+    why = check_loop_fields(rm);
+    if (why != ZW_REASON_NONE) {
+        return why;
+    }
     why = build_loop(rm, true);
     if (why == ZW_REASON_NONE) {
         live_extremes(rm, &any);
-        if (!any) why = ZW_REASON_LOOP_NEVER_STABLE;
-        else if (!some_pair_usable(rm, &c)) why = ZW_REASON_ONLY_OFF;
+        if (!any) {
+            why = ZW_REASON_LOOP_NEVER_STABLE;
+        } else if (!some_pair_usable(rm, &c)) {
+            why = ZW_REASON_ONLY_OFF;
+        } else {
+            /* admitted */
+        }
     }
     if (why != ZW_REASON_NONE) {
         /* the sealed block stays in force: its loop back (it was valid when sealed), and
          * its extremes */
-        if (rm->is_sealed) {
+        if (rm->is_sealed != 0u) {
             (void)build_loop(rm, false);
             live_extremes(rm, &any);
         }
@@ -190,19 +247,29 @@ zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *k, zw_reason 
     float f[ZW_CERT_FIELDS];
     unsigned i;
     zw_reason why = ZW_REASON_NONE;
-    if (reason != NULL) *reason = ZW_REASON_BAD_POLICY;
-    if (rm == NULL || k == NULL) return ZW_ERR_NULL;
-    for (i = 0; i < 12u; ++i)
-        if (!zw_rm_finite_f(v[i])) return ZW_ERR_ARG;
+    if (reason != NULL) {
+        *reason = ZW_REASON_BAD_POLICY;
+    }
+    if (rm == NULL || k == NULL) {
+        return ZW_ERR_NULL;
+    }
+    for (i = 0u; i < 12u; ++i) {
+        if (!zw_rm_finite_f(v[i])) {
+            return ZW_ERR_ARG;
+        }
+    }
     if (!(k->sigma_max > 0.0f && k->sigma_max <= 1.0f) || !(k->r_max > 0.0f && k->r_max <= 1.0f) ||
         !(k->m > 0.0f) || !(k->T > 0.0f) || !(k->b >= 0.0f) || !(k->plant_tol >= 0.0f) ||
         !(k->k_min <= k->k_max) || !(k->b_min <= k->b_max) || !(k->dk_max > 0.0f) ||
-        !(k->db_max > 0.0f))
+        !(k->db_max > 0.0f)) {
         return ZW_ERR_ARG;
+    }
     rm->ceilings = *k;
     rm->has_ceilings = 1u;
-    if (rm->is_sealed) {
-        for (i = 0; i < ZW_CERT_FIELDS; ++i) f[i] = zw_cert_field(&rm->sealed, i);
+    if (rm->is_sealed != 0u) {
+        for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
+            f[i] = zw_cert_field(&rm->sealed, i);
+        }
         why = check_ceilings(k, f);
         if (why != ZW_REASON_NONE) { /* never run outside the ceilings: unsealed, output off */
             rm->is_sealed = 0u;
@@ -210,7 +277,9 @@ zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *k, zw_reason 
             (void)zw_rm_live_all(rm);
         }
     }
-    if (reason != NULL) *reason = why;
+    if (reason != NULL) {
+        *reason = why;
+    }
     return why == ZW_REASON_NONE ? ZW_OK : ZW_ERR_ARG;
 }
 
@@ -225,7 +294,9 @@ static bool step_within(float a, float b, float limit)
     zw_real d = x + y;
     zw_real ad = d < ZW_R(0.0) ? -d : d;
     zw_real yv, err;
-    if (ad != lim) return ad < lim; /* an overflowed difference is inf: refused */
+    if (ad != lim) { /* an overflowed difference is inf: refused */
+        return ad < lim;
+    }
     yv = d - x;
     err = (x - (d - yv)) + (y - yv); /* d + err == a - b exactly */
     return d > ZW_R(0.0) ? err <= ZW_R(0.0) : err >= ZW_R(0.0);
@@ -247,20 +318,24 @@ static bool stable_ok(zw_regmap *rm, float K, float B)
 
 static bool radius_ok(zw_regmap *rm, float r, float K, float B)
 {
-    bool within = false;
-    zw_status st = ideal_loop(rm)
-                       ? zw_device_radius_within(&rm->loop.dev, (zw_real)K, (zw_real)B,
-                                                 (zw_real)r, &within)
-                       : zw_device_loop_radius_within(&rm->loop, &rm->ws, (zw_real)K, (zw_real)B,
-                                                      (zw_real)r, &within);
-    return st == ZW_OK && within;
+    bool within; /* written by both on every path (their fail-safe rule) */
+    zw_status st;
+    if (ideal_loop(rm)) {
+        st = zw_device_radius_within(&rm->loop.dev, (zw_real)K, (zw_real)B, (zw_real)r, &within);
+    } else {
+        st = zw_device_loop_radius_within(&rm->loop, &rm->ws, (zw_real)K, (zw_real)B, (zw_real)r,
+                                          &within);
+    }
+    return (st == ZW_OK) && within;
 }
 
 /* K_max at B of the drive's loop (certified; 0 on error, by the core's fail-safe).  The
  * general loop's is taken from the cache when B is the one it holds. */
 static zw_status drive_k_max(zw_regmap *rm, float B, zw_real *k_max)
 {
-    if (ideal_loop(rm)) return zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max);
+    if (ideal_loop(rm)) {
+        return zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max);
+    }
     if (rm->kmax_cached != 0u && rm->kmax_B == B) {
         *k_max = rm->kmax_value;
         return ZW_OK;
@@ -283,19 +358,40 @@ static zw_reason certify_under(zw_regmap *rm, const zw_cert *c, float K0, float 
 {
     zw_real k_max;
     *k_max_out = ZW_R(0.0);
-    if (!zw_rm_finite_f(K) || !zw_rm_finite_f(B)) return ZW_REASON_NOT_FINITE;
-    if (K == 0.0f && B == 0.0f) return ZW_REASON_NONE; /* output off: always allowed */
-    if (K < c->k_min) return ZW_REASON_K_BELOW_MIN;
-    if (K > c->k_max) return ZW_REASON_K_ABOVE_MAX;
-    if (B < c->b_min) return ZW_REASON_B_BELOW_MIN;
-    if (B > c->b_max) return ZW_REASON_B_ABOVE_MAX;
-    if (!step_within(K, K0, c->dk_max)) return ZW_REASON_K_STEP;
-    if (!step_within(B, B0, c->db_max)) return ZW_REASON_B_STEP;
-    if (!stable_ok(rm, K, B)) return ZW_REASON_UNSTABLE;
-    if (drive_k_max(rm, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max)
+    if (!zw_rm_finite_f(K) || !zw_rm_finite_f(B)) {
+        return ZW_REASON_NOT_FINITE;
+    }
+    if (K == 0.0f && B == 0.0f) { /* output off: always allowed */
+        return ZW_REASON_NONE;
+    }
+    if (K < c->k_min) {
+        return ZW_REASON_K_BELOW_MIN;
+    }
+    if (K > c->k_max) {
+        return ZW_REASON_K_ABOVE_MAX;
+    }
+    if (B < c->b_min) {
+        return ZW_REASON_B_BELOW_MIN;
+    }
+    if (B > c->b_max) {
+        return ZW_REASON_B_ABOVE_MAX;
+    }
+    if (!step_within(K, K0, c->dk_max)) {
+        return ZW_REASON_K_STEP;
+    }
+    if (!step_within(B, B0, c->db_max)) {
+        return ZW_REASON_B_STEP;
+    }
+    if (!stable_ok(rm, K, B)) {
+        return ZW_REASON_UNSTABLE;
+    }
+    if (drive_k_max(rm, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max) {
         return ZW_REASON_ABOVE_SIGMA;
+    }
     *k_max_out = k_max;
-    if (!radius_ok(rm, c->r, K, B)) return ZW_REASON_RADIUS;
+    if (!radius_ok(rm, c->r, K, B)) {
+        return ZW_REASON_RADIUS;
+    }
     return ZW_REASON_NONE;
 }
 
@@ -305,10 +401,15 @@ zw_reason zw_rm_apply_gains(zw_regmap *rm, float K, float B)
 {
     zw_real k_max;
     zw_reason why = certify_under(rm, &rm->sealed, rm->K, rm->B, K, B, &k_max);
-    if (why != ZW_REASON_NONE) return why;
+    if (why != ZW_REASON_NONE) {
+        return why;
+    }
     /* (0, 0) skips the rules: k_max is then not known */
-    if (K == 0.0f && B == 0.0f) rm->kmax_cached = 0u;
-    else cache_k_max(rm, B, k_max);
+    if (K == 0.0f && B == 0.0f) {
+        rm->kmax_cached = 0u;
+    } else {
+        cache_k_max(rm, B, k_max);
+    }
     zw_rm_publish_gains(rm, K == 0.0f ? 0.0f : K, B == 0.0f ? 0.0f : B);
     rm->accepted = (rm->accepted + 1u) & 0xFFFFFFFFu;
     return ZW_REASON_NONE;
@@ -321,12 +422,20 @@ zw_reason zw_rm_apply_gains(zw_regmap *rm, float K, float B)
 static float float_down(zw_real x)
 {
     float f = zw_rm_to_float(x);
-    if ((zw_real)f > x) f = ZW_NEXTAFTERF(f, -ZW_HUGE_VALF);
+    if ((zw_real)f > x) {
+        f = ZW_NEXTAFTERF(f, -ZW_HUGE_VALF);
+    }
     return f;
 }
 
 /* Grid of the downward scan in live_k_cert (see there). */
-#define K_CERT_GRID 32
+#define K_CERT_GRID 32u
+
+/* Bound on the iterations of live_k_cert's loop (an integer loop counter, MISRA 14.1): the
+ * scan takes at most K_CERT_GRID; the bisection starts from lo >= hi / 2 (neighbouring grid
+ * points below top), so hi - lo <= lo and after 25 halvings it is below one ulp of lo and
+ * the loop has ended.  Never reached; if it were, lo would still be an accepted K. */
+#define K_CERT_STEPS (K_CERT_GRID + 64u)
 
 /* LIVE_K_CERT: the largest float K at the current B that the k_max, sigma, stability and
  * radius rules accept (the k_min and step rules depend on where K comes from, so they are
@@ -339,31 +448,43 @@ ZW_NOINLINE static zw_mb_exception live_k_cert(zw_regmap *rm)
 {
     zw_real k_max, top;
     float top_f = 0.0f, lo = 0.0f, hi, k, B = rm->B;
-    int grid = K_CERT_GRID; /* scanning grid point grid/K_CERT_GRID of top; 0: bisecting */
-    bool ok;
+    unsigned grid = K_CERT_GRID; /* scanning grid point grid/K_CERT_GRID of top; 0: bisecting */
+    unsigned step;
+    bool searching;
     rm->live[L_K_CERT] = QUIET_NAN_F;
-    if (!rm->is_sealed || drive_k_max(rm, B, &k_max) != ZW_OK)
+    if ((rm->is_sealed == 0u) || (drive_k_max(rm, B, &k_max) != ZW_OK)) {
         return ZW_MB_OK;
+    }
     top = (zw_real)rm->sealed.sigma * k_max;
-    if (top > (zw_real)rm->sealed.k_max) top = (zw_real)rm->sealed.k_max;
-    if (top > ZW_R(0.0)) top_f = float_down(top);
+    if (top > (zw_real)rm->sealed.k_max) {
+        top = (zw_real)rm->sealed.k_max;
+    }
+    if (top > ZW_R(0.0)) {
+        top_f = float_down(top);
+    }
     /* One loop with one call site of the rules: a smaller frame than a scan loop followed
      * by a bisection loop. */
-    hi = k = top_f;
-    while (k > 0.0f) {
-        ok = stable_ok(rm, k, B) && radius_ok(rm, rm->sealed.r, k, B);
-        if (grid > 0 && !ok) { /* scanning down */
+    hi = top_f;
+    k = top_f;
+    searching = k > 0.0f;
+    for (step = 0u; (step < K_CERT_STEPS) && searching; ++step) {
+        const bool ok = stable_ok(rm, k, B) && radius_ok(rm, rm->sealed.r, k, B);
+        if ((grid > 0u) && !ok) { /* scanning down */
             hi = k;
-            if (--grid == 0) break; /* no grid point accepted: lo stays 0 */
+            --grid;
             k = top_f * ((float)grid / (float)K_CERT_GRID);
-            continue;
+            searching = (grid > 0u) && (k > 0.0f); /* grid 0: none accepted, lo stays 0 */
+        } else {
+            if (ok) {
+                lo = k;
+            } else {
+                hi = k;
+            }
+            searching = grid != K_CERT_GRID; /* still K_CERT_GRID: top itself is accepted */
+            grid = 0u;
+            k = lo + ((hi - lo) * 0.5f); /* lo accepted, hi refused; ends when they are neighbours */
+            searching = searching && (k > lo) && (k < hi);
         }
-        if (ok) lo = k;
-        else hi = k;
-        if (grid == K_CERT_GRID) break; /* top itself is accepted */
-        grid = 0;
-        k = lo + (hi - lo) * 0.5f; /* lo accepted, hi refused; ends when they are neighbours */
-        if (!(k > lo && k < hi)) break;
     }
     rm->live[L_K_CERT] = lo;
     return ZW_MB_OK;
@@ -389,21 +510,37 @@ ZW_NOINLINE static bool some_pair_usable(zw_regmap *rm, const zw_cert *c)
     float B, top_f, K;
     zw_real k_max, top, km;
     unsigned i, j;
-    for (i = 0; i < USABLE_B_GRID + 2u; ++i) {
-        if (i == 0u) B = rm->live[L_B_AT_KMMAX];
-        else if (i == 1u) B = 0.0f;
-        else B = lo + (hi - lo) * ((float)(i - 2u) / (float)(USABLE_B_GRID - 1u));
-        if (!(B >= lo && B <= hi)) continue; /* NaN too */
-        if (drive_k_max(rm, B, &k_max) != ZW_OK) continue;
+    for (i = 0u; i < USABLE_B_GRID + 2u; ++i) {
+        if (i == 0u) {
+            B = rm->live[L_B_AT_KMMAX];
+        } else if (i == 1u) {
+            B = 0.0f;
+        } else {
+            const unsigned point = i - 2u; /* of the grid over [lo, hi] */
+            B = lo + ((hi - lo) * ((float)point / ((float)USABLE_B_GRID - 1.0f)));
+        }
+        if (!(B >= lo && B <= hi)) { /* NaN too */
+            continue;
+        }
+        if (drive_k_max(rm, B, &k_max) != ZW_OK) {
+            continue;
+        }
         top = (zw_real)c->sigma * k_max;
-        if (top > (zw_real)c->k_max) top = (zw_real)c->k_max;
-        if (top > (zw_real)c->dk_max) top = (zw_real)c->dk_max;
-        if (!(top > ZW_R(0.0))) continue;
+        if (top > (zw_real)c->k_max) {
+            top = (zw_real)c->k_max;
+        }
+        if (top > (zw_real)c->dk_max) {
+            top = (zw_real)c->dk_max;
+        }
+        if (!(top > ZW_R(0.0))) {
+            continue;
+        }
         top_f = float_down(top);
         for (j = 0; j <= 11u; ++j) {
             K = j < 11u ? top_f * k_fraction[j] : c->k_min;
-            if (K > 0.0f && certify_under(rm, c, 0.0f, 0.0f, K, B, &km) == ZW_REASON_NONE)
+            if (K > 0.0f && certify_under(rm, c, 0.0f, 0.0f, K, B, &km) == ZW_REASON_NONE) {
                 return true;
+            }
         }
     }
     return false;
@@ -426,12 +563,16 @@ ZW_NOINLINE static void live_refresh(zw_regmap *rm)
     zw_status st;
     bool any;
     unsigned i;
-    if (!rm->is_sealed) {
-        for (i = 0; i < L_COUNT; ++i) rm->live[i] = QUIET_NAN_F;
+    if (rm->is_sealed == 0u) {
+        for (i = 0u; i < L_COUNT; ++i) {
+            rm->live[i] = QUIET_NAN_F;
+        }
         return;
     }
     st = drive_k_max(rm, rm->B, &x);
-    if (st == ZW_OK && !(rm->K == 0.0f && rm->B == 0.0f)) cache_k_max(rm, rm->B, x);
+    if (st == ZW_OK && !(rm->K == 0.0f && rm->B == 0.0f)) {
+        cache_k_max(rm, rm->B, x);
+    }
     rm->live[L_K_MAX] = value_or_nan(st, x);
     /* both report (0, 0) when the interval is empty, which covers K = 0 */
     /* the general loop's B range is not computed per write (regmap.h): NaN */
@@ -456,47 +597,48 @@ zw_mb_exception zw_rm_live_all(zw_regmap *rm)
 
 const char *zw_reason_name(zw_reason reason)
 {
+    const char *name;
     switch (reason) {
-    case ZW_REASON_NONE: return "ZW_REASON_NONE";
-    case ZW_REASON_BAD_FUNCTION: return "ZW_REASON_BAD_FUNCTION";
-    case ZW_REASON_MALFORMED: return "ZW_REASON_MALFORMED";
-    case ZW_REASON_UNMAPPED: return "ZW_REASON_UNMAPPED";
-    case ZW_REASON_READ_ONLY: return "ZW_REASON_READ_ONLY";
-    case ZW_REASON_HALF_FLOAT: return "ZW_REASON_HALF_FLOAT";
-    case ZW_REASON_LOCKED: return "ZW_REASON_LOCKED";
-    case ZW_REASON_NOT_SEALED: return "ZW_REASON_NOT_SEALED";
-    case ZW_REASON_NOT_FINITE: return "ZW_REASON_NOT_FINITE";
-    case ZW_REASON_K_BELOW_MIN: return "ZW_REASON_K_BELOW_MIN";
-    case ZW_REASON_K_ABOVE_MAX: return "ZW_REASON_K_ABOVE_MAX";
-    case ZW_REASON_B_BELOW_MIN: return "ZW_REASON_B_BELOW_MIN";
-    case ZW_REASON_B_ABOVE_MAX: return "ZW_REASON_B_ABOVE_MAX";
-    case ZW_REASON_K_STEP: return "ZW_REASON_K_STEP";
-    case ZW_REASON_B_STEP: return "ZW_REASON_B_STEP";
-    case ZW_REASON_UNSTABLE: return "ZW_REASON_UNSTABLE";
-    case ZW_REASON_ABOVE_SIGMA: return "ZW_REASON_ABOVE_SIGMA";
-    case ZW_REASON_RADIUS: return "ZW_REASON_RADIUS";
-    case ZW_REASON_BAD_COMMAND: return "ZW_REASON_BAD_COMMAND";
-    case ZW_REASON_CRC: return "ZW_REASON_CRC";
-    case ZW_REASON_BAD_POLICY: return "ZW_REASON_BAD_POLICY";
-    case ZW_REASON_FPENV: return "ZW_REASON_FPENV";
-    case ZW_REASON_BAD_DELAY: return "ZW_REASON_BAD_DELAY";
-    case ZW_REASON_BAD_FILTER: return "ZW_REASON_BAD_FILTER";
-    case ZW_REASON_BAD_FILTER_PARAM: return "ZW_REASON_BAD_FILTER_PARAM";
-    case ZW_REASON_BAD_DIFFERENTIATOR: return "ZW_REASON_BAD_DIFFERENTIATOR";
-    case ZW_REASON_LOOP_NEVER_STABLE: return "ZW_REASON_LOOP_NEVER_STABLE";
-    case ZW_REASON_NO_CONSENT: return "ZW_REASON_NO_CONSENT";
-    case ZW_REASON_RNG: return "ZW_REASON_RNG";
-    case ZW_REASON_AUTH: return "ZW_REASON_AUTH";
-    case ZW_REASON_ABOVE_CEILING: return "ZW_REASON_ABOVE_CEILING";
-    case ZW_REASON_PLANT_MISMATCH: return "ZW_REASON_PLANT_MISMATCH";
-    case ZW_REASON_SUBNORMAL: return "ZW_REASON_SUBNORMAL";
-    case ZW_REASON_ONLY_OFF: return "ZW_REASON_ONLY_OFF";
-    case ZW_REASON_NO_CEILINGS: return "ZW_REASON_NO_CEILINGS";
-    case ZW_REASON_NO_STORAGE: return "ZW_REASON_NO_STORAGE";
-    case ZW_REASON_STORAGE: return "ZW_REASON_STORAGE";
-    case ZW_REASON_IMAGE_FORMAT: return "ZW_REASON_IMAGE_FORMAT";
-    case ZW_REASON_IMAGE_CRC: return "ZW_REASON_IMAGE_CRC";
-    default: break; /* a value outside the enumeration: named below */
+    case ZW_REASON_NONE: name = "ZW_REASON_NONE"; break;
+    case ZW_REASON_BAD_FUNCTION: name = "ZW_REASON_BAD_FUNCTION"; break;
+    case ZW_REASON_MALFORMED: name = "ZW_REASON_MALFORMED"; break;
+    case ZW_REASON_UNMAPPED: name = "ZW_REASON_UNMAPPED"; break;
+    case ZW_REASON_READ_ONLY: name = "ZW_REASON_READ_ONLY"; break;
+    case ZW_REASON_HALF_FLOAT: name = "ZW_REASON_HALF_FLOAT"; break;
+    case ZW_REASON_LOCKED: name = "ZW_REASON_LOCKED"; break;
+    case ZW_REASON_NOT_SEALED: name = "ZW_REASON_NOT_SEALED"; break;
+    case ZW_REASON_NOT_FINITE: name = "ZW_REASON_NOT_FINITE"; break;
+    case ZW_REASON_K_BELOW_MIN: name = "ZW_REASON_K_BELOW_MIN"; break;
+    case ZW_REASON_K_ABOVE_MAX: name = "ZW_REASON_K_ABOVE_MAX"; break;
+    case ZW_REASON_B_BELOW_MIN: name = "ZW_REASON_B_BELOW_MIN"; break;
+    case ZW_REASON_B_ABOVE_MAX: name = "ZW_REASON_B_ABOVE_MAX"; break;
+    case ZW_REASON_K_STEP: name = "ZW_REASON_K_STEP"; break;
+    case ZW_REASON_B_STEP: name = "ZW_REASON_B_STEP"; break;
+    case ZW_REASON_UNSTABLE: name = "ZW_REASON_UNSTABLE"; break;
+    case ZW_REASON_ABOVE_SIGMA: name = "ZW_REASON_ABOVE_SIGMA"; break;
+    case ZW_REASON_RADIUS: name = "ZW_REASON_RADIUS"; break;
+    case ZW_REASON_BAD_COMMAND: name = "ZW_REASON_BAD_COMMAND"; break;
+    case ZW_REASON_CRC: name = "ZW_REASON_CRC"; break;
+    case ZW_REASON_BAD_POLICY: name = "ZW_REASON_BAD_POLICY"; break;
+    case ZW_REASON_FPENV: name = "ZW_REASON_FPENV"; break;
+    case ZW_REASON_BAD_DELAY: name = "ZW_REASON_BAD_DELAY"; break;
+    case ZW_REASON_BAD_FILTER: name = "ZW_REASON_BAD_FILTER"; break;
+    case ZW_REASON_BAD_FILTER_PARAM: name = "ZW_REASON_BAD_FILTER_PARAM"; break;
+    case ZW_REASON_BAD_DIFFERENTIATOR: name = "ZW_REASON_BAD_DIFFERENTIATOR"; break;
+    case ZW_REASON_LOOP_NEVER_STABLE: name = "ZW_REASON_LOOP_NEVER_STABLE"; break;
+    case ZW_REASON_NO_CONSENT: name = "ZW_REASON_NO_CONSENT"; break;
+    case ZW_REASON_RNG: name = "ZW_REASON_RNG"; break;
+    case ZW_REASON_AUTH: name = "ZW_REASON_AUTH"; break;
+    case ZW_REASON_ABOVE_CEILING: name = "ZW_REASON_ABOVE_CEILING"; break;
+    case ZW_REASON_PLANT_MISMATCH: name = "ZW_REASON_PLANT_MISMATCH"; break;
+    case ZW_REASON_SUBNORMAL: name = "ZW_REASON_SUBNORMAL"; break;
+    case ZW_REASON_ONLY_OFF: name = "ZW_REASON_ONLY_OFF"; break;
+    case ZW_REASON_NO_CEILINGS: name = "ZW_REASON_NO_CEILINGS"; break;
+    case ZW_REASON_NO_STORAGE: name = "ZW_REASON_NO_STORAGE"; break;
+    case ZW_REASON_STORAGE: name = "ZW_REASON_STORAGE"; break;
+    case ZW_REASON_IMAGE_FORMAT: name = "ZW_REASON_IMAGE_FORMAT"; break;
+    case ZW_REASON_IMAGE_CRC: name = "ZW_REASON_IMAGE_CRC"; break;
+    default: name = "ZW_REASON_UNKNOWN"; break; /* a value outside the enumeration */
     }
-    return "ZW_REASON_UNKNOWN";
+    return name;
 }
