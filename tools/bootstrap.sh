@@ -157,7 +157,7 @@ if [ ! -x .venv/bin/python ]; then
     echo "bootstrap: creating .venv" >&2
     python3 -m venv .venv
 fi
-if ! .venv/bin/python -c 'import mpmath, numpy, pytest, pymodbus, hypothesis, mypy, matplotlib, scipy, control, pybind11, scikit_build_core, pint, tqdm, reuse, build, twine' >/dev/null 2>&1; then
+if ! .venv/bin/python -c 'import mpmath, numpy, pytest, xdist, pymodbus, hypothesis, mypy, matplotlib, scipy, control, pybind11, scikit_build_core, pint, tqdm, reuse, build, twine' >/dev/null 2>&1; then
     echo "bootstrap: installing Python test requirements into .venv" >&2
     .venv/bin/python -m pip install -q --disable-pip-version-check -r tools/requirements-test.txt
 fi

@@ -81,7 +81,8 @@ step "Python package: pip install . (scikit-build-core, pybind11), then mypy --s
 .venv/bin/python -m mypy.stubtest zwidth._core
 
 step "Python tests and high-precision reference tests (pytest: bindings, CLI, plots, mpmath)"
-MPLBACKEND=Agg ZW_LIB_DIR="$PWD/build" .venv/bin/python -m pytest tests/py -q
+# two workers (pytest-xdist): the longest step, and the tests share nothing but read-only files
+MPLBACKEND=Agg ZW_LIB_DIR="$PWD/build" .venv/bin/python -m pytest tests/py -q -n 2
 
 step "benchmark smoke run (bench/python/bench_check.py --quick)"
 .venv/bin/python bench/python/bench_check.py --quick >/dev/null
