@@ -66,7 +66,9 @@ def _non_reader(port, stop):
             s = socket.socket()
             s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1024)
             s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            s.settimeout(0.5)
+            # longer than the drive's 1 s for unread answers: the drive must be the one to
+            # drop us (with 0.5 s an idle, fast drive was left by the attacker first)
+            s.settimeout(3.0)
             s.connect((LOOPBACK, port))
             while not stop.is_set():
                 s.sendall(burst)
@@ -111,7 +113,11 @@ def test_clients_that_never_read_stall_nobody(start_drive):
     print(f"\nnon-reading clients: {n} polls, worst answer {worst * 1000:.1f} ms; simulated loop "
           f"{m.group(1)} steps, worst lateness {late_worst:.2f} ms, mean {m.group(3)} ms, "
           f"{m.group(4)} over 5 ms")
-    assert "did not take its answers" in d.log() or "output queue full" in d.log()
+    # the drive itself dropped the non-readers (which of its rules fires first depends on
+    # timing: unread answers for 1 s, a full output queue, or a request left half-sent
+    # while the drive stopped reading from a client whose answers pile up)
+    assert any(reason in d.log() for reason in
+               ("did not take its answers", "output queue full", "incomplete frame timed out")), d.log()[-2000:]
     assert worst < 0.5, worst
     assert late_worst < 200.0, late_worst
 
