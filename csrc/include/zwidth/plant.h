@@ -75,6 +75,12 @@ typedef struct zw_plant {
  * consumer refuses (ZW_ERR_ARG). */
 zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec);
 
+/* The ideal plant (kappa = lambda = 0) from coefficients already computed (zw_coeffs_init,
+ * or a device's, with its delta_relerr): N = c1 z + c2, D = 2 (z - 1)(z - e), the bounds
+ * those loop.c has always used.  Errors: ZW_ERR_NULL, and those of an invalid *c
+ * (ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_DELTA, ZW_ERR_ARG); order 0 on error. */
+zw_status zw_plant_from_coeffs(zw_plant *out, const zw_coeffs *c);
+
 /* N(z) and D(z) at a complex z (for the loop's root inclusion test and its
  * D-decomposition), each with a bound on its absolute error; D keeps relative accuracy
  * near z = 1 (evaluated from its factors, not from the expanded coefficients).  Errors:
