@@ -678,7 +678,10 @@ static zw_status judge(const zw_real *x, size_t n, size_t window, size_t windows
         else
             r.growth = aw > 0 ? ZW_SIM_INF : 0;
         if (aw <= tolerance) {
-            r.outcome = ZW_SIM_STABLE;
+            /* Settled, but only a record that moved by more than the tolerance shows it
+             * settling: one that never did (a loop nothing excites, or a growth still
+             * below the tolerance) is no evidence of stability. */
+            r.outcome = (peak_to_peak(x, n) > tolerance) ? ZW_SIM_STABLE : ZW_SIM_UNDECIDED;
         } else {
             /* Dying out means every window smaller than the one before: a linear decay is,
              * a sustained (limit-cycle, chaotic) oscillation is not, whatever its noise. */

@@ -193,8 +193,8 @@ output files:
   cases     [{label, description, samples, T, duration, params (the flat scene dict, SI
              units; infinities as null), normalized: {delta, alpha, beta} | null,
              verdict: {outcome, amplitude_first, amplitude_last, growth, reason, window,
-             windows, tolerance, first_nonfinite, undecided_because ("unexcited" | "too
-             short" | "decaying" | null), required_duration (s | null), counts, period
+             windows, tolerance, first_nonfinite, undecided_because ("unexcited" | "below
+             tolerance" | "too short" | "decaying" | null), required_duration (s | null), counts, period
              (quantized: the limit cycle's counts and period | null)}, analytic: {verdict, stable, marginal,
              deciding, spectral_radius, loop (as in 'zwidth check --help'), legacy_stable
              (null with a delay or filter), ideal_loop: {verdict, stable} | null} | null

@@ -333,8 +333,9 @@ class SimVerdict:
     windows: int = dataclasses.field(default=0, repr=False)
     tolerance: float = dataclasses.field(default=0.0, repr=False)
     first_nonfinite: Optional[int] = dataclasses.field(default=None, repr=False)
-    #: why undecided, when the run cannot tell: "unexcited" (nothing moved), "too short"
-    #: (see required_duration), "decaying" (not settled yet); None when decided
+    #: why undecided, when the run cannot tell: "unexcited" (nothing moved), "below
+    #: tolerance" (it never moved by more than the tolerance), "too short" (see
+    #: required_duration), "decaying" (not settled yet); None when decided
     undecided_because: Optional[str] = dataclasses.field(default=None, repr=False)
     #: the duration [s] the loop's slowest mode needs for a verdict (undecided runs), else None
     required_duration: Optional[float] = dataclasses.field(default=None, repr=False)
@@ -570,6 +571,13 @@ def judge(x: NDArray[np.float64], case: Case, T: float, unit: str = "", *,
     period: Optional[float] = None
     decided_by_counts = False
 
+    if outcome == "undecided" and finite_run and float(r["amplitude_last"]) <= tolerance:
+        # zw_sim_judge: settled, but the record never moved by more than the tolerance
+        because = "below tolerance"
+        reason = (f"never moved more than the tolerance: peak-to-peak "
+                  f"{float(x.max()) - float(x.min()):.3g} {unit} over the whole run <= {tolerance:.3g} {unit}, "
+                  f"so the run cannot show it settling (a growth may still be inside the tolerance); "
+                  f"lower [verdict] tolerance or excite the loop more")
     if finite_run and float(x.min()) == float(x.max()):
         outcome, because = "undecided", "unexcited"
         reason = (f"nothing excites the loop: the position stayed at {float(x[0]):.6g} {unit} for the whole run "
@@ -598,7 +606,7 @@ def judge(x: NDArray[np.float64], case: Case, T: float, unit: str = "", *,
             elif outcome == "unstable" and float(r["amplitude_last"]) <= 2.0 * float(r["amplitude_first"]):
                 reason = f"{cycle}: {reason}"
 
-    if linear is not None and because != "unexcited" and not decided_by_counts and r["first_nonfinite"] is None:
+    if linear is not None and because not in ("unexcited", "below tolerance") and not decided_by_counts and r["first_nonfinite"] is None:
         slowest = linear.slowest_period(n)
         moving = float(np.ptp(x[-judged:])) > tolerance
         # A settled window can only be a slow oscillation's extremum when the window is a small

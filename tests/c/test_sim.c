@@ -1300,6 +1300,28 @@ static void test_judge_settled(void **state)
     assert_int_equal(v.outcome, ZW_SIM_UNSTABLE);
 }
 
+/* No evidence, no STABLE: a record that never moved, or never by more than the tolerance
+ * (a slow growth still inside it), is UNDECIDED, however quiet its last windows. */
+static void test_judge_needs_motion(void **state)
+{
+    enum { n = 200 };
+    zw_real x[n];
+    zw_sim_verdict v;
+    size_t k;
+    (void)state;
+    for (k = 0; k < n; ++k) x[k] = R(0.125);
+    v = judge(x, n, 20, 4, R(0.0));
+    assert_int_equal(v.outcome, ZW_SIM_UNDECIDED);
+    v = judge(x, n, 20, 4, R(1.0));
+    assert_int_equal(v.outcome, ZW_SIM_UNDECIDED);
+    /* grows 1e-9 per sample up to 2e-7, then sits still: within a 1e-6 tolerance all along */
+    for (k = 0; k < n; ++k) x[k] = (zw_real)(1e-9 * (double)(k < 100u ? k : 200u));
+    v = judge(x, n, 20, 4, R(1e-6));
+    assert_int_equal(v.outcome, ZW_SIM_UNDECIDED);
+    v = judge(x, n, 20, 4, R(1e-8)); /* the same record, a tolerance it crossed: settled */
+    assert_int_equal(v.outcome, ZW_SIM_STABLE);
+}
+
 /* Any NaN or inf: UNSTABLE, first_nonfinite its index (also before the judged windows),
  * growth +inf. */
 static void test_judge_nonfinite(void **state)
@@ -1340,8 +1362,8 @@ static void test_judge_errors(void **state)
     zw_sim_verdict v, stable;
     size_t k;
     (void)state;
-    for (k = 0; k < 100; ++k) x[k] = R(0.0);
-    EXPECT_OK(zw_sim_judge(x, 100, 10, 2, R(0.0), &stable)); /* motionless: STABLE */
+    for (k = 0; k < 100; ++k) x[k] = (k < 10u) ? R(1.0) : R(0.0); /* moved, then settled */
+    EXPECT_OK(zw_sim_judge(x, 100, 10, 2, R(0.0), &stable));
     assert_int_equal(stable.outcome, ZW_SIM_STABLE);
     for (k = 0; k < 100; ++k) x[k] = (zw_real)k;
 #define ZWT_JUDGE_ERROR(call, want)                                                              \
@@ -1668,6 +1690,7 @@ int main(void)
         cmocka_unit_test_teardown(test_judge_constant_amplitude, free_all),
         cmocka_unit_test_teardown(test_judge_every_window_must_shrink, free_all),
         cmocka_unit_test_teardown(test_judge_settled, free_all),
+        cmocka_unit_test_teardown(test_judge_needs_motion, free_all),
         cmocka_unit_test_teardown(test_judge_nonfinite, free_all),
         cmocka_unit_test_teardown(test_judge_errors, free_all),
         cmocka_unit_test_teardown(test_init_errors, free_all),

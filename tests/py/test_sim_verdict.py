@@ -84,6 +84,24 @@ def test_unexcited_scene_is_undecided_with_its_own_exit_status(tmp_path):
     assert r.returncode == 1 and "nothing excites" not in r.stdout
 
 
+def test_motion_inside_the_tolerance_is_not_stable():
+    """A run whose whole motion stays inside the verdict tolerance shows no settling (the
+    loop may be growing inside it): undecided, "below tolerance", exit 5; with a tolerance
+    the motion crossed, the same run decides."""
+    doc = {"scene": {"duration": "1 s"}, "plant": plant(T="1 ms"),
+           "controller": {"K": "2000 N/m", "B": "1 N*s/m"}, "reference": {"to": "2 mm"},
+           "verdict": {"tolerance": "5 mm"}}
+    v = zwidth.simulate(doc)[0].verdict
+    assert v.outcome == "undecided" and v.undecided_because == "below tolerance", v
+    assert v.reason.startswith("never moved more than the tolerance")
+    doc["verdict"]["tolerance"] = "0.01 mm"
+    assert zwidth.simulate(doc)[0].verdict.outcome == "stable"
+    # the C criterion alone: a record inside the tolerance is UNDECIDED, never STABLE
+    x = 1e-9 * np.minimum(np.arange(400.0), 100.0)
+    assert _core.sim_judge(x, 50, 4, 1e-6)["outcome"] == "undecided"
+    assert _core.sim_judge(x, 50, 4, 1e-8)["outcome"] == "stable"
+
+
 def test_unexcited_rotary_unit_slip_is_undecided():
     """The review's unit slip ("0.4 N*m/deg", 57x the intended stiffness) at rest."""
     doc = {"scene": {"duration": "2 s"}, "plant": {"J": "85.78e-7 kg*m^2", "b": "2.197e-3 N*m*s/rad", "T": "0.02 s"},

@@ -222,11 +222,12 @@ zw_status zw_sim_run(zw_sim *sim, size_t n, const zw_sim_trace *trace);
  *   UNSTABLE  if any x is not finite, or A_w > tolerance and the amplitudes do not
  *             strictly decrease window by window (the motion is not dying out: a growing or
  *             sustained oscillation, a limit cycle, a drift);
- *   STABLE    if A_w <= tolerance (settled: what still moves is below tolerance);
- *   UNDECIDED otherwise (above tolerance but decaying in every window: run longer).
+ *   STABLE    if A_w <= tolerance (settled: what still moves is below tolerance) and the
+ *             whole record moved by more than the tolerance (so it shows the settling);
+ *   UNDECIDED otherwise: above tolerance but decaying in every window (run longer), or a
+ *             record whose peak-to-peak never exceeded the tolerance (nothing excited the
+ *             loop, or too little to see: no evidence either way).
  * Windows should be longer than the slowest oscillation, so that a decay shows in each.
- * A record that never moved is STABLE here (every A = 0): whether anything excited the loop
- * is the caller's question (zwidth.sim answers "undecided: nothing excites the loop").
  * A growth that stays below tolerance to the end of the record is not seen: pick the
  * tolerance and the duration for the scene (the Python layer's defaults are documented).
  * growth = (A_w / A_1)^(1 / ((w - 1) window)) is the envelope's factor per sample (0 when
