@@ -44,6 +44,7 @@ const RealKey kRealKeys[] = {
     ZW_REAL_KEY("t_step", t_step), ZW_REAL_KEY("counts_per_unit", counts_per_unit),
     ZW_REAL_KEY("coulomb", coulomb), ZW_REAL_KEY("stiction", stiction),
     ZW_REAL_KEY("force_max", force_max), ZW_REAL_KEY("cutoff_hz", cutoff_hz),
+    ZW_REAL_KEY("actuator_tau", actuator_tau),
     ZW_REAL_KEY("hand_mass", hand.mass), ZW_REAL_KEY("hand_stiffness", hand.stiffness),
     ZW_REAL_KEY("hand_damping", hand.damping), ZW_REAL_KEY("hand_t_grasp", hand.t_grasp),
     ZW_REAL_KEY("hand_t_release", hand.t_release), ZW_REAL_KEY("hand_from", hand.from),
@@ -66,6 +67,7 @@ static_assert(std::is_same<decltype(zw_sim_scene::substeps), int>::value,
 
 const IntKey kIntKeys[] = {
     {"delay_samples", [](zw_sim_scene &s) { return &s.delay_samples; }},
+    {"average_samples", [](zw_sim_scene &s) { return &s.average_samples; }},
     {"wall_side", [](zw_sim_scene &s) { return &s.wall.side; }},
     {"knob_count", [](zw_sim_scene &s) { return &s.knob.count; }},
     {"substeps", [](zw_sim_scene &s) { return &s.substeps; }},
@@ -271,6 +273,9 @@ void zw_register_sim(py::module_ &mod) {
     effects["wall"] = int{ZW_SIM_WALL};
     effects["knob"] = int{ZW_SIM_KNOB};
     effects["schedule"] = int{ZW_SIM_SCHEDULE};
+    effects["differentiator"] = int{ZW_SIM_TUSTIN};
+    effects["average"] = int{ZW_SIM_AVERAGE};
+    effects["actuator"] = int{ZW_SIM_ACTUATOR_LAG};
     mod.attr("SIM_EFFECTS") = effects;
 
     // The plain `type` metaclass (pybind11's own adds only static properties, which this

@@ -96,6 +96,7 @@ static zw_real fastest_rate(const zw_sim_scene *sc) {
         const zw_real held = (sc->b + sc->hand.damping) / m + ZW_SQRT(sc->hand.stiffness / m);
         if (held > rate) rate = held;
     }
+    if ((sc->effects & ZW_SIM_ACTUATOR_LAG) && 1 / sc->actuator_tau > rate) rate = 1 / sc->actuator_tau;
     return rate;
 }
 
@@ -130,6 +131,14 @@ static zw_status validate_scene(const zw_sim_scene *sc) {
     if (fx & ZW_SIM_VELOCITY_FILTER) {
         ZW_TRY(finite_value(sc->cutoff_hz));
         ZW_REQUIRE(sc->cutoff_hz > 0);
+    }
+    if (fx & ZW_SIM_AVERAGE) {
+        ZW_REQUIRE(!(fx & ZW_SIM_VELOCITY_FILTER)); /* one velocity filter, as loop.h */
+        ZW_REQUIRE(sc->average_samples >= 1 && sc->average_samples <= ZW_SIM_MAX_AVERAGE);
+    }
+    if (fx & ZW_SIM_ACTUATOR_LAG) {
+        ZW_TRY(finite_value(sc->actuator_tau));
+        ZW_REQUIRE(sc->actuator_tau > 0 && !(fx & ZW_SIM_FRICTION));
     }
     if (fx & ZW_SIM_HAND) ZW_TRY(validate_hand(&sc->hand));
     if (fx & ZW_SIM_WALL) {
@@ -288,12 +297,15 @@ typedef struct zw_substep {
     const zw_sim_scene *sc;
     zw_hand_phase hand;  /* ZW_HAND_OFF also when the scene has no hand */
     zw_real applied;     /* the zero-order-held controller force */
+    zw_real lag_start;   /* ACTUATOR_LAG: f(t0) - applied, decaying at lag_rate from t0 */
+    zw_real lag_rate, t0;
     zw_real friction;    /* constant over the substep */
     zw_real inv_mass;    /* 1 / (m, plus m_h while held) */
 } zw_substep;
 
 static zw_real acceleration(const zw_substep *st, zw_real t, zw_real x, zw_real v) {
     zw_real f = st->applied + st->friction - st->sc->b * v;
+    if (st->lag_start != 0) f += st->lag_start * ZW_EXP(-(t - st->t0) * st->lag_rate);
     if (st->hand != ZW_HAND_OFF) f += hand_force(&st->sc->hand, st->hand, t, x, v);
     return f * st->inv_mass;
 }
@@ -428,10 +440,11 @@ static zw_real friction_substep(zw_substep *st, zw_real t, zw_real h, zw_real *x
     return at_start;
 }
 
-/* Advance the plant over one sample under the continuous effects; returns the friction
- * force at the sample's start (for the trace). */
+/* Advance the plant over one sample under the continuous effects (and *lagged, the
+ * actuator's force, with ACTUATOR_LAG); returns the friction force at the sample's start
+ * (for the trace). */
 static zw_real integrate_sample(const zw_sim_scene *sc, zw_real t, zw_real applied,
-                               zw_real *x, zw_real *v, bool *stuck) {
+                               zw_real *x, zw_real *v, bool *stuck, zw_real *lagged) {
     const bool friction = (sc->effects & ZW_SIM_FRICTION) != 0;
     const bool hand = (sc->effects & ZW_SIM_HAND) != 0;
     const zw_real h = sc->T / (zw_real)sc->substeps;
@@ -441,6 +454,14 @@ static zw_real integrate_sample(const zw_sim_scene *sc, zw_real t, zw_real appli
     st.sc = sc;
     st.applied = applied;
     st.friction = 0;
+    st.lag_start = 0;
+    st.lag_rate = 0;
+    st.t0 = t;
+    if (sc->effects & ZW_SIM_ACTUATOR_LAG) {
+        st.lag_rate = 1 / sc->actuator_tau;
+        st.lag_start = *lagged - applied;
+        *lagged = applied + st.lag_start * ZW_EXP(-sc->T * st.lag_rate);
+    }
     /* Without a hand the force on a resting plant is the held one for the whole sample:
      * within the stiction band it holds every substep, so skip them. */
     if (friction && !hand && *v == 0 && ZW_FABS(applied) <= sc->stiction) {
@@ -517,22 +538,47 @@ static void run_linear(zw_sim *sim, size_t n, const zw_sim_trace *tr) {
     sim->k += n;
 }
 
+/* The velocity estimate v_est_k of sim.h from the measured step dx: the differentiator,
+ * then the low-pass or the moving average. */
+static zw_real velocity_estimate(zw_sim *sim, zw_real dx, zw_real *v_filtered) {
+    const zw_sim_scene *sc = &sim->scene;
+    const unsigned fx = sc->effects;
+    zw_real v_d = dx / sc->T;
+    if (fx & ZW_SIM_TUSTIN) {
+        v_d = 2 * v_d - sim->v_diff;
+        sim->v_diff = v_d;
+    }
+    if (fx & ZW_SIM_VELOCITY_FILTER) {
+        *v_filtered = sim->filter_a * *v_filtered + (1 - sim->filter_a) * v_d;
+        return *v_filtered;
+    }
+    if (fx & ZW_SIM_AVERAGE) {
+        zw_real sum = 0;
+        int i;
+        sim->average_line[sim->average_head] = v_d;
+        if (++sim->average_head == sc->average_samples) sim->average_head = 0;
+        for (i = 0; i < sc->average_samples; ++i) sum += sim->average_line[i];
+        return sum / (zw_real)sc->average_samples;
+    }
+    return v_d;
+}
+
 /* Everything else: one branch per effect on a loop-invariant flag.  The state lives in
  * locals (the trace arrays could alias *sim) and is written back at the end. */
-/* The velocity the damping terms use: filtered, or the backward difference. */
-#define VELOCITY_ESTIMATE() ((fx & ZW_SIM_VELOCITY_FILTER) ? v_filtered : dx / T)
 
 static void run_general(zw_sim *sim, size_t n, const zw_sim_trace *tr) {
     const zw_sim_scene *sc = &sim->scene;
     const unsigned fx = sc->effects;
     const zw_real T = sc->T;
+    const unsigned ESTIMATORS = ZW_SIM_TUSTIN | ZW_SIM_VELOCITY_FILTER | ZW_SIM_AVERAGE;
     zw_real x = sim->x, v = sim->v, x_meas_prev = sim->x_meas_prev, v_filtered = sim->v_filtered;
+    zw_real lagged = sim->force_lagged;
     bool stuck = sim->stuck;
     size_t j;
     for (j = 0; j < n; ++j) {
         const size_t k = sim->k + j;
         const zw_real t = (zw_real)k * T;
-        zw_real x_meas = x, dx, K, B, x_eq, K_planned, F_cmd, F, applied, friction = 0;
+        zw_real x_meas = x, dx, K, B, x_eq, K_planned, F_cmd, F, applied, friction = 0, v_est;
         zw_real wall = 0;
 
         if (fx & ZW_SIM_QUANTIZATION) x_meas = ZW_FLOOR(x * sc->counts_per_unit) / sc->counts_per_unit;
@@ -560,14 +606,16 @@ static void run_general(zw_sim *sim, size_t n, const zw_sim_trace *tr) {
             x_eq = k >= sim->k_step ? sc->x_eq_after : sc->x_eq_before;
         }
 
-        if (fx & ZW_SIM_VELOCITY_FILTER) {
-            v_filtered = sim->filter_a * v_filtered + (1 - sim->filter_a) * (dx / T);
-            F_cmd = K * (x_eq - x_meas) - B * v_filtered;
+        if (fx & ESTIMATORS) {
+            v_est = velocity_estimate(sim, dx, &v_filtered);
+            F_cmd = K * (x_eq - x_meas) - B * v_est;
         } else {
+            /* (B / T) dx, as run_linear: the same numbers bit for bit */
+            v_est = dx / T;
             F_cmd = K * (x_eq - x_meas) - (B / T) * dx;
         }
         if (fx & ZW_SIM_WALL) {
-            wall = wall_force(&sc->wall, x_meas, VELOCITY_ESTIMATE());
+            wall = wall_force(&sc->wall, x_meas, v_est);
             F_cmd += wall;
         }
         F = F_cmd;
@@ -591,7 +639,7 @@ static void run_general(zw_sim *sim, size_t n, const zw_sim_trace *tr) {
         ZW_RECORD(tr->stiffness, j, K);
         ZW_RECORD(tr->stiffness_planned, j, K_planned);
         ZW_RECORD(tr->damping, j, B);
-        ZW_RECORD(tr->velocity_estimate, j, VELOCITY_ESTIMATE());
+        ZW_RECORD(tr->velocity_estimate, j, v_est);
         ZW_RECORD(tr->wall_force, j, wall);
         if (fx & ZW_SIM_HAND) {
             ZW_RECORD(tr->hand_force, j, hand_force(&sc->hand, hand_phase(&sc->hand, t), t, x, v));
@@ -603,7 +651,7 @@ static void run_general(zw_sim *sim, size_t n, const zw_sim_trace *tr) {
 
         x_meas_prev = x_meas;
         if (fx & ZW_SIM_CONTINUOUS) {
-            friction = integrate_sample(sc, t, applied, &x, &v, &stuck);
+            friction = integrate_sample(sc, t, applied, &x, &v, &stuck, &lagged);
         } else {
             const zw_real x_next = x + sim->phi_T * v + sim->x_gain * applied;
             v = sim->e * v + sim->v_gain * applied;
@@ -619,11 +667,11 @@ static void run_general(zw_sim *sim, size_t n, const zw_sim_trace *tr) {
     sim->v = v;
     sim->x_meas_prev = x_meas_prev;
     sim->v_filtered = v_filtered;
+    sim->force_lagged = lagged;
     sim->stuck = stuck;
     if (n > 0) sim->started = true;
     sim->k += n;
 }
-#undef VELOCITY_ESTIMATE
 
 zw_status zw_sim_run(zw_sim *sim, size_t n, const zw_sim_trace *trace) {
     if (sim == NULL || trace == NULL) return ZW_ERR_NULL;

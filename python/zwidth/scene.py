@@ -48,13 +48,14 @@ __all__ = ["SceneError", "Scene", "Case", "load_scene", "parse_quantity", "EFFEC
            "DEFAULT_RELATIVE_TOLERANCE", "MAX_SAMPLES", "MAX_KNOB_COUNT", "DEFAULT_LIMIT_CYCLE"]
 
 #: Effects that keep the loop linear and time-invariant, so zwidth.loop decides it exactly.
-LINEAR_EFFECTS = ("delay", "velocity_filter")
+LINEAR_EFFECTS = ("delay", "velocity_filter", "differentiator", "average")
 #: Effect name -> bit of ``zw_sim_scene.effects`` (sim.h).
 EFFECTS: Dict[str, int] = dict(_core.SIM_EFFECTS)
 #: Effects that need the state between samples (they bring the RK4 integrator).
-CONTINUOUS = ("friction", "hand")
+CONTINUOUS = ("friction", "hand", "actuator")
 MAX_SUBSTEPS = 100000        #: ZW_SIM_MAX_SUBSTEPS
 MAX_DELAY = 64               #: ZW_SIM_MAX_DELAY
+MAX_AVERAGE = 16             #: ZW_SIM_MAX_AVERAGE
 #: Default substeps: h * lambda <= this, lambda the fastest rate of the continuous part.
 SUBSTEP_ACCURACY = 0.05
 MIN_SUBSTEPS = 10            #: ... and never fewer than this many
@@ -159,6 +160,9 @@ _SCHEMA: Dict[str, Dict[str, str]] = {
     "delay": {"samples": "int"},
     "saturation": {"force_max": "force"},
     "velocity_filter": {"cutoff": "frequency"},
+    "differentiator": {"kind": "str"},
+    "average": {"samples": "int"},
+    "actuator": {"tau": "time"},
     "hand": {"mass": "mass", "stiffness": "stiffness", "damping": "damping", "grasp": "time",
              "release": "time", "from": "position", "to": "position", "speed": "velocity"},
     "wall": {"position": "position", "stiffness": "stiffness", "damping": "damping", "side": "side"},
@@ -172,7 +176,7 @@ _SCHEMA: Dict[str, Dict[str, str]] = {
 }
 _ARRAYS = ("schedule", "case")   # arrays of tables ([[schedule]], [[case]])
 _EFFECT_SECTIONS = ("quantization", "friction", "delay", "saturation", "velocity_filter", "hand",
-                    "wall", "knob", "schedule")
+                    "wall", "knob", "schedule", "differentiator", "average", "actuator")
 
 
 def _example(kind: str, rotary: bool) -> str:
@@ -857,6 +861,28 @@ class _Builder:
             r.check(_finite(fc) and fc > 0, "velocity_filter.cutoff", f"must be > 0 Hz and finite, got {fc:g}")
             p["cutoff_hz"] = fc
             si["velocity_filter"] = {"cutoff": fc}
+        if "differentiator" in effects:
+            kind = self.need(t["differentiator"], "differentiator", "kind", "str")
+            r.check(kind == "tustin", "differentiator.kind",
+                    f"must be \"tustin\" (the backward difference is the default: leave the section out), "
+                    f"got {kind!r}")
+            si["differentiator"] = {"kind": kind}
+        if "average" in effects:
+            n = self.need(t["average"], "average", "samples", "int")
+            r.check(1 <= n <= MAX_AVERAGE, "average.samples", f"must be in 1..{MAX_AVERAGE}, got {n}")
+            r.check("velocity_filter" not in effects, "average",
+                    "a moving average and a [velocity_filter] low-pass together: the drive's loop has one "
+                    "velocity filter (zwidth.loop); keep one of the two sections")
+            p["average_samples"] = n
+            si["average"] = {"samples": n}
+        if "actuator" in effects:
+            tau = self.need(t["actuator"], "actuator", "tau", "time")
+            r.check(_finite(tau) and tau > 0, "actuator.tau", f"must be > 0 s and finite, got {tau:g}")
+            r.check("friction" not in effects, "actuator",
+                    "an actuator lag with [friction] is not simulated: stiction's exact break-away needs a "
+                    "force constant within the sample (sim.h); drop one of the two sections")
+            p["actuator_tau"] = tau
+            si["actuator"] = {"tau": tau}
         if "hand" in effects:
             h = t["hand"]
             vals = {"mass": self.get(h, "hand", "mass", "mass", 0.0),
@@ -1090,6 +1116,8 @@ def _rk4_rate(params: Mapping[str, Any]) -> float:
     rate, held = _rates(params)
     if held is not None and held[0] + held[1] > rate:
         rate = held[0] + held[1]
+    if int(params.get("effects", 0)) & EFFECTS["actuator"] and 1.0 / float(params["actuator_tau"]) > rate:
+        rate = 1.0 / float(params["actuator_tau"])
     return rate
 
 
@@ -1114,6 +1142,8 @@ def _substeps_needed(params: Mapping[str, Any]) -> float:
     rate, held = _rates(params)
     if held is not None:
         rate = max(rate, *held)
+    if int(params.get("effects", 0)) & EFFECTS["actuator"]:
+        rate = max(rate, 1.0 / float(params["actuator_tau"]))
     return float(params["T"]) * rate / SUBSTEP_ACCURACY
 
 

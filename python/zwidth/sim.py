@@ -73,9 +73,14 @@ EFFECT_SIGNALS: Dict[str, Tuple[str, ...]] = {
     "wall": ("wall_force", "force_command"),
     "knob": ("stiffness", "stiffness_planned", "damping"),
     "schedule": ("stiffness", "damping"),
+    "differentiator": ("velocity_estimate",),
+    "average": ("velocity_estimate",),
+    "actuator": (),                      # force is the actuator's input (sim.h)
 }
 
 _LINEAR_BITS = sum(EFFECTS[e] for e in LINEAR_EFFECTS)
+#: Effects outside any linear loop (the actuator lag is linear; the analysis does not cover it yet).
+_NONLINEAR_BITS = sum(bit for e, bit in EFFECTS.items() if e not in LINEAR_EFFECTS + ("actuator",))
 
 
 def analysis_device(params: Mapping[str, Any], rotary: bool, filter_pole: float) -> Optional[Device]:
@@ -94,8 +99,18 @@ def analysis_device(params: Mapping[str, Any], rotary: bool, filter_pole: float)
     delay = int(params.get("delay_samples", 0)) if effects & EFFECTS["delay"] else 0
     if delay > MAX_DELAY:
         return None
-    vf = ("pole", float(filter_pole)) if effects & EFFECTS["velocity_filter"] else None
-    return Device(params["m"], params["b"], params["T"], rotary=rotary, delay=delay, velocity_filter=vf)
+    return Device(params["m"], params["b"], params["T"], rotary=rotary, delay=delay,
+                  velocity_filter=_velocity_filter(params, effects, filter_pole),
+                  differentiator="tustin" if effects & EFFECTS["differentiator"] else "backward")
+
+
+def _velocity_filter(params: Mapping[str, Any], effects: int, filter_pole: float) -> Any:
+    """The Device's velocity_filter for the simulated one (None: none)."""
+    if effects & EFFECTS["velocity_filter"]:
+        return ("pole", float(filter_pole))
+    if effects & EFFECTS["average"]:
+        return ("average", int(params["average_samples"]))
+    return None
 
 
 def loop_words(params: Mapping[str, Any], dev: Device) -> str:
@@ -156,32 +171,62 @@ def _expm(A: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def closed_loop_matrix(M: float, c: float, k: float, T: float, K: float, B: float, delay: int,
-                       filter_pole: float) -> NDArray[np.float64]:
-    """The closed loop of sim.h without its nonlinear effects, as z_{k+1} = A z_k with
-    z_k = (x_k, v_k, x_{k-1}, v_f,k-1, u_{k-1}, ..., u_{k-delay}): the plant M x'' + c x' +
-    k x = u (k: a hand's stiffness) under the zero-order hold (matrix exponential), the
-    controller u = -K x - B v_est (v_est the backward difference, or its low-pass with pole
-    filter_pole), applied `delay` samples later.  The equilibrium does not change the poles."""
-    Ac = np.array([[0.0, 1.0, 0.0], [-k / M, -c / M, 1.0 / M], [0.0, 0.0, 0.0]]) * T
-    E = _expm(Ac)
-    Ad, Bd = E[:2, :2], E[:2, 2]
-    n = 4 + delay
+                       filter_pole: float, *, tustin: bool = False, average: int = 0,
+                       tau: float = 0.0) -> NDArray[np.float64]:
+    """The closed loop of sim.h without its nonlinear effects, as z_{k+1} = A z_k.
+
+    The plant M x'' + c x' + k x = f (k: a hand's stiffness), with f = u held by the
+    zero-order hold, or through an actuator lag tau f' + f = u (tau > 0), discretized
+    exactly (matrix exponential of the augmented system); the controller u = -K x - B v_est
+    applied `delay` samples later, v_est from the backward difference or Tustin's
+    differentiator (tustin), then a low-pass of pole filter_pole (> 0) or a moving average
+    over `average` samples (> 1).  The state: the plant's (x, v[, f]), then x_{k-1}, the
+    differentiator's last output (Tustin), the low-pass's last output (always kept: a
+    zero pole leaves it unused), the last average - 1 differentiator outputs, u_{k-1} ..
+    u_{k-delay}.  The equilibrium does not change the poles."""
+    lag = tau > 0
+    n_plant = 3 if lag else 2
+    Ac = np.zeros((n_plant + 1, n_plant + 1))
+    Ac[0, 1] = 1.0
+    Ac[1, 0], Ac[1, 1] = -k / M, -c / M
+    if lag:
+        Ac[1, 2], Ac[2, 2], Ac[2, 3] = 1.0 / M, -1.0 / tau, 1.0 / tau
+    else:
+        Ac[1, 2] = 1.0 / M
+    E = _expm(Ac * T)
+    Ad, Bd = E[:n_plant, :n_plant], E[:n_plant, n_plant]
+    i_prev = n_plant                          # x_{k-1}
+    i_diff = i_prev + 1                       # the differentiator's last output
+    i_filt = i_diff + 1                       # the low-pass's last output
+    i_avg = i_filt + 1                        # average - 1 earlier differentiator outputs
+    n_avg = max(0, int(average) - 1)
+    i_u = i_avg + n_avg                       # u_{k-1} .. u_{k-delay}
+    n = i_u + delay
+    e = np.eye(n)
+    x = e[0]
+    v_d = (x - e[i_prev]) / T                 # rows: linear functions of z_k
+    if tustin:
+        v_d = 2.0 * v_d - e[i_diff]
     a = float(filter_pole)
-    vf = np.zeros(n)                 # v_f,k = a v_f,k-1 + (1 - a)(x_k - x_{k-1})/T
-    vf[0], vf[2], vf[3] = (1 - a) / T, -(1 - a) / T, a
-    u = -B * vf
-    u[0] -= K
-    applied = u if delay == 0 else np.eye(n)[3 + delay]
+    if a > 0:
+        v_est = a * e[i_filt] + (1.0 - a) * v_d
+    elif average > 1:
+        v_est = (v_d + e[i_avg:i_avg + n_avg].sum(axis=0)) / average
+    else:
+        v_est = v_d
+    u = -K * x - B * v_est
+    applied = u if delay == 0 else e[i_u + delay - 1]
     A = np.zeros((n, n))
-    A[0, :2], A[1, :2] = Ad[0], Ad[1]
-    A[0] += Bd[0] * applied
-    A[1] += Bd[1] * applied
-    A[2, 0] = 1.0
-    A[3] = vf
+    A[:n_plant] = Ad @ e[:n_plant] + np.outer(Bd, applied)
+    A[i_prev] = x
+    A[i_diff] = v_d
+    A[i_filt] = v_est if a > 0 else 0.0
+    if n_avg:
+        A[i_avg] = v_d
+        A[i_avg + 1:i_avg + n_avg] = e[i_avg:i_avg + n_avg - 1]
     if delay:
-        A[4] = u
-        for i in range(5, n):
-            A[i, i - 1] = 1.0
+        A[i_u] = u
+        A[i_u + 1:i_u + delay] = e[i_u:i_u + delay - 1]
     return A
 
 
@@ -197,7 +242,7 @@ class LinearPart:
     poles:    the closed loop's poles (numpy eigenvalues of closed_loop_matrix)
     spectral_radius: the largest pole modulus
     verdict:  zwidth's guarded verdict of that loop (Device.verdict) where the analysis
-              covers it (no hand stiffness), else None (the eigenvalues decide)
+              covers it (no hand stiffness, no actuator lag), else None (the eigenvalues decide)
     stable:   the verdict's, else spectral_radius < 1
     """
 
@@ -213,6 +258,10 @@ class LinearPart:
     spectral_radius: float
     verdict: Optional[Union[Verdict, LoopVerdict]] = dataclasses.field(repr=False)
     stable: bool
+    tustin: bool = dataclasses.field(default=False, repr=False)
+    average: int = dataclasses.field(default=0, repr=False)
+    #: the actuator lag [s] (0: none)
+    tau: float = dataclasses.field(default=0.0, repr=False)
 
     @property
     def word(self) -> str:
@@ -273,19 +322,25 @@ def linear_part(params: Mapping[str, Any], rotary: bool, filter_pole: float, dur
         k = float(params["hand_stiffness"])
     delay = int(params.get("delay_samples", 0)) if effects & EFFECTS["delay"] else 0
     a = float(filter_pole) if effects & EFFECTS["velocity_filter"] else 0.0
+    tustin = bool(effects & EFFECTS["differentiator"])
+    average = int(params["average_samples"]) if effects & EFFECTS["average"] else 0
+    tau = float(params["actuator_tau"]) if effects & EFFECTS["actuator"] else 0.0
     worst: Optional[LinearPart] = None
     for name, K, B in _pieces(params, effects):
-        poles = np.asarray(np.linalg.eigvals(closed_loop_matrix(m, b, k, T, K, B, delay, a)), dtype=np.complex128)
+        A = closed_loop_matrix(m, b, k, T, K, B, delay, a, tustin=tustin, average=average, tau=tau)
+        poles = np.asarray(np.linalg.eigvals(A), dtype=np.complex128)
         rho = float(np.abs(poles).max())
         verdict: Optional[Union[Verdict, LoopVerdict]] = None
-        if k == 0 and delay <= MAX_DELAY:
-            vf = ("pole", a) if effects & EFFECTS["velocity_filter"] else None
-            dev = Device(m, b, T, rotary=rotary, delay=delay, velocity_filter=vf)
+        if k == 0 and tau == 0 and delay <= MAX_DELAY:
+            dev = Device(m, b, T, rotary=rotary, delay=delay,
+                         velocity_filter=_velocity_filter(params, effects, a),
+                         differentiator="tustin" if tustin else "backward")
             verdict = dev.verdict(K, B)
             rho = float(dev.spectral_radius(K, B))
         stable = bool(verdict.stable) if verdict is not None else rho < 1.0
         part = LinearPart(piece=name, K=K, B=B, m=m, b=b, k=k, delay=delay, filter_pole=a, poles=poles,
-                          spectral_radius=rho, verdict=verdict, stable=stable)
+                          spectral_radius=rho, verdict=verdict, stable=stable, tustin=tustin,
+                          average=average, tau=tau)
         if worst is None or (worst.stable and not part.stable) or (
                 worst.stable == part.stable and part.spectral_radius > worst.spectral_radius):
             worst = part
@@ -627,6 +682,14 @@ def judge(x: NDArray[np.float64], case: Case, T: float, unit: str = "", *,
             required = _round_up(max(decay, n + 1) * T)
             reason = f"run at least {required:g} s: {reason[:-len(': run longer')]}" \
                 if reason.endswith(": run longer") else f"run at least {required:g} s: {reason}"
+        elif outcome == "stable" and rho > 1 and not int(case.params["effects"]) & _NONLINEAR_BITS:
+            # Nothing but the linear loop runs, and it grows: a growth still below the
+            # tolerance (a slow one, or a mode the run barely excites) is no settling.
+            # Required: the time it takes to grow 1e4-fold.
+            required = _round_up(max(math.log(1e4) / math.log(rho), n + 1) * T)
+            outcome, because = "undecided", "too short"
+            reason = (f"run at least {required:g} s: the run settled within the tolerance, but its loop (linear, "
+                      f"nothing else on) grows by {rho:.9g} per sample, which needs about that long to show")
     return SimVerdict(outcome=outcome, amplitude_first=float(r["amplitude_first"]),
                       amplitude_last=float(r["amplitude_last"]), growth=float(r["growth"]),
                       reason=reason, window=case.window, windows=case.windows, tolerance=float(tolerance),

@@ -1023,6 +1023,8 @@ static zw_sim_scene scene_busy(bool knob)
     sc.delay_samples = 2;
     sc.force_max = R(50.0);
     sc.cutoff_hz = R(30.0);
+    sc.average_samples = 4;
+    sc.actuator_tau = R(0.002);
     sc.hand.mass = R(0.02);
     sc.hand.stiffness = R(20.0);
     sc.hand.damping = R(0.5);
@@ -1489,8 +1491,14 @@ static void test_step_index_range(void **state)
 
 static void test_init_errors(void **state)
 {
-    const unsigned all = ZW_SIM_ALL_EFFECTS & ~(unsigned)ZW_SIM_KNOB;
+    /* every effect that goes with the others (AVERAGE excludes VELOCITY_FILTER,
+     * ACTUATOR_LAG excludes FRICTION, KNOB excludes SCHEDULE) */
+    const unsigned others = ZW_SIM_AVERAGE | ZW_SIM_ACTUATOR_LAG;
+    const unsigned all = ZW_SIM_ALL_EFFECTS & ~(unsigned)ZW_SIM_KNOB & ~others;
     const unsigned cont = ZW_SIM_FRICTION;
+    const unsigned lagged = (ZW_SIM_ALL_EFFECTS & ~(unsigned)(ZW_SIM_KNOB | ZW_SIM_FRICTION |
+                                                             ZW_SIM_VELOCITY_FILTER)) |
+                            others;
     zw_sim_scene sc;
     zw_sim sim;
     (void)state;
@@ -1505,7 +1513,11 @@ static void test_init_errors(void **state)
     /* the valid scenes themselves, and edges that are valid */
     CASE(0u, (void)0, ZW_OK);
     CASE(all, (void)0, ZW_OK);
-    CASE(ZW_SIM_ALL_EFFECTS & ~(unsigned)ZW_SIM_SCHEDULE, (void)0, ZW_OK);
+    CASE(ZW_SIM_ALL_EFFECTS & ~(unsigned)ZW_SIM_SCHEDULE & ~others, (void)0, ZW_OK);
+    CASE(lagged, (void)0, ZW_OK);
+    CASE(ZW_SIM_AVERAGE, sc.average_samples = ZW_SIM_MAX_AVERAGE, ZW_OK);
+    CASE(ZW_SIM_AVERAGE | ZW_SIM_TUSTIN, sc.average_samples = 1, ZW_OK);
+    CASE(ZW_SIM_ACTUATOR_LAG, sc.substeps = 4, ZW_OK); /* h / tau = 1.25 */
     CASE(0u, sc.substeps = 0, ZW_OK); /* ignored without a continuous effect */
     CASE(ZW_SIM_DELAY, sc.delay_samples = ZW_SIM_MAX_DELAY, ZW_OK);
     CASE(cont, sc.substeps = ZW_SIM_MAX_SUBSTEPS, ZW_OK);
@@ -1554,7 +1566,16 @@ static void test_init_errors(void **state)
     CASE(0u, (sc.schedule = NULL, sc.delay_samples = 0, sc.hand.speed = R(NAN)), ZW_OK);
 
     /* flags */
-    CASE(0u, sc.effects = 1u << 9, ZW_ERR_ARG);
+    CASE(0u, sc.effects = 1u << 12, ZW_ERR_ARG);
+    CASE(ZW_SIM_AVERAGE | ZW_SIM_VELOCITY_FILTER, (void)0, ZW_ERR_ARG);  /* one filter */
+    CASE(ZW_SIM_ACTUATOR_LAG | ZW_SIM_FRICTION, (void)0, ZW_ERR_ARG);
+    CASE(ZW_SIM_AVERAGE, sc.average_samples = 0, ZW_ERR_ARG);
+    CASE(ZW_SIM_AVERAGE, sc.average_samples = ZW_SIM_MAX_AVERAGE + 1, ZW_ERR_ARG);
+    CASE(ZW_SIM_ACTUATOR_LAG, sc.actuator_tau = R(0.0), ZW_ERR_ARG);
+    CASE(ZW_SIM_ACTUATOR_LAG, sc.substeps = 1, ZW_ERR_ARG); /* h / tau = 5 > ZW_SIM_RK4_LIMIT */
+    CASE(ZW_SIM_ACTUATOR_LAG, sc.actuator_tau = R(NAN), ZW_ERR_NAN);
+    CASE(ZW_SIM_ACTUATOR_LAG, sc.actuator_tau = (zw_real)INFINITY, ZW_ERR_INF);
+    CASE(0u, (sc.average_samples = 0, sc.actuator_tau = R(NAN)), ZW_OK); /* not read when off */
     CASE(0u, sc.effects = ZW_SIM_DELAY | 0x80000000u, ZW_ERR_ARG);
     CASE(ZW_SIM_KNOB | ZW_SIM_SCHEDULE, (void)0, ZW_ERR_ARG);
 

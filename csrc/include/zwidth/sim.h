@@ -11,9 +11,14 @@
  *
  * The loop, at every sample k (t_k = k T):
  *   x_meas_k  = x(t_k), or floor(x(t_k) * counts) / counts       (ZW_SIM_QUANTIZATION)
- *   v_est_k   = (x_meas_k - x_meas_{k-1}) / T (x_meas_{-1} = x_meas_0), then optionally a
- *               first-order low-pass, v_f_k = a v_f_{k-1} + (1 - a) v_est_k, v_f_{-1} = 0,
- *               a = exp(-2 pi f_c T)                               (ZW_SIM_VELOCITY_FILTER)
+ *   v_d_k     = (x_meas_k - x_meas_{k-1}) / T (x_meas_{-1} = x_meas_0), the backward
+ *               difference; or Tustin's v_d_k = (2/T)(x_meas_k - x_meas_{k-1}) - v_d_{k-1},
+ *               v_d_{-1} = 0                                       (ZW_SIM_TUSTIN)
+ *   v_est_k   = v_d_k, or a first-order low-pass of it, v_f_k = a v_f_{k-1} + (1 - a) v_d_k,
+ *               v_f_{-1} = 0, a = exp(-2 pi f_c T)                  (ZW_SIM_VELOCITY_FILTER)
+ *               or the mean of v_d_k .. v_d_{k-n+1} (zero before the first sample)
+ *                                                  (ZW_SIM_AVERAGE, n samples; not both)
+ *               (the velocity estimates of loop.h, so a linear scene is a loop it certifies)
  *   K_k, B_k, x_eq_k: the constant gains; or the piecewise-constant time schedule
  *               (ZW_SIM_SCHEDULE); or the detent knob's map of x_meas_k (ZW_SIM_KNOB).
  *               x_eq_k is the reference: x_eq_before until t_step, x_eq_after from t_step on.
@@ -22,15 +27,18 @@
  *             + the unilateral virtual wall's force                (ZW_SIM_WALL)
  *   F_k       = F_cmd_k clamped to [-F_max, F_max]                 (ZW_SIM_SATURATION)
  *   applied   = F_{k-n} (zero before the first n samples)          (ZW_SIM_DELAY, n samples)
- * and the plant m x'' + b x' = applied + hand + friction (friction: the signed force on the
- * plant, opposing its motion) over [t_k, t_k + T), applied
- * held by the zero-order hold.
+ * and the plant m x'' + b x' = f + hand + friction (friction: the signed force on the
+ * plant, opposing its motion) over [t_k, t_k + T), with f = applied held by the
+ * zero-order hold, or, through an actuator (current-loop) lag tau f' + f = applied
+ * (ZW_SIM_ACTUATOR_LAG, f(0) = 0), f(t) = applied + (f(t_k) - applied) e^{-(t - t_k)/tau}
+ * within the sample (exact).
  *
  * The plant step: without a continuous effect it is the exact solution of the ODE under
  * the zero-order hold (no integration error, a constant 6 flops per sample), with the
  * coefficients of coeffs.h (no cancellation at any delta):
  *   x+ = x + T phi v + (T^2 / m)(c1 / 2) F,  v+ = e v + (T / m) phi F,  phi = (c1 + c2)/2.
- * The continuous effects (Coulomb friction, the hand) need the state between samples:
+ * The continuous effects (Coulomb friction, the hand, the actuator lag) need the state
+ * between samples:
  * then the sample interval is cut into `substeps` classical Runge-Kutta (RK4) steps.
  *
  * Continuous effects:
@@ -53,6 +61,10 @@
  *     x_h(t) starts at `from` at t_grasp and moves at `speed` toward `to`, where it stays.
  *     Each substep takes the hand's piece (released / moving / arrived) at its midpoint, so
  *     RK4 keeps 4th order except in the substeps that hold a grasp, release or arrival.
+ *   ZW_SIM_ACTUATOR_LAG: the force reaches the plant through 1 / (tau s + 1), tau > 0 (the
+ *     force is a known exponential within each sample: RK4 evaluates it exactly at each
+ *     stage).  Not with ZW_SIM_FRICTION (stiction's exact break-away assumes a force affine
+ *     in time within a substep).
  *
  * Discrete effects (computed once per sample by the controller, as a drive would):
  *   ZW_SIM_WALL: a unilateral virtual spring-damper.  side = +1: the wall occupies
@@ -85,6 +97,8 @@ extern "C" {
 
 /* Longest computation delay, in samples (the delay line lives inside zw_sim). */
 #define ZW_SIM_MAX_DELAY 64
+/* Longest moving average of the velocity estimate, in samples (as loop.h's). */
+#define ZW_SIM_MAX_AVERAGE 16
 /* Most integrator substeps per sample (above a 16-bit int: the field is int_least32_t). */
 #define ZW_SIM_MAX_SUBSTEPS 100000
 /* RK4 is stable for h |s| up to about 2.8 in the left half-plane (2.785 on the real axis,
@@ -103,8 +117,11 @@ enum {
     ZW_SIM_WALL = 1u << 6,
     ZW_SIM_KNOB = 1u << 7,
     ZW_SIM_SCHEDULE = 1u << 8,
-    ZW_SIM_ALL_EFFECTS = (1u << 9) - 1u,
-    ZW_SIM_CONTINUOUS = ZW_SIM_FRICTION | ZW_SIM_HAND
+    ZW_SIM_TUSTIN = 1u << 9,
+    ZW_SIM_AVERAGE = 1u << 10,
+    ZW_SIM_ACTUATOR_LAG = 1u << 11,   /* continuous */
+    ZW_SIM_ALL_EFFECTS = (1u << 12) - 1u,
+    ZW_SIM_CONTINUOUS = ZW_SIM_FRICTION | ZW_SIM_HAND | ZW_SIM_ACTUATOR_LAG
 };
 
 typedef struct zw_sim_hand {
@@ -151,6 +168,8 @@ typedef struct zw_sim_scene {
     int delay_samples;             /* DELAY: 1 .. ZW_SIM_MAX_DELAY */
     zw_real force_max;             /* SATURATION: > 0 */
     zw_real cutoff_hz;             /* VELOCITY_FILTER: > 0 */
+    int average_samples;           /* AVERAGE: 1 .. ZW_SIM_MAX_AVERAGE */
+    zw_real actuator_tau;          /* ACTUATOR_LAG: > 0 [s] */
     zw_sim_hand hand;              /* HAND */
     zw_sim_wall wall;              /* WALL */
     zw_sim_knob knob;              /* KNOB */
@@ -174,6 +193,10 @@ typedef struct zw_sim {
     size_t schedule_index;
     int delay_head;
     zw_real delay_line[ZW_SIM_MAX_DELAY];
+    zw_real v_diff;                     /* the differentiator's last output (Tustin) */
+    int average_head;
+    zw_real average_line[ZW_SIM_MAX_AVERAGE];
+    zw_real force_lagged;               /* f at t_k (ACTUATOR_LAG) */
 } zw_sim;
 
 /* Validate the scene and set the run to t = 0.  Errors: ZW_ERR_NULL (also a NULL schedule
@@ -185,7 +208,8 @@ typedef struct zw_sim {
  * ZW_ERR_INF for an infinity where only finite values mean anything (everywhere except
  * t_step, hand.t_release and hand.speed, where +inf means "never" / "at once");
  * ZW_ERR_ARG for any other field outside its documented domain (unknown flag bits, KNOB
- * with SCHEDULE, delay 0, stiction < coulomb, too few substeps for ZW_SIM_RK4_LIMIT, ...).  Fields of effects that are off are
+ * with SCHEDULE, VELOCITY_FILTER with AVERAGE, ACTUATOR_LAG with FRICTION, delay 0,
+ * stiction < coulomb, too few substeps for ZW_SIM_RK4_LIMIT, ...).  Fields of effects that are off are
  * not read.  *sim is untouched on error. */
 zw_status zw_sim_init(zw_sim *sim, const zw_sim_scene *scene);
 
@@ -196,12 +220,13 @@ typedef struct zw_sim_trace {
     zw_real *t;                 /* [s] */
     zw_real *x, *v;             /* true position and velocity at t */
     zw_real *x_measured;        /* what the controller saw */
-    zw_real *force;             /* applied to the plant over [t, t + T) (after saturation, delay) */
+    zw_real *force;             /* applied over [t, t + T) (after saturation, delay; before
+                                   the actuator lag: the plant gets f(t), see above) */
     zw_real *force_command;     /* controller output before saturation and delay */
     zw_real *stiffness;         /* K the controller used at this sample */
     zw_real *stiffness_planned; /* K the schedule or knob map gives at the true position */
     zw_real *damping;           /* B used at this sample */
-    zw_real *velocity_estimate; /* v_est the damping terms used (filtered with the filter);
+    zw_real *velocity_estimate; /* v_est the damping terms used (filtered with a filter);
                                    asking for it in a scene without effects costs the
                                    general loop's speed instead of the ideal loop's */
     zw_real *wall_force;        /* the wall's part of force_command */
