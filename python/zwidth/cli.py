@@ -151,11 +151,12 @@ kinds:
 _SIMULATE_DESCRIPTION = """\
 Simulate a scene in the time domain (paper Fig. 13): the plant behind a zero-order hold,
 sampled every T, the impedance controller and only the effects the scene file asks for
-(quantization, friction, delay, saturation, velocity filter, hand, wall, knob, schedule).
+(quantization, friction, delay, saturation, velocity filter, hand, wall, knob, schedule,
+Tustin's differentiator, a moving average of the velocity, an actuator lag).
 Prints each case's simulated verdict beside the analytic verdict of the loop's linear part
 (every scene: the loop without quantization, friction, saturation, the wall's or knob's
-switching; for linear scenes, no effect or only [delay] of up to 8 samples and
-[velocity_filter], zwidth's exact verdict of the loop simulated and whether they agree;
+switching; for linear scenes, no effect or only [delay] of up to 8 samples,
+[velocity_filter], [differentiator] and [average], zwidth's exact verdict of the loop simulated and whether they agree;
 with a delay or filter also the paper's ideal loop's verdict), and where they differ one
 line naming the effect that explains it.  Optionally writes the arrays and a figure."""
 
@@ -164,6 +165,7 @@ the scene file (TOML; every key, unit and default in docs/scenes.md):
   [scene] name, description, duration   [plant] m | J, b, T   [controller] K, B | alpha, beta
   [reference] from, to, at   [initial] x, v   effects: [quantization] [friction] [delay]
   [saturation] [velocity_filter] [hand] [wall] [knob] [[schedule]]
+  [differentiator] kind = "tustin"   [average] samples   [actuator] tau
   [integrator] substeps | step   [verdict] tolerance, window, windows   [[case]] label + overrides
   Values with units are strings: "0.1 kg", "23 N*s/m", "85.78e-7 kg*m^2", "45 deg".
 
