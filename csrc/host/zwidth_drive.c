@@ -47,6 +47,7 @@
 #include <modbus.h>
 
 #include "zw_mbhost.h"
+#include "zwidth/sim.h"
 #include "zwidth/zwidth.h"
 
 #define PROG "zwidth-drive"
@@ -109,7 +110,7 @@ static void usage(FILE *to)
             "  --velocity-filter F none, lowpass:30Hz (first-order, cut-off in Hz) or average:4\n"
             "                      (moving average over N samples) (none)\n"
             "  --differentiator X  backward or tustin (backward); gains are certified for this\n"
-            "                      loop (the simulation runs the ideal loop)\n"
+            "                      loop, and --simulate runs it\n"
             "  --unsealed          start uncommissioned: gains are refused until a client\n"
             "                      commissions a block (zwidth-tune commission)\n"
             "\n"
@@ -133,8 +134,10 @@ static void usage(FILE *to)
             MAX_CLIENTS_LIMIT);
     fprintf(to,
             "Simulation\n"
-            "  --simulate          run the plant m x'' + b x' = F under the active gains (plant\n"
-            "                      from --m --b --T) and report x, v, F in the state registers\n"
+            "  --simulate          run the plant m x'' + b x' = F (from --m --b --T) in this\n"
+            "                      drive's loop (--delay, --velocity-filter, --differentiator)\n"
+            "                      under the active gains; the state registers report x, the\n"
+            "                      loop's velocity estimate and the force applied\n"
             "  --speed S           simulated seconds per real second (default 1)\n"
             "  --x0 X              initial position (default 0.01)\n"
             "\n"
@@ -201,8 +204,8 @@ static double now_s(void)
 
 typedef struct sim {
     int on;
-    double m, b, T, speed;
-    double x, v, x_prev; /* sampled position, true velocity, previous sample */
+    double T, speed;
+    zw_sim run;          /* the plant and the drive's loop (sim.h) */
     double t0;           /* wall clock of step 0 */
     uint_least32_t step; /* steps taken */
     /* each step's lateness behind its scheduled time (the loop's period jitter) */
@@ -315,36 +318,60 @@ static void logf_(const char *fmt, ...)
     va_end(ap);
 }
 
-/* One simulation step: sample, control, report, then propagate the plant over T under the
- * zero-order hold (exact: v' = (F - b v)/m with F constant over the period). */
+/* One simulation step of the drive's own loop (its delay, differentiator and velocity
+ * filter, as certified: sim.h runs the loops loop.h analyses): the active gains, then the
+ * sample's control and report, and the plant propagated over T under the zero-order hold
+ * (exact without continuous effects). */
 static void sim_step(drive *d)
 {
     sim *s = &d->s;
     float Kf, Bf;
-    double K, B, vhat, F;
-    double a = s->b / s->m, aT = a * s->T, decay, phi1, phi2;
+    zw_real x, v_est, F;
+    zw_sim_trace tr;
 
     /* the control loop's reader: one certified pair, (0, 0) on any failure */
     (void)zw_regmap_active_gains(&d->rm, &Kf, &Bf);
-    K = (double)Kf;
-    B = (double)Bf;
-    vhat = (s->x - s->x_prev) / s->T;
-    F = -K * s->x - B * vhat + 0.0; /* + 0.0: no negative zero with the output off */
-
-    zw_regmap_set_state(&d->rm, (float)s->x, (float)vhat, (float)F, s->step);
-
-    decay = exp(-aT);
-    if (aT > 1e-6) {
-        phi1 = -expm1(-aT) / a;       /* int_0^T e^{-a t} dt */
-        phi2 = (s->T - phi1) / a;     /* int_0^T (1 - e^{-a t})/a dt */
-    } else {
-        phi1 = s->T * (1.0 - aT / 2.0);
-        phi2 = s->T * s->T * (0.5 - aT / 6.0);
-    }
-    s->x_prev = s->x;
-    s->x = s->x + s->v * phi1 + F / s->m * phi2;
-    s->v = s->v * decay + F / s->m * phi1;
+    if (zw_sim_set_gains(&s->run, (zw_real)Kf, (zw_real)Bf) != ZW_OK)
+        (void)zw_sim_set_gains(&s->run, 0, 0); /* not reached: the map hands out finite gains */
+    memset(&tr, 0, sizeof tr);
+    tr.x = &x;
+    tr.velocity_estimate = &v_est;
+    tr.force = &F;
+    (void)zw_sim_run(&s->run, 1, &tr);
+    /* + 0.0: no negative zero with the output off */
+    zw_regmap_set_state(&d->rm, (float)x, (float)v_est, (float)(F + 0.0), s->step);
     s->step++;
+}
+
+/* The simulated plant m x'' + b x' = F at rest at x0, under the loop of the drive's options
+ * (delay, velocity filter, differentiator: the loop its gains are certified for). */
+static zw_status sim_start(sim *s, const zw_cert_opts *co, double x0, double speed)
+{
+    zw_sim_scene sc;
+    memset(&sc, 0, sizeof sc);
+    sc.m = co->v[0];
+    sc.b = co->v[1];
+    sc.T = co->v[2];
+    sc.x_init = x0;
+    sc.t_step = ZW_HUGE_VAL; /* the reference stays at 0 */
+    sc.substeps = 1;         /* no continuous effect: not read */
+    if (co->v[11] > 0.0) {
+        sc.effects |= ZW_SIM_DELAY;
+        sc.delay_samples = (int)co->v[11];
+    }
+    if (co->v[12] == 1.0) {
+        sc.effects |= ZW_SIM_VELOCITY_FILTER;
+        sc.cutoff_hz = co->v[13];
+    } else if (co->v[12] == 2.0) {
+        sc.effects |= ZW_SIM_AVERAGE;
+        sc.average_samples = (int)co->v[13];
+    }
+    if (co->v[14] == 1.0) sc.effects |= ZW_SIM_TUSTIN;
+    s->on = 1;
+    s->T = sc.T;
+    s->speed = speed;
+    s->step = 0;
+    return zw_sim_init(&s->run, &sc);
 }
 
 /* Run every step that is due; returns the milliseconds until the next one (-1 if none). */
@@ -1178,6 +1205,12 @@ int main(int argc, char **argv)
     ceil.b_max = cert.b_max;
     ceil.dk_max = cert.dk_max;
     ceil.db_max = cert.db_max;
+    /* the loop this firmware runs: its options' (--delay, --velocity-filter,
+     * --differentiator), which --simulate runs too; a block for another loop is refused */
+    ceil.delay = cert.delay;
+    ceil.vfilter = cert.vfilter;
+    ceil.vf_param = cert.vf_param;
+    ceil.differentiator = cert.differentiator;
     st = zw_regmap_set_ceilings(&d.rm, &ceil, &reason);
     if (st != ZW_OK) {
         fprintf(stderr, PROG ": %s: %s (%s)\n",
@@ -1228,21 +1261,12 @@ int main(int argc, char **argv)
         zw_regmap_set_storage(&d.rm, &storage);
     }
     if (simulate) {
-        zw_device probe_dev;
-        st = zw_device_init(&probe_dev, co.v[0], co.v[1], co.v[2]);
+        st = sim_start(&d.s, &co, x0, speed);
         if (st != ZW_OK) {
-            fprintf(stderr, PROG ": cannot simulate the plant m=%g, b=%g, T=%g: %s\n", co.v[0],
-                    co.v[1], co.v[2], zw_status_name(st));
+            fprintf(stderr, PROG ": cannot simulate the plant m=%g, b=%g, T=%g with this loop: %s\n",
+                    co.v[0], co.v[1], co.v[2], zw_status_name(st));
             return ZW_EXIT_USAGE;
         }
-        d.s.on = 1;
-        d.s.m = co.v[0];
-        d.s.b = co.v[1];
-        d.s.T = co.v[2];
-        d.s.speed = speed;
-        d.s.x = d.s.x_prev = x0;
-        d.s.v = 0.0;
-        d.s.step = 0;
         d.s.t0 = now_s();
     }
     if (rtu == NULL && strncmp(host, "127.", 4) != 0)

@@ -156,6 +156,17 @@ static zw_reason check_ceilings(const zw_ceilings *k, const float f[ZW_CERT_FIEL
     return ZW_REASON_NONE;
 }
 
+/* The block's loop against the one the firmware runs (the ceilings'), checked after the
+ * loop fields' own rules so that a malformed loop gets its named reason. */
+static zw_reason check_firmware_loop(const zw_ceilings *k, const float f[ZW_CERT_FIELDS])
+{
+    if (f[F_DELAY] != k->delay || f[F_VFILTER] != k->vfilter || f[F_VF_PARAM] != k->vf_param ||
+        f[F_DIFF] != k->differentiator) {
+        return ZW_REASON_LOOP_MISMATCH;
+    }
+    return ZW_REASON_NONE;
+}
+
 /* The staged block's own rules, before the loop is built (regmap_policy.h, in its order). */
 static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_FIELDS])
 {
@@ -214,6 +225,9 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
         return why;
     }
     why = build_loop(rm, true);
+    if ((why == ZW_REASON_NONE) && (rm->has_ceilings != 0u)) {
+        why = check_firmware_loop(&rm->ceilings, f);
+    }
     if (why == ZW_REASON_NONE) {
         live_extremes(rm, &any);
         if (!any) {
@@ -238,12 +252,14 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
 
 zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *k, zw_reason *reason)
 {
-    const float v[12] = {k != NULL ? k->sigma_max : 0.0f, k != NULL ? k->r_max : 0.0f,
+    const float v[16] = {k != NULL ? k->sigma_max : 0.0f, k != NULL ? k->r_max : 0.0f,
                          k != NULL ? k->m : 0.0f, k != NULL ? k->b : 0.0f,
                          k != NULL ? k->T : 0.0f, k != NULL ? k->plant_tol : 0.0f,
                          k != NULL ? k->k_min : 0.0f, k != NULL ? k->k_max : 0.0f,
                          k != NULL ? k->b_min : 0.0f, k != NULL ? k->b_max : 0.0f,
-                         k != NULL ? k->dk_max : 0.0f, k != NULL ? k->db_max : 0.0f};
+                         k != NULL ? k->dk_max : 0.0f, k != NULL ? k->db_max : 0.0f,
+                         k != NULL ? k->delay : 0.0f, k != NULL ? k->vfilter : 0.0f,
+                         k != NULL ? k->vf_param : 0.0f, k != NULL ? k->differentiator : 0.0f};
     float f[ZW_CERT_FIELDS];
     unsigned i;
     zw_reason why = ZW_REASON_NONE;
@@ -253,7 +269,7 @@ zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *k, zw_reason 
     if (rm == NULL || k == NULL) {
         return ZW_ERR_NULL;
     }
-    for (i = 0u; i < 12u; ++i) {
+    for (i = 0u; i < 16u; ++i) {
         if (!zw_rm_finite_f(v[i])) {
             return ZW_ERR_ARG;
         }
@@ -271,6 +287,9 @@ zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *k, zw_reason 
             f[i] = zw_cert_field(&rm->sealed, i);
         }
         why = check_ceilings(k, f);
+        if (why == ZW_REASON_NONE) {
+            why = check_firmware_loop(k, f);
+        }
         if (why != ZW_REASON_NONE) { /* never run outside the ceilings: unsealed, output off */
             rm->is_sealed = 0u;
             zw_rm_publish_gains(rm, 0.0f, 0.0f);
@@ -638,6 +657,7 @@ const char *zw_reason_name(zw_reason reason)
     case ZW_REASON_STORAGE: name = "ZW_REASON_STORAGE"; break;
     case ZW_REASON_IMAGE_FORMAT: name = "ZW_REASON_IMAGE_FORMAT"; break;
     case ZW_REASON_IMAGE_CRC: name = "ZW_REASON_IMAGE_CRC"; break;
+    case ZW_REASON_LOOP_MISMATCH: name = "ZW_REASON_LOOP_MISMATCH"; break;
     default: name = "ZW_REASON_UNKNOWN"; break; /* a value outside the enumeration */
     }
     return name;

@@ -685,6 +685,16 @@ zw_status zw_sim_run(zw_sim *sim, size_t n, const zw_sim_trace *trace) {
     return ZW_OK;
 }
 
+zw_status zw_sim_set_gains(zw_sim *sim, zw_real K, zw_real B) {
+    const zw_real gains[] = {K, B};
+    if (sim == NULL) return ZW_ERR_NULL;
+    ZW_TRY(all_finite(gains, 2));
+    ZW_REQUIRE(!(sim->scene.effects & (ZW_SIM_KNOB | ZW_SIM_SCHEDULE)));
+    sim->scene.K = K;
+    sim->scene.B = B;
+    return ZW_OK;
+}
+
 /* ---- the verdict -------------------------------------------------------------------- */
 
 /* Peak-to-peak of x[0 .. n-1]; +inf if any is not finite. */

@@ -210,6 +210,7 @@ REASONS: Dict[int, str] = {
     36: "ZW_REASON_STORAGE",
     37: "ZW_REASON_IMAGE_FORMAT",
     38: "ZW_REASON_IMAGE_CRC",
+    39: "ZW_REASON_LOOP_MISMATCH",
 }
 
 # The reason reported for a refusal whose "last refusal" registers were overwritten by

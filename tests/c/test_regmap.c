@@ -122,6 +122,7 @@ static test_auth g_auth;
 static zw_ceilings permissive_ceilings(void)
 {
     zw_ceilings k;
+    memset(&k, 0, sizeof k); /* the ideal loop */
     k.sigma_max = 1.0f;
     k.r_max = 1.0f;
     k.m = J1;
@@ -143,6 +144,12 @@ static void allow_commissioning(zw_regmap *rm)
 {
     zw_ceilings k = permissive_ceilings();
     zw_regmap_auth hooks;
+    if (rm->is_sealed != 0u) { /* the firmware runs its power-up block's loop */
+        k.delay = rm->sealed.delay;
+        k.vfilter = rm->sealed.vfilter;
+        k.vf_param = rm->sealed.vf_param;
+        k.differentiator = rm->sealed.differentiator;
+    }
     EXPECT_OK(zw_regmap_set_ceilings(rm, &k, NULL));
     hooks.random = test_random;
     hooks.verify = test_verify;
@@ -1598,7 +1605,7 @@ static void test_reason_names(void **state)
         ZWT_REASON(ZW_REASON_SUBNORMAL),    ZWT_REASON(ZW_REASON_ONLY_OFF),
         ZWT_REASON(ZW_REASON_NO_CEILINGS),  ZWT_REASON(ZW_REASON_NO_STORAGE),
         ZWT_REASON(ZW_REASON_STORAGE),      ZWT_REASON(ZW_REASON_IMAGE_FORMAT),
-        ZWT_REASON(ZW_REASON_IMAGE_CRC),
+        ZWT_REASON(ZW_REASON_IMAGE_CRC),    ZWT_REASON(ZW_REASON_LOOP_MISMATCH),
     };
     size_t i;
     (void)state;
@@ -1925,8 +1932,8 @@ static void test_loop_block_refusals(void **state)
         {0.0f, 2.0f, 0.0f, 0.0f, ZW_REASON_BAD_FILTER_PARAM},  {0.0f, 2.0f, 17.0f, 0.0f, ZW_REASON_BAD_FILTER_PARAM},
         {0.0f, 2.0f, 2.5f, 0.0f, ZW_REASON_BAD_FILTER_PARAM},  {0.0f, 0.0f, 0.0f, 2.0f, ZW_REASON_BAD_DIFFERENTIATOR},
         {0.0f, 0.0f, 0.0f, 0.5f, ZW_REASON_BAD_DIFFERENTIATOR},
-        /* Tustin with an even average: z = -1 is a root for every gain */
-        {0.0f, 2.0f, 2.0f, 1.0f, ZW_REASON_LOOP_NEVER_STABLE},
+        /* a valid loop the firmware does not run (permissive ceilings: the ideal loop) */
+        {1.0f, 0.0f, 0.0f, 0.0f, ZW_REASON_LOOP_MISMATCH},
     };
     zw_cert c = paper_cert();
     size_t i;
@@ -1945,6 +1952,18 @@ static void test_loop_block_refusals(void **state)
         /* the ideal block in force still certifies as before */
         EXPECT_ACCEPTED(write_pair(&rm, 0.4f, -1.36e-3f));
         assert_true(rdf(&rm, ZW_REG_LIVE_POLE) == 0.0f);
+    }
+    { /* a firmware whose loop is never stable: Tustin with an even average (z = -1 is a
+       * root for every gain); its ceilings unseal the ideal block in force */
+        zw_ceilings k = permissive_ceilings();
+        zw_cert b = paper_cert();
+        b.vfilter = k.vfilter = 2.0f;
+        b.vf_param = k.vf_param = 2.0f;
+        b.differentiator = k.differentiator = 1.0f;
+        assert_int_equal(zw_regmap_set_ceilings(&rm, &k, NULL), ZW_ERR_ARG);
+        assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+        EXPECT_TRUE_MSG(seal_block(&rm, &b).why == ZW_REASON_LOOP_NEVER_STABLE, "%s",
+                        zw_reason_name((zw_reason)rd(&rm, ZW_REG_LAST_REASON)));
     }
 }
 
@@ -1997,9 +2016,17 @@ static void test_loop_block_certifies_the_real_loop(void **state)
         assert_true(kc - rdf(&rm, ZW_REG_K) <= 1.0f);
         EXPECT_ACCEPTED(write_pair(&rm, kc, 0.0f));
     }
-    /* a low-pass by its cut-off: the pole the drive must use is published */
+    /* a low-pass by its cut-off: the pole the drive must use is published (a firmware that
+     * runs that loop; its ceilings say so, and unseal the delay-only block) */
     c.vfilter = 1.0f;
     c.vf_param = 5.0f; /* Hz, at T = 20 ms */
+    {
+        zw_ceilings kc = permissive_ceilings();
+        kc.delay = c.delay;
+        kc.vfilter = c.vfilter;
+        kc.vf_param = c.vf_param;
+        assert_int_equal(zw_regmap_set_ceilings(&rm, &kc, NULL), ZW_ERR_ARG);
+    }
     EXPECT_ACCEPTED(seal_block(&rm, &c));
     EXPECT_REL(rdf(&rm, ZW_REG_LIVE_POLE), expl(-2.0L * 3.14159265358979323846L * 5.0L * 0.02L), 1e-6);
     assert_true(rdf(&rm, ZW_REG_LIVE_K_CERT) > 0.0f);
@@ -2245,6 +2272,7 @@ static void test_auth_message_layout(void **state)
 static zw_ceilings factory_ceilings(void)
 {
     zw_ceilings k;
+    memset(&k, 0, sizeof k); /* the ideal loop */
     k.sigma_max = 0.9f;
     k.r_max = 0.999f;
     k.m = J1;
@@ -2334,6 +2362,23 @@ static void test_factory_ceilings(void **state)
             EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
         }
     }
+    /* a block for another loop than the firmware's (the ideal one here), each field */
+    {
+        static const unsigned fields[] = {11, 12, 13, 14};
+        static const float values[] = {1.0f, 2.0f, 4.0f, 1.0f};
+        size_t i;
+        for (i = 0; i < ZWT_ARRAY_LEN(fields); ++i) {
+            x = c;
+            zw_cert_set_field(&x, fields[i], values[i]);
+            if (fields[i] == 12) x.vf_param = 3.0f;  /* a valid moving average */
+            if (fields[i] == 13) x.vfilter = 2.0f;
+            EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_LOOP_MISMATCH);
+            EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+        }
+    }
+    bad = k;
+    bad.delay = (float)NAN;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &bad, &why), ZW_ERR_ARG);
     assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 0.8f); /* the power-up block is still in force */
     /* tightening is fine, and a plant within the tolerance */
     x = c;
@@ -2352,6 +2397,15 @@ static void test_factory_ceilings(void **state)
     assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
     EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
     EXPECT_REFUSED(&rm, write_pair(&rm, 0.1f, 0.0f), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_NOT_SEALED);
+    /* a firmware whose loop is not the sealed block's: unsealed at once, output off */
+    EXPECT_OK(zw_regmap_init(&rm, &c, NULL));
+    EXPECT_ACCEPTED(write_pair(&rm, 0.2f, 0.0f));
+    bad = k;
+    bad.delay = 1.0f;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &bad, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_LOOP_MISMATCH);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
 }
 
 /* m = 3e38: the float build refuses the plant itself (zw_device_init), the double build

@@ -150,7 +150,8 @@ static void allow_commissioning(zw_regmap *rm)
 {
     zw_regmap_auth hooks = {any_random, any_mac, NULL};
     const zw_ceilings wide = {1.0f, 1.0f, 85.78e-7f, 2.197e-3f, 0.02f, 1e30f,
-                              -FLT_MAX, FLT_MAX, -FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
+                              -FLT_MAX, FLT_MAX, -FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX,
+                              0.0f, 0.0f, 0.0f, 0.0f}; /* the ideal loop */
     assert_int_equal(zw_regmap_set_ceilings(rm, &wide, NULL), ZW_OK);
     zw_regmap_set_auth(rm, &hooks);
     zw_regmap_set_consent(rm, true);

@@ -1489,6 +1489,44 @@ static void test_step_index_range(void **state)
     }
 }
 
+/* zw_sim_set_gains: the next samples use the new gains, exactly as a run that had them
+ * from that sample on (a schedule switching there); errors leave the run untouched. */
+static void test_set_gains(void **state)
+{
+    static const zw_sim_segment switched[2] = {{R(0.0), R(0.0), R(0.0)}, {R(0.25), R(40.0), R(0.5)}};
+    zw_sim_scene sc = scene_linear(R(0.1), R(3.0), R(0.01), R(0.0), R(0.0));
+    zw_sim a, b, before;
+    zw_real xa[100], xb[100];
+    zw_sim_trace ta, tb;
+    (void)state;
+    sc.x_init = R(0.01);
+    sc.effects = ZW_SIM_DELAY | ZW_SIM_AVERAGE | ZW_SIM_TUSTIN;
+    sc.delay_samples = 1;
+    sc.average_samples = 3;
+    EXPECT_OK(zw_sim_init(&a, &sc));
+    memset(&ta, 0, sizeof ta);
+    ta.x = xa;
+    EXPECT_OK(zw_sim_run(&a, 25, &ta));   /* t = 0 .. 0.24 s with (0, 0) */
+    EXPECT_OK(zw_sim_set_gains(&a, R(40.0), R(0.5)));
+    ta.x = xa + 25;
+    EXPECT_OK(zw_sim_run(&a, 75, &ta));
+    sc.effects |= ZW_SIM_SCHEDULE;
+    sc.schedule = switched;
+    sc.schedule_len = 2;
+    EXPECT_OK(zw_sim_init(&b, &sc));
+    memset(&tb, 0, sizeof tb);
+    tb.x = xb;
+    EXPECT_OK(zw_sim_run(&b, 100, &tb));
+    assert_memory_equal(xa, xb, sizeof xa);
+    assert_true(xa[99] != R(0.01)); /* the gains moved it */
+    memcpy(&before, &a, sizeof a);
+    EXPECT_STATUS(zw_sim_set_gains(&a, R(NAN), R(0.0)), ZW_ERR_NAN);
+    EXPECT_STATUS(zw_sim_set_gains(&a, R(1.0), (zw_real)INFINITY), ZW_ERR_INF);
+    assert_memory_equal(&a, &before, sizeof a);
+    EXPECT_STATUS(zw_sim_set_gains(&b, R(1.0), R(0.0)), ZW_ERR_ARG); /* a schedule's gains */
+    EXPECT_STATUS(zw_sim_set_gains(NULL, R(1.0), R(0.0)), ZW_ERR_NULL);
+}
+
 static void test_init_errors(void **state)
 {
     /* every effect that goes with the others (AVERAGE excludes VELOCITY_FILTER,
@@ -1714,6 +1752,7 @@ int main(void)
         cmocka_unit_test_teardown(test_judge_needs_motion, free_all),
         cmocka_unit_test_teardown(test_judge_nonfinite, free_all),
         cmocka_unit_test_teardown(test_judge_errors, free_all),
+        cmocka_unit_test_teardown(test_set_gains, free_all),
         cmocka_unit_test_teardown(test_init_errors, free_all),
         cmocka_unit_test(test_step_index_range),
         cmocka_unit_test_teardown(test_fig15_kind, free_all),

@@ -438,7 +438,7 @@ NO_COV static void check_state(const snapshot *before, const snapshot *after, zw
           "magic 0x%04X version %u", s->w[ZW_REG_MAGIC], s->w[ZW_REG_VERSION]);
     CHECK(s->w[ZW_REG_MODE] <= 1 && s->w[ZW_REG_SEALED] <= 1, "mode %u sealed %u",
           s->w[ZW_REG_MODE], s->w[ZW_REG_SEALED]);
-    CHECK(s->w[ZW_REG_LAST_REASON] <= ZW_REASON_IMAGE_CRC && s->w[ZW_REG_LAST_EXCEPTION] <= 4,
+    CHECK(s->w[ZW_REG_LAST_REASON] <= ZW_REASON_LOOP_MISMATCH && s->w[ZW_REG_LAST_EXCEPTION] <= 4,
           "last reason %u exception %u", s->w[ZW_REG_LAST_REASON], s->w[ZW_REG_LAST_EXCEPTION]);
     CHECK(!s->have[ZW_REG_COMMAND] || s->w[ZW_REG_COMMAND] == 0, "command register reads 0x%04X",
           s->w[ZW_REG_COMMAND]);

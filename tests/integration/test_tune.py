@@ -205,7 +205,10 @@ def test_drive_with_delay_1_certifies_for_its_loop(start_drive):
 
 
 def test_commission_with_delay_and_low_pass(start_drive):
-    d = start_drive("--unsealed")
+    d = start_drive("--unsealed", "--delay", "1", "--velocity-filter", "lowpass:5Hz")
+    # a block for the ideal loop: not the loop this firmware runs
+    p = d.tune("commission", *PAPER_POLICY)
+    assert p.returncode == 3 and "ZW_REASON_LOOP_MISMATCH" in p.stdout + p.stderr, (p.stdout, p.stderr)
     p = d.tune("commission", *PAPER_POLICY, "--delay", "1", "--velocity-filter", "lowpass:5Hz",
                "--differentiator", "backward")
     assert p.returncode == 0, (p.stdout, p.stderr)

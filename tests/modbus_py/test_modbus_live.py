@@ -485,8 +485,13 @@ def test_drive_started_with_a_delay_certifies_for_it(start_drive):
         assert d.set_gains(K=k, B=0.0).accepted
 
 
-def test_commission_with_a_low_pass_filter(drive_port):
-    with drive(drive_port) as d:
+def test_commission_with_a_low_pass_filter(start_drive):
+    """A drive whose firmware runs a delay and a 5 Hz low-pass takes a block for that loop,
+    and refuses one for the ideal loop (a certificate for a loop it does not run)."""
+    port = start_drive(extra=("--delay", "1", "--velocity-filter", "lowpass:5Hz"))
+    with drive(port) as d:
+        c = d.commission(**NEW_BLOCK, key=TEST_KEY)
+        assert (c.accepted, c.reason, c.exception) == (False, "ZW_REASON_LOOP_MISMATCH", 0x03)
         c = d.commission(**NEW_BLOCK, delay=1, velocity_filter="lowpass:5Hz", key=TEST_KEY)
         assert c.accepted
         s = d.status()
@@ -502,7 +507,8 @@ def test_commission_with_a_low_pass_filter(drive_port):
 
 @pytest.mark.parametrize("loop, reason", [
     (dict(delay=1, velocity_filter=("lowpass", 30.0)), "ZW_REASON_BAD_FILTER_PARAM"),  # > 25 Hz
-    (dict(velocity_filter="average:2", differentiator="tustin"), "ZW_REASON_LOOP_NEVER_STABLE"),
+    (dict(velocity_filter="average:2", differentiator="tustin"), "ZW_REASON_LOOP_MISMATCH"),
+    (dict(delay=2), "ZW_REASON_LOOP_MISMATCH"),  # valid, but not the firmware's (ideal) loop
 ])
 def test_commission_refuses_a_bad_loop_with_its_reason(drive_port, loop, reason):
     with drive(drive_port) as d:

@@ -121,6 +121,7 @@
 #define zw_sim_init zw_sim_init_f
 #define zw_sim_run zw_sim_run_f
 #define zw_sim_judge zw_sim_judge_f
+#define zw_sim_set_gains zw_sim_set_gains_f
 /* status.h */
 #define zw_status_name zw_status_name_f
 /* library-internal, declared in csrc/src/internal.h */

@@ -329,8 +329,10 @@ void zw_regmap_set_auth(zw_regmap *rm, const zw_regmap_auth *auth);
  * that every commissioned block must respect.  They must be valid (every field finite,
  * sigma_max and r_max in (0, 1], m and T > 0, b >= 0, plant_tol >= 0, k_min <= k_max,
  * b_min <= b_max, steps > 0), else ZW_ERR_ARG with ZW_REASON_BAD_POLICY and nothing
- * changes.  The block in force is checked against them: one that exceeds them is unsealed
- * (gains off; ZW_ERR_ARG with its reason), so the drive never runs outside its ceilings.
+ * changes.  The block in force is checked against them: one that exceeds them, or whose
+ * loop is not the ceilings' loop (the one the firmware runs: ZW_REASON_LOOP_MISMATCH), is
+ * unsealed (gains off; ZW_ERR_ARG with its reason), so the drive never runs outside its
+ * ceilings.
  * rm or c NULL: ZW_ERR_NULL.  reason may be NULL. */
 zw_status zw_regmap_set_ceilings(zw_regmap *rm, const zw_ceilings *c, zw_reason *reason);
 

@@ -94,7 +94,8 @@ typedef enum zw_reason {
     ZW_REASON_NO_STORAGE = 35,    /* SAVE on a drive without a storage hook */
     ZW_REASON_STORAGE = 36,       /* SAVE: the storage hook reported a failure */
     ZW_REASON_IMAGE_FORMAT = 37,  /* restore: length, magic or format version wrong */
-    ZW_REASON_IMAGE_CRC = 38      /* restore: the image's CRC (or its block's) is wrong */
+    ZW_REASON_IMAGE_CRC = 38,     /* restore: the image's CRC (or its block's) is wrong */
+    ZW_REASON_LOOP_MISMATCH = 39  /* the block's loop is not the one the firmware runs */
 } zw_reason;
 
 /* The factory ceilings no block may exceed (zw_regmap_set_ceilings). */
@@ -105,6 +106,11 @@ typedef struct zw_ceilings {
     float k_min, k_max;            /* the widest K bounds a block may have */
     float b_min, b_max;            /* the widest B bounds */
     float dk_max, db_max;          /* the largest step limits, > 0 */
+    /* The loop the firmware runs, as a block's loop fields (regmap.h, 0x0056..0x005C:
+     * delay, vfilter, vf_param, differentiator; all 0: the paper's ideal loop).  A block
+     * must describe exactly this loop (ZW_REASON_LOOP_MISMATCH): a certificate for another
+     * loop protects nobody. */
+    float delay, vfilter, vf_param, differentiator;
 } zw_ceilings;
 
 /* Stable names for logs and tools ("ZW_REASON_UNSTABLE"; "ZW_REASON_UNKNOWN" for other

@@ -241,6 +241,12 @@ typedef struct zw_sim_trace {
  * error: it is recorded, it is the simulation's answer (see zw_sim_judge). */
 zw_status zw_sim_run(zw_sim *sim, size_t n, const zw_sim_trace *trace);
 
+/* Change the constant gains of a run between two zw_sim_run calls (a drive's gains written
+ * while its loop runs: zwidth-drive --simulate); the next sample uses them.  Errors:
+ * ZW_ERR_NULL, ZW_ERR_NAN / ZW_ERR_INF (K or B), ZW_ERR_ARG (a KNOB or SCHEDULE scene,
+ * whose gains come from elsewhere); *sim is untouched on error. */
+zw_status zw_sim_set_gains(zw_sim *sim, zw_real K, zw_real B);
+
 /* The simulated verdict.  The criterion, on the position record x[0 .. n-1]:
  *   take the last `windows` windows of `window` samples each and their peak-to-peak
  *   amplitudes A_1 .. A_w (oldest first);
