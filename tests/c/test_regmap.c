@@ -2617,6 +2617,16 @@ static void test_restore_checks_everything(void **state)
     EXPECT_STATUS(restore_bytes(&rm, bad, sizeof bad, NULL, 0, &why), ZW_ERR_ARG);
     assert_int_equal(why, ZW_REASON_ABOVE_CEILING);
     EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
+    /* CRCs right, but the block certifies a loop this firmware does not run (one sample
+     * of delay; the firmware's is the ideal loop): refused like a SEAL */
+    wide = c;
+    wide.delay = 1.0f;
+    ref_image(&wide, 0.1f, 0.0f, ZW_IMAGE_FORMAT, bad);
+    fresh_drive(&rm);
+    EXPECT_STATUS(restore_bytes(&rm, bad, sizeof bad, NULL, 0, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_LOOP_MISMATCH);
+    assert_true(rdf(&rm, ZW_REG_CERT_DELAY) == 0.0f && rdf(&rm, ZW_REG_CERT_SIGMA) == 0.8f);
+    EXPECT_ACTIVE(&rm, 0.0f, 0.0f);
     /* CRCs right, block fine, gains not certified (above sigma K_max): block only */
     ref_image(&c, 0.45f, -1.36e-3f, ZW_IMAGE_FORMAT, bad);
     fresh_drive(&rm);
