@@ -30,6 +30,12 @@
 #define zw_box_check zw_box_check_f
 #define zw_box_b_range zw_box_b_range_f
 #define zw_box_k_mmax zw_box_k_mmax_f
+#define zw_box_loop_work_init zw_box_loop_work_init_f
+#define zw_box_loop_check zw_box_loop_check_f
+#define zw_box_loop_k_max zw_box_loop_k_max_f
+#define zw_box_loop_b_range zw_box_loop_b_range_f
+/* plant_box.h */
+#define zw_plant_enclose zw_plant_enclose_f
 /* sweep.h */
 #define zw_sweep_fields_init zw_sweep_fields_init_f
 #define zw_sweep_check_many zw_sweep_check_many_f

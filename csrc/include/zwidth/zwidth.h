@@ -9,6 +9,7 @@
 
 #include "zwidth/batch.h"
 #include "zwidth/box.h"
+#include "zwidth/plant_box.h"
 #include "zwidth/coeffs.h"
 #include "zwidth/device.h"
 #include "zwidth/device_loop.h"
