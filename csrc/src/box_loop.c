@@ -834,3 +834,106 @@ zw_status zw_box_loop_b_range(const zw_plant_box *box, const zw_device_loop_spec
     }
     return st;
 }
+
+static void bl_fail_extremes(zw_box_loop_extremes *out)
+{
+    if (out == NULL) {
+        return;
+    }
+    out->K_mmax = ZW_R(0.0);
+    out->B_at = ZW_NAN;
+    out->K_upper_at = ZW_R(0.0);
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
+    out->evals = 0u;
+    out->converged = false;
+}
+
+/* Golden-section search of B over the centre plant's B range (no proof that the box's K_max
+ * is unimodal in B: only the value reported at the final B is claimed, and it is certified). */
+static zw_status bl_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *spec, zw_loop_workspace *ws,
+                           const zw_box_loop_work *work, zw_box_loop_extremes *out)
+{
+    static const zw_real k_inv_phi = ZW_R(0.6180339887498948482);
+    zw_device_loop dl;
+    zw_device_loop_extremes x;
+    zw_box_loop_bound f1, f2, fin;
+    zw_real a, b, c1, c2;
+    uint_least32_t evals = 0u;
+    int step;
+    zw_status st;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    if ((spec == NULL) || (ws == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_box_validate(box);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_device_loop_init(&dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi), box->T, spec);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_device_loop_extremes_compute(&dl, ws, &x);
+    if (st != ZW_OK) {
+        return st;
+    }
+    a = x.B_mmin;
+    b = x.B_mmax;
+    c1 = b - k_inv_phi * (b - a);
+    c2 = a + k_inv_phi * (b - a);
+    st = zw_box_loop_k_max(box, spec, ws, c1, work, &f1);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_box_loop_k_max(box, spec, ws, c2, work, &f2);
+    if (st != ZW_OK) {
+        return st;
+    }
+    evals = f1.evals + f2.evals;
+    for (step = 0; step < BL_BISECT_STEPS; ++step) {
+        if (!(c2 - c1 > work->rel_tol * (ZW_FABS(a) + ZW_FABS(b)))) {
+            break;
+        }
+        if (f1.K_lower < f2.K_lower) {
+            a = c1;
+            c1 = c2;
+            f1 = f2;
+            c2 = a + k_inv_phi * (b - a);
+            st = zw_box_loop_k_max(box, spec, ws, c2, work, &f2);
+            evals += f2.evals;
+        } else {
+            b = c2;
+            c2 = c1;
+            f2 = f1;
+            c1 = b - k_inv_phi * (b - a);
+            st = zw_box_loop_k_max(box, spec, ws, c1, work, &f1);
+            evals += f1.evals;
+        }
+        if (st != ZW_OK) {
+            return st;
+        }
+    }
+    fin = (f1.K_lower >= f2.K_lower) ? f1 : f2;
+    out->K_mmax = fin.K_lower;
+    out->B_at = (f1.K_lower >= f2.K_lower) ? c1 : c2;
+    out->K_upper_at = fin.K_upper;
+    out->m_worst = fin.m_worst;
+    out->b_worst = fin.b_worst;
+    out->evals = evals;
+    out->converged = fin.converged;
+    return ZW_OK;
+}
+
+zw_status zw_box_loop_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                             zw_loop_workspace *ws, const zw_box_loop_work *work,
+                             zw_box_loop_extremes *out)
+{
+    zw_status st = bl_k_mmax(box, spec, ws, work, out);
+    if (st != ZW_OK) {
+        bl_fail_extremes(out);
+    }
+    return st;
+}

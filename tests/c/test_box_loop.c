@@ -254,6 +254,37 @@ static void test_b_range(void **state)
     assert_false(any);
 }
 
+/* K_mmax of a delayed loop's box: certified at its B (every plant's K_max there is above it),
+ * at least the box's K_max at B = 0, below the centre plant's K_mmax. */
+static void test_k_mmax(void **state)
+{
+    const zw_plant_box box = {R(1.0e-5), R(1.4e-5), R(2.0e-3), R(2.4e-3), R(0.02)};
+    zw_device_loop_spec spec;
+    zw_box_loop_work w = work();
+    zw_box_loop_extremes x;
+    zw_box_loop_bound b0;
+    zw_device_loop dl;
+    zw_device_loop_extremes nx;
+    int i;
+    (void)state;
+    memset(&spec, 0, sizeof spec);
+    spec.delay = 1u;
+    EXPECT_OK(zw_box_loop_k_mmax(&box, &spec, &g_ws, &w, &x));
+    EXPECT_OK(zw_box_loop_k_max(&box, &spec, &g_ws, R(0.0), &w, &b0));
+    assert_true(x.K_mmax >= b0.K_lower);
+    EXPECT_OK(zw_device_loop_init(&dl, R(1.2e-5), R(2.2e-3), box.T, &spec));
+    EXPECT_OK(zw_device_loop_extremes_compute(&dl, &g_ws, &nx));
+    assert_true(x.K_mmax <= nx.K_mmax * (R(1.0) + TOL(1e4)));
+    for (i = 0; i <= 4; ++i) {
+        zw_real k;
+        EXPECT_OK(zw_device_loop_init(&dl, box.m_lo + (box.m_hi - box.m_lo) * (zw_real)i / R(4.0), box.b_lo, box.T, &spec));
+        EXPECT_OK(zw_device_loop_k_max(&dl, &g_ws, x.B_at, &k));
+        assert_true(x.K_mmax <= k * (R(1.0) + TOL(1e4)));
+    }
+    print_message("box K_mmax %g at B %g (K_max at B = 0: %g; centre plant's K_mmax %g)\n", (double)x.K_mmax,
+                  (double)x.B_at, (double)b0.K_lower, (double)nx.K_mmax);
+}
+
 static void test_errors(void **state)
 {
     const zw_plant_box box = {R(1.0e-5), R(1.4e-5), R(2.0e-3), R(2.4e-3), R(0.02)};
@@ -275,6 +306,11 @@ static void test_errors(void **state)
     spec.delay = 9u;
     EXPECT_STATUS(zw_box_loop_k_max(&box, &spec, &g_ws, R(0.0), &w, &bd), ZW_ERR_DELAY);
     assert_true(bd.K_lower == R(0.0) && bd.K_upper == R(0.0) && !bd.converged);
+    {
+        zw_box_loop_extremes x;
+        EXPECT_STATUS(zw_box_loop_k_mmax(&box, &spec, &g_ws, &w, &x), ZW_ERR_DELAY);
+        assert_true(x.K_mmax == R(0.0) && isnan(x.B_at) && !x.converged);
+    }
     spec.delay = 0u;
     EXPECT_STATUS(zw_box_loop_check(&box, &spec, &g_ws, (zw_real)NAN, R(0.0), &w, &v), ZW_ERR_NAN);
     assert_false(v.stable);
@@ -305,6 +341,7 @@ int main(void)
         cmocka_unit_test(test_delay_box_consistent),
         cmocka_unit_test(test_filters),
         cmocka_unit_test(test_b_range),
+        cmocka_unit_test(test_k_mmax),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -224,6 +224,23 @@ zw_status zw_box_loop_b_range(const zw_plant_box *box, const zw_device_loop_spec
                               zw_loop_workspace *ws, zw_real K, const zw_box_loop_work *work,
                               zw_real *B_lo, zw_real *B_hi, bool *nonempty);
 
+typedef struct zw_box_loop_extremes {
+    zw_real K_mmax;           /* certified: every K in (0, K_mmax] is stable at B_at for every plant */
+    zw_real B_at;             /* the B found (golden-section search of the box's K_max over
+                                 the centre plant's certified B range at K -> 0+) */
+    zw_real K_upper_at;       /* zw_device_loop_k_max(B_at) at the worst plant found */
+    zw_real m_worst, b_worst; /* that plant */
+    uint_least32_t evals;     /* sub-box tests, every search */
+    bool converged;           /* the search at B_at converged */
+} zw_box_loop_extremes;
+
+/* The largest K that one B makes stable for every plant (max over B of zw_box_loop_k_max's
+ * K_lower; whatever B the search ends on, K_mmax is certified there).  Errors as above, and
+ * ZW_ERR_DOMAIN when the centre plant has no stable B (every field 0, plants NaN). */
+zw_status zw_box_loop_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                             zw_loop_workspace *ws, const zw_box_loop_work *work,
+                             zw_box_loop_extremes *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -34,6 +34,7 @@
 #define zw_box_loop_check zw_box_loop_check_f
 #define zw_box_loop_k_max zw_box_loop_k_max_f
 #define zw_box_loop_b_range zw_box_loop_b_range_f
+#define zw_box_loop_k_mmax zw_box_loop_k_mmax_f
 /* plant_box.h */
 #define zw_plant_enclose zw_plant_enclose_f
 /* sweep.h */
