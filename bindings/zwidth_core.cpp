@@ -1425,6 +1425,29 @@ py::dict box_loop_b_range(double m_lo, double m_hi, double b_lo, double b_hi, do
     return out;
 }
 
+py::dict box_loop_k_mmax(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
+                         int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
+                         long capacity, long max_evals, double rel_tol) {
+    BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
+                  capacity, max_evals, rel_tol);
+    zw_box_loop_extremes x;
+    zw_status st;
+    {
+        py::gil_scoped_release release;
+        st = zw_box_loop_k_mmax(&c.box, &c.spec, &c.ws, &c.work, &x);
+    }
+    py::dict out;
+    out["status"] = int{st};
+    out["K_mmax"] = x.K_mmax;
+    out["B_at"] = x.B_at;
+    out["K_upper_at"] = x.K_upper_at;
+    out["m_worst"] = x.m_worst;
+    out["b_worst"] = x.b_worst;
+    out["evals"] = static_cast<long>(x.evals);
+    out["converged"] = x.converged;
+    return out;
+}
+
 }  // namespace
 
 void zw_register_box(py::module_ &mod) {
@@ -1445,5 +1468,8 @@ void zw_register_box(py::module_ &mod) {
     mod.def("box_loop_b_range", &box_loop_b_range, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
             py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), py::arg("K"),
             cap, ev, tol, "zw_box_loop_b_range.");
+    mod.def("box_loop_k_mmax", &box_loop_k_mmax, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
+            py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), cap, ev, tol,
+            "zw_box_loop_k_mmax.");
     mod.attr("BOX_LOOP_DEFAULT_REL_TOL") = double{ZW_BOX_LOOP_DEFAULT_REL_TOL};
 }

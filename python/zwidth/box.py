@@ -18,7 +18,8 @@ The loop a drive runs (``delay``, ``velocity_filter``, ``differentiator``, as
 :class:`zwidth.Device` takes them) is certified by a second method (csrc/src/box_loop.c:
 Kharitonov's theorem on the bilinear image of the characteristic polynomial over sub-boxes
 of plants and gains); there "stable at (K, B)" means every K' in (0, K] is stable at B for
-every plant, and ``extremes()`` is not available yet.
+every plant, and ``extremes()`` searches B by golden section (certified at the B it ends
+on).
 
 A separate class rather than ``Device`` with interval arguments: a ``Device`` broadcasts
 over arrays of plants and answers per plant, while a box answers once for all of them
@@ -299,7 +300,11 @@ class PlantBox:
     def extremes(self) -> BoxExtremes:
         """The largest K one B makes stable for the whole box (certified), and that B."""
         if self.method == "kharitonov":
-            raise NotImplementedError("zwidth.PlantBox.extremes: not available for the general loop yet")
+            # K_mmax_upper: the worst plant's own K_mmax (informational, as for the closed form)
+            out = self._raise(self._call_loop(_core.box_loop_k_mmax), "extremes", {})
+            own = float(self._device(float(out["m_worst"]), float(out["b_worst"])).extremes().K_mmax)
+            return BoxExtremes(float(out["K_mmax"]), float(out["B_at"]), float(out["K_upper_at"]), own,
+                               float(out["m_worst"]), float(out["b_worst"]), bool(out["converged"]))
         out = self._raise(self._call(_core.box_k_mmax), "extremes", {})
         return BoxExtremes(float(out["K_mmax"]), float(out["B_at"]), float(out["K_upper_at"]),
                            float(out["K_mmax_upper"]), float(out["m_worst"]), float(out["b_worst"]),

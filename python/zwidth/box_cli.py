@@ -95,28 +95,7 @@ def cmd_check(args: argparse.Namespace, box: PlantBox) -> _Outcome:
     return _Outcome(EXIT_OK if v.stable else EXIT_UNSTABLE, data, lines)
 
 
-def _limits_general(box: PlantBox) -> _Outcome:
-    """The general loop (no box K_mmax yet): the box's K_max at the nominal plant's best B."""
-    nom = box.nominal.extremes()
-    B = float(nom.B_at_K_mmax)
-    k = box.k_max(B)
-    u, sym = _units(box), box.mass_symbol
-    data = {"K_max_at_nominal_B": k.K_lower, "B": B, "K_upper": k.K_upper, "gap": k.gap,
-            "worst_plant": {sym: k.m_worst, "b": k.b_worst}, "converged": k.converged,
-            "nominal": {sym: box.m.mid, "b": box.b.mid, "K_mmax": float(nom.K_mmax), "B_at_K_mmax": B}}
-    lines = [_header(box), "", "Limits for every plant of the box (certified, never above the true ones)",
-             f"  at B = {_fmt(B)} {u['B']} (the nominal plant's best B): every K in (0, {_fmt(k.K_lower)}] "
-             f"{u['K']} is stable",
-             f"    worst plant {sym} = {_fmt(k.m_worst)}, b = {_fmt(k.b_worst)} (its K_max {_fmt(k.K_upper)}, "
-             f"gap {k.gap:.2g})",
-             f"  nominal plant ({sym} = {_fmt(box.m.mid)}, b = {_fmt(box.b.mid)}): "
-             f"K_mmax = {_fmt(float(nom.K_mmax))} {u['K']} at B = {_fmt(B)} {u['B']}"]
-    return _Outcome(EXIT_OK, data, lines)
-
-
 def cmd_limits(args: argparse.Namespace, box: PlantBox) -> _Outcome:
-    if box.method == "kharitonov":
-        return _limits_general(box)
     x = box.extremes()
     kp = box.k_max(0.0)
     nom = box.nominal.extremes()
