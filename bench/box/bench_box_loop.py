@@ -5,8 +5,8 @@
 against a dense grid search.
 
 For random boxes around the paper's rotary drive (b = 2.197e-3 N m s/rad, T = 0.02 / 0.008 /
-0.001 s, delta = b T / m from 0.05 to 40, m spanning up to a factor 4), d = 1 sample of delay
-(optionally a low-pass), and B inside the nominal plant's band:
+0.001 s, delta = b T / m from 0.05 to 40, m spanning up to a factor 16, b +- 5 %), d samples of
+delay (default 1), and B inside the nominal plant's band at K -> 0+:
 
   certified   PlantBox(..., delay=1).k_max(B): K_lower (every K in (0, K_lower] stable at
               every plant, proven), the worst plant found and its K_max (K_upper).
@@ -54,11 +54,11 @@ def main() -> None:
         b_mid = B_PAPER * 10 ** rnd.uniform(-0.5, 0.5)
         delta_mid = 10 ** (rnd.uniform(-0.1, 0.9) if n % 2 else rnd.uniform(-1.3, 1.6))
         m_mid = b_mid * T / delta_mid
-        spread = 10 ** rnd.uniform(-1.5, math.log10(1.0))
+        spread = 10 ** rnd.uniform(-1.5, math.log10(3.0))  # m_hi / m_lo up to 16
         m_lo, m_hi = m_mid / (1 + spread), m_mid * (1 + spread)
         b_lo, b_hi = b_mid * 0.95, b_mid * 1.05
         nom = zwidth.Device(m_mid, b_mid, T, delay=args.delay).extremes()
-        B = float(nom.B_at_K_mmax) * rnd.uniform(0.3, 1.2)
+        B = float(nom.B_mmin) + rnd.uniform(0.05, 0.9) * (float(nom.B_mmax) - float(nom.B_mmin))
         box = zwidth.PlantBox(m=(m_lo, m_hi), b=(b_lo, b_hi), T=T, delay=args.delay)
         t0 = time.perf_counter()
         k = box.k_max(B)

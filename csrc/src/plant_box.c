@@ -30,12 +30,6 @@ static zw_real pb_coef_up(zw_real v)
     return bx_up(v + (PB_COEF_REL * ZW_FABS(v) + ZW_COEF_ABSERR));
 }
 
-/* The range of a field that falls with delta, from its values at the ends. */
-static bx_iv pb_falling(zw_real at_lo, zw_real at_hi)
-{
-    return bx_make(pb_coef_down(at_hi), pb_coef_up(at_lo));
-}
-
 /* mid +- rad covering [iv.lo, iv.hi] */
 static void pb_store(bx_iv iv, zw_real *v, zw_real *err)
 {
@@ -101,48 +95,65 @@ static bool pb_all_finite(const zw_plant *p)
     return ok;
 }
 
+/* The ranges over [delta_lo, delta_hi] from the coefficients at one end at a time (one
+ * zw_coeffs on the stack: the footprint target). */
+typedef struct pb_ranges {
+    bx_iv e, one_plus_e, one_minus_e, c1, c2, s, d12;
+} pb_ranges;
+
+static zw_status pb_ranges_init(pb_ranges *r, zw_real delta_lo, zw_real delta_hi)
+{
+    zw_coeffs at;
+    zw_real d12_lo_end;
+    zw_status st = zw_coeffs_init(&at, delta_hi);
+    if (st != ZW_OK) {
+        return st;
+    }
+    /* the high end: lower bounds of the falling fields, the upper of 1 - e */
+    r->e.lo = bx_max(pb_coef_down(at.e), ZW_R(0.0));
+    r->c1.lo = bx_max(pb_coef_down(at.c1), ZW_R(0.0));
+    r->c2.lo = bx_max(pb_coef_down(at.c2), ZW_R(0.0));
+    r->s.lo = bx_max(pb_coef_down(at.s), ZW_R(0.0));
+    r->one_minus_e.hi = bx_min(bx_up(ZW_R(0.5) * bx_up(delta_hi * pb_coef_up(at.s))), ZW_R(1.0));
+    r->d12 = bx_make(pb_coef_down(at.d12), pb_coef_up(at.d12));
+    st = zw_coeffs_init(&at, delta_lo);
+    if (st != ZW_OK) {
+        return st;
+    }
+    r->e.hi = bx_min(pb_coef_up(at.e), ZW_R(1.0));
+    r->c1.hi = pb_coef_up(at.c1);
+    r->c2.hi = pb_coef_up(at.c2);
+    r->s.hi = pb_coef_up(at.s);
+    /* 1 - e = delta s / 2 rises with delta: from the ends without cancellation */
+    r->one_minus_e.lo = bx_max(bx_down(ZW_R(0.5) * bx_down(delta_lo * pb_coef_down(at.s))), ZW_R(0.0));
+    r->one_plus_e = bx_make(bx_down(ZW_R(1.0) + r->e.lo), bx_up(ZW_R(1.0) + r->e.hi));
+    /* d12: rising below the peak (range [low end, high end]), falling above it, else the
+     * least end up to the peak value */
+    d12_lo_end = pb_coef_down(at.d12);
+    if (delta_hi <= PB_D12_PEAK_LO) {
+        r->d12.lo = d12_lo_end;
+    } else if (delta_lo >= PB_D12_PEAK_HI) {
+        r->d12.hi = pb_coef_up(at.d12);
+    } else {
+        r->d12 = bx_make(bx_min(d12_lo_end, r->d12.lo), PB_D12_MAX_UP);
+    }
+    r->d12.lo = bx_max(r->d12.lo, ZW_R(0.0));
+    return ZW_OK;
+}
+
 static zw_status pb_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
 {
-    zw_coeffs at_lo, at_hi;
-    bx_iv e, one_plus_e, one_minus_e, c1, c2, s, d12;
+    pb_ranges r;
     zw_real mid;
     zw_status st = pb_validate(delta_lo, delta_hi);
     unsigned i;
     if (st != ZW_OK) {
         return st;
     }
-    st = zw_coeffs_init(&at_lo, delta_lo);
+    st = pb_ranges_init(&r, delta_lo, delta_hi);
     if (st != ZW_OK) {
         return st;
     }
-    st = zw_coeffs_init(&at_hi, delta_hi);
-    if (st != ZW_OK) {
-        return st;
-    }
-    /* falling with delta; e in [0, 1], c1, c2 in (0, 1], s in (0, 2] */
-    e = pb_falling(at_lo.e, at_hi.e);
-    e = bx_make(bx_max(e.lo, ZW_R(0.0)), bx_min(e.hi, ZW_R(1.0)));
-    c1 = pb_falling(at_lo.c1, at_hi.c1);
-    c2 = pb_falling(at_lo.c2, at_hi.c2);
-    s = pb_falling(at_lo.s, at_hi.s);
-    c1.lo = bx_max(c1.lo, ZW_R(0.0));
-    c2.lo = bx_max(c2.lo, ZW_R(0.0));
-    s.lo = bx_max(s.lo, ZW_R(0.0));
-    /* 1 - e = delta s / 2 rises with delta: from the ends without cancellation */
-    one_minus_e = bx_make(bx_down(ZW_R(0.5) * bx_down(delta_lo * pb_coef_down(at_lo.s))),
-                          bx_up(ZW_R(0.5) * bx_up(delta_hi * pb_coef_up(at_hi.s))));
-    one_minus_e = bx_make(bx_max(one_minus_e.lo, ZW_R(0.0)), bx_min(one_minus_e.hi, ZW_R(1.0)));
-    one_plus_e = bx_make(bx_down(ZW_R(1.0) + e.lo), bx_up(ZW_R(1.0) + e.hi));
-    /* d12: rising below the peak, falling above it */
-    if (delta_hi <= PB_D12_PEAK_LO) {
-        d12 = bx_make(pb_coef_down(at_lo.d12), pb_coef_up(at_hi.d12));
-    } else if (delta_lo >= PB_D12_PEAK_HI) {
-        d12 = pb_falling(at_lo.d12, at_hi.d12);
-    } else {
-        d12 = bx_make(bx_min(pb_coef_down(at_lo.d12), pb_coef_down(at_hi.d12)), PB_D12_MAX_UP);
-    }
-    d12.lo = bx_max(d12.lo, ZW_R(0.0));
-
     out->order = 2u;
     for (i = 0u; i <= ZW_PLANT_MAX_ORDER; ++i) {
         out->den[i] = ZW_R(0.0);
@@ -158,18 +169,18 @@ static zw_status pb_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
     }
     /* D = 2 z^2 - 2 (1 + e) z + 2 e;  N = c1 z + c2 (doubling and negation are exact) */
     out->den[0] = ZW_R(2.0);
-    pb_store(bx_make(-ZW_R(2.0) * one_plus_e.hi, -ZW_R(2.0) * one_plus_e.lo), &out->den[1],
+    pb_store(bx_make(-ZW_R(2.0) * r.one_plus_e.hi, -ZW_R(2.0) * r.one_plus_e.lo), &out->den[1],
              &out->den_err[1]);
-    pb_store(bx_make(ZW_R(2.0) * e.lo, ZW_R(2.0) * e.hi), &out->den[2], &out->den_err[2]);
-    pb_store(c1, &out->num[0], &out->num_err[0]);
-    pb_store(c2, &out->num[1], &out->num_err[1]);
+    pb_store(bx_make(ZW_R(2.0) * r.e.lo, ZW_R(2.0) * r.e.hi), &out->den[2], &out->den_err[2]);
+    pb_store(r.c1, &out->num[0], &out->num_err[0]);
+    pb_store(r.c2, &out->num[1], &out->num_err[1]);
     /* den_s = 4 (1 + e) s^2 + 4 (1 - e) s;  num_s = d12 s + (c1 + c2) (x4 exact) */
-    pb_store(bx_make(ZW_R(4.0) * one_plus_e.lo, ZW_R(4.0) * one_plus_e.hi), &out->den_s[0],
+    pb_store(bx_make(ZW_R(4.0) * r.one_plus_e.lo, ZW_R(4.0) * r.one_plus_e.hi), &out->den_s[0],
              &out->den_s_err[0]);
-    pb_store(bx_make(ZW_R(4.0) * one_minus_e.lo, ZW_R(4.0) * one_minus_e.hi), &out->den_s[1],
+    pb_store(bx_make(ZW_R(4.0) * r.one_minus_e.lo, ZW_R(4.0) * r.one_minus_e.hi), &out->den_s[1],
              &out->den_s_err[1]);
-    pb_store(d12, &out->num_s[0], &out->num_s_err[0]);
-    pb_store(s, &out->num_s[1], &out->num_s_err[1]);
+    pb_store(r.d12, &out->num_s[0], &out->num_s_err[0]);
+    pb_store(r.s, &out->num_s[1], &out->num_s_err[1]);
 
     /* the midpoint, informational */
     mid = ZW_R(0.5) * delta_lo + ZW_R(0.5) * delta_hi;
