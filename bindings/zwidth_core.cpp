@@ -1336,6 +1336,7 @@ struct BoxLoopCall {
     zw_plant_box box;
     zw_device_loop_spec spec{};
     std::vector<zw_box_loop_cell> cells;
+    std::unique_ptr<zw_box_loop_scratch> scratch{new zw_box_loop_scratch};
     zw_box_loop_work work;
     zw_loop_workspace ws;
     BoxLoopCall(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay, int differentiator,
@@ -1356,6 +1357,7 @@ struct BoxLoopCall {
         }
         cells.resize(static_cast<std::size_t>(capacity));
         work.cells = cells.data();
+        work.scratch = scratch.get();
         work.capacity = static_cast<uint_least32_t>(capacity);
         work.max_evals = static_cast<uint_least32_t>(max_evals);
         work.rel_tol = rel_tol;

@@ -14,11 +14,10 @@
 #ifndef ZWIDTH_BOX_INTERVAL_H
 #define ZWIDTH_BOX_INTERVAL_H
 
+#include "zwidth/box.h"
 #include "internal.h"
 
-typedef struct bx_iv {
-    zw_real lo, hi;
-} bx_iv;
+typedef zw_box_loop_iv bx_iv;
 
 /* An overflowed +inf (-inf) stands for a value beyond the largest finite one. */
 static inline zw_real bx_down(zw_real r)

@@ -35,6 +35,13 @@
 #include "box_interval.h"
 
 #define BL_N (ZW_LOOP_MAX_DEGREE + 1u)
+/* Keeps the cell test's frame (the plant's enclosure, the gains' intervals) off the point
+ * checks' chain (the stack, tools/footprint.sh).  Only a hint. */
+#if defined(__GNUC__)
+#define BL_NOINLINE __attribute__((noinline))
+#else
+#define BL_NOINLINE
+#endif
 #define BL_BISECT_STEPS 60
 /* Routh rows are rescaled by powers of two out of this range (as loop.c). */
 #define BL_SCALE_LO ZW_R(1.52587890625e-05)
@@ -42,13 +49,14 @@
 
 typedef enum bl_result { BL_STABLE = 0, BL_UNSURE = 1, BL_UNSTABLE = 2 } bl_result;
 
-/* The velocity estimate in s (ascending powers), exact but for 1 +- a. */
+/* The loop; its velocity estimate in s (ascending powers, exact but for 1 +- a) is kept in
+ * the scratch (sc->dvs, sc->nvs), with the rest of the large arrays. */
 typedef struct bl_loop {
     const zw_plant_box *box;
+    zw_box_loop_scratch *sc;
     zw_device_loop_spec spec;
     zw_real pole; /* a, LOWPASS */
     unsigned delay, mv, n;
-    bx_iv dvs[ZW_LOOP_MAX_AVERAGE + 1u], nvs[ZW_LOOP_MAX_AVERAGE + 1u];
 } bl_loop;
 
 /* ---- interval polynomials (ascending) ----------------------------------------------- */
@@ -86,13 +94,16 @@ static void bl_poly_times_linear(bx_iv p[], unsigned n, zw_real c0, zw_real c1)
 
 /* ---- the loop's velocity estimate ------------------------------------------------------ */
 
-static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_device_loop_spec *spec)
+static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_device_loop_spec *spec,
+                              zw_box_loop_scratch *sc)
 {
     const bool tustin = (spec->differentiator == ZW_DIFF_TUSTIN);
     bx_iv one_minus_a, one_plus_a;
+    bx_iv *dvs = sc->dvs, *nvs = sc->nvs;
     unsigned i;
     zw_status st;
     L->box = box;
+    L->sc = sc;
     L->spec = *spec;
     L->delay = spec->delay;
     L->pole = spec->pole;
@@ -104,13 +115,13 @@ static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_devi
     }
     one_minus_a = bx_make(bx_down(ZW_R(1.0) - L->pole), bx_up(ZW_R(1.0) - L->pole));
     one_plus_a = bx_make(bx_down(ZW_R(1.0) + L->pole), bx_up(ZW_R(1.0) + L->pole));
-    bl_poly_zero(L->dvs, ZW_LOOP_MAX_AVERAGE + 1u);
-    bl_poly_zero(L->nvs, ZW_LOOP_MAX_AVERAGE + 1u);
+    bl_poly_zero(dvs, ZW_LOOP_MAX_AVERAGE + 1u);
+    bl_poly_zero(nvs, ZW_LOOP_MAX_AVERAGE + 1u);
     switch (spec->filter) {
     case ZW_VFILTER_AVERAGE: {
         /* backward: Dv = n z^n, Nv = z^n - 1;  Tustin: Dv = n z^(n-1) (z + 1), Nv = 2 (z^n - 1) */
         const unsigned n = spec->average;
-        bx_iv plus[ZW_LOOP_MAX_AVERAGE + 2u], minus[ZW_LOOP_MAX_AVERAGE + 2u];
+        bx_iv *plus = sc->poly[0], *minus = sc->poly[1]; /* (1 + s)^n, (1 - s)^n */
         L->mv = n;
         bl_poly_zero(plus, ZW_LOOP_MAX_AVERAGE + 2u);
         bl_poly_zero(minus, ZW_LOOP_MAX_AVERAGE + 2u);
@@ -122,7 +133,7 @@ static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_devi
         }
         for (i = 0u; i <= n; ++i) {
             const zw_real gain = tustin ? ZW_R(2.0) : ZW_R(1.0);
-            L->nvs[i] = bx_mul(bx_point(gain), bx_make(plus[i].lo - minus[i].hi, plus[i].hi - minus[i].lo));
+            nvs[i] = bx_mul(bx_point(gain), bx_make(plus[i].lo - minus[i].hi, plus[i].hi - minus[i].lo));
         }
         bl_poly_zero(plus, ZW_LOOP_MAX_AVERAGE + 2u);
         plus[0] = bx_point((zw_real)n);
@@ -136,34 +147,34 @@ static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_devi
             }
         }
         for (i = 0u; i <= n; ++i) {
-            L->dvs[i] = plus[i];
+            dvs[i] = plus[i];
         }
         break;
     }
     case ZW_VFILTER_LOWPASS:
         if (tustin) { /* Dv = (z + 1)(z - a) -> 2 ((1 - a) + (1 + a) s); Nv = 2 (1 - a) z (z - 1) -> 4 (1 - a)(s + s^2) */
             L->mv = 2u;
-            L->dvs[0] = bx_mul(bx_point(ZW_R(2.0)), one_minus_a);
-            L->dvs[1] = bx_mul(bx_point(ZW_R(2.0)), one_plus_a);
-            L->nvs[1] = bx_mul(bx_point(ZW_R(4.0)), one_minus_a);
-            L->nvs[2] = L->nvs[1];
+            dvs[0] = bx_mul(bx_point(ZW_R(2.0)), one_minus_a);
+            dvs[1] = bx_mul(bx_point(ZW_R(2.0)), one_plus_a);
+            nvs[1] = bx_mul(bx_point(ZW_R(4.0)), one_minus_a);
+            nvs[2] = nvs[1];
         } else { /* Dv = z - a -> (1 - a) + (1 + a) s;  Nv = (1 - a)(z - 1) -> 2 (1 - a) s */
             L->mv = 1u;
-            L->dvs[0] = one_minus_a;
-            L->dvs[1] = one_plus_a;
-            L->nvs[1] = bx_mul(bx_point(ZW_R(2.0)), one_minus_a);
+            dvs[0] = one_minus_a;
+            dvs[1] = one_plus_a;
+            nvs[1] = bx_mul(bx_point(ZW_R(2.0)), one_minus_a);
         }
         break;
     case ZW_VFILTER_NONE:
     default:
         L->mv = 1u;
         if (tustin) { /* Dv = z + 1 -> 2;  Nv = 2 (z - 1) -> 4 s */
-            L->dvs[0] = bx_point(ZW_R(2.0));
-            L->nvs[1] = bx_point(ZW_R(4.0));
+            dvs[0] = bx_point(ZW_R(2.0));
+            nvs[1] = bx_point(ZW_R(4.0));
         } else { /* Dv = z -> 1 + s;  Nv = z - 1 -> 2 s */
-            L->dvs[0] = bx_point(ZW_R(1.0));
-            L->dvs[1] = bx_point(ZW_R(1.0));
-            L->nvs[1] = bx_point(ZW_R(2.0));
+            dvs[0] = bx_point(ZW_R(1.0));
+            dvs[1] = bx_point(ZW_R(1.0));
+            nvs[1] = bx_point(ZW_R(2.0));
         }
         break;
     }
@@ -249,11 +260,12 @@ static bl_result bl_routh(zw_real w[], zw_real we[], unsigned n)
 /* Kharitonov polynomial `which` (1..4) of q[0..n] (ascending intervals): coefficient k takes
  * lo or hi by k mod 4 (K1: lo lo hi hi, K2: hi hi lo lo, K3: hi lo lo hi, K4: lo hi hi lo);
  * from index `first` (1: divided by s), then Routh. */
-static bl_result bl_kharitonov(const bx_iv q[], unsigned n, unsigned which, unsigned first)
+static bl_result bl_kharitonov(zw_box_loop_scratch *sc, const bx_iv q[], unsigned n, unsigned which,
+                                unsigned first)
 {
     static const unsigned char k_take_hi[4][4] = {{0u, 0u, 1u, 1u}, {1u, 1u, 0u, 0u},
                                                   {1u, 0u, 0u, 1u}, {0u, 1u, 1u, 0u}};
-    zw_real w[BL_N], we[BL_N];
+    zw_real *w = sc->row, *we = sc->row_err;
     const unsigned deg = n - first;
     unsigned k;
     for (k = first; k <= n; ++k) {
@@ -274,12 +286,12 @@ static bx_iv bl_from_eb(zw_real v, zw_real e)
 /* Is every K in the cell's range (K_lo = 0: (0, K_hi]) stable for every plant and B of the
  * cell?  STABLE proves it;
  * UNSURE otherwise (never UNSTABLE: a Kharitonov vertex is not a plant). */
-static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_cell *c, bl_result *res)
+BL_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_cell *c, bl_result *res)
 {
     const zw_real T = L->box->T;
     zw_plant pl;
     bx_iv den_s[3], num_s[2], m_iv, alpha, beta, gain_v[ZW_LOOP_MAX_AVERAGE + 1u];
-    bx_iv t1[BL_N], t2[BL_N], P[BL_N];
+    bx_iv *t1 = L->sc->poly[0], *t2 = L->sc->poly[1], *P = L->sc->poly[2];
     zw_real dlo, dhi;
     unsigned i, deg, first = 0u;
     zw_status st;
@@ -301,7 +313,7 @@ static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_cell *c, bl_re
                     bx_up(bx_up(bx_up(c->K_hi * T) * T) / c->m_lo));
     beta = bx_div_pos(bx_make(bx_down(c->B_lo * T), bx_up(c->B_hi * T)), m_iv);
     /* first part: (1 + s)^d den_s Dvs */
-    bl_poly_mul(den_s, 2u, L->dvs, L->mv, t1);
+    bl_poly_mul(den_s, 2u, L->sc->dvs, L->mv, t1);
     deg = 2u + L->mv;
     for (i = 0u; i < L->delay; ++i) {
         bl_poly_times_linear(t1, deg, ZW_R(1.0), ZW_R(1.0));
@@ -309,7 +321,7 @@ static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_cell *c, bl_re
     }
     /* second part: (1 - s)^(d+1) num_s (alpha Dvs + beta Nvs) */
     for (i = 0u; i <= L->mv; ++i) {
-        gain_v[i] = bx_add(bx_mul(alpha, L->dvs[i]), bx_mul(beta, L->nvs[i]));
+        gain_v[i] = bx_add(bx_mul(alpha, L->sc->dvs[i]), bx_mul(beta, L->sc->nvs[i]));
     }
     bl_poly_mul(num_s, 1u, gain_v, L->mv, t2);
     deg = 1u + L->mv;
@@ -330,9 +342,9 @@ static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_cell *c, bl_re
         }
         first = 1u;
     }
-    if ((bl_kharitonov(P, L->n, 2u, 0u) == BL_STABLE) && (bl_kharitonov(P, L->n, 3u, 0u) == BL_STABLE) &&
-        (bl_kharitonov(P, L->n, 1u, first) == BL_STABLE) &&
-        (bl_kharitonov(P, L->n, 4u, first) == BL_STABLE)) {
+    if ((bl_kharitonov(L->sc, P, L->n, 2u, 0u) == BL_STABLE) && (bl_kharitonov(L->sc, P, L->n, 3u, 0u) == BL_STABLE) &&
+        (bl_kharitonov(L->sc, P, L->n, 1u, first) == BL_STABLE) &&
+        (bl_kharitonov(L->sc, P, L->n, 4u, first) == BL_STABLE)) {
         *res = BL_STABLE;
     }
     return ZW_OK;
@@ -399,18 +411,18 @@ typedef struct bl_search {
 } bl_search;
 
 /* Is (K, B) surely unstable at plant (m, b)?  (the guarded point check, not marginal) */
-static zw_status bl_point_unstable(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b,
+BL_NOINLINE static zw_status bl_point_unstable(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b,
                                    zw_real K, zw_real B, bool *unstable)
 {
-    zw_device_loop dl;
+    zw_device_loop *dl = &L->sc->dl;
     zw_loop_verdict v;
     zw_status st;
     *unstable = false;
-    st = zw_device_loop_init(&dl, m, b, L->box->T, &L->spec);
+    st = zw_device_loop_init(dl, m, b, L->box->T, &L->spec);
     if (st != ZW_OK) {
         return st;
     }
-    st = zw_device_loop_check(&dl, ws, K, B, &v);
+    st = zw_device_loop_check(dl, ws, K, B, &v);
     if (st != ZW_OK) {
         return st;
     }
@@ -484,7 +496,7 @@ static zw_status bl_certify(const bl_loop *L, zw_loop_workspace *ws, zw_real K, 
 
 static zw_status bl_validate_work(const zw_box_loop_work *work)
 {
-    if ((work == NULL) || (work->cells == NULL)) {
+    if ((work == NULL) || (work->cells == NULL) || (work->scratch == NULL)) {
         return ZW_ERR_NULL;
     }
     if ((work->capacity < ZW_BOX_LOOP_MIN_CELLS) || (work->max_evals < 1u) ||
@@ -497,15 +509,17 @@ static zw_status bl_validate_work(const zw_box_loop_work *work)
     return ZW_OK;
 }
 
-zw_status zw_box_loop_work_init(zw_box_loop_work *work, zw_box_loop_cell *cells, uint_least32_t capacity)
+zw_status zw_box_loop_work_init(zw_box_loop_work *work, zw_box_loop_cell *cells, uint_least32_t capacity,
+                                zw_box_loop_scratch *scratch)
 {
-    if ((work == NULL) || (cells == NULL)) {
+    if ((work == NULL) || (cells == NULL) || (scratch == NULL)) {
         return ZW_ERR_NULL;
     }
     if (capacity < ZW_BOX_LOOP_MIN_CELLS) {
         return ZW_ERR_ARG;
     }
     work->cells = cells;
+    work->scratch = scratch;
     work->capacity = capacity;
     work->max_evals = ZW_BOX_LOOP_DEFAULT_EVALS;
     work->rel_tol = ZW_BOX_LOOP_DEFAULT_REL_TOL;
@@ -534,7 +548,6 @@ static zw_status bl_validate_gain(const zw_plant_box *box, zw_real gain, bool st
 static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_loop_spec *spec,
                           zw_loop_workspace *ws, const zw_box_loop_work *work)
 {
-    zw_device_loop dl;
     zw_status st;
     if ((spec == NULL) || (ws == NULL)) {
         return ZW_ERR_NULL;
@@ -547,11 +560,12 @@ static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_l
     if (st != ZW_OK) {
         return st;
     }
-    st = zw_device_loop_init(&dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi), box->T, spec);
+    st = zw_device_loop_init(&work->scratch->dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi),
+                             box->T, spec);
     if (st != ZW_OK) {
         return st;
     }
-    return bl_loop_init(L, box, spec);
+    return bl_loop_init(L, box, spec, work->scratch);
 }
 
 /* ---- public functions -------------------------------------------------------------------- */
@@ -639,13 +653,13 @@ static void bl_fail_bound(zw_box_loop_bound *out)
 static zw_status bl_point_k_max(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b, zw_real B,
                                 zw_box_loop_bound *best)
 {
-    zw_device_loop dl;
+    zw_device_loop *dl = &L->sc->dl;
     zw_real k;
-    zw_status st = zw_device_loop_init(&dl, m, b, L->box->T, &L->spec);
+    zw_status st = zw_device_loop_init(dl, m, b, L->box->T, &L->spec);
     if (st != ZW_OK) {
         return st;
     }
-    st = zw_device_loop_k_max(&dl, ws, B, &k);
+    st = zw_device_loop_k_max(dl, ws, B, &k);
     if (st != ZW_OK) {
         return st;
     }
@@ -774,7 +788,6 @@ static zw_status bl_b_range(const zw_plant_box *box, const zw_device_loop_spec *
     bl_loop L;
     bl_search s;
     bl_outcome outcome;
-    zw_device_loop dl;
     zw_real nom_lo, nom_hi, start, lo, hi;
     bool any;
     zw_status st;
@@ -796,11 +809,7 @@ static zw_status bl_b_range(const zw_plant_box *box, const zw_device_loop_spec *
         return ZW_OK;
     }
     /* the centre plant's certified range brackets the box's (which is inside every plant's) */
-    st = zw_device_loop_init(&dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi), box->T, spec);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = zw_device_loop_b_range(&dl, ws, K, &nom_lo, &nom_hi, &any);
+    st = zw_device_loop_b_range(&work->scratch->dl, ws, K, &nom_lo, &nom_hi, &any); /* bl_setup built it */
     if ((st != ZW_OK) || !any) {
         return st;
     }
@@ -855,7 +864,6 @@ static zw_status bl_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *s
                            const zw_box_loop_work *work, zw_box_loop_extremes *out)
 {
     static const zw_real k_inv_phi = ZW_R(0.6180339887498948482);
-    zw_device_loop dl;
     zw_device_loop_extremes x;
     zw_box_loop_bound f1, f2, fin;
     zw_real a, b, c1, c2;
@@ -872,11 +880,16 @@ static zw_status bl_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *s
     if (st != ZW_OK) {
         return st;
     }
-    st = zw_device_loop_init(&dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi), box->T, spec);
+    st = bl_validate_work(work);
     if (st != ZW_OK) {
         return st;
     }
-    st = zw_device_loop_extremes_compute(&dl, ws, &x);
+    st = zw_device_loop_init(&work->scratch->dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi),
+                             box->T, spec);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_device_loop_extremes_compute(&work->scratch->dl, ws, &x);
     if (st != ZW_OK) {
         return st;
     }

@@ -8,12 +8,13 @@
 
 #define CELLS 4096u
 static zw_box_loop_cell g_cells[CELLS];
+static zw_box_loop_scratch g_scratch;
 static zw_loop_workspace g_ws;
 
 static zw_box_loop_work work(void)
 {
     zw_box_loop_work w;
-    EXPECT_OK(zw_box_loop_work_init(&w, g_cells, CELLS));
+    EXPECT_OK(zw_box_loop_work_init(&w, g_cells, CELLS, &g_scratch));
     return w;
 }
 
@@ -297,8 +298,13 @@ static void test_errors(void **state)
     bool any = true;
     (void)state;
     memset(&spec, 0, sizeof spec);
-    EXPECT_STATUS(zw_box_loop_work_init(&bw, g_cells, 2u), ZW_ERR_ARG);
-    EXPECT_STATUS(zw_box_loop_work_init(NULL, g_cells, CELLS), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_box_loop_work_init(&bw, g_cells, 2u, &g_scratch), ZW_ERR_ARG);
+    EXPECT_STATUS(zw_box_loop_work_init(NULL, g_cells, CELLS, &g_scratch), ZW_ERR_NULL);
+    EXPECT_STATUS(zw_box_loop_work_init(&bw, g_cells, CELLS, NULL), ZW_ERR_NULL);
+    bw = w;
+    bw.scratch = NULL;
+    EXPECT_STATUS(zw_box_loop_k_max(&box, &spec, &g_ws, R(0.0), &bw, &bd), ZW_ERR_NULL);
+    assert_true(bd.K_lower == R(0.0));
     bad.m_lo = R(2.0e-5);
     EXPECT_STATUS(zw_box_loop_check(&bad, &spec, &g_ws, R(0.1), R(0.0), &w, &v), ZW_ERR_BOX);
     assert_false(v.stable || v.decided);

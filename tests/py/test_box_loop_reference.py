@@ -55,8 +55,11 @@ def _types(zw):
     class Cell(ctypes.Structure):
         _fields_ = [(n, R) for n in ("m_lo", "m_hi", "b_lo", "b_hi", "K_lo", "K_hi", "B_lo", "B_hi")]
 
+    class Scratch(ctypes.Structure):  # larger than zw_box_loop_scratch in both precisions
+        _fields_ = [("bytes", ctypes.c_ubyte * 16384)]
+
     class Work(ctypes.Structure):
-        _fields_ = [("cells", POINTER(Cell)), ("capacity", ctypes.c_uint32),
+        _fields_ = [("cells", POINTER(Cell)), ("scratch", POINTER(Scratch)), ("capacity", ctypes.c_uint32),
                     ("max_evals", ctypes.c_uint32), ("rel_tol", R)]
 
     class Bound(ctypes.Structure):
@@ -66,13 +69,13 @@ def _types(zw):
     P, W = POINTER, POINTER(zw.LoopWorkspace)
     sigs = {
         "zw_plant_enclose": [P(Plant), R, R],
-        "zw_box_loop_work_init": [P(Work), P(Cell), ctypes.c_uint32],
+        "zw_box_loop_work_init": [P(Work), P(Cell), ctypes.c_uint32, P(Scratch)],
         "zw_box_loop_k_max": [P(Box), P(DLSpec), W, R, P(Work), P(Bound)],
     }
     for f, args in sigs.items():
         fn = zw.symbol(f)
         fn.argtypes, fn.restype = args, c_int
-    return Plant, Box, DLSpec, Cell, Work, Bound
+    return Plant, Box, DLSpec, Cell, Work, Bound, Scratch
 
 
 def _exact(x):
@@ -162,12 +165,12 @@ def _spec(DLSpec, zw, d):
 
 @pytest.mark.parametrize("case", range(len(CASES)))
 def test_box_k_max_never_above(zw, case):
-    Plant, Box, DLSpec, Cell, Work, Bound = _types(zw)
+    Plant, Box, DLSpec, Cell, Work, Bound, Scratch = _types(zw)
     (m_lo, m_hi, b_lo, b_hi, T), sd, B = CASES[case]
     box = Box(zw.r(m_lo), zw.r(m_hi), zw.r(b_lo), zw.r(b_hi), zw.r(T))
     cells = (Cell * 4096)()
-    work = Work()
-    assert zw.symbol("zw_box_loop_work_init")(byref(work), cells, 4096) == E["ZW_OK"]
+    work, scratch = Work(), Scratch()
+    assert zw.symbol("zw_box_loop_work_init")(byref(work), cells, 4096, byref(scratch)) == E["ZW_OK"]
     out = Bound()
     st = zw.symbol("zw_box_loop_k_max")(byref(box), byref(_spec(DLSpec, zw, sd)), byref(zw.ws), zw.r(B),
                                         byref(work), byref(out))

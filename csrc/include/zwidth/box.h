@@ -161,12 +161,30 @@ typedef struct zw_box_loop_cell {
     zw_real m_lo, m_hi, b_lo, b_hi, K_lo, K_hi, B_lo, B_hi;
 } zw_box_loop_cell;
 
-/* Caller-provided stack of cells and budget: capacity >= ZW_BOX_LOOP_MIN_CELLS (depth
- * first: a capacity of 64 per halving of the gap is plenty), max_evals in
+/* An interval [lo, hi] (the scratch's polynomials). */
+typedef struct zw_box_loop_iv {
+    zw_real lo, hi;
+} zw_box_loop_iv;
+
+/* Scratch memory of the functions below (the large arrays that would otherwise sit on the
+ * stack): a plant's loop for the point checks, the velocity estimate and a sub-box's
+ * polynomials as intervals, a Routh row.  Owned by the caller (static storage, not an MCU's
+ * stack: ~1.9 KB float, 3.6 KB double), needs no initialisation, holds nothing between
+ * calls; one per concurrent caller.  Members private to the library. */
+typedef struct zw_box_loop_scratch {
+    zw_device_loop dl;
+    zw_box_loop_iv dvs[ZW_LOOP_MAX_AVERAGE + 1u], nvs[ZW_LOOP_MAX_AVERAGE + 1u];
+    zw_box_loop_iv poly[3][ZW_LOOP_MAX_DEGREE + 2u];
+    zw_real row[ZW_LOOP_MAX_DEGREE + 1u], row_err[ZW_LOOP_MAX_DEGREE + 1u];
+} zw_box_loop_scratch;
+
+/* Caller-provided stack of cells, scratch and budget: capacity >= ZW_BOX_LOOP_MIN_CELLS
+ * (depth first: a capacity of 64 per halving of the gap is plenty), max_evals in
  * 1..ZW_BOX_MAX_EVALS (cell tests per certification), rel_tol in [0, 1) (the K and B
  * bisections stop at that relative width). */
 typedef struct zw_box_loop_work {
     zw_box_loop_cell *cells;
+    zw_box_loop_scratch *scratch;
     uint_least32_t capacity;
     uint_least32_t max_evals;
     zw_real rel_tol;
@@ -180,9 +198,9 @@ typedef struct zw_box_loop_work {
 #define ZW_BOX_LOOP_DEFAULT_REL_TOL ZW_R(1.0e-4)
 #endif
 
-/* ZW_ERR_NULL, ZW_ERR_ARG (capacity < ZW_BOX_LOOP_MIN_CELLS). */
+/* ZW_ERR_NULL (also scratch), ZW_ERR_ARG (capacity < ZW_BOX_LOOP_MIN_CELLS). */
 zw_status zw_box_loop_work_init(zw_box_loop_work *work, zw_box_loop_cell *cells,
-                                uint_least32_t capacity);
+                                uint_least32_t capacity, zw_box_loop_scratch *scratch);
 
 typedef struct zw_box_loop_verdict {
     bool stable;              /* certified: every K' in (0, K] stable at B for every plant */
@@ -196,6 +214,7 @@ typedef struct zw_box_loop_verdict {
  * box's centre (spec), ZW_ERR_NULL (spec, ws, work, its cells, an output), ZW_ERR_ARG
  * (work out of range), ZW_ERR_NAN / ZW_ERR_INF (K, B), ZW_ERR_RANGE (a gain that overflows
  * once normalized).  Fail-safe: verdicts not stable, not decided; limits 0; ranges empty;
+ * (work's scratch NULL: ZW_ERR_NULL.)
  * plants NaN; counts 0. */
 zw_status zw_box_loop_check(const zw_plant_box *box, const zw_device_loop_spec *spec,
                             zw_loop_workspace *ws, zw_real K, zw_real B,
