@@ -668,18 +668,8 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
     return ZW_OK;
 }
 
-zw_status zw_plant_spec_from_device(zw_real m, zw_real b, zw_real T, zw_real k_p, zw_real tau,
-                                    zw_real m_h, zw_real b_h, zw_real k_h, zw_plant_spec *spec,
-                                    zw_real *mass)
+static void fail_spec(zw_plant_spec *spec, zw_real *mass)
 {
-    (void)m;
-    (void)b;
-    (void)T;
-    (void)k_p;
-    (void)tau;
-    (void)m_h;
-    (void)b_h;
-    (void)k_h;
     if (spec != NULL) {
         spec->delta = ZW_NAN;
         spec->kappa = ZW_NAN;
@@ -689,5 +679,77 @@ zw_status zw_plant_spec_from_device(zw_real m, zw_real b, zw_real T, zw_real k_p
         spec->lambda_relerr = ZW_NAN;
     }
     zw_fail_real(mass, ZW_NAN);
-    return ZW_ERR_ARG; /* not yet implemented */
+}
+
+/* A product or quotient of positive numbers that came out subnormal (or 0) has lost its
+ * relative accuracy: the relerr below would not hold. */
+static bool lost(zw_real result, zw_real operand)
+{
+    return (operand > ZW_R(0.0)) && !(result >= ZW_REAL_MIN);
+}
+
+/* Roundings: M = m + m_h, Bp = b + b_h, Kp = k_p + k_h (one each, sums of non-negative
+ * terms); delta = (Bp T) / M: 1 + 2 + 1 (M's); kappa = ((Kp T) T) / M: 1 + 3 + 1;
+ * lambda = tau / T: 1.  One u of slack each. */
+#define PLANT_DELTA_RELERR (ZW_R(5.0) * ZW_U)
+#define PLANT_KAPPA_RELERR (ZW_R(6.0) * ZW_U)
+#define PLANT_LAMBDA_RELERR (ZW_R(2.0) * ZW_U)
+
+zw_status zw_plant_spec_from_device(zw_real m, zw_real b, zw_real T, zw_real k_p, zw_real tau,
+                                    zw_real m_h, zw_real b_h, zw_real k_h, zw_plant_spec *spec,
+                                    zw_real *mass)
+{
+    const zw_real in[8] = {m, b, T, k_p, tau, m_h, b_h, k_h};
+    zw_real M, Bp, Kp, bt, kt, ktt, delta, kappa, lambda;
+    unsigned i;
+    zw_status st = ZW_OK;
+    if ((spec == NULL) || (mass == NULL)) {
+        fail_spec(spec, mass);
+        return ZW_ERR_NULL;
+    }
+    for (i = 0u; (i < 8u) && (st == ZW_OK); ++i) {
+        st = zw_require_finite(in[i]);
+    }
+    if (st == ZW_OK) {
+        if (!(m > ZW_R(0.0))) {
+            st = ZW_ERR_MASS;
+        } else if (!(T > ZW_R(0.0))) {
+            st = ZW_ERR_PERIOD;
+        } else if ((b < ZW_R(0.0)) || (b_h < ZW_R(0.0))) {
+            st = ZW_ERR_DAMPING;
+        } else if ((k_p < ZW_R(0.0)) || (k_h < ZW_R(0.0)) || (tau < ZW_R(0.0)) ||
+                   (m_h < ZW_R(0.0))) {
+            st = ZW_ERR_ARG;
+        } else {
+            /* valid */
+        }
+    }
+    if (st != ZW_OK) {
+        fail_spec(spec, mass);
+        return st;
+    }
+    M = m + m_h;
+    Bp = b + b_h;
+    Kp = k_p + k_h;
+    bt = Bp * T;
+    kt = Kp * T;
+    ktt = kt * T;
+    delta = bt / M;
+    kappa = ktt / M;
+    lambda = tau / T;
+    if (!ZW_IS_FINITE(M) || !ZW_IS_FINITE(Bp) || !ZW_IS_FINITE(Kp) || !ZW_IS_FINITE(delta) ||
+        !ZW_IS_FINITE(kappa) || !ZW_IS_FINITE(lambda) || lost(bt, Bp) || lost(delta, Bp) || lost(kt, Kp) ||
+        lost(ktt, Kp) || lost(kappa, Kp) ||
+        lost(lambda, tau)) {
+        fail_spec(spec, mass);
+        return ZW_ERR_RANGE;
+    }
+    spec->delta = delta;
+    spec->kappa = kappa;
+    spec->lambda = lambda;
+    spec->delta_relerr = PLANT_DELTA_RELERR;
+    spec->kappa_relerr = PLANT_KAPPA_RELERR;
+    spec->lambda_relerr = PLANT_LAMBDA_RELERR;
+    *mass = M;
+    return ZW_OK;
 }
