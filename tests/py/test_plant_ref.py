@@ -149,13 +149,15 @@ def reference(delta, kappa, lam=0.0, dps=100):
 
 
 def _dps_for(delta, kappa):
-    """Digits enough for the reference's own cancellation (P ~ kappa s / 2 cancels
-    -log10(kappa) digits; large delta's e^-delta is exact in mpmath)."""
+    """Digits enough for the reference's own cancellation: P ~ kappa s / 2 cancels
+    -log10(kappa) digits, small delta -log10(delta), and the coefficients as small as
+    e^-delta (det, b0) need delta log10(e) digits below the largest (capped: beyond 10^-1200
+    no zw_real, subnormals included, can be told from 0)."""
     extra = 0
     if kappa > 0:
         extra = max(0, int(-math.log10(kappa)) + 5)
     if delta > 0:
-        extra = max(extra, int(-math.log10(delta)) + 5)
+        extra = max(extra, int(-math.log10(delta)) + 5, min(int(delta * 0.4343) + 5, 1200))
     return 80 + extra
 
 
