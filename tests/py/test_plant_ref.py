@@ -164,16 +164,18 @@ def _dps_for(delta, kappa):
 FIELDS = ("den", "num", "den_s", "num_s", "den_w")
 
 
-def check_point(pl, delta, kappa, drel=0.0, krel=0.0, dk=None):
-    """Assert every coefficient within its bound; return the worst bound / error ratios."""
+def check_point(pl, delta, kappa, drel=0.0, krel=0.0, dk=None, lam=0.0, lrel=0.0):
+    """Assert every coefficient within its bound; return (field, index, actual, bound, exact)."""
     zw = pl.zw
-    st, p = pl.plant(delta, kappa, 0.0, drel, krel)
-    assert st == E["ZW_OK"], (delta, kappa, zw.status_name(st))
-    assert p.order == 2
+    st, p = pl.plant(delta, kappa, lam, drel, krel, lrel)
+    assert st == E["ZW_OK"], (delta, kappa, lam, zw.status_name(st))
+    assert p.order == (3 if lam > 0 else 2)
     if dk is None:
-        dk = (delta, kappa)
+        dk = (delta, kappa, lam)
     dps = _dps_for(dk[0], dk[1])
-    refs = dict(zip(FIELDS, reference(dk[0], dk[1], dps=dps)))
+    if lam > 0:
+        dps = max(dps, 80 + min(int(0.4343 / float(dk[2])) + 5, 1200), 80 + int(abs(math.log10(lam))) * 2)
+    refs = dict(zip(FIELDS, reference(dk[0], dk[1], dk[2] if len(dk) > 2 else 0.0, dps=dps)))
     ref_err = mpf(10) ** (25 - dps)  # the reference's own cancellation (coefficients <= 4)
     stats = []
     for f in FIELDS:
@@ -181,8 +183,8 @@ def check_point(pl, delta, kappa, drel=0.0, krel=0.0, dk=None):
         for i, exact in enumerate(refs[f]):
             v, e = vals[i], errs[i]
             actual = abs(mpf(v) - exact)
-            assert math.isfinite(e) and actual <= e + ref_err, (zw.name, delta, kappa, f, i, v, float(exact), e,
-                                                    float(actual))
+            assert math.isfinite(e) and actual <= e + ref_err, (zw.name, delta, kappa, lam, f, i, v,
+                                                                 float(exact), e, float(actual))
             stats.append((f, i, float(actual), e, float(exact)))
     return stats
 
@@ -268,7 +270,7 @@ def test_input_uncertainty_covered(pl):
         d, k = zw.r(d), zw.r(k)
         for sd in (-1, 1):
             for sk in (-1, 1):
-                dk = (mpf(d) * (1 + sd * mpf(rel)), mpf(k) * (1 + sk * mpf(rel)))
+                dk = (mpf(d) * (1 + sd * mpf(rel)), mpf(k) * (1 + sk * mpf(rel)), 0)
                 check_point(pl, d, k, drel=rel, krel=rel, dk=dk)
 
 
@@ -283,6 +285,70 @@ def tightness(zw_name, n=24):
                 ulp = float(ref.ulp_of(exact, pl_.zw.fmt)) if exact != 0 else float(pl_.zw.fmt.tiny)
                 rows.setdefault((f, i), []).append((e / max(actual, 1e-300), e / ulp))
     return rows
+
+
+# ---------------------------------------------------------------------------------------
+# the actuator lag (order 3)
+# ---------------------------------------------------------------------------------------
+
+def _lams(zw):
+    return [zw.r(x) for x in np.logspace(-4, 4, 9)]
+
+
+def test_lag_grid_within_bounds(pl):
+    zw = pl.zw
+    ds = [0.0] + [zw.r(x) for x in np.logspace(-6, 4, 8)]
+    ks = [0.0] + [zw.r(x) for x in np.logspace(-6, 5, 8)]
+    for d in ds:
+        for k in ks:
+            for lam in _lams(zw):
+                check_point(pl, d, k, lam=lam)
+
+
+def test_lag_meets_a_pole(pl):
+    """lambda = 1 / |p| (the lag's pole on a real plant pole) +- a few ulps, and near a
+    complex pair's real part."""
+    zw, fmt = pl.zw, pl.zw.fmt
+    for d, k in [(1.0, 0.1), (3.0, 2.0), (10.0, 1.0), (0.5, 0.0625), (5.0, 6.25), (1e3, 10.0), (1.0, 0.0),
+                 (0.2, 4.0)]:
+        d, k = zw.r(d), zw.r(k)
+        h = mpf(d) / 2
+        w2 = h * h - mpf(k)
+        poles = [h + mp.sqrt(w2), h - mp.sqrt(w2)] if w2 >= 0 else [h]
+        for q in poles:
+            if q <= 0:
+                continue
+            lam = zw.r(1 / q)
+            for j in (-2, 0, 2):
+                check_point(pl, d, k, lam=ref.step(lam, j, fmt))
+
+
+def test_lag_limits(pl):
+    """lambda -> 0 tends to the order-2 plant times z (a pole at e^-1/lambda -> 0 with a
+    nearly cancelling zero); lambda >> 1 puts a pole next to z = 1."""
+    zw = pl.zw
+    for d, k in [(0.0, 0.0), (0.3, 0.0), (1.0, 2.0), (8.0, 1.0), (0.01, 100.0)]:
+        d, k = zw.r(d), zw.r(k)
+        for lam in (1e-6, 1e-3, 0.01, 1e4, 1e5):
+            check_point(pl, d, k, lam=zw.r(lam))
+        st2, p2 = pl.plant(d, k)
+        st3, p3 = pl.plant(d, k, zw.r(1e-6))
+        assert st2 == st3 == E["ZW_OK"]
+        # N3 = z N2 + O(lambda), D3 = z D2 + O(e^-1/lambda)
+        for i in range(2):
+            assert abs(p3.num[i] - p2.num[i]) <= 1e-5 * (abs(p2.num[0]) + abs(p2.num[1])) + p3.num_err[i] + p2.num_err[i]
+        for i in range(3):
+            assert abs(p3.den[i] - p2.den[i]) <= p3.den_err[i] + p2.den_err[i]
+
+
+def test_lag_input_uncertainty_covered(pl):
+    zw = pl.zw
+    rel = 8 * zw.u
+    for d, k, lam in [(0.3, 2.0, 0.5), (5.0, 6.25, 0.4), (1.0, 0.0, 2.0), (20.0, 3.0, 0.05)]:
+        d, k, lam = zw.r(d), zw.r(k), zw.r(lam)
+        for sl in (-1, 1):
+            dk = (mpf(d) * (1 + mpf(rel)), mpf(k) * (1 - mpf(rel)), mpf(lam) * (1 + sl * mpf(rel)))
+            check_point(pl, d, k, drel=rel, krel=rel, dk=dk, lam=lam, lrel=rel)
 
 
 # ---------------------------------------------------------------------------------------
