@@ -420,7 +420,8 @@ static zw_eb eb_square_minus(zw_eb h, zw_eb k)
 #define PLANT_TERMS 21u
 #define PLANT_TAIL ZW_R(2e-38)
 
-/* 1 / n! for n = 0 .. 2 PLANT_TERMS + 1 (rounded: each within u relative). */
+/* 1 / n! for n = 0 .. 2 PLANT_TERMS + 1 (n roundings: within n (u 1/n! + eta), eta covering
+ * the float build's underflow of the last ones). */
 static zw_real inv_factorial(unsigned n)
 {
     unsigned i;
@@ -440,7 +441,7 @@ static zw_eb series_single(zw_eb w, unsigned odd)
     for (k = PLANT_TERMS; k > 0u; --k) {
         const unsigned n = 2u * (k - 1u) + odd;
         const zw_real cf = inv_factorial(n);
-        acc = zw_eb_add(zw_eb_mul(acc, w), eb_make(cf, (zw_real)(n + 1u) * ZW_U * cf));
+        acc = zw_eb_add(zw_eb_mul(acc, w), eb_make(cf, (zw_real)(n + 1u) * (ZW_U * cf + ZW_ETA)));
     }
     acc.e += PLANT_TAIL;
     return acc;
@@ -461,8 +462,8 @@ static void series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
         {
             const unsigned n = 2u * k;
             const zw_real fc = inv_factorial(n), fs = inv_factorial(n + 1u);
-            sc = zw_eb_add(sc, zw_eb_mul(hm, eb_make(fc, (zw_real)(n + 1u) * ZW_U * fc)));
-            ss = zw_eb_add(ss, zw_eb_mul(hm, eb_make(fs, (zw_real)(n + 2u) * ZW_U * fs)));
+            sc = zw_eb_add(sc, zw_eb_mul(hm, eb_make(fc, (zw_real)(n + 1u) * (ZW_U * fc + ZW_ETA))));
+            ss = zw_eb_add(ss, zw_eb_mul(hm, eb_make(fs, (zw_real)(n + 2u) * (ZW_U * fs + ZW_ETA))));
         }
     }
     sc.e += PLANT_TAIL;
@@ -640,6 +641,34 @@ static zw_eb eb_exp_dd(zw_eb x, zw_eb y)
     return zw_eb_mul(eb_exp(hi), eb_e0(zw_eb_sub(lo, hi)));
 }
 
+/* sum_k H_k / (k + 3)! for |h|, |h'| <= 2, |w2| <= 4 (|H_k| <= (k + 1)^2 2^k: with
+ * PLANT_TERMS4 terms the tail is below 1e-42). */
+#define PLANT_TERMS4 44u
+
+static zw_eb series_shifted4(zw_eb h, zw_eb hp, zw_eb w2)
+{
+    unsigned k;
+    zw_eb hpow = zw_eb_exact(ZW_R(1.0));                  /* h^k */
+    zw_eb A = zw_eb_exact(ZW_R(1.0));                     /* A_k */
+    zw_eb H2 = zw_eb_exact(ZW_R(0.0)), H1 = zw_eb_exact(ZW_R(0.0)); /* H_{k-2}, H_{k-1} */
+    zw_eb sum = zw_eb_exact(ZW_R(0.0));
+    zw_real f = ZW_R(1.0) / ZW_R(6.0);                    /* 1 / (k + 3)!, rounded */
+    for (k = 0u; k < PLANT_TERMS4; ++k) {
+        zw_eb H;
+        if (k > 0u) {
+            hpow = zw_eb_mul(hpow, h);
+            A = zw_eb_add(zw_eb_mul(hp, A), hpow);
+            f = f / (zw_real)(k + 3u);
+        }
+        H = zw_eb_add(A, zw_eb_mul(w2, H2));
+        sum = zw_eb_add(sum, zw_eb_mul(H, eb_make(f, (zw_real)(k + 4u) * (ZW_U * f + ZW_ETA))));
+        H2 = H1;
+        H1 = H;
+    }
+    sum.e += PLANT_TAIL;
+    return sum;
+}
+
 static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
 {
     const zw_eb one = zw_eb_exact(ZW_R(1.0));
@@ -683,7 +712,18 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
     if (have_series) {
         y0 = eb_better(y0, y0_series);
     }
+    /* x1 = nu exp[0, p1, p2, p3] = b1 - T (cancels for nu -> 0), or
+     * nu (E0(-nu) - S^ + (nu - 2 h) b1) / kappa' (no cancellation for large kappa), or for
+     * a small plant nu e^-h sum_k H_k / (k + 3)!, H the complete symmetric polynomials of the
+     * nodes shifted by h: (h, r, -r, h'), H_k = A_k + w2 H_{k-2}, A_k = h' A_{k-1} + h^k */
     x1 = zw_eb_sub(o->b1, T);
+    t = zw_eb_div(zw_eb_mul(nu, zw_eb_add(zw_eb_sub(eb_e0(eb_neg(nu)), o->sh),
+                                          zw_eb_mul(zw_eb_sub(nu, eb_twice(h)), o->b1))),
+                  kp);
+    x1 = eb_better(x1, t);
+    if (have_series && (h.v <= ZW_R(2.0))) {
+        x1 = eb_better(x1, zw_eb_mul(zw_eb_mul(nu, eb_exp(eb_neg(h))), series_shifted4(h, hp, w2)));
+    }
     /* x0 = b0 - y0, or nu Phi01 T - Phi11 x1 (small for nu -> 0 without cancelling) */
     x0 = zw_eb_sub(o->b0, y0);
     t = zw_eb_sub(zw_eb_mul(zw_eb_mul(nu, o->sh), T), zw_eb_mul(phi11, x1));

@@ -355,17 +355,23 @@ def test_lag_input_uncertainty_covered(pl):
 # direct simulation: the convention of N / D
 # ---------------------------------------------------------------------------------------
 
-def _simulate(delta, kappa, inputs, dps=40):
-    """x(k) at the sample instants of m x'' + b x' + k x = u(t), u held over each period,
-    integrated by mpmath's Taylor-series ODE solver (independent of any matrix exponential)."""
+def _simulate(delta, kappa, inputs, lam=0.0, dps=40):
+    """x(k) at the sample instants of x'' + delta x' + kappa x = F(t) (F = u, or u through
+    the lag lam F' + F = u), u held over each period, integrated by mpmath's Taylor-series
+    ODE solver (independent of any matrix exponential)."""
     with mp.workdps(dps):
         d, k = mpf(delta), mpf(kappa)
-        x, v = mpf(0), mpf(0)
+        x, v, y = mpf(0), mpf(0), mpf(0)
         out = [x]
         for u in inputs:
             uu = mpf(u)
-            f = mp.odefun(lambda t, y: [y[1], uu - d * y[1] - k * y[0]], 0, [x, v])
-            x, v = f(1)
+            if lam > 0:
+                nu = 1 / mpf(lam)
+                f = mp.odefun(lambda t, s: [s[1], s[2] - d * s[1] - k * s[0], nu * (uu - s[2])], 0, [x, v, y])
+                x, v, y = f(1)
+            else:
+                f = mp.odefun(lambda t, s: [s[1], uu - d * s[1] - k * s[0]], 0, [x, v])
+                x, v = f(1)
             out.append(x)
         return out
 
@@ -385,3 +391,18 @@ def test_difference_equation_matches_simulation(pl):
             rhs = p.num[0] * u[j + 1] + p.num[1] * u[j]
             scale = sum(abs(c) for c in p.den[:3]) * max(abs(float(y)) for y in x) + 1e-30
             assert abs(lhs - rhs) <= 50 * zw.u * scale + 1e-30, (d, k, j, float(lhs), float(rhs))
+
+
+def test_lag_difference_equation_matches_simulation(pl):
+    zw = pl.zw
+    rng = np.random.default_rng(17)
+    for d, k, lam in [(0.5, 2.0, 0.3), (1.0, 0.0, 1.0), (0.0, 9.0, 0.1)]:
+        st, p = pl.plant(zw.r(d), zw.r(k), zw.r(lam))
+        assert st == E["ZW_OK"] and p.order == 3
+        u = [float(x) for x in rng.uniform(-1, 1, 6)]
+        x = _simulate(zw.r(d), zw.r(k), u, lam=zw.r(lam))
+        for j in range(len(u) - 2):
+            lhs = sum(p.den[i] * x[j + 3 - i] for i in range(4))
+            rhs = sum(p.num[i] * u[j + 2 - i] for i in range(3))
+            scale = sum(abs(c) for c in p.den) * max(abs(float(y)) for y in x) + 1e-30
+            assert abs(lhs - rhs) <= 50 * zw.u * scale + 1e-30, (d, k, lam, j, float(lhs), float(rhs))
