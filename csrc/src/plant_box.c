@@ -54,6 +54,8 @@ static void pb_fail(zw_plant *out)
         out->den_err[i] = ZW_NAN;
         out->den_s[i] = ZW_NAN;
         out->den_s_err[i] = ZW_NAN;
+        out->den_w[i] = ZW_NAN;
+        out->den_w_err[i] = ZW_NAN;
     }
     for (i = 0u; i < ZW_PLANT_MAX_ORDER; ++i) {
         out->num[i] = ZW_NAN;
@@ -86,7 +88,8 @@ static bool pb_all_finite(const zw_plant *p)
     bool ok = true;
     for (i = 0u; i < 3u; ++i) {
         ok = ok && ZW_IS_FINITE(p->den[i]) && ZW_IS_FINITE(p->den_err[i]) &&
-             ZW_IS_FINITE(p->den_s[i]) && ZW_IS_FINITE(p->den_s_err[i]);
+             ZW_IS_FINITE(p->den_s[i]) && ZW_IS_FINITE(p->den_s_err[i]) &&
+             ZW_IS_FINITE(p->den_w[i]) && ZW_IS_FINITE(p->den_w_err[i]);
     }
     for (i = 0u; i < 2u; ++i) {
         ok = ok && ZW_IS_FINITE(p->num[i]) && ZW_IS_FINITE(p->num_err[i]) &&
@@ -160,6 +163,8 @@ static zw_status pb_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
         out->den_err[i] = ZW_R(0.0);
         out->den_s[i] = ZW_R(0.0);
         out->den_s_err[i] = ZW_R(0.0);
+        out->den_w[i] = ZW_R(0.0);
+        out->den_w_err[i] = ZW_R(0.0);
     }
     for (i = 0u; i < ZW_PLANT_MAX_ORDER; ++i) {
         out->num[i] = ZW_R(0.0);
@@ -181,6 +186,10 @@ static zw_status pb_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
              &out->den_s_err[1]);
     pb_store(r.d12, &out->num_s[0], &out->num_s_err[0]);
     pb_store(r.s, &out->num_s[1], &out->num_s_err[1]);
+    /* D in w = z - 1: 2 w^2 + 2 (1 - e) w */
+    out->den_w[0] = ZW_R(2.0);
+    pb_store(bx_make(ZW_R(2.0) * r.one_minus_e.lo, ZW_R(2.0) * r.one_minus_e.hi), &out->den_w[1],
+             &out->den_w_err[1]);
 
     /* the midpoint, informational */
     mid = ZW_R(0.5) * delta_lo + ZW_R(0.5) * delta_hi;

@@ -73,6 +73,9 @@ static void test_enclose_contains(void **state)
             expect_within(0.0L, p.den_s[2], p.den_s_err[2], "den_s2", d);
             expect_within(r.d12, p.num_s[0], p.num_s_err[0], "d12", d);
             expect_within(r.s, p.num_s[1], p.num_s_err[1], "s", d);
+            expect_within(2.0L, p.den_w[0], p.den_w_err[0], "den_w0", d);
+            expect_within(2.0L * (1.0L - r.e), p.den_w[1], p.den_w_err[1], "den_w1", d);
+            expect_within(0.0L, p.den_w[2], p.den_w_err[2], "den_w2", d);
         }
     }
 }

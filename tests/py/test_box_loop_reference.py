@@ -43,7 +43,8 @@ def _types(zw):
                     ("num", R * MAX_ORDER), ("num_err", R * MAX_ORDER),
                     ("den_s", R * (MAX_ORDER + 1)), ("den_s_err", R * (MAX_ORDER + 1)),
                     ("num_s", R * MAX_ORDER), ("num_s_err", R * MAX_ORDER),
-                    ("c", zw.Coeffs)]
+                    ("c", zw.Coeffs),
+                    ("den_w", R * (MAX_ORDER + 1)), ("den_w_err", R * (MAX_ORDER + 1))]
 
     class Box(ctypes.Structure):
         _fields_ = [(n, R) for n in ("m_lo", "m_hi", "b_lo", "b_hi", "T")]
@@ -113,6 +114,7 @@ def test_enclosure_contains_every_delta(zw):
                 ("den", 0): mpf(2), ("den", 1): -2 * (1 + e), ("den", 2): 2 * e,
                 ("den_s", 0): 4 * (1 + e), ("den_s", 1): 4 * (1 - e), ("den_s", 2): mpf(0),
                 ("num_s", 0): d12, ("num_s", 1): s,
+                ("den_w", 0): mpf(2), ("den_w", 1): 2 * (1 - e), ("den_w", 2): mpf(0),
             }
             for (name, i), v in want.items():
                 mid = _exact(getattr(p, name)[i])

@@ -8,7 +8,7 @@
  * For every delta in [delta_lo, delta_hi] the exact coefficients of the ideal plant
  * (kappa = lambda = 0, plant.h)
  *     N = c1 z + c2,  D = 2 (z - 1)(z - e),
- *     num_s = d12 s + (c1 + c2),  den_s = 4 s ((1 + e) s + (1 - e))
+ *     num_s = d12 s + (c1 + c2),  den_s = 4 s ((1 + e) s + (1 - e)),  den_w = 2 w (w + 1 - e)
  * lie within value +- err of the fields of the zw_plant filled here: a midpoint-radius
  * enclosure, rigorous for any width (not a first-order bound).  How (docs/box.md):
  * e, c1, c2, c1 + c2 fall and 1 - e rises with delta (c1 = 2 int_0^1 (1 - t) e^(-delta t) dt,
