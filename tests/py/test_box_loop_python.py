@@ -97,3 +97,20 @@ def test_cli_check_with_delay():
 def test_cli_limits_with_delay():
     r = run("limits", *BOX)
     assert r.returncode == 0 and "1 sample delay" in r.stdout and "K_mmax" in r.stdout
+
+
+def test_corners_are_not_enough_with_delay():
+    """With one sample of delay K_max(B) can have an interior minimum in m too (b = 2.2e-3,
+    T = 0.02, B = 7.5e-4: near J = 5.5e-5): a K between the corners' least K_max and the
+    worst plant's passes every corner yet is unstable there; the box never certifies it."""
+    box = zwidth.PlantBox.rotary_box((3e-5, 1.5e-4), (2.1e-3, 2.3e-3), T, delay=1)
+    B = 7.5e-4
+    k = box.k_max(B)
+    corners = min(float(d.k_max(B)) for d in box.corners())
+    assert k.K_upper < corners * (1 - 1e-3)
+    assert box.m.lo < k.m_worst < box.m.hi
+    K = 0.5 * (corners + k.K_upper)
+    assert all(bool(d.is_stable(K, B)) for d in box.corners())
+    assert not bool(zwidth.Device.rotary(k.m_worst, k.b_worst, T, delay=1).is_stable(K, B))
+    assert not box.is_stable(K, B)
+    assert k.K_lower <= k.K_upper and box.is_stable(k.K_lower, B)
