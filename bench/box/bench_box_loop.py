@@ -87,6 +87,22 @@ def main() -> None:
                     f"{fooled[g]} of {n} | {100 * over[g]:.3g} % |")
     text = "\n".join(["| method | time per box (median) | boxes where it certifies an unstable pair | "
                       "worst overestimate of the box's K_max |", "|---|---|---|---|"] + rows)
+    # a box with an interior minimum in m (found by scanning K_max(J) at b = 2.197e-3, T = 0.02)
+    m_lo, m_hi, b_lo, b_hi, T, B = 3e-5, 1.5e-4, 2.1e-3, 2.3e-3, 0.02, 7.5e-4
+    box = zwidth.PlantBox(m=(m_lo, m_hi), b=(b_lo, b_hi), T=T, delay=args.delay)
+    t0 = time.perf_counter()
+    k = box.k_max(B)
+    extra = [f"\nInterior minimum (m {m_lo:g}..{m_hi:g}, b {b_lo:g}..{b_hi:g}, T {T:g}, B {B:g}): certified "
+             f"K_lower {k.K_lower:.6g} (K_upper {k.K_upper:.6g} at m = {k.m_worst:.4g}) in "
+             f"{1e3 * (time.perf_counter() - t0):.0f} ms;"]
+    for g in GRIDS:
+        mm, bb = np.meshgrid(np.linspace(m_lo, m_hi, g), np.linspace(b_lo, b_hi, g))
+        kg = float(np.min(zwidth.Device(mm.ravel(), bb.ravel(), T, delay=args.delay).k_max(B)))
+        bad = kg > k.K_upper and not bool(zwidth.Device(k.m_worst, k.b_worst, T, delay=args.delay).is_stable(
+            0.5 * (kg + k.K_upper), B))
+        extra.append(f"  {g} x {g} grid: min {kg:.6g}, {'certifies an unstable pair' if bad else 'safe here'} "
+                     f"(overestimate {100 * max(0.0, kg - k.K_upper) / k.K_upper:.3g} %)")
+    text += "\n".join(extra)
     print(text)
     if args.markdown:
         with open(args.markdown, "w") as f:
