@@ -22,18 +22,12 @@ typedef zw_box_loop_iv bx_iv;
 /* An overflowed +inf (-inf) stands for a value beyond the largest finite one. */
 static inline zw_real bx_down(zw_real r)
 {
-    if (r > ZW_REAL_MAX) {
-        return ZW_REAL_MAX;
-    }
-    return r - (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA);
+    return (r > ZW_REAL_MAX) ? ZW_REAL_MAX : (r - (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA));
 }
 
 static inline zw_real bx_up(zw_real r)
 {
-    if (r < -ZW_REAL_MAX) {
-        return -ZW_REAL_MAX;
-    }
-    return r + (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA);
+    return (r < -ZW_REAL_MAX) ? -ZW_REAL_MAX : (r + (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA));
 }
 
 static inline bx_iv bx_make(zw_real lo, zw_real hi)
@@ -65,38 +59,41 @@ static inline bool bx_is_zero(bx_iv a)
     return (a.lo == ZW_R(0.0)) && (a.hi == ZW_R(0.0));
 }
 
+/* a + b (an exact zero operand adds nothing). */
 static inline bx_iv bx_add(bx_iv a, bx_iv b)
 {
+    bx_iv r = a;
     if (bx_is_zero(a)) {
-        return b;
+        r = b;
+    } else if (!bx_is_zero(b)) {
+        r = bx_make(bx_down(a.lo + b.lo), bx_up(a.hi + b.hi));
+    } else {
+        /* b is an exact zero: r = a */
     }
-    if (bx_is_zero(b)) {
-        return a;
-    }
-    return bx_make(bx_down(a.lo + b.lo), bx_up(a.hi + b.hi));
+    return r;
 }
 
-/* a * b: the least and largest of the four end products (exact zeros stay exact). */
-static inline bx_iv bx_mul(bx_iv a, bx_iv b)
+/* The least and largest of four end products or quotients, rounded outward. */
+static inline bx_iv bx_hull4(zw_real p1, zw_real p2, zw_real p3, zw_real p4)
 {
-    zw_real p1, p2, p3, p4;
-    if (bx_is_zero(a) || bx_is_zero(b)) {
-        return bx_point(ZW_R(0.0));
-    }
-    p1 = a.lo * b.lo;
-    p2 = a.lo * b.hi;
-    p3 = a.hi * b.lo;
-    p4 = a.hi * b.hi;
     return bx_make(bx_down(bx_min(bx_min(p1, p2), bx_min(p3, p4))),
                    bx_up(bx_max(bx_max(p1, p2), bx_max(p3, p4))));
+}
+
+/* a * b (exact zeros stay exact). */
+static inline bx_iv bx_mul(bx_iv a, bx_iv b)
+{
+    bx_iv r = bx_point(ZW_R(0.0));
+    if (!bx_is_zero(a) && !bx_is_zero(b)) {
+        r = bx_hull4(a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi);
+    }
+    return r;
 }
 
 /* a / b for b > 0 (b.lo > 0). */
 static inline bx_iv bx_div_pos(bx_iv a, bx_iv b)
 {
-    zw_real p1 = a.lo / b.lo, p2 = a.lo / b.hi, p3 = a.hi / b.lo, p4 = a.hi / b.hi;
-    return bx_make(bx_down(bx_min(bx_min(p1, p2), bx_min(p3, p4))),
-                   bx_up(bx_max(bx_max(p1, p2), bx_max(p3, p4))));
+    return bx_hull4(a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi);
 }
 
 #endif /* ZWIDTH_BOX_INTERVAL_H */

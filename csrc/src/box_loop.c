@@ -34,7 +34,6 @@
 #include "zwidth/plant_box.h"
 #include "box_interval.h"
 
-#define BL_N (ZW_LOOP_MAX_DEGREE + 1u)
 /* Keeps the cell test's frame (the plant's enclosure, the gains' intervals) off the point
  * checks' chain (the stack, tools/footprint.sh).  Only a hint. */
 #if defined(__GNUC__)
@@ -291,7 +290,10 @@ BL_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_ce
     const zw_real T = L->box->T;
     zw_plant pl;
     bx_iv den_s[3], num_s[2], m_iv, alpha, beta, gain_v[ZW_LOOP_MAX_AVERAGE + 1u];
-    bx_iv *t1 = L->sc->poly[0], *t2 = L->sc->poly[1], *P = L->sc->poly[2];
+    zw_box_loop_scratch *sc = L->sc;
+    bx_iv *t1 = sc->poly[0];
+    bx_iv *t2 = sc->poly[1];
+    bx_iv *P = sc->poly[2];
     zw_real dlo, dhi;
     unsigned i, deg, first = 0u;
     zw_status st;
@@ -313,7 +315,7 @@ BL_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_ce
                     bx_up(bx_up(bx_up(c->K_hi * T) * T) / c->m_lo));
     beta = bx_div_pos(bx_make(bx_down(c->B_lo * T), bx_up(c->B_hi * T)), m_iv);
     /* first part: (1 + s)^d den_s Dvs */
-    bl_poly_mul(den_s, 2u, L->sc->dvs, L->mv, t1);
+    bl_poly_mul(den_s, 2u, sc->dvs, L->mv, t1);
     deg = 2u + L->mv;
     for (i = 0u; i < L->delay; ++i) {
         bl_poly_times_linear(t1, deg, ZW_R(1.0), ZW_R(1.0));
@@ -321,7 +323,7 @@ BL_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_ce
     }
     /* second part: (1 - s)^(d+1) num_s (alpha Dvs + beta Nvs) */
     for (i = 0u; i <= L->mv; ++i) {
-        gain_v[i] = bx_add(bx_mul(alpha, L->sc->dvs[i]), bx_mul(beta, L->sc->nvs[i]));
+        gain_v[i] = bx_add(bx_mul(alpha, sc->dvs[i]), bx_mul(beta, sc->nvs[i]));
     }
     bl_poly_mul(num_s, 1u, gain_v, L->mv, t2);
     deg = 1u + L->mv;
@@ -342,9 +344,8 @@ BL_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_ce
         }
         first = 1u;
     }
-    if ((bl_kharitonov(L->sc, P, L->n, 2u, 0u) == BL_STABLE) && (bl_kharitonov(L->sc, P, L->n, 3u, 0u) == BL_STABLE) &&
-        (bl_kharitonov(L->sc, P, L->n, 1u, first) == BL_STABLE) &&
-        (bl_kharitonov(L->sc, P, L->n, 4u, first) == BL_STABLE)) {
+    if ((bl_kharitonov(sc, P, L->n, 2u, 0u) == BL_STABLE) && (bl_kharitonov(sc, P, L->n, 3u, 0u) == BL_STABLE) &&
+        (bl_kharitonov(sc, P, L->n, 1u, first) == BL_STABLE) && (bl_kharitonov(sc, P, L->n, 4u, first) == BL_STABLE)) {
         *res = BL_STABLE;
     }
     return ZW_OK;
@@ -548,6 +549,7 @@ static zw_status bl_validate_gain(const zw_plant_box *box, zw_real gain, bool st
 static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_loop_spec *spec,
                           zw_loop_workspace *ws, const zw_box_loop_work *work)
 {
+    zw_box_loop_scratch *sc;
     zw_status st;
     if ((spec == NULL) || (ws == NULL)) {
         return ZW_ERR_NULL;
@@ -560,12 +562,12 @@ static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_l
     if (st != ZW_OK) {
         return st;
     }
-    st = zw_device_loop_init(&work->scratch->dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi),
-                             box->T, spec);
+    sc = work->scratch;
+    st = zw_device_loop_init(&sc->dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi), box->T, spec);
     if (st != ZW_OK) {
         return st;
     }
-    return bl_loop_init(L, box, spec, work->scratch);
+    return bl_loop_init(L, box, spec, sc);
 }
 
 /* ---- public functions -------------------------------------------------------------------- */
@@ -809,7 +811,7 @@ static zw_status bl_b_range(const zw_plant_box *box, const zw_device_loop_spec *
         return ZW_OK;
     }
     /* the centre plant's certified range brackets the box's (which is inside every plant's) */
-    st = zw_device_loop_b_range(&work->scratch->dl, ws, K, &nom_lo, &nom_hi, &any); /* bl_setup built it */
+    st = zw_device_loop_b_range(&L.sc->dl, ws, K, &nom_lo, &nom_hi, &any); /* bl_setup built it */
     if ((st != ZW_OK) || !any) {
         return st;
     }
@@ -864,6 +866,7 @@ static zw_status bl_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *s
                            const zw_box_loop_work *work, zw_box_loop_extremes *out)
 {
     static const zw_real k_inv_phi = ZW_R(0.6180339887498948482);
+    zw_device_loop *dl;
     zw_device_loop_extremes x;
     zw_box_loop_bound f1, f2, fin;
     zw_real a, b, c1, c2;
@@ -884,12 +887,12 @@ static zw_status bl_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *s
     if (st != ZW_OK) {
         return st;
     }
-    st = zw_device_loop_init(&work->scratch->dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi),
-                             box->T, spec);
+    dl = &work->scratch->dl;
+    st = zw_device_loop_init(dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi), box->T, spec);
     if (st != ZW_OK) {
         return st;
     }
-    st = zw_device_loop_extremes_compute(&work->scratch->dl, ws, &x);
+    st = zw_device_loop_extremes_compute(dl, ws, &x);
     if (st != ZW_OK) {
         return st;
     }

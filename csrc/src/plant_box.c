@@ -87,13 +87,16 @@ static bool pb_all_finite(const zw_plant *p)
     unsigned i;
     bool ok = true;
     for (i = 0u; i < 3u; ++i) {
-        ok = ok && ZW_IS_FINITE(p->den[i]) && ZW_IS_FINITE(p->den_err[i]) &&
-             ZW_IS_FINITE(p->den_s[i]) && ZW_IS_FINITE(p->den_s_err[i]) &&
-             ZW_IS_FINITE(p->den_w[i]) && ZW_IS_FINITE(p->den_w_err[i]);
+        if (!(ZW_IS_FINITE(p->den[i]) && ZW_IS_FINITE(p->den_err[i]) && ZW_IS_FINITE(p->den_s[i]) &&
+              ZW_IS_FINITE(p->den_s_err[i]) && ZW_IS_FINITE(p->den_w[i]) && ZW_IS_FINITE(p->den_w_err[i]))) {
+            ok = false;
+        }
     }
     for (i = 0u; i < 2u; ++i) {
-        ok = ok && ZW_IS_FINITE(p->num[i]) && ZW_IS_FINITE(p->num_err[i]) &&
-             ZW_IS_FINITE(p->num_s[i]) && ZW_IS_FINITE(p->num_s_err[i]);
+        if (!(ZW_IS_FINITE(p->num[i]) && ZW_IS_FINITE(p->num_err[i]) && ZW_IS_FINITE(p->num_s[i]) &&
+              ZW_IS_FINITE(p->num_s_err[i]))) {
+            ok = false;
+        }
     }
     return ok;
 }
