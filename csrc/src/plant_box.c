@@ -82,23 +82,22 @@ static zw_status pb_validate(zw_real delta_lo, zw_real delta_hi)
     return ZW_OK;
 }
 
-static bool pb_all_finite(const zw_plant *p)
+static bool pb_finite(const zw_real v[], const zw_real e[], unsigned n)
 {
     unsigned i;
-    bool ok = true;
-    for (i = 0u; i < 3u; ++i) {
-        if (!(ZW_IS_FINITE(p->den[i]) && ZW_IS_FINITE(p->den_err[i]) && ZW_IS_FINITE(p->den_s[i]) &&
-              ZW_IS_FINITE(p->den_s_err[i]) && ZW_IS_FINITE(p->den_w[i]) && ZW_IS_FINITE(p->den_w_err[i]))) {
-            ok = false;
+    for (i = 0u; i < n; ++i) {
+        if (!ZW_IS_FINITE(v[i]) || !ZW_IS_FINITE(e[i])) {
+            return false;
         }
     }
-    for (i = 0u; i < 2u; ++i) {
-        if (!(ZW_IS_FINITE(p->num[i]) && ZW_IS_FINITE(p->num_err[i]) && ZW_IS_FINITE(p->num_s[i]) &&
-              ZW_IS_FINITE(p->num_s_err[i]))) {
-            ok = false;
-        }
-    }
-    return ok;
+    return true;
+}
+
+static bool pb_all_finite(const zw_plant *p)
+{
+    return pb_finite(p->den, p->den_err, 3u) && pb_finite(p->den_s, p->den_s_err, 3u) &&
+           pb_finite(p->den_w, p->den_w_err, 3u) && pb_finite(p->num, p->num_err, 2u) &&
+           pb_finite(p->num_s, p->num_s_err, 2u);
 }
 
 /* The ranges over [delta_lo, delta_hi] from the coefficients at one end at a time (one
