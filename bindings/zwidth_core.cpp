@@ -1329,6 +1329,127 @@ py::dict box_k_mmax(double m_lo, double m_hi, double b_lo, double b_hi, double T
     return out;
 }
 
+// ---- the general loop over a plant box (box.h, box_loop.c) --------------------------------
+// The loop as the Device kernels take it: delay, differentiator, filter codes, the low-pass
+// cut-off f_c [Hz] (pole_given false) or pole a (pole_given true), the average length.
+struct BoxLoopCall {
+    zw_plant_box box;
+    zw_device_loop_spec spec{};
+    std::vector<zw_box_loop_cell> cells;
+    std::unique_ptr<zw_box_loop_scratch> scratch{new zw_box_loop_scratch};
+    zw_box_loop_work work;
+    zw_loop_workspace ws;
+    BoxLoopCall(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay, int differentiator,
+                int filter, double cutoff_or_pole, bool pole_given, unsigned average, long capacity,
+                long max_evals, double rel_tol)
+        : box{m_lo, m_hi, b_lo, b_hi, T} {
+        if (capacity < static_cast<long>(ZW_BOX_LOOP_MIN_CELLS) || capacity > (1L << 24))
+            throw py::value_error("capacity must be in " + std::to_string(ZW_BOX_LOOP_MIN_CELLS) + "..2^24");
+        if (max_evals < 1 || max_evals > static_cast<long>(ZW_BOX_MAX_EVALS))
+            throw py::value_error("max_evals must be in 1.." + std::to_string(ZW_BOX_MAX_EVALS));
+        spec.delay = delay;
+        spec.differentiator = static_cast<zw_differentiator>(differentiator);
+        spec.filter = static_cast<zw_velocity_filter>(filter);
+        spec.average = average;
+        if (spec.filter == ZW_VFILTER_LOWPASS) {
+            if (pole_given) spec.pole = cutoff_or_pole;
+            else spec.cutoff_hz = cutoff_or_pole;
+        }
+        cells.resize(static_cast<std::size_t>(capacity));
+        work.cells = cells.data();
+        work.scratch = scratch.get();
+        work.capacity = static_cast<uint_least32_t>(capacity);
+        work.max_evals = static_cast<uint_least32_t>(max_evals);
+        work.rel_tol = rel_tol;
+    }
+};
+
+py::dict box_loop_k_max(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
+                        int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
+                        double B, long capacity, long max_evals, double rel_tol) {
+    BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
+                  capacity, max_evals, rel_tol);
+    zw_box_loop_bound r;
+    zw_status st;
+    {
+        py::gil_scoped_release release;
+        st = zw_box_loop_k_max(&c.box, &c.spec, &c.ws, B, &c.work, &r);
+    }
+    py::dict out;
+    out["status"] = int{st};
+    out["K_lower"] = r.K_lower;
+    out["K_upper"] = r.K_upper;
+    out["m_worst"] = r.m_worst;
+    out["b_worst"] = r.b_worst;
+    out["evals"] = static_cast<long>(r.evals);
+    out["converged"] = r.converged;
+    return out;
+}
+
+py::dict box_loop_check(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
+                        int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
+                        double K, double B, long capacity, long max_evals, double rel_tol) {
+    BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
+                  capacity, max_evals, rel_tol);
+    zw_box_loop_verdict v;
+    zw_status st;
+    {
+        py::gil_scoped_release release;
+        st = zw_box_loop_check(&c.box, &c.spec, &c.ws, K, B, &c.work, &v);
+    }
+    py::dict out;
+    out["status"] = int{st};
+    out["stable"] = v.stable;
+    out["decided"] = v.decided;
+    out["m_worst"] = v.m_worst;
+    out["b_worst"] = v.b_worst;
+    out["evals"] = static_cast<long>(v.evals);
+    return out;
+}
+
+py::dict box_loop_b_range(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
+                          int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
+                          double K, long capacity, long max_evals, double rel_tol) {
+    BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
+                  capacity, max_evals, rel_tol);
+    double lo = 0.0, hi = 0.0;
+    bool nonempty = false;
+    zw_status st;
+    {
+        py::gil_scoped_release release;
+        st = zw_box_loop_b_range(&c.box, &c.spec, &c.ws, K, &c.work, &lo, &hi, &nonempty);
+    }
+    py::dict out;
+    out["status"] = int{st};
+    out["B_lo"] = lo;
+    out["B_hi"] = hi;
+    out["nonempty"] = nonempty;
+    return out;
+}
+
+py::dict box_loop_k_mmax(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
+                         int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
+                         long capacity, long max_evals, double rel_tol) {
+    BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
+                  capacity, max_evals, rel_tol);
+    zw_box_loop_extremes x;
+    zw_status st;
+    {
+        py::gil_scoped_release release;
+        st = zw_box_loop_k_mmax(&c.box, &c.spec, &c.ws, &c.work, &x);
+    }
+    py::dict out;
+    out["status"] = int{st};
+    out["K_mmax"] = x.K_mmax;
+    out["B_at"] = x.B_at;
+    out["K_upper_at"] = x.K_upper_at;
+    out["m_worst"] = x.m_worst;
+    out["b_worst"] = x.b_worst;
+    out["evals"] = static_cast<long>(x.evals);
+    out["converged"] = x.converged;
+    return out;
+}
+
 }  // namespace
 
 void zw_register_box(py::module_ &mod) {
@@ -1340,4 +1461,17 @@ void zw_register_box(py::module_ &mod) {
     mod.def("box_k_mmax", &box_k_mmax, ml, mh, bl, bh, T, cap, ev, tol, "zw_box_k_mmax.");
     mod.attr("BOX_DEFAULT_EVALS") = long{ZW_BOX_DEFAULT_EVALS};
     mod.attr("BOX_DEFAULT_REL_TOL") = double{ZW_BOX_DEFAULT_REL_TOL};
+    mod.def("box_loop_k_max", &box_loop_k_max, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
+            py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), py::arg("B"),
+            cap, ev, tol, "zw_box_loop_k_max.");
+    mod.def("box_loop_check", &box_loop_check, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
+            py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), py::arg("K"),
+            py::arg("B"), cap, ev, tol, "zw_box_loop_check.");
+    mod.def("box_loop_b_range", &box_loop_b_range, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
+            py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), py::arg("K"),
+            cap, ev, tol, "zw_box_loop_b_range.");
+    mod.def("box_loop_k_mmax", &box_loop_k_mmax, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
+            py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), cap, ev, tol,
+            "zw_box_loop_k_mmax.");
+    mod.attr("BOX_LOOP_DEFAULT_REL_TOL") = double{ZW_BOX_LOOP_DEFAULT_REL_TOL};
 }

@@ -14,6 +14,13 @@ loop, with the C core's branch and bound (csrc/src/box.c, docs/box.md):
 * ``b_range(K)``: B that keep K stable for every plant (an inner interval);
 * ``extremes()``: the largest K that one B makes stable for every plant, and that B.
 
+The loop a drive runs (``delay``, ``velocity_filter``, ``differentiator``, as
+:class:`zwidth.Device` takes them) is certified by a second method (csrc/src/box_loop.c:
+Kharitonov's theorem on the bilinear image of the characteristic polynomial over sub-boxes
+of plants and gains); there "stable at (K, B)" means every K' in (0, K] is stable at B for
+every plant, and ``extremes()`` searches B by golden section (certified at the B it ends
+on).
+
 A separate class rather than ``Device`` with interval arguments: a ``Device`` broadcasts
 over arrays of plants and answers per plant, while a box answers once for all of them
 (and runs a search whose budget is part of the answer).
@@ -27,6 +34,7 @@ from typing import Any, Dict, Optional, Sequence, Tuple, Union
 from . import _core
 from ._kernels import STATUS_NAMES, ZwidthError
 from .device import Device
+from .loop import Loop, VelocityFilter, device_loop
 from .results import Interval, Result
 
 RangeLike = Union[float, Sequence[float], "PlantRange"]
@@ -37,6 +45,10 @@ RangeLike = Union[float, Sequence[float], "PlantRange"]
 DEFAULT_CAPACITY = 1 << 16
 DEFAULT_MAX_EVALS = 400_000
 DEFAULT_REL_TOL = float(_core.BOX_DEFAULT_REL_TOL)
+#: The general loop's defaults: cell tests per certification (one per K bisection step),
+#: and the bisections' relative tolerance (1e-4: 20-60 ms per K_max at degree 4).
+DEFAULT_LOOP_MAX_EVALS = 100_000
+DEFAULT_LOOP_REL_TOL = float(_core.BOX_LOOP_DEFAULT_REL_TOL)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -141,17 +153,31 @@ class PlantBox:
     """
 
     def __init__(self, m: RangeLike, b: RangeLike, T: float, *, rotary: bool = False,
-                 capacity: int = DEFAULT_CAPACITY, max_evals: int = DEFAULT_MAX_EVALS,
-                 rel_tol: float = DEFAULT_REL_TOL) -> None:
+                 capacity: int = DEFAULT_CAPACITY, max_evals: Optional[int] = None,
+                 rel_tol: Optional[float] = None, delay: int = 0, velocity_filter: VelocityFilter = None,
+                 differentiator: str = "backward", method: str = "auto") -> None:
         self.m = _as_range("J" if rotary else "m", m)
         self.b = _as_range("b", b)
         self.T = float(T)
         self.rotary = bool(rotary)
+        #: The loop (:class:`zwidth.loop.Loop`), as a Device's keywords give it.
+        self.loop: Loop = device_loop("PlantBox", delay, velocity_filter, differentiator)
+        if method not in ("auto", "closed-form", "kharitonov"):
+            raise ValueError(f"zwidth.PlantBox: method must be 'auto', 'closed-form' or 'kharitonov', got {method!r}")
+        if method == "closed-form" and not self.loop.ideal:
+            raise ValueError("zwidth.PlantBox: the closed form holds for the paper's ideal loop only")
+        #: 'closed-form' (box.c, the ideal loop) or 'kharitonov' (box_loop.c, any loop).
+        self.method = ("closed-form" if self.loop.ideal else "kharitonov") if method == "auto" else method
+        general = self.method == "kharitonov"
         self.capacity = int(capacity)
-        self.max_evals = int(max_evals)
-        self.rel_tol = float(rel_tol)
+        self.max_evals = int(max_evals if max_evals is not None else
+                             (DEFAULT_LOOP_MAX_EVALS if general else DEFAULT_MAX_EVALS))
+        self.rel_tol = float(rel_tol if rel_tol is not None else (DEFAULT_LOOP_REL_TOL if general else DEFAULT_REL_TOL))
         # validate now (an empty search: B = 0 is always a valid gain)
-        self._raise(self._call(_core.box_k_max, 0.0, max_evals_override=1), "PlantBox", {})
+        if general:
+            self._raise(self._call_loop(_core.box_loop_check, 0.0, 0.0, max_evals_override=1), "PlantBox", {})
+        else:
+            self._raise(self._call(_core.box_k_max, 0.0, max_evals_override=1), "PlantBox", {})
 
     @classmethod
     def rotary_box(cls, J: RangeLike, b: RangeLike, T: float, **kwargs: Any) -> "PlantBox":
@@ -162,23 +188,44 @@ class PlantBox:
         return "J" if self.rotary else "m"
 
     def __repr__(self) -> str:
-        return f"PlantBox({self.mass_symbol}={self.m}, b={self.b}, T={self.T:g})"
+        loop = "" if self.loop.ideal else f", loop={self.loop.describe()!r}"
+        return f"PlantBox({self.mass_symbol}={self.m}, b={self.b}, T={self.T:g}{loop})"
+
+    def _device(self, m: float, b: float) -> Device:
+        lp = self.loop
+        vf: VelocityFilter = None
+        if lp.filter == "lowpass":
+            vf = ("lowpass", lp.cutoff) if lp.cutoff is not None else ("pole", lp.pole)
+        elif lp.filter == "average":
+            vf = ("average", lp.average)
+        return Device(m, b, self.T, rotary=self.rotary, delay=lp.delay, velocity_filter=vf,
+                      differentiator=lp.differentiator)
 
     @property
     def nominal(self) -> Device:
-        """The plant at the middle of the box."""
-        return Device.rotary(self.m.mid, self.b.mid, self.T) if self.rotary else Device(
-            self.m.mid, self.b.mid, self.T)
+        """The plant at the middle of the box (with the box's loop)."""
+        return self._device(self.m.mid, self.b.mid)
 
     def corners(self) -> Tuple[Device, ...]:
-        make = Device.rotary if self.rotary else Device
-        return tuple(make(m, b, self.T) for m in (self.m.lo, self.m.hi) for b in (self.b.lo, self.b.hi))
+        return tuple(self._device(m, b) for m in (self.m.lo, self.m.hi) for b in (self.b.lo, self.b.hi))
 
     # ---- the C calls ------------------------------------------------------------------
 
     def _call(self, kernel: Any, *gains: float, max_evals_override: Optional[int] = None) -> Dict[str, Any]:
         out: Dict[str, Any] = kernel(self.m.lo, self.m.hi, self.b.lo, self.b.hi, self.T, *gains, self.capacity,
                       self.max_evals if max_evals_override is None else max_evals_override, self.rel_tol)
+        return out
+
+    def _call_loop(self, kernel: Any, *gains: float, max_evals_override: Optional[int] = None) -> Dict[str, Any]:
+        lp = self.loop
+        opts = lp.kernel_options()
+        pole_given = lp.cutoff is None and lp.pole is not None
+        value = float(lp.pole if pole_given else (lp.cutoff or 0.0))
+        out: Dict[str, Any] = kernel(self.m.lo, self.m.hi, self.b.lo, self.b.hi, self.T, opts["delay"],
+                                     opts["differentiator"], opts["filter"], value, pole_given, opts["average"],
+                                     *gains, self.capacity,
+                                     self.max_evals if max_evals_override is None else max_evals_override,
+                                     self.rel_tol)
         return out
 
     def _raise(self, out: Dict[str, Any], function: str, gains: Dict[str, float]) -> Dict[str, Any]:
@@ -206,6 +253,8 @@ class PlantBox:
                     "or b_hi T / m_lo above 1e6), or a gain overflows once normalized")
         elif status == "ZW_ERR_ARG":
             what = "capacity, max_evals or rel_tol out of range (rel_tol in [0, 1))"
+        elif status in ("ZW_ERR_DELAY", "ZW_ERR_FILTER"):
+            what = f"the loop is out of range ({status}): {self.loop.describe()}"
         else:
             what = status
         where = "zwidth.PlantBox" if function == "PlantBox" else f"zwidth.PlantBox.{function}"
@@ -215,12 +264,21 @@ class PlantBox:
 
     def k_max(self, B: float) -> BoxBound:
         """min over the box of K_max(B) (certified lower bound, the worst plant found)."""
-        out = self._raise(self._call(_core.box_k_max, float(B)), "k_max", {"B": float(B)})
+        if self.method == "kharitonov":
+            out = self._raise(self._call_loop(_core.box_loop_k_max, float(B)), "k_max", {"B": float(B)})
+        else:
+            out = self._raise(self._call(_core.box_k_max, float(B)), "k_max", {"B": float(B)})
         return BoxBound(float(out["K_lower"]), float(out["K_upper"]), float(out["m_worst"]),
                         float(out["b_worst"]), int(out["evals"]), bool(out["converged"]))
 
     def verdict(self, K: float, B: float) -> BoxVerdict:
-        """Is (K, B) stable for every plant of the box?"""
+        """Is (K, B) stable for every plant of the box?  (general loop: every K' in (0, K];
+        K_lower is then K when certified, else 0)"""
+        if self.method == "kharitonov":
+            out = self._raise(self._call_loop(_core.box_loop_check, float(K), float(B)), "verdict",
+                              {"K": float(K), "B": float(B)})
+            return BoxVerdict(bool(out["stable"]), bool(out["decided"]), float(K) if out["stable"] else 0.0,
+                              float(out["m_worst"]), float(out["b_worst"]))
         out = self._raise(self._call(_core.box_check, float(K), float(B)), "verdict",
                           {"K": float(K), "B": float(B)})
         return BoxVerdict(bool(out["stable"]), bool(out["decided"]), float(out["K_lower"]),
@@ -233,11 +291,20 @@ class PlantBox:
     def b_range(self, K: float) -> Interval:
         """A closed interval of B at which K is stable for every plant (inside the true
         open one; nonempty False when none could be certified)."""
-        out = self._raise(self._call(_core.box_b_range, float(K)), "b_range", {"K": float(K)})
+        if self.method == "kharitonov":
+            out = self._raise(self._call_loop(_core.box_loop_b_range, float(K)), "b_range", {"K": float(K)})
+        else:
+            out = self._raise(self._call(_core.box_b_range, float(K)), "b_range", {"K": float(K)})
         return Interval(float(out["B_lo"]), float(out["B_hi"]), bool(out["nonempty"]))
 
     def extremes(self) -> BoxExtremes:
         """The largest K one B makes stable for the whole box (certified), and that B."""
+        if self.method == "kharitonov":
+            # K_mmax_upper: the worst plant's own K_mmax (informational, as for the closed form)
+            out = self._raise(self._call_loop(_core.box_loop_k_mmax), "extremes", {})
+            own = float(self._device(float(out["m_worst"]), float(out["b_worst"])).extremes().K_mmax)
+            return BoxExtremes(float(out["K_mmax"]), float(out["B_at"]), float(out["K_upper_at"]), own,
+                               float(out["m_worst"]), float(out["b_worst"]), bool(out["converged"]))
         out = self._raise(self._call(_core.box_k_mmax), "extremes", {})
         return BoxExtremes(float(out["K_mmax"]), float(out["B_at"]), float(out["K_upper_at"]),
                            float(out["K_mmax_upper"]), float(out["m_worst"]), float(out["b_worst"]),

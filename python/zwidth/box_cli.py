@@ -3,7 +3,8 @@
 """The ``zwidth`` command with plant ranges: ``--m 0.10:0.14`` (or ``--J``, ``--b``).
 
 A range makes the plant a :class:`zwidth.PlantBox`; ``check``, ``limits`` and
-``plot region`` then answer for every plant of the box (the paper's ideal loop only).
+``plot region`` then answer for every plant of the box, for the paper's ideal loop or the
+loop given by --delay, --velocity-filter and --differentiator (``plot region``: ideal only).
 cli.main hands such command lines to :func:`main` here; everything else stays in cli.py.
 """
 from __future__ import annotations
@@ -16,7 +17,7 @@ from typing import Any, Dict, List
 
 from .box import PlantBox, PlantRange
 from .cli import (EXIT_INVALID, EXIT_OK, EXIT_PLOT, EXIT_UNSTABLE, _emit, _fmt, _Outcome, _PlotError,
-                  _Usage, _write_figure)
+                  _Usage, _velocity_filter, _write_figure)
 from ._kernels import ZwidthError
 
 _RANGE_OPTIONS = ("m", "J", "b")
@@ -38,11 +39,9 @@ def _box(args: argparse.Namespace) -> PlantBox:
         raise _Usage(f"the plant box needs {', '.join(missing)}")
     if (args.K is None) != (args.B is None):
         raise _Usage("give both --K and --B (or neither)")
-    if args.delay != 0 or args.velocity_filter is not None or args.differentiator != "backward":
-        raise ZwidthError("plant ranges are certified for the paper's ideal loop only (no --delay, "
-                          "--velocity-filter or --differentiator yet)", "ZW_ERR_ARG", None, (), {})
     rotary = args.J is not None
-    return PlantBox(args.J if rotary else args.m, args.b, args.T, rotary=rotary)
+    return PlantBox(args.J if rotary else args.m, args.b, args.T, rotary=rotary, delay=args.delay,
+                    velocity_filter=_velocity_filter(args), differentiator=args.differentiator)
 
 
 def _units(box: PlantBox) -> Dict[str, str]:
@@ -55,12 +54,13 @@ def _header(box: PlantBox) -> str:
     u = _units(box)
     return (f"Plant box: {box.mass_symbol} in [{_fmt(box.m.lo)}, {_fmt(box.m.hi)}] {u['m']}, "
             f"b in [{_fmt(box.b.lo)}, {_fmt(box.b.hi)}] {u['b']}, T = {_fmt(box.T)} s "
-            f"(paper's ideal loop)")
+            f"(loop: {box.loop.describe()})")
 
 
 def _summary(box: PlantBox) -> Dict[str, Any]:
     return {"mass": box.mass_symbol, "m_lo": box.m.lo, "m_hi": box.m.hi, "b_lo": box.b.lo,
-            "b_hi": box.b.hi, "T": box.T, "rotary": box.rotary}
+            "b_hi": box.b.hi, "T": box.T, "rotary": box.rotary, "loop": box.loop.describe(),
+            "method": box.method}
 
 
 def cmd_check(args: argparse.Namespace, box: PlantBox) -> _Outcome:
@@ -118,6 +118,8 @@ def cmd_limits(args: argparse.Namespace, box: PlantBox) -> _Outcome:
 def cmd_plot(args: argparse.Namespace, box: PlantBox) -> _Outcome:
     if args.kind != "region":
         raise _Usage(f"plot {args.kind} does not take plant ranges; 'plot region' draws the box's region")
+    if box.method == "kharitonov":
+        raise _Usage("plot region of a plant box is drawn for the paper's ideal loop only")
     out = Path(args.output or "zwidth-region.png")
     K = None if args.K is None else float(args.K)
     B = None if args.B is None else float(args.B)

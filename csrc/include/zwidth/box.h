@@ -28,6 +28,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "zwidth/device_loop.h"
 #include "zwidth/real.h"
 #include "zwidth/status.h"
 
@@ -134,6 +135,130 @@ typedef struct zw_box_extremes {
 
 /* The largest K that some single B makes stable for every plant: max over B of K_box(B). */
 zw_status zw_box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw_box_extremes *out);
+
+/* ---- the general loop (box_loop.c) ----------------------------------------------------
+ *
+ * The same questions for the loop a drive runs (device_loop.h: delay, Tustin, low-pass,
+ * moving average), certified by a different enclosure (docs/box.md): over a sub-box of
+ * plants, gains and a range of B, the bilinear image P(s) of the characteristic polynomial
+ * is enclosed coefficient by coefficient (zw_plant_enclose for the plant, the gains
+ * alpha = K T^2 / m and beta = B T / m over the sub-box's K and B ranges, outward
+ * rounding), and the interval polynomial is proved Hurwitz by Kharitonov's theorem: its
+ * four Kharitonov polynomials (the constant coefficient, alpha (c1 + c2) Dv(1) > 0, runs
+ * down to 0+, which takes K1 / s and K4 / s instead of K1, K4) each pass a guarded Routh
+ * test.  A sub-box that does not pass is split (m relative, b through delta, B), depth
+ * first, on the caller's explicit stack of cells (m relative, b through delta, K and B
+ * relative to the gains asked for); no recursion, no heap.
+ *
+ * "Certified at (K, B)" means more than (K, B) stable: every K' in (0, K] is stable at B
+ * for every plant of the box (the gain can be ramped up from 0), so K_lower below is a
+ * lower bound of the infimum over the box of K_max(B; m, b) (device_loop.h) even where a
+ * plant's stable K are not one interval.  The ideal plant only (no spring, hand, lag).
+ */
+
+/* A sub-box of plants and of the gains (K_lo = 0 stands for K -> 0+). */
+typedef struct zw_box_loop_cell {
+    zw_real m_lo, m_hi, b_lo, b_hi, K_lo, K_hi, B_lo, B_hi;
+} zw_box_loop_cell;
+
+/* An interval [lo, hi] (the scratch's polynomials). */
+typedef struct zw_box_loop_iv {
+    zw_real lo, hi;
+} zw_box_loop_iv;
+
+/* Scratch memory of the functions below (the large arrays that would otherwise sit on the
+ * stack): a plant's loop for the point checks, the velocity estimate and a sub-box's
+ * polynomials as intervals, a Routh row.  Owned by the caller (static storage, not an MCU's
+ * stack: ~1.9 KB float, 3.6 KB double), needs no initialisation, holds nothing between
+ * calls; one per concurrent caller.  Members private to the library. */
+typedef struct zw_box_loop_scratch {
+    zw_device_loop dl;
+    zw_box_loop_iv dvs[ZW_LOOP_MAX_AVERAGE + 1u], nvs[ZW_LOOP_MAX_AVERAGE + 1u];
+    zw_box_loop_iv poly[3][ZW_LOOP_MAX_DEGREE + 2u];
+    zw_real row[ZW_LOOP_MAX_DEGREE + 1u], row_err[ZW_LOOP_MAX_DEGREE + 1u];
+} zw_box_loop_scratch;
+
+/* Caller-provided stack of cells, scratch and budget: capacity >= ZW_BOX_LOOP_MIN_CELLS
+ * (depth first: a capacity of 64 per halving of the gap is plenty), max_evals in
+ * 1..ZW_BOX_MAX_EVALS (cell tests per certification), rel_tol in [0, 1) (the K and B
+ * bisections stop at that relative width). */
+typedef struct zw_box_loop_work {
+    zw_box_loop_cell *cells;
+    zw_box_loop_scratch *scratch;
+    uint_least32_t capacity;
+    uint_least32_t max_evals;
+    zw_real rel_tol;
+} zw_box_loop_work;
+
+#define ZW_BOX_LOOP_MIN_CELLS 8u
+#define ZW_BOX_LOOP_DEFAULT_EVALS 20000u
+#ifdef ZW_REAL_FLOAT
+#define ZW_BOX_LOOP_DEFAULT_REL_TOL ZW_R(1.0e-3)
+#else
+#define ZW_BOX_LOOP_DEFAULT_REL_TOL ZW_R(1.0e-4)
+#endif
+
+/* ZW_ERR_NULL (also scratch), ZW_ERR_ARG (capacity < ZW_BOX_LOOP_MIN_CELLS). */
+zw_status zw_box_loop_work_init(zw_box_loop_work *work, zw_box_loop_cell *cells,
+                                uint_least32_t capacity, zw_box_loop_scratch *scratch);
+
+typedef struct zw_box_loop_verdict {
+    bool stable;              /* certified: every K' in (0, K] stable at B for every plant */
+    bool decided;             /* stable, or refuted (a plant where (K, B) is surely unstable) */
+    zw_real m_worst, b_worst; /* refuted: that plant; else the centre of the last sub-box not
+                                 certified (NaN when every sub-box was) */
+    uint_least32_t evals;     /* sub-box tests */
+} zw_box_loop_verdict;
+
+/* Errors of the functions below: those of zw_box_validate and of zw_device_loop_init at the
+ * box's centre (spec), ZW_ERR_NULL (spec, ws, work, its cells, an output), ZW_ERR_ARG
+ * (work out of range), ZW_ERR_NAN / ZW_ERR_INF (K, B), ZW_ERR_RANGE (a gain that overflows
+ * once normalized).  Fail-safe: verdicts not stable, not decided; limits 0; ranges empty;
+ * (work's scratch NULL: ZW_ERR_NULL.)
+ * plants NaN; counts 0. */
+zw_status zw_box_loop_check(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                            zw_loop_workspace *ws, zw_real K, zw_real B,
+                            const zw_box_loop_work *work, zw_box_loop_verdict *out);
+
+typedef struct zw_box_loop_bound {
+    zw_real K_lower;          /* certified: every K in (0, K_lower] stable at B, every plant */
+    zw_real K_upper;          /* zw_device_loop_k_max at the worst plant found: the true
+                                 infimum is below it (up to that value's own rounding band) */
+    zw_real m_worst, b_worst; /* that plant */
+    uint_least32_t evals;     /* sub-box tests, all bisection steps */
+    bool converged;           /* (K_upper - K_lower) <= rel_tol K_upper */
+} zw_box_loop_bound;
+
+/* inf over the box of K_max(B): bisection on K between 0 and the least point value found,
+ * each step a certification of (0, K] over the box. */
+zw_status zw_box_loop_k_max(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                            zw_loop_workspace *ws, zw_real B, const zw_box_loop_work *work,
+                            zw_box_loop_bound *out);
+
+/* A closed interval [B_lo, B_hi] every B of which is certified at K (every K' in (0, K] is
+ * stable for every plant): grown from the middle of the centre plant's B range by
+ * bisection, each piece certified as a whole (B is a dimension of the sub-boxes).
+ * nonempty false when none could be certified. */
+zw_status zw_box_loop_b_range(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                              zw_loop_workspace *ws, zw_real K, const zw_box_loop_work *work,
+                              zw_real *B_lo, zw_real *B_hi, bool *nonempty);
+
+typedef struct zw_box_loop_extremes {
+    zw_real K_mmax;           /* certified: every K in (0, K_mmax] is stable at B_at for every plant */
+    zw_real B_at;             /* the B found (golden-section search of the box's K_max over
+                                 the centre plant's certified B range at K -> 0+) */
+    zw_real K_upper_at;       /* zw_device_loop_k_max(B_at) at the worst plant found */
+    zw_real m_worst, b_worst; /* that plant */
+    uint_least32_t evals;     /* sub-box tests, every search */
+    bool converged;           /* the search at B_at converged */
+} zw_box_loop_extremes;
+
+/* The largest K that one B makes stable for every plant (max over B of zw_box_loop_k_max's
+ * K_lower; whatever B the search ends on, K_mmax is certified there).  Errors as above, and
+ * ZW_ERR_DOMAIN when the centre plant has no stable B (every field 0, plants NaN). */
+zw_status zw_box_loop_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                             zw_loop_workspace *ws, const zw_box_loop_work *work,
+                             zw_box_loop_extremes *out);
 
 #ifdef __cplusplus
 }

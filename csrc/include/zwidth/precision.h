@@ -30,6 +30,13 @@
 #define zw_box_check zw_box_check_f
 #define zw_box_b_range zw_box_b_range_f
 #define zw_box_k_mmax zw_box_k_mmax_f
+#define zw_box_loop_work_init zw_box_loop_work_init_f
+#define zw_box_loop_check zw_box_loop_check_f
+#define zw_box_loop_k_max zw_box_loop_k_max_f
+#define zw_box_loop_b_range zw_box_loop_b_range_f
+#define zw_box_loop_k_mmax zw_box_loop_k_mmax_f
+/* plant_box.h */
+#define zw_plant_enclose zw_plant_enclose_f
 /* sweep.h */
 #define zw_sweep_fields_init zw_sweep_fields_init_f
 #define zw_sweep_check_many zw_sweep_check_many_f
@@ -62,6 +69,11 @@
 #define zw_corner zw_corner_f
 #define zw_alpha_max zw_alpha_max_f
 #define zw_beta_interval zw_beta_interval_f
+/* plant.h */
+#define zw_plant_init zw_plant_init_f
+#define zw_plant_from_coeffs zw_plant_from_coeffs_f
+#define zw_plant_eval zw_plant_eval_f
+#define zw_plant_spec_from_device zw_plant_spec_from_device_f
 /* loop.h */
 #define zw_loop_lowpass_pole zw_loop_lowpass_pole_f
 #define zw_loop_init zw_loop_init_f

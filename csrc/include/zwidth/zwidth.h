@@ -9,6 +9,7 @@
 
 #include "zwidth/batch.h"
 #include "zwidth/box.h"
+#include "zwidth/plant_box.h"
 #include "zwidth/coeffs.h"
 #include "zwidth/device.h"
 #include "zwidth/device_loop.h"
@@ -16,6 +17,7 @@
 #include "zwidth/loop.h"
 #include "zwidth/loop_limits.h"
 #include "zwidth/margin.h"
+#include "zwidth/plant.h"
 #include "zwidth/real.h"
 #include "zwidth/region.h"
 #include "zwidth/regmap.h"

@@ -1,0 +1,955 @@
+/*
+ * SPDX-FileCopyrightText: 2026 The zwidth authors
+ * SPDX-License-Identifier: Apache-2.0
+ */
+
+/* Certification of the general loop over a plant box (box.h, second part; docs/box.md).
+ *
+ * Why not the loop's own guarded check with wide coefficient bounds: its running-error
+ * arithmetic (zw_eb, Routh and Schur-Cohn rows, the factored evaluation of p) keeps the
+ * second-order terms and holds for any radius, but two inputs are first order only:
+ * zw_coeffs' delta_relerr (the coefficients' sensitivity, linearized) and
+ * zw_loop_carry_gain_rounding (widens a part by |part| rel, not by (|part| + err) rel).
+ * Both are sound at rounding size, not for a sub-box.  Here instead:
+ *
+ *   P(s) = (1 + s)^d den_s(s) Dvs(s) + (1 - s)^(d+1) num_s(s) (alpha Dvs(s) + beta Nvs(s)),
+ *
+ * the bilinear image (z = (1 + s)/(1 - s)) of p = z^d D Dv + N (alpha Dv + beta Nv), with
+ * den_s, num_s from zw_plant_enclose over the sub-box's delta range, alpha over
+ * [K_lo, K_hi] T^2 / [m_lo, m_hi], beta over [B_lo, B_hi] T / [m_lo, m_hi], every product and sum in
+ * interval arithmetic rounded outward (box_interval.h).  Every plant and gain of the sub-box
+ * has its P inside the coefficient intervals [lo_k, hi_k]; Kharitonov's theorem: such an
+ * interval polynomial (degree invariant) is Hurwitz iff its four Kharitonov polynomials are.
+ * The constant coefficient is alpha (c1 + c2) Dv(1) (den_s(0) = Nvs(0) = 0); for the sub-box
+ * at the bottom of the K range (K_lo = 0, meaning K -> 0+) it is in (0, hi_0]:
+ * the family is the union over eps > 0 of the families with q0 in [eps, hi_0], so it is
+ * Hurwitz if K2, K3 (q0 = hi_0) and, for all small eps, K1, K4 with q0 = eps are; and
+ * s R(s) + eps is Hurwitz for all small eps > 0 when R is (one root near -eps / R(0), the
+ * others near R's).  So K1 / s and K4 / s (degree n - 1) are tested instead.
+ */
+#include "zwidth/box.h"
+
+#include <stddef.h>
+
+#include "zwidth/plant_box.h"
+#include "box_interval.h"
+
+/* Keeps the cell test's frame (the plant's enclosure, the gains' intervals) off the point
+ * checks' chain (the stack, tools/footprint.sh).  Only a hint. */
+#if defined(__GNUC__)
+#define BL_NOINLINE __attribute__((noinline))
+#else
+#define BL_NOINLINE
+#endif
+#define BL_BISECT_STEPS 60
+/* Routh rows are rescaled by powers of two out of this range (as loop.c). */
+#define BL_SCALE_LO ZW_R(1.52587890625e-05)
+#define BL_SCALE_HI ZW_R(65536.0)
+
+typedef enum bl_result { BL_STABLE = 0, BL_UNSURE = 1, BL_UNSTABLE = 2 } bl_result;
+
+/* The loop; its velocity estimate in s (ascending powers, exact but for 1 +- a) is kept in
+ * the scratch (sc->dvs, sc->nvs), with the rest of the large arrays. */
+typedef struct bl_loop {
+    const zw_plant_box *box;
+    zw_box_loop_scratch *sc;
+    zw_device_loop_spec spec;
+    zw_real pole; /* a, LOWPASS */
+    unsigned delay, mv, n;
+} bl_loop;
+
+/* ---- interval polynomials (ascending) ----------------------------------------------- */
+
+static void bl_poly_zero(bx_iv p[], unsigned len)
+{
+    unsigned i;
+    for (i = 0u; i < len; ++i) {
+        p[i] = bx_point(ZW_R(0.0));
+    }
+}
+
+/* out[0..na+nb] = a[0..na] * b[0..nb]; out must not alias a or b. */
+static void bl_poly_mul(const bx_iv a[], unsigned na, const bx_iv b[], unsigned nb, bx_iv out[])
+{
+    unsigned i, j;
+    bl_poly_zero(out, na + nb + 1u);
+    for (i = 0u; i <= na; ++i) {
+        for (j = 0u; j <= nb; ++j) {
+            out[i + j] = bx_add(out[i + j], bx_mul(a[i], b[j]));
+        }
+    }
+}
+
+/* p[0..n] *= (c0 + c1 s), exact integer factors (+-1), in place. */
+static void bl_poly_times_linear(bx_iv p[], unsigned n, zw_real c0, zw_real c1)
+{
+    unsigned i;
+    p[n + 1u] = bx_point(ZW_R(0.0));
+    for (i = n + 1u; i > 0u; --i) {
+        p[i] = bx_add(bx_mul(p[i], bx_point(c0)), bx_mul(p[i - 1u], bx_point(c1)));
+    }
+    p[0] = bx_mul(p[0], bx_point(c0));
+}
+
+/* ---- the loop's velocity estimate ------------------------------------------------------ */
+
+static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_device_loop_spec *spec,
+                              zw_box_loop_scratch *sc)
+{
+    const bool tustin = (spec->differentiator == ZW_DIFF_TUSTIN);
+    bx_iv one_minus_a, one_plus_a;
+    bx_iv *dvs = sc->dvs, *nvs = sc->nvs;
+    unsigned i;
+    zw_status st;
+    L->box = box;
+    L->sc = sc;
+    L->spec = *spec;
+    L->delay = spec->delay;
+    L->pole = spec->pole;
+    if ((spec->filter == ZW_VFILTER_LOWPASS) && !(spec->cutoff_hz == ZW_R(0.0))) {
+        st = zw_loop_lowpass_pole(spec->cutoff_hz, box->T, &L->pole);
+        if (st != ZW_OK) {
+            return st;
+        }
+    }
+    one_minus_a = bx_make(bx_down(ZW_R(1.0) - L->pole), bx_up(ZW_R(1.0) - L->pole));
+    one_plus_a = bx_make(bx_down(ZW_R(1.0) + L->pole), bx_up(ZW_R(1.0) + L->pole));
+    bl_poly_zero(dvs, ZW_LOOP_MAX_AVERAGE + 1u);
+    bl_poly_zero(nvs, ZW_LOOP_MAX_AVERAGE + 1u);
+    switch (spec->filter) {
+    case ZW_VFILTER_AVERAGE: {
+        /* backward: Dv = n z^n, Nv = z^n - 1;  Tustin: Dv = n z^(n-1) (z + 1), Nv = 2 (z^n - 1) */
+        const unsigned n = spec->average;
+        bx_iv *plus = sc->poly[0], *minus = sc->poly[1]; /* (1 + s)^n, (1 - s)^n */
+        L->mv = n;
+        bl_poly_zero(plus, ZW_LOOP_MAX_AVERAGE + 2u);
+        bl_poly_zero(minus, ZW_LOOP_MAX_AVERAGE + 2u);
+        plus[0] = bx_point(ZW_R(1.0));
+        minus[0] = bx_point(ZW_R(1.0));
+        for (i = 0u; i < n; ++i) { /* (1 + s)^n, (1 - s)^n: exact binomials */
+            bl_poly_times_linear(plus, i, ZW_R(1.0), ZW_R(1.0));
+            bl_poly_times_linear(minus, i, ZW_R(1.0), -ZW_R(1.0));
+        }
+        for (i = 0u; i <= n; ++i) {
+            const zw_real gain = tustin ? ZW_R(2.0) : ZW_R(1.0);
+            nvs[i] = bx_mul(bx_point(gain), bx_make(plus[i].lo - minus[i].hi, plus[i].hi - minus[i].lo));
+        }
+        bl_poly_zero(plus, ZW_LOOP_MAX_AVERAGE + 2u);
+        plus[0] = bx_point((zw_real)n);
+        for (i = 0u; i < (tustin ? (n - 1u) : n); ++i) {
+            bl_poly_times_linear(plus, i, ZW_R(1.0), ZW_R(1.0));
+        }
+        if (tustin) { /* z + 1 -> 2 */
+            plus[n] = bx_point(ZW_R(0.0));
+            for (i = 0u; i < n; ++i) {
+                plus[i] = bx_mul(plus[i], bx_point(ZW_R(2.0)));
+            }
+        }
+        for (i = 0u; i <= n; ++i) {
+            dvs[i] = plus[i];
+        }
+        break;
+    }
+    case ZW_VFILTER_LOWPASS:
+        if (tustin) { /* Dv = (z + 1)(z - a) -> 2 ((1 - a) + (1 + a) s); Nv = 2 (1 - a) z (z - 1) -> 4 (1 - a)(s + s^2) */
+            L->mv = 2u;
+            dvs[0] = bx_mul(bx_point(ZW_R(2.0)), one_minus_a);
+            dvs[1] = bx_mul(bx_point(ZW_R(2.0)), one_plus_a);
+            nvs[1] = bx_mul(bx_point(ZW_R(4.0)), one_minus_a);
+            nvs[2] = nvs[1];
+        } else { /* Dv = z - a -> (1 - a) + (1 + a) s;  Nv = (1 - a)(z - 1) -> 2 (1 - a) s */
+            L->mv = 1u;
+            dvs[0] = one_minus_a;
+            dvs[1] = one_plus_a;
+            nvs[1] = bx_mul(bx_point(ZW_R(2.0)), one_minus_a);
+        }
+        break;
+    case ZW_VFILTER_NONE:
+    default:
+        L->mv = 1u;
+        if (tustin) { /* Dv = z + 1 -> 2;  Nv = 2 (z - 1) -> 4 s */
+            dvs[0] = bx_point(ZW_R(2.0));
+            nvs[1] = bx_point(ZW_R(4.0));
+        } else { /* Dv = z -> 1 + s;  Nv = z - 1 -> 2 s */
+            dvs[0] = bx_point(ZW_R(1.0));
+            dvs[1] = bx_point(ZW_R(1.0));
+            nvs[1] = bx_point(ZW_R(2.0));
+        }
+        break;
+    }
+    L->n = 2u + L->delay + L->mv;
+    return ZW_OK;
+}
+
+/* ---- guarded Routh test on one polynomial (exact coefficients) --------------------------- */
+
+static bl_result bl_sign(zw_real v, zw_real err)
+{
+    const zw_real bound = zw_compare_bound(v, err);
+    if (v > bound) {
+        return BL_STABLE;
+    }
+    if (v < -bound) {
+        return BL_UNSTABLE;
+    }
+    return BL_UNSURE;
+}
+
+/* Is w[0] s^n + ... + w[n] (highest first, errors we[]) surely Hurwitz?  loop.c's test:
+ * every coefficient surely positive, then the first column of the division-free Routh
+ * array (row k entry j = B0 A[j+1] - A0 B[j+1]) with running error bounds (zw_eb keeps the
+ * second-order terms), rows rescaled by powers of two. */
+static bl_result bl_routh(zw_real w[], zw_real we[], unsigned n)
+{
+    unsigned i, k;
+    for (i = 0u; i <= n; ++i) {
+        bl_result r = bl_sign(w[i], we[i]);
+        if (r != BL_STABLE) {
+            return r;
+        }
+    }
+    for (k = 2u; k < n; ++k) {
+        const unsigned off = k & 1u, len = (n - k) / 2u + 1u;
+        const unsigned len_a = (n - k + 2u) / 2u + 1u, len_b = (n - k + 1u) / 2u + 1u;
+        zw_eb a0, b0;
+        zw_real big = ZW_R(0.0);
+        unsigned j;
+        bl_result r;
+        a0.v = w[off];
+        a0.e = we[off];
+        b0.v = w[1u - off];
+        b0.e = we[1u - off];
+        for (j = 0u; j < len; ++j) {
+            const unsigned ia = off + 2u * (j + 1u), ib = (1u - off) + 2u * (j + 1u);
+            zw_eb a1 = zw_eb_exact(ZW_R(0.0)), b1 = zw_eb_exact(ZW_R(0.0)), c;
+            if (j + 1u < len_a) {
+                a1.v = w[ia];
+                a1.e = we[ia];
+            }
+            if (j + 1u < len_b) {
+                b1.v = w[ib];
+                b1.e = we[ib];
+            }
+            c = zw_eb_sub(zw_eb_mul(b0, a1), zw_eb_mul(a0, b1));
+            w[off + 2u * j] = c.v;
+            we[off + 2u * j] = c.e;
+            if (ZW_FABS(c.v) > big) {
+                big = ZW_FABS(c.v);
+            }
+        }
+        if (!ZW_IS_FINITE(big)) {
+            return BL_UNSURE;
+        }
+        if ((big > ZW_R(0.0)) && ((big < BL_SCALE_LO) || (big > BL_SCALE_HI))) {
+            int ex = 0;
+            (void)ZW_FREXP(big, &ex);
+            for (j = 0u; j < len; ++j) {
+                w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
+                we[off + 2u * j] = ZW_LDEXP(we[off + 2u * j], -ex) + ZW_ETA;
+            }
+        }
+        r = bl_sign(w[off], we[off]);
+        if (r != BL_STABLE) {
+            return r;
+        }
+    }
+    return BL_STABLE;
+}
+
+/* Kharitonov polynomial `which` (1..4) of q[0..n] (ascending intervals): coefficient k takes
+ * lo or hi by k mod 4 (K1: lo lo hi hi, K2: hi hi lo lo, K3: hi lo lo hi, K4: lo hi hi lo);
+ * from index `first` (1: divided by s), then Routh. */
+static bl_result bl_kharitonov(zw_box_loop_scratch *sc, const bx_iv q[], unsigned n, unsigned which,
+                                unsigned first)
+{
+    static const unsigned char k_take_hi[4][4] = {{0u, 0u, 1u, 1u}, {1u, 1u, 0u, 0u},
+                                                  {1u, 0u, 0u, 1u}, {0u, 1u, 1u, 0u}};
+    zw_real *w = sc->row, *we = sc->row_err;
+    const unsigned deg = n - first;
+    unsigned k;
+    for (k = first; k <= n; ++k) {
+        const bool hi = (k_take_hi[which - 1u][k & 3u] != 0u);
+        w[n - k] = hi ? q[k].hi : q[k].lo; /* highest power first */
+        we[n - k] = ZW_R(0.0);
+    }
+    return bl_routh(w, we, deg);
+}
+
+/* ---- one sub-box ------------------------------------------------------------------------- */
+
+static bx_iv bl_from_eb(zw_real v, zw_real e)
+{
+    return bx_make(bx_down(v - e), bx_up(v + e));
+}
+
+/* Is every K in the cell's range (K_lo = 0: (0, K_hi]) stable for every plant and B of the
+ * cell?  STABLE proves it;
+ * UNSURE otherwise (never UNSTABLE: a Kharitonov vertex is not a plant). */
+BL_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_cell *c, bl_result *res)
+{
+    const zw_real T = L->box->T;
+    zw_plant pl;
+    bx_iv den_s[3], num_s[2], m_iv, alpha, beta, gain_v[ZW_LOOP_MAX_AVERAGE + 1u];
+    zw_box_loop_scratch *sc = L->sc;
+    bx_iv *t1 = sc->poly[0];
+    bx_iv *t2 = sc->poly[1];
+    bx_iv *P = sc->poly[2];
+    zw_real dlo, dhi;
+    unsigned i, deg, first = 0u;
+    zw_status st;
+    *res = BL_UNSURE;
+    dlo = bx_max(ZW_R(0.0), bx_down(bx_down(c->b_lo * T) / c->m_hi));
+    dhi = bx_up(bx_up(c->b_hi * T) / c->m_lo);
+    st = zw_plant_enclose(&pl, dlo, dhi);
+    if (st != ZW_OK) {
+        return st;
+    }
+    /* ascending: den_s = 0 + 4 (1 - e) s + 4 (1 + e) s^2;  num_s = (c1 + c2) + d12 s */
+    den_s[0] = bx_point(ZW_R(0.0));
+    den_s[1] = bl_from_eb(pl.den_s[1], pl.den_s_err[1]);
+    den_s[2] = bl_from_eb(pl.den_s[0], pl.den_s_err[0]);
+    num_s[0] = bl_from_eb(pl.num_s[1], pl.num_s_err[1]);
+    num_s[1] = bl_from_eb(pl.num_s[0], pl.num_s_err[0]);
+    m_iv = bx_make(c->m_lo, c->m_hi);
+    alpha = bx_make(bx_max(ZW_R(0.0), bx_down(bx_down(bx_down(c->K_lo * T) * T) / c->m_hi)),
+                    bx_up(bx_up(bx_up(c->K_hi * T) * T) / c->m_lo));
+    beta = bx_div_pos(bx_make(bx_down(c->B_lo * T), bx_up(c->B_hi * T)), m_iv);
+    /* first part: (1 + s)^d den_s Dvs */
+    bl_poly_mul(den_s, 2u, sc->dvs, L->mv, t1);
+    deg = 2u + L->mv;
+    for (i = 0u; i < L->delay; ++i) {
+        bl_poly_times_linear(t1, deg, ZW_R(1.0), ZW_R(1.0));
+        deg += 1u;
+    }
+    /* second part: (1 - s)^(d+1) num_s (alpha Dvs + beta Nvs) */
+    for (i = 0u; i <= L->mv; ++i) {
+        gain_v[i] = bx_add(bx_mul(alpha, sc->dvs[i]), bx_mul(beta, sc->nvs[i]));
+    }
+    bl_poly_mul(num_s, 1u, gain_v, L->mv, t2);
+    deg = 1u + L->mv;
+    for (i = 0u; i <= L->delay; ++i) {
+        bl_poly_times_linear(t2, deg, ZW_R(1.0), -ZW_R(1.0));
+        deg += 1u;
+    }
+    for (i = 0u; i <= L->n; ++i) {
+        P[i] = bx_add(t1[i], t2[i]);
+        if (!ZW_IS_FINITE(P[i].lo) || !ZW_IS_FINITE(P[i].hi)) {
+            return ZW_ERR_RANGE;
+        }
+    }
+    /* K_lo = 0: q0 = alpha (c1 + c2) Dvs(0) in (0, P[0].hi], K1 / s and K4 / s */
+    if (c->K_lo == ZW_R(0.0)) {
+        if (!(P[0].hi > ZW_R(0.0))) {
+            return ZW_OK;
+        }
+        first = 1u;
+    }
+    if ((bl_kharitonov(sc, P, L->n, 2u, 0u) == BL_STABLE) && (bl_kharitonov(sc, P, L->n, 3u, 0u) == BL_STABLE) &&
+        (bl_kharitonov(sc, P, L->n, 1u, first) == BL_STABLE) && (bl_kharitonov(sc, P, L->n, 4u, first) == BL_STABLE)) {
+        *res = BL_STABLE;
+    }
+    return ZW_OK;
+}
+
+/* ---- the search -------------------------------------------------------------------------- */
+
+static zw_real bl_mid(zw_real lo, zw_real hi)
+{
+    return lo + ZW_R(0.5) * (hi - lo);
+}
+
+/* Split along the widest side: m relative; b and B in units of m / T + |B| + b (as delta and
+ * beta feel them); K relative to the K asked for (K_ref).  False when no side can be split
+ * further in floating point. */
+static bool bl_split(zw_real T, zw_real K_ref, const zw_box_loop_cell *c, zw_box_loop_cell *left,
+                     zw_box_loop_cell *right)
+{
+    const zw_real mm = bl_mid(c->m_lo, c->m_hi), bm = bl_mid(c->b_lo, c->b_hi), Bm = bl_mid(c->B_lo, c->B_hi);
+    const zw_real Km = bl_mid(c->K_lo, c->K_hi);
+    const zw_real scale = mm / T + bm + ZW_FABS(Bm);
+    zw_real w[4], best = -ZW_R(1.0);
+    int side = -1, i;
+    w[0] = ((mm > c->m_lo) && (mm < c->m_hi)) ? (c->m_hi - c->m_lo) / c->m_hi : -ZW_R(1.0);
+    w[1] = ((bm > c->b_lo) && (bm < c->b_hi)) ? (c->b_hi - c->b_lo) / scale : -ZW_R(1.0);
+    w[2] = ((Km > c->K_lo) && (Km < c->K_hi)) ? (c->K_hi - c->K_lo) / K_ref : -ZW_R(1.0);
+    w[3] = ((Bm > c->B_lo) && (Bm < c->B_hi)) ? (c->B_hi - c->B_lo) / scale : -ZW_R(1.0);
+    for (i = 0; i < 4; ++i) {
+        if (w[i] > best) {
+            best = w[i];
+            side = i;
+        }
+    }
+    *left = *c;
+    *right = *c;
+    switch (side) {
+    case 0:
+        left->m_hi = mm;
+        right->m_lo = mm;
+        break;
+    case 1:
+        left->b_hi = bm;
+        right->b_lo = bm;
+        break;
+    case 2:
+        left->K_hi = Km;
+        right->K_lo = Km;
+        break;
+    case 3:
+        left->B_hi = Bm;
+        right->B_lo = Bm;
+        break;
+    default:
+        return false;
+    }
+    return true;
+}
+
+typedef enum bl_outcome { BL_OPEN = 0, BL_CERTIFIED = 1, BL_REFUTED = 2 } bl_outcome;
+
+typedef struct bl_search {
+    uint_least32_t evals;
+    zw_real m_worst, b_worst; /* refuted plant, or the last cell not certified */
+} bl_search;
+
+/* Is (K, B) surely unstable at plant (m, b)?  (the guarded point check, not marginal) */
+BL_NOINLINE static zw_status bl_point_unstable(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b,
+                                   zw_real K, zw_real B, bool *unstable)
+{
+    zw_device_loop *dl = &L->sc->dl;
+    zw_loop_verdict v;
+    zw_status st;
+    *unstable = false;
+    st = zw_device_loop_init(dl, m, b, L->box->T, &L->spec);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_device_loop_check(dl, ws, K, B, &v);
+    if (st != ZW_OK) {
+        return st;
+    }
+    *unstable = !v.stable && !v.marginal;
+    return ZW_OK;
+}
+
+/* Certify every K' in (0, K] at every B in [B_lo, B_hi] for the whole box, depth first. */
+static zw_status bl_certify(const bl_loop *L, zw_loop_workspace *ws, zw_real K, zw_real B_lo,
+                            zw_real B_hi, const zw_box_loop_work *work, bl_search *s, bl_outcome *outcome)
+{
+    const zw_plant_box *box = L->box;
+    zw_box_loop_cell *cells = work->cells;
+    uint_least32_t live = 1u, used = 0u;
+    zw_status st;
+    *outcome = BL_OPEN;
+    s->m_worst = ZW_NAN;
+    s->b_worst = ZW_NAN;
+    if (!(K > ZW_R(0.0))) {
+        return ZW_OK;
+    }
+    cells[0].m_lo = box->m_lo;
+    cells[0].m_hi = box->m_hi;
+    cells[0].b_lo = box->b_lo;
+    cells[0].b_hi = box->b_hi;
+    cells[0].K_lo = ZW_R(0.0);
+    cells[0].K_hi = K;
+    cells[0].B_lo = B_lo;
+    cells[0].B_hi = B_hi;
+    while (live > 0u) {
+        zw_box_loop_cell c = cells[live - 1u], left, right;
+        bl_result res;
+        bool unstable;
+        if (used >= work->max_evals) {
+            return ZW_OK;
+        }
+        live -= 1u;
+        used += 1u;
+        s->evals += 1u;
+        st = bl_cell_test(L, &c, &res);
+        if (st != ZW_OK) {
+            return st;
+        }
+        if (res == BL_STABLE) {
+            continue;
+        }
+        s->m_worst = bl_mid(c.m_lo, c.m_hi);
+        s->b_worst = bl_mid(c.b_lo, c.b_hi);
+        st = bl_point_unstable(L, ws, s->m_worst, s->b_worst, c.K_hi, bl_mid(c.B_lo, c.B_hi), &unstable);
+        if (st != ZW_OK) {
+            return st;
+        }
+        if (unstable) {
+            *outcome = BL_REFUTED;
+            return ZW_OK;
+        }
+        if ((live + 2u > work->capacity) || !bl_split(box->T, K, &c, &left, &right)) {
+            return ZW_OK;
+        }
+        cells[live] = right;
+        cells[live + 1u] = left;
+        live += 2u;
+    }
+    *outcome = BL_CERTIFIED;
+    s->m_worst = ZW_NAN;
+    s->b_worst = ZW_NAN;
+    return ZW_OK;
+}
+
+/* ---- validation -------------------------------------------------------------------------- */
+
+static zw_status bl_validate_work(const zw_box_loop_work *work)
+{
+    if ((work == NULL) || (work->cells == NULL) || (work->scratch == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    if ((work->capacity < ZW_BOX_LOOP_MIN_CELLS) || (work->max_evals < 1u) ||
+        (work->max_evals > ZW_BOX_MAX_EVALS)) {
+        return ZW_ERR_ARG;
+    }
+    if (!((work->rel_tol >= ZW_R(0.0)) && (work->rel_tol < ZW_R(1.0)))) {
+        return ZW_ERR_ARG;
+    }
+    return ZW_OK;
+}
+
+zw_status zw_box_loop_work_init(zw_box_loop_work *work, zw_box_loop_cell *cells, uint_least32_t capacity,
+                                zw_box_loop_scratch *scratch)
+{
+    if ((work == NULL) || (cells == NULL) || (scratch == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    if (capacity < ZW_BOX_LOOP_MIN_CELLS) {
+        return ZW_ERR_ARG;
+    }
+    work->cells = cells;
+    work->scratch = scratch;
+    work->capacity = capacity;
+    work->max_evals = ZW_BOX_LOOP_DEFAULT_EVALS;
+    work->rel_tol = ZW_BOX_LOOP_DEFAULT_REL_TOL;
+    return ZW_OK;
+}
+
+/* A gain that normalizes without overflow at every plant (K T^2 / m_lo, B T / m_lo). */
+static zw_status bl_validate_gain(const zw_plant_box *box, zw_real gain, bool stiffness)
+{
+    zw_status st = zw_require_finite(gain);
+    zw_real scale;
+    if (st != ZW_OK) {
+        return st;
+    }
+    scale = box->m_lo / box->T;
+    if (stiffness) {
+        scale = scale / box->T;
+    }
+    if (!ZW_IS_FINITE(gain / scale) || !ZW_IS_FINITE(bx_up(bx_up(ZW_FABS(gain) * box->T) * box->T))) {
+        return ZW_ERR_RANGE;
+    }
+    return ZW_OK;
+}
+
+/* The box, the work, the spec (zw_device_loop_init at the centre validates it) and ws. */
+static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_loop_spec *spec,
+                          zw_loop_workspace *ws, const zw_box_loop_work *work)
+{
+    zw_box_loop_scratch *sc;
+    zw_status st;
+    if ((spec == NULL) || (ws == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_box_validate(box);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = bl_validate_work(work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    sc = work->scratch;
+    st = zw_device_loop_init(&sc->dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi), box->T, spec);
+    if (st != ZW_OK) {
+        return st;
+    }
+    return bl_loop_init(L, box, spec, sc);
+}
+
+/* ---- public functions -------------------------------------------------------------------- */
+
+static void bl_fail_verdict(zw_box_loop_verdict *out)
+{
+    if (out == NULL) {
+        return;
+    }
+    out->stable = false;
+    out->decided = false;
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
+    out->evals = 0u;
+}
+
+static zw_status bl_check(const zw_plant_box *box, const zw_device_loop_spec *spec, zw_loop_workspace *ws,
+                          zw_real K, zw_real B, const zw_box_loop_work *work, zw_box_loop_verdict *out)
+{
+    bl_loop L;
+    bl_search s;
+    bl_outcome outcome;
+    zw_status st;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = bl_setup(&L, box, spec, ws, work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = bl_validate_gain(box, K, true);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = bl_validate_gain(box, B, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    s.evals = 0u;
+    if (!(K > ZW_R(0.0))) { /* K <= 0 is unstable at every plant (p(1) = alpha Na(1)) */
+        out->stable = false;
+        out->decided = true;
+        out->m_worst = box->m_lo;
+        out->b_worst = box->b_lo;
+        out->evals = 0u;
+        return ZW_OK;
+    }
+    st = bl_certify(&L, ws, K, B, B, work, &s, &outcome);
+    if (st != ZW_OK) {
+        return st;
+    }
+    out->stable = (outcome == BL_CERTIFIED);
+    out->decided = (outcome != BL_OPEN);
+    out->m_worst = s.m_worst;
+    out->b_worst = s.b_worst;
+    out->evals = s.evals;
+    return ZW_OK;
+}
+
+zw_status zw_box_loop_check(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                            zw_loop_workspace *ws, zw_real K, zw_real B,
+                            const zw_box_loop_work *work, zw_box_loop_verdict *out)
+{
+    zw_status st = bl_check(box, spec, ws, K, B, work, out);
+    if (st != ZW_OK) {
+        bl_fail_verdict(out);
+    }
+    return st;
+}
+
+static void bl_fail_bound(zw_box_loop_bound *out)
+{
+    if (out == NULL) {
+        return;
+    }
+    out->K_lower = ZW_R(0.0);
+    out->K_upper = ZW_R(0.0);
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
+    out->evals = 0u;
+    out->converged = false;
+}
+
+/* K_max(B) at one plant (certified point value); keeps the least in *best. */
+static zw_status bl_point_k_max(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b, zw_real B,
+                                zw_box_loop_bound *best)
+{
+    zw_device_loop *dl = &L->sc->dl;
+    zw_real k;
+    zw_status st = zw_device_loop_init(dl, m, b, L->box->T, &L->spec);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_device_loop_k_max(dl, ws, B, &k);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (k < best->K_upper) {
+        best->K_upper = k;
+        best->m_worst = m;
+        best->b_worst = b;
+    }
+    return ZW_OK;
+}
+
+static zw_status bl_k_max(const zw_plant_box *box, const zw_device_loop_spec *spec, zw_loop_workspace *ws,
+                          zw_real B, const zw_box_loop_work *work, zw_box_loop_bound *out)
+{
+    bl_loop L;
+    bl_search s;
+    bl_outcome outcome;
+    zw_real lo = ZW_R(0.0), hi;
+    int step, corner;
+    zw_status st;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = bl_setup(&L, box, spec, ws, work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = bl_validate_gain(box, B, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    out->K_lower = ZW_R(0.0);
+    out->K_upper = ZW_INF;
+    out->m_worst = box->m_lo;
+    out->b_worst = box->b_lo;
+    out->evals = 0u;
+    out->converged = false;
+    /* the corners and the centre bound the answer from above */
+    for (corner = 0; corner < 5; ++corner) {
+        const zw_real m = (corner == 4) ? bl_mid(box->m_lo, box->m_hi) : (((corner & 1) != 0) ? box->m_hi : box->m_lo);
+        const zw_real b = (corner == 4) ? bl_mid(box->b_lo, box->b_hi) : (((corner & 2) != 0) ? box->b_hi : box->b_lo);
+        st = bl_point_k_max(&L, ws, m, b, B, out);
+        if (st != ZW_OK) {
+            return st;
+        }
+    }
+    hi = out->K_upper;
+    s.evals = 0u;
+    for (step = 0; (step < BL_BISECT_STEPS) && (hi - lo > work->rel_tol * out->K_upper); ++step) {
+        const zw_real mid = (lo > ZW_R(0.0)) ? bl_mid(lo, hi) : ZW_R(0.5) * hi;
+        if (!(mid > lo) || !(mid < hi)) {
+            break;
+        }
+        st = bl_certify(&L, ws, mid, B, B, work, &s, &outcome);
+        if (st != ZW_OK) {
+            return st;
+        }
+        if (outcome == BL_CERTIFIED) {
+            lo = mid;
+        } else {
+            hi = mid;
+            if (!ZW_IS_NAN(s.m_worst)) { /* the sub-box that limited: its centre's value */
+                st = bl_point_k_max(&L, ws, s.m_worst, s.b_worst, B, out);
+                if (st != ZW_OK) {
+                    return st;
+                }
+                hi = bx_min(hi, out->K_upper);
+            }
+        }
+        if (out->K_upper <= ZW_R(0.0)) {
+            break;
+        }
+    }
+    out->K_lower = lo;
+    out->evals = s.evals;
+    out->converged = (out->K_upper - lo <= work->rel_tol * out->K_upper);
+    return ZW_OK;
+}
+
+zw_status zw_box_loop_k_max(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                            zw_loop_workspace *ws, zw_real B, const zw_box_loop_work *work,
+                            zw_box_loop_bound *out)
+{
+    zw_status st = bl_k_max(box, spec, ws, B, work, out);
+    if (st != ZW_OK) {
+        bl_fail_bound(out);
+    }
+    return st;
+}
+
+/* Grow [inside, ...] toward outside: each piece between the last certified end and the
+ * bisection point is certified as a whole.  Returns the last certified end. */
+static zw_status bl_grow(const bl_loop *L, zw_loop_workspace *ws, zw_real K, zw_real inside_start,
+                         zw_real outside_start, const zw_box_loop_work *work, zw_real *end)
+{
+    zw_real inside = inside_start, outside = outside_start;
+    const zw_real scale = ZW_FABS(inside) + ZW_FABS(outside) + L->box->b_hi;
+    int step;
+    for (step = 0; step < BL_BISECT_STEPS; ++step) {
+        bl_search s;
+        bl_outcome outcome;
+        const zw_real mid = bl_mid(inside, outside);
+        zw_status st;
+        if (!(ZW_FABS(outside - inside) > work->rel_tol * scale) || (mid == inside) || (mid == outside)) {
+            break;
+        }
+        s.evals = 0u;
+        st = bl_certify(L, ws, K, bx_min(inside, mid), bx_max(inside, mid), work, &s, &outcome);
+        if (st != ZW_OK) {
+            return st;
+        }
+        if (outcome == BL_CERTIFIED) {
+            inside = mid;
+        } else {
+            outside = mid;
+        }
+    }
+    *end = inside;
+    return ZW_OK;
+}
+
+static zw_status bl_b_range(const zw_plant_box *box, const zw_device_loop_spec *spec, zw_loop_workspace *ws,
+                            zw_real K, const zw_box_loop_work *work, zw_real *B_lo, zw_real *B_hi,
+                            bool *nonempty)
+{
+    bl_loop L;
+    bl_search s;
+    bl_outcome outcome;
+    zw_real nom_lo, nom_hi, start, lo, hi;
+    bool any;
+    zw_status st;
+    if ((B_lo == NULL) || (B_hi == NULL) || (nonempty == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = bl_setup(&L, box, spec, ws, work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = bl_validate_gain(box, K, true);
+    if (st != ZW_OK) {
+        return st;
+    }
+    *B_lo = ZW_R(0.0);
+    *B_hi = ZW_R(0.0);
+    *nonempty = false;
+    if (!(K > ZW_R(0.0))) {
+        return ZW_OK;
+    }
+    /* the centre plant's certified range brackets the box's (which is inside every plant's) */
+    st = zw_device_loop_b_range(&L.sc->dl, ws, K, &nom_lo, &nom_hi, &any); /* bl_setup built it */
+    if ((st != ZW_OK) || !any) {
+        return st;
+    }
+    start = bl_mid(nom_lo, nom_hi);
+    s.evals = 0u;
+    st = bl_certify(&L, ws, K, start, start, work, &s, &outcome);
+    if ((st != ZW_OK) || (outcome != BL_CERTIFIED)) {
+        return st;
+    }
+    st = bl_grow(&L, ws, K, start, nom_lo, work, &lo);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = bl_grow(&L, ws, K, start, nom_hi, work, &hi);
+    if (st != ZW_OK) {
+        return st;
+    }
+    *B_lo = lo;
+    *B_hi = hi;
+    *nonempty = true;
+    return ZW_OK;
+}
+
+zw_status zw_box_loop_b_range(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                              zw_loop_workspace *ws, zw_real K, const zw_box_loop_work *work,
+                              zw_real *B_lo, zw_real *B_hi, bool *nonempty)
+{
+    zw_status st = bl_b_range(box, spec, ws, K, work, B_lo, B_hi, nonempty);
+    if (st != ZW_OK) {
+        zw_fail_interval(B_lo, B_hi, nonempty);
+    }
+    return st;
+}
+
+static void bl_fail_extremes(zw_box_loop_extremes *out)
+{
+    if (out == NULL) {
+        return;
+    }
+    out->K_mmax = ZW_R(0.0);
+    out->B_at = ZW_NAN;
+    out->K_upper_at = ZW_R(0.0);
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
+    out->evals = 0u;
+    out->converged = false;
+}
+
+/* Golden-section search of B over the centre plant's B range (no proof that the box's K_max
+ * is unimodal in B: only the value reported at the final B is claimed, and it is certified). */
+static zw_status bl_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *spec, zw_loop_workspace *ws,
+                           const zw_box_loop_work *work, zw_box_loop_extremes *out)
+{
+    static const zw_real k_inv_phi = ZW_R(0.6180339887498948482);
+    zw_device_loop *dl;
+    zw_device_loop_extremes x;
+    zw_box_loop_bound f1, f2, fin;
+    zw_real a, b, c1, c2;
+    uint_least32_t evals = 0u;
+    int step;
+    zw_status st;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    if ((spec == NULL) || (ws == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_box_validate(box);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = bl_validate_work(work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    dl = &work->scratch->dl;
+    st = zw_device_loop_init(dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi), box->T, spec);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_device_loop_extremes_compute(dl, ws, &x);
+    if (st != ZW_OK) {
+        return st;
+    }
+    a = x.B_mmin;
+    b = x.B_mmax;
+    c1 = b - k_inv_phi * (b - a);
+    c2 = a + k_inv_phi * (b - a);
+    st = zw_box_loop_k_max(box, spec, ws, c1, work, &f1);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_box_loop_k_max(box, spec, ws, c2, work, &f2);
+    if (st != ZW_OK) {
+        return st;
+    }
+    evals = f1.evals + f2.evals;
+    for (step = 0; step < BL_BISECT_STEPS; ++step) {
+        if (!(c2 - c1 > work->rel_tol * (ZW_FABS(a) + ZW_FABS(b)))) {
+            break;
+        }
+        if (f1.K_lower < f2.K_lower) {
+            a = c1;
+            c1 = c2;
+            f1 = f2;
+            c2 = a + k_inv_phi * (b - a);
+            st = zw_box_loop_k_max(box, spec, ws, c2, work, &f2);
+            evals += f2.evals;
+        } else {
+            b = c2;
+            c2 = c1;
+            f2 = f1;
+            c1 = b - k_inv_phi * (b - a);
+            st = zw_box_loop_k_max(box, spec, ws, c1, work, &f1);
+            evals += f1.evals;
+        }
+        if (st != ZW_OK) {
+            return st;
+        }
+    }
+    fin = (f1.K_lower >= f2.K_lower) ? f1 : f2;
+    out->K_mmax = fin.K_lower;
+    out->B_at = (f1.K_lower >= f2.K_lower) ? c1 : c2;
+    out->K_upper_at = fin.K_upper;
+    out->m_worst = fin.m_worst;
+    out->b_worst = fin.b_worst;
+    out->evals = evals;
+    out->converged = fin.converged;
+    return ZW_OK;
+}
+
+zw_status zw_box_loop_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                             zw_loop_workspace *ws, const zw_box_loop_work *work,
+                             zw_box_loop_extremes *out)
+{
+    zw_status st = bl_k_mmax(box, spec, ws, work, out);
+    if (st != ZW_OK) {
+        bl_fail_extremes(out);
+    }
+    return st;
+}
