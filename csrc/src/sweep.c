@@ -311,6 +311,14 @@ static const zw_real zw_sweep_exp_x[ZW_SWEEP_EXP_ENTRIES] = {
 #define ZW_SWEEP_TABLE_END ZW_R(2.0)   /* piece polynomials below, closed forms above */
 #define ZW_SWEEP_CLOSED_END ZW_R(64.0) /* zw_coeffs_init from here */
 #define ZW_SWEEP_BLOCK 16u             /* points whose fields wait on the stack */
+/* 1 where wide vectors pay for the branch-free field loops (the Python bindings build this
+ * file again for AVX2 and AVX-512, bindings/sweep_avx*.c): every point of a block through
+ * the piece polynomials (coefficients selected per lane) and, if the block has one on
+ * [2, 64), the closed forms, then selected; 0 (the default, SSE2 or no vectors): the
+ * fields point by point by their own route.  The constraints vectorize in both. */
+#ifndef ZW_SWEEP_GATHER
+#define ZW_SWEEP_GATHER 0
+#endif
 
 /* Horner's rule on piece `upper` (0: [0, 1), 1: [1, 2)), lowest power first: the two rows'
  * coefficients are selected per point (constants and a blend in a vector loop: no
@@ -319,8 +327,15 @@ static inline zw_real sweep_piece_poly(const zw_real a[2][ZW_SWEEP_TERMS], bool 
 {
     int k;
     zw_real acc = upper ? a[1][ZW_SWEEP_TERMS - 1] : a[0][ZW_SWEEP_TERMS - 1];
-    for (k = ZW_SWEEP_TERMS - 2; k >= 0; --k) {
-        acc = (acc * h) + (upper ? a[1][k] : a[0][k]);
+    if (ZW_SWEEP_GATHER == 0) { /* point by point: the row once */
+        const zw_real *row = upper ? a[1] : a[0];
+        for (k = ZW_SWEEP_TERMS - 2; k >= 0; --k) {
+            acc = (acc * h) + row[k];
+        }
+    } else {
+        for (k = ZW_SWEEP_TERMS - 2; k >= 0; --k) {
+            acc = (acc * h) + (upper ? a[1][k] : a[0][k]);
+        }
     }
     return acc;
 }
@@ -469,6 +484,31 @@ static void sweep_block_closed(const zw_real *d, const zw_real *x, zw_real *e, z
         hs[j] = here ? chs[j] : hs[j];
         d12[j] = here ? cd12[j] : d12[j];
         inv_sigma[j] = here ? cinv[j] : inv_sigma[j];
+    }
+}
+
+/* The fields below 64 of a block point by point, each by its own route (ZW_SWEEP_GATHER 0:
+ * with two lanes or none the vector loops' selects cost more than they save).  The same
+ * operations as the vector loops, so the same bits. */
+static void sweep_block_each(const zw_real *d, zw_real *e, zw_real *g, zw_real *hs, zw_real *d12,
+                             zw_real *inv_sigma)
+{
+    size_t j;
+    for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
+        zw_sweep_fields f;
+        zw_real inv = ZW_R(1.0);
+        if (d[j] < ZW_SWEEP_TABLE_END) {
+            sweep_from_pieces(&f, d[j], sweep_exp(d[j]));
+        } else if (d[j] < ZW_SWEEP_CLOSED_END) {
+            sweep_closed_from_e(&f, &inv, d[j], sweep_exp(d[j]));
+        } else {
+            sweep_from_pieces(&f, ZW_R(1.0), ZW_R(0.5)); /* replaced by zw_coeffs_init's */
+        }
+        e[j] = f.e;
+        g[j] = f.g;
+        hs[j] = f.hs;
+        d12[j] = f.d12;
+        inv_sigma[j] = inv;
     }
 }
 
@@ -635,11 +675,15 @@ static zw_status sweep_check_many(size_t n, const zw_real *delta, ptrdiff_t delt
                 }
             }
         }
-        if (below != ZW_R(0.0)) {
-            sweep_block_pieces(x_below, e, g, hs, d12, inv_sigma);
-        }
-        if (closed != ZW_R(0.0)) {
-            sweep_block_closed(d, x_closed, e, g, hs, d12, inv_sigma);
+        if (ZW_SWEEP_GATHER == 0) {
+            sweep_block_each(d, e, g, hs, d12, inv_sigma);
+        } else {
+            if (below != ZW_R(0.0)) {
+                sweep_block_pieces(x_below, e, g, hs, d12, inv_sigma);
+            }
+            if (closed != ZW_R(0.0)) {
+                sweep_block_closed(d, x_closed, e, g, hs, d12, inv_sigma);
+            }
         }
         if ((below + closed) != (zw_real)ZW_SWEEP_BLOCK) { /* delta >= 64: zw_coeffs_init */
             for (j = 0u; j < count; ++j) {
