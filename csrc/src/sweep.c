@@ -5,19 +5,20 @@
 /* The exact-region check with a plant per point (zwidth/sweep.h).
  *
  * Only the fields the check reads are evaluated, each within a proved relative bound
- * below the checks' budget of 2 ZW_COEF_ULPS u = 8 u per field (docs/numerics.md,
- * "Per-plant sweeps"):
- *   [0, 2):   sigma = 1; E = e, G = g, W = 2/c2 = hs and Q = d12/delta from Taylor polynomials around the
- *             centre of delta's interval of width 1/32 (the generated block); h = delta - centre
- *             is exact (Sterbenz) except in the first interval, where the bound counts its
- *             rounding.  Every field within 3.1 u.
- *   [2, 64):  e = exp(-delta) (one ulp), then sums of non-negative terms and quotients:
- *             hs within 6.3 u, g 5.3 u, d12 7 u, e 2 u.
+ * below the checks' budget of 2 ZW_COEF_ULPS u = 8 u per field (docs/numerics.md section 7,
+ * proved by tools/gen_sweep_tables.py):
+ *   e on [0, 64): X_k (1 + h q(h)), X_k = exp(-(k + 1/2)/16) tabulated, k = floor(16 delta),
+ *             q a fixed polynomial: 2.1 u; the only per-point table load.
+ *   [0, 2):   sigma = 1; g, hs = 2/c2 and d12/delta by fixed 12-term polynomials on [0, 1)
+ *             and [1, 2) (coefficients selected per point): 2.4 u, 4.8 u, 5.3 u (d12).
+ *   [2, 64):  closed forms from e, sums of non-negative terms and quotients: g 5.4 u,
+ *             hs 6.5 u, d12 7.2 u.
  *   [64, inf): zw_coeffs_init (rare in sweeps; it also carries the overflow cases).
  * The constraints are those of internal.h (written out for exact gains and an exact
  * delta: the same bounds without their zero terms), so a verdict is as safe as zw_check's.
  * Every loop over a block is branch-free where it can be, so that it vectorizes; the
- * Python bindings also build this file for AVX2 and AVX-512 (bindings/sweep_avx*.c).
+ * Python bindings also build this file for AVX2 and AVX-512 (bindings/sweep_avx*.c), the
+ * latter with the field loops vectorized too (ZW_SWEEP_GATHER).
  */
 #include "zwidth/sweep.h"
 
