@@ -5,11 +5,12 @@
 /* The per-plant sweep (csrc/src/sweep.c) compiled again for AVX-512 (F, DQ, VL), for the
  * Python bindings only: every loop runs on eight points at once, the fields' too
  * (ZW_SWEEP_GATHER 1: masked selects of the piece coefficients, the exponential's table
- * index by a packed conversion to int64, AVX-512DQ); about 2.5x faster than AVX2 on a
- * mixed sweep.  Same source, same operations in the same order, no
+ * index by a packed conversion to int64, AVX-512DQ), in blocks of 32 points; about 3x
+ * faster than AVX2 on a mixed sweep.  Same source, same operations in the same order, no
  * contraction: bit for bit the portable build's results.  zwidth_core.cpp calls it when
  * the CPU has these extensions. */
 #define ZW_SWEEP_GATHER 1
+#define ZW_SWEEP_BLOCK 32u /* four vectors a loop: 10.6 ns a mixed point against 12.4 with 16 */
 #define zw_sweep_check_many zw_sweep_check_many_avx512
 #define zw_sweep_fields_init zw_sweep_fields_init_avx512
 #include "../csrc/src/sweep.c"

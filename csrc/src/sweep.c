@@ -311,7 +311,9 @@ static const zw_real zw_sweep_exp_x[ZW_SWEEP_EXP_ENTRIES] = {
 
 #define ZW_SWEEP_TABLE_END ZW_R(2.0)   /* piece polynomials below, closed forms above */
 #define ZW_SWEEP_CLOSED_END ZW_R(64.0) /* zw_coeffs_init from here */
-#define ZW_SWEEP_BLOCK 16u             /* points whose fields wait on the stack */
+#ifndef ZW_SWEEP_BLOCK
+#define ZW_SWEEP_BLOCK 16u /* points whose fields wait on the stack (AVX-512 build: 32) */
+#endif
 /* 1 where wide vectors pay for the branch-free field loops (the Python bindings build this
  * file again for AVX2 and AVX-512, bindings/sweep_avx*.c): every point of a block through
  * the piece polynomials (coefficients selected per lane) and, if the block has one on
