@@ -324,8 +324,8 @@ py::dict one_output(const std::array<f64array, N> &inputs, const char *name, Cal
 
 // ---- normalized space: (delta, alpha, beta) -----------------------------------------
 
-// The per-plant sweep: its AVX-512 or AVX2 build (bindings/sweep_avx*.c, the same results,
-// bit for bit) where the CPU has it, else the portable one.
+// The per-plant sweep: its AVX-512 (with fma) or AVX2 build (bindings/sweep_avx*.c, the same
+// proved bounds) where the CPU has it, else the portable one.
 #ifdef ZW_HAVE_SWEEP_SIMD
 #define ZW_SWEEP_DECLARE(name)                                                                              \
     extern "C" zw_status name(size_t n, const double *delta, ptrdiff_t delta_stride, const double *alpha,  \
@@ -340,7 +340,7 @@ SweepCheck choose_sweep_check_many() {
 #ifdef ZW_HAVE_SWEEP_SIMD
     __builtin_cpu_init();
     if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-        __builtin_cpu_supports("avx512vl"))
+        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("fma"))
         return zw_sweep_check_many_avx512;
     if (__builtin_cpu_supports("avx2")) return zw_sweep_check_many_avx2;
 #endif

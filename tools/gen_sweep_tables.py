@@ -1,44 +1,61 @@
 # SPDX-FileCopyrightText: 2026 The zwidth authors
 # SPDX-License-Identifier: Apache-2.0
-"""Tables of csrc/src/sweep.c (between its BEGIN/END markers) and the proof of their error bounds (docs/numerics.md,
-"Per-plant sweeps").
+"""Tables of csrc/src/sweep.c (between its BEGIN/END markers) and the proof of their error
+bounds (docs/numerics.md, section 7, "Per-plant sweeps").
 
-On [0, 2) the sweep evaluates four functions of delta by short Taylor polynomials around
-the centres c_j = (j + 1/2)/32 of 64 intervals of width 1/32 (|h| = |delta - c_j| <= 1/64):
+The sweep evaluates, branch-free and without per-point table rows (so that the loops are
+plain vector arithmetic):
 
-    E = exp(-delta)          Q = exp(-delta) P12(delta) = d12/delta
-    W = 2 exp(delta)/P2      G = P1 / (P1 + P2)          = c1/(c1 + c2) = g
-    (W = 2/c2, so hs = W/sigma)
+  e = exp(-delta) on [0, 64): X_k (1 + h q(h)) with X_k = exp(-c_k) rounded, c_k = (k + 1/2)/16,
+      k = floor(16 delta) (1024 entries, the only per-point load), h = delta - c_k, |h| <= 1/32,
+      and q(h) = (e^-h - 1)/h by a fixed polynomial of EXP_TERMS terms;
+  on [0, 2), two pieces [0, 1) and [1, 2), centres 1/2 and 3/2, |h| = |delta - centre| <= 1/2,
+      a fixed polynomial per piece (coefficients selected per lane) for
+        G = g = P1/(P1 + P2),   W = 2/c2 = 2 e^delta / P2 (= hs),   Q = d12/delta = e^-delta P12,
+      each the Chebyshev truncation of its Taylor series (PIECE_TERMS terms), coefficients
+      rounded to double (float: the literal read as float).
 
-where P1, P2, P12 are the positive series of coeffs.c (P1 + P2 = 2(e^delta - 1)/delta).
-For each function and interval this module computes, with mpmath at 60 digits,
-  - the Taylor coefficients a_k (re-expanded Maclaurin series), rounded to double/float;
-  - a rigorous bound on the truncated tail, by Cauchy's estimate |a_k| <= M R^-k on the
-    disk |z - c| <= R, with M bounded through the positive series: |A(z)| <= A(c + R) and
-    |A(z)| >= 2 A(c) - A(c + R) for a series A with non-negative coefficients;
-  - the rounding error of Horner's rule without fma (Higham, (5.3)): the computed value is
-    sum_k (1 + theta_{2k+1}) a^_k h^k with |theta_m| <= gamma_m = m u / (1 - m u),
-    plus the rounding of the coefficients and of h = delta - c;
-  - a lower bound of the function on the interval, to make the bound relative.
-``python tools/gen_sweep_tables.py`` rewrites the tables in sweep.c and prints the worst bound of each
-function (tests/py/test_sweep.py re-derives both from sweep.c).
+Proof of each bound (function, piece, precision), all with mpmath at 80 digits on exact
+(binary) inputs, no sampling:
+  - approximation: |F - p^| <= |F - T_N| + |T_N - p^| on |h| <= r, with T_N the Taylor
+    polynomial of N = TAYLOR_TERMS terms.  |F - T_N| by Cauchy's estimate (|a_k| <= M R^-k on
+    |z - c| <= R, M through the positive series: |A(z)| <= A(c + R), |A(z)| >= 2 A(c) -
+    A(c + R)); T_N - p^ is a polynomial whose maximum on [-r, r] is at most the sum of the
+    absolute values of its Chebyshev coefficients (|T_k| <= 1), computed exactly;
+  - Horner's rounding without fma (Higham, (5.3)): sum_k gamma_{2k+1} |a^_k| r^k;
+  - h's rounding (piece [0, 1) below 1/4 only): u r sum_k k |a_k| r^(k-1);
+  - divided by a lower bound of F on the piece (the minimum over 32 sub-intervals of
+    a_0 - sum |a_k| rho^k - tail at their centres).
+The exponential: every stored X_k's relative error exactly (all 1024), q's truncation
+(an alternating series with decreasing terms: below the first omitted term) and coefficient
+rounding, Horner's rounding, the product h q, X (h q), the sum, and h's rounding below 1/16.
+The closed forms on [2, 64) (docs/numerics.md) take e's bound as their input.
+
+``python tools/gen_sweep_tables.py`` rewrites the tables in sweep.c and prints every bound;
+tests/py/test_sweep.py re-derives them from the numbers in sweep.c.
 """
 from __future__ import annotations
 
 import sys
+from fractions import Fraction
 from pathlib import Path
 
 from mpmath import mp, mpf
 
-mp.dps = 60
+mp.dps = 80
 
-INTERVALS = 64          # on [0, 2)
-WIDTH = mpf(1) / 32     # of an interval
-RADIUS = WIDTH / 2      # |h| <= 1/64
-FUNCTIONS = ("E", "G", "W", "Q")
-TERMS = {"E": 9, "G": 11, "W": 10, "Q": 9}   # Taylor terms per function (degree TERMS - 1)
-MACLAURIN_TERMS = 64    # of the positive series, before re-expansion (tail < 4^64/64! at c + R <= 4)
-CAUCHY_RADII = [mpf(k) / 8 for k in range(2, 17)]  # R tried for the tail bound
+FUNCTIONS = ("G", "W", "Q")            # the per-piece polynomials
+PIECES = 2                              # [0, 1) and [1, 2)
+PIECE_RADIUS = mpf(1) / 2
+PIECE_TERMS = 12                        # degree 11
+TAYLOR_TERMS = 90                       # N of the reference Taylor polynomial T_N
+MACLAURIN_TERMS = 110                   # of the positive series, before re-expansion
+CAUCHY_RADII = [mpf(k) / 16 for k in range(9, 33)]  # R tried for the tail bound (> r = 1/2)
+EXP_PER_UNIT = 16
+EXP_ENTRIES = 64 * EXP_PER_UNIT         # on [0, 64)
+EXP_RADIUS = mpf(1) / (2 * EXP_PER_UNIT)
+EXP_TERMS = 8                           # of q(h) = (e^-h - 1)/h
+LOW_PIECES = 32                         # sub-intervals for the lower bound of F
 UNIT = {"double": mpf(2) ** -53, "float": mpf(2) ** -24}
 OUT = Path(__file__).resolve().parents[1] / "csrc" / "src" / "sweep.c"  # between the markers
 BEGIN = "/* BEGIN tables generated by tools/gen_sweep_tables.py; do not edit */"
@@ -53,26 +70,26 @@ _MACLAURIN = {}
 
 
 def maclaurin(name):
-    """Maclaurin coefficients of P1, P2, P12 (all positive)."""
+    """Maclaurin coefficients of P1, P2, P12, S = P1 + P2 (all positive)."""
     if name not in _MACLAURIN:
-        _MACLAURIN[name] = _maclaurin(name)
+        n = MACLAURIN_TERMS
+        _MACLAURIN[name] = {
+            "P1": lambda: [2 * mpf(k + 1) / factorial(k + 2) for k in range(n)],
+            "P2": lambda: [2 / factorial(k + 2) for k in range(n)],
+            "P12": lambda: [2 * mpf(k + 1) / factorial(k + 3) for k in range(n)],
+            "S": lambda: [2 / factorial(k + 1) for k in range(n)],
+        }[name]()
     return _MACLAURIN[name]
 
 
-def _maclaurin(name):
-    if name == "P1":
-        return [2 * mpf(k + 1) / factorial(k + 2) for k in range(MACLAURIN_TERMS)]
-    if name == "P2":
-        return [2 / factorial(k + 2) for k in range(MACLAURIN_TERMS)]
-    if name == "P12":
-        return [2 * mpf(k + 1) / factorial(k + 3) for k in range(MACLAURIN_TERMS)]
-    if name == "S":  # P1 + P2
-        return [2 / factorial(k + 1) for k in range(MACLAURIN_TERMS)]
-    raise KeyError(name)
+_VALUES = {}
 
 
 def value(series, x):
-    return mp.fsum(b * mpf(x) ** k for k, b in enumerate(series))
+    key = (id(series), x)
+    if key not in _VALUES:
+        _VALUES[key] = mp.fsum(b * mpf(x) ** k for k, b in enumerate(series))
+    return _VALUES[key]
 
 
 def recenter(series, c, n):
@@ -98,17 +115,25 @@ def div(a, b):
     return q
 
 
+_TAYLOR = {}
+
+
 def taylor(name, c, n):
-    """Exact (60-digit) Taylor coefficients of function name at c, first n."""
-    if name == "E":
-        return exp_at(c, n, -1)
-    if name == "Q":
-        return mul(exp_at(c, n, -1), recenter(maclaurin("P12"), c, n))
-    if name == "W":
-        return div([2 * x for x in exp_at(c, n, 1)], recenter(maclaurin("P2"), c, n))
-    if name == "G":
-        return div(recenter(maclaurin("P1"), c, n), recenter(maclaurin("S"), c, n))
-    raise KeyError(name)
+    """Taylor coefficients (80 digits) of function name at c, first n."""
+    key = (name, c, n)
+    if key not in _TAYLOR:
+        if name == "E":
+            out = exp_at(c, n, -1)
+        elif name == "Q":
+            out = mul(exp_at(c, n, -1), recenter(maclaurin("P12"), c, n))
+        elif name == "W":
+            out = div([2 * x for x in exp_at(c, n, 1)], recenter(maclaurin("P2"), c, n))
+        elif name == "G":
+            out = div(recenter(maclaurin("P1"), c, n), recenter(maclaurin("S"), c, n))
+        else:
+            raise KeyError(name)
+        _TAYLOR[key] = out
+    return _TAYLOR[key]
 
 
 def bound_on_disk(name, c, R):
@@ -126,10 +151,10 @@ def bound_on_disk(name, c, R):
     raise KeyError(name)
 
 
-def tail_bound(name, c, n, r):
-    """Rigorous bound on sum_{k >= n} |a_k| r^k (Cauchy), the best over CAUCHY_RADII."""
+def tail_bound(name, c, n, r, radii=None):
+    """Rigorous bound on sum_{k >= n} |a_k| r^k (Cauchy), the best over the radii."""
     best = mp.inf
-    for R in CAUCHY_RADII:
+    for R in radii or CAUCHY_RADII + [mpf(k) / 8 for k in range(2, 17)]:
         if R <= r:
             continue
         M = bound_on_disk(name, c, R)
@@ -140,67 +165,238 @@ def tail_bound(name, c, n, r):
     return best
 
 
-def center(j):
-    return (mpf(j) + mpf(1) / 2) * WIDTH
-
-
-def rounded(x, precision):
-    """x rounded to nearest double (or float)."""
-    f = float(x)
-    if precision == "float":
-        import numpy as np
-        f = float(np.float32(x))
-    return f
-
-
 def gamma(m, u):
     return m * u / (1 - m * u)
 
 
-def interval_bound(name, j, precision, coefficients=None):
-    """(relative error bound, lower bound of F) of the computed F on interval j, from the
-    given rounded coefficients (default: rounded here)."""
+def rounded(x, precision):
+    """x rounded to nearest double (the literal written), then as the compiler reads it."""
+    return as_precision(repr(float(x)), precision)
+
+
+def as_precision(text, precision):
+    """A decimal literal as the compiler reads it: correctly rounded to double or float."""
+    if precision == "double":
+        return mpf(float(text))
+    with mp.workprec(24):
+        return +mpf(text)
+
+
+# ---- Chebyshev truncation and the exact sup bound of a polynomial on [-1, 1]
+
+def cheb_from_mono(a):
+    """Chebyshev coefficients of sum_k a_k t^k (exact rationals)."""
+    n = len(a)
+    out = [Fraction(0)] * n
+    power = [Fraction(1)]  # Chebyshev coefficients of t^k
+    for k in range(n):
+        for m, p in enumerate(power):
+            out[m] += Fraction(a[k]) * p
+        nxt = [Fraction(0)] * (len(power) + 1)
+        for m, p in enumerate(power):  # t T_m = (T_{m+1} + T_{|m-1|}) / 2, t T_0 = T_1
+            if m == 0:
+                nxt[1] += p
+            else:
+                nxt[m + 1] += p / 2
+                nxt[m - 1] += p / 2
+        power = nxt
+    return out
+
+
+def mono_from_cheb(c):
+    """Monomial coefficients of sum_k c_k T_k(t)."""
+    n = len(c)
+    out = [Fraction(0)] * n
+    prev, cur = [Fraction(1)], [Fraction(0), Fraction(1)]  # T_0, T_1
+    for k in range(n):
+        tk = prev if k == 0 else cur
+        for m, p in enumerate(tk):
+            out[m] += c[k] * p
+        if k >= 1:
+            nxt = [Fraction(0)] * (k + 2)
+            for m, p in enumerate(cur):
+                nxt[m + 1] += 2 * p
+            for m, p in enumerate(prev):
+                nxt[m] -= p
+            prev, cur = cur, nxt
+    return out
+
+
+def exact_fraction(x):
+    """An mpf (binary) as an exact Fraction."""
+    sign, man, exp, _ = mpf(x)._mpf_
+    value = Fraction(int(man)) * (Fraction(2) ** int(exp))
+    return -value if sign else value
+
+
+def sup_bound(coefficients, r):
+    """Upper bound of |sum_k b_k h^k| on |h| <= r (b_k, r exact binary): the sum of the
+    absolute Chebyshev coefficients of the polynomial in t = h/r."""
+    rr = exact_fraction(r)
+    scaled = [exact_fraction(b) * rr ** k for k, b in enumerate(coefficients)]
+    return mpf(sum(abs(c) for c in cheb_from_mono(scaled)).numerator) / sum(
+        abs(c) for c in cheb_from_mono(scaled)).denominator
+
+
+def piece_centre(p):
+    return mpf(p) + mpf(1) / 2
+
+
+def piece_coefficients(name, p):
+    """The Chebyshev truncation (PIECE_TERMS terms) of T_N, as monomial coefficients in h
+    (80 digits, before rounding)."""
+    r = exact_fraction(PIECE_RADIUS)
+    exact = taylor(name, piece_centre(p), TAYLOR_TERMS)
+    cheb = cheb_from_mono([exact_fraction(a) * r ** k for k, a in enumerate(exact)])
+    mono = mono_from_cheb(cheb[:PIECE_TERMS])
+    return [mpf(c.numerator) / c.denominator / mpf(r) ** k for k, c in enumerate(mono)]
+
+
+_LOW = {}
+
+
+def piece_low(name, p):
+    """A lower bound of F on the piece: the least over LOW_PIECES sub-intervals of
+    a_0 - sum_{k>=1} |a_k| rho^k - tail (Taylor at each sub-centre, 16 terms)."""
+    if (name, p) in _LOW:
+        return _LOW[(name, p)]
+    width = 2 * PIECE_RADIUS / LOW_PIECES
+    rho = width / 2
+    low = mp.inf
+    for j in range(LOW_PIECES):
+        c = mpf(p) + (j + mpf(1) / 2) * width
+        a = taylor(name, c, 16)
+        low = min(low, a[0] - mp.fsum(abs(x) * rho ** k for k, x in enumerate(a) if k)
+                  - tail_bound(name, c, 16, rho, [mpf(1) / 4, mpf(1) / 2, mpf(1)]))
+    assert low > 0, (name, p)
+    _LOW[(name, p)] = low
+    return low
+
+
+def piece_bound(name, p, precision, coefficients=None):
+    """Relative error bound (in u) of the computed F on piece p, from the given coefficients
+    as the compiler reads them (default: the generator's)."""
     u = UNIT[precision]
-    c = center(j)
-    n = TERMS[name]
-    exact = taylor(name, c, n)
-    hats = coefficients if coefficients is not None else [rounded(a, precision) for a in exact]
-    r = RADIUS * (1 + u)  # |h~| <= |h| (1 + u): h = delta - c rounds at most once
+    r = PIECE_RADIUS
+    c = piece_centre(p)
+    hats = coefficients if coefficients is not None else [rounded(a, precision) for a in
+                                                          piece_coefficients(name, p)]
+    exact = taylor(name, c, TAYLOR_TERMS)
+    tail = tail_bound(name, c, TAYLOR_TERMS, r)
+    diff = [a - (hats[k] if k < len(hats) else 0) for k, a in enumerate(exact)]
+    approx = tail + sup_bound(diff, r)
     horner = mp.fsum(gamma(2 * k + 1, u) * abs(mpf(a)) * r ** k for k, a in enumerate(hats))
-    coef = mp.fsum(abs(mpf(a) - e) * r ** k for k, (a, e) in enumerate(zip(hats, exact)))
-    h_err = u * RADIUS * mp.fsum(k * abs(e) * r ** (k - 1) for k, e in enumerate(exact) if k)
-    tail = tail_bound(name, c, n, r)
-    absolute = horner + coef + h_err + tail
-    low = exact[0] - mp.fsum(abs(e) * r ** k for k, e in enumerate(exact) if k) - tail
-    assert low > 0, (name, j)
-    return absolute / low / u, low
+    # h = delta - 1/2 rounds only for delta < 1/4 (piece 0); 3/2 - delta is exact on [1, 2)
+    h_err = (u * r * mp.fsum(k * abs(a) * r ** (k - 1) for k, a in enumerate(exact) if k)) if p == 0 else 0
+    return (approx + horner + h_err) / piece_low(name, p) / u
 
 
-def table(precision="double"):
-    """{function: [[coefficients of interval j] for j]} rounded to the precision."""
-    return {name: [[rounded(a, precision) for a in taylor(name, center(j), TERMS[name])]
-                   for j in range(INTERVALS)] for name in FUNCTIONS}
+# ---- the exponential
+
+def exp_table():
+    return [mp.exp(-(k + mpf(1) / 2) / EXP_PER_UNIT) for k in range(EXP_ENTRIES)]
+
+
+def exp_q():
+    """Taylor coefficients of q(h) = (e^-h - 1)/h = sum_j (-1)^(j+1) h^j / (j+1)!."""
+    return [mpf(-1) ** (j + 1) / factorial(j + 1) for j in range(EXP_TERMS)]
+
+
+def exp_bound(precision, table=None, q=None):
+    """Relative error bound (in u) of e = X_k + X_k (h q^(h)), all k (rigorous)."""
+    u = UNIT[precision]
+    r = EXP_RADIUS
+    xs = table if table is not None else [rounded(x, precision) for x in exp_table()]
+    qs = q if q is not None else [rounded(x, precision) for x in exp_q()]
+    # the stored X_k: their largest relative error, exactly
+    rho = max(abs(mpf(x) - e) / e for x, e in zip(xs, exp_table()))
+    # |q^ - q| on |h| <= r: truncation (alternating, decreasing: the first omitted term),
+    # coefficient rounding, Horner's rounding
+    trunc = r ** EXP_TERMS / factorial(EXP_TERMS + 1)
+    coef = mp.fsum(abs(mpf(a) - b) * r ** j for j, (a, b) in enumerate(zip(qs, exp_q())))
+    horner = mp.fsum(gamma(2 * j + 1, u) * abs(mpf(a)) * r ** j for j, a in enumerate(qs))
+    q_abs = 1 + r  # |q| <= 1 + r/2 + ... < 1 + r on |h| <= r
+    q_err = trunc + coef + horner
+    # s~ = fl(h q~): |s~ - h q| <= r q_err + u r (q_abs + q_err); then fl(X s~): + u |s|
+    s_max = r * (q_abs + q_err) * (1 + u)
+    s_err = r * q_err + u * r * (q_abs + q_err) + u * s_max
+    # e~ = fl(X (1 + s')) with |s' - h q| <= s_err; relative to e^-c (1 + h q) >= e^-c (1 - s_max)
+    rel = (1 + rho) * (1 + u) * (1 + s_err / (1 - s_max)) - 1
+    # h = delta - 1/32 rounds for delta < 1/64 (k = 0): |dh| <= u r, a factor e^(u r)
+    rel = (1 + rel) * mp.exp(u * r) - 1
+    # X s~ may underflow (float, delta near 64): at most half the least subnormal, absolute
+    eta = mpf(2) ** (-1075 if precision == "double" else -150)
+    return (rel + eta / mp.exp(-64)) / u
+
+
+def closed_form_bounds(precision, e_bound):
+    """Relative bounds (in u) of the closed forms at delta in [2, 64) given e within e_bound u
+    (docs/numerics.md: every term is largest at delta = 2, where delta e and e are largest
+    and 1 - e, n2, t1 smallest; first order in u plus a 1% margin for the products)."""
+    d = mpf(2)
+    e = mp.exp(-d)
+    eb = e_bound
+    one_minus_e = 1 - e
+    ome = (eb * e + one_minus_e) / one_minus_e                      # 1 - e, relative (u)
+    n2 = one_minus_e - d * e
+    n2_rel = (ome * one_minus_e + (eb + 1) * d * e + n2) / n2       # (1 - e) - delta e
+    hs = n2_rel + 2                                                 # delta / n2, then times delta/sigma
+    t1 = d - one_minus_e
+    g = (ome * one_minus_e + t1) / t1 + (ome + 1) + 1               # t1 / (delta (1 - e))
+    d12 = max(eb + 2, 1) + 1 + 2                                    # ((d+2) e + (d-2)), / (delta delta)
+    margin = mpf(101) / 100
+    return {"e": eb, "g": g * margin, "hs": hs * margin, "d12": d12 * margin}
 
 
 def worst_bounds(precision="double"):
-    """The worst relative bound (in units of u) of each function over the intervals."""
-    return {name: max(interval_bound(name, j, precision)[0] for j in range(INTERVALS)) for name in FUNCTIONS}
+    """Every proved bound (in u): the piece polynomials, the exponential, the fields."""
+    out = {f"{name}[{p}]": piece_bound(name, p, precision) for name in FUNCTIONS for p in range(PIECES)}
+    out["exp"] = exp_bound(precision)
+    return out
+
+
+def field_bounds(precision="double"):
+    """The fields' bounds (in u) below 2 and on [2, 64), from worst_bounds."""
+    w = worst_bounds(precision)
+    u = UNIT[precision]
+    pick = lambda name: max(w[f"{name}[{p}]"] for p in range(PIECES))  # noqa: E731
+    below = {"e": w["exp"], "g": pick("G"), "hs": pick("W"),
+             "d12": ((1 + pick("Q") * u) * (1 + u) - 1) / u}  # d12 = delta Q, one rounding
+    return below, closed_form_bounds(precision, w["exp"])
+
+
+# ---- the C block
+
+def literal(x):
+    return f"ZW_R({float(x)!r})"
 
 
 def tables_text() -> str:
     """The generated C block (between BEGIN and END in sweep.c)."""
-    tab = table("double")
     lines = [BEGIN,
-             "/* Taylor coefficients (lowest power first) of E = exp(-d), G = g, W = 2/c2 and",
-             " * Q = d12/d at the centres c_j = (j + 1/2)/32 of the 64 intervals of [0, 2); the",
-             " * error bounds are proved in docs/numerics.md and re-derived by tests/py/test_sweep.py. */",
-             f"#define ZW_SWEEP_INTERVALS {INTERVALS}"]
-    lines += [f"#define ZW_SWEEP_TERMS_{name} {TERMS[name]}" for name in FUNCTIONS]
+             "/* Per piece [0, 1), [1, 2) (centres 1/2, 3/2), lowest power of h = delta - centre first:",
+             " * G = g, W = 2/c2 and Q = d12/delta; then q(h) = (e^-h - 1)/h and X_k = exp(-(k + 1/2)/16).",
+             " * Bounds proved by tools/gen_sweep_tables.py (docs/numerics.md section 7), re-derived by",
+             " * tests/py/test_sweep.py. */",
+             f"#define ZW_SWEEP_TERMS {PIECE_TERMS}",
+             f"#define ZW_SWEEP_EXP_TERMS {EXP_TERMS}",
+             f"#define ZW_SWEEP_EXP_ENTRIES {EXP_ENTRIES}",
+             f"#define ZW_SWEEP_EXP_PER_UNIT ZW_R({EXP_PER_UNIT}.0)"]
     for name in FUNCTIONS:
-        lines.append(f"static const zw_real zw_sweep_{name.lower()}[ZW_SWEEP_INTERVALS][ZW_SWEEP_TERMS_{name}] = {{")
-        for row in tab[name]:
-            lines.append("    {" + ", ".join(f"ZW_R({a!r})" for a in row) + "},")
+        lines.append(f"static const zw_real zw_sweep_{name.lower()}[2][ZW_SWEEP_TERMS] = {{")
+        for p in range(PIECES):
+            lines.append("    {" + ", ".join(literal(a) for a in piece_coefficients(name, p)) + "},")
         lines.append("};")
+    # q by Horner's rule written out (a loop here is not always unrolled before vectorization)
+    horner = literal(exp_q()[-1])
+    for a in reversed(exp_q()[:-1]):
+        horner = f"(({horner} * (h)) + {literal(a)})"
+    lines.append(f"#define ZW_SWEEP_EXP_Q(h) {horner}")
+    lines.append("static const zw_real zw_sweep_exp_x[ZW_SWEEP_EXP_ENTRIES] = {")
+    xs = exp_table()
+    for i in range(0, EXP_ENTRIES, 4):
+        lines.append("    " + ", ".join(literal(x) for x in xs[i:i + 4]) + ",")
+    lines.append("};")
     lines.append(END)
     return "\n".join(lines)
 
@@ -212,6 +408,10 @@ def write_tables(path: Path = OUT) -> None:
 
 
 if __name__ == "__main__":
-    write_tables()
+    if "--bounds-only" not in sys.argv:
+        write_tables()
     for precision in ("double", "float"):
         print(precision, {k: f"{float(v):.3f} u" for k, v in worst_bounds(precision).items()}, file=sys.stderr)
+        below, above = field_bounds(precision)
+        print(precision, "fields below 2:", {k: f"{float(v):.3f}" for k, v in below.items()},
+              "on [2, 64):", {k: f"{float(v):.3f}" for k, v in above.items()}, file=sys.stderr)

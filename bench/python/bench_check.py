@@ -16,8 +16,8 @@ alpha = K T^2/m, beta = B T/m.  Characteristic polynomial
 Scenarios
     (a) one plant (m = 0.1, b = 30, T = 0.01, so delta = 3) and N gain pairs;
     (b) N points, each with its own delta, log-uniform in [1e-3, 20]: zwidth.check takes
-        the per-plant sweep (zwidth/sweep.h: tabulated Taylor polynomials with proved
-        bounds instead of zw_coeffs_init per point).
+        the per-plant sweep (zwidth/sweep.h: fixed polynomials and one table value a point,
+        with proved bounds, instead of zw_coeffs_init per point).
 Points: alpha uniform in (0, 1.3 alpha_mmax(delta)), beta uniform in (-delta, beta_mmax(delta))
 (ranges from zwidth.extremes), fixed seed; about half of them are stable.
 

@@ -19,8 +19,8 @@ flags=(-std=c99 -O3 -DNDEBUG -ffp-contract=off -Icsrc/include -Icsrc/src)
 rename() { echo "-Dzw_sweep_check_many=$1 -Dzw_sweep_fields_init=$1_fields"; }
 cc "${flags[@]}" $(rename v_base) -c "$tmp/sweep_base.c" -o "$tmp/base.o"
 cc "${flags[@]}" $(rename v_portable) -c csrc/src/sweep.c -o "$tmp/portable.o"
-cc "${flags[@]}" -DZW_SWEEP_GATHER=1 -mavx2 $(rename v_avx2) -c csrc/src/sweep.c -o "$tmp/avx2.o"
-cc "${flags[@]}" -DZW_SWEEP_GATHER=1 -mavx512f -mavx512dq -mavx512vl $(rename v_avx512) \
+cc "${flags[@]}" -mavx2 $(rename v_avx2) -c csrc/src/sweep.c -o "$tmp/avx2.o"
+cc "${flags[@]}" -DZW_SWEEP_GATHER=1 -DZW_SWEEP_BLOCK=32u -mavx512f -mavx512dq -mavx512vl -mfma -ffp-contract=fast $(rename v_avx512) \
     -c csrc/src/sweep.c -o "$tmp/avx512.o"
 cc -O2 bench/sweep/sweep_isa.c "$tmp"/*.o build/libzwidth_d.a -lm -o "$tmp/sweep_isa"
 for range in "1e-3 20" "1e-3 1.999" "2 20"; do

@@ -7,13 +7,16 @@
  * A design sweep varies m, b or T along the array, so delta changes at every point and
  * zw_coeffs_init (two exponentials, three 24-term series) dominates.  This module
  * evaluates only the coefficient fields the exact-region check reads (e, g, hs, d12,
- * sigma), each with a proved relative error bound inside the checks' budget:
- *   delta in [0, 2): Taylor polynomials of 9 to 11 terms around the centres of 64
- *     intervals (tables generated and the bounds proved by tools/gen_sweep_tables.py;
- *     every field within 3.1 u, docs/numerics.md "Per-plant sweeps");
- *   delta in [2, 64): one libm exponential and closed forms without cancellation
- *     (every field within 7 u, given exp within one ulp, as coeffs.c assumes);
+ * sigma), each with a proved relative error bound inside the checks' budget, and loads
+ * one table value a point:
+ *   e on [0, 64): exp(-(k + 1/2)/16) from a 1024-entry table times a fixed 8-term
+ *     polynomial (within 2.1 u);
+ *   g, hs, d12 on [0, 2): fixed 12-term polynomials on [0, 1) and [1, 2) (within 2.4 u,
+ *     4.8 u, 5.3 u);
+ *   g, hs, d12 on [2, 64): closed forms without cancellation (within 5.4 u, 6.5 u, 7.2 u);
  *   delta >= 64: zw_coeffs_init itself.
+ * (Tables generated and every bound proved by tools/gen_sweep_tables.py; docs/numerics.md
+ * section 7.)
  * The checks budget 2 ZW_COEF_ULPS u = 8 u for each field, so a verdict here is as safe
  * as zw_check's: never stable for an unstable point, and stable ones called unstable only
  * within the rounding band (marginal points may come out differently, never "stable"
