@@ -65,6 +65,7 @@
 /* loop.h */
 #define zw_loop_lowpass_pole zw_loop_lowpass_pole_f
 #define zw_loop_init zw_loop_init_f
+#define zw_loop_init_plant zw_loop_init_plant_f
 #define zw_loop_carry_gain_rounding zw_loop_carry_gain_rounding_f
 #define zw_loop_poly zw_loop_poly_f
 #define zw_loop_check zw_loop_check_f
