@@ -149,6 +149,39 @@ static inline zw_real zw_coef_e_abserr(const zw_coeffs *c)
     return zw_coef_relerr(c) * c->e + ZW_R(0.5) * c->delta_relerr + ZW_ETA;
 }
 
+/* ---- The ideal plant's factors with their bounds (one copy: plant.c, loop.c) -------- */
+
+/* A coefficient field (c1, c2, d12, s) with its relative bound and the subnormal floor. */
+static inline zw_eb zw_coef_field(const zw_coeffs *c, zw_real v)
+{
+    zw_eb r;
+    r.v = v;
+    r.e = zw_coef_relerr(c) * ZW_FABS(v) + zw_coef_floor(v);
+    return r;
+}
+
+/* z - e as f1 z + f0. */
+static inline void zw_coef_zme(const zw_coeffs *c, zw_eb *f1, zw_eb *f0)
+{
+    *f1 = zw_eb_exact(ZW_R(1.0));
+    f0->v = -c->e;
+    f0->e = zw_coef_e_abserr(c);
+}
+
+/* Its bilinear image (1 + e) s + (1 - e), with 1 - e = delta s / 2 (no cancellation):
+ * s's own bound (which covers its sensitivity to delta), delta's uncertainty, one rounding
+ * (the halving is exact but for underflow). */
+static inline void zw_coef_zme_s(const zw_coeffs *c, zw_eb *f1, zw_eb *f0)
+{
+    zw_real v = ZW_R(1.0) + c->e;
+    f1->v = v;
+    f1->e = zw_coef_e_abserr(c) + ZW_U * v;
+    v = ZW_R(0.5) * (c->delta * c->s);
+    f0->v = v;
+    f0->e = (zw_coef_relerr(c) + c->delta_relerr + ZW_R(2.0) * ZW_U) * v +
+            zw_coef_floor(c->s) * c->delta + ZW_R(2.0) * ZW_ETA;
+}
+
 /* ---- Fail-safe outputs (status.h): what a failed call writes ------------------------ */
 
 /* A quiet NaN: unknown values (coefficients, normalized gains, advice) that every check

@@ -67,6 +67,9 @@ typedef struct zw_plant {
     zw_real num_s[ZW_PLANT_MAX_ORDER], num_s_err[ZW_PLANT_MAX_ORDER];
     /* The ideal plant's fields at delta (kappa = lambda = 0 uses them for num / den). */
     zw_coeffs c;
+    /* D as a polynomial in w = z - 1 (its Taylor coefficients at z = 1, formed from the
+     * factors): zw_plant_eval uses it, so D keeps its relative accuracy near z = 1. */
+    zw_real den_w[ZW_PLANT_MAX_ORDER + 1u], den_w_err[ZW_PLANT_MAX_ORDER + 1u];
 } zw_plant;
 
 /* Fill *out.  Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_DELTA (delta < 0),

@@ -62,6 +62,11 @@
 #define zw_corner zw_corner_f
 #define zw_alpha_max zw_alpha_max_f
 #define zw_beta_interval zw_beta_interval_f
+/* plant.h */
+#define zw_plant_init zw_plant_init_f
+#define zw_plant_from_coeffs zw_plant_from_coeffs_f
+#define zw_plant_eval zw_plant_eval_f
+#define zw_plant_spec_from_device zw_plant_spec_from_device_f
 /* loop.h */
 #define zw_loop_lowpass_pole zw_loop_lowpass_pole_f
 #define zw_loop_init zw_loop_init_f

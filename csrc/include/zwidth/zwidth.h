@@ -16,6 +16,7 @@
 #include "zwidth/loop.h"
 #include "zwidth/loop_limits.h"
 #include "zwidth/margin.h"
+#include "zwidth/plant.h"
 #include "zwidth/real.h"
 #include "zwidth/region.h"
 #include "zwidth/regmap.h"
