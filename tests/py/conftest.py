@@ -176,7 +176,8 @@ def _loop_structs(real, Coeffs):
                      ("den", real * (q + 1)), ("den_err", real * (q + 1)),
                      ("num", real * q), ("num_err", real * q),
                      ("den_s", real * (q + 1)), ("den_s_err", real * (q + 1)),
-                     ("num_s", real * q), ("num_s_err", real * q), ("c", Coeffs)])
+                     ("num_s", real * q), ("num_s_err", real * q), ("c", Coeffs),
+                     ("den_w", real * (q + 1)), ("den_w_err", real * (q + 1))])
 
     class Loop(ctypes.Structure):
         _fields_ = ([("c", Coeffs), ("spec", LoopSpec), ("degree", ctypes.c_uint)]
