@@ -95,10 +95,10 @@ def main():
     for prec in ("d", "f"):
         old, new = Lib(old_dir, prec), Lib(new_dir, prec)
         rng = random.Random(16)
-        checks = mism = mism_marg = 0
+        checks = mism = mism_marg = new_stable = 0
         amax_n = amax_lower = amax_higher = 0
         worst_lo = worst_hi = 0.0
-        ext_n = ext_diff = 0
+        ext_n = ext_diff = ext_better = 0
         ext_worst = 0.0
         for i in range(n_loops):
             delta = 10 ** rng.uniform(-4, 2)
@@ -129,6 +129,7 @@ def main():
                     checks += 1
                     if vo[1] != vn[1]:
                         mism += 1
+                        new_stable += vn[1]
                         if vo[2] or vn[2]:
                             mism_marg += 1
                         else:
@@ -138,14 +139,15 @@ def main():
                 (so, eo), (sn, en) = old.extremes(), new.extremes()
                 assert so == sn, (so, sn)
                 ext_n += 1
-                for x, y in zip(eo, en):
+                for k, (x, y) in enumerate(zip(eo, en)):
                     if x != y:
                         ext_diff += 1
+                        ext_better += (y < x) if k == 3 else (y > x)  # beta_mmin: lower is wider
                         ext_worst = max(ext_worst, abs(y - x) / max(abs(x), 1e-300))
-        print(f"{prec}: {checks} checks, {mism} verdict mismatches ({mism_marg} marginal on one "
-              f"side, {mism - mism_marg} outside the band); alpha_max at {amax_n} betas: "
+        print(f"{prec}: {checks} checks, {mism} verdict mismatches ({new_stable} stable only in the new, "
+              f"{mism_marg} marginal on one side, {mism - mism_marg} outside the band); alpha_max at {amax_n} betas: "
               f"{amax_lower} lower (worst {worst_lo:.2e}), {amax_higher} higher (worst {worst_hi:.2e}); "
-              f"extremes of {ext_n} loops: {ext_diff} fields differ (worst rel {ext_worst:.2e})")
+              f"extremes of {ext_n} loops: {ext_diff} fields differ ({ext_better} of them wider in the new; worst rel {ext_worst:.2e})")
 
 
 if __name__ == "__main__":

@@ -140,6 +140,8 @@ typedef struct zw_loop_workspace {
         struct zw_loop_workspace *ws; /* this workspace, for the guarded checks */
         zw_real one_minus_e, r12, two_c1, phase, one_minus_a, eps, grid_h;
         unsigned grid_n;
+        bool general; /* a plant other than the ideal one: its bilinear images */
+        bool stiff;   /* D(1) != 0 (a spring or a hand's stiffness) */
     } lim_plant;
     struct zw_loop_lim_point { /* the crossing condition f at theta, its value v */
         zw_real theta, f, f_err, v, v_err;
