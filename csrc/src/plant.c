@@ -85,7 +85,8 @@ static bool all_finite(const zw_real v[], const zw_real e[], unsigned n)
 {
     unsigned i;
     for (i = 0u; i < n; ++i) {
-        if (!ZW_IS_FINITE(v[i]) || !ZW_IS_FINITE(e[i])) {
+        /* a bound of ZW_REAL_MAX is zw_eb_div's "unbounded" */
+        if (!ZW_IS_FINITE(v[i]) || !ZW_IS_FINITE(e[i]) || !(e[i] < ZW_REAL_MAX)) {
             return false;
         }
     }
@@ -279,6 +280,320 @@ zw_status zw_plant_eval(const zw_plant *plant, zw_real re, zw_real im, zw_real *
     return ZW_OK;
 }
 
+/* ---- balls: zw_eb values whose bound also covers the inputs' uncertainty -------------
+ *
+ * The inputs enter as balls (delta +- delta_relerr delta, kappa +- kappa_relerr kappa), and
+ * every operation propagates both its rounding and its inputs' bounds (zw_eb's arithmetic is
+ * rigorous for that: its products keep the a.e b.e term).  The library functions below bound
+ * the change of f over the whole ball (a Lipschitz bound on it) plus libm's own error, taken
+ * as 1 ulp (2u relative) as coeffs.c does.  A ball too wide for these bounds (half-width
+ * above 1/2 in an exponent) gives an infinite bound, and zw_plant_init ZW_ERR_RANGE. */
+
+#define PLANT_WIDE ZW_R(0.5)
+
+static zw_eb eb_inf(zw_real v)
+{
+    return eb_make(v, ZW_INF);
+}
+
+static zw_eb eb_neg(zw_eb a)
+{
+    return eb_make(-a.v, a.e);
+}
+
+/* e^a; the derivative over the ball is at most e^(a.v + a.e) <= e^a.v (1 + 2 a.e). */
+static zw_eb eb_exp(zw_eb a)
+{
+    zw_real v = ZW_EXP(a.v);
+    if (!(a.e <= PLANT_WIDE)) {
+        return eb_inf(v);
+    }
+    return eb_make(v, v * (a.e * (ZW_R(1.0) + ZW_R(2.0) * a.e) + ZW_R(2.0) * ZW_U) + ZW_ETA);
+}
+
+/* e^a - 1, same derivative bound. */
+static zw_eb eb_expm1(zw_eb a)
+{
+    zw_real v = ZW_EXPM1(a.v);
+    if (!(a.e <= PLANT_WIDE)) {
+        return eb_inf(v);
+    }
+    return eb_make(v, (v + ZW_R(1.0)) * a.e * (ZW_R(1.0) + ZW_R(2.0) * a.e) +
+                          ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+}
+
+/* E0(a) = (e^a - 1) / a = int_0^1 e^(a t) dt (1 at 0), for a.v <= 0.  Its log-derivative is
+ * the mean of t under the weight e^(a t): at most 1/2 for a <= 0 and at most 1/|a|, and at
+ * most 1 anywhere on a ball reaching a + a.e <= 1/2; so over the ball
+ * |E0(y) - E0(a)| <= E0(a) (1 + 2 a.e) min(.) a.e. */
+static zw_eb eb_e0(zw_eb a)
+{
+    zw_real v, slope;
+    if (a.v == ZW_R(0.0)) {
+        v = ZW_R(1.0);
+    } else {
+        v = ZW_EXPM1(a.v) / a.v;
+    }
+    if (!(a.e <= PLANT_WIDE) || (a.v > ZW_R(0.0))) {
+        return eb_inf(v);
+    }
+    if (a.v + a.e < ZW_R(0.0)) {
+        const zw_real inv = ZW_R(1.0) / -(a.v + a.e) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U);
+        slope = inv < ZW_R(0.5) ? inv : ZW_R(0.5);
+    } else {
+        slope = ZW_R(1.0);
+    }
+    return eb_make(v, v * ((ZW_R(1.0) + ZW_R(2.0) * a.e) * slope * a.e + ZW_R(4.0) * ZW_U) +
+                          ZW_R(2.0) * ZW_ETA);
+}
+
+/* sqrt(a) for a.v >= 0: |sqrt(y) - sqrt(x)| <= |y - x| / sqrt(x), and <= sqrt|y - x|. */
+static zw_eb eb_sqrt(zw_eb a)
+{
+    zw_real v = ZW_SQRT(a.v), prop;
+    if (a.v > ZW_R(4.0) * a.e) {
+        prop = a.e / v * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+    } else {
+        prop = ZW_SQRT(ZW_R(2.0) * a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+    }
+    return eb_make(v, prop + ZW_U * v + ZW_ETA);
+}
+
+/* cos, sin: Lipschitz 1. */
+static zw_eb eb_cos(zw_eb a)
+{
+    zw_real v = ZW_COS(a.v);
+    return eb_make(v, a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+}
+
+static zw_eb eb_sin(zw_eb a)
+{
+    zw_real v = ZW_SIN(a.v);
+    return eb_make(v, a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+}
+
+static zw_eb eb_half(zw_eb a)
+{
+    return eb_make(ZW_R(0.5) * a.v, ZW_R(0.5) * a.e + ZW_ETA);
+}
+
+static zw_eb eb_twice(zw_eb a)
+{
+    return eb_make(ZW_R(2.0) * a.v, ZW_R(2.0) * a.e);
+}
+
+/* h^2 - k with the product exact (Dekker's two-product, Veltkamp's split; no fma needed),
+ * so that near critical damping w2 keeps its relative accuracy.  h >= 0 below 2^(emax/2). */
+static zw_eb eb_square_minus(zw_eb h, zw_eb k)
+{
+#ifdef ZW_REAL_FLOAT
+    const zw_real split = ZW_R(4097.0); /* 2^12 + 1 */
+#else
+    const zw_real split = ZW_R(134217729.0); /* 2^27 + 1 */
+#endif
+    const zw_real x = h.v;
+    const zw_real hi_sq = x * x;
+    const zw_real c = split * x;
+    const zw_real xh = c - (c - x);
+    const zw_real xl = x - xh;
+    const zw_real lo = ((xh * xh - hi_sq) + ZW_R(2.0) * xh * xl) + xl * xl; /* x^2 = hi + lo */
+    const zw_real t = hi_sq - k.v;
+    const zw_real w = t + lo;
+    zw_eb r;
+    r.v = w;
+    r.e = ZW_U * (ZW_FABS(t) + ZW_FABS(w)) + ZW_R(4.0) * ZW_ETA /* the two roundings */
+          + h.e * (ZW_R(2.0) * x + h.e) + k.e;                    /* the inputs' balls */
+    if (!ZW_IS_FINITE(c) || !ZW_IS_FINITE(hi_sq)) {
+        r.e = ZW_INF;
+    }
+    return r;
+}
+
+/* ---- series of the entire functions of w = r^2 ------------------------------------------
+ * C(w) = cosh sqrt(w) = sum w^k / (2k)!,  S(w) = sinh sqrt(w) / sqrt(w) = sum w^k / (2k+1)!
+ * (cos and sin for w < 0), and their divided differences over [a, b]:
+ * C[a, b] = sum_{k>=1} h_{k-1}(a, b) / (2k)!, S[a, b] = sum_{k>=1} h_{k-1}(a, b) / (2k+1)!,
+ * h_m(a, b) = sum_j a^j b^(m-j) (|h_m| <= (m+1) 4^m for |a|, |b| <= 4).  Used for
+ * |a|, |b| <= 4 only: PLANT_TERMS terms leave a tail below PLANT_TAIL (21 4^20 / 42! < 2e-38,
+ * and the tail of the single series is smaller still). */
+#define PLANT_SERIES_LIMIT ZW_R(4.0)
+#define PLANT_TERMS 21u
+#define PLANT_TAIL ZW_R(2e-38)
+
+/* 1 / n! for n = 0 .. 2 PLANT_TERMS + 1 (rounded: each within u relative). */
+static zw_real inv_factorial(unsigned n)
+{
+    unsigned i;
+    zw_real f = ZW_R(1.0);
+    for (i = 2u; i <= n; ++i) {
+        f = f / (zw_real)i;
+    }
+    return f;
+}
+
+/* sum_{k} w^k / (2k + odd)!, by Horner, with the coefficient roundings (n divisions each:
+ * n u relative, at most (2 PLANT_TERMS + 1) u) and the tail. */
+static zw_eb series_single(zw_eb w, unsigned odd)
+{
+    unsigned k;
+    zw_eb acc = zw_eb_exact(ZW_R(0.0));
+    for (k = PLANT_TERMS; k > 0u; --k) {
+        const unsigned n = 2u * (k - 1u) + odd;
+        const zw_real cf = inv_factorial(n);
+        acc = zw_eb_add(zw_eb_mul(acc, w), eb_make(cf, (zw_real)(n + 1u) * ZW_U * cf));
+    }
+    acc.e += PLANT_TAIL;
+    return acc;
+}
+
+/* C[a, b] (odd = 0) and S[a, b] (odd = 1) by the forward sum over h_m. */
+static void series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
+{
+    unsigned k;
+    zw_eb apow = zw_eb_exact(ZW_R(1.0)); /* a^(k-1) */
+    zw_eb hm = zw_eb_exact(ZW_R(1.0));   /* h_{k-1}(a, b) */
+    zw_eb sc = zw_eb_exact(ZW_R(0.0)), ss = zw_eb_exact(ZW_R(0.0));
+    for (k = 1u; k <= PLANT_TERMS; ++k) {
+        if (k > 1u) {
+            apow = zw_eb_mul(apow, a);
+            hm = zw_eb_add(zw_eb_mul(hm, b), apow);
+        }
+        {
+            const unsigned n = 2u * k;
+            const zw_real fc = inv_factorial(n), fs = inv_factorial(n + 1u);
+            sc = zw_eb_add(sc, zw_eb_mul(hm, eb_make(fc, (zw_real)(n + 1u) * ZW_U * fc)));
+            ss = zw_eb_add(ss, zw_eb_mul(hm, eb_make(fs, (zw_real)(n + 2u) * ZW_U * fs)));
+        }
+    }
+    sc.e += PLANT_TAIL;
+    ss.e += PLANT_TAIL;
+    *cd = sc;
+    *sd = ss;
+}
+
+/* ---- the order-2 plant with stiffness ---------------------------------------------------
+ *
+ * A = [[0, 1], [-kappa, -delta]], poles p1, p2 = -h +- r, h = delta / 2, r^2 = w2 = h^2 - kappa.
+ * With z1, z2 = e^p1, e^p2 (the sampled poles) and b1 z + b0 = N / 2:
+ *   D / 2 = z^2 - tr z + det,  tr = 2 e^-h C(w2),  det = e^-delta,
+ *   b1 = exp[0, p1, p2] = G / 2 + h H,  b0 = e^-delta exp[0, -p1, -p2] = G / 2 - h H,
+ *   G = b1 + b0 = 2 e^-h C[w2, h^2] = P / kappa,  H = (b1 - b0) / delta = e^-h S[w2, h^2],
+ *   P = 1 - tr + det = (1 - z1)(1 - z2),  Q = 1 + tr + det = (1 + z1)(1 + z2),
+ *   R = 1 - det = -expm1(-delta),  2 - tr = P + R,
+ *   D_s = 2 Q s^2 + 4 R s + 2 P,  N_s = 2 (b1 - b0) s + 2 (b1 + b0),
+ *   D(1 + w) = 2 w^2 + 2 (P + R) w + 2 P.
+ * (kappa = 0: b1 = c1 / 2, b0 = c2 / 2.)  Three regimes, each free of 0/0 and of all but a
+ * bounded cancellation:
+ *   series    h <= 2 and |w2| <= 4: the series above (critical damping is w2 = 0, inside);
+ *   separated real poles, w2 >= h^2 / 2 (h > 2): p2 = -(h + r), p1 = -kappa / (h + r),
+ *             P = expm1(p1) expm1(p2), b1 = (E0(p1) - S^) / |p2|,
+ *             b0 = (S^ - z2 E0(p1)) / |p2|, S^ = (z1 - z2) / (2 r) (r >= 1.4);
+ *   the rest  (kappa >= h^2 / 2 > 2, or complex with |w2| > 4): G = P / kappa,
+ *             H = (E0(-delta) - S^) / kappa with S^ = e^-h S(w2), C(w2) from the series,
+ *             cosh or cos; P, Q as sums of squares for complex poles:
+ *             |1 -+ z1|^2 = expm1(-h)^2 + 4 e^-h sin^2(omega/2) (cos^2 for +). */
+typedef struct order2 {
+    zw_eb tr, det, P, Q, R, b1, b0, bdiff, bsum;
+} order2;
+
+static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
+{
+    const zw_eb one = zw_eb_exact(ZW_R(1.0));
+    const zw_eb w2 = eb_square_minus(h, kappa);
+    const zw_eb delta = eb_twice(h);
+    const zw_eb eh = eb_exp(eb_neg(h));
+    zw_eb C, S, G, H;
+    o->det = eb_exp(eb_neg(delta));
+    o->R = eb_neg(eb_expm1(eb_neg(delta)));
+
+    if ((h.v <= ZW_R(2.0)) && (ZW_FABS(w2.v) <= PLANT_SERIES_LIMIT)) {
+        zw_eb cd, sd;
+        series_divided(w2, zw_eb_mul(h, h), &cd, &sd);
+        C = zw_eb_mul(eh, series_single(w2, 0u));
+        G = eb_twice(zw_eb_mul(eh, cd));
+        H = zw_eb_mul(eh, sd);
+        o->tr = eb_twice(C);
+        o->P = zw_eb_mul(kappa, G);
+        o->Q = zw_eb_add(zw_eb_add(one, o->det), o->tr);
+        o->bsum = G;
+        o->bdiff = zw_eb_mul(delta, H);
+        o->b1 = zw_eb_add(eb_half(G), zw_eb_mul(h, H));
+        o->b0 = zw_eb_sub(eb_half(G), zw_eb_mul(h, H));
+        return;
+    }
+    if (w2.v >= ZW_R(0.5) * (h.v * h.v)) {
+        const zw_eb r = eb_sqrt(w2);
+        const zw_eb hr = zw_eb_add(h, r);
+        const zw_eb p2 = eb_neg(hr);
+        const zw_eb p1 = eb_neg(zw_eb_div(kappa, hr));
+        const zw_eb z1 = eb_exp(p1), z2 = eb_exp(p2);
+        const zw_eb e01 = eb_e0(p1), e02 = eb_e0(p2);
+        const zw_eb sh = zw_eb_div(zw_eb_sub(z1, z2), eb_twice(r));
+        o->tr = zw_eb_add(z1, z2);
+        o->P = zw_eb_mul(eb_expm1(p1), eb_expm1(p2));
+        o->Q = zw_eb_mul(zw_eb_add(one, z1), zw_eb_add(one, z2));
+        o->b1 = zw_eb_div(zw_eb_sub(e01, sh), hr);
+        o->b0 = zw_eb_div(zw_eb_sub(sh, zw_eb_mul(z2, e01)), hr);
+        o->bsum = zw_eb_mul(e01, e02);
+        o->bdiff = zw_eb_sub(o->b1, o->b0);
+        return;
+    }
+    if (ZW_FABS(w2.v) <= PLANT_SERIES_LIMIT) {
+        C = zw_eb_mul(eh, series_single(w2, 0u));
+        S = zw_eb_mul(eh, series_single(w2, 1u));
+    } else if (w2.v > ZW_R(0.0)) {
+        const zw_eb r = eb_sqrt(w2);
+        const zw_eb hr = zw_eb_add(h, r);
+        const zw_eb z1 = eb_exp(eb_neg(zw_eb_div(kappa, hr))), z2 = eb_exp(eb_neg(hr));
+        C = eb_half(zw_eb_add(z1, z2));
+        S = zw_eb_div(zw_eb_sub(z1, z2), eb_twice(r));
+    } else {
+        const zw_eb om = eb_sqrt(eb_neg(w2));
+        C = zw_eb_mul(eh, eb_cos(om));
+        S = zw_eb_div(zw_eb_mul(eh, eb_sin(om)), om);
+    }
+    o->tr = eb_twice(C);
+    if ((w2.v < ZW_R(0.0)) && (h.v <= ZW_R(2.0))) {
+        /* complex poles far from critical, light damping: the sums of squares */
+        const zw_eb om = eb_sqrt(eb_neg(w2));
+        const zw_eb half = eb_half(om);
+        const zw_eb sn = eb_sin(half), cs = eb_cos(half);
+        const zw_eb em = eb_expm1(eb_neg(h));
+        const zw_eb em2 = zw_eb_mul(em, em);
+        const zw_eb four_eh = eb_twice(eb_twice(eh));
+        o->P = zw_eb_add(em2, zw_eb_mul(four_eh, zw_eb_mul(sn, sn)));
+        o->Q = zw_eb_add(em2, zw_eb_mul(four_eh, zw_eb_mul(cs, cs)));
+    } else {
+        /* h > 2: 1 + det - tr >= (1 - e^-h)^2 > 3/4 for complex poles, and for real ones
+         * with w2 < h^2 / 2 tr < e^(-0.29 h) + e^-h: a bounded cancellation */
+        o->P = zw_eb_sub(zw_eb_add(one, o->det), o->tr);
+        o->Q = zw_eb_add(zw_eb_add(one, o->det), o->tr);
+    }
+    G = zw_eb_div(o->P, kappa);
+    H = zw_eb_div(zw_eb_sub(eb_e0(eb_neg(delta)), S), kappa);
+    o->bsum = G;
+    o->bdiff = zw_eb_mul(delta, H);
+    o->b1 = zw_eb_add(eb_half(G), zw_eb_mul(h, H));
+    o->b0 = zw_eb_sub(eb_half(G), zw_eb_mul(h, H));
+}
+
+static void plant_from_order2(zw_plant *p, const order2 *o)
+{
+    set_eb(&p->den[0], &p->den_err[0], zw_eb_exact(ZW_R(2.0)));
+    set_eb(&p->den[1], &p->den_err[1], eb_neg(eb_twice(o->tr)));
+    set_eb(&p->den[2], &p->den_err[2], eb_twice(o->det));
+    set_eb(&p->num[0], &p->num_err[0], eb_twice(o->b1));
+    set_eb(&p->num[1], &p->num_err[1], eb_twice(o->b0));
+    set_eb(&p->den_s[0], &p->den_s_err[0], eb_twice(o->Q));
+    set_eb(&p->den_s[1], &p->den_s_err[1], eb_twice(eb_twice(o->R)));
+    set_eb(&p->den_s[2], &p->den_s_err[2], eb_twice(o->P));
+    set_eb(&p->num_s[0], &p->num_s_err[0], eb_twice(o->bdiff));
+    set_eb(&p->num_s[1], &p->num_s_err[1], eb_twice(o->bsum));
+    set_eb(&p->den_w[0], &p->den_w_err[0], zw_eb_exact(ZW_R(2.0)));
+    set_eb(&p->den_w[1], &p->den_w_err[1], eb_twice(zw_eb_add(o->P, o->R)));
+    set_eb(&p->den_w[2], &p->den_w_err[2], eb_twice(o->P));
+}
+
 /* ---- the general plant ---------------------------------------------------------------- */
 
 static zw_status check_spec(const zw_plant_spec *spec)
@@ -307,6 +622,7 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
 {
     zw_status st;
     zw_coeffs c;
+    zw_plant p;
     if (out == NULL) {
         return ZW_ERR_NULL;
     }
@@ -328,23 +644,32 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
     if ((spec->kappa == ZW_R(0.0)) && (spec->lambda == ZW_R(0.0))) {
         return zw_plant_from_coeffs(out, &c);
     }
-    /* stiffness and lag: not yet implemented */
-    fail_plant(out);
-    return ZW_ERR_ARG;
+    if (spec->lambda != ZW_R(0.0)) {
+        fail_plant(out); /* the actuator lag: not yet implemented */
+        return ZW_ERR_ARG;
+    }
+    fail_plant(&p);
+    {
+        order2 o;
+        const zw_eb h = eb_make(ZW_R(0.5) * spec->delta,
+                                ZW_R(0.5) * spec->delta * spec->delta_relerr + ZW_ETA);
+        const zw_eb kappa = eb_make(spec->kappa, spec->kappa * spec->kappa_relerr);
+        order2_compute(h, kappa, &o);
+        p.order = 2u;
+        plant_from_order2(&p, &o);
+    }
+    p.spec = *spec;
+    p.c = c;
+    if (!plant_finite(&p)) {
+        fail_plant(out);
+        return ZW_ERR_RANGE;
+    }
+    *out = p;
+    return ZW_OK;
 }
 
-zw_status zw_plant_spec_from_device(zw_real m, zw_real b, zw_real T, zw_real k_p, zw_real tau,
-                                    zw_real m_h, zw_real b_h, zw_real k_h, zw_plant_spec *spec,
-                                    zw_real *mass)
+static void fail_spec(zw_plant_spec *spec, zw_real *mass)
 {
-    (void)m;
-    (void)b;
-    (void)T;
-    (void)k_p;
-    (void)tau;
-    (void)m_h;
-    (void)b_h;
-    (void)k_h;
     if (spec != NULL) {
         spec->delta = ZW_NAN;
         spec->kappa = ZW_NAN;
@@ -354,5 +679,77 @@ zw_status zw_plant_spec_from_device(zw_real m, zw_real b, zw_real T, zw_real k_p
         spec->lambda_relerr = ZW_NAN;
     }
     zw_fail_real(mass, ZW_NAN);
-    return ZW_ERR_ARG; /* not yet implemented */
+}
+
+/* A product or quotient of positive numbers that came out subnormal (or 0) has lost its
+ * relative accuracy: the relerr below would not hold. */
+static bool lost(zw_real result, zw_real operand)
+{
+    return (operand > ZW_R(0.0)) && !(result >= ZW_REAL_MIN);
+}
+
+/* Roundings: M = m + m_h, Bp = b + b_h, Kp = k_p + k_h (one each, sums of non-negative
+ * terms); delta = (Bp T) / M: 1 + 2 + 1 (M's); kappa = ((Kp T) T) / M: 1 + 3 + 1;
+ * lambda = tau / T: 1.  One u of slack each. */
+#define PLANT_DELTA_RELERR (ZW_R(5.0) * ZW_U)
+#define PLANT_KAPPA_RELERR (ZW_R(6.0) * ZW_U)
+#define PLANT_LAMBDA_RELERR (ZW_R(2.0) * ZW_U)
+
+zw_status zw_plant_spec_from_device(zw_real m, zw_real b, zw_real T, zw_real k_p, zw_real tau,
+                                    zw_real m_h, zw_real b_h, zw_real k_h, zw_plant_spec *spec,
+                                    zw_real *mass)
+{
+    const zw_real in[8] = {m, b, T, k_p, tau, m_h, b_h, k_h};
+    zw_real M, Bp, Kp, bt, kt, ktt, delta, kappa, lambda;
+    unsigned i;
+    zw_status st = ZW_OK;
+    if ((spec == NULL) || (mass == NULL)) {
+        fail_spec(spec, mass);
+        return ZW_ERR_NULL;
+    }
+    for (i = 0u; (i < 8u) && (st == ZW_OK); ++i) {
+        st = zw_require_finite(in[i]);
+    }
+    if (st == ZW_OK) {
+        if (!(m > ZW_R(0.0))) {
+            st = ZW_ERR_MASS;
+        } else if (!(T > ZW_R(0.0))) {
+            st = ZW_ERR_PERIOD;
+        } else if ((b < ZW_R(0.0)) || (b_h < ZW_R(0.0))) {
+            st = ZW_ERR_DAMPING;
+        } else if ((k_p < ZW_R(0.0)) || (k_h < ZW_R(0.0)) || (tau < ZW_R(0.0)) ||
+                   (m_h < ZW_R(0.0))) {
+            st = ZW_ERR_ARG;
+        } else {
+            /* valid */
+        }
+    }
+    if (st != ZW_OK) {
+        fail_spec(spec, mass);
+        return st;
+    }
+    M = m + m_h;
+    Bp = b + b_h;
+    Kp = k_p + k_h;
+    bt = Bp * T;
+    kt = Kp * T;
+    ktt = kt * T;
+    delta = bt / M;
+    kappa = ktt / M;
+    lambda = tau / T;
+    if (!ZW_IS_FINITE(M) || !ZW_IS_FINITE(Bp) || !ZW_IS_FINITE(Kp) || !ZW_IS_FINITE(delta) ||
+        !ZW_IS_FINITE(kappa) || !ZW_IS_FINITE(lambda) || lost(bt, Bp) || lost(delta, Bp) || lost(kt, Kp) ||
+        lost(ktt, Kp) || lost(kappa, Kp) ||
+        lost(lambda, tau)) {
+        fail_spec(spec, mass);
+        return ZW_ERR_RANGE;
+    }
+    spec->delta = delta;
+    spec->kappa = kappa;
+    spec->lambda = lambda;
+    spec->delta_relerr = PLANT_DELTA_RELERR;
+    spec->kappa_relerr = PLANT_KAPPA_RELERR;
+    spec->lambda_relerr = PLANT_LAMBDA_RELERR;
+    *mass = M;
+    return ZW_OK;
 }

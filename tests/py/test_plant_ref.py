@@ -1,0 +1,319 @@
+# SPDX-FileCopyrightText: 2026 The zwidth authors
+# SPDX-License-Identifier: Apache-2.0
+
+"""zw_plant_init (plant.h) against a 50+-digit reference.
+
+Proves: every coefficient of N, D and of their bilinear images (and D's Taylor
+coefficients at z = 1) is within its stated bound of the exact value at the given (delta,
+kappa), over a dense grid (delta in [0, 1e6], kappa in [0, 1e6]) and the hard cases
+(critical damping +- a few ulps, tiny delta or kappa, kappa -> 0 against the ideal plant);
+the bounds also cover a stated input uncertainty; and the discretization's convention
+against a direct high-precision integration of the continuous plant under a held input.
+
+The reference forms Phi, Gamma from the augmented matrix exponential expm([[A, b], [0, 0]])
+(mpmath at 100 digits, checked against 140 on a sample), D = 2 det(zI - Phi) and
+N = 2 C adj(zI - Phi) Gamma through det(zI - Phi + Gamma C) - det(zI - Phi) (the matrix
+determinant lemma): nothing of the C code's formulas (poles, series, regimes) is reused.
+"""
+import ctypes
+import math
+from ctypes import POINTER, byref, c_int, c_uint
+
+import numpy as np
+import pytest
+from mpmath import mp, mpf
+
+import reference as ref
+from conftest import E, load
+
+MAXO = 3
+
+
+def plant_struct(R, Coeffs):
+    class Spec(ctypes.Structure):
+        _fields_ = [(n, R) for n in ("delta", "kappa", "lambda_", "delta_relerr", "kappa_relerr",
+                                     "lambda_relerr")]
+
+    class Plant(ctypes.Structure):
+        _fields_ = [("spec", Spec), ("order", c_uint),
+                    ("den", R * (MAXO + 1)), ("den_err", R * (MAXO + 1)),
+                    ("num", R * MAXO), ("num_err", R * MAXO),
+                    ("den_s", R * (MAXO + 1)), ("den_s_err", R * (MAXO + 1)),
+                    ("num_s", R * MAXO), ("num_s_err", R * MAXO),
+                    ("c", Coeffs),
+                    ("den_w", R * (MAXO + 1)), ("den_w_err", R * (MAXO + 1))]
+    return Spec, Plant
+
+
+class PlantLib:
+    def __init__(self, zw):
+        self.zw = zw
+        R = zw.real
+        self.Spec, self.Plant = plant_struct(R, zw.Coeffs)
+        self.init = zw.symbol("zw_plant_init")
+        self.init.restype, self.init.argtypes = c_int, [POINTER(self.Plant), POINTER(self.Spec)]
+        self.from_coeffs = zw.symbol("zw_plant_from_coeffs")
+        self.from_coeffs.restype = c_int
+        self.from_coeffs.argtypes = [POINTER(self.Plant), POINTER(zw.Coeffs)]
+        self.eval = zw.symbol("zw_plant_eval")
+        self.eval.restype = c_int
+        self.eval.argtypes = [POINTER(self.Plant), R, R] + [POINTER(R)] * 6
+
+    def plant(self, delta, kappa, lam=0.0, drel=0.0, krel=0.0, lrel=0.0):
+        spec = self.Spec(delta, kappa, lam, drel, krel, lrel)
+        p = self.Plant()
+        st = self.init(byref(p), byref(spec))
+        return st, p
+
+
+@pytest.fixture(scope="module", params=["double", "float"])
+def pl(request):
+    return PlantLib(load(request.param))
+
+
+# ---------------------------------------------------------------------------------------
+# reference
+# ---------------------------------------------------------------------------------------
+
+def _charpoly(M):
+    """Coefficients of det(zI - M), highest first (2x2 or 3x3)."""
+    n = M.rows
+    if n == 2:
+        return [mpf(1), -(M[0, 0] + M[1, 1]), M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0]]
+    tr = M[0, 0] + M[1, 1] + M[2, 2]
+    m2 = (M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0] + M[0, 0] * M[2, 2] - M[0, 2] * M[2, 0]
+          + M[1, 1] * M[2, 2] - M[1, 2] * M[2, 1])
+    return [mpf(1), -tr, m2, -mp.det(M)]
+
+
+def _bilinear(c):
+    """p((1+s)/(1-s)) (1-s)^n for p of degree n (highest first), highest first in s."""
+    n = len(c) - 1
+    out = [mpf(0)] * (n + 1)
+    for i, a in enumerate(c):
+        k = n - i  # power of z
+        # (1+s)^k (1-s)^(n-k)
+        poly = [mpf(1)]
+        for _ in range(k):
+            poly = [x + y for x, y in zip(poly + [0], [0] + poly)]
+        for _ in range(n - k):
+            poly = [x - y for x, y in zip(poly + [0], [0] + poly)]
+        # poly is lowest power first
+        for j, x in enumerate(poly):
+            out[n - j] += a * x
+    return out
+
+
+def _taylor1(c):
+    """p(1 + w), highest first in w."""
+    n = len(c) - 1
+    out = [mpf(0)] * (n + 1)
+    for i, a in enumerate(c):
+        k = n - i
+        for j in range(k + 1):
+            out[n - j] += a * mp.binomial(k, j)
+    return out
+
+
+def reference(delta, kappa, lam=0.0, dps=100):
+    """(den, num, den_s, num_s, den_w) of the exact sampled plant, as mpf lists."""
+    with mp.workdps(dps):
+        d, k = mpf(delta), mpf(kappa)
+        if lam == 0:
+            A = mp.matrix([[0, 1], [-k, -d]])
+            b = [0, 1]
+        else:
+            L = mpf(lam)
+            A = mp.matrix([[0, 1, 0], [-k, -d, 1], [0, 0, -1 / L]])
+            b = [0, 0, 1 / L]
+        n = A.rows
+        M = mp.zeros(n + 1, n + 1)
+        for i in range(n):
+            for j in range(n):
+                M[i, j] = A[i, j]
+            M[i, n] = b[i]
+        Ex = mp.expm(M)
+        Phi = mp.matrix(n, n)
+        for i in range(n):
+            for j in range(n):
+                Phi[i, j] = Ex[i, j]
+        Gam = [Ex[i, n] for i in range(n)]
+        GC = mp.matrix(n, n)
+        for i in range(n):
+            GC[i, 0] = Gam[i]
+        dpoly = _charpoly(Phi)
+        lemma = _charpoly(Phi - GC)
+        den = [2 * x for x in dpoly]
+        num = [2 * (y - x) for x, y in zip(dpoly, lemma)][1:]
+        return den, num, _bilinear(den), _bilinear(num), _taylor1(den)
+
+
+def _dps_for(delta, kappa):
+    """Digits enough for the reference's own cancellation (P ~ kappa s / 2 cancels
+    -log10(kappa) digits; large delta's e^-delta is exact in mpmath)."""
+    extra = 0
+    if kappa > 0:
+        extra = max(0, int(-math.log10(kappa)) + 5)
+    if delta > 0:
+        extra = max(extra, int(-math.log10(delta)) + 5)
+    return 80 + extra
+
+
+FIELDS = ("den", "num", "den_s", "num_s", "den_w")
+
+
+def check_point(pl, delta, kappa, drel=0.0, krel=0.0, dk=None):
+    """Assert every coefficient within its bound; return the worst bound / error ratios."""
+    zw = pl.zw
+    st, p = pl.plant(delta, kappa, 0.0, drel, krel)
+    assert st == E["ZW_OK"], (delta, kappa, zw.status_name(st))
+    assert p.order == 2
+    if dk is None:
+        dk = (delta, kappa)
+    dps = _dps_for(dk[0], dk[1])
+    refs = dict(zip(FIELDS, reference(dk[0], dk[1], dps=dps)))
+    ref_err = mpf(10) ** (25 - dps)  # the reference's own cancellation (coefficients <= 4)
+    stats = []
+    for f in FIELDS:
+        vals, errs = getattr(p, f), getattr(p, f + "_err")
+        for i, exact in enumerate(refs[f]):
+            v, e = vals[i], errs[i]
+            actual = abs(mpf(v) - exact)
+            assert math.isfinite(e) and actual <= e + ref_err, (zw.name, delta, kappa, f, i, v, float(exact), e,
+                                                    float(actual))
+            stats.append((f, i, float(actual), e, float(exact)))
+    return stats
+
+
+def _grid(zw, n):
+    lo_k = -12 if zw.name == "double" else -8
+    ds = [0.0] + [zw.r(x) for x in np.logspace(-8, 6, n)]
+    ks = [zw.r(x) for x in np.logspace(lo_k, 6, n)]
+    return ds, ks
+
+
+def _critical(zw):
+    """delta^2 = 4 kappa +- a few ulps, at several delta."""
+    fmt = zw.fmt
+    out = []
+    for d in (1e-6, 1e-3, 0.1, 1.0, 2.0, 3.9, 4.0, 4.1, 10.0, 100.0, 1e3, 1e4):
+        d = zw.r(d)
+        k = zw.r(mpf(d) ** 2 / 4)
+        for j in (-3, -1, 0, 1, 3):
+            out.append((d, ref.step(k, j, fmt)))
+    return out
+
+
+def test_grid_within_bounds(pl):
+    ds, ks = _grid(pl.zw, 24)
+    for d in ds:
+        for k in ks:
+            check_point(pl, d, k)
+
+
+def test_critical_damping_within_bounds(pl):
+    for d, k in _critical(pl.zw):
+        check_point(pl, d, k)
+
+
+def test_regime_edges(pl):
+    """The series / separated / direct switches: h = 2, |w2| = 4, w2 = h^2 / 2."""
+    zw, fmt = pl.zw, pl.zw.fmt
+    pts = []
+    for d in (3.99, 4.0, 4.01, 5.0, 8.0):
+        for k in (d * d / 8, d * d / 4 - 4, d * d / 4 + 4, 1e-3, 1.0, 50.0):
+            if k > 0:
+                pts.append((zw.r(d), zw.r(k)))
+    for d in (0.0, 0.5, 1.0, 2.0):
+        for k in (d * d / 4 + 4, d * d / 4 - 4):
+            if k > 0:
+                for j in (-1, 0, 1):
+                    pts.append((zw.r(d), ref.step(zw.r(k), j, fmt)))
+    for d, k in pts:
+        check_point(pl, d, k)
+
+
+def test_tiny_inputs(pl):
+    zw = pl.zw
+    tiny = [1e-30, 1e-20, 1e-12] if zw.name == "double" else [1e-20, 1e-12, 1e-8]
+    for t in tiny:
+        for other in (0.0, t, 1e-3, 1.0, 1e3):
+            check_point(pl, zw.r(other), zw.r(t))
+            if other > 0:
+                check_point(pl, zw.r(t), zw.r(other))
+
+
+def test_kappa_to_zero_meets_ideal_plant(pl):
+    """kappa -> 0 tends to the ideal plant's coefficients (continuity, within the bounds)."""
+    zw = pl.zw
+    for d in (0.0, 0.01, 1.0, 3.0, 10.0, 1e3):
+        st, p0 = pl.plant(zw.r(d), 0.0)
+        assert st == E["ZW_OK"]
+        st, p1 = pl.plant(zw.r(d), zw.r(1e-30) if zw.name == "double" else zw.r(1e-20))
+        assert st == E["ZW_OK"]
+        for f in FIELDS:
+            for i in range(2 if f.startswith("num") else 3):
+                a, b = getattr(p0, f)[i], getattr(p1, f)[i]
+                tol = getattr(p0, f + "_err")[i] + getattr(p1, f + "_err")[i] + 1e-18
+                assert abs(a - b) <= tol, (d, f, i, a, b, tol)
+
+
+def test_input_uncertainty_covered(pl):
+    """With relerrs, the bounds cover the exact plant anywhere in the input box."""
+    zw = pl.zw
+    rel = 8 * zw.u
+    for d, k in [(0.3, 2.0), (1.0, 0.25), (5.0, 6.25), (20.0, 3.0), (0.01, 100.0), (100.0, 2500.0)]:
+        d, k = zw.r(d), zw.r(k)
+        for sd in (-1, 1):
+            for sk in (-1, 1):
+                dk = (mpf(d) * (1 + sd * mpf(rel)), mpf(k) * (1 + sk * mpf(rel)))
+                check_point(pl, d, k, drel=rel, krel=rel, dk=dk)
+
+
+def tightness(zw_name, n=24):
+    """(field, bound/actual median, max bound in ulps of the coefficient) over the grid."""
+    pl_ = PlantLib(load(zw_name))
+    ds, ks = _grid(pl_.zw, n)
+    rows = {}
+    for d in ds:
+        for k in ks:
+            for f, i, actual, e, exact in check_point(pl_, d, k):
+                ulp = float(ref.ulp_of(exact, pl_.zw.fmt)) if exact != 0 else float(pl_.zw.fmt.tiny)
+                rows.setdefault((f, i), []).append((e / max(actual, 1e-300), e / ulp))
+    return rows
+
+
+# ---------------------------------------------------------------------------------------
+# direct simulation: the convention of N / D
+# ---------------------------------------------------------------------------------------
+
+def _simulate(delta, kappa, inputs, dps=40):
+    """x(k) at the sample instants of m x'' + b x' + k x = u(t), u held over each period,
+    integrated by mpmath's Taylor-series ODE solver (independent of any matrix exponential)."""
+    with mp.workdps(dps):
+        d, k = mpf(delta), mpf(kappa)
+        x, v = mpf(0), mpf(0)
+        out = [x]
+        for u in inputs:
+            uu = mpf(u)
+            f = mp.odefun(lambda t, y: [y[1], uu - d * y[1] - k * y[0]], 0, [x, v])
+            x, v = f(1)
+            out.append(x)
+        return out
+
+
+def test_difference_equation_matches_simulation(pl):
+    zw = pl.zw
+    rng = np.random.default_rng(16)
+    for d, k in [(0.5, 2.0), (1.0, 0.25), (0.0, 9.0), (2.0, 0.5)]:
+        st, p = pl.plant(zw.r(d), zw.r(k))
+        assert st == E["ZW_OK"]
+        u = [float(x) for x in rng.uniform(-1, 1, 6)]
+        x = _simulate(zw.r(d), zw.r(k), u)
+        # D(q) x = N(q) u with D, N scaled by 2: 2 x_{j+2} - 2 tr x_{j+1} + 2 det x_j
+        #   = num0 u_{j+1} + num1 u_j
+        for j in range(len(u) - 1):
+            lhs = p.den[0] * x[j + 2] + p.den[1] * x[j + 1] + p.den[2] * x[j]
+            rhs = p.num[0] * u[j + 1] + p.num[1] * u[j]
+            scale = sum(abs(c) for c in p.den[:3]) * max(abs(float(y)) for y in x) + 1e-30
+            assert abs(lhs - rhs) <= 50 * zw.u * scale + 1e-30, (d, k, j, float(lhs), float(rhs))
