@@ -289,3 +289,115 @@ def test_alpha_max_certified_and_tight(zw, case):
         worst = max(worst, gap)
         assert gap < TIGHT[zw.name], (beta, amax, truth)
     print(f"\n{zw.name} {case_id(case)}: alpha_max within {worst:.1e} below the truth")
+
+
+def test_random_plants_verdicts(zw):
+    """Random springs and hands (kappa log-uniform, real and complex poles), random delay and
+    velocity estimate; points near the boundary and across the plane: no false stable."""
+    rng = random.Random(1604)
+    n = false_unstable = 0
+    for _ in range(25):
+        delta = 10 ** rng.uniform(-2, 1)
+        kappa = 10 ** rng.uniform(-3, 1.3)
+        kw = dict(delay=rng.randint(0, 3), tustin=rng.random() < 0.2)
+        if rng.random() < 0.3:
+            kw["pole"] = rng.choice([0.2, 0.6, 0.9])
+        lp = make(zw, delta, kappa, 0.0, **kw)
+        ref_loop = lp.ref()
+        for _ in range(8):
+            beta = zw.r(rng.uniform(-delta, 2 * (1 + delta)))
+            amax = lp.alpha_max(beta)
+            scale = amax if amax > 0 else 1.0
+            alpha = zw.r(scale * (1 + rng.choice([-1, 1]) * 10 ** rng.uniform(-8, 0)) if rng.random() < 0.6
+                         else rng.uniform(-kappa, 3.0))
+            stable, _ = lp.verdict(alpha, beta)
+            rho = ref_loop.rho(alpha, beta)
+            n += 1
+            assert not (stable and rho >= 1), (delta, kappa, kw, alpha, beta, rho)
+            if not stable and rho < 1:
+                false_unstable += 1
+                assert 1 - rho < BAND[zw.name], (delta, kappa, kw, alpha, beta, rho)
+    print(f"\n{zw.name}: {n} random points, 0 false stable, {false_unstable} false unstable (in the band)")
+
+
+@pytest.mark.parametrize("case", [(0.5, 0.1, 0.0, {}), (1.0, 0.25, 0.0, {}), (0.05, 2.0, 0.0, dict(delay=1)),
+                                  (0.5, 0.0, 0.3, {}), (0.1, 1.0, 1.0, {})], ids=case_id)
+def test_extremes_certified(zw, case):
+    """alpha_mmax stable (and below it on its line), alpha_p_max on beta = 0, and the beta
+    range at alpha -> 0+ stable inside, in the reference."""
+    delta, kappa, lam, kw = case
+    lp = make(zw, delta, kappa, lam, **kw)
+    ref_loop = lp.ref()
+    Ext = type("Ext", (ctypes.Structure,), {"_fields_": [(n, zw.real) for n in (
+        "alpha_mmax", "beta_at_alpha_mmax", "alpha_p_max", "beta_mmax", "beta_mmin")]})
+    fn = zw.symbol("zw_loop_extremes_compute")
+    fn.argtypes, fn.restype = [POINTER(zw.Loop), POINTER(zw.LoopWorkspace), POINTER(Ext)], c_int
+    x = Ext()
+    assert fn(byref(lp.loop), byref(zw.ws), byref(x)) == E["ZW_OK"]
+    assert x.alpha_mmax > 0 and x.beta_mmin < x.beta_mmax
+    for k in range(1, 9):
+        assert ref_loop.stable(x.alpha_mmax * k / 8, x.beta_at_alpha_mmax)
+    if x.alpha_p_max > 0:
+        assert ref_loop.stable(x.alpha_p_max, 0.0)
+    for k in range(1, 8):
+        b = x.beta_mmin + (x.beta_mmax - x.beta_mmin) * k / 8
+        assert ref_loop.stable(1e-7, b), b
+    # near-optimal: the reference's alpha_sup at beta_at_alpha_mmax is not far above
+    truth = ref_loop.alpha_sup(x.beta_at_alpha_mmax, x.alpha_mmax)
+    print(f"\n{zw.name} {case_id(case)}: alpha_mmax {x.alpha_mmax:.6g} (reference sup on its line "
+          f"{float(truth):.6g}), beta range ({x.beta_mmin:.4g}, {x.beta_mmax:.4g})")
+    assert float((truth - x.alpha_mmax) / truth) < TIGHT[zw.name]
+
+
+def test_kappa_and_lambda_to_zero_reduce_to_ideal(zw):
+    """A vanishing spring or lag gives the ideal loop's alpha_max (the truths differ by
+    O(kappa), O(lambda))."""
+    for delay in (0, 1, 2):
+        co_st, co = zw.coeffs(zw.r(0.8))
+        st, ideal = zw.loop(co, zw.loop_spec(delay, "backward", "none", 0.0, 0))
+        assert st == E["ZW_OK"]
+        am = zw.symbol("zw_loop_alpha_max")
+        for kappa, lam in ((1e-9, 0.0), (0.0, 1e-9)):
+            lp = make(zw, 0.8, kappa, lam, delay=delay)
+            for beta in (0.0, 0.4, 1.2):
+                a_ideal = zw.real()
+                assert am(byref(ideal), byref(zw.ws), zw.r(beta), byref(a_ideal)) == E["ZW_OK"]
+                a = lp.alpha_max(zw.r(beta))
+                assert abs(a - a_ideal.value) <= {"double": 1e-6, "float": 1e-3}[zw.name] * (1 + a_ideal.value)
+
+
+def simulate_grows(A, steps=4000):
+    """|x_n| / |x_0| after steps of x_{k+1} = A x_k from a generic start (float64)."""
+    import numpy as np
+    a = np.array(A.tolist(), dtype=float)
+    x = np.linspace(1.0, 0.3, a.shape[0])
+    n0 = np.linalg.norm(x)
+    for _ in range(steps):
+        x = a @ x
+        nx = np.linalg.norm(x)
+        if nx > 1e12 * n0:
+            return math.inf
+    return float(np.linalg.norm(x) / n0)
+
+
+@pytest.mark.parametrize("case", [(0.5, 0.1, 0.0, {}), (0.05, 2.0, 0.0, dict(delay=1)), (0.5, 0.0, 0.5, {}),
+                                  (0.1, 1.0, 1.0, dict(delay=1))], ids=case_id)
+def test_simulation_agrees(zw, case):
+    """A direct time-domain simulation of the sampled loop (the exact-ZOH state update, as a
+    drive runs it) decays at points the library calls stable and grows at points it calls
+    unstable (not marginal), at 0.6 and 1.4 times alpha_max."""
+    delta, kappa, lam, kw = case
+    lp = make(zw, delta, kappa, lam, **kw)
+    for beta in (0.1, 0.5):
+        beta = zw.r(beta)
+        amax = lp.alpha_max(beta)
+        if amax == 0:
+            continue
+        for f, expect in ((0.6, True), (1.4, False)):
+            alpha = zw.r(f * amax)
+            stable, marginal = lp.verdict(alpha, beta)
+            assert stable == expect and not marginal
+            with mp.workdps(30):
+                A = closed_loop(lp.delta, lp.kappa, lp.lam, alpha, beta, **lp.kw)
+            g = simulate_grows(A)
+            assert (g < 1e-3) if stable else (g > 1e3), (alpha, beta, g)
