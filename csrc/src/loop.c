@@ -1048,10 +1048,7 @@ static zw_real poly_coef(const zw_loop *loop, zw_real alpha, zw_real beta, unsig
 }
 
 /* A complex value with a bound on its absolute error. */
-typedef struct ceb {
-    cplx v;
-    zw_real e;
-} ceb;
+typedef zw_loop_ceb ceb;
 
 static ceb ceb_make(cplx v, zw_real e)
 {
@@ -1104,81 +1101,89 @@ static void ceb_add_into(ceb *x, const ceb *y)
     x->e = x->e + y->e + ZW_R(2.0) * ZW_U * c_abs(x->v) + ZW_R(2.0) * ZW_ETA;
 }
 
-/* acc *= the plant's N (num) or D at z, from zw_plant_eval (its factored form, with its
- * bound); a failed evaluation (never, for a loop check_loop accepted) makes acc NaN, whose
- * radius the root test refuses. */
-static void ceb_times_plant(ceb *acc, const zw_loop *loop, cplx z, bool num)
+/* The plant's N and D at z into ws->plant_at (zw_plant_eval: its factored form, with its
+ * bounds) for the next eval_p at z.  A sibling call of eval_p, not under it: the root test's
+ * deepest chain stays as it was (the stack target, tools/footprint.sh).  A failed evaluation
+ * (never, for a loop check_loop accepted) leaves NaN, whose radius the root test refuses. */
+ZW_NOINLINE static void plant_at(const zw_loop *loop, zw_loop_workspace *ws, cplx z)
 {
-    zw_real nr, ni, ne, dr, di, de;
-    if (zw_plant_eval(&loop->plant, z.re, z.im, &nr, &ni, &ne, &dr, &di, &de) != ZW_OK) {
-        acc->v = c_make(ZW_NAN, ZW_NAN);
-        acc->e = ZW_NAN;
-        return;
+    zw_real *v = ws->plant_at;
+    ws->plant_loop = loop;
+    if (zw_plant_eval(&loop->plant, z.re, z.im, &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]) != ZW_OK) {
+        v[0] = ZW_NAN; /* the others are NaN already (zw_plant_eval's fail-safe) */
     }
-    if (num) {
-        ceb_times(acc, c_make(nr, ni), ne);
-    } else {
-        ceb_times(acc, c_make(dr, di), de);
-    }
+}
+
+/* acc *= N (num) or D at z, as plant_at left them. */
+static void ceb_times_plant(ceb *acc, const zw_loop_workspace *ws, bool num)
+{
+    const zw_real *v = ws->plant_at;
+    const unsigned k = num ? 0u : 3u;
+    ceb_times(acc, c_make(v[k], v[k + 1u]), v[k + 2u]);
 }
 
 /* p(z) = z^d D Dv + N (alpha Dv + beta Nv) from the factors (loop.h), with a bound on its
  * error: far tighter than the expanded coefficients near z = 1 and where the expansion
- * cancels. */
-static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
+ * cancels.  The loop and its plant's N(z), D(z): ws->plant_loop and ws->plant_at, from
+ * plant_at(loop, ws, z) just before (the loop through ws: one argument less, a smaller
+ * frame on the root test's deepest chain). */
+static ceb eval_p(zw_loop_workspace *ws, zw_real alpha, zw_real beta, cplx z)
 {
+    const zw_loop *loop = ws->plant_loop;
     const zw_loop_spec *spec = &loop->spec;
     const bool tustin = (spec->differentiator == ZW_DIFF_TUSTIN);
-    ceb dv, nv, d;
-    dv = ceb_make(c_make(ZW_R(1.0), ZW_R(0.0)), ZW_R(0.0));
-    nv = dv;
+    /* the three running products in the workspace, not in this frame (the root test's
+     * deepest chain runs through it: the stack target of tools/footprint.sh) */
+    ceb *const dv = &ws->eval[0], *const nv = &ws->eval[1], *const d = &ws->eval[2];
+    *dv = ceb_make(c_make(ZW_R(1.0), ZW_R(0.0)), ZW_R(0.0));
+    *nv = *dv;
     switch (spec->filter) {
     case ZW_VFILTER_AVERAGE: /* (z^n - 1) / (n z^n);  2 (z^n - 1) / (n z^(n-1) (z + 1)) */
-        ceb_times_power(&dv, z, tustin ? (spec->average - 1u) : spec->average);
-        ceb_times_real(&dv, (zw_real)spec->average, ZW_R(0.0));
+        ceb_times_power(dv, z, tustin ? (spec->average - 1u) : spec->average);
+        ceb_times_real(dv, (zw_real)spec->average, ZW_R(0.0));
         if (tustin) {
-            ceb_times_factor(&dv, loop, F_ZP1, z);
+            ceb_times_factor(dv, loop, F_ZP1, z);
         }
-        ceb_times_power(&nv, z, spec->average);
-        nv.v.re -= ZW_R(1.0);
-        nv.e += ZW_R(2.0) * ZW_U * c_abs(nv.v) + ZW_ETA;
+        ceb_times_power(nv, z, spec->average);
+        nv->v.re -= ZW_R(1.0);
+        nv->e += ZW_R(2.0) * ZW_U * c_abs(nv->v) + ZW_ETA;
         if (tustin) {
-            ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
+            ceb_times_real(nv, ZW_R(2.0), ZW_R(0.0));
         }
         break;
     case ZW_VFILTER_LOWPASS: /* (1 - a)(z - 1) / (z - a);  2 (1 - a) z (z - 1) / ((z + 1)(z - a)) */
-        ceb_times_factor(&dv, loop, F_ZMA, z);
-        ceb_times_factor(&nv, loop, F_ZM1, z);
+        ceb_times_factor(dv, loop, F_ZMA, z);
+        ceb_times_factor(nv, loop, F_ZM1, z);
         if (tustin) {
-            ceb_times_factor(&dv, loop, F_ZP1, z);
-            ceb_times_power(&nv, z, 1u);
+            ceb_times_factor(dv, loop, F_ZP1, z);
+            ceb_times_power(nv, z, 1u);
         }
-        ceb_times_real(&nv, (tustin ? ZW_R(2.0) : ZW_R(1.0)) * (ZW_R(1.0) - spec->filter_pole),
+        ceb_times_real(nv, (tustin ? ZW_R(2.0) : ZW_R(1.0)) * (ZW_R(1.0) - spec->filter_pole),
                        ZW_R(2.0) * ZW_U * (ZW_R(1.0) - spec->filter_pole));
         break;
     case ZW_VFILTER_NONE:
     default: /* (z - 1) / z;  2 (z - 1) / (z + 1) */
         if (tustin) {
-            ceb_times_factor(&dv, loop, F_ZP1, z);
+            ceb_times_factor(dv, loop, F_ZP1, z);
         } else {
-            ceb_times_power(&dv, z, 1u);
+            ceb_times_power(dv, z, 1u);
         }
-        ceb_times_factor(&nv, loop, F_ZM1, z);
+        ceb_times_factor(nv, loop, F_ZM1, z);
         if (tustin) {
-            ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
+            ceb_times_real(nv, ZW_R(2.0), ZW_R(0.0));
         }
         break;
     }
-    d = dv; /* z^d D Dv */
-    ceb_times_plant(&d, loop, z, false);
-    ceb_times_power(&d, z, spec->delay);
+    *d = *dv; /* z^d D Dv (z^d last: ws and the gains are no longer live across its call) */
+    ceb_times_plant(d, ws, false);
     /* N (alpha Dv + beta Nv), the gains with their carried error (0 by default) */
-    ceb_times_real(&dv, alpha, ZW_FABS(alpha) * loop->alpha_relerr);
-    ceb_times_real(&nv, beta, ZW_FABS(beta) * loop->beta_relerr);
-    ceb_add_into(&nv, &dv);
-    ceb_times_plant(&nv, loop, z, true);
-    ceb_add_into(&d, &nv);
-    return d;
+    ceb_times_real(dv, alpha, ZW_FABS(alpha) * loop->alpha_relerr);
+    ceb_times_real(nv, beta, ZW_FABS(beta) * loop->beta_relerr);
+    ceb_add_into(nv, dv);
+    ceb_times_plant(nv, ws, true);
+    ceb_times_power(d, z, spec->delay);
+    ceb_add_into(d, nv);
+    return *d;
 }
 
 /* Newton correction p(z) / p'(z) of the degree-m polynomial p[0..m] (coefficients read
@@ -1238,9 +1243,10 @@ static bool coef_exact_zero(const zw_loop *loop, zw_real alpha, zw_real beta, un
 /* The roots of p by Aberth-Ehrlich iteration (simultaneous, no deflation) into z[0..*m-1];
  * exact zero roots (trailing coefficients that are exactly zero) are set aside, so *m may
  * be below the degree.  False when the iteration produced something non-finite. */
-static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], unsigned *m_out,
-                   bool accurate)
+static bool aberth(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                   unsigned *m_out, bool accurate)
 {
+    cplx *z = ws->root;
     unsigned m = loop->degree, i, j, it, pass;
     uint_least32_t done = 0u, all;
     zw_real lead = poly_coef(loop, alpha, beta, 0u), r0;
@@ -1274,7 +1280,9 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
                 }
                 if ((pass == 1u) && (m == loop->degree) && (c_abs(z[i]) <= ZW_R(1.0))) {
                     /* p from its factors (the deflated polynomial is p / z^(n - m)) */
-                    const ceb pz = eval_p(loop, alpha, beta, z[i]);
+                    ceb pz;
+                    plant_at(loop, ws, z[i]);
+                    pz = eval_p(ws, alpha, beta, z[i]);
                     n = newton_step(loop, alpha, beta, m, z[i], &pz, &noise);
                 } else {
                     n = newton_step(loop, alpha, beta, m, z[i], NULL, &noise);
@@ -1320,7 +1328,7 @@ static cplx largest_root(const zw_loop *loop, zw_loop_workspace *ws, zw_real alp
     cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
     zw_real best = -ZW_R(1.0);
     unsigned m = 0u, i;
-    *ok = aberth(loop, alpha, beta, ws->root, &m, accurate);
+    *ok = aberth(loop, ws, alpha, beta, &m, accurate);
     for (i = 0u; i < m; ++i) {
         zw_real a = c_abs(z[i]);
         if (a > best) {
@@ -1342,7 +1350,8 @@ static cplx largest_root(const zw_loop *loop, zw_loop_workspace *ws, zw_real alp
  * the roots' own condition, unlike the Routh array, whose entries lose accuracy on the
  * cluster of roots that a delay line and a moving average put near z = 0. */
 /* m |W_i| bounded above (+inf when it cannot be bounded). */
-static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta, const cplx z[],
+static zw_real inclusion_radius(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                zw_real beta, const cplx z[],
                                 unsigned m, unsigned i, zw_real lead_low)
 {
     const zw_real az = c_abs(z[i]) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
@@ -1350,7 +1359,9 @@ static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta
     unsigned j, k;
     if (m == loop->degree) {
         /* from the factors */
-        ceb pz = eval_p(loop, alpha, beta, z[i]);
+        ceb pz;
+        plant_at(loop, ws, z[i]);
+        pz = eval_p(ws, alpha, beta, z[i]);
         num = (c_abs(pz.v) + pz.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
     } else {
         /* exact zero roots set aside: p = z^(n-m) p_m; Horner on p_m, whose complex steps err
@@ -1430,7 +1441,7 @@ ZW_NOINLINE static routh_result inclusion_verdict(const zw_loop *loop, zw_loop_w
     }
     /* each radius once (the isolation test below reads every other one) */
     for (i = 0u; i < m; ++i) {
-        radius[i] = inclusion_radius(loop, alpha, beta, z, m, i, lead_low);
+        radius[i] = inclusion_radius(loop, ws, alpha, beta, z, m, i, lead_low);
     }
     /* a disk wholly outside and isolated: one root surely outside */
     for (i = 0u; i < m; ++i) {
@@ -1455,7 +1466,7 @@ static routh_result roots_test(const zw_loop *loop, zw_loop_workspace *ws, zw_re
 {
     unsigned m = 0u;
     *top = c_make(ZW_R(0.0), ZW_R(0.0));
-    *top_ok = aberth(loop, alpha, beta, ws->root, &m, true);
+    *top_ok = aberth(loop, ws, alpha, beta, &m, true);
     if (!*top_ok) {
         return ROUTH_UNSURE;
     }

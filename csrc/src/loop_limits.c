@@ -35,6 +35,14 @@
 #define LL_GEO 44u
 #endif
 
+/* Inlined into its callers: a helper that only sequences two out-of-line calls, so that its
+ * frame does not add to the scan's chain (the stack target of tools/footprint.sh). */
+#if defined(__GNUC__)
+#define LL_INLINE __attribute__((always_inline)) inline
+#else
+#define LL_INLINE
+#endif
+
 #define LL_PI ZW_R(3.14159265358979323846)
 /* The largest zw_real below pi (float's nearest is above it: a grid point there would pass
  * beyond z = -1 and see the asymptote of a Tustin loop from the other side). */
@@ -62,8 +70,12 @@ static ll_cplx cmul(ll_cplx a, ll_cplx b)
     return r;
 }
 
-/* a / b by Smith's method (no overflow or underflow of |b|^2). */
-static ll_cplx cdiv(ll_cplx a, ll_cplx b)
+/* a / b by Smith's method (no overflow or underflow of |b|^2); cdiv_inline inlined
+ * (general_r0: no callee frame under it, the scan's stack chain), cdiv out of line. */
+static ll_cplx cdiv(ll_cplx a, ll_cplx b);
+
+/* The same, inlined (general_r0: no callee frame under it, the scan's stack chain). */
+static LL_INLINE ll_cplx cdiv_inline(ll_cplx a, ll_cplx b)
 {
     ll_cplx r;
     zw_real t, den;
@@ -79,6 +91,11 @@ static ll_cplx cdiv(ll_cplx a, ll_cplx b)
         r.im = (a.im * t - a.re) / den;
     }
     return r;
+}
+
+static ll_cplx cdiv(ll_cplx a, ll_cplx b)
+{
+    return cdiv_inline(a, b);
 }
 
 /* |z|_1 >= |z|: a cheap magnitude bound. */
@@ -198,10 +215,10 @@ static zw_status plant_init(ll_plant *p, const zw_loop *loop, zw_loop_workspace 
  * error: the coefficients' bounds, the roundings (powers, products, two sums: under
  * (2 deg + 2) u of sum |c_p| |t|^p) and t's own relative error LL_TAN_RELERR (under
  * 2 deg of it, times the same magnitude).  Out: *val, *err. */
-static void eval_jt(const zw_real a[], const zw_real ae[], unsigned deg, bool rev, zw_real t,
-                    ll_cplx *val, zw_real *err)
+ZW_NOINLINE static void eval_jt(const zw_real a[], const zw_real ae[], unsigned deg, bool rev,
+                                zw_real t, ll_cplx *val, zw_real *err)
 {
-    zw_real pw = ZW_R(1.0), mag = ZW_R(0.0), cerr = ZW_R(0.0), at = ZW_FABS(t);
+    zw_real pw = ZW_R(1.0), mag = ZW_R(0.0), cerr = ZW_R(0.0);
     unsigned k;
     val->re = ZW_R(0.0);
     val->im = ZW_R(0.0);
@@ -218,7 +235,6 @@ static void eval_jt(const zw_real a[], const zw_real ae[], unsigned deg, bool re
         cerr += ae[i] * ZW_FABS(pw);
         pw *= t;
     }
-    (void)at;
     *err = (cerr + ((ZW_R(2.0) * (zw_real)deg + ZW_R(2.0)) * ZW_U +
                     ZW_R(2.0) * (zw_real)deg * LL_TAN_RELERR) * mag) * (ZW_R(1.0) + ZW_R(8.0) * ZW_U) +
            ZW_R(4.0) * ((zw_real)deg + ZW_R(1.0)) * ZW_ETA;
@@ -238,10 +254,11 @@ static zw_real cabs_low(ll_cplx v)
  * polynomials (no overflow towards z = -1).  So z near 1 keeps the relative accuracy of the
  * images' coefficients, which evaluating D at a rounded e^{j theta} would lose.  Returns the
  * relative error bound of R0 (beyond p->eps), ZW_REAL_MAX where it cannot be bounded. */
-static zw_real general_r0(const ll_plant *p, zw_real sh, zw_real ch, ll_cplx rot, ll_cplx *r0)
+ZW_NOINLINE static zw_real general_r0(const ll_plant *p, zw_real theta, ll_cplx *r0)
 {
     const zw_plant *pl = &p->loop->plant;
     const unsigned q = pl->order;
+    const zw_real sh = ZW_SIN(ZW_R(0.5) * theta), ch = ZW_COS(ZW_R(0.5) * theta);
     ll_cplx a, b, t;
     zw_real ea, eb, ra, rb;
     if (sh <= ch) {
@@ -268,29 +285,26 @@ static zw_real general_r0(const ll_plant *p, zw_real sh, zw_real ch, ll_cplx rot
     if (!(rb < ZW_R(0.5)) || !ZW_IS_FINITE(ra)) {
         return ZW_REAL_MAX;
     }
-    t = cdiv(cmul(rot, a), b);
+    t.re = ZW_COS(p->phase * theta); /* the phase e^{j (d + 1/2) theta} */
+    t.im = ZW_SIN(p->phase * theta);
+    t = cdiv_inline(cmul(t, a), b);
     r0->re = -ZW_R(0.5) * t.re;
     r0->im = -ZW_R(0.5) * t.im;
     /* |A~/B~ - A/B| <= (|A - A~| + |A~/B~| |B - B~|) / |B|, |B| >= |B~| (1 - rb) */
     return (ra + rb) / (ZW_R(1.0) - rb) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
 }
 
-/* R0 = e^{j theta/2} Q0 and S = e^{j theta/2} Vt at z = e^{j theta} (loop_limits.h).
- * Returns the relative error bound of both (p->eps for the ideal plant; ZW_REAL_MAX where
- * a general plant's R0 cannot be bounded). */
-static zw_real response(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
+/* R0 = e^{j theta/2} Q0 and S = e^{j theta/2} Vt at z = e^{j theta} (loop_limits.h), each
+ * within p->eps relative; a general plant's R0 is general_r0's (not computed here). */
+ZW_NOINLINE static void response(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
 {
     const zw_loop_spec *sp = &p->loop->spec;
     zw_real sh = ZW_SIN(ZW_R(0.5) * theta), ch = ZW_COS(ZW_R(0.5) * theta);
     zw_real sin_t = ZW_R(2.0) * sh * ch, vers = ZW_R(2.0) * sh * sh; /* sin, 1 - cos */
-    zw_real eps = p->eps;
     ll_cplx ze, cz, rot, f;
-    rot.re = ZW_COS(p->phase * theta);
-    rot.im = ZW_SIN(p->phase * theta);
-    if (p->general) {
-        const zw_real e = general_r0(p, sh, ch, rot, r0);
-        eps = (e >= ZW_REAL_MAX) ? ZW_REAL_MAX : eps + ZW_R(1.5) * e;
-    } else {
+    if (!p->general) {
+        rot.re = ZW_COS(p->phase * theta);
+        rot.im = ZW_SIN(p->phase * theta);
         ze.re = p->one_minus_e - vers;
         ze.im = sin_t;
         cz.re = ZW_R(2.0) * ch * ch - p->r12;
@@ -326,7 +340,19 @@ static zw_real response(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *
     } else {
         /* backward or Tustin alone */
     }
-    return eps;
+}
+
+/* R0 and S at theta (response, general_r0) and their relative error bound: p->eps, plus the
+ * plant's for a general one; ZW_REAL_MAX where that cannot be bounded. */
+static LL_INLINE zw_real response_eps(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
+{
+    zw_real e;
+    response(p, theta, r0, s);
+    if (!p->general) {
+        return p->eps;
+    }
+    e = general_r0(p, theta, r0);
+    return (e >= ZW_REAL_MAX) ? ZW_REAL_MAX : p->eps + ZW_R(1.5) * e;
 }
 
 /* ---- crossing conditions --------------------------------------------------------------- */
@@ -358,13 +384,12 @@ typedef struct zw_loop_lim_point ll_point;
  * the phase e^{j phi theta}, phi = d + 1/2):
  *     Re R0 -> -(phi d0 / n0 + (d1 - d0 n1 / n0) / (2 n0)),   -2 sin(theta/2) Im R0 -> -d0 / n0
  * (alpha = -d0 / n0 = -kappa is the z = 1 line), S -> Vt(1) (real).  With error bounds. */
-static void stiff_origin(const ll_scan *x, ll_point *pt)
+ZW_NOINLINE static void stiff_origin(const ll_scan *x, ll_point *pt)
 {
     const zw_plant *pl = &x->p->loop->plant;
     const unsigned q = pl->order;
-    ll_cplx r0, s;
-    zw_eb d0, d1, n0, n1, re_r0, a_line, t, sre;
-    zw_real eps;
+    zw_eb d0, d1, n0, n1, re_r0, a_line, t;
+    const zw_eb sre = zw_eb_exact(ZW_R(1.0)); /* S(0) = Vt(1) = 1: every estimate is exact on a ramp */
     d0.v = pl->den_s[q];
     d0.e = pl->den_s_err[q];
     d1.v = pl->den_s[q - 1u];
@@ -378,12 +403,6 @@ static void stiff_origin(const ll_scan *x, ll_point *pt)
     t = zw_eb_div(t, zw_eb_mul(zw_eb_exact(ZW_R(2.0)), n0));
     re_r0 = zw_eb_add(zw_eb_mul(zw_eb_exact(x->p->phase), a_line), t);
     re_r0.v = -re_r0.v;
-    /* S at theta = 0 (the general response at a tiny theta gives S's own value and bound;
-     * R0 is not used) */
-    eps = response(x->p, ZW_R(0.0), &r0, &s);
-    (void)eps;
-    sre.v = s.re;
-    sre.e = x->p->eps * ZW_FABS(s.re);
     pt->theta = ZW_R(0.0);
     if (x->mode == LL_FIX_BETA) {
         t = zw_eb_sub(re_r0, zw_eb_mul(zw_eb_exact(x->fixed), sre));
@@ -417,7 +436,7 @@ static void eval_point(const ll_scan *x, zw_real theta, ll_point *pt)
         stiff_origin(x, pt);
         return;
     }
-    eps = response(x->p, theta, &r0, &s);
+    eps = response_eps(x->p, theta, &r0, &s);
     if (!(eps < ZW_REAL_MAX)) {
         pt->theta = theta;
         pt->f = ZW_R(0.0);
@@ -1337,7 +1356,7 @@ zw_status zw_loop_boundary_point(const zw_loop *loop, zw_real theta, zw_real *al
     if (!(theta > ZW_R(0.0) && theta <= LL_PI_BELOW)) {
         return ZW_ERR_ARG;
     }
-    if (!(response(&p, theta, &r0, &s) < ZW_REAL_MAX) || !(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) {
+    if (!(response_eps(&p, theta, &r0, &s) < ZW_REAL_MAX) || !(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) {
         return ZW_ERR_DOMAIN;
     }
     b = r0.re / s.re;

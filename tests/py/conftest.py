@@ -196,7 +196,8 @@ def _loop_structs(real, Coeffs):
         fails ws_intact() instead of corrupting memory)."""
         _fields_ = [("row", real * LOOP_N), ("row_err", real * LOOP_N),
                     ("root", real * (2 * (LOOP_N - 1))), ("radius", real * (LOOP_N - 1)),
-                    ("limits", ctypes.c_ubyte * 640),  # the limits' state: 520 B (double), 296 (float)
+                    # the limits' state and the root test's plant values (about 660 B double, 370 float)
+                    ("limits", ctypes.c_ubyte * 768),
                     ("guard", ctypes.c_ubyte * 256)]
 
     return LoopSpec, Loop, LoopVerdict, LoopWorkspace

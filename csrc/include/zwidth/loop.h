@@ -115,6 +115,12 @@ typedef struct zw_loop_complex {
     zw_real re, im;
 } zw_loop_complex;
 
+/* A complex value with a bound on its absolute error (the workspace's root test). */
+typedef struct zw_loop_ceb {
+    zw_loop_complex v;
+    zw_real e;
+} zw_loop_ceb;
+
 /* Scratch memory of the checks and limits of the general loop: the arrays of the maximum
  * degree (Routh / Schur-Cohn rows with their error bounds, Aberth roots, inclusion radii)
  * that would otherwise sit on the stack (the issue's 512 B stack target at the maximum
@@ -169,6 +175,9 @@ typedef struct zw_loop_workspace {
     } lim_ext;
     zw_real lim_amax; /* the last alpha_max found */
     bool lim_stable;  /* the last guarded verdict */
+    zw_real plant_at[6]; /* the plant's N, D at a root estimate: re, im, bound each (loop.c) */
+    const zw_loop *plant_loop; /* the loop they belong to */
+    zw_loop_ceb eval[3];       /* the factored evaluation's running products (loop.c) */
 } zw_loop_workspace;
 
 /* Build the loop of spec for the plant c (a copy of *c is kept).  Errors: ZW_ERR_NULL,
