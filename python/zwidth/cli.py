@@ -323,9 +323,8 @@ class _Plant:
         return {"m": None if dev is None else dev.m, "b": None if dev is None else dev.b,
                 "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta,
                 "preset": self.preset,
-                "actuator_tau": None if dev is None else dev.actuator_tau,
-                "hand": None if dev is None else list(dev.hand),
-                "stiffness": None if dev is None else dev.stiffness}
+                **({"actuator_tau": dev.actuator_tau, "hand": list(dev.hand), "stiffness": dev.stiffness}
+                   if dev is not None and self.parts else {})}
 
     def loop_kwargs(self) -> Dict[str, Any]:
         """The normalized functions' loop keywords."""

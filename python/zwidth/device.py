@@ -149,7 +149,10 @@ class Device:
         return (not self.loop.ideal) or self.has_plant_parts
 
     def _coupled(self) -> Tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """(M, Bp, T) = (m + m_h, b + b_h, T): what the gains are normalized by."""
+        """(M, Bp, T) = (m + m_h, b + b_h, T): what the gains are normalized by (the plant's
+        own arrays, untouched, without plant-side parts)."""
+        if not self.has_plant_parts:
+            return self._plant()
         return self._m + self._parts[2], self._b + self._parts[3], self._T
 
     @property

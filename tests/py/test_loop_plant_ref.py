@@ -401,3 +401,100 @@ def test_simulation_agrees(zw, case):
                 A = closed_loop(lp.delta, lp.kappa, lp.lam, alpha, beta, **lp.kw)
             g = simulate_grows(A)
             assert (g < 1e-3) if stable else (g > 1e3), (alpha, beta, g)
+
+
+# ---------------------------------------------------------------------------------------
+# zwidth.Device and the CLI with plant-side parts
+# ---------------------------------------------------------------------------------------
+
+PAPER = dict(m=85.78e-7, b=2.197e-3, T=0.02)  # the paper's drive (rotary: J [kg m^2])
+
+
+def _zwidth():
+    return pytest.importorskip("zwidth")
+
+
+def _normalized_ref(dev_kw, delay, K, B):
+    """The reference's verdict at the exact normalized gains of a Device's (K, B)."""
+    m, b, T = PAPER["m"], PAPER["b"], PAPER["T"]
+    m_h, b_h, k_h = dev_kw.get("hand", (0.0, 0.0, 0.0))
+    with mp.workdps(60):
+        M = mpf(m) + mpf(m_h)
+        delta = (mpf(b) + mpf(b_h)) * T / M
+        kappa = (mpf(dev_kw.get("stiffness", 0.0)) + mpf(k_h)) * mpf(T) ** 2 / M
+        lam = mpf(dev_kw.get("actuator_tau", 0.0)) / mpf(T)
+        rl = RefLoop(delta, kappa, lam, delay=delay)
+        return rl.stable(mpf(K) * mpf(T) ** 2 / M, mpf(B) * mpf(T) / M)
+
+
+def test_hand_enlarges_the_region():
+    """Hulin et al. (2014): a coupled hand enlarges the stable region.  For the paper's drive
+    with one sample of delay and a hand of the drive's own inertia, twice its damping and a
+    soft spring, K_mmax grows (0.107 -> 0.325 N m/rad); both certified by the reference."""
+    zwidth = _zwidth()
+    hand = (PAPER["m"], 2 * PAPER["b"], 1e-4)
+    plain = zwidth.Device(PAPER["m"], PAPER["b"], PAPER["T"], rotary=True, delay=1)
+    held = zwidth.Device(PAPER["m"], PAPER["b"], PAPER["T"], rotary=True, delay=1, hand=hand)
+    e0, e1 = plain.extremes(), held.extremes()
+    assert float(e1.K_mmax) > 2.5 * float(e0.K_mmax)
+    assert _normalized_ref(dict(hand=hand), 1, float(e1.K_mmax) * 0.999, float(e1.B_at_K_mmax))
+    # the plain drive's K_mmax is unstable when nothing holds it ... and stable when held
+    K = 1.5 * float(e0.K_mmax)
+    assert not bool(plain.is_stable(K, float(e0.B_at_K_mmax)))
+    assert bool(held.is_stable(K, float(e0.B_at_K_mmax)))
+    assert _normalized_ref(dict(hand=hand), 1, K, float(e0.B_at_K_mmax))
+
+
+def test_device_routes_and_checks_parts():
+    """Zero parts are the plain device (same numbers); a stiffness lets small negative K be
+    stable (K > -k_p), certified against the reference; bad values are named errors."""
+    zwidth = _zwidth()
+    args = (PAPER["m"], PAPER["b"], PAPER["T"])
+    plain = zwidth.Device(*args, rotary=True, delay=1)
+    zero = zwidth.Device(*args, rotary=True, delay=1, actuator_tau=0.0, hand=(0, 0, 0), stiffness=0.0)
+    assert not zero.has_plant_parts
+    assert float(zero.k_max(1e-4)) == float(plain.k_max(1e-4))
+    k_p = 1e-3
+    stiff = zwidth.Device(*args, rotary=True, stiffness=k_p)
+    assert stiff.has_plant_parts
+    assert bool(stiff.is_stable(-0.5 * k_p, 1e-4)) and _normalized_ref(dict(stiffness=k_p), 0, -0.5 * k_p, 1e-4)
+    assert not bool(stiff.is_stable(-1.5 * k_p, 1e-4))
+    km = float(stiff.k_max(1e-4))
+    assert km > 0 and _normalized_ref(dict(stiffness=k_p), 0, km, 1e-4)
+    for kw, param, status in ((dict(actuator_tau=-1e-3), "actuator_tau", "ZW_ERR_ARG"),
+                              (dict(stiffness=float("nan")), "stiffness", "ZW_ERR_ARG"),
+                              (dict(hand=(1.0, -1.0, 0.0)), "hand", "ZW_ERR_DAMPING"),
+                              (dict(hand=(-1.0, 0.0, 0.0)), "hand", "ZW_ERR_ARG"),
+                              (dict(hand=(1.0, 0.0)), "hand", "ZW_ERR_ARG")):
+        with pytest.raises(zwidth.ZwidthError) as exc:
+            zwidth.Device(*args, **kw)
+        assert exc.value.parameter == param and exc.value.status == status
+
+
+def test_cli_parts():
+    """zwidth limits/check --hand/--stiffness: the general loop's numbers, the options named in
+    errors, refused where not supported."""
+    _zwidth()
+    import json
+    import subprocess
+    import sys
+
+    def run(*a):
+        return subprocess.run([sys.executable, "-m", "zwidth", *a], capture_output=True, text=True)
+
+    r = run("limits", "--preset", "paper-drive", "--delay", "1", "--hand", "8.578e-6,4.394e-3,1e-4", "--json")
+    assert r.returncode == 0, r.stderr
+    obj = json.loads(r.stdout)
+    assert obj["plant"]["hand"] == [8.578e-6, 4.394e-3, 1e-4]
+    assert 0.32 < obj["K_mmax"] < 0.33
+    r = run("check", "--preset", "paper-drive", "--K", "0.2", "--B", "0.001", "--delay", "1",
+            "--hand", "8.578e-6,4.394e-3,1e-4")
+    assert r.returncode == 0 and "Plant-side parts" in r.stdout, r.stdout + r.stderr
+    r = run("check", "--preset", "paper-drive", "--K", "0.2", "--B", "0.001", "--delay", "1")
+    assert r.returncode == 1  # unstable without the hand
+    r = run("check", "--preset", "paper-drive", "--K", "0.2", "--B", "0.001", "--stiffness", "-1")
+    assert r.returncode != 0 and "--stiffness" in r.stderr
+    r = run("advise", "--preset", "paper-drive", "--K", "0.2", "--B", "0.001", "--hand", "1,2,3")
+    assert r.returncode == 2 and "--hand" in r.stderr
+    r = run("check", "--delta", "1", "--alpha", "1", "--beta", "0", "--stiffness", "1")
+    assert r.returncode == 2 and "real-unit plant" in r.stderr
