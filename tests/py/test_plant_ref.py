@@ -209,7 +209,7 @@ def _critical(zw):
 
 
 def test_grid_within_bounds(pl):
-    ds, ks = _grid(pl.zw, 24)
+    ds, ks = _grid(pl.zw, 20)
     for d in ds:
         for k in ks:
             check_point(pl, d, k)
@@ -292,13 +292,13 @@ def tightness(zw_name, n=24):
 # ---------------------------------------------------------------------------------------
 
 def _lams(zw):
-    return [zw.r(x) for x in np.logspace(-4, 4, 9)]
+    return [zw.r(x) for x in np.logspace(-4, 4, 7)]
 
 
 def test_lag_grid_within_bounds(pl):
     zw = pl.zw
-    ds = [0.0] + [zw.r(x) for x in np.logspace(-6, 4, 8)]
-    ks = [0.0] + [zw.r(x) for x in np.logspace(-6, 5, 8)]
+    ds = [0.0] + [zw.r(x) for x in np.logspace(-6, 4, 6)]
+    ks = [0.0] + [zw.r(x) for x in np.logspace(-6, 5, 6)]
     for d in ds:
         for k in ks:
             for lam in _lams(zw):
