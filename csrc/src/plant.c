@@ -286,46 +286,38 @@ zw_status zw_plant_eval(const zw_plant *plant, zw_real re, zw_real im, zw_real *
  * every operation propagates both its rounding and its inputs' bounds (zw_eb's arithmetic is
  * rigorous for that: its products keep the a.e b.e term).  The library functions below bound
  * the change of f over the whole ball (a Lipschitz bound on it) plus libm's own error, taken
- * as 1 ulp (2u relative) as coeffs.c does.  A ball too wide for these bounds (half-width
- * above 1/2 in an exponent) gives an infinite bound, and zw_plant_init ZW_ERR_RANGE. */
-
-#define PLANT_WIDE ZW_R(0.5)
-
-static zw_eb eb_inf(zw_real v)
-{
-    return eb_make(v, ZW_INF);
-}
+ * as 1 ulp (2u relative) as coeffs.c does.  These hold for balls of any width; a bound that
+ * overflows makes zw_plant_init answer ZW_ERR_RANGE. */
 
 static zw_eb eb_neg(zw_eb a)
 {
     return eb_make(-a.v, a.e);
 }
 
-/* e^a; the derivative over the ball is at most e^(a.v + a.e) <= e^a.v (1 + 2 a.e). */
-static zw_eb eb_exp(zw_eb a)
+/* e^(a.v + a.e), rounded up: the largest derivative of exp (and expm1) over the ball. */
+static zw_real exp_top(zw_eb a)
 {
-    zw_real v = ZW_EXP(a.v);
-    if (!(a.e <= PLANT_WIDE)) {
-        return eb_inf(v);
-    }
-    return eb_make(v, v * (a.e * (ZW_R(1.0) + ZW_R(2.0) * a.e) + ZW_R(2.0) * ZW_U) + ZW_ETA);
+    return ZW_EXP(a.v + a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + ZW_ETA;
 }
 
-/* e^a - 1, same derivative bound. */
+/* e^a: |e^y - e^x| <= e^(x + e) e over the ball. */
+static zw_eb eb_exp(zw_eb a)
+{
+    const zw_real v = ZW_EXP(a.v);
+    return eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * v + ZW_ETA);
+}
+
+/* e^a - 1, same derivative. */
 static zw_eb eb_expm1(zw_eb a)
 {
-    zw_real v = ZW_EXPM1(a.v);
-    if (!(a.e <= PLANT_WIDE)) {
-        return eb_inf(v);
-    }
-    return eb_make(v, (v + ZW_R(1.0)) * a.e * (ZW_R(1.0) + ZW_R(2.0) * a.e) +
-                          ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+    const zw_real v = ZW_EXPM1(a.v);
+    return eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
 }
 
 /* E0(a) = (e^a - 1) / a = int_0^1 e^(a t) dt (1 at 0), for a.v <= 0.  Its log-derivative is
- * the mean of t under the weight e^(a t): at most 1/2 for a <= 0 and at most 1/|a|, and at
- * most 1 anywhere on a ball reaching a + a.e <= 1/2; so over the ball
- * |E0(y) - E0(a)| <= E0(a) (1 + 2 a.e) min(.) a.e. */
+ * the mean of t under the weight e^(a t): in (0, 1), at most 1/2 for a <= 0 and at most
+ * 1/|a|; so over the ball E0 stays within a factor e^(a.e) of E0(a) and
+ * |E0(y) - E0(a)| <= E0(a) e^(a.e) slope a.e. */
 static zw_eb eb_e0(zw_eb a)
 {
     zw_real v, slope;
@@ -334,8 +326,8 @@ static zw_eb eb_e0(zw_eb a)
     } else {
         v = ZW_EXPM1(a.v) / a.v;
     }
-    if (!(a.e <= PLANT_WIDE) || (a.v > ZW_R(0.0))) {
-        return eb_inf(v);
+    if (a.v > ZW_R(0.0)) {
+        return eb_make(v, ZW_INF);
     }
     if (a.v + a.e < ZW_R(0.0)) {
         const zw_real inv = ZW_R(1.0) / -(a.v + a.e) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U);
@@ -343,7 +335,8 @@ static zw_eb eb_e0(zw_eb a)
     } else {
         slope = ZW_R(1.0);
     }
-    return eb_make(v, v * ((ZW_R(1.0) + ZW_R(2.0) * a.e) * slope * a.e + ZW_R(4.0) * ZW_U) +
+    return eb_make(v, v * (ZW_EXP(a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) * slope * a.e +
+                           ZW_R(4.0) * ZW_U) +
                           ZW_R(2.0) * ZW_ETA);
 }
 
@@ -682,7 +675,7 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
     const zw_eb phi11 = zw_eb_sub(o->ch, zw_eb_mul(h, o->sh));
     zw_eb T, U, y0, x1, x0, t;
     bool have_series = false;
-    zw_eb y0_series = eb_inf(ZW_R(0.0));
+    zw_eb y0_series = eb_make(ZW_R(0.0), ZW_INF);
 
     /* T */
     T = zw_eb_div(zw_eb_sub(zw_eb_sub(a, o->ch), zw_eb_mul(hp, o->sh)), kp);
