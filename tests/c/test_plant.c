@@ -520,8 +520,9 @@ static void test_errors_failsafe(void **state)
     s.kappa_relerr = R(0.0);
     s.delta_relerr = nan;
     expect_init_fails(s, ZW_ERR_NAN);
-    /* h^2 overflows */
+    /* h^2 or (1 / lambda)^2 overflows */
     expect_init_fails(spec_of(PREC(R(1e200), R(1e30)), R(1.0), R(0.0)), ZW_ERR_RANGE);
+    expect_init_fails(spec_of(R(1.0), R(1.0), PREC(R(1e-200), R(1e-25))), ZW_ERR_RANGE);
     /* from_coeffs */
     EXPECT_STATUS(zw_plant_from_coeffs(&p, NULL), ZW_ERR_NULL);
     assert_true(failsafe_plant(&p));
