@@ -286,46 +286,38 @@ zw_status zw_plant_eval(const zw_plant *plant, zw_real re, zw_real im, zw_real *
  * every operation propagates both its rounding and its inputs' bounds (zw_eb's arithmetic is
  * rigorous for that: its products keep the a.e b.e term).  The library functions below bound
  * the change of f over the whole ball (a Lipschitz bound on it) plus libm's own error, taken
- * as 1 ulp (2u relative) as coeffs.c does.  A ball too wide for these bounds (half-width
- * above 1/2 in an exponent) gives an infinite bound, and zw_plant_init ZW_ERR_RANGE. */
-
-#define PLANT_WIDE ZW_R(0.5)
-
-static zw_eb eb_inf(zw_real v)
-{
-    return eb_make(v, ZW_INF);
-}
+ * as 1 ulp (2u relative) as coeffs.c does.  These hold for balls of any width; a bound that
+ * overflows makes zw_plant_init answer ZW_ERR_RANGE. */
 
 static zw_eb eb_neg(zw_eb a)
 {
     return eb_make(-a.v, a.e);
 }
 
-/* e^a; the derivative over the ball is at most e^(a.v + a.e) <= e^a.v (1 + 2 a.e). */
-static zw_eb eb_exp(zw_eb a)
+/* e^(a.v + a.e), rounded up: the largest derivative of exp (and expm1) over the ball. */
+static zw_real exp_top(zw_eb a)
 {
-    zw_real v = ZW_EXP(a.v);
-    if (!(a.e <= PLANT_WIDE)) {
-        return eb_inf(v);
-    }
-    return eb_make(v, v * (a.e * (ZW_R(1.0) + ZW_R(2.0) * a.e) + ZW_R(2.0) * ZW_U) + ZW_ETA);
+    return ZW_EXP(a.v + a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + ZW_ETA;
 }
 
-/* e^a - 1, same derivative bound. */
+/* e^a: |e^y - e^x| <= e^(x + e) e over the ball. */
+static zw_eb eb_exp(zw_eb a)
+{
+    const zw_real v = ZW_EXP(a.v);
+    return eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * v + ZW_ETA);
+}
+
+/* e^a - 1, same derivative. */
 static zw_eb eb_expm1(zw_eb a)
 {
-    zw_real v = ZW_EXPM1(a.v);
-    if (!(a.e <= PLANT_WIDE)) {
-        return eb_inf(v);
-    }
-    return eb_make(v, (v + ZW_R(1.0)) * a.e * (ZW_R(1.0) + ZW_R(2.0) * a.e) +
-                          ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+    const zw_real v = ZW_EXPM1(a.v);
+    return eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
 }
 
 /* E0(a) = (e^a - 1) / a = int_0^1 e^(a t) dt (1 at 0), for a.v <= 0.  Its log-derivative is
- * the mean of t under the weight e^(a t): at most 1/2 for a <= 0 and at most 1/|a|, and at
- * most 1 anywhere on a ball reaching a + a.e <= 1/2; so over the ball
- * |E0(y) - E0(a)| <= E0(a) (1 + 2 a.e) min(.) a.e. */
+ * the mean of t under the weight e^(a t): in (0, 1), at most 1/2 for a <= 0 and at most
+ * 1/|a|; so over the ball E0 stays within a factor e^(a.e) of E0(a) and
+ * |E0(y) - E0(a)| <= E0(a) e^(a.e) slope a.e. */
 static zw_eb eb_e0(zw_eb a)
 {
     zw_real v, slope;
@@ -334,8 +326,8 @@ static zw_eb eb_e0(zw_eb a)
     } else {
         v = ZW_EXPM1(a.v) / a.v;
     }
-    if (!(a.e <= PLANT_WIDE) || (a.v > ZW_R(0.0))) {
-        return eb_inf(v);
+    if (a.v > ZW_R(0.0)) {
+        return eb_make(v, ZW_INF);
     }
     if (a.v + a.e < ZW_R(0.0)) {
         const zw_real inv = ZW_R(1.0) / -(a.v + a.e) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U);
@@ -343,7 +335,8 @@ static zw_eb eb_e0(zw_eb a)
     } else {
         slope = ZW_R(1.0);
     }
-    return eb_make(v, v * ((ZW_R(1.0) + ZW_R(2.0) * a.e) * slope * a.e + ZW_R(4.0) * ZW_U) +
+    return eb_make(v, v * (ZW_EXP(a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) * slope * a.e +
+                           ZW_R(4.0) * ZW_U) +
                           ZW_R(2.0) * ZW_ETA);
 }
 
@@ -420,7 +413,8 @@ static zw_eb eb_square_minus(zw_eb h, zw_eb k)
 #define PLANT_TERMS 21u
 #define PLANT_TAIL ZW_R(2e-38)
 
-/* 1 / n! for n = 0 .. 2 PLANT_TERMS + 1 (rounded: each within u relative). */
+/* 1 / n! for n = 0 .. 2 PLANT_TERMS + 1 (n roundings: within n (u 1/n! + eta), eta covering
+ * the float build's underflow of the last ones). */
 static zw_real inv_factorial(unsigned n)
 {
     unsigned i;
@@ -440,7 +434,7 @@ static zw_eb series_single(zw_eb w, unsigned odd)
     for (k = PLANT_TERMS; k > 0u; --k) {
         const unsigned n = 2u * (k - 1u) + odd;
         const zw_real cf = inv_factorial(n);
-        acc = zw_eb_add(zw_eb_mul(acc, w), eb_make(cf, (zw_real)(n + 1u) * ZW_U * cf));
+        acc = zw_eb_add(zw_eb_mul(acc, w), eb_make(cf, (zw_real)(n + 1u) * (ZW_U * cf + ZW_ETA)));
     }
     acc.e += PLANT_TAIL;
     return acc;
@@ -461,8 +455,8 @@ static void series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
         {
             const unsigned n = 2u * k;
             const zw_real fc = inv_factorial(n), fs = inv_factorial(n + 1u);
-            sc = zw_eb_add(sc, zw_eb_mul(hm, eb_make(fc, (zw_real)(n + 1u) * ZW_U * fc)));
-            ss = zw_eb_add(ss, zw_eb_mul(hm, eb_make(fs, (zw_real)(n + 2u) * ZW_U * fs)));
+            sc = zw_eb_add(sc, zw_eb_mul(hm, eb_make(fc, (zw_real)(n + 1u) * (ZW_U * fc + ZW_ETA))));
+            ss = zw_eb_add(ss, zw_eb_mul(hm, eb_make(fs, (zw_real)(n + 2u) * (ZW_U * fs + ZW_ETA))));
         }
     }
     sc.e += PLANT_TAIL;
@@ -494,6 +488,8 @@ static void series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
  *             |1 -+ z1|^2 = expm1(-h)^2 + 4 e^-h sin^2(omega/2) (cos^2 for +). */
 typedef struct order2 {
     zw_eb tr, det, P, Q, R, b1, b0, bdiff, bsum;
+    zw_eb h, w2;     /* the inputs as used */
+    zw_eb ch, sh;    /* e^-h C(w2) = tr / 2 and e^-h S(w2) = exp[p1, p2] = Phi01 */
 } order2;
 
 static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
@@ -510,6 +506,10 @@ static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
         zw_eb cd, sd;
         series_divided(w2, zw_eb_mul(h, h), &cd, &sd);
         C = zw_eb_mul(eh, series_single(w2, 0u));
+        o->ch = C;
+        o->sh = zw_eb_mul(eh, series_single(w2, 1u));
+        o->h = h;
+        o->w2 = w2;
         G = eb_twice(zw_eb_mul(eh, cd));
         H = zw_eb_mul(eh, sd);
         o->tr = eb_twice(C);
@@ -535,6 +535,10 @@ static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
         o->b1 = zw_eb_div(zw_eb_sub(e01, sh), hr);
         o->b0 = zw_eb_div(zw_eb_sub(sh, zw_eb_mul(z2, e01)), hr);
         o->bsum = zw_eb_mul(e01, e02);
+        o->ch = eb_half(o->tr);
+        o->sh = sh;
+        o->h = h;
+        o->w2 = w2;
         o->bdiff = zw_eb_sub(o->b1, o->b0);
         return;
     }
@@ -553,6 +557,10 @@ static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
         S = zw_eb_div(zw_eb_mul(eh, eb_sin(om)), om);
     }
     o->tr = eb_twice(C);
+    o->ch = C;
+    o->sh = S;
+    o->h = h;
+    o->w2 = w2;
     if ((w2.v < ZW_R(0.0)) && (h.v <= ZW_R(2.0))) {
         /* complex poles far from critical, light damping: the sums of squares */
         const zw_eb om = eb_sqrt(eb_neg(w2));
@@ -592,6 +600,149 @@ static void plant_from_order2(zw_plant *p, const order2 *o)
     set_eb(&p->den_w[0], &p->den_w_err[0], zw_eb_exact(ZW_R(2.0)));
     set_eb(&p->den_w[1], &p->den_w_err[1], eb_twice(zw_eb_add(o->P, o->R)));
     set_eb(&p->den_w[2], &p->den_w_err[2], eb_twice(o->P));
+}
+
+/* ---- the actuator lag: order 3 ----------------------------------------------------------
+ *
+ * The lag's state y (y' = nu (F - y), nu = 1 / lambda) appended to the plant's makes Phi3
+ * block triangular, and with a = e^-nu (the lag's sampled pole, p3 = -nu)
+ *   D3 = D2 (z - a),   N3 / 2 = (z - a) X(z) + (1 - a) Y(z),
+ *   X, Y = C adj(zI - Phi2) Gx, Gy  (= x1 z + x0, y1 z + y0),
+ * Gy = the plant's state at t = 1 driven by e^(-nu t):  (T, U) = (exp[p1, p2, p3],
+ * (x e^x)[p1, p2, p3]),  Gx = Gamma2 - Gy = its state driven by 1 - e^(-nu t):
+ * (b1 - T, nu T).  So y1 = T, y0 = Phi01 U - Phi11 T, x1 = b1 - T, x0 = b0 - y0.
+ * T by whichever of three forms has the smallest bound (all rigorous):
+ *   series   e^-h (C[w2, h'^2] + h' S[w2, h'^2]), h' = h - nu (|w2|, h'^2 <= 4);
+ *   far pair (exp[p3, p1] - exp[p3, p2]) / (p1 - p2) for real poles with r >= 1;
+ *   direct   (a - L(p3)) / kappa', L(x) = C^ + (x + h) S^ the line through (p_i, e^p_i),
+ *            kappa' = (nu + p1)(nu + p2) = h'^2 - w2.
+ * The lag meeting a pole (kappa' = 0) is then no 0/0 (the direct form's bound is infinite
+ * there and another is taken); lambda -> 0 gives a -> 0, T, U ~ 1 / nu (N3 -> z N2);
+ * lambda >> 1 keeps D3's factor 1 - a = -expm1(-nu) and N3(1) = 2 (1 - a) G exactly. */
+
+static zw_eb eb_better(zw_eb a, zw_eb b)
+{
+    return (b.e < a.e) ? b : a;
+}
+
+/* exp[x, y] = e^max(x, y) E0(-|x - y|) */
+static zw_eb eb_exp_dd(zw_eb x, zw_eb y)
+{
+    const bool x_above = x.v >= y.v;
+    const zw_eb hi = x_above ? x : y;
+    const zw_eb lo = x_above ? y : x;
+    return zw_eb_mul(eb_exp(hi), eb_e0(zw_eb_sub(lo, hi)));
+}
+
+/* sum_k H_k / (k + 3)! for |h|, |h'| <= 2, |w2| <= 4 (|H_k| <= (k + 1)^2 2^k: with
+ * PLANT_TERMS4 terms the tail is below 1e-42). */
+#define PLANT_TERMS4 44u
+
+static zw_eb series_shifted4(zw_eb h, zw_eb hp, zw_eb w2)
+{
+    unsigned k;
+    zw_eb hpow = zw_eb_exact(ZW_R(1.0));                  /* h^k */
+    zw_eb A = zw_eb_exact(ZW_R(1.0));                     /* A_k */
+    zw_eb H2 = zw_eb_exact(ZW_R(0.0)), H1 = zw_eb_exact(ZW_R(0.0)); /* H_{k-2}, H_{k-1} */
+    zw_eb sum = zw_eb_exact(ZW_R(0.0));
+    zw_real f = ZW_R(1.0) / ZW_R(6.0);                    /* 1 / (k + 3)!, rounded */
+    for (k = 0u; k < PLANT_TERMS4; ++k) {
+        zw_eb H;
+        if (k > 0u) {
+            hpow = zw_eb_mul(hpow, h);
+            A = zw_eb_add(zw_eb_mul(hp, A), hpow);
+            f = f / (zw_real)(k + 3u);
+        }
+        H = zw_eb_add(A, zw_eb_mul(w2, H2));
+        sum = zw_eb_add(sum, zw_eb_mul(H, eb_make(f, (zw_real)(k + 4u) * (ZW_U * f + ZW_ETA))));
+        H2 = H1;
+        H1 = H;
+    }
+    sum.e += PLANT_TAIL;
+    return sum;
+}
+
+static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
+{
+    const zw_eb one = zw_eb_exact(ZW_R(1.0));
+    const zw_eb h = o->h, w2 = o->w2;
+    const zw_eb hp = zw_eb_sub(h, nu);
+    const zw_eb hp2 = zw_eb_mul(hp, hp);
+    const zw_eb kp = zw_eb_sub(hp2, w2);
+    const zw_eb a = eb_exp(eb_neg(nu));
+    const zw_eb oma = eb_neg(eb_expm1(eb_neg(nu)));
+    const zw_eb opa = zw_eb_add(one, a);
+    const zw_eb phi11 = zw_eb_sub(o->ch, zw_eb_mul(h, o->sh));
+    zw_eb T, U, y0, x1, x0, t;
+    bool have_series = false;
+    zw_eb y0_series = eb_make(ZW_R(0.0), ZW_INF);
+
+    /* T */
+    T = zw_eb_div(zw_eb_sub(zw_eb_sub(a, o->ch), zw_eb_mul(hp, o->sh)), kp);
+    if ((ZW_FABS(w2.v) <= PLANT_SERIES_LIMIT) && (hp2.v <= PLANT_SERIES_LIMIT)) {
+        zw_eb cd, sd;
+        const zw_eb eh = eb_exp(eb_neg(h));
+        series_divided(w2, hp2, &cd, &sd);
+        T = eb_better(T, zw_eb_mul(eh, zw_eb_add(cd, zw_eb_mul(hp, sd))));
+        /* y0 = det a exp[-p1, -p2, -p3]: the same series with h' -> -h' */
+        y0_series = zw_eb_mul(zw_eb_mul(a, eh), zw_eb_sub(cd, zw_eb_mul(hp, sd)));
+        have_series = true;
+    }
+    if (w2.v >= ZW_R(1.0)) {
+        const zw_eb r = eb_sqrt(w2);
+        const zw_eb hr = zw_eb_add(h, r);
+        const zw_eb p1 = eb_neg(zw_eb_div(kappa, hr)), p2 = eb_neg(hr), p3 = eb_neg(nu);
+        t = zw_eb_div(zw_eb_sub(eb_exp_dd(p3, p1), eb_exp_dd(p3, p2)), eb_twice(r));
+        T = eb_better(T, t);
+    }
+    /* U = S^ - nu T, or (nu Phi11 + kappa S^ - nu a) / kappa' (no cancellation for nu >> 1) */
+    U = zw_eb_sub(o->sh, zw_eb_mul(nu, T));
+    t = zw_eb_div(zw_eb_sub(zw_eb_add(zw_eb_mul(nu, phi11), zw_eb_mul(kappa, o->sh)),
+                            zw_eb_mul(nu, a)),
+                  kp);
+    U = eb_better(U, t);
+    y0 = zw_eb_sub(zw_eb_mul(o->sh, U), zw_eb_mul(phi11, T));
+    if (have_series) {
+        y0 = eb_better(y0, y0_series);
+    }
+    /* x1 = nu exp[0, p1, p2, p3] = b1 - T (cancels for nu -> 0), or
+     * nu (E0(-nu) - S^ + (nu - 2 h) b1) / kappa' (no cancellation for large kappa), or for
+     * a small plant nu e^-h sum_k H_k / (k + 3)!, H the complete symmetric polynomials of the
+     * nodes shifted by h: (h, r, -r, h'), H_k = A_k + w2 H_{k-2}, A_k = h' A_{k-1} + h^k */
+    x1 = zw_eb_sub(o->b1, T);
+    t = zw_eb_div(zw_eb_mul(nu, zw_eb_add(zw_eb_sub(eb_e0(eb_neg(nu)), o->sh),
+                                          zw_eb_mul(zw_eb_sub(nu, eb_twice(h)), o->b1))),
+                  kp);
+    x1 = eb_better(x1, t);
+    if (have_series && (h.v <= ZW_R(2.0))) {
+        x1 = eb_better(x1, zw_eb_mul(zw_eb_mul(nu, eb_exp(eb_neg(h))), series_shifted4(h, hp, w2)));
+    }
+    /* x0 = b0 - y0, or nu Phi01 T - Phi11 x1 (small for nu -> 0 without cancelling) */
+    x0 = zw_eb_sub(o->b0, y0);
+    t = zw_eb_sub(zw_eb_mul(zw_eb_mul(nu, o->sh), T), zw_eb_mul(phi11, x1));
+    x0 = eb_better(x0, t);
+
+    p->order = 3u;
+    /* N3 / 2 = x1 z^2 + (x0 - a x1 + (1 - a) y1) z + ((1 - a) y0 - a x0) */
+    set_eb(&p->num[0], &p->num_err[0], eb_twice(x1));
+    set_eb(&p->num[1], &p->num_err[1],
+           eb_twice(zw_eb_add(zw_eb_sub(x0, zw_eb_mul(a, x1)), zw_eb_mul(oma, T))));
+    set_eb(&p->num[2], &p->num_err[2],
+           eb_twice(zw_eb_sub(zw_eb_mul(oma, y0), zw_eb_mul(a, x0))));
+    /* N3_s / 2 = ((1 + a) s + (1 - a)) X_s + (1 - a)(1 - s) Y_s */
+    {
+        const zw_eb xd = zw_eb_sub(x1, x0), xs = zw_eb_add(x1, x0), yd = zw_eb_sub(T, y0);
+        set_eb(&p->num_s[0], &p->num_s_err[0],
+               eb_twice(zw_eb_sub(zw_eb_mul(opa, xd), zw_eb_mul(oma, yd))));
+        set_eb(&p->num_s[1], &p->num_s_err[1],
+               eb_twice(zw_eb_sub(zw_eb_add(zw_eb_mul(opa, xs), zw_eb_mul(oma, xd)),
+                                  eb_twice(zw_eb_mul(oma, y0)))));
+        set_eb(&p->num_s[2], &p->num_s_err[2], eb_twice(zw_eb_mul(oma, o->bsum)));
+    }
+    /* D3 = D2 (z - a): in s, times (1 + a) s + (1 - a); in w = z - 1, times w + (1 - a) */
+    poly_mul_linear(p->den, p->den_err, 2u, one, eb_neg(a));
+    poly_mul_linear(p->den_s, p->den_s_err, 2u, opa, oma);
+    poly_mul_linear(p->den_w, p->den_w_err, 2u, one, oma);
 }
 
 /* ---- the general plant ---------------------------------------------------------------- */
@@ -644,10 +795,6 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
     if ((spec->kappa == ZW_R(0.0)) && (spec->lambda == ZW_R(0.0))) {
         return zw_plant_from_coeffs(out, &c);
     }
-    if (spec->lambda != ZW_R(0.0)) {
-        fail_plant(out); /* the actuator lag: not yet implemented */
-        return ZW_ERR_ARG;
-    }
     fail_plant(&p);
     {
         order2 o;
@@ -657,6 +804,17 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
         order2_compute(h, kappa, &o);
         p.order = 2u;
         plant_from_order2(&p, &o);
+        if (spec->lambda > ZW_R(0.0)) {
+            /* nu = 1 / lambda: one rounding, and 1 / (lambda (1 +- rho)) within
+             * nu rho / (1 - rho) <= nu rho (16 / 15) of nu */
+            const zw_real nu = ZW_R(1.0) / spec->lambda;
+            const zw_eb nub = eb_make(nu, nu * (spec->lambda_relerr * ZW_R(1.0667) + ZW_U) + ZW_ETA);
+            if (!ZW_IS_FINITE(nu)) {
+                fail_plant(out);
+                return ZW_ERR_RANGE;
+            }
+            order3_build(&o, kappa, nub, &p);
+        }
     }
     p.spec = *spec;
     p.c = c;

@@ -149,29 +149,33 @@ def reference(delta, kappa, lam=0.0, dps=100):
 
 
 def _dps_for(delta, kappa):
-    """Digits enough for the reference's own cancellation (P ~ kappa s / 2 cancels
-    -log10(kappa) digits; large delta's e^-delta is exact in mpmath)."""
+    """Digits enough for the reference's own cancellation: P ~ kappa s / 2 cancels
+    -log10(kappa) digits, small delta -log10(delta), and the coefficients as small as
+    e^-delta (det, b0) need delta log10(e) digits below the largest (capped: beyond 10^-1200
+    no zw_real, subnormals included, can be told from 0)."""
     extra = 0
     if kappa > 0:
         extra = max(0, int(-math.log10(kappa)) + 5)
     if delta > 0:
-        extra = max(extra, int(-math.log10(delta)) + 5)
+        extra = max(extra, int(-math.log10(delta)) + 5, min(int(delta * 0.4343) + 5, 1200))
     return 80 + extra
 
 
 FIELDS = ("den", "num", "den_s", "num_s", "den_w")
 
 
-def check_point(pl, delta, kappa, drel=0.0, krel=0.0, dk=None):
-    """Assert every coefficient within its bound; return the worst bound / error ratios."""
+def check_point(pl, delta, kappa, drel=0.0, krel=0.0, dk=None, lam=0.0, lrel=0.0):
+    """Assert every coefficient within its bound; return (field, index, actual, bound, exact)."""
     zw = pl.zw
-    st, p = pl.plant(delta, kappa, 0.0, drel, krel)
-    assert st == E["ZW_OK"], (delta, kappa, zw.status_name(st))
-    assert p.order == 2
+    st, p = pl.plant(delta, kappa, lam, drel, krel, lrel)
+    assert st == E["ZW_OK"], (delta, kappa, lam, zw.status_name(st))
+    assert p.order == (3 if lam > 0 else 2)
     if dk is None:
-        dk = (delta, kappa)
+        dk = (delta, kappa, lam)
     dps = _dps_for(dk[0], dk[1])
-    refs = dict(zip(FIELDS, reference(dk[0], dk[1], dps=dps)))
+    if lam > 0:
+        dps = max(dps, 80 + min(int(0.4343 / float(dk[2])) + 5, 1200), 80 + int(abs(math.log10(lam))) * 2)
+    refs = dict(zip(FIELDS, reference(dk[0], dk[1], dk[2] if len(dk) > 2 else 0.0, dps=dps)))
     ref_err = mpf(10) ** (25 - dps)  # the reference's own cancellation (coefficients <= 4)
     stats = []
     for f in FIELDS:
@@ -179,8 +183,8 @@ def check_point(pl, delta, kappa, drel=0.0, krel=0.0, dk=None):
         for i, exact in enumerate(refs[f]):
             v, e = vals[i], errs[i]
             actual = abs(mpf(v) - exact)
-            assert math.isfinite(e) and actual <= e + ref_err, (zw.name, delta, kappa, f, i, v, float(exact), e,
-                                                    float(actual))
+            assert math.isfinite(e) and actual <= e + ref_err, (zw.name, delta, kappa, lam, f, i, v,
+                                                                 float(exact), e, float(actual))
             stats.append((f, i, float(actual), e, float(exact)))
     return stats
 
@@ -205,7 +209,7 @@ def _critical(zw):
 
 
 def test_grid_within_bounds(pl):
-    ds, ks = _grid(pl.zw, 24)
+    ds, ks = _grid(pl.zw, 20)
     for d in ds:
         for k in ks:
             check_point(pl, d, k)
@@ -266,7 +270,7 @@ def test_input_uncertainty_covered(pl):
         d, k = zw.r(d), zw.r(k)
         for sd in (-1, 1):
             for sk in (-1, 1):
-                dk = (mpf(d) * (1 + sd * mpf(rel)), mpf(k) * (1 + sk * mpf(rel)))
+                dk = (mpf(d) * (1 + sd * mpf(rel)), mpf(k) * (1 + sk * mpf(rel)), 0)
                 check_point(pl, d, k, drel=rel, krel=rel, dk=dk)
 
 
@@ -284,20 +288,90 @@ def tightness(zw_name, n=24):
 
 
 # ---------------------------------------------------------------------------------------
+# the actuator lag (order 3)
+# ---------------------------------------------------------------------------------------
+
+def _lams(zw):
+    return [zw.r(x) for x in np.logspace(-4, 4, 7)]
+
+
+def test_lag_grid_within_bounds(pl):
+    zw = pl.zw
+    ds = [0.0] + [zw.r(x) for x in np.logspace(-6, 4, 6)]
+    ks = [0.0] + [zw.r(x) for x in np.logspace(-6, 5, 6)]
+    for d in ds:
+        for k in ks:
+            for lam in _lams(zw):
+                check_point(pl, d, k, lam=lam)
+
+
+def test_lag_meets_a_pole(pl):
+    """lambda = 1 / |p| (the lag's pole on a real plant pole) +- a few ulps, and near a
+    complex pair's real part."""
+    zw, fmt = pl.zw, pl.zw.fmt
+    for d, k in [(1.0, 0.1), (3.0, 2.0), (10.0, 1.0), (0.5, 0.0625), (5.0, 6.25), (1e3, 10.0), (1.0, 0.0),
+                 (0.2, 4.0)]:
+        d, k = zw.r(d), zw.r(k)
+        h = mpf(d) / 2
+        w2 = h * h - mpf(k)
+        poles = [h + mp.sqrt(w2), h - mp.sqrt(w2)] if w2 >= 0 else [h]
+        for q in poles:
+            if q <= 0:
+                continue
+            lam = zw.r(1 / q)
+            for j in (-2, 0, 2):
+                check_point(pl, d, k, lam=ref.step(lam, j, fmt))
+
+
+def test_lag_limits(pl):
+    """lambda -> 0 tends to the order-2 plant times z (a pole at e^-1/lambda -> 0 with a
+    nearly cancelling zero); lambda >> 1 puts a pole next to z = 1."""
+    zw = pl.zw
+    for d, k in [(0.0, 0.0), (0.3, 0.0), (1.0, 2.0), (8.0, 1.0), (0.01, 100.0)]:
+        d, k = zw.r(d), zw.r(k)
+        for lam in (1e-6, 1e-3, 0.01, 1e4, 1e5):
+            check_point(pl, d, k, lam=zw.r(lam))
+        st2, p2 = pl.plant(d, k)
+        st3, p3 = pl.plant(d, k, zw.r(1e-6))
+        assert st2 == st3 == E["ZW_OK"]
+        # N3 = z N2 + O(lambda), D3 = z D2 + O(e^-1/lambda)
+        for i in range(2):
+            assert abs(p3.num[i] - p2.num[i]) <= 1e-5 * (abs(p2.num[0]) + abs(p2.num[1])) + p3.num_err[i] + p2.num_err[i]
+        for i in range(3):
+            assert abs(p3.den[i] - p2.den[i]) <= p3.den_err[i] + p2.den_err[i]
+
+
+def test_lag_input_uncertainty_covered(pl):
+    zw = pl.zw
+    rel = 8 * zw.u
+    for d, k, lam in [(0.3, 2.0, 0.5), (5.0, 6.25, 0.4), (1.0, 0.0, 2.0), (20.0, 3.0, 0.05)]:
+        d, k, lam = zw.r(d), zw.r(k), zw.r(lam)
+        for sl in (-1, 1):
+            dk = (mpf(d) * (1 + mpf(rel)), mpf(k) * (1 - mpf(rel)), mpf(lam) * (1 + sl * mpf(rel)))
+            check_point(pl, d, k, drel=rel, krel=rel, dk=dk, lam=lam, lrel=rel)
+
+
+# ---------------------------------------------------------------------------------------
 # direct simulation: the convention of N / D
 # ---------------------------------------------------------------------------------------
 
-def _simulate(delta, kappa, inputs, dps=40):
-    """x(k) at the sample instants of m x'' + b x' + k x = u(t), u held over each period,
-    integrated by mpmath's Taylor-series ODE solver (independent of any matrix exponential)."""
+def _simulate(delta, kappa, inputs, lam=0.0, dps=40):
+    """x(k) at the sample instants of x'' + delta x' + kappa x = F(t) (F = u, or u through
+    the lag lam F' + F = u), u held over each period, integrated by mpmath's Taylor-series
+    ODE solver (independent of any matrix exponential)."""
     with mp.workdps(dps):
         d, k = mpf(delta), mpf(kappa)
-        x, v = mpf(0), mpf(0)
+        x, v, y = mpf(0), mpf(0), mpf(0)
         out = [x]
         for u in inputs:
             uu = mpf(u)
-            f = mp.odefun(lambda t, y: [y[1], uu - d * y[1] - k * y[0]], 0, [x, v])
-            x, v = f(1)
+            if lam > 0:
+                nu = 1 / mpf(lam)
+                f = mp.odefun(lambda t, s: [s[1], s[2] - d * s[1] - k * s[0], nu * (uu - s[2])], 0, [x, v, y])
+                x, v, y = f(1)
+            else:
+                f = mp.odefun(lambda t, s: [s[1], uu - d * s[1] - k * s[0]], 0, [x, v])
+                x, v = f(1)
             out.append(x)
         return out
 
@@ -317,3 +391,18 @@ def test_difference_equation_matches_simulation(pl):
             rhs = p.num[0] * u[j + 1] + p.num[1] * u[j]
             scale = sum(abs(c) for c in p.den[:3]) * max(abs(float(y)) for y in x) + 1e-30
             assert abs(lhs - rhs) <= 50 * zw.u * scale + 1e-30, (d, k, j, float(lhs), float(rhs))
+
+
+def test_lag_difference_equation_matches_simulation(pl):
+    zw = pl.zw
+    rng = np.random.default_rng(17)
+    for d, k, lam in [(0.5, 2.0, 0.3), (1.0, 0.0, 1.0), (0.0, 9.0, 0.1)]:
+        st, p = pl.plant(zw.r(d), zw.r(k), zw.r(lam))
+        assert st == E["ZW_OK"] and p.order == 3
+        u = [float(x) for x in rng.uniform(-1, 1, 6)]
+        x = _simulate(zw.r(d), zw.r(k), u, lam=zw.r(lam))
+        for j in range(len(u) - 2):
+            lhs = sum(p.den[i] * x[j + 3 - i] for i in range(4))
+            rhs = sum(p.num[i] * u[j + 2 - i] for i in range(3))
+            scale = sum(abs(c) for c in p.den) * max(abs(float(y)) for y in x) + 1e-30
+            assert abs(lhs - rhs) <= 50 * zw.u * scale + 1e-30, (d, k, lam, j, float(lhs), float(rhs))
