@@ -178,8 +178,9 @@ static zw_status plant_init(ll_plant *p, const zw_loop *loop, zw_loop_workspace 
     p->stiff = false;
     if (p->general) {
         const unsigned q = loop->plant.order;
-        /* D(1) = D_s(0): an exact zero (with a zero bound) is the integrating plant */
-        p->stiff = !((loop->plant.den_s[q] == ZW_R(0.0)) && (loop->plant.den_s_err[q] == ZW_R(0.0)));
+        /* D(1) = D_s(0) = 0 exactly for kappa = 0: the integrating plant (D has the factor
+         * z - 1 in exact arithmetic; the stored coefficient's bound is only an underflow floor) */
+        p->stiff = !(loop->plant.spec.kappa == ZW_R(0.0)) || !(loop->plant.den_s[q] == ZW_R(0.0));
         p->one_minus_e = ZW_R(0.0);
         p->r12 = ZW_R(0.0);
         p->two_c1 = ZW_R(0.0);
