@@ -4,7 +4,9 @@
 must give the same verdicts and limits (or better).  Loads two builds' shared libraries by
 ctypes with opaque buffers for zw_loop and its workspace (their layouts differ):
 
-    python3 bench/loop_plant_compare.py OLD_BUILD_DIR NEW_BUILD_DIR [N_LOOPS]
+    python3 bench/loop_plant_compare.py OLD_BUILD_DIR NEW_BUILD_DIR [N_LOOPS] [--verify]
+
+(--verify: every verdict mismatch against tests/py/loop_reference.py at 60 digits; needs mpmath)
 
 Prints, per precision: verdict mismatches (and how many of them either side called
 marginal), alpha_max ratios new/old, extremes ratios."""
@@ -89,9 +91,30 @@ def random_spec(rng):
     return (d, diff, filt, pole, avg)
 
 
+def verify(mismatches):
+    """Each mismatch against the 60-digit reference of tests/py/loop_reference.py (the loop's
+    state-space definition): the side that says stable must be right."""
+    import os
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "py"))
+    import loop_reference as lr
+    wrong = 0
+    for prec, delta, (d, diff, filt, pole, avg), a, b, new_stable in mismatches:
+        kw = dict(delay=d, differentiator=("backward", "tustin")[diff],
+                  filter=("none", "lowpass", "average")[filt], pole=pole, average=avg or 1)
+        parts = lr.loop_parts(delta, **kw)
+        stable, _ = lr.schur_stable(lr.loop_poly(parts, a, b), dps=60)
+        if new_stable and not stable:
+            wrong += 1
+            print(f"  WRONG: {prec} delta={delta!r} spec={(d, diff, filt, pole, avg)} alpha={a!r} beta={b!r}")
+    print(f"mismatches verified against the 60-digit reference: {len(mismatches)}, wrong 'stable': {wrong}")
+
+
+mismatches = []
+
+
 def main():
     old_dir, new_dir = sys.argv[1], sys.argv[2]
-    n_loops = int(sys.argv[3]) if len(sys.argv) > 3 else 200
+    n_loops = int(sys.argv[3]) if len(sys.argv) > 3 and sys.argv[3].isdigit() else 200
     for prec in ("d", "f"):
         old, new = Lib(old_dir, prec), Lib(new_dir, prec)
         rng = random.Random(16)
@@ -130,6 +153,8 @@ def main():
                     if vo[1] != vn[1]:
                         mism += 1
                         new_stable += vn[1]
+                        r = lambda x: float(new.real(x).value)  # the values the library was given
+                        mismatches.append((prec, r(delta), spec, r(a), r(b), vn[1]))
                         if vo[2] or vn[2]:
                             mism_marg += 1
                         else:
@@ -152,3 +177,5 @@ def main():
 
 if __name__ == "__main__":
     main()
+    if "--verify" in sys.argv:
+        verify(mismatches)
