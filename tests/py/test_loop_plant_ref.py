@@ -292,19 +292,21 @@ def test_alpha_max_certified_and_tight(zw, case):
 
 
 def test_random_plants_verdicts(zw):
-    """Random springs and hands (kappa log-uniform, real and complex poles), random delay and
-    velocity estimate; points near the boundary and across the plane: no false stable."""
+    """Random springs, hands (kappa log-uniform, real and complex poles) and lags (lambda
+    log-uniform, half the plants), random delay and velocity estimate; points near the
+    boundary and across the plane: no false stable."""
     rng = random.Random(1604)
     n = false_unstable = 0
-    for _ in range(25):
+    for _ in range(40):
         delta = 10 ** rng.uniform(-2, 1)
-        kappa = 10 ** rng.uniform(-3, 1.3)
+        kappa = 10 ** rng.uniform(-3, 1.3) if rng.random() < 0.8 else 0.0
+        lam = 10 ** rng.uniform(-2, 1) if rng.random() < 0.5 else 0.0
         kw = dict(delay=rng.randint(0, 3), tustin=rng.random() < 0.2)
         if rng.random() < 0.3:
             kw["pole"] = rng.choice([0.2, 0.6, 0.9])
-        lp = make(zw, delta, kappa, 0.0, **kw)
+        lp = make(zw, delta, kappa, lam, **kw)
         ref_loop = lp.ref()
-        for _ in range(8):
+        for _ in range(10):
             beta = zw.r(rng.uniform(-delta, 2 * (1 + delta)))
             amax = lp.alpha_max(beta)
             scale = amax if amax > 0 else 1.0
@@ -313,10 +315,10 @@ def test_random_plants_verdicts(zw):
             stable, _ = lp.verdict(alpha, beta)
             rho = ref_loop.rho(alpha, beta)
             n += 1
-            assert not (stable and rho >= 1), (delta, kappa, kw, alpha, beta, rho)
+            assert not (stable and rho >= 1), (delta, kappa, lam, kw, alpha, beta, rho)
             if not stable and rho < 1:
                 false_unstable += 1
-                assert 1 - rho < BAND[zw.name], (delta, kappa, kw, alpha, beta, rho)
+                assert 1 - rho < BAND[zw.name], (delta, kappa, lam, kw, alpha, beta, rho)
     print(f"\n{zw.name}: {n} random points, 0 false stable, {false_unstable} false unstable (in the band)")
 
 
@@ -498,3 +500,30 @@ def test_cli_parts():
     assert r.returncode == 2 and "--hand" in r.stderr
     r = run("check", "--delta", "1", "--alpha", "1", "--beta", "0", "--stiffness", "1")
     assert r.returncode == 2 and "real-unit plant" in r.stderr
+
+
+def test_random_plants_alpha_max(zw):
+    """alpha_max of random lags, springs and hands (with delay, low-pass): never above the
+    reference's sup; the worst gap below it printed."""
+    rng = random.Random(2611)
+    worst = 0.0
+    for _ in range(16):
+        delta = 10 ** rng.uniform(-2, 1)
+        kappa = 10 ** rng.uniform(-3, 1) if rng.random() < 0.6 else 0.0
+        lam = 10 ** rng.uniform(-2, 1) if rng.random() < 0.7 else 0.0
+        kw = dict(delay=rng.randint(0, 2))
+        if rng.random() < 0.3:
+            kw["pole"] = 0.5
+        lp = make(zw, delta, kappa, lam, **kw)
+        ref_loop = lp.ref()
+        for beta in (zw.r(rng.uniform(0, 1 + delta)), 0.0):
+            amax = lp.alpha_max(beta)
+            if amax == 0:
+                assert not ref_loop.stable(1e-9, beta) or not ref_loop.stable(1e-3, beta)
+                continue
+            for k in (1, 4, 8, 12, 16):
+                assert ref_loop.stable(amax * k / 16, beta), (delta, kappa, lam, kw, beta, amax)
+            truth = ref_loop.alpha_sup(beta, amax)
+            worst = max(worst, float((truth - amax) / truth))
+    print(f"\n{zw.name}: random plants' alpha_max within {worst:.1e} below the truth")
+    assert worst < TIGHT[zw.name]
