@@ -67,7 +67,9 @@ typedef struct zw_plant_spec {
     zw_real lambda; /* tau / T >= 0 (0: no lag, order 2) */
     /* Relative uncertainty of each input (0: given exactly; a few u when computed from
      * real units).  The coefficient bounds cover it. */
-    zw_real delta_relerr, kappa_relerr, lambda_relerr;
+    zw_real delta_relerr;
+    zw_real kappa_relerr;
+    zw_real lambda_relerr;
 } zw_plant_spec;
 
 /* The sampled plant.  Filled by zw_plant_init; read-only after.  Polynomials highest power
@@ -75,16 +77,21 @@ typedef struct zw_plant_spec {
 typedef struct zw_plant {
     zw_plant_spec spec;
     unsigned order; /* 2, or 3 when lambda > 0 */
-    zw_real den[ZW_PLANT_MAX_ORDER + 1u], den_err[ZW_PLANT_MAX_ORDER + 1u];
-    zw_real num[ZW_PLANT_MAX_ORDER], num_err[ZW_PLANT_MAX_ORDER];
+    zw_real den[ZW_PLANT_MAX_ORDER + 1u];
+    zw_real den_err[ZW_PLANT_MAX_ORDER + 1u];
+    zw_real num[ZW_PLANT_MAX_ORDER];
+    zw_real num_err[ZW_PLANT_MAX_ORDER];
     /* D((1 + s) / (1 - s)) (1 - s)^order and N((1 + s) / (1 - s)) (1 - s)^(order - 1). */
-    zw_real den_s[ZW_PLANT_MAX_ORDER + 1u], den_s_err[ZW_PLANT_MAX_ORDER + 1u];
-    zw_real num_s[ZW_PLANT_MAX_ORDER], num_s_err[ZW_PLANT_MAX_ORDER];
+    zw_real den_s[ZW_PLANT_MAX_ORDER + 1u];
+    zw_real den_s_err[ZW_PLANT_MAX_ORDER + 1u];
+    zw_real num_s[ZW_PLANT_MAX_ORDER];
+    zw_real num_s_err[ZW_PLANT_MAX_ORDER];
     /* The ideal plant's fields at delta (kappa = lambda = 0 uses them for num / den). */
     zw_coeffs c;
     /* D as a polynomial in w = z - 1 (its Taylor coefficients at z = 1, formed from the
      * factors): zw_plant_eval uses it, so D keeps its relative accuracy near z = 1. */
-    zw_real den_w[ZW_PLANT_MAX_ORDER + 1u], den_w_err[ZW_PLANT_MAX_ORDER + 1u];
+    zw_real den_w[ZW_PLANT_MAX_ORDER + 1u];
+    zw_real den_w_err[ZW_PLANT_MAX_ORDER + 1u];
 } zw_plant;
 
 /* Fill *out.  Errors: ZW_ERR_NULL, ZW_ERR_NAN, ZW_ERR_INF, ZW_ERR_DELTA (delta < 0),
