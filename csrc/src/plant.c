@@ -682,6 +682,7 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
     const bool series_ok = (ZW_FABS(w2.v) <= PLANT_SERIES_LIMIT) && (hp2.v <= PLANT_SERIES_LIMIT);
     zw_eb T, U, y0, x1, x0, t;
     zw_eb y0_series = eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
+    zw_eb x1_far = eb_make(ZW_R(0.0), ZW_INF);
 
     /* T */
     T = zw_eb_div(zw_eb_sub(zw_eb_sub(a, o->ch), zw_eb_mul(hp, o->sh)), kp);
@@ -699,6 +700,14 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
         const zw_eb p1 = eb_neg(zw_eb_div(kappa, hr)), p2 = eb_neg(hr), p3 = eb_neg(nu);
         t = zw_eb_div(zw_eb_sub(eb_exp_dd(p3, p1), eb_exp_dd(p3, p2)), eb_twice(r));
         T = eb_better(T, t);
+        /* x1 / nu = exp[0, p3, p1, p2] = (exp[0, p3, p1] - exp[0, p3, p2]) / (p1 - p2), each
+         * the b1 of the real pole pair {p3, p_i} (no cancellation for nu -> 0) */
+        {
+            order2 q1, q2;
+            order2_compute(eb_half(zw_eb_sub(nu, p1)), zw_eb_mul(nu, eb_neg(p1)), &q1);
+            order2_compute(eb_half(zw_eb_sub(nu, p2)), zw_eb_mul(nu, eb_neg(p2)), &q2);
+            x1_far = zw_eb_mul(nu, zw_eb_div(zw_eb_sub(q1.b1, q2.b1), eb_twice(r)));
+        }
     }
     /* U = S^ - nu T, or (nu Phi11 + kappa S^ - nu a) / kappa' (no cancellation for nu >> 1) */
     U = zw_eb_sub(o->sh, zw_eb_mul(nu, T));
@@ -717,6 +726,7 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
                                           zw_eb_mul(zw_eb_sub(nu, eb_twice(h)), o->b1))),
                   kp);
     x1 = eb_better(x1, t);
+    x1 = eb_better(x1, x1_far);
     if (series_ok && (h.v <= ZW_R(2.0))) {
         x1 = eb_better(x1, zw_eb_mul(zw_eb_mul(nu, eb_exp(eb_neg(h))), series_shifted4(h, hp, w2)));
     }
