@@ -40,10 +40,11 @@
  * the bounds are, median / 90th percentile,
  *   order 2 (delta in [0, 1e6], kappa in [0, 1e6]):     D 0.6 / 6, N 29 / 214, D_s 2 / 57,
  *                                                        N_s 12 / 34
- *   order 3 (lambda in [0.01, 10], delta <= 1e4, kappa <= 1e5): D 1 / 17, N 31 / 367,
- *                                                        D_s 6 / 218, N_s 51 / 516
- *   order 3, lambda in [1e-4, 1e-3] u [30, 1e4]:        N 32 / 2e3, N_s 77 / 3e3 (max 4e5 at
- *                                                        lambda = 1e4: N ~ 1/lambda there)
+ *   order 3 (lambda in [0.01, 10], delta <= 1e4, kappa <= 1e5): D 1 / 17, N 31 / 222,
+ *                                                        D_s 6 / 218, N_s 45 / 516
+ *   order 3, lambda in [1e-4, 1e-3] u [30, 1e4]:        D 2 / 18, N 32 / 219, N_s 64 / 502
+ * (maxima ~5e3, 1.7e4 in float's order 2: a rounded omega = sqrt(kappa - h^2) ~ 300..1000
+ * costs u omega in sin, cos, which the bound must charge).
  * Limits: ZW_ERR_RANGE when (delta/2)^2 or (1/lambda)^2 overflows (delta above ~2.7e154,
  * lambda below ~7.5e-155; float: 3.7e19, 5.4e-20) or a bound does.
  */
