@@ -109,8 +109,10 @@ zw_status zw_plant_from_coeffs(zw_plant *out, const zw_coeffs *c);
 
 /* N(z) and D(z) at a complex z (for the loop's root inclusion test and its
  * D-decomposition), each with a bound on its absolute error; D keeps relative accuracy
- * near z = 1 (evaluated from its factors, not from the expanded coefficients).  Errors:
- * ZW_ERR_NULL, ZW_ERR_ARG (order 0); on error every output is NaN. */
+ * near z = 1 (Horner in w = z - 1 on den_w, D's Taylor coefficients at 1 formed from its
+ * factors, not from the expanded coefficients).  Errors: ZW_ERR_NULL, ZW_ERR_ARG (order 0),
+ * ZW_ERR_NAN / ZW_ERR_INF (z), ZW_ERR_RANGE (a bound overflows); on error every non-NULL
+ * output is NaN. */
 zw_status zw_plant_eval(const zw_plant *plant, zw_real re, zw_real im, zw_real *num_re,
                         zw_real *num_im, zw_real *num_err, zw_real *den_re, zw_real *den_im,
                         zw_real *den_err);
