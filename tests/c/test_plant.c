@@ -276,6 +276,46 @@ static void test_lag_meets_pole(void **state)
 }
 
 /* lambda -> 0: N3 -> z N2, D3 -> z D2. */
+/* eval on the lag plant: against the reference at complex points, and D3 next to z = 1
+ * with lambda >> 1 (the poles 1 and e^-1/lambda both near 1) in relative accuracy. */
+static void test_lag_eval(void **state)
+{
+    static const zw_real pts[][2] = {{R(0.3), R(0.9)}, {R(-1.0), R(0.0)}, {R(0.999), R(0.02)}};
+    zw_plant p = plant3_of(R(0.7), R(2.0), R(0.4));
+    zw_plant q = plant3_of(R(0.01), R(0.0), R(1000.0));
+    lref3 r = reference3(0.7L, 2.0L, 0.4L);
+    size_t i;
+    zw_real nr, ni, ne, dr, di, de;
+    (void)state;
+    for (i = 0; i < ZWT_ARRAY_LEN(pts); ++i) {
+        long double complex_r = pts[i][0], complex_i = pts[i][1];
+        long double Nr = 0.0L, Ni = 0.0L, Dr = 0.0L, Di = 0.0L, t;
+        unsigned j;
+        for (j = 0; j < 3u; ++j) { /* Horner */
+            t = Nr * complex_r - Ni * complex_i + r.num[j];
+            Ni = Nr * complex_i + Ni * complex_r;
+            Nr = t;
+        }
+        for (j = 0; j < 4u; ++j) {
+            t = Dr * complex_r - Di * complex_i + r.den[j];
+            Di = Dr * complex_i + Di * complex_r;
+            Dr = t;
+        }
+        EXPECT_OK(zw_plant_eval(&p, pts[i][0], pts[i][1], &nr, &ni, &ne, &dr, &di, &de));
+        EXPECT_TRUE_MSG(hypotl(nr - Nr, ni - Ni) <= (long double)ne + 1e-16L, "N at %zu", i);
+        EXPECT_TRUE_MSG(hypotl(dr - Dr, di - Di) <= (long double)de + 1e-16L, "D at %zu", i);
+    }
+    {
+        /* D3 = 2 (z - 1)(z - e)(z - a) at z = 1 + 2^-20, a = e^-0.001 */
+        const zw_real w = R(9.5367431640625e-7);
+        const long double lw = (long double)w;
+        const long double D = 2.0L * lw * (lw - expm1l(-0.01L)) * (lw - expm1l(-0.001L));
+        EXPECT_OK(zw_plant_eval(&q, R(1.0) + w, R(0.0), &nr, &ni, &ne, &dr, &di, &de));
+        EXPECT_TRUE_MSG(fabsl(dr - D) <= de && de <= TOLL(256) * D, "D3 near 1: %Lg vs %Lg, bound %Lg",
+                        (long double)dr, D, (long double)de);
+    }
+}
+
 static void test_lag_to_zero(void **state)
 {
     zw_plant p2 = plant_of(R(0.8), R(1.5));
@@ -603,6 +643,7 @@ int main(void)
         cmocka_unit_test(test_lag_against_reference),
         cmocka_unit_test(test_lag_meets_pole),
         cmocka_unit_test(test_lag_to_zero),
+        cmocka_unit_test(test_lag_eval),
         cmocka_unit_test(test_eval),
         cmocka_unit_test(test_errors_failsafe),
         cmocka_unit_test(test_spec_from_device),
