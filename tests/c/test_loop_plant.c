@@ -303,6 +303,37 @@ static void test_kappa_to_zero_is_ideal(void **state)
     }
 }
 
+/* lambda -> 0 (a vanishing actuator lag, order 3) reduces to the ideal loop too. */
+static void test_lambda_to_zero_is_ideal(void **state)
+{
+    static zw_loop ideal;
+    zw_coeffs c;
+    zw_plant_spec ps;
+    zw_loop_spec ls;
+    unsigned d, i;
+    (void)state;
+    memset(&ls, 0, sizeof ls);
+    memset(&ps, 0, sizeof ps);
+    ps.delta = R(0.8);
+    ps.lambda = PREC(R(1e-9), R(1e-4));
+    assert_int_equal(zw_plant_init(&g_plant, &ps), ZW_OK);
+    assert_int_equal(g_plant.order, 3u);
+    assert_int_equal(zw_coeffs_init(&c, R(0.8)), ZW_OK);
+    for (d = 0u; d <= 2u; ++d) {
+        ls.delay = d;
+        assert_int_equal(zw_loop_init_plant(&g_loop, &g_plant, &ls), ZW_OK);
+        assert_int_equal(g_loop.degree, 4u + d);
+        assert_int_equal(zw_loop_init(&ideal, &c, &ls), ZW_OK);
+        for (i = 0u; i < 4u; ++i) {
+            const zw_real beta = R(-0.4) + R(0.5) * (zw_real)i;
+            zw_real a1, a2;
+            assert_int_equal(zw_loop_alpha_max(&g_loop, &g_ws, beta, &a1), ZW_OK);
+            assert_int_equal(zw_loop_alpha_max(&ideal, &g_ws, beta, &a2), ZW_OK);
+            assert_true(fabsl((long double)a1 - (long double)a2) <= PREC(1e-6L, 1e-2L) * (1.0L + (long double)a2));
+        }
+    }
+}
+
 /* A stiff plant's extremes are certified: the reference is stable at (alpha_mmax,
  * beta_at_alpha_mmax) and at alpha_p_max on beta = 0, and inside (beta_mmin, beta_mmax) just
  * above alpha = 0. */
@@ -422,6 +453,7 @@ int main(void)
         cmocka_unit_test(test_alpha_max_certified),
         cmocka_unit_test(test_stiffness_moves_z1_line),
         cmocka_unit_test(test_kappa_to_zero_is_ideal),
+        cmocka_unit_test(test_lambda_to_zero_is_ideal),
         cmocka_unit_test(test_extremes_stiff),
         cmocka_unit_test(test_device_loop_plant),
         cmocka_unit_test(test_init_plant_errors),
