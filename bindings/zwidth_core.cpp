@@ -741,8 +741,10 @@ class NormalizedLoopCache {
     zw_loop loop_{};
 };
 
-// The loop of one (m, b, T, f_c) element: zw_device_loop, whose loop carries the rounding
-// of K / (m/T^2) and B / (m/T) in its guard (zw_loop_carry_gain_rounding).
+// The loop of one (m, b, T, f_c, k_p, tau, m_h, b_h, k_h) element: zw_device_loop, whose
+// loop carries the rounding of K / (M/T^2) and B / (M/T) in its guard
+// (zw_loop_carry_gain_rounding); zw_device_loop_init_plant when a plant-side part (a
+// stiffness, an actuator lag, a hand) is present, else zw_device_loop_init.
 class DeviceLoopCache {
   public:
     using Plant = zw_device_loop;
@@ -770,7 +772,10 @@ class DeviceLoopCache {
         const bool lowpass = kind_.filter == ZW_VFILTER_LOWPASS;
         if (lowpass && kind_.pole_given) spec.pole = key_[3];  // zw_loop_init checks 0 <= a < 1, NaN
         if (lowpass && !kind_.pole_given) spec.cutoff_hz = key_[3];
-        const zw_status s = zw_device_loop_init(&plant_, key_[0], key_[1], key_[2], &spec);
+        const bool parts = key_[4] != 0.0 || key_[5] != 0.0 || key_[6] != 0.0 || key_[7] != 0.0 || key_[8] != 0.0;
+        const zw_status s = parts ? zw_device_loop_init_plant(&plant_, key_[0], key_[1], key_[2], key_[4], key_[5],
+                                                              key_[6], key_[7], key_[8], &spec)
+                                  : zw_device_loop_init(&plant_, key_[0], key_[1], key_[2], &spec);
         // cut-off 0 would mean "take the pole" in C; here it is a bad cut-off
         if (s == ZW_OK && lowpass && !kind_.pole_given && key_[3] == 0.0) return ZW_ERR_FILTER;
         return s;
@@ -778,7 +783,7 @@ class DeviceLoopCache {
 
     LoopKind kind_;
     bool valid_ = false;
-    std::array<double, 4> key_{};
+    std::array<double, 9> key_{};
     zw_status status_ = ZW_OK;
     Plant plant_{};
 };
@@ -947,18 +952,21 @@ LoopKind device_kind(long delay, int diff, int filter, long average, bool pole_g
     return k;
 }
 
-py::dict device_loop_check(f64array m, f64array b, f64array T, f64array cutoff, f64array K, f64array B, long delay,
-                           int diff, int filter, long average, bool pole_given, bool full) {
-    return loop_check_kernel<DLC, 4>({m, b, T, cutoff, K, B}, device_kind(delay, diff, filter, average, pole_given),
-                                     full);
+#define ZW_PARTS f64array k_p, f64array tau, f64array m_h, f64array b_h, f64array k_h
+py::dict device_loop_check(f64array m, f64array b, f64array T, f64array cutoff, ZW_PARTS, f64array K, f64array B,
+                           long delay, int diff, int filter, long average, bool pole_given, bool full) {
+    return loop_check_kernel<DLC, 9>({m, b, T, cutoff, k_p, tau, m_h, b_h, k_h, K, B},
+                                     device_kind(delay, diff, filter, average, pole_given), full);
 }
-py::dict device_loop_spectral_radius(f64array m, f64array b, f64array T, f64array cutoff, f64array K, f64array B,
-                                     long delay, int diff, int filter, long average, bool pole_given) {
-    return loop_radius_kernel<DLC, 4>({m, b, T, cutoff, K, B}, device_kind(delay, diff, filter, average, pole_given));
+py::dict device_loop_spectral_radius(f64array m, f64array b, f64array T, f64array cutoff, ZW_PARTS, f64array K,
+                                     f64array B, long delay, int diff, int filter, long average, bool pole_given) {
+    return loop_radius_kernel<DLC, 9>({m, b, T, cutoff, k_p, tau, m_h, b_h, k_h, K, B},
+                                      device_kind(delay, diff, filter, average, pole_given));
 }
-py::dict device_loop_radius_within(f64array m, f64array b, f64array T, f64array cutoff, f64array K, f64array B,
-                                   f64array radius, long delay, int diff, int filter, long average, bool pole_given) {
-    return loop_within_kernel<DLC, 4>({m, b, T, cutoff, K, B, radius},
+py::dict device_loop_radius_within(f64array m, f64array b, f64array T, f64array cutoff, ZW_PARTS, f64array K,
+                                   f64array B, f64array radius, long delay, int diff, int filter, long average,
+                                   bool pole_given) {
+    return loop_within_kernel<DLC, 9>({m, b, T, cutoff, k_p, tau, m_h, b_h, k_h, K, B, radius},
                                       device_kind(delay, diff, filter, average, pole_given));
 }
 
@@ -1048,49 +1056,49 @@ py::dict loop_boundary_point(f64array delta, f64array pole, f64array theta, long
     return r.finish(errors);
 }
 
-py::dict device_loop_k_max(f64array m, f64array b, f64array T, f64array cutoff, f64array B, long delay, int diff,
-                           int filter, long average, bool pole_given) {
+py::dict device_loop_k_max(f64array m, f64array b, f64array T, f64array cutoff, ZW_PARTS, f64array B, long delay,
+                           int diff, int filter, long average, bool pole_given) {
     const LoopKind kind = device_kind(delay, diff, filter, average, pole_given);
-    Broadcast<5> bc({m, b, T, cutoff, B});
+    Broadcast<10> bc({m, b, T, cutoff, k_p, tau, m_h, b_h, k_h, B});
     Result r(bc);
     double *out = r.add<double>(bc, "K_max");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = DLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 5> &x) mutable {
+        return [&, cache = DLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 10> &x) mutable {
             const zw_device_loop *p;
             const zw_status s = cache.get(x, &p);
-            return s != ZW_OK ? s : zw_device_loop_k_max(p, &ws, x[4], &out[i]);
+            return s != ZW_OK ? s : zw_device_loop_k_max(p, &ws, x[9], &out[i]);
         };
     });
     return r.finish(errors);
 }
 
-py::dict device_loop_b_range(f64array m, f64array b, f64array T, f64array cutoff, f64array K, long delay, int diff,
-                             int filter, long average, bool pole_given) {
+py::dict device_loop_b_range(f64array m, f64array b, f64array T, f64array cutoff, ZW_PARTS, f64array K, long delay,
+                             int diff, int filter, long average, bool pole_given) {
     const LoopKind kind = device_kind(delay, diff, filter, average, pole_given);
-    Broadcast<5> bc({m, b, T, cutoff, K});
+    Broadcast<10> bc({m, b, T, cutoff, k_p, tau, m_h, b_h, k_h, K});
     Result r(bc);
     double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
     bool *nonempty = r.add<bool>(bc, "nonempty");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = DLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 5> &x) mutable {
+        return [&, cache = DLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 10> &x) mutable {
             const zw_device_loop *p;
             const zw_status s = cache.get(x, &p);
-            return s != ZW_OK ? s : zw_device_loop_b_range(p, &ws, x[4], &lo[i], &hi[i], &nonempty[i]);
+            return s != ZW_OK ? s : zw_device_loop_b_range(p, &ws, x[9], &lo[i], &hi[i], &nonempty[i]);
         };
     });
     return r.finish(errors);
 }
 
-py::dict device_loop_extremes(f64array m, f64array b, f64array T, f64array cutoff, long delay, int diff, int filter,
-                              long average, bool pole_given) {
+py::dict device_loop_extremes(f64array m, f64array b, f64array T, f64array cutoff, ZW_PARTS, long delay, int diff,
+                              int filter, long average, bool pole_given) {
     const LoopKind kind = device_kind(delay, diff, filter, average, pole_given);
-    Broadcast<4> bc({m, b, T, cutoff});
+    Broadcast<9> bc({m, b, T, cutoff, k_p, tau, m_h, b_h, k_h});
     Result r(bc);
     double *K_mmax = r.add<double>(bc, "K_mmax"), *B_at = r.add<double>(bc, "B_at_K_mmax");
     double *K_p_max = r.add<double>(bc, "K_p_max"), *B_mmax = r.add<double>(bc, "B_mmax");
     double *B_mmin = r.add<double>(bc, "B_mmin");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = DLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 4> &x) mutable {
+        return [&, cache = DLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 9> &x) mutable {
             const zw_device_loop *p;
             zw_status s = cache.get(x, &p);
             zw_device_loop_extremes ex;
@@ -1203,11 +1211,13 @@ PYBIND11_MODULE(_core, mod) {
     mod.def("loop_poly", &loop_poly, d, pole, a, be, dl, df, fl, av,
             "zw_loop_poly per element (right-aligned in LOOP_MAX_DEGREE + 1 entries, and the degree).");
     const auto pg = py::arg("pole_given");
-    mod.def("device_loop_check", &device_loop_check, m, b, T, fc, K, B, dl, df, fl, av, pg, py::arg("full"),
+    // the plant-side parts (device_loop.h, zw_device_loop_init_plant): all 0 is the plain plant
+    const auto kp = py::arg("k_p"), tau = py::arg("tau"), mh = py::arg("m_h"), bh = py::arg("b_h"), kh = py::arg("k_h");
+    mod.def("device_loop_check", &device_loop_check, m, b, T, fc, kp, tau, mh, bh, kh, K, B, dl, df, fl, av, pg, py::arg("full"),
             "zw_loop_check of the device's loop per element (gain rounding in the guard).");
-    mod.def("device_loop_spectral_radius", &device_loop_spectral_radius, m, b, T, fc, K, B, dl, df, fl, av, pg,
+    mod.def("device_loop_spectral_radius", &device_loop_spectral_radius, m, b, T, fc, kp, tau, mh, bh, kh, K, B, dl, df, fl, av, pg,
             "zw_loop_spectral_radius of the device's loop per element.");
-    mod.def("device_loop_radius_within", &device_loop_radius_within, m, b, T, fc, K, B, py::arg("radius"), dl, df, fl,
+    mod.def("device_loop_radius_within", &device_loop_radius_within, m, b, T, fc, kp, tau, mh, bh, kh, K, B, py::arg("radius"), dl, df, fl,
             av, pg, "zw_loop_radius_within of the device's loop per element.");
     mod.def("loop_lowpass_pole", &loop_lowpass_pole, py::arg("cutoff"), T, "zw_loop_lowpass_pole per element.");
     mod.def("loop_alpha_max", &loop_alpha_max, d, pole, be, dl, df, fl, av, "zw_loop_alpha_max per element.");
@@ -1216,11 +1226,11 @@ PYBIND11_MODULE(_core, mod) {
     mod.def("loop_extremes", &loop_extremes, d, pole, dl, df, fl, av, "zw_loop_extremes_compute per element.");
     mod.def("loop_boundary_point", &loop_boundary_point, d, pole, py::arg("theta"), dl, df, fl, av,
             "zw_loop_boundary_point per element.");
-    mod.def("device_loop_k_max", &device_loop_k_max, m, b, T, fc, B, dl, df, fl, av, pg,
+    mod.def("device_loop_k_max", &device_loop_k_max, m, b, T, fc, kp, tau, mh, bh, kh, B, dl, df, fl, av, pg,
             "K_max of the device's loop per element (certified, pulled inward for the conversions).");
-    mod.def("device_loop_b_range", &device_loop_b_range, m, b, T, fc, K, dl, df, fl, av, pg,
+    mod.def("device_loop_b_range", &device_loop_b_range, m, b, T, fc, kp, tau, mh, bh, kh, K, dl, df, fl, av, pg,
             "the widest stable B interval of the device's loop per element.");
-    mod.def("device_loop_extremes", &device_loop_extremes, m, b, T, fc, dl, df, fl, av, pg,
+    mod.def("device_loop_extremes", &device_loop_extremes, m, b, T, fc, kp, tau, mh, bh, kh, dl, df, fl, av, pg,
             "zw_loop_extremes_compute of the device's loop, real units, per element.");
     zw_register_sim(mod);
     zw_register_box(mod);

@@ -45,34 +45,100 @@
 static const zw_real k_retreat[N_RETREATS] = {
     ZW_R(0.0), ZW_R(1e-13), ZW_R(1e-10), ZW_R(1e-7), ZW_R(1e-5), ZW_R(1e-3), ZW_R(1e-2), ZW_R(0.1)};
 
+/* The loop spec of a device spec at period T (the low-pass pole from its cut-off). */
+static zw_status loop_spec_of(const zw_device_loop_spec *spec, zw_real T, zw_loop_spec *ls)
+{
+    zw_status st;
+    /* zeroed padding too: the loop keeps a copy, and a map rebuilt from the same block must
+     * be the same bytes (test_regmap compares the whole struct after a refused SEAL) */
+    (void)memset(ls, 0, sizeof *ls);
+    ls->delay = spec->delay;
+    ls->differentiator = spec->differentiator;
+    ls->filter = spec->filter;
+    ls->average = spec->average;
+    ls->filter_pole = spec->pole;
+    if ((spec->filter == ZW_VFILTER_LOWPASS) && !(spec->cutoff_hz == ZW_R(0.0))) {
+        st = zw_loop_lowpass_pole(spec->cutoff_hz, T, &ls->filter_pole);
+        if (st != ZW_OK) {
+            return st;
+        }
+    }
+    return ZW_OK;
+}
+
 static zw_status device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real T,
                                   const zw_device_loop_spec *spec)
 {
     zw_loop_spec ls;
     zw_status st;
+    out->mass_relerr = ZW_R(0.0);
     st = zw_device_init(&out->dev, m, b, T);
     if (st != ZW_OK) {
         return st;
     }
-    /* zeroed padding too: the loop keeps a copy, and a map rebuilt from the same block must
-     * be the same bytes (test_regmap compares the whole struct after a refused SEAL) */
-    (void)memset(&ls, 0, sizeof ls);
-    ls.delay = spec->delay;
-    ls.differentiator = spec->differentiator;
-    ls.filter = spec->filter;
-    ls.average = spec->average;
-    ls.filter_pole = spec->pole;
-    if ((spec->filter == ZW_VFILTER_LOWPASS) && !(spec->cutoff_hz == ZW_R(0.0))) {
-        st = zw_loop_lowpass_pole(spec->cutoff_hz, T, &ls.filter_pole);
-        if (st != ZW_OK) {
-            return st;
-        }
+    st = loop_spec_of(spec, T, &ls);
+    if (st != ZW_OK) {
+        return st;
     }
     st = zw_loop_init(&out->loop, &out->dev.co, &ls);
     if (st != ZW_OK) {
         return st;
     }
     return zw_loop_carry_gain_rounding(&out->loop, GAIN_ALPHA_RELERR, GAIN_BETA_RELERR);
+}
+
+static zw_status device_loop_init_plant(zw_device_loop *out, zw_real m, zw_real b, zw_real T,
+                                        zw_real k_p, zw_real tau, zw_real m_h, zw_real b_h,
+                                        zw_real k_h, const zw_device_loop_spec *spec)
+{
+    zw_plant_spec ps;
+    zw_loop_spec ls;
+    zw_real M = ZW_R(0.0);
+    zw_status st;
+    st = zw_plant_spec_from_device(m, b, T, k_p, tau, m_h, b_h, k_h, &ps, &M);
+    if (st != ZW_OK) {
+        return st;
+    }
+    /* M = fl(m + m_h): one rounding against the exact mass (none without a hand) */
+    out->mass_relerr = (m_h == ZW_R(0.0)) ? ZW_R(0.0) : ZW_U;
+    st = zw_device_init(&out->dev, M, b + b_h, T);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = loop_spec_of(spec, T, &ls);
+    if (st != ZW_OK) {
+        return st;
+    }
+    /* the plant is built in place (too large for a firmware caller's stack) */
+    st = zw_plant_init(&out->loop.plant, &ps);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_loop_init_plant(&out->loop, &out->loop.plant, &ls);
+    if (st != ZW_OK) {
+        return st;
+    }
+    return zw_loop_carry_gain_rounding(&out->loop, GAIN_ALPHA_RELERR + ZW_R(2.0) * out->mass_relerr,
+                                       GAIN_BETA_RELERR + ZW_R(2.0) * out->mass_relerr);
+}
+
+zw_status zw_device_loop_init_plant(zw_device_loop *out, zw_real m, zw_real b, zw_real T,
+                                    zw_real k_p, zw_real tau, zw_real m_h, zw_real b_h,
+                                    zw_real k_h, const zw_device_loop_spec *spec)
+{
+    static const zw_loop k_no_loop; /* zero: degree 0, refused by every loop function */
+    zw_status st;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = (spec == NULL) ? ZW_ERR_NULL
+                        : device_loop_init_plant(out, m, b, T, k_p, tau, m_h, b_h, k_h, spec);
+    if (st != ZW_OK) {
+        (void)zw_device_init(&out->dev, ZW_NAN, ZW_NAN, ZW_NAN); /* every field NaN */
+        out->loop = k_no_loop;
+        out->mass_relerr = ZW_R(0.0);
+    }
+    return st;
 }
 
 zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real T,
@@ -87,6 +153,7 @@ zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real
     if (st != ZW_OK) {
         (void)zw_device_init(&out->dev, ZW_NAN, ZW_NAN, ZW_NAN); /* every field NaN */
         out->loop = k_no_loop;
+        out->mass_relerr = ZW_R(0.0);
     }
     return st;
 }
@@ -274,7 +341,7 @@ static zw_status k_max(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real 
             return st;
         }
     } else {
-        widen_by(beta, ZW_BETA_RELERR, &b_lo, &b_hi);
+        widen_by(beta, ZW_BETA_RELERR + ZW_R(2.0) * dl->mass_relerr, &b_lo, &b_hi);
         st = zw_loop_alpha_max(&dl->loop, ws, b_lo, &a_lo);
         if (st != ZW_OK) {
             return st;
@@ -331,7 +398,7 @@ static zw_status loop_b_range(const zw_device_loop *dl, zw_loop_workspace *ws, z
         st = zw_loop_beta_interval(&dl->loop, ws, alpha, &l1, &h1, &ok1);
         return st;
     }
-    widen_by(alpha, ZW_ALPHA_RELERR, &a_lo, &a_hi);
+    widen_by(alpha, ZW_ALPHA_RELERR + ZW_R(2.0) * dl->mass_relerr, &a_lo, &a_hi);
     if (!(a_lo > ZW_R(0.0))) {
         return ZW_OK;
     }

@@ -145,7 +145,8 @@ static zw_status check_loop(const zw_loop *loop)
     if (check_spec(&loop->spec) != ZW_OK) {
         return ZW_ERR_ARG;
     }
-    if (loop->degree != 2u + loop->spec.delay + estimate_degree(&loop->spec)) {
+    if (((loop->plant.order != 2u) && (loop->plant.order != 3u)) ||
+        (loop->degree != loop->plant.order + loop->spec.delay + estimate_degree(&loop->spec))) {
         return ZW_ERR_ARG;
     }
     return ZW_OK;
@@ -161,15 +162,13 @@ typedef enum factor_kind {
     F_ZM1,   /* z - 1         s: 2 s */
     F_ZP1,   /* z + 1         s: 2 */
     F_ZMA,   /* z - a         s: (1 + a) s + (1 - a) */
-    F_ZME,   /* z - e         s: (1 + e) s + (1 - e), 1 - e = delta (c1 + c2) / 2 */
-    F_PLANT, /* c1 z + c2     s: d12 s + (c1 + c2) */
     F_PAD    /* 1             s: 1 - s */
 } factor_kind;
 
 typedef struct build_ctx {
-    const zw_coeffs *c;
-    zw_real a;       /* filter pole (exact) */
-    bool bilinear;   /* build the s polynomial */
+    const zw_plant *plant; /* N and D (z or s images, with bounds: plant.h) */
+    zw_real a;             /* filter pole (exact) */
+    bool bilinear;         /* build the s polynomial */
 } build_ctx;
 
 static LOOP_HOT zw_eb eb_make(zw_real v, zw_real e)
@@ -180,16 +179,9 @@ static LOOP_HOT zw_eb eb_make(zw_real v, zw_real e)
     return r;
 }
 
-/* A coefficient field with its relative bound and the subnormal floor. */
-static LOOP_INLINE zw_eb coef_field(const zw_coeffs *c, zw_real v)
-{
-    return eb_make(v, zw_coef_relerr(c) * ZW_FABS(v) + zw_coef_floor(v));
-}
-
 /* f1 x + f0 for the factor in the context's variable. */
 static LOOP_INLINE void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
 {
-    const zw_coeffs *c = ctx->c;
     const bool s = ctx->bilinear;
     zw_real v;
     switch (kind) {
@@ -214,30 +206,6 @@ static LOOP_INLINE void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1
         } else {
             *f1 = zw_eb_exact(ZW_R(1.0));
             *f0 = zw_eb_exact(-ctx->a);
-        }
-        break;
-    case F_ZME:
-        if (s) {
-            const zw_real e_err = zw_coef_e_abserr(c);
-            v = ZW_R(1.0) + c->e;
-            *f1 = eb_make(v, e_err + ZW_U * v);
-            /* 1 - e = delta s / 2: s's own bound (which covers its sensitivity to delta),
-             * delta's uncertainty, one rounding (the halving is exact but for underflow) */
-            v = ZW_R(0.5) * (c->delta * c->s);
-            *f0 = eb_make(v, (zw_coef_relerr(c) + c->delta_relerr + ZW_R(2.0) * ZW_U) * v +
-                                 zw_coef_floor(c->s) * c->delta + ZW_R(2.0) * ZW_ETA);
-        } else {
-            *f1 = zw_eb_exact(ZW_R(1.0));
-            *f0 = eb_make(-c->e, zw_coef_e_abserr(c));
-        }
-        break;
-    case F_PLANT:
-        if (s) {
-            *f1 = coef_field(c, c->d12);
-            *f0 = coef_field(c, c->s);
-        } else {
-            *f1 = coef_field(c, c->c1);
-            *f0 = coef_field(c, c->c2);
         }
         break;
     case F_PAD:
@@ -301,6 +269,26 @@ static void mul_factor(const build_ctx *ctx, zw_real v[], zw_real e[], unsigned 
     for (k = 0u; k < times; ++k) {
         mul_linear(v, e, *deg, f1, f0);
         *deg += 1u;
+    }
+}
+
+/* v (degree deg) *= f (degree fdeg, bounds fe), in place (v must hold deg + fdeg + 1
+ * entries): entry k of the product reads v[k - fdeg .. k] only, so k runs downwards. */
+static void mul_poly(zw_real v[], zw_real e[], unsigned deg, const zw_real f[], const zw_real fe[],
+                     unsigned fdeg)
+{
+    unsigned k = deg + fdeg + 1u, j;
+    while (k > 0u) {
+        zw_eb sum = zw_eb_exact(ZW_R(0.0));
+        --k;
+        for (j = 0u; j <= fdeg; ++j) {
+            if ((k >= j) && (k - j <= deg)) {
+                sum = eb_add_exactish(sum, eb_mul_exactish(eb_make(f[j], fe[j]),
+                                                           eb_make(v[k - j], e[k - j])));
+            }
+        }
+        v[k] = sum.v;
+        e[k] = sum.e;
     }
 }
 
@@ -396,26 +384,26 @@ static void velocity_estimate(const build_ctx *ctx, const zw_loop_spec *spec, zw
     }
 }
 
-/* D = 2 z^d (z - 1)(z - e) Dv,  Na = (c1 z + c2) Dv,  Nb = (c1 z + c2) Nv, the last two
+/* D = z^d Dp Dv,  Na = Np Dv,  Nb = Np Nv (the plant Np / Dp of order q), the last two
  * lifted to degree n, in the context's variable. */
 static void build_parts(const build_ctx *ctx, const zw_loop_spec *spec, unsigned n, zw_real D[],
                         zw_real De[], zw_real Na[], zw_real Nae[], zw_real Nb[], zw_real Nbe[])
 {
-    const unsigned m = estimate_degree(spec);
+    const zw_plant *pl = ctx->plant;
+    const unsigned m = estimate_degree(spec), q = pl->order;
     unsigned i, dd = m, da, db;
     velocity_estimate(ctx, spec, Na, Nae, Nb, Nbe);
     for (i = 0u; i <= m; ++i) {
         D[i] = Na[i];
         De[i] = Nae[i];
     }
-    mul_scalar(D, De, dd, zw_eb_exact(ZW_R(2.0)));
-    mul_factor(ctx, D, De, &dd, F_ZM1, 1u);
-    mul_factor(ctx, D, De, &dd, F_ZME, 1u);
+    mul_poly(D, De, dd, ctx->bilinear ? pl->den_s : pl->den, ctx->bilinear ? pl->den_s_err : pl->den_err, q);
+    dd += q;
     mul_factor(ctx, D, De, &dd, F_Z, spec->delay);
-    da = m;
-    db = m;
-    mul_factor(ctx, Na, Nae, &da, F_PLANT, 1u);
-    mul_factor(ctx, Nb, Nbe, &db, F_PLANT, 1u);
+    da = m + q - 1u;
+    db = da;
+    mul_poly(Na, Nae, m, ctx->bilinear ? pl->num_s : pl->num, ctx->bilinear ? pl->num_s_err : pl->num_err, q - 1u);
+    mul_poly(Nb, Nbe, m, ctx->bilinear ? pl->num_s : pl->num, ctx->bilinear ? pl->num_s_err : pl->num_err, q - 1u);
     mul_factor(ctx, Na, Nae, &da, F_PAD, n - da);
     mul_factor(ctx, Nb, Nbe, &db, F_PAD, n - db);
 }
@@ -433,19 +421,46 @@ static bool all_finite(const zw_real v[], const zw_real e[], unsigned n)
 
 static const zw_loop k_empty_loop; /* zero: degree 0, refused by check_loop */
 
-zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spec)
+/* A plant the loop can be built on: order 2 or 3, every coefficient and bound finite. */
+static zw_status check_plant(const zw_plant *pl)
+{
+    unsigned i;
+    if ((pl->order != 2u) && (pl->order != 3u)) {
+        return ZW_ERR_ARG;
+    }
+    for (i = 0u; i <= pl->order; ++i) {
+        const zw_real v[4] = {pl->den[i], pl->den_err[i], pl->den_s[i], pl->den_s_err[i]};
+        unsigned k;
+        for (k = 0u; k < 4u; ++k) {
+            if (ZW_IS_NAN(v[k])) {
+                return ZW_ERR_NAN;
+            }
+            if (!ZW_IS_FINITE(v[k])) {
+                return ZW_ERR_INF;
+            }
+        }
+        if (i < pl->order) {
+            const zw_real w[4] = {pl->num[i], pl->num_err[i], pl->num_s[i], pl->num_s_err[i]};
+            for (k = 0u; k < 4u; ++k) {
+                if (ZW_IS_NAN(w[k])) {
+                    return ZW_ERR_NAN;
+                }
+                if (!ZW_IS_FINITE(w[k])) {
+                    return ZW_ERR_INF;
+                }
+            }
+        }
+    }
+    return ZW_OK;
+}
+
+/* The parts of spec on out->plant (already in place; out otherwise empty). */
+static zw_status loop_build(zw_loop *out, const zw_loop_spec *spec)
 {
     zw_status st;
     build_ctx ctx;
     unsigned n;
-    if (out == NULL) {
-        return ZW_ERR_NULL;
-    }
-    *out = k_empty_loop;
-    if (spec == NULL) {
-        return ZW_ERR_NULL;
-    }
-    st = zw_require_coeffs(c, false);
+    st = check_plant(&out->plant);
     if (st != ZW_OK) {
         return st;
     }
@@ -453,8 +468,8 @@ zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spe
     if (st != ZW_OK) {
         return st;
     }
-    n = 2u + spec->delay + estimate_degree(spec);
-    ctx.c = c;
+    n = out->plant.order + spec->delay + estimate_degree(spec);
+    ctx.plant = &out->plant;
     ctx.a = (spec->filter == ZW_VFILTER_LOWPASS) ? spec->filter_pole : ZW_R(0.0);
     ctx.bilinear = false;
     build_parts(&ctx, spec, n, out->D, out->D_err, out->Na, out->Na_err, out->Nb, out->Nb_err);
@@ -464,10 +479,9 @@ zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spe
     if (!all_finite(out->D, out->D_err, n) || !all_finite(out->Na, out->Na_err, n) ||
         !all_finite(out->Nb, out->Nb_err, n) || !all_finite(out->Ds, out->Ds_err, n) ||
         !all_finite(out->Nas, out->Nas_err, n) || !all_finite(out->Nbs, out->Nbs_err, n)) {
-        *out = k_empty_loop;
         return ZW_ERR_RANGE;
     }
-    out->c = *c;
+    out->c = out->plant.c;
     out->spec = *spec;
     if (spec->filter != ZW_VFILTER_LOWPASS) {
         out->spec.filter_pole = ZW_R(0.0);
@@ -477,6 +491,53 @@ zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spe
     }
     out->degree = n;
     return ZW_OK;
+}
+
+zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spec)
+{
+    zw_status st;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    *out = k_empty_loop;
+    if (spec == NULL) {
+        return ZW_ERR_NULL;
+    }
+    /* built in place (a zw_plant is too large for a firmware caller's stack) */
+    st = zw_plant_from_coeffs(&out->plant, c);
+    if (st == ZW_OK) {
+        st = loop_build(out, spec);
+    }
+    if (st != ZW_OK) {
+        *out = k_empty_loop;
+    }
+    return st;
+}
+
+zw_status zw_loop_init_plant(zw_loop *out, const zw_plant *plant, const zw_loop_spec *spec)
+{
+    zw_status st;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    if ((plant == NULL) || (spec == NULL)) {
+        *out = k_empty_loop;
+        return ZW_ERR_NULL;
+    }
+    if (plant != &out->plant) {
+        *out = k_empty_loop;
+        out->plant = *plant;
+    } else {
+        /* rebuilt on its own plant: every other field is written by loop_build but these */
+        out->degree = 0u;
+        out->alpha_relerr = ZW_R(0.0);
+        out->beta_relerr = ZW_R(0.0);
+    }
+    st = loop_build(out, spec);
+    if (st != ZW_OK) {
+        *out = k_empty_loop;
+    }
+    return st;
 }
 
 /* bound + |v| rel, rounded up: (1 + 4u) covers the three roundings of the expression */
@@ -987,10 +1048,7 @@ static zw_real poly_coef(const zw_loop *loop, zw_real alpha, zw_real beta, unsig
 }
 
 /* A complex value with a bound on its absolute error. */
-typedef struct ceb {
-    cplx v;
-    zw_real e;
-} ceb;
+typedef zw_loop_ceb ceb;
 
 static ceb ceb_make(cplx v, zw_real e)
 {
@@ -1015,7 +1073,7 @@ static void ceb_times_factor(ceb *acc, const zw_loop *loop, factor_kind kind, cp
     build_ctx ctx;
     zw_eb f1, f0;
     const zw_real az = c_abs_inline(z);
-    ctx.c = &loop->c;
+    ctx.plant = &loop->plant;
     ctx.a = loop->spec.filter_pole;
     ctx.bilinear = false;
     factor(&ctx, kind, &f1, &f0);
@@ -1043,64 +1101,89 @@ static void ceb_add_into(ceb *x, const ceb *y)
     x->e = x->e + y->e + ZW_R(2.0) * ZW_U * c_abs(x->v) + ZW_R(2.0) * ZW_ETA;
 }
 
-/* p(z) = D + alpha Na + beta Nb from the factors (loop.h), with a bound on its error: far
- * tighter than the expanded coefficients near z = 1 and where the expansion cancels. */
-static ceb eval_p(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z)
+/* The plant's N and D at z into ws->plant_at (zw_plant_eval: its factored form, with its
+ * bounds) for the next eval_p at z.  A sibling call of eval_p, not under it: the root test's
+ * deepest chain stays as it was (the stack target, tools/footprint.sh).  A failed evaluation
+ * (never, for a loop check_loop accepted) leaves NaN, whose radius the root test refuses. */
+ZW_NOINLINE static void plant_at(const zw_loop *loop, zw_loop_workspace *ws, cplx z)
 {
+    zw_real *v = ws->plant_at;
+    ws->plant_loop = loop;
+    if (zw_plant_eval(&loop->plant, z.re, z.im, &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]) != ZW_OK) {
+        v[0] = ZW_NAN; /* the others are NaN already (zw_plant_eval's fail-safe) */
+    }
+}
+
+/* acc *= N (num) or D at z, as plant_at left them. */
+static void ceb_times_plant(ceb *acc, const zw_loop_workspace *ws, bool num)
+{
+    const zw_real *v = ws->plant_at;
+    const unsigned k = num ? 0u : 3u;
+    ceb_times(acc, c_make(v[k], v[k + 1u]), v[k + 2u]);
+}
+
+/* p(z) = z^d D Dv + N (alpha Dv + beta Nv) from the factors (loop.h), with a bound on its
+ * error: far tighter than the expanded coefficients near z = 1 and where the expansion
+ * cancels.  The loop and its plant's N(z), D(z): ws->plant_loop and ws->plant_at, from
+ * plant_at(loop, ws, z) just before (the loop through ws: one argument less, a smaller
+ * frame on the root test's deepest chain). */
+static ceb eval_p(zw_loop_workspace *ws, zw_real alpha, zw_real beta, cplx z)
+{
+    const zw_loop *loop = ws->plant_loop;
     const zw_loop_spec *spec = &loop->spec;
     const bool tustin = (spec->differentiator == ZW_DIFF_TUSTIN);
-    ceb dv, nv, d;
-    dv = ceb_make(c_make(ZW_R(1.0), ZW_R(0.0)), ZW_R(0.0));
-    nv = dv;
+    /* the three running products in the workspace, not in this frame (the root test's
+     * deepest chain runs through it: the stack target of tools/footprint.sh) */
+    ceb *const dv = &ws->eval[0], *const nv = &ws->eval[1], *const d = &ws->eval[2];
+    *dv = ceb_make(c_make(ZW_R(1.0), ZW_R(0.0)), ZW_R(0.0));
+    *nv = *dv;
     switch (spec->filter) {
     case ZW_VFILTER_AVERAGE: /* (z^n - 1) / (n z^n);  2 (z^n - 1) / (n z^(n-1) (z + 1)) */
-        ceb_times_power(&dv, z, tustin ? (spec->average - 1u) : spec->average);
-        ceb_times_real(&dv, (zw_real)spec->average, ZW_R(0.0));
+        ceb_times_power(dv, z, tustin ? (spec->average - 1u) : spec->average);
+        ceb_times_real(dv, (zw_real)spec->average, ZW_R(0.0));
         if (tustin) {
-            ceb_times_factor(&dv, loop, F_ZP1, z);
+            ceb_times_factor(dv, loop, F_ZP1, z);
         }
-        ceb_times_power(&nv, z, spec->average);
-        nv.v.re -= ZW_R(1.0);
-        nv.e += ZW_R(2.0) * ZW_U * c_abs(nv.v) + ZW_ETA;
+        ceb_times_power(nv, z, spec->average);
+        nv->v.re -= ZW_R(1.0);
+        nv->e += ZW_R(2.0) * ZW_U * c_abs(nv->v) + ZW_ETA;
         if (tustin) {
-            ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
+            ceb_times_real(nv, ZW_R(2.0), ZW_R(0.0));
         }
         break;
     case ZW_VFILTER_LOWPASS: /* (1 - a)(z - 1) / (z - a);  2 (1 - a) z (z - 1) / ((z + 1)(z - a)) */
-        ceb_times_factor(&dv, loop, F_ZMA, z);
-        ceb_times_factor(&nv, loop, F_ZM1, z);
+        ceb_times_factor(dv, loop, F_ZMA, z);
+        ceb_times_factor(nv, loop, F_ZM1, z);
         if (tustin) {
-            ceb_times_factor(&dv, loop, F_ZP1, z);
-            ceb_times_power(&nv, z, 1u);
+            ceb_times_factor(dv, loop, F_ZP1, z);
+            ceb_times_power(nv, z, 1u);
         }
-        ceb_times_real(&nv, (tustin ? ZW_R(2.0) : ZW_R(1.0)) * (ZW_R(1.0) - spec->filter_pole),
+        ceb_times_real(nv, (tustin ? ZW_R(2.0) : ZW_R(1.0)) * (ZW_R(1.0) - spec->filter_pole),
                        ZW_R(2.0) * ZW_U * (ZW_R(1.0) - spec->filter_pole));
         break;
     case ZW_VFILTER_NONE:
     default: /* (z - 1) / z;  2 (z - 1) / (z + 1) */
         if (tustin) {
-            ceb_times_factor(&dv, loop, F_ZP1, z);
+            ceb_times_factor(dv, loop, F_ZP1, z);
         } else {
-            ceb_times_power(&dv, z, 1u);
+            ceb_times_power(dv, z, 1u);
         }
-        ceb_times_factor(&nv, loop, F_ZM1, z);
+        ceb_times_factor(nv, loop, F_ZM1, z);
         if (tustin) {
-            ceb_times_real(&nv, ZW_R(2.0), ZW_R(0.0));
+            ceb_times_real(nv, ZW_R(2.0), ZW_R(0.0));
         }
         break;
     }
-    d = dv; /* D = 2 z^d (z - 1)(z - e) Dv */
-    ceb_times_factor(&d, loop, F_ZM1, z);
-    ceb_times_factor(&d, loop, F_ZME, z);
-    ceb_times_power(&d, z, spec->delay);
-    ceb_times_real(&d, ZW_R(2.0), ZW_R(0.0));
-    /* (c1 z + c2)(alpha Dv + beta Nv), the gains with their carried error (0 by default) */
-    ceb_times_real(&dv, alpha, ZW_FABS(alpha) * loop->alpha_relerr);
-    ceb_times_real(&nv, beta, ZW_FABS(beta) * loop->beta_relerr);
-    ceb_add_into(&nv, &dv);
-    ceb_times_factor(&nv, loop, F_PLANT, z);
-    ceb_add_into(&d, &nv);
-    return d;
+    *d = *dv; /* z^d D Dv (z^d last: ws and the gains are no longer live across its call) */
+    ceb_times_plant(d, ws, false);
+    /* N (alpha Dv + beta Nv), the gains with their carried error (0 by default) */
+    ceb_times_real(dv, alpha, ZW_FABS(alpha) * loop->alpha_relerr);
+    ceb_times_real(nv, beta, ZW_FABS(beta) * loop->beta_relerr);
+    ceb_add_into(nv, dv);
+    ceb_times_plant(nv, ws, true);
+    ceb_times_power(d, z, spec->delay);
+    ceb_add_into(d, nv);
+    return *d;
 }
 
 /* Newton correction p(z) / p'(z) of the degree-m polynomial p[0..m] (coefficients read
@@ -1160,9 +1243,10 @@ static bool coef_exact_zero(const zw_loop *loop, zw_real alpha, zw_real beta, un
 /* The roots of p by Aberth-Ehrlich iteration (simultaneous, no deflation) into z[0..*m-1];
  * exact zero roots (trailing coefficients that are exactly zero) are set aside, so *m may
  * be below the degree.  False when the iteration produced something non-finite. */
-static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], unsigned *m_out,
-                   bool accurate)
+static bool aberth(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
+                   unsigned *m_out, bool accurate)
 {
+    cplx *z = ws->root;
     unsigned m = loop->degree, i, j, it, pass;
     uint_least32_t done = 0u, all;
     zw_real lead = poly_coef(loop, alpha, beta, 0u), r0;
@@ -1173,7 +1257,7 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
     if (m == 0u) {
         return true;
     }
-    all = (uint_least32_t)(((uint_least32_t)1u << (m - 1u)) * 2u - 1u); /* m <= 26 bits */
+    all = (uint_least32_t)(((uint_least32_t)1u << (m - 1u)) * 2u - 1u); /* m <= 27 bits */
     /* start on the circle of the roots' geometric mean, off the real axis */
     r0 = ZW_POW(ZW_FABS(poly_coef(loop, alpha, beta, m) / lead), ZW_R(1.0) / (zw_real)m);
     if (!(r0 > ZW_R(0.0)) || !ZW_IS_FINITE(r0)) {
@@ -1196,7 +1280,9 @@ static bool aberth(const zw_loop *loop, zw_real alpha, zw_real beta, cplx z[], u
                 }
                 if ((pass == 1u) && (m == loop->degree) && (c_abs(z[i]) <= ZW_R(1.0))) {
                     /* p from its factors (the deflated polynomial is p / z^(n - m)) */
-                    const ceb pz = eval_p(loop, alpha, beta, z[i]);
+                    ceb pz;
+                    plant_at(loop, ws, z[i]);
+                    pz = eval_p(ws, alpha, beta, z[i]);
                     n = newton_step(loop, alpha, beta, m, z[i], &pz, &noise);
                 } else {
                     n = newton_step(loop, alpha, beta, m, z[i], NULL, &noise);
@@ -1242,7 +1328,7 @@ static cplx largest_root(const zw_loop *loop, zw_loop_workspace *ws, zw_real alp
     cplx top = c_make(ZW_R(0.0), ZW_R(0.0));
     zw_real best = -ZW_R(1.0);
     unsigned m = 0u, i;
-    *ok = aberth(loop, alpha, beta, ws->root, &m, accurate);
+    *ok = aberth(loop, ws, alpha, beta, &m, accurate);
     for (i = 0u; i < m; ++i) {
         zw_real a = c_abs(z[i]);
         if (a > best) {
@@ -1264,7 +1350,8 @@ static cplx largest_root(const zw_loop *loop, zw_loop_workspace *ws, zw_real alp
  * the roots' own condition, unlike the Routh array, whose entries lose accuracy on the
  * cluster of roots that a delay line and a moving average put near z = 0. */
 /* m |W_i| bounded above (+inf when it cannot be bounded). */
-static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta, const cplx z[],
+static zw_real inclusion_radius(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
+                                zw_real beta, const cplx z[],
                                 unsigned m, unsigned i, zw_real lead_low)
 {
     const zw_real az = c_abs(z[i]) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
@@ -1272,7 +1359,9 @@ static zw_real inclusion_radius(const zw_loop *loop, zw_real alpha, zw_real beta
     unsigned j, k;
     if (m == loop->degree) {
         /* from the factors */
-        ceb pz = eval_p(loop, alpha, beta, z[i]);
+        ceb pz;
+        plant_at(loop, ws, z[i]);
+        pz = eval_p(ws, alpha, beta, z[i]);
         num = (c_abs(pz.v) + pz.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
     } else {
         /* exact zero roots set aside: p = z^(n-m) p_m; Horner on p_m, whose complex steps err
@@ -1352,7 +1441,7 @@ ZW_NOINLINE static routh_result inclusion_verdict(const zw_loop *loop, zw_loop_w
     }
     /* each radius once (the isolation test below reads every other one) */
     for (i = 0u; i < m; ++i) {
-        radius[i] = inclusion_radius(loop, alpha, beta, z, m, i, lead_low);
+        radius[i] = inclusion_radius(loop, ws, alpha, beta, z, m, i, lead_low);
     }
     /* a disk wholly outside and isolated: one root surely outside */
     for (i = 0u; i < m; ++i) {
@@ -1377,7 +1466,7 @@ static routh_result roots_test(const zw_loop *loop, zw_loop_workspace *ws, zw_re
 {
     unsigned m = 0u;
     *top = c_make(ZW_R(0.0), ZW_R(0.0));
-    *top_ok = aberth(loop, alpha, beta, ws->root, &m, true);
+    *top_ok = aberth(loop, ws, alpha, beta, &m, true);
     if (!*top_ok) {
         return ROUTH_UNSURE;
     }
@@ -1542,7 +1631,7 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
     for (k = 0u; k <= loop->degree; ++k) {
         zw_eb pk = eb_add_exactish(eb_make(loop->D[k], loop->D_err[k]),
                                    eb_mul_exactish(ga, eb_make(loop->Na[k], loop->Na_err[k])));
-        uint_least32_t binom = 1u; /* C(k, i): at most C(26, 13) < 2^24, exact in zw_real */
+        uint_least32_t binom = 1u; /* C(k, i): at most C(27, 13) = 4 * 5014575, exact in zw_real */
         pk = eb_add_exactish(pk, eb_mul_exactish(gb, eb_make(loop->Nb[k], loop->Nb_err[k])));
         if (k > 0u) {
             /* w *= r (1 + s), in place, highest power first */

@@ -35,6 +35,14 @@
 #define LL_GEO 44u
 #endif
 
+/* Inlined into its callers: a helper that only sequences two out-of-line calls, so that its
+ * frame does not add to the scan's chain (the stack target of tools/footprint.sh). */
+#if defined(__GNUC__)
+#define LL_INLINE __attribute__((always_inline)) inline
+#else
+#define LL_INLINE
+#endif
+
 #define LL_PI ZW_R(3.14159265358979323846)
 /* The largest zw_real below pi (float's nearest is above it: a grid point there would pass
  * beyond z = -1 and see the asymptote of a Tustin loop from the other side). */
@@ -62,8 +70,12 @@ static ll_cplx cmul(ll_cplx a, ll_cplx b)
     return r;
 }
 
-/* a / b by Smith's method (no overflow or underflow of |b|^2). */
-static ll_cplx cdiv(ll_cplx a, ll_cplx b)
+/* a / b by Smith's method (no overflow or underflow of |b|^2); cdiv_inline inlined
+ * (general_r0: no callee frame under it, the scan's stack chain), cdiv out of line. */
+static ll_cplx cdiv(ll_cplx a, ll_cplx b);
+
+/* The same, inlined (general_r0: no callee frame under it, the scan's stack chain). */
+static LL_INLINE ll_cplx cdiv_inline(ll_cplx a, ll_cplx b)
 {
     ll_cplx r;
     zw_real t, den;
@@ -79,6 +91,11 @@ static ll_cplx cdiv(ll_cplx a, ll_cplx b)
         r.im = (a.im * t - a.re) / den;
     }
     return r;
+}
+
+static ll_cplx cdiv(ll_cplx a, ll_cplx b)
+{
+    return cdiv_inline(a, b);
 }
 
 /* |z|_1 >= |z|: a cheap magnitude bound. */
@@ -141,26 +158,46 @@ static zw_status plant_init(ll_plant *p, const zw_loop *loop, zw_loop_workspace 
         break;
     default: return ZW_ERR_ARG;
     }
-    if (loop->degree != 2u + sp->delay + est_deg) {
-        return ZW_ERR_ARG;
-    }
     st = zw_require_coeffs(&loop->c, false);
     if (st != ZW_OK) {
         return st;
     }
-    if (!(loop->c.c1 > ZW_R(0.0))) {
-        return ZW_ERR_RANGE;
+    if ((loop->plant.order != 2u) && (loop->plant.order != 3u)) {
+        return ZW_ERR_ARG;
+    }
+    if (loop->degree != loop->plant.order + sp->delay + est_deg) {
+        return ZW_ERR_ARG;
     }
     p->loop = loop;
     p->ws = ws;
+    p->phase = (zw_real)sp->delay + ZW_R(0.5);
+    p->one_minus_a = ZW_R(1.0) - sp->filter_pole;
+    p->grid_n = LL_GRID_PER_DEGREE * (loop->degree + 1u);
+    p->grid_h = LL_PI / (zw_real)p->grid_n;
+    p->general = (loop->plant.order != 2u) || !(loop->plant.spec.kappa == ZW_R(0.0));
+    p->stiff = false;
+    if (p->general) {
+        const unsigned q = loop->plant.order;
+        /* D(1) = D_s(0) = 0 exactly for kappa = 0: the integrating plant (D has the factor
+         * z - 1 in exact arithmetic; the stored coefficient's bound is only an underflow floor) */
+        p->stiff = !(loop->plant.spec.kappa == ZW_R(0.0)) || !(loop->plant.den_s[q] == ZW_R(0.0));
+        p->one_minus_e = ZW_R(0.0);
+        p->r12 = ZW_R(0.0);
+        p->two_c1 = ZW_R(0.0);
+        /* the part of every point's bound that is not the plant's (general_response adds
+         * that): the phase and S as below, the products and quotients of R0 */
+        p->eps = ZW_R(1.5) * (ZW_R(4.0) * (p->phase + ZW_R(1.0)) * u + ZW_R(32.0) * u + filt) + ZW_ETA;
+        return ZW_OK;
+    }
+    if (!(loop->c.c1 > ZW_R(0.0))) {
+        return ZW_ERR_RANGE;
+    }
     p->one_minus_e = ZW_R(0.5) * (loop->c.s * loop->c.delta);
     p->r12 = loop->c.d12 / loop->c.c1;
     p->two_c1 = ZW_R(2.0) / loop->c.c1;
     if (!ZW_IS_FINITE(p->two_c1) || !ZW_IS_FINITE(p->one_minus_e)) {
         return ZW_ERR_RANGE;
     }
-    p->phase = (zw_real)sp->delay + ZW_R(0.5);
-    p->one_minus_a = ZW_R(1.0) - sp->filter_pole;
     /* z - e and (c1 z + c2)/c1 lose at most a factor 3 to cancellation (|z - e| >= 1 - e,
      * |z + 1 - r12| >= r12 on the circle); the phase e^{j(d+1/2)theta} errs by the
      * rounding of its argument; a few roundings for the products; 3/2 for slack. */
@@ -168,27 +205,115 @@ static zw_status plant_init(ll_plant *p, const zw_loop *loop, zw_loop_workspace 
     p->eps = ZW_R(1.5) * (ZW_R(3.0) * (rel + ZW_R(4.0) * u) + ZW_R(3.0) * (ZW_R(2.0) * rel + ZW_R(4.0) * u) +
                           rel + ZW_R(4.0) * (p->phase + ZW_R(1.0)) * u + ZW_R(16.0) * u + filt) +
              ZW_ETA;
-    p->grid_n = LL_GRID_PER_DEGREE * (loop->degree + 1u);
-    p->grid_h = LL_PI / (zw_real)p->grid_n;
     return ZW_OK;
 }
 
-/* R0 = e^{j theta/2} Q0 and S = e^{j theta/2} Vt at z = e^{j theta} (loop_limits.h). */
-static void response(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
+/* The relative error bound of w = tan(theta/2) or its inverse from sin and cos of theta/2
+ * (a few roundings of libm and the quotient, with room). */
+#define LL_TAN_RELERR (ZW_R(8.0) * ZW_U)
+
+/* sum_p c_p (j t)^p, c_p = a[deg - p] (rev false) or a[p] (rev true), with a bound on its
+ * error: the coefficients' bounds, the roundings (powers, products, two sums: under
+ * (2 deg + 2) u of sum |c_p| |t|^p) and t's own relative error LL_TAN_RELERR (under
+ * 2 deg of it, times the same magnitude).  Out: *val, *err. */
+ZW_NOINLINE static void eval_jt(const zw_real a[], const zw_real ae[], unsigned deg, bool rev,
+                                zw_real t, ll_cplx *val, zw_real *err)
+{
+    zw_real pw = ZW_R(1.0), mag = ZW_R(0.0), cerr = ZW_R(0.0);
+    unsigned k;
+    val->re = ZW_R(0.0);
+    val->im = ZW_R(0.0);
+    for (k = 0u; k <= deg; ++k) {
+        const unsigned i = rev ? k : deg - k;
+        const zw_real term = a[i] * pw;
+        switch (k % 4u) {
+        case 0u: val->re += term; break;
+        case 1u: val->im += term; break;
+        case 2u: val->re -= term; break;
+        default: val->im -= term; break;
+        }
+        mag += ZW_FABS(term);
+        cerr += ae[i] * ZW_FABS(pw);
+        pw *= t;
+    }
+    *err = (cerr + ((ZW_R(2.0) * (zw_real)deg + ZW_R(2.0)) * ZW_U +
+                    ZW_R(2.0) * (zw_real)deg * LL_TAN_RELERR) * mag) * (ZW_R(1.0) + ZW_R(8.0) * ZW_U) +
+           ZW_R(4.0) * ((zw_real)deg + ZW_R(1.0)) * ZW_ETA;
+}
+
+/* A lower bound of |v| (max of the parts: |v| >= it). */
+static zw_real cabs_low(ll_cplx v)
+{
+    return ZW_FABS(v.re) > ZW_FABS(v.im) ? ZW_FABS(v.re) : ZW_FABS(v.im);
+}
+
+/* R0 = W / (2 j sin(theta/2)), W = -z^d D / N, of a general plant from its bilinear images
+ * (plant.h) at s = j w, w = tan(theta/2): with (1 - jw) = e^{-j theta/2} / cos(theta/2),
+ *     R0 = -e^{j (d + 1/2) theta} D_s(jw) / (2 jw N_s(jw)),
+ * the jw dividing D_s's exact factor s for the integrating plant (D(1) = 0), or, for w > 1,
+ * R0 = -e^{j (d + 1/2) theta} Drev(-jv) / (2 Nrev(-jv)) with v = 1/w and the reversed
+ * polynomials (no overflow towards z = -1).  So z near 1 keeps the relative accuracy of the
+ * images' coefficients, which evaluating D at a rounded e^{j theta} would lose.  Returns the
+ * relative error bound of R0 (beyond p->eps), ZW_REAL_MAX where it cannot be bounded. */
+ZW_NOINLINE static zw_real general_r0(const ll_plant *p, zw_real theta, ll_cplx *r0)
+{
+    const zw_plant *pl = &p->loop->plant;
+    const unsigned q = pl->order;
+    const zw_real sh = ZW_SIN(ZW_R(0.5) * theta), ch = ZW_COS(ZW_R(0.5) * theta);
+    ll_cplx a, b, t;
+    zw_real ea, eb, ra, rb;
+    if (sh <= ch) {
+        const zw_real w = sh / ch;
+        eval_jt(pl->num_s, pl->num_s_err, q - 1u, false, w, &b, &eb);
+        if (!p->stiff) {
+            eval_jt(pl->den_s, pl->den_s_err, q - 1u, false, w, &a, &ea); /* D_s / s */
+        } else {
+            if (!(w > ZW_R(0.0))) {
+                return ZW_REAL_MAX;
+            }
+            eval_jt(pl->den_s, pl->den_s_err, q, false, w, &t, &ea);
+            a.re = t.im / w; /* D_s / (jw) */
+            a.im = -t.re / w;
+            ea = ea / w * (ZW_R(1.0) + ZW_R(2.0) * ZW_U);
+        }
+    } else {
+        const zw_real v = ch / sh;
+        eval_jt(pl->den_s, pl->den_s_err, q, true, -v, &a, &ea);
+        eval_jt(pl->num_s, pl->num_s_err, q - 1u, true, -v, &b, &eb);
+    }
+    ra = ea / cabs_low(a);
+    rb = eb / cabs_low(b);
+    if (!(rb < ZW_R(0.5)) || !ZW_IS_FINITE(ra)) {
+        return ZW_REAL_MAX;
+    }
+    t.re = ZW_COS(p->phase * theta); /* the phase e^{j (d + 1/2) theta} */
+    t.im = ZW_SIN(p->phase * theta);
+    t = cdiv_inline(cmul(t, a), b);
+    r0->re = -ZW_R(0.5) * t.re;
+    r0->im = -ZW_R(0.5) * t.im;
+    /* |A~/B~ - A/B| <= (|A - A~| + |A~/B~| |B - B~|) / |B|, |B| >= |B~| (1 - rb) */
+    return (ra + rb) / (ZW_R(1.0) - rb) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
+}
+
+/* R0 = e^{j theta/2} Q0 and S = e^{j theta/2} Vt at z = e^{j theta} (loop_limits.h), each
+ * within p->eps relative; a general plant's R0 is general_r0's (not computed here). */
+ZW_NOINLINE static void response(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
 {
     const zw_loop_spec *sp = &p->loop->spec;
     zw_real sh = ZW_SIN(ZW_R(0.5) * theta), ch = ZW_COS(ZW_R(0.5) * theta);
     zw_real sin_t = ZW_R(2.0) * sh * ch, vers = ZW_R(2.0) * sh * sh; /* sin, 1 - cos */
     ll_cplx ze, cz, rot, f;
-    ze.re = p->one_minus_e - vers;
-    ze.im = sin_t;
-    cz.re = ZW_R(2.0) * ch * ch - p->r12;
-    cz.im = sin_t;
-    rot.re = ZW_COS(p->phase * theta);
-    rot.im = ZW_SIN(p->phase * theta);
-    *r0 = cdiv(cmul(rot, ze), cz);
-    r0->re *= -p->two_c1;
-    r0->im *= -p->two_c1;
+    if (!p->general) {
+        rot.re = ZW_COS(p->phase * theta);
+        rot.im = ZW_SIN(p->phase * theta);
+        ze.re = p->one_minus_e - vers;
+        ze.im = sin_t;
+        cz.re = ZW_R(2.0) * ch * ch - p->r12;
+        cz.im = sin_t;
+        *r0 = cdiv(cmul(rot, ze), cz);
+        r0->re *= -p->two_c1;
+        r0->im *= -p->two_c1;
+    }
     if (sp->differentiator == ZW_DIFF_TUSTIN) {
         s->re = ZW_R(1.0) / ch;
         s->im = ZW_R(0.0);
@@ -218,6 +343,19 @@ static void response(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
     }
 }
 
+/* R0 and S at theta (response, general_r0) and their relative error bound: p->eps, plus the
+ * plant's for a general one; ZW_REAL_MAX where that cannot be bounded. */
+static LL_INLINE zw_real response_eps(const ll_plant *p, zw_real theta, ll_cplx *r0, ll_cplx *s)
+{
+    zw_real e;
+    response(p, theta, r0, s);
+    if (!p->general) {
+        return p->eps;
+    }
+    e = general_r0(p, theta, r0);
+    return (e >= ZW_REAL_MAX) ? ZW_REAL_MAX : p->eps + ZW_R(1.5) * e;
+}
+
 /* ---- crossing conditions --------------------------------------------------------------- */
 
 /* modes (ll_scan.mode) */
@@ -242,11 +380,72 @@ typedef struct zw_loop_lim_ext ll_ext;
 
 typedef struct zw_loop_lim_point ll_point;
 
+/* theta -> 0+ on a stiff plant, where R0 grows like 1 / theta: the limits of f and of the
+ * value, from D_s = d0 + d1 s + ..., N_s = n0 + n1 s + ... (s = j w, theta = 2w + O(w^3),
+ * the phase e^{j phi theta}, phi = d + 1/2):
+ *     Re R0 -> -(phi d0 / n0 + (d1 - d0 n1 / n0) / (2 n0)),   -2 sin(theta/2) Im R0 -> -d0 / n0
+ * (alpha = -d0 / n0 = -kappa is the z = 1 line), S -> Vt(1) (real).  With error bounds. */
+ZW_NOINLINE static void stiff_origin(const ll_scan *x, ll_point *pt)
+{
+    const zw_plant *pl = &x->p->loop->plant;
+    const unsigned q = pl->order;
+    zw_eb d0, d1, n0, n1, re_r0, a_line, t;
+    const zw_eb sre = zw_eb_exact(ZW_R(1.0)); /* S(0) = Vt(1) = 1: every estimate is exact on a ramp */
+    d0.v = pl->den_s[q];
+    d0.e = pl->den_s_err[q];
+    d1.v = pl->den_s[q - 1u];
+    d1.e = pl->den_s_err[q - 1u];
+    n0.v = pl->num_s[q - 1u];
+    n0.e = pl->num_s_err[q - 1u];
+    n1.v = (q >= 2u) ? pl->num_s[q - 2u] : ZW_R(0.0);
+    n1.e = (q >= 2u) ? pl->num_s_err[q - 2u] : ZW_R(0.0);
+    a_line = zw_eb_div(d0, n0); /* kappa */
+    t = zw_eb_sub(d1, zw_eb_mul(a_line, n1));
+    t = zw_eb_div(t, zw_eb_mul(zw_eb_exact(ZW_R(2.0)), n0));
+    re_r0 = zw_eb_add(zw_eb_mul(zw_eb_exact(x->p->phase), a_line), t);
+    re_r0.v = -re_r0.v;
+    pt->theta = ZW_R(0.0);
+    if (x->mode == LL_FIX_BETA) {
+        t = zw_eb_sub(re_r0, zw_eb_mul(zw_eb_exact(x->fixed), sre));
+        pt->f = t.v;
+        pt->f_err = t.e;
+        pt->v = -a_line.v;
+        pt->v_err = a_line.e + ZW_R(2.0) * ZW_U * ZW_FABS(a_line.v) + ZW_ETA;
+    } else {
+        /* FIX_ALPHA (the stiff plant's alpha = 0+ walk uses it too): f -> (-kappa - alpha) S */
+        t = zw_eb_mul(zw_eb_add(a_line, zw_eb_exact(x->mode == LL_FIX_ALPHA ? x->fixed : ZW_R(0.0))), sre);
+        pt->f = -t.v;
+        pt->f_err = t.e;
+        t = zw_eb_div(re_r0, sre);
+        pt->v = t.v;
+        pt->v_err = t.e;
+    }
+    if (!ZW_IS_FINITE(pt->f) || !ZW_IS_FINITE(pt->f_err)) {
+        pt->f = ZW_R(0.0);
+        pt->f_err = ZW_REAL_MAX;
+    }
+    if (!ZW_IS_FINITE(pt->v) || !ZW_IS_FINITE(pt->v_err)) {
+        pt->v_err = ZW_REAL_MAX;
+    }
+}
+
 static void eval_point(const ll_scan *x, zw_real theta, ll_point *pt)
 {
     ll_cplx r0, s;
-    zw_real a0, as, eps = x->p->eps, two_sh;
-    response(x->p, theta, &r0, &s);
+    zw_real a0, as, eps, two_sh;
+    if (x->p->stiff && !(theta > ZW_R(0.0))) {
+        stiff_origin(x, pt);
+        return;
+    }
+    eps = response_eps(x->p, theta, &r0, &s);
+    if (!(eps < ZW_REAL_MAX)) {
+        pt->theta = theta;
+        pt->f = ZW_R(0.0);
+        pt->f_err = ZW_REAL_MAX;
+        pt->v = ZW_R(0.0);
+        pt->v_err = ZW_REAL_MAX;
+        return;
+    }
     a0 = cabs1(r0);
     as = cabs1(s);
     two_sh = ZW_R(2.0) * ZW_SIN(ZW_R(0.5) * theta);
@@ -493,9 +692,14 @@ static void scan(ll_scan *x)
     eval_point(x, t1, pt);
     f1 = pt->f;
     if (x->mode == LL_FIX_BETA) {
-        zw_real v1 = pt->v + pt->v_err;
+        zw_real v1 = pt->v + pt->v_err, v1_lo = pt->v - pt->v_err;
         eval_point(x, ZW_R(0.0), pt);
-        if (!certain(pt)) {
+        if (!certain(pt) && x->p->stiff) {
+            /* the corner on the z = 1 line alpha = -kappa: a crossing between there and the
+             * first grid angle's value */
+            zw_real lo = pt->v - pt->v_err, hi = pt->v + pt->v_err;
+            offer(x, pt->v, lo < v1_lo ? lo : v1_lo, hi > v1 ? hi : v1);
+        } else if (!certain(pt)) {
             offer(x, ZW_R(0.0), ZW_R(0.0), v1);
         } else if (is_neg(pt->f) != is_neg(f1)) {
             refine(x, ZW_R(0.0), t1);
@@ -532,6 +736,7 @@ static void line_minus1(const ll_plant *p, zw_real *c0, zw_real *ca, zw_real *cb
 {
     const zw_loop_spec *sp = &p->loop->spec;
     const zw_coeffs *c = &p->loop->c;
+    const zw_plant *pl = &p->loop->plant;
     zw_real nv = ZW_R(2.0), dv = ZW_R(1.0); /* backward: V(-1) = 2 */
     zw_real sign = (sp->delay % 2u) == 0u ? ZW_R(1.0) : ZW_R(-1.0);
     if (sp->differentiator == ZW_DIFF_TUSTIN) {
@@ -548,6 +753,19 @@ static void line_minus1(const ll_plant *p, zw_real *c0, zw_real *ca, zw_real *cb
         dv *= (zw_real)sp->average;
     } else {
         /* no filter */
+    }
+    if (p->general) {
+        /* D(-1) = (-1)^q den_s[0], N(-1) = (-1)^(q-1) num_s[0] (z = -1 is s = infinity):
+         * p(-1) = (-1)^d D(-1) Dv(-1) + N(-1) (alpha Dv(-1) + beta Nv(-1)), times (-1)^q */
+        const zw_real d = pl->den_s[0], n = pl->num_s[0];
+        *c0 = sign * d * dv;
+        *ca = -n * dv;
+        *cb = -n * nv;
+        *rel = (pl->den_s_err[0] / ZW_FABS(d) + pl->num_s_err[0] / ZW_FABS(n)) + ZW_R(8.0) * ZW_U;
+        if (!ZW_IS_FINITE(*rel)) {
+            *rel = ZW_REAL_MAX;
+        }
+        return;
     }
     *c0 = -ZW_R(4.0) * sign * (ZW_R(1.0) + c->e) * dv;
     *ca = c->d12 * dv;
@@ -742,6 +960,11 @@ ZW_NOINLINE static bool walk_step(zw_loop_workspace *ws, unsigned mode)
         return false;
     }
     w->step++;
+    if ((mode == LL_ALPHA_ZERO) && ws->lim_plant.stiff) {
+        /* with stiffness alpha = 0 is not a boundary (z = 1 is alpha = -kappa): the line
+         * alpha = 0 itself, no double root at z = 1 */
+        mode = LL_FIX_ALPHA;
+    }
     scan_setup(ws, mode, w->alpha, LL_TAKE_NEXT_ABOVE, w->floor);
     offer_line(x, &x->degenerate);
     if (mode == LL_ALPHA_ZERO) {
@@ -895,8 +1118,8 @@ static bool corner_minus1(const ll_plant *p, zw_real *alpha_c, zw_real *beta_c)
     const zw_loop_spec *sp = &p->loop->spec;
     const zw_coeffs *c = &p->loop->c;
     zw_real q, dq, v, dv, den, b;
-    if (sp->differentiator == ZW_DIFF_TUSTIN || !(c->d12 > ZW_R(0.0))) {
-        return false;
+    if (p->general || sp->differentiator == ZW_DIFF_TUSTIN || !(c->d12 > ZW_R(0.0))) {
+        return false; /* a general plant: the golden section alone (conservative) */
     }
     /* Q0 = -2 z^d (z - e) / (c1 z + c2) */
     q = -ZW_R(2.0) * ((sp->delay % 2u) == 0u ? ZW_R(1.0) : ZW_R(-1.0)) * (ZW_R(1.0) + c->e) / c->d12;
@@ -1134,8 +1357,7 @@ zw_status zw_loop_boundary_point(const zw_loop *loop, zw_real theta, zw_real *al
     if (!(theta > ZW_R(0.0) && theta <= LL_PI_BELOW)) {
         return ZW_ERR_ARG;
     }
-    response(&p, theta, &r0, &s);
-    if (!(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) {
+    if (!(response_eps(&p, theta, &r0, &s) < ZW_REAL_MAX) || !(ZW_FABS(s.re) > ZW_R(2.0) * p.eps * cabs1(s))) {
         return ZW_ERR_DOMAIN;
     }
     b = r0.re / s.re;
@@ -1167,6 +1389,12 @@ zw_status zw_loop_boundary_line(const zw_loop *loop, zw_loop_boundary which, zw_
     }
     switch (which) {
     case ZW_LOOP_BOUNDARY_Z_PLUS1:
+        if (p.general) {
+            /* p(1) = Dv(1) (D(1) + alpha N(1)), D(1) = D_s(0), N(1) = N_s(0) */
+            *c0 = loop->plant.den_s[loop->plant.order];
+            *ca = loop->plant.num_s[loop->plant.order - 1u];
+            return ZW_OK;
+        }
         *ca = ZW_R(1.0); /* p(1) = alpha (c1 + c2) Dv(1) */
         return ZW_OK;
     case ZW_LOOP_BOUNDARY_Z_MINUS1:

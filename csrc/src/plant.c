@@ -286,46 +286,38 @@ zw_status zw_plant_eval(const zw_plant *plant, zw_real re, zw_real im, zw_real *
  * every operation propagates both its rounding and its inputs' bounds (zw_eb's arithmetic is
  * rigorous for that: its products keep the a.e b.e term).  The library functions below bound
  * the change of f over the whole ball (a Lipschitz bound on it) plus libm's own error, taken
- * as 1 ulp (2u relative) as coeffs.c does.  A ball too wide for these bounds (half-width
- * above 1/2 in an exponent) gives an infinite bound, and zw_plant_init ZW_ERR_RANGE. */
-
-#define PLANT_WIDE ZW_R(0.5)
-
-static zw_eb eb_inf(zw_real v)
-{
-    return eb_make(v, ZW_INF);
-}
+ * as 1 ulp (2u relative) as coeffs.c does.  These hold for balls of any width; a bound that
+ * overflows makes zw_plant_init answer ZW_ERR_RANGE. */
 
 static zw_eb eb_neg(zw_eb a)
 {
     return eb_make(-a.v, a.e);
 }
 
-/* e^a; the derivative over the ball is at most e^(a.v + a.e) <= e^a.v (1 + 2 a.e). */
-static zw_eb eb_exp(zw_eb a)
+/* e^(a.v + a.e), rounded up: the largest derivative of exp (and expm1) over the ball. */
+static zw_real exp_top(zw_eb a)
 {
-    zw_real v = ZW_EXP(a.v);
-    if (!(a.e <= PLANT_WIDE)) {
-        return eb_inf(v);
-    }
-    return eb_make(v, v * (a.e * (ZW_R(1.0) + ZW_R(2.0) * a.e) + ZW_R(2.0) * ZW_U) + ZW_ETA);
+    return ZW_EXP(a.v + a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + ZW_ETA;
 }
 
-/* e^a - 1, same derivative bound. */
+/* e^a: |e^y - e^x| <= e^(x + e) e over the ball. */
+static zw_eb eb_exp(zw_eb a)
+{
+    const zw_real v = ZW_EXP(a.v);
+    return eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * v + ZW_ETA);
+}
+
+/* e^a - 1, same derivative. */
 static zw_eb eb_expm1(zw_eb a)
 {
-    zw_real v = ZW_EXPM1(a.v);
-    if (!(a.e <= PLANT_WIDE)) {
-        return eb_inf(v);
-    }
-    return eb_make(v, (v + ZW_R(1.0)) * a.e * (ZW_R(1.0) + ZW_R(2.0) * a.e) +
-                          ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+    const zw_real v = ZW_EXPM1(a.v);
+    return eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
 }
 
 /* E0(a) = (e^a - 1) / a = int_0^1 e^(a t) dt (1 at 0), for a.v <= 0.  Its log-derivative is
- * the mean of t under the weight e^(a t): at most 1/2 for a <= 0 and at most 1/|a|, and at
- * most 1 anywhere on a ball reaching a + a.e <= 1/2; so over the ball
- * |E0(y) - E0(a)| <= E0(a) (1 + 2 a.e) min(.) a.e. */
+ * the mean of t under the weight e^(a t): in (0, 1), at most 1/2 for a <= 0 and at most
+ * 1/|a|; so over the ball E0 stays within a factor e^(a.e) of E0(a) and
+ * |E0(y) - E0(a)| <= E0(a) e^(a.e) slope a.e. */
 static zw_eb eb_e0(zw_eb a)
 {
     zw_real v, slope;
@@ -334,8 +326,8 @@ static zw_eb eb_e0(zw_eb a)
     } else {
         v = ZW_EXPM1(a.v) / a.v;
     }
-    if (!(a.e <= PLANT_WIDE) || (a.v > ZW_R(0.0))) {
-        return eb_inf(v);
+    if (a.v > ZW_R(0.0)) {
+        return eb_make(v, ZW_INF);
     }
     if (a.v + a.e < ZW_R(0.0)) {
         const zw_real inv = ZW_R(1.0) / -(a.v + a.e) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U);
@@ -343,7 +335,8 @@ static zw_eb eb_e0(zw_eb a)
     } else {
         slope = ZW_R(1.0);
     }
-    return eb_make(v, v * ((ZW_R(1.0) + ZW_R(2.0) * a.e) * slope * a.e + ZW_R(4.0) * ZW_U) +
+    return eb_make(v, v * (ZW_EXP(a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) * slope * a.e +
+                           ZW_R(4.0) * ZW_U) +
                           ZW_R(2.0) * ZW_ETA);
 }
 
@@ -440,8 +433,9 @@ static zw_eb series_single(zw_eb w, unsigned odd)
     zw_eb acc = zw_eb_exact(ZW_R(0.0));
     for (k = PLANT_TERMS; k > 0u; --k) {
         const unsigned n = 2u * (k - 1u) + odd;
+        const unsigned roundings = n + 1u;
         const zw_real cf = inv_factorial(n);
-        acc = zw_eb_add(zw_eb_mul(acc, w), eb_make(cf, (zw_real)(n + 1u) * (ZW_U * cf + ZW_ETA)));
+        acc = zw_eb_add(zw_eb_mul(acc, w), eb_make(cf, (zw_real)roundings * (ZW_U * cf + ZW_ETA)));
     }
     acc.e += PLANT_TAIL;
     return acc;
@@ -461,9 +455,12 @@ static void series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
         }
         {
             const unsigned n = 2u * k;
-            const zw_real fc = inv_factorial(n), fs = inv_factorial(n + 1u);
-            sc = zw_eb_add(sc, zw_eb_mul(hm, eb_make(fc, (zw_real)(n + 1u) * (ZW_U * fc + ZW_ETA))));
-            ss = zw_eb_add(ss, zw_eb_mul(hm, eb_make(fs, (zw_real)(n + 2u) * (ZW_U * fs + ZW_ETA))));
+            const unsigned nc = n + 1u;
+            const unsigned ns = n + 2u;
+            const zw_real fc = inv_factorial(n);
+            const zw_real fs = inv_factorial(n + 1u);
+            sc = zw_eb_add(sc, zw_eb_mul(hm, eb_make(fc, (zw_real)nc * (ZW_U * fc + ZW_ETA))));
+            ss = zw_eb_add(ss, zw_eb_mul(hm, eb_make(fs, (zw_real)ns * (ZW_U * fs + ZW_ETA))));
         }
     }
     sc.e += PLANT_TAIL;
@@ -655,13 +652,15 @@ static zw_eb series_shifted4(zw_eb h, zw_eb hp, zw_eb w2)
     zw_real f = ZW_R(1.0) / ZW_R(6.0);                    /* 1 / (k + 3)!, rounded */
     for (k = 0u; k < PLANT_TERMS4; ++k) {
         zw_eb H;
+        const unsigned kf = k + 3u;      /* (k + 3)! = (k + 2)! kf */
+        const unsigned roundings = k + 4u;
         if (k > 0u) {
             hpow = zw_eb_mul(hpow, h);
             A = zw_eb_add(zw_eb_mul(hp, A), hpow);
-            f = f / (zw_real)(k + 3u);
+            f = f / (zw_real)kf;
         }
         H = zw_eb_add(A, zw_eb_mul(w2, H2));
-        sum = zw_eb_add(sum, zw_eb_mul(H, eb_make(f, (zw_real)(k + 4u) * (ZW_U * f + ZW_ETA))));
+        sum = zw_eb_add(sum, zw_eb_mul(H, eb_make(f, (zw_real)roundings * (ZW_U * f + ZW_ETA))));
         H2 = H1;
         H1 = H;
     }
@@ -680,20 +679,20 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
     const zw_eb oma = eb_neg(eb_expm1(eb_neg(nu)));
     const zw_eb opa = zw_eb_add(one, a);
     const zw_eb phi11 = zw_eb_sub(o->ch, zw_eb_mul(h, o->sh));
+    const bool series_ok = (ZW_FABS(w2.v) <= PLANT_SERIES_LIMIT) && (hp2.v <= PLANT_SERIES_LIMIT);
     zw_eb T, U, y0, x1, x0, t;
-    bool have_series = false;
-    zw_eb y0_series = eb_inf(ZW_R(0.0));
+    zw_eb y0_series = eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
+    zw_eb x1_far = eb_make(ZW_R(0.0), ZW_INF);
 
     /* T */
     T = zw_eb_div(zw_eb_sub(zw_eb_sub(a, o->ch), zw_eb_mul(hp, o->sh)), kp);
-    if ((ZW_FABS(w2.v) <= PLANT_SERIES_LIMIT) && (hp2.v <= PLANT_SERIES_LIMIT)) {
+    if (series_ok) {
         zw_eb cd, sd;
         const zw_eb eh = eb_exp(eb_neg(h));
         series_divided(w2, hp2, &cd, &sd);
         T = eb_better(T, zw_eb_mul(eh, zw_eb_add(cd, zw_eb_mul(hp, sd))));
         /* y0 = det a exp[-p1, -p2, -p3]: the same series with h' -> -h' */
         y0_series = zw_eb_mul(zw_eb_mul(a, eh), zw_eb_sub(cd, zw_eb_mul(hp, sd)));
-        have_series = true;
     }
     if (w2.v >= ZW_R(1.0)) {
         const zw_eb r = eb_sqrt(w2);
@@ -701,6 +700,14 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
         const zw_eb p1 = eb_neg(zw_eb_div(kappa, hr)), p2 = eb_neg(hr), p3 = eb_neg(nu);
         t = zw_eb_div(zw_eb_sub(eb_exp_dd(p3, p1), eb_exp_dd(p3, p2)), eb_twice(r));
         T = eb_better(T, t);
+        /* x1 / nu = exp[0, p3, p1, p2] = (exp[0, p3, p1] - exp[0, p3, p2]) / (p1 - p2), each
+         * the b1 of the real pole pair {p3, p_i} (no cancellation for nu -> 0) */
+        {
+            order2 q1, q2;
+            order2_compute(eb_half(zw_eb_sub(nu, p1)), zw_eb_mul(nu, eb_neg(p1)), &q1);
+            order2_compute(eb_half(zw_eb_sub(nu, p2)), zw_eb_mul(nu, eb_neg(p2)), &q2);
+            x1_far = zw_eb_mul(nu, zw_eb_div(zw_eb_sub(q1.b1, q2.b1), eb_twice(r)));
+        }
     }
     /* U = S^ - nu T, or (nu Phi11 + kappa S^ - nu a) / kappa' (no cancellation for nu >> 1) */
     U = zw_eb_sub(o->sh, zw_eb_mul(nu, T));
@@ -709,9 +716,7 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
                   kp);
     U = eb_better(U, t);
     y0 = zw_eb_sub(zw_eb_mul(o->sh, U), zw_eb_mul(phi11, T));
-    if (have_series) {
-        y0 = eb_better(y0, y0_series);
-    }
+    y0 = eb_better(y0, y0_series);
     /* x1 = nu exp[0, p1, p2, p3] = b1 - T (cancels for nu -> 0), or
      * nu (E0(-nu) - S^ + (nu - 2 h) b1) / kappa' (no cancellation for large kappa), or for
      * a small plant nu e^-h sum_k H_k / (k + 3)!, H the complete symmetric polynomials of the
@@ -721,7 +726,8 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
                                           zw_eb_mul(zw_eb_sub(nu, eb_twice(h)), o->b1))),
                   kp);
     x1 = eb_better(x1, t);
-    if (have_series && (h.v <= ZW_R(2.0))) {
+    x1 = eb_better(x1, x1_far);
+    if (series_ok && (h.v <= ZW_R(2.0))) {
         x1 = eb_better(x1, zw_eb_mul(zw_eb_mul(nu, eb_exp(eb_neg(h))), series_shifted4(h, hp, w2)));
     }
     /* x0 = b0 - y0, or nu Phi01 T - Phi11 x1 (small for nu -> 0 without cancelling) */

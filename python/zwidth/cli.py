@@ -324,7 +324,9 @@ class _Plant:
         dev = self.device
         return {"m": None if dev is None else dev.m, "b": None if dev is None else dev.b,
                 "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta,
-                "preset": self.preset}
+                "preset": self.preset,
+                **({"actuator_tau": dev.actuator_tau, "hand": list(dev.hand), "stiffness": dev.stiffness}
+                   if dev is not None and self.parts else {})}
 
     def loop_kwargs(self) -> Dict[str, Any]:
         """The normalized functions' loop keywords."""
@@ -332,8 +334,33 @@ class _Plant:
         return {"delay": lp.delay, "differentiator": lp.differentiator,
                 "filter_pole": 0.0 if lp.pole is None else lp.pole, "average": lp.average}
 
+    @property
+    def parts(self) -> bool:
+        """Plant-side parts present (--actuator-tau, --hand, --stiffness): the general loop."""
+        return self.device is not None and self.device.has_plant_parts
+
+    @property
+    def general(self) -> bool:
+        """Decided by the general loop: another loop than the paper's, or plant-side parts."""
+        return (not self.loop.ideal) or self.parts
+
+    def parts_text(self) -> str:
+        d = self.device
+        if d is None or not self.parts:
+            return ""
+        u = self.units() or {}
+        m_h, b_h, k_h = d.hand
+        out = []
+        if float(d.actuator_tau) != 0.0:
+            out.append(f"actuator lag tau = {_fmt(d.actuator_tau)} s")
+        if float(d.stiffness) != 0.0:
+            out.append(f"device stiffness k_p = {_fmt(d.stiffness)} {u['K']}")
+        if float(m_h) != 0.0 or float(b_h) != 0.0 or float(k_h) != 0.0:
+            out.append(f"hand m_h = {_fmt(m_h)} {u['m']}, b_h = {_fmt(b_h)} {u['b']}, k_h = {_fmt(k_h)} {u['K']}")
+        return "\nPlant-side parts: " + "; ".join(out) + f" (gains normalized by {self.mass} + m_h)"
+
     def header(self) -> str:
-        loop = "" if self.loop.ideal else f"\nLoop: {self.loop.describe()}"
+        loop = ("" if self.loop.ideal else f"\nLoop: {self.loop.describe()}") + self.parts_text()
         if self.device is None:
             return f"Plant (normalized): delta = bT/m = {_fmt(self.delta)}" + loop
         u = self.units() or {}
@@ -387,6 +414,10 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
                          "for the normalized space")
         return None
     if norm_given:
+        parts_given = [f"--{n.replace('_', '-')}" for n in ("actuator_tau", "hand", "stiffness")
+                       if getattr(args, n, None) is not None]
+        if parts_given:
+            raise _Usage(f"{', '.join(parts_given)} need a real-unit plant (--m or --J, --b, --T)")
         if args.delta is None:
             raise _Usage("--alpha and --beta need --delta")
         if (args.alpha is None) != (args.beta is None):
@@ -402,8 +433,9 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
     if (args.K is None) != (args.B is None):
         raise _Usage("give both --K and --B (or neither)")
     loop_options = _device_loop_options(args)
-    dev = (Device.rotary(args.J, args.b, args.T, **loop_options) if args.J is not None
-           else Device(args.m, args.b, args.T, **loop_options))
+    parts = _plant_part_options(args)
+    dev = (Device(args.J, args.b, args.T, rotary=True, **loop_options, **parts) if args.J is not None
+           else Device(args.m, args.b, args.T, **loop_options, **parts))
     plant = _Plant(delta=float(dev.delta), device=dev, K=args.K, B=args.B, loop=dev.loop,
                    preset=getattr(args, "preset", None))
     if args.K is not None:
@@ -427,6 +459,30 @@ def _device_loop_options(args: argparse.Namespace) -> Dict[str, Any]:
             "differentiator": args.differentiator}
 
 
+def _hand(text: str) -> Tuple[float, float, float]:
+    """--hand M_H,B_H,K_H as three numbers."""
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"--hand needs three numbers M_H,B_H,K_H (kg, N s/m, N/m), got {text!r}")
+    try:
+        m_h, b_h, k_h = (float(v) for v in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--hand needs three numbers M_H,B_H,K_H, got {text!r}") from None
+    return m_h, b_h, k_h
+
+
+def _plant_part_options(args: argparse.Namespace) -> Dict[str, Any]:
+    """The Device keywords of --actuator-tau, --hand, --stiffness (absent: none)."""
+    out: Dict[str, Any] = {}
+    if getattr(args, "actuator_tau", None) is not None:
+        out["actuator_tau"] = args.actuator_tau
+    if getattr(args, "hand", None) is not None:
+        out["hand"] = args.hand
+    if getattr(args, "stiffness", None) is not None:
+        out["stiffness"] = args.stiffness
+    return out
+
+
 def _normalized_loop(args: argparse.Namespace) -> Loop:
     vf = _velocity_filter(args)
     if vf is not None and vf[0] == "lowpass":
@@ -441,6 +497,10 @@ def _option_of(exc: ZwidthError) -> Optional[str]:
     """The command-line option of the parameter an error names (J for a rotary plant)."""
     if exc.parameter in ("velocity_filter", "filter_pole", "average", "cutoff"):
         return "--velocity-filter"
+    if exc.parameter in ("actuator_tau", "stiffness"):
+        return f"--{exc.parameter.replace('_', '-')}"
+    if exc.parameter is not None and exc.parameter.startswith("hand"):
+        return "--hand"
     return None if exc.parameter is None else f"--{exc.parameter}"
 
 
@@ -502,8 +562,11 @@ def cmd_check_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         k_max = dev.k_max(B)
         b_range = _interval(dev.b_range(K))
     kw = plant.loop_kwargs() if dev is None else _device_pole_kwargs(plant)
-    a_max = alpha_max(d, beta, **kw)
-    beta_range = _interval(beta_interval(d, alpha, **kw))
+    a_max: Any = None
+    beta_range: Any = None
+    if not plant.parts:  # the normalized functions know the paper's plant only
+        a_max = alpha_max(d, beta, **kw)
+        beta_range = _interval(beta_interval(d, alpha, **kw))
     data = {
         "region": "exact", "verdict": word, "stable": bool(v.stable),
         "marginal": bool(v.marginal), "deciding": deciding, "deciding_text": text, "violated": [],
@@ -520,11 +583,11 @@ def cmd_check_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     if word == "marginal":
         lines.append("  marginal: within rounding error of the boundary, so not proved stable")
     lines.append(f"  spectral radius = {_fmt(rho)} (stable iff < 1)")
-    lines.append(f"  the paper's ideal loop (no delay, no filter) would be {ideal_v.word} here "
+    lines.append(f"  the paper's ideal loop (no delay, no filter{', no plant-side parts' if plant.parts else ''}) would be {ideal_v.word} here "
                  f"(spectral radius {_fmt(ideal_rho)})")
     if bool(ideal_v.stable) and not bool(v.stable):
         lines.append(f"  warning: the ideal-loop analysis calls these gains stable; the loop the drive runs "
-                     f"({plant.loop.describe()}) does not")
+                     f"({plant.loop.describe()}{', with its plant-side parts' if plant.parts else ''}) does not")
     if dev is not None:
         u = plant.units() or {}
         lines.append(f"  K_max at this B = {_fmt(k_max)} {u['K']} (this loop)")
@@ -547,12 +610,23 @@ def _device_pole_kwargs(plant: _Plant) -> Dict[str, Any]:
     return kw
 
 
+@dataclasses.dataclass
+class _ScaledExtremes:
+    """A device's extremes in normalized units (cmd_limits_loop with plant-side parts)."""
+
+    alpha_mmax: float
+    beta_at_alpha_mmax: float
+    alpha_p_max: float
+    beta_mmax: float
+    beta_mmin: float
+
+
 def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """limits of a loop other than the paper's, beside the ideal loop's."""
     d, dev = plant.delta, plant.device
     kw = _device_pole_kwargs(plant)
-    ext = extremes(d, **kw)
-    ideal = extremes(d)
+    ideal = extremes(d) if not plant.parts else extremes(float(dev.ideal().delta))  # type: ignore[union-attr]
+    ext = extremes(d, **kw) if not plant.parts else None
     real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_at_K_mmax", "K_p_max", "B_mmax", "B_mmin"))
     ideal_real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_mmax"))
     if dev is not None:
@@ -560,7 +634,16 @@ def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         real = {k: getattr(lim, k) for k in real}
         il = dev.ideal().extremes()
         ideal_real = {"K_mmax": il.K_mmax, "B_mmax": il.B_mmax}
-    kept = float(ext.alpha_mmax) / float(ideal.alpha_mmax)
+    if ext is None:
+        # with plant-side parts: the normalized values of the device's certified limits
+        # (scales M / T^2 and M / T, M = m + m_h), and the share of the ideal K_mmax in real units
+        norm = dev.normalize(1.0, 1.0)  # type: ignore[union-attr]
+        ka, kb = float(norm.alpha), float(norm.beta)
+        ext = _ScaledExtremes(float(real["K_mmax"]) * ka, float(real["B_at_K_mmax"]) * kb,
+                              float(real["K_p_max"]) * ka, float(real["B_mmax"]) * kb, float(real["B_mmin"]) * kb)
+        kept = float(real["K_mmax"]) / float(ideal_real["K_mmax"])
+    else:
+        kept = float(ext.alpha_mmax) / float(ideal.alpha_mmax)
     data = {
         **real,
         "alpha_mmax": ext.alpha_mmax, "beta_at_alpha_mmax": ext.beta_at_alpha_mmax,
@@ -586,13 +669,14 @@ def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
             f"  beta range : {_fmt(ext.beta_mmin)} < beta < {_fmt(ext.beta_mmax)} (as alpha -> 0+)",
             f"  the paper's ideal loop: alpha_mmax = {_fmt(ideal.alpha_mmax)}, beta_mmax = {_fmt(ideal.beta_mmax)}",
         ]
-    lines.append(f"  this loop keeps {100 * kept:.4g} % of the ideal loop's largest stiffness")
+    lines.append(f"  this loop keeps {100 * kept:.4g} % of the ideal loop's largest stiffness"
+                 + (" (the same device without its plant-side parts)" if plant.parts else ""))
     return _Outcome(EXIT_OK, data, lines)
 
 
 def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Verdict of one gain pair, with the deciding constraint, radius and local limits."""
-    if not plant.loop.ideal:
+    if plant.general:
         return cmd_check_loop(args, plant)
     region = args.region
     dev, d = plant.device, plant.delta
@@ -660,7 +744,7 @@ def _refuse_loop(command: str, plant: Optional[_Plant]) -> None:
 
 def cmd_limits(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Largest stable K and B, the B range and what the legacy region would claim."""
-    if not plant.loop.ideal:
+    if plant.general:
         return cmd_limits_loop(args, plant)
     d, dev = plant.delta, plant.device
     ext = extremes(d)
@@ -1243,6 +1327,14 @@ def _add_plant_options(p: argparse.ArgumentParser) -> None:
                          "a = exp(-2 pi f_c T)), average:4 (moving average over n = 1..16 samples)")
     lp.add_argument("--differentiator", choices=DIFFERENTIATORS, default="backward",
                     help="velocity estimate: backward difference (the paper's) or tustin")
+    pp = p.add_argument_group(
+        "plant-side parts (real-unit plant; default none; the gains are then normalized by m + m_h)")
+    pp.add_argument("--actuator-tau", type=_number, metavar="S",
+                    help="actuator (current-loop) lag: the force reaches the plant through 1/(S s + 1), S in s")
+    pp.add_argument("--hand", type=_hand, metavar="M_H,B_H,K_H",
+                    help="a coupled hand (coupled stability): mass [kg], damping [N s/m], stiffness [N/m]")
+    pp.add_argument("--stiffness", type=_number, metavar="K_P",
+                    help="the device's own stiffness (a return spring, a cable) [N/m]")
     p.add_argument("--json", action="store_true", help="print one JSON object (keys below)")
 
 
@@ -1367,6 +1459,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if args.command == "simulate":
         return _main_simulate(args, sub)
     from . import box_cli  # plant ranges (--m 0.10:0.14): every plant of a box
+    parts_given = [f"--{n.replace('_', '-')}" for n in ("actuator_tau", "hand", "stiffness")
+                   if getattr(args, n, None) is not None]
+    if parts_given and (args.command not in ("check", "limits") or box_cli.has_range(args)):
+        sub.error(f"{', '.join(parts_given)}: plant-side parts are taken by 'check' and 'limits' on one "
+                  f"plant (not yet by {args.command}{' over a plant range' if box_cli.has_range(args) else ''})")
     if box_cli.has_range(args):
         return box_cli.main(args, sub)
     try:

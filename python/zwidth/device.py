@@ -25,6 +25,36 @@ from .results import (DeviceBoundary, DeviceExtremes, DeviceLoopExtremes, Influe
                       LoopVerdict, Normalized, Verdict)
 
 _PLANT = ("m", "b", "T")
+#: How errors name the plant-side parts (the kernels' k_p, tau, m_h, b_h, k_h).
+_PART_NAMES = ("stiffness", "actuator_tau", "hand m_h", "hand b_h", "hand k_h")
+
+
+def _plant_parts(actuator_tau: ArrayLike, hand: Any, stiffness: ArrayLike,
+                 errors: Errors) -> Tuple[NDArray[np.float64], ...]:
+    """(k_p, tau, m_h, b_h, k_h) as arrays, each finite and >= 0 (ZwidthError naming the
+    keyword otherwise, with errors="raise"; "mask" leaves it to the C core's per-element
+    status)."""
+    if hand is None:
+        hand = (0.0, 0.0, 0.0)
+    if not (isinstance(hand, (tuple, list)) and len(hand) == 3):
+        raise ZwidthError(f"zwidth.Device: hand must be (m_h, b_h, k_h) in kg, N s/m, N/m, got {hand!r} "
+                          f"[ZW_ERR_ARG]", "ZW_ERR_ARG", "hand", (), {})
+    values = (("stiffness", stiffness, "ZW_ERR_ARG", "the device's stiffness k_p [N/m]"),
+              ("actuator_tau", actuator_tau, "ZW_ERR_ARG", "the actuator lag tau [s]"),
+              ("hand", hand[0], "ZW_ERR_ARG", "the hand's mass m_h [kg]"),
+              ("hand", hand[1], "ZW_ERR_DAMPING", "the hand's damping b_h [N s/m]"),
+              ("hand", hand[2], "ZW_ERR_ARG", "the hand's stiffness k_h [N/m]"))
+    out = []
+    for name, value, status, what in values:
+        a = as_numbers("Device", name, value)
+        if errors == "raise":
+            bad = ~(np.isfinite(a) & (a >= 0.0))
+            if np.any(bad):
+                v = float(np.asarray(a).flat[int(np.flatnonzero(bad)[0])])
+                raise ZwidthError(f"zwidth.Device: {name}: {what} must be finite and >= 0, got {v!r} [{status}]",
+                                  status, name, (), {name: v})
+        out.append(a)
+    return tuple(out)
 
 
 class Device:
@@ -39,22 +69,34 @@ class Device:
     >>> dev = Device(0.1, 30.0, 0.01)
     >>> bool(dev.is_stable(K=2000.0, B=-5.0))
     True
+
+    Plant-side parts (issue 16; the general loop decides them, exactly and guarded):
+    ``actuator_tau`` [s], the current loop's lag 1 / (tau s + 1) on the force;
+    ``hand=(m_h, b_h, k_h)``, a coupled operator of mass [kg], damping [N s/m] and stiffness
+    [N/m] (coupled stability: the region of the device held by that hand);
+    ``stiffness`` [N/m], the device's own spring k_p.  With any of them the gains are
+    normalized by M = m + m_h, and with stiffness the stable K may reach below 0 (K_max
+    is still the end of the stable interval (0, K_max)).
     """
 
     def __init__(self, m: ArrayLike, b: ArrayLike, T: ArrayLike, *, errors: Errors = "raise",
                  rotary: bool = False, delay: int = 0, velocity_filter: VelocityFilter = None,
-                 differentiator: str = "backward") -> None:
+                 differentiator: str = "backward", actuator_tau: ArrayLike = 0.0,
+                 hand: Optional[Tuple[ArrayLike, ArrayLike, ArrayLike]] = None,
+                 stiffness: ArrayLike = 0.0) -> None:
         self._names = ("J", "b", "T") if rotary else _PLANT  # how errors name the parameters
         self._m: NDArray[np.float64] = as_numbers("Device", self._names[0], m)
         self._b: NDArray[np.float64] = as_numbers("Device", "b", b)
         self._T: NDArray[np.float64] = as_numbers("Device", "T", T)
         self.errors: Errors = errors
+        #: The plant-side parts (k_p, tau, m_h, b_h, k_h), each an array (0: absent).
+        self._parts: Tuple[NDArray[np.float64], ...] = _plant_parts(actuator_tau, hand, stiffness, errors)
         self.is_rotary = rotary  #: J, N m/rad, N m s/rad instead of m, N/m, N s/m
         #: The loop the drive runs (:class:`zwidth.loop.Loop`): delay, velocity filter,
         #: differentiator.  The default is the paper's loop.
         self.loop: Loop = device_loop("Device", delay, velocity_filter, differentiator)
-        out, _ = call("Device", _core.device_normalize, self._names, self._plant(), errors, K=0.0, B=0.0)
-        self.delta: Any = out["delta"]  #: normalized damping b T / m
+        out, _ = call("Device", _core.device_normalize, self._names, self._coupled(), errors, K=0.0, B=0.0)
+        self.delta: Any = out["delta"]  #: normalized damping (b + b_h) T / (m + m_h)
         #: The low-pass pole a = exp(-2 pi f_c T) per element (None without a low-pass).
         self.filter_pole: Any = None
         if self.loop.filter == "lowpass" and self.loop.cutoff is not None:
@@ -77,8 +119,41 @@ class Device:
                    differentiator=differentiator)
 
     def ideal(self) -> "Device":
-        """The same plant with the paper's loop (no delay, no filter, backward difference)."""
+        """The same plant with the paper's loop (no delay, no filter, backward difference)
+        and without its plant-side parts (no lag, no hand, no spring)."""
         return Device(self._m, self._b, self._T, errors=self.errors, rotary=self.is_rotary)
+
+    @property
+    def has_plant_parts(self) -> bool:
+        """An actuator lag, a hand or a stiffness is present (any element non-zero)."""
+        return any(bool(np.any(p != 0.0)) for p in self._parts)
+
+    @property
+    def actuator_tau(self) -> Any:
+        """The actuator (current-loop) lag tau [s] (0: none)."""
+        return _as_result(self._parts[1])
+
+    @property
+    def hand(self) -> Tuple[Any, Any, Any]:
+        """The coupled hand (m_h [kg], b_h [N s/m], k_h [N/m]) (zeros: uncoupled)."""
+        return _as_result(self._parts[2]), _as_result(self._parts[3]), _as_result(self._parts[4])
+
+    @property
+    def stiffness(self) -> Any:
+        """The device's own stiffness k_p [N/m] (0: none)."""
+        return _as_result(self._parts[0])
+
+    @property
+    def _general(self) -> bool:
+        """Decided by the general loop: a loop other than the paper's, or plant-side parts."""
+        return (not self.loop.ideal) or self.has_plant_parts
+
+    def _coupled(self) -> Tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """(M, Bp, T) = (m + m_h, b + b_h, T): what the gains are normalized by (the plant's
+        own arrays, untouched, without plant-side parts)."""
+        if not self.has_plant_parts:
+            return self._plant()
+        return self._m + self._parts[2], self._b + self._parts[3], self._T
 
     @property
     def m(self) -> Any:
@@ -111,8 +186,13 @@ class Device:
         def show(a: NDArray[np.float64]) -> str:
             return f"{float(a):.6g}" if a.ndim == 0 else f"array(shape={a.shape})"
         loop = "" if self.loop.ideal else f", loop={self.loop.describe()!r}"
+        parts = ""
+        if self.has_plant_parts:
+            k_p, tau, m_h, b_h, k_h = self._parts
+            parts = (f", stiffness={show(k_p)}, actuator_tau={show(tau)}, "
+                     f"hand=({show(m_h)}, {show(b_h)}, {show(k_h)})")
         return (f"Device({self.mass_symbol}={show(self._m)}, b={show(self._b)}, T={show(self._T)}, "
-                f"delta={show(np.asarray(self.delta))}{loop})")
+                f"delta={show(np.asarray(self.delta))}{loop}{parts})")
 
     def _plant(self) -> Tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         return self._m, self._b, self._T
@@ -127,29 +207,32 @@ class Device:
         loop = self.loop
         pole_given = loop.cutoff is None and loop.pole is not None
         name, value = ("filter_pole", loop.pole) if pole_given else ("cutoff", 0.0 if loop.cutoff is None else loop.cutoff)
-        return call(f"Device.{function}", kernel, self._names + (name,) + names,
-                    self._plant() + (value,) + gains, self.errors, pole_given=pole_given,
+        return call(f"Device.{function}", kernel, self._names + (name,) + _PART_NAMES + names,
+                    self._plant() + (value,) + self._parts + gains, self.errors, pole_given=pole_given,
                     **loop.kernel_options(), **options)
 
     def _ideal_only(self, function: str, what: str) -> None:
         """The paper's closed forms (Section IV) hold for its loop only: refuse rather than
         give the ideal loop's numbers for another."""
-        if not self.loop.ideal:
+        if self._general:
             raise LoopNotSupported(
-                f"zwidth.Device.{function}: {what} of a loop with {self.loop.describe()} has no closed "
+                f"zwidth.Device.{function}: {what} of a loop with {self.loop.describe()}"
+                f"{' and plant-side parts' if self.has_plant_parts else ''} has no closed "
                 f"form (the paper's Section IV is about its ideal loop); Device.loop_influence() gives "
                 f"what the loop costs and which filter cut-off keeps most, and "
                 f"Device(...).ideal().{function}() the paper's loop", "ZW_ERR_ARG", None, (), {})
 
     def normalize(self, K: ArrayLike, B: ArrayLike) -> Normalized:
-        """(delta, alpha, beta) = (b T/m, K T^2/m, B T/m) for gains K [N/m], B [N s/m]."""
-        out, _ = self._call("normalize", _core.device_normalize, ("K", "B"), (K, B))
+        """(delta, alpha, beta) = (b T/m, K T^2/m, B T/m) for gains K [N/m], B [N s/m]
+        (with a hand: m + m_h and b + b_h in place of m and b)."""
+        out, _ = call("Device.normalize", _core.device_normalize, self._names + ("K", "B"),
+                      self._coupled() + (K, B), self.errors)
         return Normalized.from_outputs(out)
 
     def is_stable(self, K: ArrayLike, B: ArrayLike, *, region: str = "exact") -> Any:
         """Is the gain pair K [N/m], B [N s/m] stable? (bool; guarded: never True for an
         unstable pair).  ``region`` as in :func:`zwidth.check`."""
-        if not self.loop.ideal:
+        if self._general:
             self._exact_only("is_stable", region)
             out, _ = self._loop_call("is_stable", _core.device_loop_check, ("K", "B"), (K, B), full=False)
             return out["stable"]
@@ -161,7 +244,7 @@ class Device:
         """:meth:`is_stable` with the reasons: a :class:`zwidth.Verdict` (marginal, deciding,
         violated, status) for the paper's loop, a :class:`zwidth.LoopVerdict` (marginal, the
         deciding boundary 'z=1' / 'z=-1' / 'complex pair at X Hz', status) for any other."""
-        if not self.loop.ideal:
+        if self._general:
             self._exact_only("verdict", region)
             out, status = self._loop_call("verdict", _core.device_loop_check, ("K", "B"), (K, B), full=True)
             frequency = out["theta"] / (2.0 * np.pi * self._T)
@@ -173,7 +256,7 @@ class Device:
 
     def spectral_radius(self, K: ArrayLike, B: ArrayLike) -> Any:
         """Largest closed-loop pole modulus at K, B (stable iff < 1; informational)."""
-        if not self.loop.ideal:
+        if self._general:
             out, _ = self._loop_call("spectral_radius", _core.device_loop_spectral_radius, ("K", "B"), (K, B))
             return out["rho"]
         out, _ = self._call("spectral_radius", _core.device_spectral_radius, ("K", "B"), (K, B))
@@ -187,7 +270,7 @@ class Device:
 
     def radius_within(self, K: ArrayLike, B: ArrayLike, radius: ArrayLike) -> Any:
         """Do all closed-loop poles lie inside |z| < radius? (bool, guarded, no roots)."""
-        if not self.loop.ideal:
+        if self._general:
             out, _ = self._loop_call("radius_within", _core.device_loop_radius_within, ("K", "B", "radius"),
                                      (K, B, radius))
             return out["within"]
@@ -199,7 +282,7 @@ class Device:
         """sup K [N/m] stable at damping B [N s/m] (0 where no K is).  For a loop other
         than the paper's: the end of the stable interval (0, K_max) of that loop, certified
         (zw_loop_alpha_max, pulled inward for the unit conversions)."""
-        if not self.loop.ideal:
+        if self._general:
             out, _ = self._loop_call("k_max", _core.device_loop_k_max, ("B",), (B,))
             return out["K_max"]
         out, _ = self._call("k_max", _core.device_k_max, ("B",), (B,))
@@ -213,7 +296,7 @@ class Device:
             raise ValueError("Device.boundary is about one plant; build a Device with scalar m, b, T")
         lim = self.extremes()
         special = [lim.B_at_K_mmax, 0.0]
-        if self.loop.ideal:
+        if not self._general:
             from .normalized import corner
             special.append(float(corner(self.delta).beta) * float(self._m) / float(self._T))
         lo, hi = float(lim.B_mmin), float(lim.B_mmax)
@@ -224,7 +307,7 @@ class Device:
     def b_range(self, K: ArrayLike) -> Interval:
         """The open interval (lo, hi) of B [N s/m] stable at stiffness K [N/m].  For a loop
         other than the paper's: the widest such interval, certified (inside the true one)."""
-        if not self.loop.ideal:
+        if self._general:
             out, _ = self._loop_call("b_range", _core.device_loop_b_range, ("K",), (K,))
             return Interval.from_outputs(out)
         out, _ = self._call("b_range", _core.device_b_range, ("K",), (K,))
@@ -234,7 +317,7 @@ class Device:
         """K_mmax, the B at it, K with B = 0, B_mmax and the lower extremes, real units.
         For a loop other than the paper's a :class:`zwidth.DeviceLoopExtremes` of that loop
         (certified, never beyond the true values)."""
-        if not self.loop.ideal:
+        if self._general:
             out, _ = self._loop_call("extremes", _core.device_loop_extremes, (), ())
             return DeviceLoopExtremes.from_outputs(out)
         out, _ = self._call("extremes", _core.device_extremes, (), ())

@@ -36,45 +36,58 @@ typedef struct lref {
     long double den[3], num[2], den_s[3], num_s[2], den_w[3];
 } lref;
 
-/* e^M for the 3x3 augmented matrix, Taylor on M / 2^k (norm <= 1/4), then k squarings. */
-static void expm3(const long double M[3][3], long double E[3][3])
+/* e^M for an n x n matrix (n <= 4), Taylor on M / 2^k (norm <= 1/4), then k squarings. */
+static void expmn(unsigned n, long double M[4][4], long double E[4][4])
 {
-    long double S[3][3], T[3][3], P[3][3], norm = 0.0L;
-    int i, j, l, n, k = 0;
-    for (i = 0; i < 3; ++i)
-        for (j = 0; j < 3; ++j) norm = fmaxl(norm, fabsl(M[i][j]));
-    while (3.0L * norm > 0.25L) {
+    long double S[4][4], T[4][4], P[4][4], norm = 0.0L;
+    unsigned i, j, l;
+    int t, k = 0;
+    for (i = 0; i < n; ++i)
+        for (j = 0; j < n; ++j) norm = fmaxl(norm, fabsl(M[i][j]));
+    while ((long double)n * norm > 0.25L) {
         norm *= 0.5L;
         ++k;
     }
-    for (i = 0; i < 3; ++i)
-        for (j = 0; j < 3; ++j) {
+    for (i = 0; i < n; ++i)
+        for (j = 0; j < n; ++j) {
             S[i][j] = ldexpl(M[i][j], -k);
             E[i][j] = (i == j) ? 1.0L : 0.0L;
             T[i][j] = E[i][j];
         }
-    for (n = 1; n < 30; ++n) { /* T = T S / n; E += T */
-        for (i = 0; i < 3; ++i)
-            for (j = 0; j < 3; ++j) {
+    for (t = 1; t < 30; ++t) { /* T = T S / t; E += T */
+        for (i = 0; i < n; ++i)
+            for (j = 0; j < n; ++j) {
                 long double acc = 0.0L;
-                for (l = 0; l < 3; ++l) acc += T[i][l] * S[l][j];
-                P[i][j] = acc / (long double)n;
+                for (l = 0; l < n; ++l) acc += T[i][l] * S[l][j];
+                P[i][j] = acc / (long double)t;
             }
-        for (i = 0; i < 3; ++i)
-            for (j = 0; j < 3; ++j) {
+        for (i = 0; i < n; ++i)
+            for (j = 0; j < n; ++j) {
                 T[i][j] = P[i][j];
                 E[i][j] += T[i][j];
             }
     }
     for (; k > 0; --k) {
-        for (i = 0; i < 3; ++i)
-            for (j = 0; j < 3; ++j) {
+        for (i = 0; i < n; ++i)
+            for (j = 0; j < n; ++j) {
                 long double acc = 0.0L;
-                for (l = 0; l < 3; ++l) acc += E[i][l] * E[l][j];
+                for (l = 0; l < n; ++l) acc += E[i][l] * E[l][j];
                 P[i][j] = acc;
             }
-        memcpy(E, P, sizeof P);
+        for (i = 0; i < n; ++i)
+            for (j = 0; j < n; ++j) E[i][j] = P[i][j];
     }
+}
+
+static void expm3(const long double M3[3][3], long double E3[3][3])
+{
+    long double M[4][4] = {{0.0L}}, E[4][4];
+    unsigned i, j;
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j) M[i][j] = M3[i][j];
+    expmn(3u, M, E);
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j) E3[i][j] = E[i][j];
 }
 
 static lref reference2(long double d, long double k)
@@ -124,7 +137,199 @@ static void expect_plant_within(const zw_plant *p, const lref *r, long double sl
     expect_within(p->den_w, p->den_w_err, r->den_w, 3u, slack, "den_w");
 }
 
+typedef struct lref3 {
+    long double den[4], num[3], den_s[4], num_s[3], den_w[4];
+} lref3;
+
+/* det(zI - F), highest first, for 3x3 F */
+static void charpoly3(long double F[3][3], long double c[4])
+{
+    c[0] = 1.0L;
+    c[1] = -(F[0][0] + F[1][1] + F[2][2]);
+    c[2] = F[0][0] * F[1][1] - F[0][1] * F[1][0] + F[0][0] * F[2][2] - F[0][2] * F[2][0] +
+           F[1][1] * F[2][2] - F[1][2] * F[2][1];
+    c[3] = -(F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) -
+             F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
+             F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]));
+}
+
+/* p((1 + s) / (1 - s)) (1 - s)^3 and p(1 + w), highest first */
+static void images3(const long double p[4], long double ps[4], long double pw[4])
+{
+    /* (1+s)^k (1-s)^(3-k), lowest power first, k = 3 - i */
+    static const long double basis[4][4] = {
+        {1.0L, 3.0L, 3.0L, 1.0L},    /* (1+s)^3 */
+        {1.0L, 1.0L, -1.0L, -1.0L},  /* (1+s)^2 (1-s) */
+        {1.0L, -1.0L, -1.0L, 1.0L},  /* (1+s)(1-s)^2 */
+        {1.0L, -3.0L, 3.0L, -1.0L}}; /* (1-s)^3 */
+    static const long double binom[4][4] = {{1, 3, 3, 1}, {1, 2, 1, 0}, {1, 1, 0, 0}, {1, 0, 0, 0}};
+    unsigned i, j;
+    for (j = 0; j < 4; ++j) {
+        ps[j] = 0.0L;
+        pw[j] = 0.0L;
+    }
+    for (i = 0; i < 4; ++i)
+        for (j = 0; j < 4; ++j) {
+            ps[3 - j] += p[i] * basis[i][j];
+            pw[3 - j] += p[i] * binom[i][j]; /* z^k = sum_j C(k, j) w^j */
+        }
+}
+
+static lref3 reference3(long double d, long double k, long double lam)
+{
+    long double M[4][4] = {{0.0L, 1.0L, 0.0L, 0.0L},
+                           {-k, -d, 1.0L, 0.0L},
+                           {0.0L, 0.0L, -1.0L / lam, 1.0L / lam},
+                           {0.0L, 0.0L, 0.0L, 0.0L}};
+    long double E[4][4], F[3][3], G[3][3], cf[4], cg[4];
+    unsigned i, j;
+    lref3 r;
+    expmn(4u, M, E);
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j) {
+            F[i][j] = E[i][j];
+            G[i][j] = E[i][j] - ((j == 0) ? E[i][3] : 0.0L); /* Phi - Gamma C */
+        }
+    charpoly3(F, cf);
+    charpoly3(G, cg);
+    for (i = 0; i < 4; ++i) r.den[i] = 2.0L * cf[i];
+    for (i = 1; i < 4; ++i) r.num[i - 1] = 2.0L * (cg[i] - cf[i]);
+    images3(r.den, r.den_s, r.den_w);
+    /* N (degree 2): a2 (1+s)^2 + a1 (1+s)(1-s) + a0 (1-s)^2 */
+    r.num_s[0] = r.num[0] - r.num[1] + r.num[2];
+    r.num_s[1] = 2.0L * (r.num[0] - r.num[2]);
+    r.num_s[2] = r.num[0] + r.num[1] + r.num[2];
+    return r;
+}
+
+static void expect_plant3_within(const zw_plant *p, const lref3 *r, long double slack)
+{
+    expect_within(p->den, p->den_err, r->den, 4u, slack, "den");
+    expect_within(p->num, p->num_err, r->num, 3u, slack, "num");
+    expect_within(p->den_s, p->den_s_err, r->den_s, 4u, slack, "den_s");
+    expect_within(p->num_s, p->num_s_err, r->num_s, 3u, slack, "num_s");
+    expect_within(p->den_w, p->den_w_err, r->den_w, 4u, slack, "den_w");
+}
+
 /* ---- tests ----------------------------------------------------------------------------- */
+
+
+static zw_plant plant3_of(zw_real delta, zw_real kappa, zw_real lambda)
+{
+    zw_plant p;
+    zw_plant_spec s = spec_of(delta, kappa, lambda);
+    memset(&p, ZWT_SENTINEL, sizeof p);
+    EXPECT_OK(zw_plant_init(&p, &s));
+    assert_int_equal(p.order, 3);
+    return p;
+}
+
+/* The lag plant against the long double 4x4 matrix exponential. */
+static void test_lag_against_reference(void **state)
+{
+    static const zw_real ds[] = {R(0.0), R(0.3), R(1.0), R(3.0), R(6.0)};
+    static const zw_real ks[] = {R(0.0), R(0.2), R(1.0), R(2.25), R(9.0)};
+    static const zw_real ls[] = {R(0.05), R(0.3), R(1.0), R(2.0), R(5.0)};
+    size_t i, j, l;
+    (void)state;
+    for (i = 0; i < ZWT_ARRAY_LEN(ds); ++i)
+        for (j = 0; j < ZWT_ARRAY_LEN(ks); ++j)
+            for (l = 0; l < ZWT_ARRAY_LEN(ls); ++l) {
+                zw_plant p = plant3_of(ds[i], ks[j], ls[l]);
+                lref3 r = reference3((long double)ds[i], (long double)ks[j], (long double)ls[l]);
+                expect_plant3_within(&p, &r, 1e-16L);
+            }
+}
+
+static void expect_close3(const zw_plant *a, const zw_plant *b, long double slack)
+{
+    unsigned i;
+    for (i = 0; i < 4u; ++i) {
+        EXPECT_TRUE_MSG(fabsl((long double)a->den[i] - b->den[i]) <= a->den_err[i] + b->den_err[i] + slack, "den[%u]", i);
+        EXPECT_TRUE_MSG(fabsl((long double)a->den_s[i] - b->den_s[i]) <= a->den_s_err[i] + b->den_s_err[i] + slack, "den_s[%u]", i);
+        EXPECT_TRUE_MSG(fabsl((long double)a->den_w[i] - b->den_w[i]) <= a->den_w_err[i] + b->den_w_err[i] + slack, "den_w[%u]", i);
+    }
+    for (i = 0; i < 3u; ++i) {
+        EXPECT_TRUE_MSG(fabsl((long double)a->num[i] - b->num[i]) <= a->num_err[i] + b->num_err[i] + slack, "num[%u]", i);
+        EXPECT_TRUE_MSG(fabsl((long double)a->num_s[i] - b->num_s[i]) <= a->num_s_err[i] + b->num_s_err[i] + slack, "num_s[%u]", i);
+    }
+}
+
+/* The lag's pole on a plant pole (lambda = 1 / |p|): continuous across, and finite. */
+static void test_lag_meets_pole(void **state)
+{
+    /* delta = 2.5, kappa = 1: poles -0.5 and -2 */
+    static const zw_real lams[] = {R(2.0), R(0.5)};
+    size_t i;
+    (void)state;
+    for (i = 0; i < ZWT_ARRAY_LEN(lams); ++i) {
+        const zw_real l = lams[i];
+        zw_plant lo = plant3_of(R(2.5), R(1.0), ZWT_DOWN(l));
+        zw_plant mid = plant3_of(R(2.5), R(1.0), l);
+        zw_plant hi = plant3_of(R(2.5), R(1.0), ZWT_UP(l));
+        lref3 r = reference3(2.5L, 1.0L, (long double)l);
+        expect_plant3_within(&mid, &r, 1e-16L);
+        expect_close3(&lo, &mid, 4.0L * (long double)(ZWT_UP(l) - l));
+        expect_close3(&mid, &hi, 4.0L * (long double)(ZWT_UP(l) - l));
+        assert_true(mid.num_err[0] <= TOL(1000) * mid.num[0]); /* no lost accuracy at the meeting */
+    }
+}
+
+/* lambda -> 0: N3 -> z N2, D3 -> z D2. */
+/* eval on the lag plant: against the reference at complex points, and D3 next to z = 1
+ * with lambda >> 1 (the poles 1 and e^-1/lambda both near 1) in relative accuracy. */
+static void test_lag_eval(void **state)
+{
+    static const zw_real pts[][2] = {{R(0.3), R(0.9)}, {R(-1.0), R(0.0)}, {R(0.999), R(0.02)}};
+    zw_plant p = plant3_of(R(0.7), R(2.0), R(0.4));
+    zw_plant q = plant3_of(R(0.01), R(0.0), R(1000.0));
+    lref3 r = reference3(0.7L, 2.0L, 0.4L);
+    size_t i;
+    zw_real nr, ni, ne, dr, di, de;
+    (void)state;
+    for (i = 0; i < ZWT_ARRAY_LEN(pts); ++i) {
+        long double complex_r = pts[i][0], complex_i = pts[i][1];
+        long double Nr = 0.0L, Ni = 0.0L, Dr = 0.0L, Di = 0.0L, t;
+        unsigned j;
+        for (j = 0; j < 3u; ++j) { /* Horner */
+            t = Nr * complex_r - Ni * complex_i + r.num[j];
+            Ni = Nr * complex_i + Ni * complex_r;
+            Nr = t;
+        }
+        for (j = 0; j < 4u; ++j) {
+            t = Dr * complex_r - Di * complex_i + r.den[j];
+            Di = Dr * complex_i + Di * complex_r;
+            Dr = t;
+        }
+        EXPECT_OK(zw_plant_eval(&p, pts[i][0], pts[i][1], &nr, &ni, &ne, &dr, &di, &de));
+        EXPECT_TRUE_MSG(hypotl(nr - Nr, ni - Ni) <= (long double)ne + 1e-16L, "N at %zu", i);
+        EXPECT_TRUE_MSG(hypotl(dr - Dr, di - Di) <= (long double)de + 1e-16L, "D at %zu", i);
+    }
+    {
+        /* D3 = 2 (z - 1)(z - e)(z - a) at z = 1 + 2^-20, a = e^-0.001 */
+        const zw_real w = R(9.5367431640625e-7);
+        const long double lw = (long double)w;
+        const long double D = 2.0L * lw * (lw - expm1l(-0.01L)) * (lw - expm1l(-0.001L));
+        EXPECT_OK(zw_plant_eval(&q, R(1.0) + w, R(0.0), &nr, &ni, &ne, &dr, &di, &de));
+        EXPECT_TRUE_MSG(fabsl(dr - D) <= de && de <= TOLL(256) * D, "D3 near 1: %Lg vs %Lg, bound %Lg",
+                        (long double)dr, D, (long double)de);
+    }
+}
+
+static void test_lag_to_zero(void **state)
+{
+    zw_plant p2 = plant_of(R(0.8), R(1.5));
+    zw_plant p3 = plant3_of(R(0.8), R(1.5), PREC(R(1e-9), R(1e-5)));
+    unsigned i;
+    (void)state;
+    for (i = 0; i < 3u; ++i) {
+        EXPECT_TRUE_MSG(fabsl((long double)p3.den[i] - p2.den[i]) <= p3.den_err[i] + p2.den_err[i] + 1e-300L, "den[%u]", i);
+    }
+    assert_true(fabs((double)p3.den[3]) <= (double)p3.den_err[3] + 1e-300);
+    for (i = 0; i < 2u; ++i) {
+        EXPECT_TRUE_MSG(fabsl((long double)p3.num[i] - p2.num[i]) <= p3.num_err[i] + p2.num_err[i] + PREC(1e-8L, 1e-4L), "num[%u]", i);
+    }
+}
 
 static const zw_real k_deltas[] = {R(0.0), R(1e-6), R(0.01), R(0.5), R(1.0), R(2.0), R(3.7), R(10.0), R(100.0)};
 
@@ -355,8 +560,9 @@ static void test_errors_failsafe(void **state)
     s.kappa_relerr = R(0.0);
     s.delta_relerr = nan;
     expect_init_fails(s, ZW_ERR_NAN);
-    /* h^2 overflows */
+    /* h^2 or (1 / lambda)^2 overflows */
     expect_init_fails(spec_of(PREC(R(1e200), R(1e30)), R(1.0), R(0.0)), ZW_ERR_RANGE);
+    expect_init_fails(spec_of(R(1.0), R(1.0), PREC(R(1e-200), R(1e-25))), ZW_ERR_RANGE);
     /* from_coeffs */
     EXPECT_STATUS(zw_plant_from_coeffs(&p, NULL), ZW_ERR_NULL);
     assert_true(failsafe_plant(&p));
@@ -434,6 +640,10 @@ int main(void)
         cmocka_unit_test(test_continuity_hard_cases),
         cmocka_unit_test(test_kappa_to_zero),
         cmocka_unit_test(test_relerr_widens),
+        cmocka_unit_test(test_lag_against_reference),
+        cmocka_unit_test(test_lag_meets_pole),
+        cmocka_unit_test(test_lag_to_zero),
+        cmocka_unit_test(test_lag_eval),
         cmocka_unit_test(test_eval),
         cmocka_unit_test(test_errors_failsafe),
         cmocka_unit_test(test_spec_from_device),

@@ -153,7 +153,8 @@ def _loop_limit(name):
 
 LOOP_MAX_DELAY = _loop_limit("ZW_LOOP_MAX_DELAY")
 LOOP_MAX_AVERAGE = _loop_limit("ZW_LOOP_MAX_AVERAGE")
-LOOP_N = 2 + LOOP_MAX_DELAY + LOOP_MAX_AVERAGE + 1  # ZW_LOOP_MAX_DEGREE + 1 entries
+PLANT_MAX_ORDER = 3  # ZW_PLANT_MAX_ORDER (plant.h)
+LOOP_N = PLANT_MAX_ORDER + LOOP_MAX_DELAY + LOOP_MAX_AVERAGE + 1  # ZW_LOOP_MAX_DEGREE + 1 entries
 
 
 def _loop_structs(real, Coeffs):
@@ -163,11 +164,28 @@ def _loop_structs(real, Coeffs):
         _fields_ = [("delay", ctypes.c_uint), ("differentiator", c_int), ("filter", c_int),
                     ("filter_pole", real), ("average", ctypes.c_uint)]
 
+    class PlantSpec(ctypes.Structure):
+        _fields_ = [(n, real) for n in ("delta", "kappa", "lambda_", "delta_relerr", "kappa_relerr",
+                                        "lambda_relerr")]
+
+    q = PLANT_MAX_ORDER
+
+    class Plant(ctypes.Structure):
+        """zw_plant (plant.h)."""
+        _fields_ = ([("spec", PlantSpec), ("order", ctypes.c_uint),
+                     ("den", real * (q + 1)), ("den_err", real * (q + 1)),
+                     ("num", real * q), ("num_err", real * q),
+                     ("den_s", real * (q + 1)), ("den_s_err", real * (q + 1)),
+                     ("num_s", real * q), ("num_s_err", real * q), ("c", Coeffs),
+                     ("den_w", real * (q + 1)), ("den_w_err", real * (q + 1))])
+
     class Loop(ctypes.Structure):
         _fields_ = ([("c", Coeffs), ("spec", LoopSpec), ("degree", ctypes.c_uint)]
                     + [(n, real * LOOP_N) for n in ("D", "D_err", "Na", "Na_err", "Nb", "Nb_err",
                                                     "Ds", "Ds_err", "Nas", "Nas_err", "Nbs", "Nbs_err")]
-                    + [("alpha_relerr", real), ("beta_relerr", real)])
+                    + [("alpha_relerr", real), ("beta_relerr", real), ("plant", Plant)])
+
+    Loop.Plant, Loop.PlantSpec = Plant, PlantSpec
 
     class LoopVerdict(ctypes.Structure):
         _fields_ = [("stable", c_bool), ("marginal", c_bool), ("deciding", c_int), ("theta", real)]
@@ -178,7 +196,8 @@ def _loop_structs(real, Coeffs):
         fails ws_intact() instead of corrupting memory)."""
         _fields_ = [("row", real * LOOP_N), ("row_err", real * LOOP_N),
                     ("root", real * (2 * (LOOP_N - 1))), ("radius", real * (LOOP_N - 1)),
-                    ("limits", ctypes.c_ubyte * 640),  # the limits' state: 520 B (double), 296 (float)
+                    # the limits' state and the root test's plant values (about 660 B double, 370 float)
+                    ("limits", ctypes.c_ubyte * 768),
                     ("guard", ctypes.c_ubyte * 256)]
 
     return LoopSpec, Loop, LoopVerdict, LoopWorkspace

@@ -47,6 +47,9 @@ typedef struct zw_device_loop_spec {
 typedef struct zw_device_loop {
     zw_device dev;
     zw_loop loop;
+    /* Relative error of dev.m against the exact mass the gains are normalized by (0, or u
+     * when dev.m = fl(m + m_h) for a hand); carried into the gain bounds and the limits. */
+    zw_real mass_relerr;
 } zw_device_loop;
 
 /* Errors: those of zw_device_init, zw_loop_lowpass_pole (f_c, NaN -> ZW_ERR_NAN) and
@@ -54,6 +57,22 @@ typedef struct zw_device_loop {
  * empty: every function below refuses it. */
 zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real T,
                               const zw_device_loop_spec *spec);
+
+/* The loop on the plant with its plant-side parts (plant.h): a physical stiffness k_p
+ * [N/m] (a return spring, a cable), an actuator (current-loop) lag tau [s], a coupled hand
+ * of mass m_h [kg], damping b_h [N s/m] and stiffness k_h [N/m] (all 0: uncoupled).  Every
+ * part 0 gives zw_device_loop_init's loop.  The gains are normalized by M = m + m_h
+ * (alpha = K T^2 / M, beta = B T / M): dev is zw_device_init(M, b + b_h, T), its scales
+ * M / T^2 and M / T (dev.co is the ideal plant at that delta, not the loop's plant: that is
+ * loop.plant).  Verdicts and limits below then hold for the coupled plant: K_max(B) is the
+ * certified sup at B of the stable K in (0, K_max) (with stiffness, small negative K may
+ * be stable too: the z = 1 boundary is K = -(k_p + k_h)).
+ * Errors: those of zw_plant_spec_from_device (ZW_ERR_ARG for k_p, tau, m_h or k_h < 0,
+ * ZW_ERR_DAMPING for b_h < 0), zw_plant_init, zw_device_init and zw_device_loop_init;
+ * fail-safe as zw_device_loop_init. */
+zw_status zw_device_loop_init_plant(zw_device_loop *out, zw_real m, zw_real b, zw_real T,
+                                    zw_real k_p, zw_real tau, zw_real m_h, zw_real b_h,
+                                    zw_real k_h, const zw_device_loop_spec *spec);
 
 /* Errors of the functions below: ZW_ERR_NULL, ZW_ERR_NAN / ZW_ERR_INF (K, B, a failed
  * device), ZW_ERR_ARG (an empty loop), ZW_ERR_RANGE (a gain or result overflows, or a

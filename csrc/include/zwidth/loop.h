@@ -40,6 +40,7 @@
 #include <stdbool.h>
 
 #include "zwidth/coeffs.h"
+#include "zwidth/plant.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -47,8 +48,9 @@ extern "C" {
 
 #define ZW_LOOP_MAX_DELAY 8u    /* d in 0..8 samples */
 #define ZW_LOOP_MAX_AVERAGE 16u /* moving average over n in 1..16 samples */
-/* Plant (2) + delay + velocity estimate (at most ZW_LOOP_MAX_AVERAGE). */
-#define ZW_LOOP_MAX_DEGREE (2u + ZW_LOOP_MAX_DELAY + ZW_LOOP_MAX_AVERAGE)
+/* Plant (2, or 3 with an actuator lag) + delay + velocity estimate (at most
+ * ZW_LOOP_MAX_AVERAGE). */
+#define ZW_LOOP_MAX_DEGREE (ZW_PLANT_MAX_ORDER + ZW_LOOP_MAX_DELAY + ZW_LOOP_MAX_AVERAGE)
 
 typedef enum zw_differentiator {
     ZW_DIFF_BACKWARD = 0, /* v_k = (x_k - x_{k-1}) / T (the paper's) */
@@ -82,10 +84,11 @@ zw_status zw_loop_lowpass_pole(zw_real f_c, zw_real T, zw_real *a);
  * and every rounding of the construction).  Coefficients are stored highest power first
  * (index 0 is z^degree), like zw_char_poly.  Filled by zw_loop_init; read-only after. */
 typedef struct zw_loop {
-    zw_coeffs c;
+    zw_coeffs c;     /* the ideal plant's coefficients at the plant's delta (plant.c) */
     zw_loop_spec spec;
-    unsigned degree; /* 3 + d (backward, Tustin, backward + low-pass), 4 + d (Tustin +
-                        low-pass), 2 + d + n (moving average over n) */
+    unsigned degree; /* order + d + 1 (backward, Tustin, backward + low-pass), order + d + 2
+                        (Tustin + low-pass), order + d + n (moving average over n); order 2,
+                        3 with a lag */
     zw_real D[ZW_LOOP_MAX_DEGREE + 1u], D_err[ZW_LOOP_MAX_DEGREE + 1u];
     zw_real Na[ZW_LOOP_MAX_DEGREE + 1u], Na_err[ZW_LOOP_MAX_DEGREE + 1u];
     zw_real Nb[ZW_LOOP_MAX_DEGREE + 1u], Nb_err[ZW_LOOP_MAX_DEGREE + 1u];
@@ -102,12 +105,21 @@ typedef struct zw_loop {
      * real units).  Read by the factored evaluation of p; the coefficient parts carry them
      * in their own bounds. */
     zw_real alpha_relerr, beta_relerr;
+    /* The sampled plant N / D (plant.h) the parts were built from: its factored evaluation
+     * (the root test's p) and its bilinear images (the D-decomposition) are read from here. */
+    zw_plant plant;
 } zw_loop;
 
 /* A complex number of the workspace below (its roots). */
 typedef struct zw_loop_complex {
     zw_real re, im;
 } zw_loop_complex;
+
+/* A complex value with a bound on its absolute error (the workspace's root test). */
+typedef struct zw_loop_ceb {
+    zw_loop_complex v;
+    zw_real e;
+} zw_loop_ceb;
 
 /* Scratch memory of the checks and limits of the general loop: the arrays of the maximum
  * degree (Routh / Schur-Cohn rows with their error bounds, Aberth roots, inclusion radii)
@@ -134,6 +146,8 @@ typedef struct zw_loop_workspace {
         struct zw_loop_workspace *ws; /* this workspace, for the guarded checks */
         zw_real one_minus_e, r12, two_c1, phase, one_minus_a, eps, grid_h;
         unsigned grid_n;
+        bool general; /* a plant other than the ideal one: its bilinear images */
+        bool stiff;   /* D(1) != 0 (a spring or a hand's stiffness) */
     } lim_plant;
     struct zw_loop_lim_point { /* the crossing condition f at theta, its value v */
         zw_real theta, f, f_err, v, v_err;
@@ -161,6 +175,9 @@ typedef struct zw_loop_workspace {
     } lim_ext;
     zw_real lim_amax; /* the last alpha_max found */
     bool lim_stable;  /* the last guarded verdict */
+    zw_real plant_at[6]; /* the plant's N, D at a root estimate: re, im, bound each (loop.c) */
+    const zw_loop *plant_loop; /* the loop they belong to */
+    zw_loop_ceb eval[3];       /* the factored evaluation's running products (loop.c) */
 } zw_loop_workspace;
 
 /* Build the loop of spec for the plant c (a copy of *c is kept).  Errors: ZW_ERR_NULL,
@@ -172,6 +189,17 @@ typedef struct zw_loop_workspace {
  * accepted but never stable: the Tustin mode (-1)^k averages out of the estimate, so
  * z = -1 is a root for every gain. */
 zw_status zw_loop_init(zw_loop *out, const zw_coeffs *c, const zw_loop_spec *spec);
+
+/* The loop of spec on a general sampled plant N(z) / D(z) (plant.h: a spring, a hand, an
+ * actuator lag): p(z) = z^d D Dv + N (alpha Dv + beta Nv), the gains normalized by the
+ * plant's mass M (alpha = K T^2 / M, beta = B T / M).  zw_loop_init(c, spec) is this with
+ * zw_plant_from_coeffs(c).  A copy of *plant is kept.  With stiffness (kappa > 0) the
+ * z = 1 boundary is the line alpha = -kappa (p(1) = Dv(1) (D(1) + alpha N(1))), so small
+ * negative alphas may be stable too.  Errors: ZW_ERR_NULL, ZW_ERR_ARG (a plant of order
+ * other than 2 or 3, e.g. one a failed zw_plant_init left), ZW_ERR_NAN / ZW_ERR_INF (a
+ * coefficient or bound not finite), and those of zw_loop_init's spec; on error *out is the
+ * empty loop. */
+zw_status zw_loop_init_plant(zw_loop *out, const zw_plant *plant, const zw_loop_spec *spec);
 
 /* Make every check on *loop hold for each gain within the given relative error of the one
  * passed (the exact gain is alpha (1 + ea), |ea| <= alpha_relerr; beta likewise): the
@@ -213,10 +241,11 @@ typedef struct zw_loop_verdict {
  * (Braess-Hadeler disks around Aberth roots, p evaluated from its factors) proves "every
  * root inside" or "one root surely outside"; otherwise marginal.  Stable only if proved;
  * a stable point is called unstable only within the band below, and then marginal = true.
+ * Plants of plant.h: the same tests (tests/py/test_loop_plant_ref.py measures their band).
  * Band (tests/py/test_loop_reference.py, 1..1e7-ulp steps from labelled boundary points,
  * delta 2^-20..1e3, a up to 0.999, d up to 8): <= 1e5 ulps of the stepped gain up
  * to degree 12 (both precisions); above, <= 1e6 (double), <= 1e7 (float: the
- * long moving averages are ill-conditioned there).  z = 1 is alpha = 0 and, with Tustin,
+ * long moving averages are ill-conditioned there).  z = 1 is alpha = 0 (integrating plant) and, with Tustin,
  * z = -1 is beta = 0 for every loop: both decided by the gain's exact sign.
  * deciding: z = 1 if alpha is not surely > 0, else z = -1 if p(-1) has the wrong sign
  * (or cannot be told), else where the root of largest modulus is (real: +-1; a pair

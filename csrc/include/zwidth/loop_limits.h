@@ -17,6 +17,13 @@
  * where the expanded coefficients of D, Na, Nb cancel.
  *   z = 1:  p(1) = alpha (c1 + c2) Dv(1): the line alpha = 0 (the plant integrates).
  *   z = -1: the line  c0 + ca alpha + cb beta = 0  (zw_loop_boundary_line).
+ * A general plant N / D (zw_loop_init_plant: a lag, a spring, a hand): W = -z^d D / N and
+ * R0 = W / (2 j sin(theta/2)) from the plant's bilinear images at s = j tan(theta/2)
+ * (loop_limits.c, general_r0), with a relative error bound per point from the images'
+ * coefficient bounds; with stiffness (kappa > 0) the z = 1 line is alpha = -kappa
+ * (p(1) = Dv(1) (D(1) + alpha N(1))), R0 grows like 1 / theta and the scan starts from its
+ * limit at theta -> 0+; "as alpha -> 0+" (extremes) is then the line alpha = 0 itself.  The
+ * ideal plant keeps the factored response below (bit for bit the results it always had).
  *
  * Limits are found as the first crossing of a line (beta fixed, or alpha fixed) with these
  * curves: the crossing condition is scanned on a theta grid (uniform, refined

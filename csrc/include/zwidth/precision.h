@@ -56,6 +56,7 @@
 #define zw_device_influence zw_device_influence_f
 /* device_loop.h */
 #define zw_device_loop_init zw_device_loop_init_f
+#define zw_device_loop_init_plant zw_device_loop_init_plant_f
 #define zw_device_loop_check zw_device_loop_check_f
 #define zw_device_loop_is_stable zw_device_loop_is_stable_f
 #define zw_device_loop_radius_within zw_device_loop_radius_within_f
@@ -77,6 +78,7 @@
 /* loop.h */
 #define zw_loop_lowpass_pole zw_loop_lowpass_pole_f
 #define zw_loop_init zw_loop_init_f
+#define zw_loop_init_plant zw_loop_init_plant_f
 #define zw_loop_carry_gain_rounding zw_loop_carry_gain_rounding_f
 #define zw_loop_poly zw_loop_poly_f
 #define zw_loop_check zw_loop_check_f
