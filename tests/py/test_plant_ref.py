@@ -441,3 +441,36 @@ def test_spec_from_device_relerr_holds(pl):
             rel = getattr(spec, name.rstrip("_") + "_relerr") if name != "lambda_" else spec.lambda_relerr
             assert abs(mpf(getattr(spec, name)) - x) <= rel * abs(x), (name, getattr(spec, name), x, rel)
         assert abs(mpf(M.value) - Mx) <= zw.u * Mx
+
+
+def normwise_table(name, mode):
+    """bound / (u max |coef| of the polynomial), median / 90th pct / max per polynomial, over
+    the grids docs/numerics.md reports (mode: "o2", "o3" lambda in [0.01, 10], "o3x" the
+    extreme lambdas)."""
+    pl_ = PlantLib(load(name))
+    zw = pl_.zw
+    if mode == "o2":
+        ds, ks = _grid(zw, 24)
+        pts = [(d, k, 0.0) for d in ds for k in ks] + [(d, k, 0.0) for d, k in _critical(zw)]
+    else:
+        ds = [0.0] + [zw.r(x) for x in np.logspace(-6, 4, 8)]
+        ks = [0.0] + [zw.r(x) for x in np.logspace(-6, 5, 8)]
+        lams = (0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0) if mode == "o3" else (1e-4, 1e-3, 30.0, 100.0, 1e3, 1e4)
+        pts = [(d, k, zw.r(lam)) for d in ds for k in ks for lam in lams]
+    rows = {}
+    for d, k, lam in pts:
+        stats = check_point(pl_, d, k, lam=lam)
+        scale = {}
+        for f, _, _, _, exact in stats:
+            scale[f] = max(scale.get(f, 0.0), abs(exact))
+        for f, _, _, e, _ in stats:
+            rows.setdefault(f, []).append(e / (zw.u * scale[f]))
+    return len(pts), {f: (np.median(v), np.percentile(v, 90), max(v)) for f, v in rows.items()}
+
+
+if __name__ == "__main__":  # the figures of docs/numerics.md, "Plant-side parts"
+    for mode in ("o2", "o3", "o3x"):
+        for name in ("double", "float"):
+            n, table = normwise_table(name, mode)
+            print(name, mode, n, "points:",
+                  ", ".join(f"{f} {a:.3g} / {b:.3g} / {c:.3g}" for f, (a, b, c) in table.items()))
