@@ -410,6 +410,12 @@ static zw_eb eb_square_minus(zw_eb h, zw_eb k)
  * |a|, |b| <= 4 only: PLANT_TERMS terms leave a tail below PLANT_TAIL (21 4^20 / 42! < 2e-38,
  * and the tail of the single series is smaller still). */
 #define PLANT_SERIES_LIMIT ZW_R(4.0)
+
+/* Is the whole ball within [-limit, limit]?  (The truncation bounds hold for all of it.) */
+static bool eb_within(zw_eb a, zw_real limit)
+{
+    return (ZW_FABS(a.v) + a.e) <= limit;
+}
 #define PLANT_TERMS 21u
 #define PLANT_TAIL ZW_R(2e-38)
 
@@ -506,7 +512,7 @@ static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
     o->det = eb_exp(eb_neg(delta));
     o->R = eb_neg(eb_expm1(eb_neg(delta)));
 
-    if ((h.v <= ZW_R(2.0)) && (ZW_FABS(w2.v) <= PLANT_SERIES_LIMIT)) {
+    if (eb_within(h, ZW_R(2.0)) && eb_within(w2, PLANT_SERIES_LIMIT)) {
         zw_eb cd, sd;
         series_divided(w2, zw_eb_mul(h, h), &cd, &sd);
         C = zw_eb_mul(eh, series_single(w2, 0u));
@@ -546,7 +552,7 @@ static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
         o->bdiff = zw_eb_sub(o->b1, o->b0);
         return;
     }
-    if (ZW_FABS(w2.v) <= PLANT_SERIES_LIMIT) {
+    if (eb_within(w2, PLANT_SERIES_LIMIT)) {
         C = zw_eb_mul(eh, series_single(w2, 0u));
         S = zw_eb_mul(eh, series_single(w2, 1u));
     } else if (w2.v > ZW_R(0.0)) {
@@ -679,7 +685,7 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
     const zw_eb oma = eb_neg(eb_expm1(eb_neg(nu)));
     const zw_eb opa = zw_eb_add(one, a);
     const zw_eb phi11 = zw_eb_sub(o->ch, zw_eb_mul(h, o->sh));
-    const bool series_ok = (ZW_FABS(w2.v) <= PLANT_SERIES_LIMIT) && (hp2.v <= PLANT_SERIES_LIMIT);
+    const bool series_ok = eb_within(w2, PLANT_SERIES_LIMIT) && eb_within(hp2, PLANT_SERIES_LIMIT);
     zw_eb T, U, y0, x1, x0, t;
     zw_eb y0_series = eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
     zw_eb x1_far = eb_make(ZW_R(0.0), ZW_INF);
@@ -727,7 +733,7 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
                   kp);
     x1 = eb_better(x1, t);
     x1 = eb_better(x1, x1_far);
-    if (series_ok && (h.v <= ZW_R(2.0))) {
+    if (series_ok && eb_within(h, ZW_R(2.0))) {
         x1 = eb_better(x1, zw_eb_mul(zw_eb_mul(nu, eb_exp(eb_neg(h))), series_shifted4(h, hp, w2)));
     }
     /* x0 = b0 - y0, or nu Phi01 T - Phi11 x1 (small for nu -> 0 without cancelling) */
