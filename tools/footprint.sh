@@ -105,7 +105,13 @@ TEXT_METRIC=${FOOTPRINT_TEXT_METRIC:-text+rodata}
 STACK_LIMIT=${FOOTPRINT_STACK_LIMIT:-256}
 LOOP_STACK_LIMIT=${FOOTPRINT_LOOP_STACK_LIMIT:-512}
 # module:limit pairs; modules not named here have STACK_LIMIT
-MODULE_STACK_LIMITS="loop:$LOOP_STACK_LIMIT loop_limits:$LOOP_STACK_LIMIT device_loop:$LOOP_STACK_LIMIT box:$LOOP_STACK_LIMIT box_loop:$LOOP_STACK_LIMIT"
+PLANT_STACK_LIMIT=${FOOTPRINT_PLANT_STACK_LIMIT:-2304}
+MODULE_STACK_LIMITS="loop:$LOOP_STACK_LIMIT loop_limits:$LOOP_STACK_LIMIT device_loop:$LOOP_STACK_LIMIT box:$LOOP_STACK_LIMIT box_loop:$LOOP_STACK_LIMIT plant:$PLANT_STACK_LIMIT plant_box:$LOOP_STACK_LIMIT"
+# plant (the plant-side parts' discretization, plant.h): called once per plant, at power-up
+# or commissioning, never on a control path; its running error bounds through the order-2
+# and order-3 formulas keep about 2.2 KB on the Cortex-M4F float stack (a zw_plant is
+# built in a local and copied out, so a failure leaves *out fail-safe): gated at its own
+# 2304 B so that it cannot grow unseen.  plant_box (box enclosures): the loop's 512 B.
 # box (certification over a plant box, offline / commissioning use): the loop's 512 B; its
 # b_range and k_mmax nest a whole search under their own and are reported, not gated.
 # Over their module's target on the Cortex-M4F float build: reported, not gated.  Remove a
@@ -122,7 +128,7 @@ MODULE_STACK_LIMITS="loop:$LOOP_STACK_LIMIT loop_limits:$LOOP_STACK_LIMIT device
 # box_loop (the general loop's boxes) keeps a zw_device_loop and three interval polynomials
 # on the stack: reported, not gated (docs/box.md).
 STACK_NOT_GATED="zw_box_b_range zw_box_k_mmax zw_box_loop_b_range zw_box_loop_check zw_box_loop_k_max zw_box_loop_k_mmax zw_device_loop_b_range zw_device_loop_extremes_compute zw_device_loop_init zw_device_loop_init_plant zw_device_loop_k_max zw_regmap_handle_pdu zw_regmap_init zw_regmap_restore zw_regmap_set_ceilings zw_regmap_write zw_sweep_check_many"
-for n in "$TEXT_LIMIT" "$STACK_LIMIT" "$LOOP_STACK_LIMIT"; do
+for n in "$TEXT_LIMIT" "$STACK_LIMIT" "$LOOP_STACK_LIMIT" "$PLANT_STACK_LIMIT"; do
     case "$n" in
     '' | *[!0-9]*)
         echo "footprint.sh: limits must be whole numbers of bytes, got '$n'" >&2
