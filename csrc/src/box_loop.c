@@ -42,9 +42,6 @@
 #define BL_NOINLINE
 #endif
 #define BL_BISECT_STEPS 60
-/* Routh rows are rescaled by powers of two out of this range (as loop.c). */
-#define BL_SCALE_LO ZW_R(1.52587890625e-05)
-#define BL_SCALE_HI ZW_R(65536.0)
 
 typedef enum bl_result { BL_STABLE = 0, BL_UNSURE = 1, BL_UNSTABLE = 2 } bl_result;
 
@@ -181,79 +178,24 @@ static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_devi
     return ZW_OK;
 }
 
-/* ---- guarded Routh test on one polynomial (exact coefficients) --------------------------- */
+/* ---- guarded Routh test: loop.c's (internal.h) ------------------------------------------- */
 
-static bl_result bl_sign(zw_real v, zw_real err)
-{
-    const zw_real bound = zw_compare_bound(v, err);
-    if (v > bound) {
-        return BL_STABLE;
-    }
-    if (v < -bound) {
-        return BL_UNSTABLE;
-    }
-    return BL_UNSURE;
-}
-
-/* Is w[0] s^n + ... + w[n] (highest first, errors we[]) surely Hurwitz?  loop.c's test:
- * every coefficient surely positive, then the first column of the division-free Routh
- * array (row k entry j = B0 A[j+1] - A0 B[j+1]) with running error bounds (zw_eb keeps the
- * second-order terms), rows rescaled by powers of two. */
 static bl_result bl_routh(zw_real w[], zw_real we[], unsigned n)
 {
-    unsigned i, k;
-    for (i = 0u; i <= n; ++i) {
-        bl_result r = bl_sign(w[i], we[i]);
-        if (r != BL_STABLE) {
-            return r;
-        }
+    bl_result r;
+    switch (zw_routh_hurwitz(w, we, n)) {
+    case ZW_HURWITZ_STABLE:
+        r = BL_STABLE;
+        break;
+    case ZW_HURWITZ_UNSTABLE:
+        r = BL_UNSTABLE;
+        break;
+    case ZW_HURWITZ_UNSURE:
+    default:
+        r = BL_UNSURE;
+        break;
     }
-    for (k = 2u; k < n; ++k) {
-        const unsigned off = k & 1u, len = (n - k) / 2u + 1u;
-        const unsigned len_a = (n - k + 2u) / 2u + 1u, len_b = (n - k + 1u) / 2u + 1u;
-        zw_eb a0, b0;
-        zw_real big = ZW_R(0.0);
-        unsigned j;
-        bl_result r;
-        a0.v = w[off];
-        a0.e = we[off];
-        b0.v = w[1u - off];
-        b0.e = we[1u - off];
-        for (j = 0u; j < len; ++j) {
-            const unsigned ia = off + 2u * (j + 1u), ib = (1u - off) + 2u * (j + 1u);
-            zw_eb a1 = zw_eb_exact(ZW_R(0.0)), b1 = zw_eb_exact(ZW_R(0.0)), c;
-            if (j + 1u < len_a) {
-                a1.v = w[ia];
-                a1.e = we[ia];
-            }
-            if (j + 1u < len_b) {
-                b1.v = w[ib];
-                b1.e = we[ib];
-            }
-            c = zw_eb_sub(zw_eb_mul(b0, a1), zw_eb_mul(a0, b1));
-            w[off + 2u * j] = c.v;
-            we[off + 2u * j] = c.e;
-            if (ZW_FABS(c.v) > big) {
-                big = ZW_FABS(c.v);
-            }
-        }
-        if (!ZW_IS_FINITE(big)) {
-            return BL_UNSURE;
-        }
-        if ((big > ZW_R(0.0)) && ((big < BL_SCALE_LO) || (big > BL_SCALE_HI))) {
-            int ex = 0;
-            (void)ZW_FREXP(big, &ex);
-            for (j = 0u; j < len; ++j) {
-                w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
-                we[off + 2u * j] = ZW_LDEXP(we[off + 2u * j], -ex) + ZW_ETA;
-            }
-        }
-        r = bl_sign(w[off], we[off]);
-        if (r != BL_STABLE) {
-            return r;
-        }
-    }
-    return BL_STABLE;
+    return r;
 }
 
 /* Kharitonov polynomial `which` (1..4) of q[0..n] (ascending intervals): coefficient k takes

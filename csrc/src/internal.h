@@ -361,4 +361,14 @@ zw_status zw_check_bounded(zw_region region, const zw_coeffs *c, const zw_gains 
 zw_status zw_radius_within_bounded(const zw_coeffs *c, const zw_gains *g, zw_real r,
                                    bool *within);
 
+/* The general loop's guarded Routh test (loop.c), for another module's polynomial (box
+ * certification's Kharitonov polynomials, box_loop.c): is w[0] s^n + ... + w[n] (absolute
+ * error bounds we[], both overwritten) surely Hurwitz?  UNSTABLE is certain. */
+typedef enum zw_hurwitz {
+    ZW_HURWITZ_STABLE = 0,
+    ZW_HURWITZ_UNSURE = 1,
+    ZW_HURWITZ_UNSTABLE = 2
+} zw_hurwitz;
+zw_hurwitz zw_routh_hurwitz(zw_real w[], zw_real we[], unsigned n);
+
 #endif /* ZWIDTH_INTERNAL_H */

@@ -824,6 +824,24 @@ static routh_result routh_rows(zw_real w[], loop_err we[], unsigned n)
     return ROUTH_STABLE;
 }
 
+zw_hurwitz zw_routh_hurwitz(zw_real w[], zw_real we[], unsigned n)
+{
+    zw_hurwitz verdict;
+    switch (routh(w, we, n)) {
+    case ROUTH_STABLE:
+        verdict = ZW_HURWITZ_STABLE;
+        break;
+    case ROUTH_UNSTABLE:
+        verdict = ZW_HURWITZ_UNSTABLE;
+        break;
+    case ROUTH_UNSURE:
+    default:
+        verdict = ZW_HURWITZ_UNSURE;
+        break;
+    }
+    return verdict;
+}
+
 /* P = Ds + alpha Nas + beta Nbs with bounds, then Routh.  *lead / *trail: the results of
  * the leading (z = -1) and constant (z = 1) coefficients alone. */
 ZW_NOINLINE static routh_result check_bilinear(const zw_loop *loop, zw_loop_workspace *ws,

@@ -141,6 +141,7 @@
 /* library-internal, declared in csrc/src/internal.h */
 #define zw_check_bounded zw_check_bounded_f
 #define zw_radius_within_bounded zw_radius_within_bounded_f
+#define zw_routh_hurwitz zw_routh_hurwitz_f
 /* library-internal, declared in csrc/src/regmap_internal.h */
 #define zw_rm_publish_gains zw_rm_publish_gains_f
 #define zw_rm_payload_word zw_rm_payload_word_f
