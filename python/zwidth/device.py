@@ -112,11 +112,14 @@ class Device:
 
     @classmethod
     def rotary(cls, J: ArrayLike, b: ArrayLike, T: ArrayLike, *, errors: Errors = "raise", delay: int = 0,
-               velocity_filter: VelocityFilter = None, differentiator: str = "backward") -> "Device":
+               velocity_filter: VelocityFilter = None, differentiator: str = "backward",
+               actuator_tau: ArrayLike = 0.0, hand: Optional[Tuple[ArrayLike, ArrayLike, ArrayLike]] = None,
+               stiffness: ArrayLike = 0.0) -> "Device":
         """A rotary plant: inertia J [kg m^2], damping b [N m s/rad], period T [s];
-        gains then are K [N m/rad] and B [N m s/rad]."""
+        gains then are K [N m/rad] and B [N m s/rad] (a hand's (J_h [kg m^2], b_h
+        [N m s/rad], k_h [N m/rad]), stiffness [N m/rad])."""
         return cls(J, b, T, errors=errors, rotary=True, delay=delay, velocity_filter=velocity_filter,
-                   differentiator=differentiator)
+                   differentiator=differentiator, actuator_tau=actuator_tau, hand=hand, stiffness=stiffness)
 
     def ideal(self) -> "Device":
         """The same plant with the paper's loop (no delay, no filter, backward difference)

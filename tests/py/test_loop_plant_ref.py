@@ -527,3 +527,16 @@ def test_random_plants_alpha_max(zw):
             worst = max(worst, float((truth - amax) / truth))
     print(f"\n{zw.name}: random plants' alpha_max within {worst:.1e} below the truth")
     assert worst < TIGHT[zw.name]
+
+
+def test_rotary_constructor_takes_the_plant_side_parts():
+    """Device.rotary forwards the plant-side parts (README's example): the same limits as
+    Device(..., rotary=True), and the parts lower K_mmax below the plant without them."""
+    zwidth = _zwidth()
+    J, b, T = 85.78e-7, 2.197e-3, 0.02
+    parts = dict(delay=1, actuator_tau=0.01, hand=(J, 2 * b, 1e-4))
+    rot = zwidth.Device.rotary(J, b, T, **parts)
+    same = zwidth.Device(J, b, T, rotary=True, **parts)
+    assert rot.is_rotary and rot.has_plant_parts and float(rot.actuator_tau) == 0.01
+    assert float(rot.extremes().K_mmax) == float(same.extremes().K_mmax)
+    assert float(rot.extremes().K_mmax) != float(zwidth.Device.rotary(J, b, T, delay=1).extremes().K_mmax)
