@@ -371,4 +371,9 @@ typedef enum zw_hurwitz {
 } zw_hurwitz;
 zw_hurwitz zw_routh_hurwitz(zw_real w[], zw_real we[], unsigned n);
 
+/* The fail-safe zw_plant (plant.h): order 0, which every consumer refuses, every number
+ * NaN (plant.c; also plant_box.c's enclosures).  NULL: nothing. */
+struct zw_plant;
+void zw_plant_fail(struct zw_plant *out);
+
 #endif /* ZWIDTH_INTERNAL_H */

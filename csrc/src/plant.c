@@ -101,8 +101,8 @@ static bool plant_finite(const zw_plant *p)
            all_finite(p->num_s, p->num_s_err, n) && all_finite(p->den_w, p->den_w_err, n + 1u);
 }
 
-/* The fail-safe plant: order 0 (refused by every consumer), every number NaN. */
-static void fail_plant(zw_plant *out)
+/* The fail-safe plant: order 0 (refused by every consumer), every number NaN (internal.h). */
+void zw_plant_fail(zw_plant *out)
 {
     unsigned i;
     if (out == NULL) {
@@ -156,10 +156,10 @@ zw_status zw_plant_from_coeffs(zw_plant *out, const zw_coeffs *c)
         st = ZW_ERR_ARG;
     }
     if (st != ZW_OK) {
-        fail_plant(out);
+        zw_plant_fail(out);
         return st;
     }
-    fail_plant(&p); /* every unused entry NaN */
+    zw_plant_fail(&p); /* every unused entry NaN */
     p.c = *c;
     p.spec.delta = c->delta;
     p.spec.kappa = ZW_R(0.0);
@@ -196,7 +196,7 @@ zw_status zw_plant_from_coeffs(zw_plant *out, const zw_coeffs *c)
     set_eb(&p.den_w[2], &p.den_w_err[2], zw_eb_exact(ZW_R(0.0)));
 
     if (!plant_finite(&p)) {
-        fail_plant(out);
+        zw_plant_fail(out);
         return ZW_ERR_RANGE;
     }
     *out = p;
@@ -797,24 +797,24 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
         return ZW_ERR_NULL;
     }
     if (spec == NULL) {
-        fail_plant(out);
+        zw_plant_fail(out);
         return ZW_ERR_NULL;
     }
     st = check_spec(spec);
     if (st != ZW_OK) {
-        fail_plant(out);
+        zw_plant_fail(out);
         return st;
     }
     st = zw_coeffs_init(&c, spec->delta);
     if (st != ZW_OK) {
-        fail_plant(out);
+        zw_plant_fail(out);
         return st;
     }
     c.delta_relerr = spec->delta_relerr;
     if ((spec->kappa == ZW_R(0.0)) && (spec->lambda == ZW_R(0.0))) {
         return zw_plant_from_coeffs(out, &c);
     }
-    fail_plant(&p);
+    zw_plant_fail(&p);
     {
         order2 o;
         const zw_eb h = eb_make(ZW_R(0.5) * spec->delta,
@@ -829,7 +829,7 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
             const zw_real nu = ZW_R(1.0) / spec->lambda;
             const zw_eb nub = eb_make(nu, nu * (spec->lambda_relerr * ZW_R(1.0667) + ZW_U) + ZW_ETA);
             if (!ZW_IS_FINITE(nu)) {
-                fail_plant(out);
+                zw_plant_fail(out);
                 return ZW_ERR_RANGE;
             }
             order3_build(&o, kappa, nub, &p);
@@ -838,7 +838,7 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
     p.spec = *spec;
     p.c = c;
     if (!plant_finite(&p)) {
-        fail_plant(out);
+        zw_plant_fail(out);
         return ZW_ERR_RANGE;
     }
     *out = p;

@@ -38,32 +38,6 @@ static void pb_store(bx_iv iv, zw_real *v, zw_real *err)
     *err = bx_up(bx_max(iv.hi - mid, mid - iv.lo));
 }
 
-static void pb_fail(zw_plant *out)
-{
-    unsigned i;
-    zw_fail_coeffs(&out->c);
-    out->order = 0u;
-    out->spec.delta = ZW_NAN;
-    out->spec.kappa = ZW_NAN;
-    out->spec.lambda = ZW_NAN;
-    out->spec.delta_relerr = ZW_NAN;
-    out->spec.kappa_relerr = ZW_NAN;
-    out->spec.lambda_relerr = ZW_NAN;
-    for (i = 0u; i <= ZW_PLANT_MAX_ORDER; ++i) {
-        out->den[i] = ZW_NAN;
-        out->den_err[i] = ZW_NAN;
-        out->den_s[i] = ZW_NAN;
-        out->den_s_err[i] = ZW_NAN;
-        out->den_w[i] = ZW_NAN;
-        out->den_w_err[i] = ZW_NAN;
-    }
-    for (i = 0u; i < ZW_PLANT_MAX_ORDER; ++i) {
-        out->num[i] = ZW_NAN;
-        out->num_err[i] = ZW_NAN;
-        out->num_s[i] = ZW_NAN;
-        out->num_s_err[i] = ZW_NAN;
-    }
-}
 
 static zw_status pb_validate(zw_real delta_lo, zw_real delta_hi)
 {
@@ -220,7 +194,7 @@ zw_status zw_plant_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
     }
     st = pb_enclose(out, delta_lo, delta_hi);
     if (st != ZW_OK) {
-        pb_fail(out);
+        zw_plant_fail(out);
     }
     return st;
 }

@@ -142,6 +142,7 @@
 #define zw_check_bounded zw_check_bounded_f
 #define zw_radius_within_bounded zw_radius_within_bounded_f
 #define zw_routh_hurwitz zw_routh_hurwitz_f
+#define zw_plant_fail zw_plant_fail_f
 /* library-internal, declared in csrc/src/regmap_internal.h */
 #define zw_rm_publish_gains zw_rm_publish_gains_f
 #define zw_rm_payload_word zw_rm_payload_word_f
