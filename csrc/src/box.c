@@ -19,7 +19,7 @@
  * nearest and then moved by widen_down / widen_up, which step by 4u|r| + ZW_REAL_MIN.
  * A correctly rounded r of an exact v has |r - v| <= u |r| (1 + 2u) + ZW_REAL_MIN / 2 (also
  * under gradual underflow), and the step's own roundings take away at most 1.1 u |r|, so
- * box_widen_down(r) <= v <= box_widen_up(r).  Overflow is excluded by the box's validation
+ * bx_down(r) <= v <= bx_up(r).  Overflow is excluded by the box's validation
  * (ZW_BOX_DELTA_MAX and corners accepted by zw_device_init) and checked at the end.
  */
 #include "zwidth/box.h"
@@ -28,6 +28,7 @@
 
 #include "zwidth/coeffs.h"
 #include "zwidth/device.h"
+#include "box_interval.h"
 #include "internal.h"
 
 /* d12 peaks at delta = 2.68799934549949... with 0.27870311291437160... (40 digits in
@@ -41,43 +42,15 @@
 #define ZW_BOX_BISECT_STEPS 64
 #define ZW_BOX_GOLDEN_STEPS 80
 
-/* An overflowed +inf (-inf) stands for an exact value beyond the largest finite one, so
- * its lower (upper) bound is that finite value (and inf - inf would be NaN). */
-static zw_real box_widen_down(zw_real r)
-{
-    if (r > ZW_REAL_MAX) {
-        return ZW_REAL_MAX;
-    }
-    return r - (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA);
-}
-
-static zw_real box_widen_up(zw_real r)
-{
-    if (r < -ZW_REAL_MAX) {
-        return -ZW_REAL_MAX;
-    }
-    return r + (ZW_R(4.0) * ZW_U * ZW_FABS(r) + ZW_ETA);
-}
-
 /* A coefficient field v (error <= ZW_COEF_ULPS ulps, or ZW_COEF_ABSERR if subnormal). */
 static zw_real box_coef_down(zw_real v)
 {
-    return box_widen_down(v - (ZW_BOX_COEF_REL * ZW_FABS(v) + ZW_COEF_ABSERR));
+    return bx_down(v - (ZW_BOX_COEF_REL * ZW_FABS(v) + ZW_COEF_ABSERR));
 }
 
 static zw_real box_coef_up(zw_real v)
 {
-    return box_widen_up(v + (ZW_BOX_COEF_REL * ZW_FABS(v) + ZW_COEF_ABSERR));
-}
-
-static zw_real box_min_real(zw_real a, zw_real b)
-{
-    return (a < b) ? a : b;
-}
-
-static zw_real box_max_real(zw_real a, zw_real b)
-{
-    return (a > b) ? a : b;
+    return bx_up(v + (ZW_BOX_COEF_REL * ZW_FABS(v) + ZW_COEF_ABSERR));
 }
 
 /* ---- validation ------------------------------------------------------------------- */
@@ -122,7 +95,7 @@ static zw_status box_validate(const zw_plant_box *box)
     if (zw_device_init(&d, box->m_hi, box->b_lo, box->T) != ZW_OK) {
         return ZW_ERR_RANGE;
     }
-    delta_hi = box_widen_up(box_widen_up(box->b_hi * box->T) / box->m_lo);
+    delta_hi = bx_up(bx_up(box->b_hi * box->T) / box->m_lo);
     if (!(delta_hi <= ZW_BOX_DELTA_MAX)) {
         return ZW_ERR_RANGE;
     }
@@ -139,14 +112,7 @@ static zw_status box_validate_work(const zw_box_work *work)
     if ((work == NULL) || (work->cells == NULL)) {
         return ZW_ERR_NULL;
     }
-    if ((work->capacity < ZW_BOX_MIN_CELLS) || (work->max_evals < 1u) ||
-        (work->max_evals > ZW_BOX_MAX_EVALS)) {
-        return ZW_ERR_ARG;
-    }
-    if (!((work->rel_tol >= ZW_R(0.0)) && (work->rel_tol < ZW_R(1.0)))) {
-        return ZW_ERR_ARG;
-    }
-    return ZW_OK;
+    return bx_validate_work(work->capacity, ZW_BOX_MIN_CELLS, work->max_evals, work->rel_tol);
 }
 
 zw_status zw_box_work_init(zw_box_work *work, zw_box_cell *cells, uint_least32_t capacity)
@@ -161,26 +127,6 @@ zw_status zw_box_work_init(zw_box_work *work, zw_box_cell *cells, uint_least32_t
     work->capacity = capacity;
     work->max_evals = ZW_BOX_DEFAULT_EVALS;
     work->rel_tol = ZW_BOX_DEFAULT_REL_TOL;
-    return ZW_OK;
-}
-
-/* A gain that normalizes without overflow at every plant of the box (K / (m_lo/T^2) and
- * B / (m_lo / T) are the largest). */
-static zw_status box_validate_gain(const zw_plant_box *box, zw_real gain, bool stiffness)
-{
-    zw_status st;
-    zw_real scale;
-    st = zw_require_finite(gain);
-    if (st != ZW_OK) {
-        return st;
-    }
-    scale = box->m_lo / box->T;
-    if (stiffness) {
-        scale = scale / box->T;
-    }
-    if (!ZW_IS_FINITE(gain / scale)) {
-        return ZW_ERR_RANGE;
-    }
     return ZW_OK;
 }
 
@@ -206,13 +152,13 @@ static zw_status box_cell_bound(zw_real T, zw_real B, zw_box_cell *cell)
     zw_real sum_lo, x_lo, delta_lo, delta_hi, k_lo, bt_hi, h_lo, g_hi, num, den, k_f, bound;
     zw_real d12_hi;
     cell->bound = ZW_R(0.0);
-    sum_lo = box_widen_down(B + cell->b_lo);
+    sum_lo = bx_down(B + cell->b_lo);
     if (!(sum_lo > ZW_R(0.0))) {
         return ZW_OK; /* some plant has B + b <= 0: nothing stable */
     }
-    x_lo = box_widen_down(box_widen_down(sum_lo * T) / cell->m_hi);
-    delta_lo = box_max_real(ZW_R(0.0), box_widen_down(box_widen_down(cell->b_lo * T) / cell->m_hi));
-    delta_hi = box_widen_up(box_widen_up(cell->b_hi * T) / cell->m_lo);
+    x_lo = bx_down(bx_down(sum_lo * T) / cell->m_hi);
+    delta_lo = bx_max(ZW_R(0.0), bx_down(bx_down(cell->b_lo * T) / cell->m_hi));
+    delta_hi = bx_up(bx_up(cell->b_hi * T) / cell->m_lo);
     st = zw_coeffs_init(&at_lo, delta_lo);
     if (st != ZW_OK) {
         return st;
@@ -221,30 +167,30 @@ static zw_status box_cell_bound(zw_real T, zw_real B, zw_box_cell *cell)
     if (st != ZW_OK) {
         return st;
     }
-    k_lo = box_widen_down(box_widen_down(cell->m_lo / T) / T);
-    bt_hi = box_widen_up(B / T);
+    k_lo = bx_down(bx_down(cell->m_lo / T) / T);
+    bt_hi = bx_up(B / T);
     h_lo = box_coef_down(at_lo.hs * at_lo.sigma); /* sigma a power of two: the product is exact */
     g_hi = box_coef_up(at_hi.g);
-    num = box_widen_down(box_widen_down(k_lo * h_lo) - bt_hi);
+    num = bx_down(bx_down(k_lo * h_lo) - bt_hi);
     if (!(num > ZW_R(0.0)) || !(x_lo > ZW_R(0.0))) {
         return ZW_OK;
     }
-    den = box_widen_up(g_hi + box_widen_up(ZW_R(1.0) / x_lo));
-    k_f = box_widen_down(num / den);
+    den = bx_up(g_hi + bx_up(ZW_R(1.0) / x_lo));
+    k_f = bx_down(num / den);
     bound = k_f;
     d12_hi = box_d12_upper(&at_lo, &at_hi);
     if (d12_hi > ZW_R(0.0)) {
-        zw_real e_lo = box_max_real(ZW_R(0.0), box_coef_down(at_hi.e));
-        zw_real two_1pe = ZW_R(2.0) * box_widen_down(ZW_R(1.0) + e_lo); /* 2 (1 + e), doubling exact */
-        zw_real lambda_lo = box_widen_down(two_1pe / d12_hi);
-        zw_real room = box_widen_down(box_widen_down(k_lo * lambda_lo) - bt_hi); /* m lambda/T^2 - B/T */
-        zw_real k_l = box_widen_down(ZW_R(2.0) * room);
-        bound = box_min_real(bound, k_l);
+        zw_real e_lo = bx_max(ZW_R(0.0), box_coef_down(at_hi.e));
+        zw_real two_1pe = ZW_R(2.0) * bx_down(ZW_R(1.0) + e_lo); /* 2 (1 + e), doubling exact */
+        zw_real lambda_lo = bx_down(two_1pe / d12_hi);
+        zw_real room = bx_down(bx_down(k_lo * lambda_lo) - bt_hi); /* m lambda/T^2 - B/T */
+        zw_real k_l = bx_down(ZW_R(2.0) * room);
+        bound = bx_min(bound, k_l);
     }
     if (!ZW_IS_FINITE(bound)) {
         return ZW_ERR_RANGE;
     }
-    cell->bound = box_max_real(ZW_R(0.0), bound);
+    cell->bound = bx_max(ZW_R(0.0), bound);
     return ZW_OK;
 }
 
@@ -380,7 +326,7 @@ static void box_sift_down(zw_box_cell *cells, uint_least32_t live, uint_least32_
 /* The least bound of any cell, live or dropped: the search's certified lower bound. */
 static zw_real box_search_lower(const zw_box_search *s)
 {
-    return (s->live > 0u) ? box_min_real(s->cells[0].bound, s->dropped_min) : s->dropped_min;
+    return (s->live > 0u) ? bx_min(s->cells[0].bound, s->dropped_min) : s->dropped_min;
 }
 
 /* Drop the cells that cannot hold a value below the best plant found, then re-heap. */
@@ -390,7 +336,7 @@ static void box_prune(zw_box_search *s)
     for (i = 0u; i < s->live; ++i) {
         const zw_box_cell *c = &s->cells[i];
         if (c->bound >= s->upper) {
-            s->dropped_min = box_min_real(s->dropped_min, c->bound);
+            s->dropped_min = bx_min(s->dropped_min, c->bound);
         } else {
             s->cells[kept] = *c;
             kept += 1u;
@@ -409,7 +355,7 @@ static zw_status box_add_cell(zw_box_search *s, const zw_box_cell *c)
         return st;
     }
     if (c->bound >= s->upper) {
-        s->dropped_min = box_min_real(s->dropped_min, c->bound);
+        s->dropped_min = bx_min(s->dropped_min, c->bound);
     } else {
         s->cells[s->live] = *c;
         box_sift_up(s->cells, s->live);
@@ -469,7 +415,7 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
     *outcome = ZW_BOX_OPEN;
     for (;;) {
         zw_box_cell parent, left, right;
-        *lower = box_min_real(box_search_lower(s), s->upper);
+        *lower = bx_min(box_search_lower(s), s->upper);
         if (goal == ZW_BOX_GOAL_DECIDE) {
             if (*lower > K) {
                 *outcome = ZW_BOX_CERTIFIED;
@@ -528,8 +474,8 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
         }
         s->evals += 2u;
         /* a child's bound is at least its parent's (a cell's enclosure contains its parts') */
-        left.bound = box_max_real(left.bound, parent.bound);
-        right.bound = box_max_real(right.bound, parent.bound);
+        left.bound = bx_max(left.bound, parent.bound);
+        right.bound = bx_max(right.bound, parent.bound);
         st = box_add_cell(s, &left);
         if (st != ZW_OK) {
             return st;
@@ -574,7 +520,7 @@ static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work
     if (st != ZW_OK) {
         return st;
     }
-    st = box_validate_gain(box, B, false);
+    st = bx_validate_gain(box, B, false);
     if (st != ZW_OK) {
         return st;
     }
@@ -652,11 +598,11 @@ static zw_status box_check(const zw_plant_box *box, zw_real K, zw_real B, const 
     if (st != ZW_OK) {
         return st;
     }
-    st = box_validate_gain(box, K, true);
+    st = bx_validate_gain(box, K, true);
     if (st != ZW_OK) {
         return st;
     }
-    st = box_validate_gain(box, B, false);
+    st = bx_validate_gain(box, B, false);
     if (st != ZW_OK) {
         return st;
     }
@@ -719,10 +665,10 @@ static zw_status box_b_bracket(const zw_plant_box *box, zw_real *left, zw_real *
         if (st != ZW_OK) {
             return st;
         }
-        least = box_min_real(least, x.B_mmax);
+        least = bx_min(least, x.B_mmax);
     }
     *left = -box->b_lo;
-    *right = box_widen_up(least);
+    *right = bx_up(least);
     return ZW_OK;
 }
 
@@ -917,7 +863,7 @@ static zw_status box_b_range(const zw_plant_box *box, zw_real K, const zw_box_wo
     if (st != ZW_OK) {
         return st;
     }
-    st = box_validate_gain(box, K, true);
+    st = bx_validate_gain(box, K, true);
     if (st != ZW_OK) {
         return st;
     }

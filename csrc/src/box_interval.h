@@ -96,4 +96,37 @@ static inline bx_iv bx_div_pos(bx_iv a, bx_iv b)
     return bx_hull4(a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi);
 }
 
+/* A work list's settings (zw_box_work, zw_box_loop_work): capacity >= min_cells, max_evals
+ * in 1..ZW_BOX_MAX_EVALS, rel_tol in [0, 1); else ZW_ERR_ARG. */
+static inline zw_status bx_validate_work(uint_least32_t capacity, uint_least32_t min_cells,
+                                         uint_least32_t max_evals, zw_real rel_tol)
+{
+    if ((capacity < min_cells) || (max_evals < 1u) || (max_evals > ZW_BOX_MAX_EVALS)) {
+        return ZW_ERR_ARG;
+    }
+    if (!((rel_tol >= ZW_R(0.0)) && (rel_tol < ZW_R(1.0)))) {
+        return ZW_ERR_ARG;
+    }
+    return ZW_OK;
+}
+
+/* A gain that normalizes without overflow at every plant of the box: K T^2 / m and B T / m
+ * are largest at m_lo (ZW_ERR_RANGE), and |K| T T (rounded up) is finite. */
+static inline zw_status bx_validate_gain(const zw_plant_box *box, zw_real gain, bool stiffness)
+{
+    zw_status st = zw_require_finite(gain);
+    zw_real scale;
+    if (st != ZW_OK) {
+        return st;
+    }
+    scale = box->m_lo / box->T;
+    if (stiffness) {
+        scale = scale / box->T;
+    }
+    if (!ZW_IS_FINITE(gain / scale) || !ZW_IS_FINITE(bx_up(bx_up(ZW_FABS(gain) * box->T) * box->T))) {
+        return ZW_ERR_RANGE;
+    }
+    return ZW_OK;
+}
+
 #endif /* ZWIDTH_BOX_INTERVAL_H */

@@ -442,14 +442,7 @@ static zw_status bl_validate_work(const zw_box_loop_work *work)
     if ((work == NULL) || (work->cells == NULL) || (work->scratch == NULL)) {
         return ZW_ERR_NULL;
     }
-    if ((work->capacity < ZW_BOX_LOOP_MIN_CELLS) || (work->max_evals < 1u) ||
-        (work->max_evals > ZW_BOX_MAX_EVALS)) {
-        return ZW_ERR_ARG;
-    }
-    if (!((work->rel_tol >= ZW_R(0.0)) && (work->rel_tol < ZW_R(1.0)))) {
-        return ZW_ERR_ARG;
-    }
-    return ZW_OK;
+    return bx_validate_work(work->capacity, ZW_BOX_LOOP_MIN_CELLS, work->max_evals, work->rel_tol);
 }
 
 zw_status zw_box_loop_work_init(zw_box_loop_work *work, zw_box_loop_cell *cells, uint_least32_t capacity,
@@ -466,24 +459,6 @@ zw_status zw_box_loop_work_init(zw_box_loop_work *work, zw_box_loop_cell *cells,
     work->capacity = capacity;
     work->max_evals = ZW_BOX_LOOP_DEFAULT_EVALS;
     work->rel_tol = ZW_BOX_LOOP_DEFAULT_REL_TOL;
-    return ZW_OK;
-}
-
-/* A gain that normalizes without overflow at every plant (K T^2 / m_lo, B T / m_lo). */
-static zw_status bl_validate_gain(const zw_plant_box *box, zw_real gain, bool stiffness)
-{
-    zw_status st = zw_require_finite(gain);
-    zw_real scale;
-    if (st != ZW_OK) {
-        return st;
-    }
-    scale = box->m_lo / box->T;
-    if (stiffness) {
-        scale = scale / box->T;
-    }
-    if (!ZW_IS_FINITE(gain / scale) || !ZW_IS_FINITE(bx_up(bx_up(ZW_FABS(gain) * box->T) * box->T))) {
-        return ZW_ERR_RANGE;
-    }
     return ZW_OK;
 }
 
@@ -540,11 +515,11 @@ static zw_status bl_check(const zw_plant_box *box, const zw_device_loop_spec *sp
     if (st != ZW_OK) {
         return st;
     }
-    st = bl_validate_gain(box, K, true);
+    st = bx_validate_gain(box, K, true);
     if (st != ZW_OK) {
         return st;
     }
-    st = bl_validate_gain(box, B, false);
+    st = bx_validate_gain(box, B, false);
     if (st != ZW_OK) {
         return st;
     }
@@ -631,7 +606,7 @@ static zw_status bl_k_max(const zw_plant_box *box, const zw_device_loop_spec *sp
     if (st != ZW_OK) {
         return st;
     }
-    st = bl_validate_gain(box, B, false);
+    st = bx_validate_gain(box, B, false);
     if (st != ZW_OK) {
         return st;
     }
@@ -742,7 +717,7 @@ static zw_status bl_b_range(const zw_plant_box *box, const zw_device_loop_spec *
     if (st != ZW_OK) {
         return st;
     }
-    st = bl_validate_gain(box, K, true);
+    st = bx_validate_gain(box, K, true);
     if (st != ZW_OK) {
         return st;
     }
