@@ -489,18 +489,6 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
 
 /* ---- public functions ----------------------------------------------------------------- */
 
-static void box_fail_bound(zw_box_bound *out)
-{
-    if (out == NULL) {
-        return;
-    }
-    out->K_lower = ZW_R(0.0);
-    out->K_upper = ZW_R(0.0);
-    out->m_worst = ZW_NAN;
-    out->b_worst = ZW_NAN;
-    out->evals = 0u;
-    out->converged = false;
-}
 
 static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work *work,
                            zw_box_bound *out)
@@ -546,7 +534,7 @@ zw_status zw_box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work *wo
 {
     zw_status st = box_k_max(box, B, work, out);
     if (st != ZW_OK) {
-        box_fail_bound(out);
+        bx_fail_bound(out);
     }
     return st;
 }

@@ -129,4 +129,18 @@ static inline zw_status bx_validate_gain(const zw_plant_box *box, zw_real gain, 
     return ZW_OK;
 }
 
+/* The fail-safe bound (status.h): certifies nothing. */
+static inline void bx_fail_bound(zw_box_bound *out)
+{
+    if (out == NULL) {
+        return;
+    }
+    out->K_lower = ZW_R(0.0);
+    out->K_upper = ZW_R(0.0);
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
+    out->evals = 0u;
+    out->converged = false;
+}
+
 #endif /* ZWIDTH_BOX_INTERVAL_H */

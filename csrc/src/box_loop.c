@@ -555,18 +555,6 @@ zw_status zw_box_loop_check(const zw_plant_box *box, const zw_device_loop_spec *
     return st;
 }
 
-static void bl_fail_bound(zw_box_loop_bound *out)
-{
-    if (out == NULL) {
-        return;
-    }
-    out->K_lower = ZW_R(0.0);
-    out->K_upper = ZW_R(0.0);
-    out->m_worst = ZW_NAN;
-    out->b_worst = ZW_NAN;
-    out->evals = 0u;
-    out->converged = false;
-}
 
 /* K_max(B) at one plant (certified point value); keeps the least in *best. */
 static zw_status bl_point_k_max(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b, zw_real B,
@@ -664,7 +652,7 @@ zw_status zw_box_loop_k_max(const zw_plant_box *box, const zw_device_loop_spec *
 {
     zw_status st = bl_k_max(box, spec, ws, B, work, out);
     if (st != ZW_OK) {
-        bl_fail_bound(out);
+        bx_fail_bound(out);
     }
     return st;
 }

@@ -220,14 +220,11 @@ zw_status zw_box_loop_check(const zw_plant_box *box, const zw_device_loop_spec *
                             zw_loop_workspace *ws, zw_real K, zw_real B,
                             const zw_box_loop_work *work, zw_box_loop_verdict *out);
 
-typedef struct zw_box_loop_bound {
-    zw_real K_lower;          /* certified: every K in (0, K_lower] stable at B, every plant */
-    zw_real K_upper;          /* zw_device_loop_k_max at the worst plant found: the true
-                                 infimum is below it (up to that value's own rounding band) */
-    zw_real m_worst, b_worst; /* that plant */
-    uint_least32_t evals;     /* sub-box tests, all bisection steps */
-    bool converged;           /* (K_upper - K_lower) <= rel_tol K_upper */
-} zw_box_loop_bound;
+/* zw_box_bound's fields: K_lower certified (every K in (0, K_lower] stable at B for every
+ * plant), K_upper zw_device_loop_k_max at the worst plant found (the true infimum is below
+ * it, up to that value's own rounding band), that plant, evals (sub-box tests and bisection
+ * steps), converged ((K_upper - K_lower) <= rel_tol K_upper). */
+typedef zw_box_bound zw_box_loop_bound;
 
 /* inf over the box of K_max(B): bisection on K between 0 and the least point value found,
  * each step a certification of (0, K] over the box. */
