@@ -6,13 +6,15 @@
  * eva-modules: regmap regmap_codec regmap_policy regmap_commission regmap_persist
  * eva-support: status
  * eva-defines: -DZW_REGMAP_NO_C11_ATOMICS
+ * eva-precision: 1
+ * eva-options: -eva-auto-loop-unroll 40
  *
- * The ideal core (eva-support) is analysed with the map, not counted for coverage (its own
- * driver, eva_ideal.c, covers it).  The general loop (loop.c, loop_limits.c, device_loop.c,
- * not gated yet) is replaced by the stubs below: each writes every output of the real
- * function, any value of its type on success and the fail-safe value of device_loop.h on
- * error, and returns any status.  So the analysis covers the map with any loop behaviour
- * the general loop's contract allows, and nothing inside the general loop.
+ * The map's calls into the ideal core (device.h, selftest.h) and the general loop
+ * (device_loop.h) are replaced by the stubs below, which their own drivers (eva_ideal.c,
+ * eva_loop.c) justify: each writes every output of the real function, any value of its
+ * type on success and the fail-safe value of its header on error, and returns any status.
+ * So the analysis covers the map with any behaviour those contracts allow, and nothing
+ * inside the core or the loop.
  *
  * A read of a volatile is any value of its type (NaN and infinities included).  The map is
  * initialized by zw_regmap_init with any block (or none), then configured with any
