@@ -6,6 +6,7 @@
  * eva-modules: loop device_loop
  * eva-support: status coeffs region margin extremes device
  * eva-precision: 0
+ * eva-options: -eva-domains cvalue,octagon
  * eva-slevel: check_spec:50,zero_poly:30,check_bilinear:60,zw_device_normalize{f}:10,normalize:10,check_loop:10,check_gains:10,mul_factor:30,build_parts:10,velocity_estimate:10,zw_loop_lowpass_pole{f}:10,zw_loop_init{f}:10,zw_loop_carry_gain_rounding{f}:10,zw_loop_poly{f}:10,zw_loop_check{f}:10,zw_loop_is_stable{f}:10,zw_loop_radius_within{f}:10,zw_loop_spectral_radius{f}:10,device_loop_init:10,zw_device_loop_init{f}:10,gains:10,zw_device_loop_check{f}:10,zw_device_loop_is_stable{f}:10,zw_device_loop_radius_within{f}:10,zw_device_loop_spectral_radius{f}:10,k_max:10,zw_device_loop_k_max{f}:10,loop_b_range:10,zw_device_loop_b_range{f}:10,extremes:10,zw_device_loop_extremes_compute{f}:10
  *
  * As eva_ideal.c: a read of a volatile is any value of its type (NaN and infinities
