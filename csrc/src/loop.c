@@ -867,7 +867,7 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspac
             const unsigned half = m / 2u;
             w[0] = sc_step(w[0], we[0], w[m], we[m], k.v, ak_ke, ke, &we[0]);
             big = ZW_FABS(w[0]);
-            for (t = 1u; 2u * t < m; ++t) {
+            for (t = 1u; (t < m) && (2u * t < m); ++t) { /* t < m: implied, for Eva */
                 const unsigned t2 = m - t;
                 const zw_real x = w[t], xe = we[t], y = w[t2], ye = we[t2];
                 w[t] = sc_step(x, xe, y, ye, k.v, ak_ke, ke, &we[t]);
@@ -1547,7 +1547,7 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
                                              zw_real alpha, zw_real beta, zw_real r)
 {
     zw_real *w = ws->row, *we = ws->row_err;
-    unsigned k, i, deg = 0u;
+    unsigned k, i;
     const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta), re = zw_eb_exact(r);
     for (k = 0u; k <= loop->degree; ++k) {
         zw_eb pk = eb_add_exactish(eb_make(loop->D[k], loop->D_err[k]),
@@ -1555,9 +1555,9 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
         uint_least32_t binom = 1u; /* C(k, i): at most C(26, 13) < 2^24, exact in zw_real */
         pk = eb_add_exactish(pk, eb_mul_exactish(gb, eb_make(loop->Nb[k], loop->Nb_err[k])));
         if (k > 0u) {
-            /* w *= r (1 + s), in place, highest power first */
-            for (i = deg + 1u; i > 0u; --i) {
-                zw_eb sum = (i <= deg) ? zw_eb_add(eb_stored(w[i], we[i]), eb_stored(w[i - 1u], we[i - 1u]))
+            /* w (degree k - 1) *= r (1 + s), in place, highest power first */
+            for (i = k; i > 0u; --i) {
+                zw_eb sum = (i < k) ? zw_eb_add(eb_stored(w[i], we[i]), eb_stored(w[i - 1u], we[i - 1u]))
                                      : eb_stored(w[i - 1u], we[i - 1u]);
                 sum = eb_mul_exactish(re, sum);
                 w[i] = sum.v;
@@ -1568,7 +1568,6 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
                 w[0] = top.v;
                 we[0] = top.e;
             }
-            deg += 1u;
         } else {
             w[0] = ZW_R(0.0);
             we[0] = ZW_R(0.0);
