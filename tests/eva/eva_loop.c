@@ -4,10 +4,10 @@
  * (loop.h) and of the loop in real units (device_loop.h), every input unconstrained.
  *
  * eva-modules: loop device_loop
- * eva-support: status coeffs region margin extremes device
+ * eva-support: status coeffs region margin extremes device plant
  * eva-precision: 0
  * eva-options: -eva-domains cvalue,octagon
- * eva-slevel: check_spec:50,zero_poly:30,check_bilinear:60,zw_device_normalize{f}:10,normalize:10,check_loop:10,check_gains:10,mul_factor:30,build_parts:10,velocity_estimate:10,zw_loop_lowpass_pole{f}:10,zw_loop_init{f}:10,zw_loop_carry_gain_rounding{f}:10,zw_loop_poly{f}:10,zw_loop_check{f}:10,zw_loop_is_stable{f}:10,zw_loop_radius_within{f}:10,zw_loop_spectral_radius{f}:10,device_loop_init:10,zw_device_loop_init{f}:10,gains:10,zw_device_loop_check{f}:10,zw_device_loop_is_stable{f}:10,zw_device_loop_radius_within{f}:10,zw_device_loop_spectral_radius{f}:10,k_max:10,zw_device_loop_k_max{f}:10,loop_b_range:10,zw_device_loop_b_range{f}:10,extremes:10,zw_device_loop_extremes_compute{f}:10
+ * eva-slevel: zw_plant_fail{f}:20,all_finite_0:40,check_plant:30,mul_poly:120,all_finite:40,mul_scalar:40,set_power_minus_one:40,loop_build:10,zw_plant_from_coeffs{f}:10,check_spec:50,zero_poly:30,check_bilinear:60,zw_device_normalize{f}:10,normalize:10,check_loop:10,check_gains:10,mul_factor:30,build_parts:10,velocity_estimate:10,zw_loop_lowpass_pole{f}:10,zw_loop_init{f}:10,zw_loop_init_plant{f}:10,zw_device_loop_init_plant{f}:10,zw_loop_carry_gain_rounding{f}:10,zw_loop_poly{f}:10,zw_loop_check{f}:10,zw_loop_is_stable{f}:10,zw_loop_radius_within{f}:10,zw_loop_spectral_radius{f}:10,device_loop_init:10,zw_device_loop_init{f}:10,gains:10,zw_device_loop_check{f}:10,zw_device_loop_is_stable{f}:10,zw_device_loop_radius_within{f}:10,zw_device_loop_spectral_radius{f}:10,k_max:10,zw_device_loop_k_max{f}:10,loop_b_range:10,zw_device_loop_b_range{f}:10,extremes:10,zw_device_loop_extremes_compute{f}:10
  *
  * As eva_ideal.c: a read of a volatile is any value of its type (NaN and infinities
  * included); structs passed in (zw_coeffs, zw_loop_spec, zw_loop, zw_device_loop) have every
@@ -29,6 +29,7 @@
 #include "zwidth/device_loop.h"
 #include "zwidth/loop.h"
 #include "zwidth/loop_limits.h"
+#include "../../csrc/src/internal.h" /* zw_routh_hurwitz, the loop's Routh test for box_loop.c */
 
 /*@ requires \valid(alpha_max);
     assigns \result, *alpha_max \from indirect:loop, indirect:ws, beta;
@@ -85,10 +86,41 @@ static void any_spec(zw_loop_spec *s)
     s->average = any_unsigned_source;
 }
 
+/* A zw_plant with every field any value (a failed init's, a hand-filled one, garbage). */
+static void any_plant(zw_plant *p)
+{
+    unsigned i;
+    p->spec.delta = any_real();
+    p->spec.kappa = any_real();
+    p->spec.lambda = any_real();
+    p->spec.delta_relerr = any_real();
+    p->spec.kappa_relerr = any_real();
+    p->spec.lambda_relerr = any_real();
+    p->order = any_unsigned_source;
+    /*@ loop unroll ZW_PLANT_MAX_ORDER + 1u; */
+    for (i = 0u; i <= ZW_PLANT_MAX_ORDER; ++i) {
+        p->den[i] = any_real();
+        p->den_err[i] = any_real();
+        p->den_s[i] = any_real();
+        p->den_s_err[i] = any_real();
+        p->den_w[i] = any_real();
+        p->den_w_err[i] = any_real();
+    }
+    /*@ loop unroll ZW_PLANT_MAX_ORDER; */
+    for (i = 0u; i < ZW_PLANT_MAX_ORDER; ++i) {
+        p->num[i] = any_real();
+        p->num_err[i] = any_real();
+        p->num_s[i] = any_real();
+        p->num_s_err[i] = any_real();
+    }
+    any_coeffs(&p->c);
+}
+
 static void any_loop(zw_loop *l)
 {
     unsigned i;
     any_coeffs(&l->c);
+    any_plant(&l->plant);
     any_spec(&l->spec);
     l->degree = any_unsigned_source;
     /*@ loop unroll ZW_LOOP_MAX_DEGREE + 1u; */
@@ -199,11 +231,35 @@ static void drive_init(int kind)
     read_loop(&l);
     (void)zw_loop_init(maybe_null(&l), maybe_null(&c), maybe_null(&spec));
     (void)zw_loop_carry_gain_rounding(maybe_null(&l), any_real(), any_real());
+    {
+        static zw_plant plant; /* large: not in this frame */
+        any_plant(&plant);
+        (void)zw_loop_init_plant(&l, &plant, &spec);
+        read_loop(&l);
+        (void)zw_loop_init_plant(maybe_null(&l), maybe_null(&plant), maybe_null(&spec));
+    }
+}
+
+/* loop.c's guarded Routh test as box_loop.c calls it (internal.h): any coefficients and
+ * bounds, any degree up to the arrays' (the caller's contract: n + 1 entries). */
+static void drive_routh(void)
+{
+    static zw_real w[ZW_LOOP_MAX_DEGREE + 1u], we[ZW_LOOP_MAX_DEGREE + 1u];
+    unsigned i, n = any_unsigned_source;
+    /*@ loop unroll ZW_LOOP_MAX_DEGREE + 1u; */
+    for (i = 0u; i <= ZW_LOOP_MAX_DEGREE; ++i) {
+        w[i] = any_real();
+        we[i] = any_real();
+    }
+    if (n > ZW_LOOP_MAX_DEGREE) {
+        n = ZW_LOOP_MAX_DEGREE;
+    }
+    sink_int = (int)zw_routh_hurwitz(w, we, n);
 }
 
 static void drive_checks(void)
 {
-    zw_loop l;
+    static zw_loop l; /* the workspace may keep a pointer to it (the limits' state) */
     static zw_loop_workspace ws_storage;
     zw_loop_workspace *ws = &ws_storage;
     zw_loop_verdict v;
@@ -245,6 +301,7 @@ static void any_device_loop(zw_device_loop *dl)
     dl->dev.b_scale = any_real();
     any_coeffs(&dl->dev.co);
     any_loop(&dl->loop);
+    dl->mass_relerr = any_real();
 }
 
 static void drive_device_loop_init(int kind)
@@ -265,6 +322,13 @@ static void drive_device_loop_init(int kind)
     sink_real = dl.dev.co.delta;
     read_loop(&dl.loop);
     (void)zw_device_loop_init(maybe_null(&dl), any_real(), any_real(), any_real(), maybe_null(&spec));
+    (void)zw_device_loop_init_plant(&dl, any_real(), any_real(), any_real(), any_real(), any_real(),
+                                    any_real(), any_real(), any_real(), &spec);
+    sink_real = dl.dev.m;
+    sink_real = dl.mass_relerr;
+    read_loop(&dl.loop);
+    (void)zw_device_loop_init_plant(maybe_null(&dl), any_real(), any_real(), any_real(), any_real(),
+                                    any_real(), any_real(), any_real(), any_real(), maybe_null(&spec));
 }
 
 static void drive_device_loop(void)
@@ -328,6 +392,7 @@ int main(void)
     drive_device_loop_init((int)ZW_VFILTER_LOWPASS);
     drive_device_loop_init((int)ZW_VFILTER_AVERAGE);
     drive_checks();
+    drive_routh();
     drive_device_loop();
     return 0;
 }

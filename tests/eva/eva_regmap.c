@@ -107,6 +107,7 @@ zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real
     out->loop.spec.filter = spec->filter;
     out->loop.spec.filter_pole = any_real();
     out->loop.spec.average = spec->average;
+    out->mass_relerr = any_real();
     return any_bool() ? ZW_OK : any_error();
 }
 
