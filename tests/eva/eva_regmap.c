@@ -409,6 +409,10 @@ static void any_ceilings(zw_ceilings *k)
     k->b_max = any_float();
     k->dk_max = any_float();
     k->db_max = any_float();
+    k->delay = any_float(); /* the firmware's loop */
+    k->vfilter = any_float();
+    k->vf_param = any_float();
+    k->differentiator = any_float();
 }
 
 #define ZW_EVA_PDU_MAX 253u /* the Modbus PDU limit */
