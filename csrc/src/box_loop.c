@@ -195,6 +195,22 @@ static bl_result bl_sign(zw_real v, zw_real err)
     return BL_UNSURE;
 }
 
+/* The exponent e of a finite big > 0 = f 2^e, f in [1/2, 1) (loop.c's scale_exponent): in
+ * [-(ZW_REAL_MAX_EXP + 64), ZW_REAL_MAX_EXP], clamped to it all the same so that -e cannot
+ * overflow whatever a frexp returned (no change for any finite big > 0). */
+static int bl_scale_exponent(zw_real big)
+{
+    int ex = 0;
+    (void)ZW_FREXP(big, &ex);
+    if (ex > ZW_REAL_MAX_EXP) {
+        ex = ZW_REAL_MAX_EXP;
+    }
+    if (ex < -(ZW_REAL_MAX_EXP + 64)) {
+        ex = -(ZW_REAL_MAX_EXP + 64);
+    }
+    return ex;
+}
+
 /* Is w[0] s^n + ... + w[n] (highest first, errors we[]) surely Hurwitz?  loop.c's test:
  * every coefficient surely positive, then the first column of the division-free Routh
  * array (row k entry j = B0 A[j+1] - A0 B[j+1]) with running error bounds (zw_eb keeps the
@@ -241,8 +257,7 @@ static bl_result bl_routh(zw_real w[], zw_real we[], unsigned n)
             return BL_UNSURE;
         }
         if ((big > ZW_R(0.0)) && ((big < BL_SCALE_LO) || (big > BL_SCALE_HI))) {
-            int ex = 0;
-            (void)ZW_FREXP(big, &ex);
+            const int ex = bl_scale_exponent(big);
             for (j = 0u; j < len; ++j) {
                 w[off + 2u * j] = ZW_LDEXP(w[off + 2u * j], -ex);
                 we[off + 2u * j] = ZW_LDEXP(we[off + 2u * j], -ex) + ZW_ETA;
