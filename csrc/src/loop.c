@@ -145,7 +145,11 @@ static zw_status check_loop(const zw_loop *loop)
     if (check_spec(&loop->spec) != ZW_OK) {
         return ZW_ERR_ARG;
     }
+    /* the bound follows from the sum (order, delay and the estimate's degree were checked);
+     * it is tested too so that a sound analyser (Eva, docs/eva.md) sees every row index in
+     * range without relating the degree to the spec */
     if (((loop->plant.order != 2u) && (loop->plant.order != 3u)) ||
+        (loop->degree > ZW_LOOP_MAX_DEGREE) ||
         (loop->degree != loop->plant.order + loop->spec.delay + estimate_degree(&loop->spec))) {
         return ZW_ERR_ARG;
     }
@@ -267,6 +271,12 @@ static void mul_factor(const build_ctx *ctx, zw_real v[], zw_real e[], unsigned 
     zw_eb f1, f0;
     factor(ctx, kind, &f1, &f0);
     for (k = 0u; k < times; ++k) {
+        /* never taken: deg + times <= ZW_LOOP_MAX_DEGREE for every spec check_spec accepts;
+         * the test states it for a sound analyser (docs/eva.md), which cannot relate the
+         * count to the degree */
+        if (*deg >= ZW_LOOP_MAX_DEGREE) {
+            break;
+        }
         mul_linear(v, e, *deg, f1, f0);
         *deg += 1u;
     }
@@ -918,7 +928,7 @@ ZW_NOINLINE static routh_result schur_cohn(const zw_loop *loop, zw_loop_workspac
             const unsigned half = m / 2u;
             w[0] = sc_step(w[0], we[0], w[m], we[m], k.v, ak_ke, ke, &we[0]);
             big = ZW_FABS(w[0]);
-            for (t = 1u; 2u * t < m; ++t) {
+            for (t = 1u; (t < m) && (2u * t < m); ++t) { /* t < m: implied, for Eva */
                 const unsigned t2 = m - t;
                 const zw_real x = w[t], xe = we[t], y = w[t2], ye = we[t2];
                 w[t] = sc_step(x, xe, y, ye, k.v, ak_ke, ke, &we[t]);
@@ -1626,7 +1636,7 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
                                              zw_real alpha, zw_real beta, zw_real r)
 {
     zw_real *w = ws->row, *we = ws->row_err;
-    unsigned k, i, deg = 0u;
+    unsigned k, i;
     const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta), re = zw_eb_exact(r);
     for (k = 0u; k <= loop->degree; ++k) {
         zw_eb pk = eb_add_exactish(eb_make(loop->D[k], loop->D_err[k]),
@@ -1634,9 +1644,9 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
         uint_least32_t binom = 1u; /* C(k, i): at most C(27, 13) = 4 * 5014575, exact in zw_real */
         pk = eb_add_exactish(pk, eb_mul_exactish(gb, eb_make(loop->Nb[k], loop->Nb_err[k])));
         if (k > 0u) {
-            /* w *= r (1 + s), in place, highest power first */
-            for (i = deg + 1u; i > 0u; --i) {
-                zw_eb sum = (i <= deg) ? zw_eb_add(eb_stored(w[i], we[i]), eb_stored(w[i - 1u], we[i - 1u]))
+            /* w (degree k - 1) *= r (1 + s), in place, highest power first */
+            for (i = k; i > 0u; --i) {
+                zw_eb sum = (i < k) ? zw_eb_add(eb_stored(w[i], we[i]), eb_stored(w[i - 1u], we[i - 1u]))
                                      : eb_stored(w[i - 1u], we[i - 1u]);
                 sum = eb_mul_exactish(re, sum);
                 w[i] = sum.v;
@@ -1647,7 +1657,6 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
                 w[0] = top.v;
                 we[0] = top.e;
             }
-            deg += 1u;
         } else {
             w[0] = ZW_R(0.0);
             we[0] = ZW_R(0.0);

@@ -1,17 +1,22 @@
 /* SPDX-FileCopyrightText: 2026 The zwidth authors
    SPDX-License-Identifier: Apache-2.0 */
 /* Frama-C Eva driver (docs/eva.md, "Pending: the general loop's limits"): every public
- * entry point of the general loop's limits (loop_limits.h), and of the loop (loop.h) they
- * run on, with every input unconstrained.  PENDING: not named eva_*.c, so tools/eva.sh
- * does not run it yet (too slow at the CI's options, and its alarms are not all explained);
- * docs/eva.md has the command and the figures.  Rename it to eva_loop_limits.c to gate it.
+ * entry point of the general loop's limits (loop_limits.h), with every input
+ * unconstrained, and the loop.h functions they run on (loop.c is counted for coverage by
+ * eva_loop.c).  PENDING: not named eva_*.c, so tools/eva.sh does not run it yet (its
+ * alarms are not explained); run it with tools/eva.sh --keep tests/eva/pending_loop_limits.c.
  *
- * eva-modules: status coeffs loop loop_limits
+ * eva-modules: loop_limits
+ * eva-support: status coeffs loop
+ * eva-precision: 0
+ * eva-slevel: check_spec:50,zero_poly:30,check_bilinear:60,check_loop:10,check_gains:10,mul_factor:30,build_parts:10,velocity_estimate:10,zw_loop_lowpass_pole{f}:10,zw_loop_init{f}:10,zw_loop_carry_gain_rounding{f}:10,zw_loop_poly{f}:10,zw_loop_check{f}:10,zw_loop_is_stable{f}:10,zw_loop_radius_within{f}:10,zw_loop_spectral_radius{f}:10,plant_init:10,zw_loop_alpha_max{f}:10,zw_loop_beta_intervals{f}:10,zw_loop_beta_interval{f}:10,zw_loop_extremes_compute{f}:10,zw_loop_boundary_point{f}:10,zw_loop_boundary_line{f}:10
  *
  * As in eva_ideal.c: a read of a volatile zw_real is any value of the type, NaN and both
  * infinities included; the structs passed in (zw_coeffs, zw_loop, zw_loop_spec) have every
  * field any value (a failed init, a struct filled by hand, garbage), and so has the
- * workspace (it needs no initialisation).  Each entry point is called with every output
+ * workspace (loop.h: it needs no initialisation, any contents are fine): its numbers any
+ * values, its flags false or true, its pointers NULL (static storage: a read of one
+ * before the call wrote it would be an alarm).  Each entry point is called with every output
  * uninitialized and every output read afterwards (the fail-safe rule), then with every
  * pointer independently NULL or valid.
  */
@@ -98,6 +103,85 @@ static void built_loop(zw_loop *lp)
     (void)zw_coeffs_init(&c, any_real());
     any_spec(&sp);
     (void)zw_loop_init(lp, &c, &sp);
+}
+
+/* A workspace with any contents (see above). */
+static void any_workspace(zw_loop_workspace *ws)
+{
+    unsigned i;
+    for (i = 0u; i <= ZW_LOOP_MAX_DEGREE; ++i) {
+        ws->row[i] = any_real();
+        ws->row_err[i] = any_real();
+    }
+    for (i = 0u; i < ZW_LOOP_MAX_DEGREE; ++i) {
+        ws->root[i].re = any_real();
+        ws->root[i].im = any_real();
+        ws->radius[i] = any_real();
+    }
+    ws->lim_plant.one_minus_e = any_real();
+    ws->lim_plant.r12 = any_real();
+    ws->lim_plant.two_c1 = any_real();
+    ws->lim_plant.phase = any_real();
+    ws->lim_plant.one_minus_a = any_real();
+    ws->lim_plant.eps = any_real();
+    ws->lim_plant.grid_h = any_real();
+    ws->lim_plant.grid_n = any_unsigned_source;
+    ws->lim_pt.theta = any_real();
+    ws->lim_pt.f = any_real();
+    ws->lim_pt.f_err = any_real();
+    ws->lim_pt.v = any_real();
+    ws->lim_pt.v_err = any_real();
+    ws->lim_r0.re = any_real();
+    ws->lim_r0.im = any_real();
+    ws->lim_s.re = any_real();
+    ws->lim_s.im = any_real();
+    ws->lim_scan.mode = any_unsigned_source;
+    ws->lim_scan.take = any_unsigned_source;
+    ws->lim_scan.fixed = any_real();
+    ws->lim_scan.floor = any_real();
+    ws->lim_scan.found = any_bool();
+    ws->lim_scan.degenerate = any_bool();
+    ws->lim_scan.est = any_real();
+    ws->lim_scan.lo = any_real();
+    ws->lim_scan.hi = any_real();
+    ws->lim_walk.have_prev = any_bool();
+    ws->lim_walk.cell = any_bool();
+    ws->lim_walk.truncated = any_bool();
+    ws->lim_walk.step = any_unsigned_source;
+    ws->lim_walk.count = any_unsigned_source;
+    ws->lim_walk.i = any_unsigned_source;
+    ws->lim_walk.alpha = any_real();
+    ws->lim_walk.prev_est = any_real();
+    ws->lim_walk.prev_lo = any_real();
+    ws->lim_walk.prev_hi = any_real();
+    ws->lim_walk.floor = any_real();
+    ws->lim_walk.est = any_real();
+    ws->lim_walk.lo = any_real();
+    ws->lim_walk.hi = any_real();
+    ws->lim_walk.mid = any_real();
+    for (i = 0u; i < 4u; ++i) {
+        ws->lim_walk.cell_lo[i] = any_real();
+        ws->lim_walk.cell_hi[i] = any_real();
+    }
+    ws->lim_walk.outer[0] = any_real();
+    ws->lim_walk.outer[1] = any_real();
+    ws->lim_ext.bl = any_real();
+    ws->lim_ext.bh = any_real();
+    ws->lim_ext.w = any_real();
+    ws->lim_ext.a = any_real();
+    ws->lim_ext.b = any_real();
+    ws->lim_ext.c = any_real();
+    ws->lim_ext.d = any_real();
+    ws->lim_ext.fc = any_real();
+    ws->lim_ext.fd = any_real();
+    ws->lim_ext.t = any_real();
+    ws->lim_ext.best_a = any_real();
+    ws->lim_ext.best_b = any_real();
+    ws->lim_ext.i = any_unsigned_source;
+    ws->lim_ext.ibest = any_unsigned_source;
+    ws->lim_ext.it = any_unsigned_source;
+    ws->lim_amax = any_real();
+    ws->lim_stable = any_bool();
 }
 
 static void read_verdict(const zw_loop_verdict *v)
@@ -192,6 +276,7 @@ static void drive_limits(const zw_loop *lp)
 int main(void)
 {
     any_loop(&g_loop);
+    any_workspace(&g_ws);
     drive_loop(&g_loop);
     drive_limits(&g_loop);
     built_loop(&g_loop);

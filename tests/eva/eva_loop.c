@@ -1,18 +1,21 @@
 /* SPDX-FileCopyrightText: 2026 The zwidth authors
    SPDX-License-Identifier: Apache-2.0 */
-/* Frama-C Eva driver, pending: tools/eva.sh runs eva_*.c only, this one once it passes
- * (docs/eva.md).  Every public entry point of the general loop
+/* Frama-C Eva driver (tools/eva.sh, docs/eva.md).  Every public entry point of the general loop
  * (loop.h) and of the loop in real units (device_loop.h), every input unconstrained.
  *
  * eva-modules: loop device_loop
  * eva-support: status coeffs region margin extremes device
- * eva-slevel: check_spec:50
+ * eva-precision: 0
+ * eva-options: -eva-domains cvalue,octagon
+ * eva-slevel: check_spec:50,zero_poly:30,check_bilinear:60,zw_device_normalize{f}:10,normalize:10,check_loop:10,check_gains:10,mul_factor:30,build_parts:10,velocity_estimate:10,zw_loop_lowpass_pole{f}:10,zw_loop_init{f}:10,zw_loop_carry_gain_rounding{f}:10,zw_loop_poly{f}:10,zw_loop_check{f}:10,zw_loop_is_stable{f}:10,zw_loop_radius_within{f}:10,zw_loop_spectral_radius{f}:10,device_loop_init:10,zw_device_loop_init{f}:10,gains:10,zw_device_loop_check{f}:10,zw_device_loop_is_stable{f}:10,zw_device_loop_radius_within{f}:10,zw_device_loop_spectral_radius{f}:10,k_max:10,zw_device_loop_k_max{f}:10,loop_b_range:10,zw_device_loop_b_range{f}:10,extremes:10,zw_device_loop_extremes_compute{f}:10
  *
  * As eva_ideal.c: a read of a volatile is any value of its type (NaN and infinities
  * included); structs passed in (zw_coeffs, zw_loop_spec, zw_loop, zw_device_loop) have every
  * field any value, so a loop given to a check may have any degree, any spec and garbage
- * coefficients; the workspace is never initialized (loop.h: "needs no initialisation":
- * every read of it must follow a write); every output is read after the call, and each
+ * coefficients; the workspace holds any contents (loop.h: "needs no initialisation ...
+ * any contents (garbage, another loop's) are fine"; the check's rows, roots and
+ * radii any values; the limits' part, which loop_limits.c uses (its driver is
+ * pending_loop_limits.c), as in static storage); every output is read after the call, and each
  * call is repeated with every pointer independently NULL or valid.
  *
  * device_loop's limits call loop_limits.h (zw_loop_alpha_max, zw_loop_beta_interval,
@@ -34,7 +37,8 @@ zw_status zw_loop_alpha_max(const zw_loop *loop, zw_loop_workspace *ws, zw_real 
                             zw_real *alpha_max);
 /*@ requires \valid(lo) && \valid(hi) && \valid(nonempty);
     assigns \result, *lo, *hi, *nonempty \from indirect:loop, indirect:ws, alpha;
-    ensures \initialized(lo) && \initialized(hi) && \initialized(nonempty); */
+    ensures \initialized(lo) && \initialized(hi) && \initialized(nonempty);
+    ensures *nonempty == 0 || *nonempty == 1; */
 zw_status zw_loop_beta_interval(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha,
                                 zw_real *lo, zw_real *hi, bool *nonempty);
 /*@ requires \valid(out);
@@ -129,6 +133,25 @@ static void read_loop(const zw_loop *l)
     }
 }
 
+/* A workspace with any contents (see the header comment). */
+static void any_workspace(zw_loop_workspace *ws)
+{
+    unsigned i;
+    /*@ loop unroll ZW_LOOP_MAX_DEGREE + 1u; */
+    for (i = 0u; i <= ZW_LOOP_MAX_DEGREE; ++i) {
+        ws->row[i] = any_real();
+        ws->row_err[i] = any_real();
+    }
+    /*@ loop unroll ZW_LOOP_MAX_DEGREE; */
+    for (i = 0u; i < ZW_LOOP_MAX_DEGREE; ++i) {
+        ws->root[i].re = any_real();
+        ws->root[i].im = any_real();
+        ws->radius[i] = any_real();
+    }
+    ws->lim_amax = any_real();
+    ws->lim_stable = any_bool();
+}
+
 static void read_verdict(const zw_loop_verdict *v)
 {
     sink_int = v->stable;
@@ -145,16 +168,21 @@ static void drive_pole(void)
     (void)zw_loop_lowpass_pole(any_real(), any_real(), maybe_null(&a));
 }
 
-/* The filter kind is split: NONE, LOWPASS, AVERAGE and every other int, each analysed on
- * its own (together: every spec).  One spec with any kind would merge the AVERAGE case's
- * n in 1..16 with the other kinds' unchecked n, and Eva could not bound the parts' degree. */
+/* The filter kind is split: NONE, LOWPASS, AVERAGE, every negative int (kind -1) and every
+ * int above AVERAGE (kind -2), each analysed on its own (together: every spec).  One spec
+ * with any kind would merge the AVERAGE case's n in 1..16 with the other kinds' unchecked
+ * n, and Eva could not bound the parts' degree; the invalid kinds are two intervals
+ * because their union is not one. */
 static void any_spec_of_kind(zw_loop_spec *spec, int kind)
 {
+    int other = any_int_source;
     any_spec(spec);
     if (kind >= 0) {
         spec->filter = (zw_velocity_filter)kind;
-    } else if ((int)spec->filter >= 0 && (int)spec->filter <= 2) {
-        spec->filter = (zw_velocity_filter)3; /* another invalid kind: same path as any */
+    } else if (kind == -1) {
+        spec->filter = (zw_velocity_filter)((other < 0) ? other : -1);
+    } else {
+        spec->filter = (zw_velocity_filter)((other > (int)ZW_VFILTER_AVERAGE) ? other : 3);
     }
 }
 
@@ -176,13 +204,14 @@ static void drive_init(int kind)
 static void drive_checks(void)
 {
     zw_loop l;
-    zw_loop_workspace ws_storage; /* never initialized */
+    static zw_loop_workspace ws_storage;
     zw_loop_workspace *ws = &ws_storage;
     zw_loop_verdict v;
     zw_real p[ZW_LOOP_MAX_DEGREE + 1u], rho, theta;
     unsigned degree, i;
     bool yes;
     any_loop(&l);
+    any_workspace(ws);
     (void)zw_loop_poly(&l, any_real(), any_real(), p, &degree);
     sink_unsigned = degree;
     /*@ loop unroll ZW_LOOP_MAX_DEGREE + 1u; */
@@ -241,7 +270,7 @@ static void drive_device_loop_init(int kind)
 static void drive_device_loop(void)
 {
     static zw_device_loop dl; /* large: not in this frame */
-    zw_loop_workspace ws_storage; /* never initialized */
+    static zw_loop_workspace ws_storage;
     zw_loop_workspace *ws = &ws_storage;
     zw_loop_verdict v;
     zw_device_loop_extremes x;
@@ -249,6 +278,7 @@ static void drive_device_loop(void)
     bool yes, nonempty;
 
     any_device_loop(&dl);
+    any_workspace(ws);
     (void)zw_device_loop_check(&dl, ws, any_real(), any_real(), &v);
     read_verdict(&v);
     (void)zw_device_loop_is_stable(&dl, ws, any_real(), any_real(), &yes);
@@ -288,10 +318,12 @@ int main(void)
 {
     drive_pole();
     drive_init(-1);
+    drive_init(-2);
     drive_init((int)ZW_VFILTER_NONE);
     drive_init((int)ZW_VFILTER_LOWPASS);
     drive_init((int)ZW_VFILTER_AVERAGE);
     drive_device_loop_init(-1);
+    drive_device_loop_init(-2);
     drive_device_loop_init((int)ZW_VFILTER_NONE);
     drive_device_loop_init((int)ZW_VFILTER_LOWPASS);
     drive_device_loop_init((int)ZW_VFILTER_AVERAGE);
