@@ -10,13 +10,14 @@
  * eva-options: -eva-domains cvalue,octagon -eva-widening-delay 10
  *
  * As eva_ideal.c: a read of a volatile is any value of its type (NaN and infinities
- * included); the plant box, the spec (any delay, differentiator, cut-off, pole,
- * average; each filter kind analysed apart, any other value included), the gains, the work's budget and tolerance are any values; capacity any value
- * up to the caller's array of ZW_EVA_CELLS cells (the contract: cells holds capacity cells),
- * the cells and the scratch holding any values (box.h: the scratch "needs no
- * initialisation"; left uninitialized, Eva cannot see that each entry is written before it
- * is read: docs/eva.md).  Every output is read after the call,
- * and each call is repeated with every pointer independently NULL or valid.
+ * included); the plant box, the spec (any delay, differentiator, cut-off, pole, average;
+ * each filter kind analysed apart, any other value included), the gains, the work's budget
+ * and tolerance are any values; capacity any value up to the caller's array of
+ * ZW_EVA_CELLS cells (the contract: cells holds capacity cells), the cells and the scratch
+ * holding any values (box.h: the scratch "needs no initialisation"; left uninitialized,
+ * Eva cannot see that each entry is written before it is read: docs/eva.md).  Every output
+ * is read after the call, and each call is repeated with every pointer independently NULL
+ * or valid.
  *
  * box_loop.c calls the loop in real units (device_loop.h) for its point checks; that module
  * (and loop.c's checks and loop_limits.c under it) is eva_loop.c's, and analysing it inside
