@@ -376,4 +376,60 @@ zw_hurwitz zw_routh_hurwitz(zw_real w[], zw_real we[], unsigned n);
 struct zw_plant;
 void zw_plant_fail(struct zw_plant *out);
 
+/* ---- polynomial building with running bounds (loop.c, plant.c) ---------------------- */
+
+static inline zw_eb zw_eb_make(zw_real v, zw_real e)
+{
+    zw_eb r;
+    r.v = v;
+    r.e = e;
+    return r;
+}
+
+/* Product whose error is exactly zero when both are exact and one of them is 0, +-1 or
+ * +-2 (factors of that form are common and must not add rounding). */
+static inline zw_eb zw_eb_mul_exactish(zw_eb a, zw_eb b)
+{
+    if ((a.e == ZW_R(0.0)) && (b.e == ZW_R(0.0))) {
+        zw_real m = ZW_FABS(a.v) < ZW_FABS(b.v) ? ZW_FABS(a.v) : ZW_FABS(b.v);
+        if ((m == ZW_R(0.0)) || (m == ZW_R(1.0)) || (m == ZW_R(2.0))) {
+            return zw_eb_exact(a.v * b.v);
+        }
+    }
+    return zw_eb_mul(a, b);
+}
+
+/* Sum whose error is the inputs' when one of them is an exact zero. */
+static inline zw_eb zw_eb_add_exactish(zw_eb a, zw_eb b)
+{
+    if ((a.v == ZW_R(0.0)) && (a.e == ZW_R(0.0))) {
+        return b;
+    }
+    if ((b.v == ZW_R(0.0)) && (b.e == ZW_R(0.0))) {
+        return a;
+    }
+    return zw_eb_add(a, b);
+}
+
+/* v (degree deg, highest power first; error bounds e) *= f1 x + f0, in place; the result
+ * has degree deg + 1 (v and e must hold deg + 2 entries). */
+static inline void zw_eb_poly_mul_linear(zw_real v[], zw_real e[], unsigned deg, zw_eb f1,
+                                         zw_eb f0)
+{
+    unsigned i;
+    for (i = deg + 1u; i > 0u; --i) {
+        zw_eb lo = zw_eb_mul_exactish(f0, zw_eb_make(v[i - 1u], e[i - 1u]));
+        zw_eb hi = (i <= deg) ? zw_eb_mul_exactish(f1, zw_eb_make(v[i], e[i]))
+                              : zw_eb_exact(ZW_R(0.0));
+        zw_eb sum = zw_eb_add_exactish(hi, lo);
+        v[i] = sum.v;
+        e[i] = sum.e;
+    }
+    {
+        zw_eb top = zw_eb_mul_exactish(f1, zw_eb_make(v[0], e[0]));
+        v[0] = top.v;
+        e[0] = top.e;
+    }
+}
+
 #endif /* ZWIDTH_INTERNAL_H */

@@ -175,13 +175,6 @@ typedef struct build_ctx {
     bool bilinear;         /* build the s polynomial */
 } build_ctx;
 
-static LOOP_HOT zw_eb eb_make(zw_real v, zw_real e)
-{
-    zw_eb r;
-    r.v = v;
-    r.e = e;
-    return r;
-}
 
 /* f1 x + f0 for the factor in the context's variable. */
 static LOOP_INLINE void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1, zw_eb *f0)
@@ -204,9 +197,9 @@ static LOOP_INLINE void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1
     case F_ZMA:
         if (s) {
             v = ZW_R(1.0) + ctx->a;
-            *f1 = eb_make(v, ZW_U * v);
+            *f1 = zw_eb_make(v, ZW_U * v);
             v = ZW_R(1.0) - ctx->a;
-            *f0 = eb_make(v, ZW_U * v);
+            *f0 = zw_eb_make(v, ZW_U * v);
         } else {
             *f1 = zw_eb_exact(ZW_R(1.0));
             *f0 = zw_eb_exact(-ctx->a);
@@ -217,50 +210,6 @@ static LOOP_INLINE void factor(const build_ctx *ctx, factor_kind kind, zw_eb *f1
         *f1 = zw_eb_exact(s ? ZW_R(-1.0) : ZW_R(0.0));
         *f0 = zw_eb_exact(ZW_R(1.0));
         break;
-    }
-}
-
-/* Product of two bounded values whose error is exactly zero when both are exact and one
- * of them is 0, +-1 or +-2 (factors of that form are common and must not add rounding). */
-static LOOP_INLINE zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
-{
-    if ((a.e == ZW_R(0.0)) && (b.e == ZW_R(0.0))) {
-        zw_real m = ZW_FABS(a.v) < ZW_FABS(b.v) ? ZW_FABS(a.v) : ZW_FABS(b.v);
-        if ((m == ZW_R(0.0)) || (m == ZW_R(1.0)) || (m == ZW_R(2.0))) {
-            return zw_eb_exact(a.v * b.v);
-        }
-    }
-    return zw_eb_mul(a, b);
-}
-
-/* Sum whose error is the inputs' when one of them is an exact zero. */
-static LOOP_INLINE zw_eb eb_add_exactish(zw_eb a, zw_eb b)
-{
-    if ((a.v == ZW_R(0.0)) && (a.e == ZW_R(0.0))) {
-        return b;
-    }
-    if ((b.v == ZW_R(0.0)) && (b.e == ZW_R(0.0))) {
-        return a;
-    }
-    return zw_eb_add(a, b);
-}
-
-/* v (degree deg, highest power first) *= f1 x + f0, in place; the result has degree
- * deg + 1 (v must hold deg + 2 entries). */
-static void mul_linear(zw_real v[], zw_real e[], unsigned deg, zw_eb f1, zw_eb f0)
-{
-    unsigned i;
-    for (i = deg + 1u; i > 0u; --i) {
-        zw_eb lo = eb_mul_exactish(f0, eb_make(v[i - 1u], e[i - 1u]));
-        zw_eb hi = (i <= deg) ? eb_mul_exactish(f1, eb_make(v[i], e[i])) : zw_eb_exact(ZW_R(0.0));
-        zw_eb sum = eb_add_exactish(hi, lo);
-        v[i] = sum.v;
-        e[i] = sum.e;
-    }
-    {
-        zw_eb top = eb_mul_exactish(f1, eb_make(v[0], e[0]));
-        v[0] = top.v;
-        e[0] = top.e;
     }
 }
 
@@ -277,7 +226,7 @@ static void mul_factor(const build_ctx *ctx, zw_real v[], zw_real e[], unsigned 
         if (*deg >= ZW_LOOP_MAX_DEGREE) {
             break;
         }
-        mul_linear(v, e, *deg, f1, f0);
+        zw_eb_poly_mul_linear(v, e, *deg, f1, f0);
         *deg += 1u;
     }
 }
@@ -293,8 +242,8 @@ static void mul_poly(zw_real v[], zw_real e[], unsigned deg, const zw_real f[], 
         --k;
         for (j = 0u; j <= fdeg; ++j) {
             if ((k >= j) && (k - j <= deg)) {
-                sum = eb_add_exactish(sum, eb_mul_exactish(eb_make(f[j], fe[j]),
-                                                           eb_make(v[k - j], e[k - j])));
+                sum = zw_eb_add_exactish(sum, zw_eb_mul_exactish(zw_eb_make(f[j], fe[j]),
+                                                           zw_eb_make(v[k - j], e[k - j])));
             }
         }
         v[k] = sum.v;
@@ -306,7 +255,7 @@ static void mul_scalar(zw_real v[], zw_real e[], unsigned deg, zw_eb k)
 {
     unsigned i;
     for (i = 0u; i <= deg; ++i) {
-        zw_eb r = eb_mul_exactish(k, eb_make(v[i], e[i]));
+        zw_eb r = zw_eb_mul_exactish(k, zw_eb_make(v[i], e[i]));
         v[i] = r.v;
         e[i] = r.e;
     }
@@ -370,7 +319,7 @@ static void velocity_estimate(const build_ctx *ctx, const zw_loop_spec *spec, zw
     case ZW_VFILTER_LOWPASS: {
         /* backward: (1 - a)(z - 1) / (z - a);  Tustin: 2 (1 - a) z (z - 1) / ((z + 1)(z - a)) */
         zw_real one_minus_a = ZW_R(1.0) - ctx->a;
-        zw_eb gain = eb_make(one_minus_a, ZW_U * one_minus_a);
+        zw_eb gain = zw_eb_make(one_minus_a, ZW_U * one_minus_a);
         mul_factor(ctx, dv, dv_e, &dd, F_ZMA, 1u);
         mul_factor(ctx, nv, nv_e, &nd, F_ZM1, 1u);
         if (tustin) {
@@ -666,7 +615,7 @@ typedef zw_real loop_err;
 
 static LOOP_HOT zw_eb eb_stored(zw_real v, loop_err e)
 {
-    return eb_make(v, e);
+    return zw_eb_make(v, e);
 }
 
 /* Coefficient i of d + alpha na + beta nb (parts with error bounds de, nae, nbe), with a
@@ -684,12 +633,12 @@ static LOOP_HOT zw_eb combine(const zw_real d[], const zw_real de[], const zw_re
                         ZW_U * (((ZW_FABS(pa) + ZW_FABS(pb)) + ZW_FABS(t)) + ZW_FABS(w)) +
                         ZW_R(4.0) * ZW_ETA;
     if (ZW_FABS(w) > ZW_R(2.0) * err) {
-        return eb_make(w, err);
+        return zw_eb_make(w, err);
     }
     {
-        zw_eb v = eb_add_exactish(eb_make(d[i], de[i]),
-                                  eb_mul_exactish(zw_eb_exact(alpha), eb_make(na[i], nae[i])));
-        return eb_add_exactish(v, eb_mul_exactish(zw_eb_exact(beta), eb_make(nb[i], nbe[i])));
+        zw_eb v = zw_eb_add_exactish(zw_eb_make(d[i], de[i]),
+                                  zw_eb_mul_exactish(zw_eb_exact(alpha), zw_eb_make(na[i], nae[i])));
+        return zw_eb_add_exactish(v, zw_eb_mul_exactish(zw_eb_exact(beta), zw_eb_make(nb[i], nbe[i])));
     }
 }
 
@@ -1657,21 +1606,21 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
     unsigned k, i;
     const zw_eb ga = zw_eb_exact(alpha), gb = zw_eb_exact(beta), re = zw_eb_exact(r);
     for (k = 0u; k <= loop->degree; ++k) {
-        zw_eb pk = eb_add_exactish(eb_make(loop->D[k], loop->D_err[k]),
-                                   eb_mul_exactish(ga, eb_make(loop->Na[k], loop->Na_err[k])));
+        zw_eb pk = zw_eb_add_exactish(zw_eb_make(loop->D[k], loop->D_err[k]),
+                                   zw_eb_mul_exactish(ga, zw_eb_make(loop->Na[k], loop->Na_err[k])));
         uint_least32_t binom = 1u; /* C(k, i): at most C(27, 13) = 4 * 5014575, exact in zw_real */
-        pk = eb_add_exactish(pk, eb_mul_exactish(gb, eb_make(loop->Nb[k], loop->Nb_err[k])));
+        pk = zw_eb_add_exactish(pk, zw_eb_mul_exactish(gb, zw_eb_make(loop->Nb[k], loop->Nb_err[k])));
         if (k > 0u) {
             /* w (degree k - 1) *= r (1 + s), in place, highest power first */
             for (i = k; i > 0u; --i) {
                 zw_eb sum = (i < k) ? zw_eb_add(eb_stored(w[i], we[i]), eb_stored(w[i - 1u], we[i - 1u]))
                                      : eb_stored(w[i - 1u], we[i - 1u]);
-                sum = eb_mul_exactish(re, sum);
+                sum = zw_eb_mul_exactish(re, sum);
                 w[i] = sum.v;
                 we[i] = sum.e;
             }
             {
-                zw_eb top = eb_mul_exactish(re, eb_stored(w[0], we[0]));
+                zw_eb top = zw_eb_mul_exactish(re, eb_stored(w[0], we[0]));
                 w[0] = top.v;
                 we[0] = top.e;
             }
@@ -1682,8 +1631,8 @@ ZW_NOINLINE static routh_result radius_routh(const zw_loop *loop, zw_loop_worksp
         /* + p_k (1 - s)^k: s^i at index k - i */
         for (i = 0u; i <= k; ++i) {
             zw_real coef = ((i & 1u) != 0u) ? -(zw_real)binom : (zw_real)binom;
-            zw_eb t = eb_add_exactish(eb_stored(w[k - i], we[k - i]),
-                                      eb_mul_exactish(pk, zw_eb_exact(coef)));
+            zw_eb t = zw_eb_add_exactish(eb_stored(w[k - i], we[k - i]),
+                                      zw_eb_mul_exactish(pk, zw_eb_exact(coef)));
             w[k - i] = t.v;
             we[k - i] = t.e;
             binom = binom * (uint_least32_t)(k - i) / (uint_least32_t)(i + 1u);

@@ -17,62 +17,11 @@
 
 /* ---- small polynomial helpers (degree <= ZW_PLANT_MAX_ORDER, highest power first) ---- */
 
-static zw_eb eb_make(zw_real v, zw_real e)
-{
-    zw_eb r;
-    r.v = v;
-    r.e = e;
-    return r;
-}
 
 /* x exactly times 2^k (k small): no rounding unless it underflows. */
 static zw_eb eb_scale2(zw_eb a, zw_real two_pow)
 {
-    return eb_make(a.v * two_pow, a.e * two_pow + ZW_ETA);
-}
-
-/* Product whose error is exactly zero when both are exact and one of them is 0, +-1 or
- * +-2 (as loop.c's, so that the ideal plant's bounds are the loop's). */
-static zw_eb eb_mul_exactish(zw_eb a, zw_eb b)
-{
-    if ((a.e == ZW_R(0.0)) && (b.e == ZW_R(0.0))) {
-        zw_real m = ZW_FABS(a.v) < ZW_FABS(b.v) ? ZW_FABS(a.v) : ZW_FABS(b.v);
-        if ((m == ZW_R(0.0)) || (m == ZW_R(1.0)) || (m == ZW_R(2.0))) {
-            return zw_eb_exact(a.v * b.v);
-        }
-    }
-    return zw_eb_mul(a, b);
-}
-
-/* Sum whose error is the inputs' when one of them is an exact zero. */
-static zw_eb eb_add_exactish(zw_eb a, zw_eb b)
-{
-    if ((a.v == ZW_R(0.0)) && (a.e == ZW_R(0.0))) {
-        return b;
-    }
-    if ((b.v == ZW_R(0.0)) && (b.e == ZW_R(0.0))) {
-        return a;
-    }
-    return zw_eb_add(a, b);
-}
-
-/* v (degree deg) *= f1 x + f0, in place (v holds deg + 2 entries). */
-static void poly_mul_linear(zw_real v[], zw_real e[], unsigned deg, zw_eb f1, zw_eb f0)
-{
-    unsigned i;
-    for (i = deg + 1u; i > 0u; --i) {
-        zw_eb lo = eb_mul_exactish(f0, eb_make(v[i - 1u], e[i - 1u]));
-        if (i <= deg) {
-            lo = eb_add_exactish(eb_mul_exactish(f1, eb_make(v[i], e[i])), lo);
-        }
-        v[i] = lo.v;
-        e[i] = lo.e;
-    }
-    {
-        zw_eb top = eb_mul_exactish(f1, eb_make(v[0], e[0]));
-        v[0] = top.v;
-        e[0] = top.e;
-    }
+    return zw_eb_make(a.v * two_pow, a.e * two_pow + ZW_ETA);
 }
 
 static void set_eb(zw_real *v, zw_real *e, zw_eb x)
@@ -81,7 +30,7 @@ static void set_eb(zw_real *v, zw_real *e, zw_eb x)
     *e = x.e;
 }
 
-static bool all_finite(const zw_real v[], const zw_real e[], unsigned n)
+static bool finite_bounded(const zw_real v[], const zw_real e[], unsigned n)
 {
     unsigned i;
     for (i = 0u; i < n; ++i) {
@@ -96,9 +45,9 @@ static bool all_finite(const zw_real v[], const zw_real e[], unsigned n)
 static bool plant_finite(const zw_plant *p)
 {
     const unsigned n = p->order;
-    return all_finite(p->den, p->den_err, n + 1u) && all_finite(p->num, p->num_err, n) &&
-           all_finite(p->den_s, p->den_s_err, n + 1u) &&
-           all_finite(p->num_s, p->num_s_err, n) && all_finite(p->den_w, p->den_w_err, n + 1u);
+    return finite_bounded(p->den, p->den_err, n + 1u) && finite_bounded(p->num, p->num_err, n) &&
+           finite_bounded(p->den_s, p->den_s_err, n + 1u) &&
+           finite_bounded(p->num_s, p->num_s_err, n) && finite_bounded(p->den_w, p->den_w_err, n + 1u);
 }
 
 /* The fail-safe plant: order 0 (refused by every consumer), every number NaN (internal.h). */
@@ -182,7 +131,7 @@ zw_status zw_plant_from_coeffs(zw_plant *out, const zw_coeffs *c)
     p.den[1] = ZW_R(-2.0);
     p.den_err[1] = ZW_R(0.0);
     zw_coef_zme(c, &f1, &f0);
-    poly_mul_linear(p.den, p.den_err, 1u, f1, f0);
+    zw_eb_poly_mul_linear(p.den, p.den_err, 1u, f1, f0);
 
     /* D_s = 2 (2 s) ((1 + e) s + (1 - e)): 4 (1 + e) s^2 + 4 (1 - e) s + 0 */
     zw_coef_zme_s(c, &f1, &f0);
@@ -291,7 +240,7 @@ zw_status zw_plant_eval(const zw_plant *plant, zw_real re, zw_real im, zw_real *
 
 static zw_eb eb_neg(zw_eb a)
 {
-    return eb_make(-a.v, a.e);
+    return zw_eb_make(-a.v, a.e);
 }
 
 /* e^(a.v + a.e), rounded up: the largest derivative of exp (and expm1) over the ball. */
@@ -304,14 +253,14 @@ static zw_real exp_top(zw_eb a)
 static zw_eb eb_exp(zw_eb a)
 {
     const zw_real v = ZW_EXP(a.v);
-    return eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * v + ZW_ETA);
+    return zw_eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * v + ZW_ETA);
 }
 
 /* e^a - 1, same derivative. */
 static zw_eb eb_expm1(zw_eb a)
 {
     const zw_real v = ZW_EXPM1(a.v);
-    return eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+    return zw_eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
 }
 
 /* E0(a) = (e^a - 1) / a = int_0^1 e^(a t) dt (1 at 0), for a.v <= 0.  Its log-derivative is
@@ -327,7 +276,7 @@ static zw_eb eb_e0(zw_eb a)
         v = ZW_EXPM1(a.v) / a.v;
     }
     if (a.v > ZW_R(0.0)) {
-        return eb_make(v, ZW_INF);
+        return zw_eb_make(v, ZW_INF);
     }
     if (a.v + a.e < ZW_R(0.0)) {
         const zw_real inv = ZW_R(1.0) / -(a.v + a.e) * (ZW_R(1.0) + ZW_R(2.0) * ZW_U);
@@ -335,7 +284,7 @@ static zw_eb eb_e0(zw_eb a)
     } else {
         slope = ZW_R(1.0);
     }
-    return eb_make(v, v * (ZW_EXP(a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) * slope * a.e +
+    return zw_eb_make(v, v * (ZW_EXP(a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) * slope * a.e +
                            ZW_R(4.0) * ZW_U) +
                           ZW_R(2.0) * ZW_ETA);
 }
@@ -349,30 +298,30 @@ static zw_eb eb_sqrt(zw_eb a)
     } else {
         prop = ZW_SQRT(ZW_R(2.0) * a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U);
     }
-    return eb_make(v, prop + ZW_U * v + ZW_ETA);
+    return zw_eb_make(v, prop + ZW_U * v + ZW_ETA);
 }
 
 /* cos, sin: Lipschitz 1. */
 static zw_eb eb_cos(zw_eb a)
 {
     zw_real v = ZW_COS(a.v);
-    return eb_make(v, a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+    return zw_eb_make(v, a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
 }
 
 static zw_eb eb_sin(zw_eb a)
 {
     zw_real v = ZW_SIN(a.v);
-    return eb_make(v, a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+    return zw_eb_make(v, a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
 }
 
 static zw_eb eb_half(zw_eb a)
 {
-    return eb_make(ZW_R(0.5) * a.v, ZW_R(0.5) * a.e + ZW_ETA);
+    return zw_eb_make(ZW_R(0.5) * a.v, ZW_R(0.5) * a.e + ZW_ETA);
 }
 
 static zw_eb eb_twice(zw_eb a)
 {
-    return eb_make(ZW_R(2.0) * a.v, ZW_R(2.0) * a.e);
+    return zw_eb_make(ZW_R(2.0) * a.v, ZW_R(2.0) * a.e);
 }
 
 /* h^2 - k with the product exact (Dekker's two-product, Veltkamp's split; no fma needed),
@@ -441,7 +390,7 @@ static zw_eb series_single(zw_eb w, unsigned odd)
         const unsigned n = 2u * (k - 1u) + odd;
         const unsigned roundings = n + 1u;
         const zw_real cf = inv_factorial(n);
-        acc = zw_eb_add(zw_eb_mul(acc, w), eb_make(cf, (zw_real)roundings * (ZW_U * cf + ZW_ETA)));
+        acc = zw_eb_add(zw_eb_mul(acc, w), zw_eb_make(cf, (zw_real)roundings * (ZW_U * cf + ZW_ETA)));
     }
     acc.e += PLANT_TAIL;
     return acc;
@@ -465,8 +414,8 @@ static void series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
             const unsigned ns = n + 2u;
             const zw_real fc = inv_factorial(n);
             const zw_real fs = inv_factorial(n + 1u);
-            sc = zw_eb_add(sc, zw_eb_mul(hm, eb_make(fc, (zw_real)nc * (ZW_U * fc + ZW_ETA))));
-            ss = zw_eb_add(ss, zw_eb_mul(hm, eb_make(fs, (zw_real)ns * (ZW_U * fs + ZW_ETA))));
+            sc = zw_eb_add(sc, zw_eb_mul(hm, zw_eb_make(fc, (zw_real)nc * (ZW_U * fc + ZW_ETA))));
+            ss = zw_eb_add(ss, zw_eb_mul(hm, zw_eb_make(fs, (zw_real)ns * (ZW_U * fs + ZW_ETA))));
         }
     }
     sc.e += PLANT_TAIL;
@@ -666,7 +615,7 @@ static zw_eb series_shifted4(zw_eb h, zw_eb hp, zw_eb w2)
             f = f / (zw_real)kf;
         }
         H = zw_eb_add(A, zw_eb_mul(w2, H2));
-        sum = zw_eb_add(sum, zw_eb_mul(H, eb_make(f, (zw_real)roundings * (ZW_U * f + ZW_ETA))));
+        sum = zw_eb_add(sum, zw_eb_mul(H, zw_eb_make(f, (zw_real)roundings * (ZW_U * f + ZW_ETA))));
         H2 = H1;
         H1 = H;
     }
@@ -687,8 +636,8 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
     const zw_eb phi11 = zw_eb_sub(o->ch, zw_eb_mul(h, o->sh));
     const bool series_ok = eb_within(w2, PLANT_SERIES_LIMIT) && eb_within(hp2, PLANT_SERIES_LIMIT);
     zw_eb T, U, y0, x1, x0, t;
-    zw_eb y0_series = eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
-    zw_eb x1_far = eb_make(ZW_R(0.0), ZW_INF);
+    zw_eb y0_series = zw_eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
+    zw_eb x1_far = zw_eb_make(ZW_R(0.0), ZW_INF);
 
     /* T */
     T = zw_eb_div(zw_eb_sub(zw_eb_sub(a, o->ch), zw_eb_mul(hp, o->sh)), kp);
@@ -759,14 +708,14 @@ static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
         set_eb(&p->num_s[2], &p->num_s_err[2], eb_twice(zw_eb_mul(oma, o->bsum)));
     }
     /* D3 = D2 (z - a): in s, times (1 + a) s + (1 - a); in w = z - 1, times w + (1 - a) */
-    poly_mul_linear(p->den, p->den_err, 2u, one, eb_neg(a));
-    poly_mul_linear(p->den_s, p->den_s_err, 2u, opa, oma);
-    poly_mul_linear(p->den_w, p->den_w_err, 2u, one, oma);
+    zw_eb_poly_mul_linear(p->den, p->den_err, 2u, one, eb_neg(a));
+    zw_eb_poly_mul_linear(p->den_s, p->den_s_err, 2u, opa, oma);
+    zw_eb_poly_mul_linear(p->den_w, p->den_w_err, 2u, one, oma);
 }
 
 /* ---- the general plant ---------------------------------------------------------------- */
 
-static zw_status check_spec(const zw_plant_spec *spec)
+static zw_status check_plant_spec(const zw_plant_spec *spec)
 {
     const zw_real in[6] = {spec->delta, spec->kappa, spec->lambda, spec->delta_relerr,
                            spec->kappa_relerr, spec->lambda_relerr};
@@ -800,7 +749,7 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
         zw_plant_fail(out);
         return ZW_ERR_NULL;
     }
-    st = check_spec(spec);
+    st = check_plant_spec(spec);
     if (st != ZW_OK) {
         zw_plant_fail(out);
         return st;
@@ -817,9 +766,9 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
     zw_plant_fail(&p);
     {
         order2 o;
-        const zw_eb h = eb_make(ZW_R(0.5) * spec->delta,
+        const zw_eb h = zw_eb_make(ZW_R(0.5) * spec->delta,
                                 ZW_R(0.5) * spec->delta * spec->delta_relerr + ZW_ETA);
-        const zw_eb kappa = eb_make(spec->kappa, spec->kappa * spec->kappa_relerr);
+        const zw_eb kappa = zw_eb_make(spec->kappa, spec->kappa * spec->kappa_relerr);
         order2_compute(h, kappa, &o);
         p.order = 2u;
         plant_from_order2(&p, &o);
@@ -827,7 +776,7 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
             /* nu = 1 / lambda: one rounding, and 1 / (lambda (1 +- rho)) within
              * nu rho / (1 - rho) <= nu rho (16 / 15) of nu */
             const zw_real nu = ZW_R(1.0) / spec->lambda;
-            const zw_eb nub = eb_make(nu, nu * (spec->lambda_relerr * ZW_R(1.0667) + ZW_U) + ZW_ETA);
+            const zw_eb nub = zw_eb_make(nu, nu * (spec->lambda_relerr * ZW_R(1.0667) + ZW_U) + ZW_ETA);
             if (!ZW_IS_FINITE(nu)) {
                 zw_plant_fail(out);
                 return ZW_ERR_RANGE;
