@@ -101,13 +101,10 @@ static inline bx_iv bx_div_pos(bx_iv a, bx_iv b)
 static inline zw_status bx_validate_work(uint_least32_t capacity, uint_least32_t min_cells,
                                          uint_least32_t max_evals, zw_real rel_tol)
 {
-    if ((capacity < min_cells) || (max_evals < 1u) || (max_evals > ZW_BOX_MAX_EVALS)) {
-        return ZW_ERR_ARG;
-    }
-    if (!((rel_tol >= ZW_R(0.0)) && (rel_tol < ZW_R(1.0)))) {
-        return ZW_ERR_ARG;
-    }
-    return ZW_OK;
+    const bool counts_ok = (capacity >= min_cells) && (max_evals >= 1u) &&
+                           (max_evals <= ZW_BOX_MAX_EVALS);
+    const bool tol_ok = (rel_tol >= ZW_R(0.0)) && (rel_tol < ZW_R(1.0));
+    return (counts_ok && tol_ok) ? ZW_OK : ZW_ERR_ARG;
 }
 
 /* A gain that normalizes without overflow at every plant of the box: K T^2 / m and B T / m
@@ -115,32 +112,30 @@ static inline zw_status bx_validate_work(uint_least32_t capacity, uint_least32_t
 static inline zw_status bx_validate_gain(const zw_plant_box *box, zw_real gain, bool stiffness)
 {
     zw_status st = zw_require_finite(gain);
-    zw_real scale;
-    if (st != ZW_OK) {
-        return st;
+    if (st == ZW_OK) {
+        zw_real scale = box->m_lo / box->T;
+        if (stiffness) {
+            scale = scale / box->T;
+        }
+        if (!ZW_IS_FINITE(gain / scale) ||
+            !ZW_IS_FINITE(bx_up(bx_up(ZW_FABS(gain) * box->T) * box->T))) {
+            st = ZW_ERR_RANGE;
+        }
     }
-    scale = box->m_lo / box->T;
-    if (stiffness) {
-        scale = scale / box->T;
-    }
-    if (!ZW_IS_FINITE(gain / scale) || !ZW_IS_FINITE(bx_up(bx_up(ZW_FABS(gain) * box->T) * box->T))) {
-        return ZW_ERR_RANGE;
-    }
-    return ZW_OK;
+    return st;
 }
 
 /* The fail-safe bound (status.h): certifies nothing. */
 static inline void bx_fail_bound(zw_box_bound *out)
 {
-    if (out == NULL) {
-        return;
+    if (out != NULL) {
+        out->K_lower = ZW_R(0.0);
+        out->K_upper = ZW_R(0.0);
+        out->m_worst = ZW_NAN;
+        out->b_worst = ZW_NAN;
+        out->evals = 0u;
+        out->converged = false;
     }
-    out->K_lower = ZW_R(0.0);
-    out->K_upper = ZW_R(0.0);
-    out->m_worst = ZW_NAN;
-    out->b_worst = ZW_NAN;
-    out->evals = 0u;
-    out->converged = false;
 }
 
 #endif /* ZWIDTH_BOX_INTERVAL_H */

@@ -1095,7 +1095,10 @@ ZW_NOINLINE static void plant_at(const zw_loop *loop, zw_loop_workspace *ws, cpl
 static void ceb_times_plant(ceb *acc, const zw_loop_workspace *ws, bool num)
 {
     const zw_real *v = ws->plant_at;
-    const unsigned k = num ? 0u : 3u;
+    unsigned k = 3u; /* D's value, error bound: v[3..5]; N's: v[0..2] */
+    if (num) {
+        k = 0u;
+    }
     ceb_times(acc, c_make(v[k], v[k + 1u]), v[k + 2u]);
 }
 

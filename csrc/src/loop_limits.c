@@ -176,7 +176,7 @@ static zw_status plant_init(ll_plant *p, const zw_loop *loop, zw_loop_workspace 
     p->grid_h = LL_PI / (zw_real)p->grid_n;
     p->general = (loop->plant.order != 2u) || !(loop->plant.spec.kappa == ZW_R(0.0));
     p->stiff = false;
-    if (p->general) {
+    if (p->general != false) {
         const unsigned q = loop->plant.order;
         /* D(1) = D_s(0) = 0 exactly for kappa = 0: the integrating plant (D has the factor
          * z - 1 in exact arithmetic; the stored coefficient's bound is only an underflow floor) */
@@ -754,7 +754,7 @@ static void line_minus1(const ll_plant *p, zw_real *c0, zw_real *ca, zw_real *cb
     } else {
         /* no filter */
     }
-    if (p->general) {
+    if (p->general != false) {
         /* D(-1) = (-1)^q den_s[0], N(-1) = (-1)^(q-1) num_s[0] (z = -1 is s = infinity):
          * p(-1) = (-1)^d D(-1) Dv(-1) + N(-1) (alpha Dv(-1) + beta Nv(-1)), times (-1)^q */
         const zw_real d = pl->den_s[0], n = pl->num_s[0];
@@ -953,6 +953,7 @@ static void walk_begin(ll_walk *w, zw_real alpha)
  * at z = 1: beta = R0(1) / S(1). */
 ZW_NOINLINE static bool walk_step(zw_loop_workspace *ws, unsigned mode)
 {
+    unsigned line_mode = mode;
     ll_walk *w = &ws->lim_walk;
     ll_scan *x = &ws->lim_scan;
     w->cell = false;
@@ -960,14 +961,14 @@ ZW_NOINLINE static bool walk_step(zw_loop_workspace *ws, unsigned mode)
         return false;
     }
     w->step++;
-    if ((mode == LL_ALPHA_ZERO) && ws->lim_plant.stiff) {
+    if ((line_mode == LL_ALPHA_ZERO) && ws->lim_plant.stiff) {
         /* with stiffness alpha = 0 is not a boundary (z = 1 is alpha = -kappa): the line
          * alpha = 0 itself, no double root at z = 1 */
-        mode = LL_FIX_ALPHA;
+        line_mode = LL_FIX_ALPHA;
     }
-    scan_setup(ws, mode, w->alpha, LL_TAKE_NEXT_ABOVE, w->floor);
+    scan_setup(ws, line_mode, w->alpha, LL_TAKE_NEXT_ABOVE, w->floor);
     offer_line(x, &x->degenerate);
-    if (mode == LL_ALPHA_ZERO) {
+    if (line_mode == LL_ALPHA_ZERO) {
         ll_point *pt = x->pt;
         eval_point(x, ZW_R(0.0), pt);
         offer(x, pt->v, pt->v - pt->v_err, pt->v + pt->v_err);
