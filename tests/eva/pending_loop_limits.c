@@ -9,6 +9,7 @@
  * eva-modules: loop_limits
  * eva-support: status coeffs loop
  * eva-precision: 0
+ * eva-options: -eva-domains cvalue,octagon
  * eva-slevel: check_spec:50,zero_poly:30,check_bilinear:60,check_loop:10,check_gains:10,mul_factor:30,build_parts:10,velocity_estimate:10,zw_loop_lowpass_pole{f}:10,zw_loop_init{f}:10,zw_loop_carry_gain_rounding{f}:10,zw_loop_poly{f}:10,zw_loop_check{f}:10,zw_loop_is_stable{f}:10,zw_loop_radius_within{f}:10,zw_loop_spectral_radius{f}:10,plant_init:10,zw_loop_alpha_max{f}:10,zw_loop_beta_intervals{f}:10,zw_loop_beta_interval{f}:10,zw_loop_extremes_compute{f}:10,zw_loop_boundary_point{f}:10,zw_loop_boundary_line{f}:10
  *
  * As in eva_ideal.c: a read of a volatile zw_real is any value of the type, NaN and both
