@@ -104,7 +104,8 @@ static const zw_ceilings fuzz_ceilings = {
     0.95f, 1.0f,                         /* sigma_max, r_max */
     8.578e-6f, 2.197e-3f, 0.02f, 0.25f,  /* nameplate m, b, T and tolerance */
     0.0f, 1.0f, -0.01f, 0.01f,           /* widest K and B bounds */
-    0.5f, 5e-3f                          /* largest steps */
+    0.5f, 5e-3f,                         /* largest steps */
+    1.0f, 0.0f, 0.0f, 0.0f               /* the firmware's loop: the paper block's */
 };
 
 /* ---------------------------------------------------------------------------------------
@@ -534,6 +535,9 @@ NO_COV static void check_state(const snapshot *before, const snapshot *after, zw
               fabs((double)c.b - (double)k->b) <= (double)k->plant_tol * (double)k->b &&
               fabs((double)c.T - (double)k->T) <= (double)k->plant_tol * (double)k->T,
               "sealed plant outside the nameplate tolerance");
+        CHECK(c.delay == k->delay && c.vfilter == k->vfilter && c.vf_param == k->vf_param &&
+                  c.differentiator == k->differentiator,
+              "sealed block for a loop the firmware does not run");
         for (unsigned f = 0; f < ZW_CERT_FIELDS; f++)
             CHECK(!(zw_cert_field(&c, f) != 0.0f && fabsf(zw_cert_field(&c, f)) < FLT_MIN),
                   "sealed field %u is subnormal", f);
