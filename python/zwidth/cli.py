@@ -626,7 +626,7 @@ def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     d, dev = plant.delta, plant.device
     kw = _device_pole_kwargs(plant)
     ideal = extremes(d) if not plant.parts else extremes(float(dev.ideal().delta))  # type: ignore[union-attr]
-    ext = extremes(d, **kw) if not plant.parts else None
+    computed = extremes(d, **kw) if not plant.parts else None
     real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_at_K_mmax", "K_p_max", "B_mmax", "B_mmin"))
     ideal_real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_mmax"))
     if dev is not None:
@@ -634,7 +634,8 @@ def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         real = {k: getattr(lim, k) for k in real}
         il = dev.ideal().extremes()
         ideal_real = {"K_mmax": il.K_mmax, "B_mmax": il.B_mmax}
-    if ext is None:
+    ext: Any  # the loop's extremes, or the device's scaled to normalized units
+    if computed is None:
         # with plant-side parts: the normalized values of the device's certified limits
         # (scales M / T^2 and M / T, M = m + m_h), and the share of the ideal K_mmax in real units
         norm = dev.normalize(1.0, 1.0)  # type: ignore[union-attr]
@@ -643,6 +644,7 @@ def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
                               float(real["K_p_max"]) * ka, float(real["B_mmax"]) * kb, float(real["B_mmin"]) * kb)
         kept = float(real["K_mmax"]) / float(ideal_real["K_mmax"])
     else:
+        ext = computed
         kept = float(ext.alpha_mmax) / float(ideal.alpha_mmax)
     data = {
         **real,
