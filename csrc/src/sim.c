@@ -200,6 +200,10 @@ zw_status zw_sim_init(zw_sim *sim, const zw_sim_scene *scene) {
     s.k_step = k_step;
     if (scene->effects & ZW_SIM_VELOCITY_FILTER)
         s.filter_a = ZW_EXP(-ZW_TWO_PI * scene->cutoff_hz * scene->T);
+    if (scene->effects & ZW_SIM_ACTUATOR_LAG) {
+        s.lag_rate = 1 / scene->actuator_tau;
+        s.lag_decay = ZW_EXP(-scene->T * s.lag_rate);
+    }
     s.x = scene->x_init;
     s.v = scene->v_init;
     s.stuck = scene->v_init == 0;
@@ -443,8 +447,9 @@ static zw_real friction_substep(zw_substep *st, zw_real t, zw_real h, zw_real *x
 /* Advance the plant over one sample under the continuous effects (and *lagged, the
  * actuator's force, with ACTUATOR_LAG); returns the friction force at the sample's start
  * (for the trace). */
-static zw_real integrate_sample(const zw_sim_scene *sc, zw_real t, zw_real applied,
+static zw_real integrate_sample(const zw_sim *sim, zw_real t, zw_real applied,
                                zw_real *x, zw_real *v, bool *stuck, zw_real *lagged) {
+    const zw_sim_scene *sc = &sim->scene;
     const bool friction = (sc->effects & ZW_SIM_FRICTION) != 0;
     const bool hand = (sc->effects & ZW_SIM_HAND) != 0;
     const zw_real h = sc->T / (zw_real)sc->substeps;
@@ -458,9 +463,9 @@ static zw_real integrate_sample(const zw_sim_scene *sc, zw_real t, zw_real appli
     st.lag_rate = 0;
     st.t0 = t;
     if (sc->effects & ZW_SIM_ACTUATOR_LAG) {
-        st.lag_rate = 1 / sc->actuator_tau;
+        st.lag_rate = sim->lag_rate;
         st.lag_start = *lagged - applied;
-        *lagged = applied + st.lag_start * ZW_EXP(-sc->T * st.lag_rate);
+        *lagged = applied + st.lag_start * sim->lag_decay;
     }
     /* Without a hand the force on a resting plant is the held one for the whole sample:
      * within the stiction band it holds every substep, so skip them. */
@@ -651,7 +656,7 @@ static void run_general(zw_sim *sim, size_t n, const zw_sim_trace *tr) {
 
         x_meas_prev = x_meas;
         if (fx & ZW_SIM_CONTINUOUS) {
-            friction = integrate_sample(sc, t, applied, &x, &v, &stuck, &lagged);
+            friction = integrate_sample(sim, t, applied, &x, &v, &stuck, &lagged);
         } else {
             const zw_real x_next = x + sim->phi_T * v + sim->x_gain * applied;
             v = sim->e * v + sim->v_gain * applied;

@@ -185,6 +185,7 @@ typedef struct zw_sim {
     zw_sim_scene scene;
     zw_real phi_T, x_gain, v_gain, e;   /* exact step: x += phi_T v + x_gain F ... */
     zw_real filter_a;
+    zw_real lag_rate, lag_decay;        /* ACTUATOR_LAG: 1 / tau, exp(-T / tau) */
     size_t k;                           /* next sample index */
     size_t k_step;                      /* first sample of the equilibrium x_eq_after */
     zw_real x, v;                       /* state at t_k */
