@@ -1100,6 +1100,13 @@ def _rates(params: Mapping[str, Any]) -> Tuple[float, Optional[Tuple[float, floa
                    math.sqrt(float(params.get("hand_stiffness", 0.0)) / mh))
 
 
+def _lag_rate(params: Mapping[str, Any]) -> float:
+    """The actuator lag's rate 1/tau (0 without [actuator]), as sim.c's zw_sim_init."""
+    if not int(params.get("effects", 0)) & EFFECTS["actuator"]:
+        return 0.0
+    return 1.0 / float(params["actuator_tau"])
+
+
 def _fastest_key(params: Mapping[str, Any], plant_key: str) -> str:
     """The key that makes the continuous part fast: hand.stiffness or hand.damping when the
     held hand's rate is the fastest, else the plant's (plant_key: "plant" or "case[i]")."""
@@ -1116,8 +1123,8 @@ def _rk4_rate(params: Mapping[str, Any]) -> float:
     rate, held = _rates(params)
     if held is not None and held[0] + held[1] > rate:
         rate = held[0] + held[1]
-    if int(params.get("effects", 0)) & EFFECTS["actuator"] and 1.0 / float(params["actuator_tau"]) > rate:
-        rate = 1.0 / float(params["actuator_tau"])
+    if _lag_rate(params) > rate:
+        rate = _lag_rate(params)
     return rate
 
 
@@ -1142,8 +1149,7 @@ def _substeps_needed(params: Mapping[str, Any]) -> float:
     rate, held = _rates(params)
     if held is not None:
         rate = max(rate, *held)
-    if int(params.get("effects", 0)) & EFFECTS["actuator"]:
-        rate = max(rate, 1.0 / float(params["actuator_tau"]))
+    rate = max(rate, _lag_rate(params))
     return float(params["T"]) * rate / SUBSTEP_ACCURACY
 
 
