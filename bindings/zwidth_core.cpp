@@ -712,7 +712,9 @@ zw_loop_spec loop_spec(const LoopKind &k, double pole) {
     return s;
 }
 
-// The loop of one (delta, pole) element.
+// The loop of one (delta, pole, kappa, lambda) element: the ideal plant's coefficients
+// (zw_coeffs_init + zw_loop_init) when kappa = lambda = 0, else the plant of plant.h
+// (zw_plant_init + zw_loop_init_plant; the normalized inputs are taken as exact).
 class NormalizedLoopCache {
   public:
     using plant_type = zw_loop;
@@ -723,21 +725,34 @@ class NormalizedLoopCache {
         if (!valid_ || std::memcmp(key_.data(), x.data(), sizeof key_) != 0) {
             std::memcpy(key_.data(), x.data(), sizeof key_);
             valid_ = true;
-            zw_coeffs c;
-            const zw_loop_spec spec = loop_spec(kind_, key_[1]);
-            status_ = zw_coeffs_init(&c, key_[0]);
-            if (status_ == ZW_OK && kind_.filter == ZW_VFILTER_LOWPASS && std::isnan(key_[1])) status_ = ZW_ERR_NAN;
-            if (status_ == ZW_OK) status_ = zw_loop_init(&loop_, &c, &spec);
+            status_ = build();
         }
         *out = &loop_;
         return status_;
     }
 
   private:
+    zw_status build() {
+        const zw_loop_spec spec = loop_spec(kind_, key_[1]);
+        if (kind_.filter == ZW_VFILTER_LOWPASS && std::isnan(key_[1])) return ZW_ERR_NAN;
+        if (key_[2] == 0.0 && key_[3] == 0.0) {
+            zw_coeffs c;
+            const zw_status s = zw_coeffs_init(&c, key_[0]);
+            return s != ZW_OK ? s : zw_loop_init(&loop_, &c, &spec);
+        }
+        zw_plant_spec ps{};
+        ps.delta = key_[0];
+        ps.kappa = key_[2];
+        ps.lambda = key_[3];
+        const zw_status s = zw_plant_init(&plant_, &ps);
+        return s != ZW_OK ? s : zw_loop_init_plant(&loop_, &plant_, &spec);
+    }
+
     LoopKind kind_;
     bool valid_ = false;
-    std::array<double, 2> key_{};
+    std::array<double, 4> key_{};
     zw_status status_ = ZW_OK;
+    zw_plant plant_{};
     zw_loop loop_{};
 };
 
@@ -826,7 +841,7 @@ zw_status within_of(const zw_device_loop *p, double K, double B, double r, bool 
     return zw_device_loop_radius_within(p, &ws, K, B, r, within);
 }
 
-// Inputs: 2 plant keys (delta, pole) or 4 (m, b, T, f_c), then the two gains (alpha, beta
+// Inputs: 4 plant keys (delta, pole, kappa, lambda) or 9 (m, b, T, f_c and the parts), then the two gains (alpha, beta
 // or K, B), then extras; fn(plant, i, gain1, gain2, inputs).
 template <class Cache, std::size_t Keys, std::size_t N, class Fn, class Setup>
 py::dict loop_kernel(const std::array<f64array, N> &inputs, const LoopKind &kind, Fn fn, Setup setup) {
@@ -930,21 +945,22 @@ py::dict loop_poly_kernel(const std::array<f64array, Keys + 2> &inputs, const Lo
 using NLC = NormalizedLoopCache;
 using DLC = DeviceLoopCache;
 
-py::dict loop_check(f64array delta, f64array pole, f64array alpha, f64array beta, long delay, int diff, int filter,
-                    long average, bool full) {
-    return loop_check_kernel<NLC, 2>({delta, pole, alpha, beta}, loop_kind(delay, diff, filter, average), full);
+#define ZW_NPLANT f64array kappa, f64array lambda
+py::dict loop_check(f64array delta, f64array pole, ZW_NPLANT, f64array alpha, f64array beta, long delay, int diff,
+                    int filter, long average, bool full) {
+    return loop_check_kernel<NLC, 4>({delta, pole, kappa, lambda, alpha, beta}, loop_kind(delay, diff, filter, average), full);
 }
-py::dict loop_spectral_radius(f64array delta, f64array pole, f64array alpha, f64array beta, long delay, int diff,
-                              int filter, long average) {
-    return loop_radius_kernel<NLC, 2>({delta, pole, alpha, beta}, loop_kind(delay, diff, filter, average));
+py::dict loop_spectral_radius(f64array delta, f64array pole, ZW_NPLANT, f64array alpha, f64array beta, long delay,
+                              int diff, int filter, long average) {
+    return loop_radius_kernel<NLC, 4>({delta, pole, kappa, lambda, alpha, beta}, loop_kind(delay, diff, filter, average));
 }
-py::dict loop_radius_within(f64array delta, f64array pole, f64array alpha, f64array beta, f64array radius,
-                            long delay, int diff, int filter, long average) {
-    return loop_within_kernel<NLC, 2>({delta, pole, alpha, beta, radius}, loop_kind(delay, diff, filter, average));
+py::dict loop_radius_within(f64array delta, f64array pole, ZW_NPLANT, f64array alpha, f64array beta,
+                            f64array radius, long delay, int diff, int filter, long average) {
+    return loop_within_kernel<NLC, 4>({delta, pole, kappa, lambda, alpha, beta, radius}, loop_kind(delay, diff, filter, average));
 }
-py::dict loop_poly(f64array delta, f64array pole, f64array alpha, f64array beta, long delay, int diff, int filter,
-                   long average) {
-    return loop_poly_kernel<NLC, 2>({delta, pole, alpha, beta}, loop_kind(delay, diff, filter, average));
+py::dict loop_poly(f64array delta, f64array pole, ZW_NPLANT, f64array alpha, f64array beta, long delay, int diff,
+                   int filter, long average) {
+    return loop_poly_kernel<NLC, 4>({delta, pole, kappa, lambda, alpha, beta}, loop_kind(delay, diff, filter, average));
 }
 LoopKind device_kind(long delay, int diff, int filter, long average, bool pole_given) {
     LoopKind k = loop_kind(delay, diff, filter, average);
@@ -980,37 +996,38 @@ py::dict loop_lowpass_pole(f64array cutoff, f64array T) {
 //
 // Device limits: zw_device_loop's certified real-unit limits (device_loop.h).
 
-py::dict loop_alpha_max(f64array delta, f64array pole, f64array beta, long delay, int diff, int filter, long average) {
+py::dict loop_alpha_max(f64array delta, f64array pole, ZW_NPLANT, f64array beta, long delay, int diff, int filter,
+                        long average) {
     const LoopKind kind = loop_kind(delay, diff, filter, average);
-    Broadcast<3> bc({delta, pole, beta});
+    Broadcast<5> bc({delta, pole, kappa, lambda, beta});
     Result r(bc);
     double *out = r.add<double>(bc, "alpha_max");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = NLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 3> &x) mutable {
+        return [&, cache = NLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 5> &x) mutable {
             const zw_loop *l;
             const zw_status s = cache.get(x, &l);
-            return s != ZW_OK ? s : zw_loop_alpha_max(l, &ws, x[2], &out[i]);
+            return s != ZW_OK ? s : zw_loop_alpha_max(l, &ws, x[4], &out[i]);
         };
     });
     return r.finish(errors);
 }
 
-py::dict loop_beta_interval(f64array delta, f64array pole, f64array alpha, long delay, int diff, int filter,
-                            long average) {
+py::dict loop_beta_interval(f64array delta, f64array pole, ZW_NPLANT, f64array alpha, long delay, int diff,
+                            int filter, long average) {
     const LoopKind kind = loop_kind(delay, diff, filter, average);
-    Broadcast<3> bc({delta, pole, alpha});
+    Broadcast<5> bc({delta, pole, kappa, lambda, alpha});
     Result r(bc);
     double *lo = r.add<double>(bc, "lo"), *hi = r.add<double>(bc, "hi");
     bool *nonempty = r.add<bool>(bc, "nonempty");
     uint8_t *count = r.add<uint8_t>(bc, "count");
     bool *truncated = r.add<bool>(bc, "truncated");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = NLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 3> &x) mutable {
+        return [&, cache = NLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 5> &x) mutable {
             const zw_loop *l;
             zw_status s = cache.get(x, &l);
             zw_loop_beta_set set;
-            if (s == ZW_OK) s = zw_loop_beta_intervals(l, &ws, x[2], &set);
-            if (s == ZW_OK) s = zw_loop_beta_interval(l, &ws, x[2], &lo[i], &hi[i], &nonempty[i]);
+            if (s == ZW_OK) s = zw_loop_beta_intervals(l, &ws, x[4], &set);
+            if (s == ZW_OK) s = zw_loop_beta_interval(l, &ws, x[4], &lo[i], &hi[i], &nonempty[i]);
             if (s == ZW_OK) count[i] = static_cast<uint8_t>(set.count), truncated[i] = set.truncated;
             return s;
         };
@@ -1018,15 +1035,15 @@ py::dict loop_beta_interval(f64array delta, f64array pole, f64array alpha, long 
     return r.finish(errors);
 }
 
-py::dict loop_extremes(f64array delta, f64array pole, long delay, int diff, int filter, long average) {
+py::dict loop_extremes(f64array delta, f64array pole, ZW_NPLANT, long delay, int diff, int filter, long average) {
     const LoopKind kind = loop_kind(delay, diff, filter, average);
-    Broadcast<2> bc({delta, pole});
+    Broadcast<4> bc({delta, pole, kappa, lambda});
     Result r(bc);
     double *amax = r.add<double>(bc, "alpha_mmax"), *bat = r.add<double>(bc, "beta_at_alpha_mmax");
     double *apmax = r.add<double>(bc, "alpha_p_max"), *bmax = r.add<double>(bc, "beta_mmax");
     double *bmin = r.add<double>(bc, "beta_mmin");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = NLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 2> &x) mutable {
+        return [&, cache = NLC(kind), ws = zw_loop_workspace{}](ssize i, const std::array<double, 4> &x) mutable {
             const zw_loop *l;
             zw_status s = cache.get(x, &l);
             zw_loop_extremes ex;
@@ -1040,17 +1057,17 @@ py::dict loop_extremes(f64array delta, f64array pole, long delay, int diff, int 
     return r.finish(errors);
 }
 
-py::dict loop_boundary_point(f64array delta, f64array pole, f64array theta, long delay, int diff, int filter,
-                             long average) {
+py::dict loop_boundary_point(f64array delta, f64array pole, ZW_NPLANT, f64array theta, long delay, int diff,
+                             int filter, long average) {
     const LoopKind kind = loop_kind(delay, diff, filter, average);
-    Broadcast<3> bc({delta, pole, theta});
+    Broadcast<5> bc({delta, pole, kappa, lambda, theta});
     Result r(bc);
     double *alpha = r.add<double>(bc, "alpha"), *beta = r.add<double>(bc, "beta");
     const ssize errors = bc.run(r.status(), [&] {
-        return [&, cache = NLC(kind)](ssize i, const std::array<double, 3> &x) mutable {
+        return [&, cache = NLC(kind)](ssize i, const std::array<double, 5> &x) mutable {
             const zw_loop *l;
             const zw_status s = cache.get(x, &l);
-            return s != ZW_OK ? s : zw_loop_boundary_point(l, x[2], &alpha[i], &beta[i]);
+            return s != ZW_OK ? s : zw_loop_boundary_point(l, x[4], &alpha[i], &beta[i]);
         };
     });
     return r.finish(errors);
@@ -1201,14 +1218,16 @@ PYBIND11_MODULE(_core, mod) {
     mod.attr("LOOP_MAX_DELAY") = int{ZW_LOOP_MAX_DELAY};
     mod.attr("LOOP_MAX_AVERAGE") = int{ZW_LOOP_MAX_AVERAGE};
     mod.attr("LOOP_MAX_DEGREE") = int{ZW_LOOP_MAX_DEGREE};
+    // the normalized plant (plant.h): kappa = Kp T^2 / M, lambda = tau / T; both 0 is the ideal plant
+    const auto kap = py::arg("kappa"), lam = py::arg("lambda_");
     const auto pole = py::arg("pole"), fc = py::arg("cutoff"), dl = py::arg("delay"), df = py::arg("differentiator"),
                fl = py::arg("filter"), av = py::arg("average");
-    mod.def("loop_check", &loop_check, d, pole, a, be, dl, df, fl, av, py::arg("full"), "zw_loop_check per element.");
-    mod.def("loop_spectral_radius", &loop_spectral_radius, d, pole, a, be, dl, df, fl, av,
+    mod.def("loop_check", &loop_check, d, pole, kap, lam, a, be, dl, df, fl, av, py::arg("full"), "zw_loop_check per element.");
+    mod.def("loop_spectral_radius", &loop_spectral_radius, d, pole, kap, lam, a, be, dl, df, fl, av,
             "zw_loop_spectral_radius per element (rho, theta).");
-    mod.def("loop_radius_within", &loop_radius_within, d, pole, a, be, py::arg("radius"), dl, df, fl, av,
+    mod.def("loop_radius_within", &loop_radius_within, d, pole, kap, lam, a, be, py::arg("radius"), dl, df, fl, av,
             "zw_loop_radius_within per element.");
-    mod.def("loop_poly", &loop_poly, d, pole, a, be, dl, df, fl, av,
+    mod.def("loop_poly", &loop_poly, d, pole, kap, lam, a, be, dl, df, fl, av,
             "zw_loop_poly per element (right-aligned in LOOP_MAX_DEGREE + 1 entries, and the degree).");
     const auto pg = py::arg("pole_given");
     // the plant-side parts (device_loop.h, zw_device_loop_init_plant): all 0 is the plain plant
@@ -1220,11 +1239,11 @@ PYBIND11_MODULE(_core, mod) {
     mod.def("device_loop_radius_within", &device_loop_radius_within, m, b, T, fc, kp, tau, mh, bh, kh, K, B, py::arg("radius"), dl, df, fl,
             av, pg, "zw_loop_radius_within of the device's loop per element.");
     mod.def("loop_lowpass_pole", &loop_lowpass_pole, py::arg("cutoff"), T, "zw_loop_lowpass_pole per element.");
-    mod.def("loop_alpha_max", &loop_alpha_max, d, pole, be, dl, df, fl, av, "zw_loop_alpha_max per element.");
-    mod.def("loop_beta_interval", &loop_beta_interval, d, pole, a, dl, df, fl, av,
+    mod.def("loop_alpha_max", &loop_alpha_max, d, pole, kap, lam, be, dl, df, fl, av, "zw_loop_alpha_max per element.");
+    mod.def("loop_beta_interval", &loop_beta_interval, d, pole, kap, lam, a, dl, df, fl, av,
             "zw_loop_beta_interval (the widest) and the count of zw_loop_beta_intervals per element.");
-    mod.def("loop_extremes", &loop_extremes, d, pole, dl, df, fl, av, "zw_loop_extremes_compute per element.");
-    mod.def("loop_boundary_point", &loop_boundary_point, d, pole, py::arg("theta"), dl, df, fl, av,
+    mod.def("loop_extremes", &loop_extremes, d, pole, kap, lam, dl, df, fl, av, "zw_loop_extremes_compute per element.");
+    mod.def("loop_boundary_point", &loop_boundary_point, d, pole, kap, lam, py::arg("theta"), dl, df, fl, av,
             "zw_loop_boundary_point per element.");
     mod.def("device_loop_k_max", &device_loop_k_max, m, b, T, fc, kp, tau, mh, bh, kh, B, dl, df, fl, av, pg,
             "K_max of the device's loop per element (certified, pulled inward for the conversions).");
