@@ -12,8 +12,9 @@ verdict is as safe as a normalized one.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
-from typing import Any, Dict, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -120,6 +121,12 @@ class Device:
         [N m s/rad], k_h [N m/rad]), stiffness [N m/rad])."""
         return cls(J, b, T, errors=errors, rotary=True, delay=delay, velocity_filter=velocity_filter,
                    differentiator=differentiator, actuator_tau=actuator_tau, hand=hand, stiffness=stiffness)
+
+    def without_plant_parts(self) -> "Device":
+        """The same plant and loop (delay, filter, differentiator) without its plant-side
+        parts: what the lag, the hand and the spring change is this Device against that one."""
+        return Device(self._m, self._b, self._T, errors=self.errors, rotary=self.is_rotary, delay=self.loop.delay,
+                      velocity_filter=_filter_of(self.loop), differentiator=self.loop.differentiator)
 
     def ideal(self) -> "Device":
         """The same plant with the paper's loop (no delay, no filter, backward difference)
@@ -376,10 +383,167 @@ class Device:
             K_mmax_by_delay=np.asarray(by_delay), cutoffs=grid, K_mmax_by_cutoff=by_cutoff,
             best_cutoff=best, K_mmax_at_best_cutoff=at_best, loop_text=f"this loop ({lp.describe()})")
 
+    def sensitivity(self, *, rel_step: float = 1e-3) -> "PlantSensitivity":
+        """How each plant parameter moves K_mmax and B_mmax (one plant: scalar m, b, T):
+        m (or J), b, T, the actuator lag tau, the hand's m_h, b_h, k_h and the stiffness k_p.
+
+        Numerical, for any loop and plant (the paper's closed forms, :meth:`influence`, are
+        about its ideal loop only): finite differences of the certified limits of
+        :meth:`extremes` (never above the true ones, within ~1e-12 of them), each a central
+        difference with step h = rel_step * p, or, for a parameter at 0 (an absent part:
+        it cannot go below 0), the one-sided second-order difference (-3 f(0) + 4 f(h) -
+        f(2h)) / (2 h) with h = rel_step times the parameter's natural scale (T for tau, m
+        for m_h, m/T for b and b_h, m/T^2 for k_h and k_p).  Where K_mmax has a kink (its top
+        switching between boundaries) the difference is the mean of the two one-sided slopes."""
+        if np.ndim(self.delta) != 0:
+            raise ValueError("Device.sensitivity is about one plant; build a Device with scalar m, b, T")
+        if not (0.0 < rel_step < 0.1):
+            raise ValueError(f"zwidth.Device.sensitivity: rel_step must be in (0, 0.1), got {rel_step!r}")
+        m, b, T = float(self._m), float(self._b), float(self._T)
+        k_p, tau, m_h, b_h, k_h = (float(p) for p in self._parts)
+        base = {"m": m, "b": b, "T": T, "actuator_tau": tau, "m_h": m_h, "b_h": b_h, "k_h": k_h, "stiffness": k_p}
+        scale = {"m": m, "b": m / T, "T": T, "actuator_tau": T, "m_h": m, "b_h": m / T, "k_h": m / T ** 2,
+                 "stiffness": m / T ** 2}
+        names = tuple(base)
+        rows: list = []   # the parameter sets, base first
+        plan = []         # (name, step, one_sided, indices of the rows)
+        rows.append(dict(base))
+        for name in names:
+            value = base[name]
+            one_sided = value == 0.0
+            h = rel_step * (scale[name] if one_sided else value)
+            shifts = (h, 2.0 * h) if one_sided else (-h, h)
+            idx = []
+            for shift in shifts:
+                row = dict(base)
+                row[name] = value + shift
+                idx.append(len(rows))
+                rows.append(row)
+            plan.append((name, h, one_sided, idx))
+        col = {k: np.array([r[k] for r in rows]) for k in names}
+        trial = Device(col["m"], col["b"], col["T"], rotary=self.is_rotary, errors="mask", delay=self.loop.delay,
+                       velocity_filter=_filter_of(self.loop), differentiator=self.loop.differentiator,
+                       actuator_tau=col["actuator_tau"], hand=(col["m_h"], col["b_h"], col["k_h"]),
+                       stiffness=col["stiffness"])
+        if not trial.has_plant_parts:  # keep the paper's plant on its own kernels
+            trial = Device(col["m"], col["b"], col["T"], rotary=self.is_rotary, errors="mask",
+                           delay=self.loop.delay, velocity_filter=_filter_of(self.loop),
+                           differentiator=self.loop.differentiator)
+        lim = trial.extremes()
+        K = np.asarray(lim.K_mmax, dtype=float)
+        Bm = np.asarray(lim.B_mmax, dtype=float)
+
+        def slope(f: NDArray[np.float64], h: float, one_sided: bool, idx: List[int]) -> float:
+            if one_sided:
+                return float((-3.0 * f[0] + 4.0 * f[idx[0]] - f[idx[1]]) / (2.0 * h))
+            return float((f[idx[1]] - f[idx[0]]) / (2.0 * h))
+
+        dK = np.array([slope(K, h, o, i) for _, h, o, i in plan])
+        dB = np.array([slope(Bm, h, o, i) for _, h, o, i in plan])
+        values = np.array([base[n] for n in names])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            eK = np.where(values > 0.0, values * dK / K[0], np.nan)
+            eB = np.where(values > 0.0, values * dB / Bm[0], np.nan)
+        u = self.units
+        units = {"m": u["m"], "b": u["b"], "T": "s", "actuator_tau": "s", "m_h": u["m"], "b_h": u["b"],
+                 "k_h": u["K"], "stiffness": u["K"]}
+        shown = tuple(self.mass_symbol if n == "m" else n for n in names)
+        return PlantSensitivity(
+            names=shown, values=values, units=tuple(units[n] for n in names), K_mmax=float(K[0]),
+            B_mmax=float(Bm[0]), dK_mmax=dK, dB_mmax=dB, elasticity_K=eK, elasticity_B=eB,
+            steps=np.array([h for _, h, _, _ in plan]), one_sided=np.array([o for _, _, o, _ in plan]),
+            K_unit=u["K"], B_unit=u["B"], loop_text=self.loop.describe())
+
     def _exact_only(self, function: str, region: str) -> None:
         if region != "exact":
             raise ValueError(f"zwidth.Device.{function}: region {region!r} is one of the paper's regions of "
                              f"its ideal loop; a loop with {self.loop.describe()} has only its exact region")
+
+
+def _filter_of(loop: Loop) -> VelocityFilter:
+    """A Loop's velocity filter as a Device takes it."""
+    if loop.filter == "lowpass":
+        return ("lowpass", loop.cutoff) if loop.cutoff is not None else ("pole", loop.pole)
+    if loop.filter == "average":
+        return ("average", loop.average)
+    return None
+
+
+#: What each parameter of :class:`PlantSensitivity` is, in words.
+SENSITIVITY_WORDS: Dict[str, str] = {
+    "m": "mass m", "J": "inertia J", "b": "damping b", "T": "period T", "actuator_tau": "actuator lag tau",
+    "m_h": "hand mass m_h", "b_h": "hand damping b_h", "k_h": "hand stiffness k_h",
+    "stiffness": "device stiffness k_p"}
+
+
+@dataclasses.dataclass(frozen=True)
+class PlantSensitivity:
+    """How each plant parameter moves K_mmax and B_mmax (:meth:`Device.sensitivity`):
+    finite differences of the certified limits (numerical, not the paper's closed forms).
+
+    names: 'm' (or 'J'), 'b', 'T', 'actuator_tau', 'm_h', 'b_h', 'k_h', 'stiffness';
+    values and units of each; dK_mmax, dB_mmax: d limit / d parameter (limit unit per
+    parameter unit); elasticity_K, elasticity_B: (p / limit) d limit / dp, the % change of
+    the limit per % of the parameter (NaN for a parameter at 0); steps h and one_sided (a
+    parameter at 0 is differenced forward)."""
+
+    names: Tuple[str, ...]
+    values: NDArray[np.float64]
+    units: Tuple[str, ...]
+    K_mmax: float
+    B_mmax: float
+    dK_mmax: NDArray[np.float64]
+    dB_mmax: NDArray[np.float64]
+    elasticity_K: NDArray[np.float64]
+    elasticity_B: NDArray[np.float64]
+    steps: NDArray[np.float64]
+    one_sided: NDArray[np.bool_]
+    K_unit: str
+    B_unit: str
+    loop_text: str
+    method: str = ("numerical: finite differences of the certified limits (Device.extremes); central with "
+                   "h = 1e-3 p, forward (second order) for a parameter at 0")
+
+    def __getitem__(self, name: str) -> Dict[str, Any]:
+        """One parameter's row: value, unit, dK_mmax, dB_mmax, elasticities, trends."""
+        i = self.names.index(name)
+        return {"name": name, "value": float(self.values[i]), "unit": self.units[i],
+                "dK_mmax": float(self.dK_mmax[i]), "dB_mmax": float(self.dB_mmax[i]),
+                "elasticity_K": float(self.elasticity_K[i]), "elasticity_B": float(self.elasticity_B[i]),
+                "K_trend": _trend(float(self.dK_mmax[i]), float(self.values[i]), float(self.steps[i]), self.K_mmax),
+                "B_trend": _trend(float(self.dB_mmax[i]), float(self.values[i]), float(self.steps[i]), self.B_mmax),
+                "step": float(self.steps[i]), "one_sided": bool(self.one_sided[i])}
+
+    def rows(self) -> List[Dict[str, Any]]:
+        return [self[n] for n in self.names]
+
+    def as_dict(self) -> Dict[str, Any]:
+        return {"K_mmax": self.K_mmax, "B_mmax": self.B_mmax, "K_unit": self.K_unit, "B_unit": self.B_unit,
+                "loop": self.loop_text, "method": self.method, "parameters": self.rows()}
+
+    def lines(self) -> List[str]:
+        """A table in words, one parameter a line."""
+        out = []
+        for r in self.rows():
+            what = SENSITIVITY_WORDS.get(r["name"], r["name"])
+            at = f"{r['value']:.4g} {r['unit']}"
+            if r["one_sided"]:
+                kd = f"dK_mmax/d{r['name']} = {r['dK_mmax']:+.4g} {self.K_unit} per {r['unit']} (from 0)"
+                bd = f"dB_mmax/d{r['name']} = {r['dB_mmax']:+.4g}"
+            else:
+                kd = f"K_mmax {r['elasticity_K']:+.3g} %/%"
+                bd = f"B_mmax {r['elasticity_B']:+.3g} %/%"
+            out.append(f"{what} = {at}: K_mmax {r['K_trend']}, B_mmax {r['B_trend']} ({kd}; {bd})")
+        return out
+
+
+def _trend(slope: float, value: float, step: float, limit: float) -> str:
+    """'rises', 'falls' or 'flat' (the limit moves by < 1e-9 of itself over a step)."""
+    if not math.isfinite(slope):
+        return "unknown"
+    if abs(slope) * step <= 1e-9 * abs(limit):
+        return "flat"
+    return "rises" if slope > 0.0 else "falls"
 
 
 class LoopNotSupported(ZwidthError, NotImplementedError):
