@@ -25,7 +25,7 @@ import numpy as np
 from . import (BOUNDS, DELTA0, REGIONS, Device, ZwidthError, __version__, alpha_max, beta_interval,
                corner, extremes, hyperbola_top, spectral_radius, verdict)
 from .box import parse_range
-from .device import LoopNotSupported
+from .device import SENSITIVITY_WORDS, LoopNotSupported
 from .results import Extremes
 from .loop import DIFFERENTIATORS, Loop, normalized_loop, parse_velocity_filter
 
@@ -1002,8 +1002,75 @@ def _plant_changes(plant: _Plant, K: float, B: float, margins: _Margins) -> List
     return out
 
 
+def _sensitivity_advice(sens: Any) -> str:
+    """Which parameter raises K_mmax most, and which lowers it most, per % (elasticity);
+    parts at 0 by their slope."""
+    rows = [r for r in sens.rows() if math.isfinite(r["elasticity_K"])]
+    out = []
+    if rows:
+        up = max(rows, key=lambda r: r["elasticity_K"])
+        down = min(rows, key=lambda r: r["elasticity_K"])
+        if up["elasticity_K"] > 0.0:
+            out.append(f"raising {SENSITIVITY_WORDS.get(up['name'], up['name'])} raises K_mmax most "
+                       f"({up['elasticity_K']:+.3g} % per %)")
+        if down["elasticity_K"] < 0.0:
+            out.append(f"raising {SENSITIVITY_WORDS.get(down['name'], down['name'])} lowers it most "
+                       f"({down['elasticity_K']:+.3g} % per %)")
+    absent = [r for r in sens.rows() if r["one_sided"] and r["K_trend"] in ("rises", "falls")]
+    if absent:
+        out.append("adding " + ", ".join(f"{SENSITIVITY_WORDS.get(r['name'], r['name'])} "
+                                          f"({r['K_trend'].replace('rises', 'raises').replace('falls', 'lowers')} it)"
+                                          for r in absent))
+    return "; ".join(out) + "." if out else "no parameter moves K_mmax measurably."
+
+
+def cmd_advise_plant(args: argparse.Namespace, plant: _Plant) -> _Outcome:
+    """advise for a device with plant-side parts: what they cost or give against the same
+    device without them, how every parameter moves K_mmax and B_mmax (numerical
+    sensitivities of the certified limits), what the loop costs, and for gains what to change."""
+    dev = plant.device
+    assert dev is not None
+    u = plant.units() or {}
+    lim, plain = dev.extremes(), dev.without_plant_parts().extremes()
+    sens = dev.sensitivity()
+    inf = dev.loop_influence() if not plant.loop.ideal else None
+    K, Kp = float(lim.K_mmax), float(plain.K_mmax)
+    data: Dict[str, Any] = {
+        "sensitivity": sens.as_dict(), "advice": _sensitivity_advice(sens),
+        "without_plant_parts": {"K_mmax": plain.K_mmax, "B_mmax": plain.B_mmax},
+        "K_mmax": lim.K_mmax, "B_mmax": lim.B_mmax, "B_at_K_mmax": lim.B_at_K_mmax,
+        "loop_influence": None if inf is None else inf.as_dict(), "influence": None, "trends": None, "gains": None}
+    lines = [plant.header(), "",
+             "Influence (numerical: finite differences of the certified limits; the paper's closed forms "
+             "are about its ideal plant)",
+             f"  K_mmax = {_fmt(K)} {u['K']} at B = {_fmt(lim.B_at_K_mmax)} {u['B']}, B_mmax = {_fmt(lim.B_mmax)} "
+             f"{u['B']}",
+             f"  without the plant-side parts: K_mmax = {_fmt(Kp)} {u['K']}, B_mmax = {_fmt(plain.B_mmax)} {u['B']}"
+             + (f" (the parts {'enlarge' if K > Kp else 'shrink'} K_mmax by {100 * abs(K / Kp - 1):.3g} %)"
+                if Kp > 0.0 else "")]
+    lines += [f"  {line}" for line in sens.lines()]
+    lines += textwrap.wrap(f"advice: {data['advice']}", 92, initial_indent="  ", subsequent_indent="          ")
+    if inf is not None:
+        lines.append(f"  this loop keeps {100 * float(inf.K_mmax_kept):.4g} % of the paper's loop's K_mmax on this "
+                     f"plant; by delay: " + ", ".join(f"{int(d)}: {_fmt(k)}" for d, k in
+                                                       zip(inf.delays, inf.K_mmax_by_delay)) + f" {u['K']}")
+    status = EXIT_OK
+    if plant.has_gains:
+        margins = _margins(args)
+        _, _, v, certified, suggestions, data["gains"] = _gains_advice(plant, dev, " with these parts", margins)
+        if not certified:
+            status = EXIT_UNSTABLE
+        lines += ["", f"Gains {plant.gains_text()}: {v.word.upper()}"
+                  + (f" ({v.deciding_name})" if v.deciding_name else "")
+                  + f"; margins {margins.text()}: " + ("CERTIFIED" if certified else "NOT CERTIFIED")]
+        lines += [f"   - {x['text']}" for x in suggestions]
+    return _Outcome(status, data, lines)
+
+
 def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Influence of m, b, T on the limits, critical values, advice; gains: what to change."""
+    if plant.parts:
+        return cmd_advise_plant(args, plant)
     if not plant.loop.ideal:
         return cmd_advise_loop(args, plant)
     dev = _advise_device(plant)
@@ -1463,9 +1530,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     from . import box_cli  # plant ranges (--m 0.10:0.14): every plant of a box
     parts_given = [f"--{n.replace('_', '-')}" for n in ("actuator_tau", "hand", "stiffness")
                    if getattr(args, n, None) is not None]
-    if parts_given and (args.command not in ("check", "limits") or box_cli.has_range(args)):
-        sub.error(f"{', '.join(parts_given)}: plant-side parts are taken by 'check' and 'limits' on one "
-                  f"plant (not yet by {args.command}{' over a plant range' if box_cli.has_range(args) else ''})")
+    if parts_given and box_cli.has_range(args):
+        sub.error(f"{', '.join(parts_given)}: plant-side parts are taken on one plant (check, limits, advise, "
+                  f"plot), not yet over a plant range: give --m, --b as single values")
+    if parts_given and args.command == "plot" and args.kind == "extremes":
+        sub.error(f"{', '.join(parts_given)}: plot extremes draws the paper's ideal plant over delta; for a "
+                  f"plant with parts use 'plot region' or 'plot influence' with --m/--J, --b, --T")
     if box_cli.has_range(args):
         return box_cli.main(args, sub)
     try:

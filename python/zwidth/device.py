@@ -228,9 +228,10 @@ class Device:
             raise LoopNotSupported(
                 f"zwidth.Device.{function}: {what} of a loop with {self.loop.describe()}"
                 f"{' and plant-side parts' if self.has_plant_parts else ''} has no closed "
-                f"form (the paper's Section IV is about its ideal loop); Device.loop_influence() gives "
-                f"what the loop costs and which filter cut-off keeps most, and "
-                f"Device(...).ideal().{function}() the paper's loop", "ZW_ERR_ARG", None, (), {})
+                f"form (the paper's Section IV is about its ideal loop); Device.sensitivity() gives how "
+                f"m, b, T and the plant-side parts move K_mmax and B_mmax (numerically, from the certified "
+                f"limits), Device.loop_influence() what the loop costs and which filter cut-off keeps most, "
+                f"and Device(...).ideal().{function}() the paper's loop", "ZW_ERR_ARG", None, (), {})
 
     def normalize(self, K: ArrayLike, B: ArrayLike) -> Normalized:
         """(delta, alpha, beta) = (b T/m, K T^2/m, B T/m) for gains K [N/m], B [N s/m]
@@ -347,14 +348,20 @@ class Device:
         K_mmax of this loop with each of ``delays``; with a low-pass, K_mmax against the
         cut-off on ``cutoffs`` [Hz] (default: 40 cut-offs on a log grid from Nyquist/200 to
         0.95 Nyquist, plus this one) and the cut-off that keeps most.  Every K_mmax is the
-        certified one of zw_loop_extremes_compute; NaN where no gains are stable."""
+        certified one of zw_loop_extremes_compute; NaN where no gains are stable.  Every
+        loop runs on this plant with its plant-side parts (the "ideal loop" is the paper's
+        loop on it)."""
         if np.ndim(self.delta) != 0:
             raise ValueError("Device.loop_influence is about one plant; build a Device with scalar m, b, T")
         lp = self.loop
 
+        k_p, tau, m_h, b_h, k_h = self._parts
+
         def make(delay: int = 0, velocity_filter: VelocityFilter = None, differentiator: str = "backward") -> Device:
+            # every loop on this plant, its plant-side parts included
             return Device(self._m, self._b, self._T, rotary=self.is_rotary, errors="mask", delay=delay,
-                          velocity_filter=velocity_filter, differentiator=differentiator)
+                          velocity_filter=velocity_filter, differentiator=differentiator, actuator_tau=tau,
+                          hand=(m_h, b_h, k_h), stiffness=k_p)
 
         ideal = make().extremes()
         vf: Any = None
