@@ -146,6 +146,11 @@ kinds:
   extremes   alpha_mmax, beta_mmax and ratios against delta (no plant; --delta-min/max)
   influence  K_mmax and B_mmax against m, b and T around a real-unit plant
   device     a real-unit plant's stable (K, B) region, its limits and the advice
+with plant-side parts (--actuator-tau, --hand, --stiffness; real-unit plant, any loop):
+  region, device  the (B, K) region with the parts over the same plant and loop without
+             them (each grid point by the guarded check; certified K_max(B) lines)
+  influence  K_mmax and B_mmax against m, b, T, tau, m_h, b_h, k_h and k_p, one panel
+             each (certified limits; the slopes of 'zwidth advise')
 --json keys: command, kind, file, format ("png"|"pdf"|"svg"|"eps"|"ps"), bytes."""
 
 _SIMULATE_DESCRIPTION = """\
@@ -740,8 +745,9 @@ def _refuse_loop(command: str, plant: Optional[_Plant]) -> None:
     if plant is not None and not plant.loop.ideal:
         raise LoopNotSupported(
             f"zwidth {command}: this figure is about the paper's ideal loop; for a loop with "
-            f"{plant.loop.describe()} use 'zwidth plot region' (the region it keeps) or 'zwidth limits' "
-            f"/ 'zwidth advise' with the same options", "ZW_ERR_ARG", None, (), {})
+            f"{plant.loop.describe()} use 'zwidth plot region' (the region it keeps), 'zwidth plot influence' "
+            f"with a plant-side part (--actuator-tau, --hand, --stiffness: numerical, any loop) or 'zwidth "
+            f"limits' / 'zwidth advise' with the same options", "ZW_ERR_ARG", None, (), {})
 
 
 def cmd_limits(args: argparse.Namespace, plant: _Plant) -> _Outcome:
@@ -1153,6 +1159,11 @@ def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
     def draw(plot: Any) -> Any:
         if kind == "extremes":
             return plot.extremes(args.delta_min, args.delta_max)
+        if kind in ("region", "device") and plant is not None and plant.parts:
+            # real units: the region with the lag / hand / spring over the same device without them
+            return plot.plant_region(plant.device, plant.K, plant.B)
+        if kind == "influence" and plant is not None and plant.parts:
+            return plot.plant_influence(plant.device)
         if kind == "region":
             assert plant is not None
             point = None if not plant.has_gains else (float(plant.beta), float(plant.alpha))  # type: ignore[arg-type]

@@ -44,7 +44,7 @@ if TYPE_CHECKING:
     from .sim import Simulation, SimulationSet
 
 __all__ = ["region", "loop_region", "extremes", "influence", "device", "simulation", "save",
-           "CRITICAL_DELTAS", "FORMATS", "box_region"]
+           "CRITICAL_DELTAS", "FORMATS", "box_region", "plant_region", "plant_influence"]
 
 _INSTALL_HINT = "zwidth.plot needs matplotlib: pip install zwidth[plot]"
 
@@ -945,6 +945,166 @@ def _loop_text(kw: Dict[str, Any]) -> str:
     from .loop import normalized_loop
     return normalized_loop("plot.loop_region", kw["delay"], kw["filter_pole"], kw["average"],
                            kw["differentiator"]).describe()
+
+
+# ---------------------------------------------------------------------------------------
+# A device with plant-side parts (actuator lag, hand, stiffness): against the same device
+# without them, real units
+# ---------------------------------------------------------------------------------------
+
+
+def _parts_text(dev: Device) -> str:
+    u = {k: v.replace("^2", "²") for k, v in dev.units.items()}
+    k_p, tau = float(dev.stiffness), float(dev.actuator_tau)
+    m_h, b_h, k_h = (float(v) for v in dev.hand)
+    out = []
+    if tau != 0.0:
+        out.append(f"lag τ = {tau:.4g} s")
+    if m_h != 0.0 or b_h != 0.0 or k_h != 0.0:
+        out.append(f"hand ({m_h:.3g} {u['m']}, {b_h:.3g} {u['b']}, {k_h:.3g} {u['K']})")
+    if k_p != 0.0:
+        out.append(f"k_p = {k_p:.4g} {u['K']}")
+    return ", ".join(out) or "no plant-side parts"
+
+
+def plant_region(device: Device, K: Optional[float] = None, B: Optional[float] = None, *,
+                 ax: Optional["Axes"] = None, resolution: Tuple[int, int] = (400, 300)) -> "Figure":
+    """What the plant-side parts (actuator lag, hand, stiffness) do to the region, real units.
+
+    The region of ``device`` (blue, its loop and its parts) over that of the same plant and
+    loop without the parts (grey, ``device.without_plant_parts()``), each grid point of
+    ``resolution`` decided by the guarded check (``Device.is_stable``: never stable for an
+    unstable point), each with its certified K_max(B) as a line (``Device.k_max``, never
+    above the true one).  With a stiffness (k_p + k_h > 0) small negative K are stable: the
+    view reaches below K = 0.  K_mmax of both in the title; (B, K) marked with the device's
+    verdict when given.  A scalar Device; works for a device without parts too (both equal).
+    """
+    _scalar_device(device, "plant_region")
+    if (K is None) != (B is None):
+        raise ValueError("zwidth.plot.plant_region: give both K and B (or neither)")
+    plain = device.without_plant_parts()
+    lim, lim0 = device.extremes(), plain.extremes()
+    u = _units(device)
+    b_lo = min(float(lim.B_mmin), float(lim0.B_mmin))
+    b_hi = max(float(lim.B_mmax), float(lim0.B_mmax))
+    k_hi = 1.25 * max(float(lim.K_mmax), float(lim0.K_mmax))  # room for the legend
+    spring = float(device.stiffness) + float(device.hand[2])
+    k_lo = -min(1.2 * spring, 0.15 * k_hi) if spring > 0.0 else 0.0
+    if K is not None and B is not None:
+        b_lo, b_hi = min(b_lo, float(B)), max(b_hi, float(B))
+        k_lo, k_hi = min(k_lo, float(K)), max(k_hi, 1.05 * float(K))
+    width = b_hi - b_lo
+    nb, nk = resolution
+    Bs = np.linspace(b_lo - 0.05 * width, b_hi + 0.05 * width, nb)
+    Ks = np.linspace(k_lo, k_hi, nk)
+    BB, KK = np.meshgrid(Bs, Ks)
+    with_parts = np.asarray(device.is_stable(KK, BB), dtype=bool)
+    without = np.asarray(plain.is_stable(KK, BB), dtype=bool)
+    fig, ax = _own_axes(ax, (8.5, 5.5))
+    extent = (Bs[0], Bs[-1], Ks[0], Ks[-1])
+    ax.imshow(np.where(without, 0.8, 1.0), origin="lower", extent=extent, aspect="auto", cmap="gray",
+              vmin=0.0, vmax=1.0, interpolation="nearest")
+    ax.imshow(np.ma.masked_where(~with_parts, np.ones_like(KK)), origin="lower", extent=extent, aspect="auto",
+              cmap="Blues", vmin=0.0, vmax=1.6, alpha=0.7, interpolation="nearest")
+    for dev, l, colour in ((plain, lim0, "0.25"), (device, lim, "#1f4e99")):
+        curve = np.linspace(float(l.B_mmin), float(l.B_mmax), 801)[1:-1]
+        ax.plot(curve, np.asarray(dev.k_max(curve), dtype=float), color=colour, linewidth=1.3)
+        ax.plot([float(l.B_at_K_mmax)], [float(l.K_mmax)], "o", color=colour, markersize=6)
+    ax.axhline(0.0, color="0.5", linewidth=0.8)
+    loop = device.loop.describe()
+    handles = [_proxy(color="0.7", linewidth=8, label=f"without the parts (K_mmax {float(lim0.K_mmax):.4g})"),
+               _proxy(color="#6fa8dc", linewidth=8, label=f"with {_parts_text(device)} "
+                                                         f"(K_mmax {float(lim.K_mmax):.4g})"),
+               _proxy(color="#1f4e99", linewidth=1.3, label="certified K_max(B) (lines)")]
+    if K is not None and B is not None:
+        handles += _mark_verdict(ax, float(B), float(K), device.verdict(float(K), float(B)),
+                                 f"(B, K) = ({float(B):.4g}, {float(K):.4g})")
+    ratio = float(lim.K_mmax) / float(lim0.K_mmax) if float(lim0.K_mmax) > 0.0 else math.nan
+    ax.set_title(f"{u['m']} = {float(device.m):.4g} {u['m_unit']}, b = {float(device.b):.4g} {u['b_unit']}, "
+                 f"T = {float(device.T):.4g} s, loop: {loop}\nthe plant-side parts make K_mmax "
+                 f"{ratio:.3g} x that without them", fontsize=9)
+    ax.set_xlabel(f"B [{u['B_unit']}]")
+    ax.set_ylabel(f"K [{u['K_unit']}]")
+    ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
+    return fig
+
+
+#: The plant parameters :func:`plant_influence` sweeps: (name in Device.sensitivity, label).
+_SWEPT = (("m", "m"), ("b", "b"), ("T", "T"), ("actuator_tau", "τ"), ("m_h", "m_h"), ("b_h", "b_h"),
+          ("k_h", "k_h"), ("stiffness", "k_p"))
+
+
+def _with(device: Device, name: str, grid: NDArray[np.float64]) -> Device:
+    """device with one parameter replaced by a grid (the others held)."""
+    k_p, tau = device.stiffness, device.actuator_tau
+    m_h, b_h, k_h = device.hand
+    p = {"m": device.m, "b": device.b, "T": device.T, "actuator_tau": tau, "m_h": m_h, "b_h": b_h, "k_h": k_h,
+         "stiffness": k_p}
+    p[name] = grid
+    return Device(p["m"], p["b"], p["T"], rotary=device.is_rotary, errors="mask", delay=device.loop.delay,
+                  velocity_filter=_device_filter(device), differentiator=device.loop.differentiator,
+                  actuator_tau=p["actuator_tau"], hand=(p["m_h"], p["b_h"], p["k_h"]), stiffness=p["stiffness"])
+
+
+def _device_filter(device: Device) -> Any:
+    lp = device.loop
+    if lp.filter == "lowpass":
+        return ("lowpass", lp.cutoff) if lp.cutoff is not None else ("pole", lp.pole)
+    return ("average", lp.average) if lp.filter == "average" else None
+
+
+def plant_influence(device: Device, *, fig: Optional["Figure"] = None, points: int = 60) -> "Figure":
+    """How m (J), b, T and the plant-side parts (tau, the hand's m_h, b_h, k_h, the device's
+    k_p) move K_mmax and B_mmax around ``device`` (scalar), real units, its loop held.
+
+    One panel per parameter: K_mmax (blue, left axis) and B_mmax (orange, right axis), the
+    certified limits of ``Device.extremes`` on a log grid around the value (a part at 0:
+    from 1e-4 to 10 times its natural scale: T for tau, m for m_h, m/T for b_h, m/T^2 for
+    the stiffnesses, with the value at 0 drawn as a dotted level); the device marked.  The
+    slopes at the device are ``device.sensitivity()``'s, printed under the panels.
+    """
+    m, b, T = _scalar_device(device, "plant_influence")
+    u = _units(device)
+    sens = device.sensitivity()
+    base = {"m": m, "b": b, "T": T, "actuator_tau": float(device.actuator_tau), "m_h": float(device.hand[0]),
+            "b_h": float(device.hand[1]), "k_h": float(device.hand[2]), "stiffness": float(device.stiffness)}
+    scale = {"m": m, "b": m / T, "T": T, "actuator_tau": T, "m_h": m, "b_h": m / T, "k_h": m / T ** 2,
+             "stiffness": m / T ** 2}
+    unit = {"m": u["m_unit"], "b": u["b_unit"], "T": "s", "actuator_tau": "s", "m_h": u["m_unit"],
+            "b_h": u["b_unit"], "k_h": u["K_unit"], "stiffness": u["K_unit"]}
+    here = device.extremes()
+    fig, axes = _axes_grid(fig, 2, 4, (15.0, 7.5),
+                           dict(left=0.05, right=0.94, top=0.88, bottom=0.17, wspace=0.62, hspace=0.42))
+    for ax, (name, label) in zip(axes, _SWEPT):
+        value = base[name]
+        centre = value if value > 0.0 else scale[name]
+        lo, hi = (value / 30.0, value * 30.0) if value > 0.0 else (centre * 1e-4, centre * 10.0)
+        grid = np.geomspace(lo, hi, int(points))
+        lim = _with(device, name, grid).extremes()
+        ax.plot(grid, np.asarray(lim.K_mmax, dtype=float), color="C0", linewidth=2)
+        ax.set_xscale("log")
+        ax.set_ylabel(f"K_mmax [{u['K_unit']}]", color="C0", fontsize="small")
+        twin = ax.twinx()
+        twin.plot(grid, np.asarray(lim.B_mmax, dtype=float), color="C1", linewidth=1.5)
+        twin.set_ylabel(f"B_mmax [{u['B_unit']}]", color="C1", fontsize="small")
+        if value > 0.0:
+            ax.plot([value], [float(here.K_mmax)], "o", color="#c62828", markeredgecolor="black", zorder=6)
+            twin.plot([value], [float(here.B_mmax)], "s", color="#c62828", markeredgecolor="black", zorder=6)
+        else:
+            ax.axhline(float(here.K_mmax), color="C0", linestyle=":", linewidth=1)
+            twin.axhline(float(here.B_mmax), color="C1", linestyle=":", linewidth=1)
+        shown = u["m"] if name == "m" else label
+        row = sens["J" if (name == "m" and device.is_rotary) else name]
+        ax.set_title(f"{shown} = {value:.3g} {unit[name]}: K_mmax {row['K_trend']}", fontsize="small")
+        ax.set_xlabel(f"{shown} [{unit[name]}]" + (" (now 0: dotted)" if value == 0.0 else ""), fontsize="small")
+        ax.grid(True, which="major", color="0.9")
+    title = (f"K_mmax (blue) and B_mmax (orange) against the plant and its parts around {u['m']} = {m:.4g} "
+             f"{u['m_unit']}, b = {b:.4g} {u['b_unit']}, T = {T:.4g} s, {_parts_text(device)}; loop: "
+             f"{device.loop.describe()} (certified limits)")
+    fig.suptitle("\n".join(textwrap.wrap(title, 150)), fontsize="medium")
+    fig.text(0.01, 0.005, "\n".join(textwrap.wrap("; ".join(sens.lines()), 200)), fontsize="x-small",
+             va="bottom", ha="left")
+    return fig
 
 
 #: File formats :func:`save` writes, by suffix (vector formats for papers: pdf, svg, eps).
