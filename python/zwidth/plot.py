@@ -882,7 +882,8 @@ def simulation(sims: "SimulationSet", *, fig: Optional["Figure"] = None,
 def loop_region(delta: float, *, delay: int = 0, filter_pole: float = 0.0, average: Optional[int] = None,
                 differentiator: str = "backward", point: Union[Point, Sequence[Point], None] = None,
                 ax: Optional["Axes"] = None, resolution: Tuple[int, int] = (400, 300),
-                T: Optional[float] = None, loop_text: Optional[str] = None) -> "Figure":
+                T: Optional[float] = None, loop_text: Optional[str] = None, kappa: float = 0.0,
+                lambda_: float = 0.0) -> "Figure":
     """How much of the ideal loop's region a real loop keeps, in the (beta, alpha) plane.
 
     The paper's exact region at delta (grey, its boundary alpha_max) under the region of
@@ -894,19 +895,24 @@ def loop_region(delta: float, *, delay: int = 0, filter_pole: float = 0.0, avera
     region's grid points the loop keeps, and the largest alpha on the grid for each.
     ``point`` = (beta, alpha) pairs are marked with the loop's verdict (its oscillation in
     Hz when the period ``T`` [s] is given, else in cycles per sample); ``loop_text``
-    replaces the loop's description in the legend (e.g. the cut-off in Hz).
+    replaces the loop's description in the legend (e.g. the cut-off in Hz).  ``kappa`` and
+    ``lambda_`` put the loop on a plant with a stiffness and an actuator lag (normalized,
+    :func:`zwidth.check`); the grey region stays the paper's plant and loop at delta.
     """
     delta = _scalar("delta", delta)
     kw: Dict[str, Any] = {"delay": delay, "filter_pole": filter_pole, "average": average,
-                          "differentiator": differentiator}
+                          "differentiator": differentiator, "kappa": _scalar("kappa", kappa),
+                          "lambda_": _scalar("lambda_", lambda_)}
     probe = _check(delta, 0.0, 0.0, **kw)  # validates the loop's keywords (ZwidthError)
     del probe
     ext = _extremes(delta)
-    lo, hi = -delta, float(ext.beta_mmax)
+    own = _extremes(delta, **kw)  # the loop's own (certified) extremes: the view holds both regions
+    lo, hi = min(-delta, float(own.beta_mmin)), max(float(ext.beta_mmax), float(own.beta_mmax))
     width = hi - lo
     nb, na = resolution
     betas = np.linspace(lo - 0.05 * width, hi + 0.05 * width, nb)
-    alphas = np.linspace(0.0, 1.1 * float(ext.alpha_mmax), na)
+    a_lo = -min(1.2 * kw["kappa"], 0.15 * float(own.alpha_mmax)) if kw["kappa"] > 0.0 else 0.0
+    alphas = np.linspace(a_lo, 1.1 * max(float(ext.alpha_mmax), float(own.alpha_mmax)), na)
     B, A = np.meshgrid(betas, alphas)
     ideal = np.asarray(_check(delta, A, B), dtype=bool)
     loop = np.asarray(_check(delta, A, B, **kw), dtype=bool)
@@ -917,8 +923,9 @@ def loop_region(delta: float, *, delay: int = 0, filter_pole: float = 0.0, avera
     shown = np.ma.masked_where(~loop, np.ones_like(A))
     ax.imshow(shown, origin="lower", extent=extent, aspect="auto", cmap="Blues", vmin=0.0, vmax=1.6,
               alpha=0.85, interpolation="nearest")
-    curve = np.linspace(lo, hi, 1001)
+    curve = np.linspace(-delta, float(ext.beta_mmax), 1001)
     ax.plot(curve, np.asarray(alpha_max(delta, curve), dtype=float), color="black", linewidth=1.2)
+    curve = np.linspace(float(own.beta_mmin), float(own.beta_mmax), 1001)
     # the loop's certified alpha_max (loop_limits.h): the top of its stable interval above alpha = 0
     ax.plot(curve, np.asarray(alpha_max(delta, curve, errors="mask", **kw), dtype=float), color="#1f4e99",
             linewidth=1.2)
@@ -943,8 +950,10 @@ def loop_region(delta: float, *, delay: int = 0, filter_pole: float = 0.0, avera
 
 def _loop_text(kw: Dict[str, Any]) -> str:
     from .loop import normalized_loop
-    return normalized_loop("plot.loop_region", kw["delay"], kw["filter_pole"], kw["average"],
+    text = normalized_loop("plot.loop_region", kw["delay"], kw["filter_pole"], kw["average"],
                            kw["differentiator"]).describe()
+    parts = [f"{k} = {kw[k]:g}" for k in ("kappa", "lambda_") if kw.get(k)]
+    return text + (f" on a plant with {', '.join(parts)}" if parts else "")
 
 
 # ---------------------------------------------------------------------------------------
