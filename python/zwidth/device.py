@@ -412,8 +412,8 @@ class Device:
         scale = {"m": m, "b": m / T, "T": T, "actuator_tau": T, "m_h": m, "b_h": m / T, "k_h": m / T ** 2,
                  "stiffness": m / T ** 2}
         names = tuple(base)
-        rows: list = []   # the parameter sets, base first
-        plan = []         # (name, step, one_sided, indices of the rows)
+        rows: List[Dict[str, float]] = []   # the parameter sets, base first
+        plan: List[Tuple[str, float, bool, List[int]]] = []  # (name, step, one_sided, indices of the rows)
         rows.append(dict(base))
         for name in names:
             value = base[name]

@@ -496,8 +496,8 @@ def test_cli_parts():
     assert r.returncode == 1  # unstable without the hand
     r = run("check", "--preset", "paper-drive", "--K", "0.2", "--B", "0.001", "--stiffness", "-1")
     assert r.returncode != 0 and "--stiffness" in r.stderr
-    r = run("advise", "--preset", "paper-drive", "--K", "0.2", "--B", "0.001", "--hand", "1,2,3")
-    assert r.returncode == 2 and "--hand" in r.stderr
+    r = run("advise", "--preset", "paper-drive", "--K", "0.2", "--B", "0.001", "--hand", "1,2")
+    assert r.returncode == 2 and "--hand" in r.stderr   # advise takes the parts (test_plant_cli.py)
     r = run("check", "--delta", "1", "--alpha", "1", "--beta", "0", "--stiffness", "1")
     assert r.returncode == 2 and "real-unit plant" in r.stderr
 
