@@ -241,8 +241,9 @@ class LinearPart:
               end of the run: its mass, damping and stiffness added)
     poles:    the closed loop's poles (numpy eigenvalues of closed_loop_matrix)
     spectral_radius: the largest pole modulus
-    verdict:  zwidth's guarded verdict of that loop (Device.verdict) where the analysis
-              covers it (no hand stiffness, no actuator lag), else None (the eigenvalues decide)
+    verdict:  zwidth's guarded verdict of that loop (Device.verdict, a holding hand and an
+              actuator lag as plant-side parts) where the analysis covers it (a delay up to
+              loop.MAX_DELAY), else None (the eigenvalues decide)
     stable:   the verdict's, else spectral_radius < 1
     """
 
@@ -316,7 +317,9 @@ def linear_part(params: Mapping[str, Any], rotary: bool, filter_pole: float, dur
     effects = int(params["effects"])
     m, b, T = float(params["m"]), float(params["b"]), float(params["T"])
     k = 0.0
+    held: Optional[Tuple[float, float, float]] = None  # the hand holding at the end, as Device's hand=
     if effects & EFFECTS["hand"] and float(params["hand_t_grasp"]) < duration <= float(params["hand_t_release"]):
+        held = (float(params["hand_mass"]), float(params["hand_damping"]), float(params["hand_stiffness"]))
         m += float(params["hand_mass"])
         b += float(params["hand_damping"])
         k = float(params["hand_stiffness"])
@@ -331,10 +334,12 @@ def linear_part(params: Mapping[str, Any], rotary: bool, filter_pole: float, dur
         poles = np.asarray(np.linalg.eigvals(A), dtype=np.complex128)
         rho = float(np.abs(poles).max())
         verdict: Optional[Union[Verdict, LoopVerdict]] = None
-        if k == 0 and tau == 0 and delay <= MAX_DELAY:
-            dev = Device(m, b, T, rotary=rotary, delay=delay,
+        if delay <= MAX_DELAY:
+            # a hand still holding and an actuator lag are plant-side parts of the general loop
+            # (plant.h): its guarded verdict, as for the plain plant
+            dev = Device(float(params["m"]), float(params["b"]), T, rotary=rotary, delay=delay,
                          velocity_filter=_velocity_filter(params, effects, a),
-                         differentiator="tustin" if tustin else "backward")
+                         differentiator="tustin" if tustin else "backward", actuator_tau=tau, hand=held)
             verdict = dev.verdict(K, B)
             rho = float(dev.spectral_radius(K, B))
         stable = bool(verdict.stable) if verdict is not None else rho < 1.0
