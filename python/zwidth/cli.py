@@ -26,6 +26,7 @@ from . import (BOUNDS, DELTA0, REGIONS, Device, ZwidthError, __version__, alpha_
                corner, extremes, hyperbola_top, spectral_radius, verdict)
 from .box import parse_range
 from .device import SENSITIVITY_WORDS, LoopNotSupported
+from .normalized import plant_parts
 from .results import Extremes
 from .loop import DIFFERENTIATORS, Loop, normalized_loop, parse_velocity_filter
 
@@ -305,6 +306,8 @@ class _Plant:
     beta: Optional[float] = None
     loop: Loop = dataclasses.field(default_factory=Loop)  # what the drive runs (--delay, ...)
     preset: Optional[str] = None   # --preset, when the plant came from one
+    kappa: float = 0.0             # normalized plant-side parts (--kappa, --lambda; normalized mode)
+    lambda_: float = 0.0
 
     @property
     def real(self) -> bool:
@@ -331,18 +334,27 @@ class _Plant:
                 "T": None if dev is None else dev.T, "rotary": self.rotary, "delta": self.delta,
                 "preset": self.preset,
                 **({"actuator_tau": dev.actuator_tau, "hand": list(dev.hand), "stiffness": dev.stiffness}
-                   if dev is not None and self.parts else {})}
+                   if dev is not None and self.parts else {}),
+                **({"kappa": self.kappa, "lambda": self.lambda_} if dev is None and self.parts else {})}
 
     def loop_kwargs(self) -> Dict[str, Any]:
-        """The normalized functions' loop keywords."""
+        """The normalized functions' loop keywords, with the plant's kappa and lambda_ (of
+        --kappa, --lambda, or of a device's parts: (k_p + k_h) T^2 / M, tau / T)."""
         lp = self.loop
+        kappa, lam = self.kappa, self.lambda_
+        if self.device is not None and self.device.has_plant_parts:
+            kappa, lam = self.device.normalized_parts()
         return {"delay": lp.delay, "differentiator": lp.differentiator,
-                "filter_pole": 0.0 if lp.pole is None else lp.pole, "average": lp.average}
+                "filter_pole": 0.0 if lp.pole is None else lp.pole, "average": lp.average,
+                "kappa": kappa, "lambda_": lam}
 
     @property
     def parts(self) -> bool:
-        """Plant-side parts present (--actuator-tau, --hand, --stiffness): the general loop."""
-        return self.device is not None and self.device.has_plant_parts
+        """Plant-side parts present (--actuator-tau, --hand, --stiffness, or --kappa, --lambda
+        normalized): the general loop."""
+        if self.device is None:
+            return self.kappa != 0.0 or self.lambda_ != 0.0
+        return self.device.has_plant_parts
 
     @property
     def general(self) -> bool:
@@ -351,8 +363,12 @@ class _Plant:
 
     def parts_text(self) -> str:
         d = self.device
-        if d is None or not self.parts:
+        if not self.parts:
             return ""
+        if d is None:
+            out = ([f"stiffness kappa = (k_p + k_h) T^2/M = {_fmt(self.kappa)}"] if self.kappa else []) + (
+                [f"actuator lag lambda = tau/T = {_fmt(self.lambda_)}"] if self.lambda_ else [])
+            return "\nPlant-side parts (normalized): " + "; ".join(out) + " (M = m + m_h)"
         u = self.units() or {}
         m_h, b_h, k_h = d.hand
         out = []
@@ -418,18 +434,26 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
             raise _Usage("no plant: give --m (or --J), --b and --T (or --preset paper-drive), or --delta "
                          "for the normalized space")
         return None
+    norm_parts = [o for o, n in (("--kappa", "kappa"), ("--lambda", "lambda_")) if getattr(args, n, None) is not None]
+    if norm_parts and real_given:
+        raise _Usage(f"{', '.join(norm_parts)} describe a normalized plant (with --delta); a real-unit plant takes "
+                     f"--actuator-tau, --hand, --stiffness")
     if norm_given:
         parts_given = [f"--{n.replace('_', '-')}" for n in ("actuator_tau", "hand", "stiffness")
                        if getattr(args, n, None) is not None]
         if parts_given:
-            raise _Usage(f"{', '.join(parts_given)} need a real-unit plant (--m or --J, --b, --T)")
+            raise _Usage(f"{', '.join(parts_given)} need a real-unit plant (--m or --J, --b, --T); normalized, "
+                         f"give --kappa (k_p + k_h) T^2/M and --lambda tau/T")
         if args.delta is None:
             raise _Usage("--alpha and --beta need --delta")
         if (args.alpha is None) != (args.beta is None):
             raise _Usage("give both --alpha and --beta (or neither)")
         extremes(args.delta)  # validates delta (ZwidthError naming it)
+        kappa = getattr(args, "kappa", None) or 0.0
+        lam = getattr(args, "lambda_", None) or 0.0
+        plant_parts(args.command, kappa, lam, "raise")  # validates them (ZwidthError naming them)
         return _Plant(delta=float(args.delta), device=None, alpha=args.alpha, beta=args.beta,
-                      loop=_normalized_loop(args))
+                      loop=_normalized_loop(args), kappa=float(kappa), lambda_=float(lam))
     missing = [name for name, ok in (("--m (or --J)", args.m is not None or args.J is not None),
                                      ("--b", args.b is not None), ("--T", args.T is not None))
                if not ok]
@@ -504,6 +528,8 @@ def _option_of(exc: ZwidthError) -> Optional[str]:
         return "--velocity-filter"
     if exc.parameter in ("actuator_tau", "stiffness"):
         return f"--{exc.parameter.replace('_', '-')}"
+    if exc.parameter in ("kappa", "lambda_"):
+        return f"--{exc.parameter.rstrip('_')}"
     if exc.parameter is not None and exc.parameter.startswith("hand"):
         return "--hand"
     return None if exc.parameter is None else f"--{exc.parameter}"
@@ -567,11 +593,10 @@ def cmd_check_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         k_max = dev.k_max(B)
         b_range = _interval(dev.b_range(K))
     kw = plant.loop_kwargs() if dev is None else _device_pole_kwargs(plant)
-    a_max: Any = None
-    beta_range: Any = None
-    if not plant.parts:  # the normalized functions know the paper's plant only
-        a_max = alpha_max(d, beta, **kw)
-        beta_range = _interval(beta_interval(d, alpha, **kw))
+    # the normalized functions on the plant's (delta, kappa, lambda): informational beside the
+    # device's own certified K_max / B range (its kappa, lambda rounded once more here)
+    a_max: Any = alpha_max(d, beta, **kw)
+    beta_range: Any = _interval(beta_interval(d, alpha, **kw))
     data = {
         "region": "exact", "verdict": word, "stable": bool(v.stable),
         "marginal": bool(v.marginal), "deciding": deciding, "deciding_text": text, "violated": [],
@@ -630,8 +655,8 @@ def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """limits of a loop other than the paper's, beside the ideal loop's."""
     d, dev = plant.delta, plant.device
     kw = _device_pole_kwargs(plant)
-    ideal = extremes(d) if not plant.parts else extremes(float(dev.ideal().delta))  # type: ignore[union-attr]
-    computed = extremes(d, **kw) if not plant.parts else None
+    ideal = extremes(float(dev.ideal().delta)) if dev is not None and plant.parts else extremes(d)
+    computed = extremes(d, **kw) if dev is None or not plant.parts else None
     real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_at_K_mmax", "K_p_max", "B_mmax", "B_mmin"))
     ideal_real: Dict[str, Any] = dict.fromkeys(("K_mmax", "B_mmax"))
     if dev is not None:
@@ -1030,13 +1055,25 @@ def _sensitivity_advice(sens: Any) -> str:
     return "; ".join(out) + "." if out else "no parameter moves K_mmax measurably."
 
 
+def _loop_filter(loop: Loop) -> Any:
+    """A normalized plant's loop filter as a Device takes it (a low-pass by its pole)."""
+    if loop.filter == "lowpass":
+        return ("pole", loop.pole)
+    return ("average", loop.average) if loop.filter == "average" else None
+
+
 def cmd_advise_plant(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """advise for a device with plant-side parts: what they cost or give against the same
     device without them, how every parameter moves K_mmax and B_mmax (numerical
     sensitivities of the certified limits), what the loop costs, and for gains what to change."""
     dev = plant.device
-    assert dev is not None
-    u = plant.units() or {}
+    note = ""
+    if dev is None:  # normalized: m = T = 1, so b = delta, k_p = kappa, tau = lambda, K = alpha, B = beta
+        dev = Device(1.0, plant.delta, 1.0, delay=plant.loop.delay, velocity_filter=_loop_filter(plant.loop),
+                     differentiator=plant.loop.differentiator, actuator_tau=plant.lambda_, stiffness=plant.kappa)
+        note = ("  (normalized: m = T = 1, so b = delta, k_p = kappa, tau = lambda, K = alpha, B = beta; the units "
+                "printed are those of m = 1 kg, T = 1 s)")
+    u = plant.units() or {"K": "", "B": ""}
     lim, plain = dev.extremes(), dev.without_plant_parts().extremes()
     sens = dev.sensitivity()
     inf = dev.loop_influence() if not plant.loop.ideal else None
@@ -1048,7 +1085,7 @@ def cmd_advise_plant(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         "loop_influence": None if inf is None else inf.as_dict(), "influence": None, "trends": None, "gains": None}
     lines = [plant.header(), "",
              "Influence (numerical: finite differences of the certified limits; the paper's closed forms "
-             "are about its ideal plant)",
+             "are about its ideal plant)" + note,
              f"  K_mmax = {_fmt(K)} {u['K']} at B = {_fmt(lim.B_at_K_mmax)} {u['B']}, B_mmax = {_fmt(lim.B_mmax)} "
              f"{u['B']}",
              f"  without the plant-side parts: K_mmax = {_fmt(Kp)} {u['K']}, B_mmax = {_fmt(plain.B_mmax)} {u['B']}"
@@ -1159,15 +1196,15 @@ def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
     def draw(plot: Any) -> Any:
         if kind == "extremes":
             return plot.extremes(args.delta_min, args.delta_max)
-        if kind in ("region", "device") and plant is not None and plant.parts:
+        if kind in ("region", "device") and plant is not None and plant.parts and plant.device is not None:
             # real units: the region with the lag / hand / spring over the same device without them
             return plot.plant_region(plant.device, plant.K, plant.B)
-        if kind == "influence" and plant is not None and plant.parts:
+        if kind == "influence" and plant is not None and plant.parts and plant.device is not None:
             return plot.plant_influence(plant.device)
         if kind == "region":
             assert plant is not None
             point = None if not plant.has_gains else (float(plant.beta), float(plant.alpha))  # type: ignore[arg-type]
-            if not plant.loop.ideal:
+            if plant.general:  # another loop, or a normalized plant with --kappa / --lambda
                 kw = plant.loop_kwargs()
                 if plant.device is not None and plant.device.filter_pole is not None:
                     kw["filter_pole"] = float(plant.device.filter_pole)
@@ -1397,6 +1434,10 @@ def _add_plant_options(p: argparse.ArgumentParser) -> None:
     norm.add_argument("--delta", type=_number, metavar="DELTA", help="normalized damping bT/m (>= 0)")
     norm.add_argument("--alpha", type=_number, metavar="ALPHA", help="normalized stiffness K T^2/m")
     norm.add_argument("--beta", type=_number, metavar="BETA", help="normalized damping B T/m")
+    norm.add_argument("--kappa", type=_number, metavar="KAPPA",
+                      help="normalized plant stiffness (k_p + k_h) T^2/M, M = m + m_h (>= 0; default 0)")
+    norm.add_argument("--lambda", dest="lambda_", type=_number, metavar="LAMBDA",
+                      help="normalized actuator lag tau/T (>= 0; default 0: none)")
     lp = p.add_argument_group(
         "the loop the drive runs (default: the paper's: no delay, no filter, backward difference)")
     lp.add_argument("--delay", type=int, default=0, metavar="N",
@@ -1503,7 +1544,7 @@ def _emit(outcome: _Outcome, command: str, plant: Optional[_Plant], as_json: boo
 
 _NUMBER_OPTIONS = frozenset({"--m", "--J", "--b", "--T", "--K", "--B", "--delta", "--alpha",
                               "--beta", "--dpi", "--delta-min", "--delta-max",
-                              "--sigma", "--r"})
+                              "--sigma", "--r", "--kappa", "--lambda", "--stiffness", "--actuator-tau"})
 
 
 def _join_negative_numbers(argv: Sequence[str]) -> List[str]:

@@ -138,6 +138,15 @@ class Device:
         """An actuator lag, a hand or a stiffness is present (any element non-zero)."""
         return any(bool(np.any(p != 0.0)) for p in self._parts)
 
+    def normalized_parts(self) -> Tuple[Any, Any]:
+        """(kappa, lambda) = ((k_p + k_h) T^2 / M, tau / T), M = m + m_h: the plant-side parts
+        as the normalized functions take them (``zwidth.check(..., kappa=, lambda_=)``; with
+        delta and the gains of :meth:`normalize`).  Rounded once each (the Device's own
+        checks use the C core's conversion, which carries that rounding in its guard)."""
+        k_p, tau, m_h, _, k_h = self._parts
+        return (_as_result(np.asarray((k_p + k_h) * self._T ** 2 / (self._m + m_h))),
+                _as_result(np.asarray(tau / self._T)))
+
     @property
     def actuator_tau(self) -> Any:
         """The actuator (current-loop) lag tau [s] (0: none)."""
