@@ -280,3 +280,30 @@ def test_python_figures(tmp_path):
     zp.save(fig, tmp_path / "n.png")
     plt.close(fig)
     assert (tmp_path / "r.svg").stat().st_size > 10_000 and (tmp_path / "n.png").stat().st_size > 10_000
+
+
+def test_normalized_options_equal_the_api_and_the_real_units():
+    """--kappa / --lambda (normalized plant) give the API's numbers, and the real-unit
+    device with the corresponding parts the same limits after scaling."""
+    delta, kappa, lam, M = _normalized(tau=1e-2, hand=HAND, k_p=2e-3)
+    norm = ("--delta", repr(delta), "--kappa", repr(kappa), "--lambda", repr(lam), "--delay", "1")
+    lim = run_json("limits", *norm)
+    ext = zwidth.extremes(delta, delay=1, kappa=kappa, lambda_=lam)
+    assert lim["alpha_mmax"] == float(ext.alpha_mmax) and lim["beta_mmax"] == float(ext.beta_mmax)
+    assert lim["plant"]["kappa"] == kappa and lim["plant"]["lambda"] == lam
+    real = run_json("limits", *DRIVE, "--delay", "1", "--actuator-tau", "1e-2", "--hand", f"{J},{2 * b},1e-4",
+                    "--stiffness", "2e-3")
+    assert real["K_mmax"] * T ** 2 / M == pytest.approx(lim["alpha_mmax"], rel=1e-9)
+    chk = run_json("check", *norm, "--alpha", "0.5", "--beta", "1.0", code=0)
+    assert chk["stable"] == bool(zwidth.check(delta, 0.5, 1.0, delay=1, kappa=kappa, lambda_=lam))
+    assert chk["alpha_max"] == float(zwidth.alpha_max(delta, 1.0, delay=1, kappa=kappa, lambda_=lam))
+    bad = run_json("check", *norm, "--alpha", str(2 * float(ext.alpha_mmax)), "--beta", "1.0", code=1)
+    assert bad["stable"] is False
+    adv = run_json("advise", *norm)
+    assert adv["K_mmax"] == pytest.approx(float(ext.alpha_mmax), rel=1e-12)   # m = T = 1: K = alpha
+    r = run("check", *norm, "--alpha", "0.5", "--beta", "1.0", "--kappa", "-1")
+    assert r.returncode == 3 and "--kappa" in r.stderr
+    r = run("check", *DRIVE, "--K", "0.2", "--B", "1e-3", "--lambda", "0.1")
+    assert r.returncode == 2 and "--actuator-tau" in r.stderr
+    r = run("check", "--delta", "1", "--alpha", "1", "--beta", "0", "--hand", "1,1,1")
+    assert r.returncode == 2 and "--kappa" in r.stderr
