@@ -307,3 +307,20 @@ def test_normalized_options_equal_the_api_and_the_real_units():
     assert r.returncode == 2 and "--actuator-tau" in r.stderr
     r = run("check", "--delta", "1", "--alpha", "1", "--beta", "0", "--hand", "1,1,1")
     assert r.returncode == 2 and "--kappa" in r.stderr
+
+
+def test_simulated_linear_part_with_hand_and_lag_has_the_guarded_verdict():
+    """A scene with [actuator] tau and a holding [hand]: the linear part's verdict is the
+    general loop's (Device with actuator_tau and hand), and agrees with its eigenvalues."""
+    m, bp, TT = 0.1, 2.0, 1e-3
+    doc = {"scene": {"duration": "1 s"}, "plant": {"m": f"{m} kg", "b": f"{bp} N*s/m", "T": f"{TT} s"},
+           "initial": {"x": "1 mm"}, "actuator": {"tau": "2 ms"},
+           "hand": {"mass": "0.05 kg", "damping": "3 N*s/m", "stiffness": "500 N/m"}}
+    dev = zwidth.Device(m, bp, TT, actuator_tau=2e-3, hand=(0.05, 3.0, 500.0))
+    lim = dev.extremes()
+    for K, stable in ((0.5 * float(lim.K_mmax), True), (1.3 * float(lim.K_mmax), False)):
+        doc["controller"] = {"K": f"{K} N/m", "B": f"{float(lim.B_at_K_mmax)} N*s/m"}
+        lin = zwidth.simulate(doc)[0].linear
+        assert lin.verdict is not None and bool(lin.verdict.stable) is stable
+        assert bool(lin.verdict.stable) == bool(dev.is_stable(K, float(lim.B_at_K_mmax)))
+        assert lin.spectral_radius == pytest.approx(float(dev.spectral_radius(K, float(lim.B_at_K_mmax))), rel=1e-7)
