@@ -33,7 +33,7 @@ from typing import Dict as _Dict
 from . import _core
 from ._kernels import STATUS_NAMES, ZwidthError, ZwidthTypeError
 from .box import PlantBox
-from .device import Device, LoopNotSupported
+from .device import Device, LoopNotSupported, PlantSensitivity
 from .loop import Loop
 from .normalized import (alpha_max, beta_interval, boundary, char_poly, check, coefficients,
                          coefficients_literal, corner, extremes, hyperbola_top, loop_boundary, loop_poly,
@@ -73,7 +73,7 @@ __all__ = [
     "check", "verdict", "spectral_radius", "radius_within", "char_poly", "coefficients",
     "coefficients_literal", "extremes", "hyperbola_top", "corner", "alpha_max", "beta_interval",
     "Device", "PlantBox", "Verdict", "Coefficients", "Extremes", "BoundaryPoint", "Interval", "Normalized",
-    "DeviceExtremes", "Influence",
+    "DeviceExtremes", "Influence", "PlantSensitivity",
     "load_scene", "Scene", "SceneError", "simulate", "Simulation", "SimulationSet", "SimVerdict",
 ]
 del annotations  # the __future__ import, not part of the API

@@ -135,6 +135,17 @@ advise keys:
               certified, the certified interval of K at this B and of B at this K (closed,
               both ends certified) with the value nearest the current one, and the nearest
               certified m, b, T on a log grid
+with plant-side parts (--actuator-tau, --hand, --stiffness, or --kappa, --lambda):
+  influence, trends null; numerical influence instead (finite differences of the
+  certified limits: Device.sensitivity()):
+  sensitivity {K_mmax, B_mmax, K_unit, B_unit, loop, method, parameters: [{name ("m"|"J",
+              "b", "T", "actuator_tau", "m_h", "b_h", "k_h", "stiffness"), value, unit,
+              dK_mmax, dB_mmax (limit per parameter unit), elasticity_K, elasticity_B
+              (% per %; null for a part at 0), K_trend, B_trend ("rises"|"falls"|"flat"),
+              step, one_sided (a part at 0: forward difference)}]}
+  K_mmax, B_mmax, B_at_K_mmax   this device's certified limits
+  without_plant_parts {K_mmax, B_mmax}   the same plant and loop without the parts
+  loop_influence   null for the paper's loop, else as without parts (every loop on this plant)
 exit status 1 when gains are given and are not certified (not stable, or outside the
 margins --sigma, default 0.8, and --r, default 0.999)."""
 
@@ -1492,7 +1503,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("advise", help="how m, b, T move the limits; with gains, what to change",
                        description=_wrap("Trends of K_mmax and B_mmax in m, b and T, the critical "
                                          "masses, periods and dampings, and advice (paper Section "
-                                         "IV); with gains, what to change to make them stable."),
+                                         "IV); with gains, what to change to make them stable.  With "
+                                         "plant-side parts (an actuator lag, a hand, a stiffness): how "
+                                         "m, b, T, tau, m_h, b_h, k_h and k_p move K_mmax and B_mmax, "
+                                         "numerically from the certified limits."),
                        epilog=_ADVISE_EPILOG, formatter_class=fmt, allow_abbrev=False)
     _add_plant_options(p)
     mg = p.add_argument_group("margins the advice certifies with (those of the drive, docs/modbus.md)")
