@@ -398,8 +398,10 @@ class _Plant:
         u = self.units() or {}
         d = self.device
         preset = "" if self.preset is None else f"Preset {self.preset}: the paper's drive, load motor short-circuited\n"
+        held = any(float(v) != 0.0 for v in d.hand[:2])
+        ratio = f"(b + b_h)T/({self.mass} + m_h)" if held else f"bT/{self.mass}"
         return (preset + f"Plant: {self.mass} = {_fmt(d.m)} {u['m']}, b = {_fmt(d.b)} {u['b']}, "
-                f"T = {_fmt(d.T)} s  ->  delta = bT/{self.mass} = {_fmt(self.delta)}" + loop)
+                f"T = {_fmt(d.T)} s  ->  delta = {ratio} = {_fmt(self.delta)}" + loop)
 
     def gains_text(self) -> str:
         if self.device is None:

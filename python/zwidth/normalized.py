@@ -326,3 +326,11 @@ def loop_boundary(delta: float, *, delay: int = 0, filter_pole: float = 0.0, ave
     out, _ = call("loop_boundary", _core.loop_boundary_point, _DPKL + ("theta",), g.plant(delta) + (theta,),
                   "mask", **g.loop.kernel_options())
     return BoundaryPoint.from_outputs(out)
+
+
+_PARTS_DOC = """
+    ``kappa`` (= (k_p + k_h) T^2 / M) and ``lambda_`` (= tau / T) put the loop on a plant with
+    a stiffness and an actuator lag (plant.h), as in :func:`check`; 0 is the paper's plant."""
+
+for _f in (loop_poly, extremes, alpha_max, beta_interval, loop_boundary):
+    _f.__doc__ = (_f.__doc__ or "") + _PARTS_DOC
