@@ -332,5 +332,5 @@ _PARTS_DOC = """
     ``kappa`` (= (k_p + k_h) T^2 / M) and ``lambda_`` (= tau / T) put the loop on a plant with
     a stiffness and an actuator lag (plant.h), as in :func:`check`; 0 is the paper's plant."""
 
-for _f in (loop_poly, extremes, alpha_max, beta_interval, loop_boundary):
-    _f.__doc__ = (_f.__doc__ or "") + _PARTS_DOC
+for _g in (loop_poly, extremes, alpha_max, beta_interval, loop_boundary):
+    _g.__doc__ = (_g.__doc__ or "") + _PARTS_DOC
