@@ -715,7 +715,7 @@ def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
             f"  the paper's ideal loop: alpha_mmax = {_fmt(ideal.alpha_mmax)}, beta_mmax = {_fmt(ideal.beta_mmax)}",
         ]
     lines.append(f"  this loop keeps {100 * kept:.4g} % of the ideal loop's largest stiffness"
-                 + (" (the same device without its plant-side parts)" if plant.parts else ""))
+                 + (" (the paper's loop on the same device without its plant-side parts)" if plant.parts else ""))
     return _Outcome(EXIT_OK, data, lines)
 
 
