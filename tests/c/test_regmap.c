@@ -48,6 +48,8 @@ static zw_cert paper_cert(void)
     c.vfilter = 0.0f;
     c.vf_param = 0.0f;
     c.differentiator = 0.0f;
+    c.m_hi = 0.0f; /* the point block's shorthand (map version 4) */
+    c.b_hi = 0.0f;
     return c;
 }
 
@@ -271,7 +273,7 @@ static void expect_outcome(outcome o, zw_mb_exception exc, zw_reason why, const 
 static const struct {
     uint_least16_t first, last;
 } k_mapped[] = {
-    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60}, {0x80, 0x83},
+    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x62}, {0x64, 0x64}, {0x80, 0x83},
     {0x88, 0x9F},
 };
 
@@ -395,14 +397,15 @@ static uint16_t ref_crc_words(const uint_least16_t *w, size_t n)
     return ref_crc_bytes(bytes, 2 * n);
 }
 
-/* The 22 block words of c (host bit casts) and their CRC. */
+/* The 34 block words of c (host bit casts) and their CRC. */
 static void block_words(const zw_cert *c, uint_least16_t w[ZW_CERT_WORDS + 1u])
 {
-    const float f[15] = {c->m,     c->b,     c->T,      c->sigma,  c->r,
+    const float f[17] = {c->m,     c->b,     c->T,      c->sigma,  c->r,
                          c->k_min, c->k_max, c->b_min,  c->b_max,  c->dk_max,
-                         c->db_max, c->delay, c->vfilter, c->vf_param, c->differentiator};
+                         c->db_max, c->delay, c->vfilter, c->vf_param, c->differentiator,
+                         c->m_hi, c->b_hi};
     size_t i;
-    for (i = 0; i < 15; ++i) words_of(f[i], &w[2 * i]);
+    for (i = 0; i < 17; ++i) words_of(f[i], &w[2 * i]);
     w[ZW_CERT_WORDS] = ref_crc_words(w, ZW_CERT_WORDS);
 }
 
@@ -531,7 +534,7 @@ static void test_init_sealed(void **state)
     (void)state;
     rm_init(&rm, &c);
     assert_int_equal(rd(&rm, ZW_REG_MAGIC), 0x5A57u);
-    assert_int_equal(rd(&rm, ZW_REG_VERSION), 3u);
+    assert_int_equal(rd(&rm, ZW_REG_VERSION), 4u);
     assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
     assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
     assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), 0u);
@@ -654,7 +657,7 @@ static void test_access_map_reads(void **state)
     /* a range touching one unmapped word is refused as a whole */
     EXPECT_REFUSED(&rm, read_words(&rm, 0x08, 3, w), ZW_MB_ILLEGAL_ADDRESS,
                    ZW_REASON_UNMAPPED);
-    EXPECT_REFUSED(&rm, read_words(&rm, 0x5E, 2, w), ZW_MB_ILLEGAL_ADDRESS,
+    EXPECT_REFUSED(&rm, read_words(&rm, 0x62, 2, w), ZW_MB_ILLEGAL_ADDRESS,
                    ZW_REASON_UNMAPPED);
     /* past the end of the address space */
     EXPECT_REFUSED(&rm, read_words(&rm, 0xFFFF, 1, w),
@@ -708,7 +711,7 @@ static void test_access_map_writes(void **state)
         } else if (a >= 0x10u && a <= 0x13u) {
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_HALF_FLOAT);
-        } else if (a >= 0x40u && a <= 0x5Du) {
+        } else if (a >= 0x40u && a <= 0x61u) {
             /* the block: a single word is half a float; a whole float is locked */
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_HALF_FLOAT);
@@ -738,10 +741,10 @@ static void test_access_map_writes(void **state)
                        ZW_REASON_HALF_FLOAT);
         EXPECT_REFUSED(&rm, write_words(&rm, 0x41, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_HALF_FLOAT);
-        EXPECT_REFUSED(&rm, write_words(&rm, 0x5C, 3, z), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
-        EXPECT_REFUSED(&rm, write_words(&rm, 0x5D, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x60, 3, z), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x61, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_HALF_FLOAT);
-        EXPECT_REFUSED(&rm, write_words(&rm, 0x5E, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x62, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_UNMAPPED);
         EXPECT_REFUSED(&rm, write_words(&rm, 0xFFFF, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_UNMAPPED);
@@ -1336,7 +1339,7 @@ static void test_pdu_read(void **state)
     assert_int_equal(r.b[2], 0x5A);
     assert_int_equal(r.b[3], 0x57);
     assert_int_equal(r.b[4], 0x00);
-    assert_int_equal(r.b[5], 0x03); /* map version 3 */
+    assert_int_equal(r.b[5], 0x04); /* map version 4 */
     assert_int_equal(r.b[8], 0x00);
     assert_int_equal(r.b[9], 0x01); /* SEALED */
     EXPECT_ACCEPTED(write_pair(&rm, 0.25f, -0x1p-11f));
@@ -1388,12 +1391,12 @@ static void test_pdu_write(void **state)
     static const uint_least8_t hdr_only[] = {0x10, 0x00, 0x10, 0x00, 0x02};
     static const uint_least8_t q0[] = {0x10, 0x00, 0x10, 0x00, 0x00, 0x00};
     static const uint_least8_t fc6_k[] = {0x06, 0x00, 0x10, 0x3E, 0x80};
-    static const uint_least8_t fc6_short[] = {0x06, 0x00, 0x60, 0xC0};
-    static const uint_least8_t fc6_long[] = {0x06, 0x00, 0x60, 0xC0, 0xDE, 0x00};
+    static const uint_least8_t fc6_short[] = {0x06, 0x00, 0x64, 0xC0};
+    static const uint_least8_t fc6_long[] = {0x06, 0x00, 0x64, 0xC0, 0xDE, 0x00};
     static const uint_least8_t fc6_ro[] = {0x06, 0x00, 0x00, 0x00, 0x00};
-    static const uint_least8_t fc6_unlock1[] = {0x06, 0x00, 0x60, 0xC0, 0xDE};
-    static const uint_least8_t fc6_unlock2[] = {0x06, 0x00, 0x60, 0x5A, 0xFE};
-    static const uint_least8_t fc16_abort[] = {0x10, 0x00, 0x60, 0x00, 0x01, 0x02, 0xAB, 0x07};
+    static const uint_least8_t fc6_unlock1[] = {0x06, 0x00, 0x64, 0xC0, 0xDE};
+    static const uint_least8_t fc6_unlock2[] = {0x06, 0x00, 0x64, 0x5A, 0xFE};
+    static const uint_least8_t fc16_abort[] = {0x10, 0x00, 0x64, 0x00, 0x01, 0x02, 0xAB, 0x07};
     static const uint_least8_t nan_b[] = {0x10, 0x00, 0x12, 0x00, 0x02,
                                           0x04, 0x7F, 0xC0, 0x00, 0x00};
     reply r;
@@ -1474,8 +1477,8 @@ static void test_pdu_resp_cap(void **state)
     static const uint_least8_t pair[] = {0x10, 0x00, 0x10, 0x00, 0x04, 0x08, 0x3E, 0x80,
                                          0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
     static const uint_least8_t bad_fc[] = {0x2B};
-    static const uint_least8_t unlock1[] = {0x06, 0x00, 0x60, 0xC0, 0xDE};
-    static const uint_least8_t unlock2[] = {0x06, 0x00, 0x60, 0x5A, 0xFE};
+    static const uint_least8_t unlock1[] = {0x06, 0x00, 0x64, 0xC0, 0xDE};
+    static const uint_least8_t unlock2[] = {0x06, 0x00, 0x64, 0x5A, 0xFE};
     snap before, after;
     zw_regmap copy;
     reply r;
@@ -1606,6 +1609,7 @@ static void test_reason_names(void **state)
         ZWT_REASON(ZW_REASON_NO_CEILINGS),  ZWT_REASON(ZW_REASON_NO_STORAGE),
         ZWT_REASON(ZW_REASON_STORAGE),      ZWT_REASON(ZW_REASON_IMAGE_FORMAT),
         ZWT_REASON(ZW_REASON_IMAGE_CRC),    ZWT_REASON(ZW_REASON_LOOP_MISMATCH),
+        ZWT_REASON(ZW_REASON_BOX_BUDGET),   ZWT_REASON(ZW_REASON_BOX_RADIUS),
     };
     size_t i;
     (void)state;
@@ -2036,18 +2040,18 @@ static void test_loop_block_certifies_the_real_loop(void **state)
 /* ---- consent and authentication (map version 3; review 2026-12, A3 and A4) --------------- */
 
 /* The message a client MACs, built here from the documented layout (regmap_commission.h):
- * the map version, the nonce words, the 30 block words and the CRC, high byte first. */
-static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t block[31],
+ * the map version, the nonce words, the 34 block words and the CRC, high byte first. */
+static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t block[35],
                              unsigned char msg[ZW_AUTH_MSG_BYTES])
 {
     size_t i, n = 0;
     msg[n++] = 0x00;
-    msg[n++] = 0x03;
+    msg[n++] = 0x04;
     for (i = 0; i < 8; ++i) {
         msg[n++] = (unsigned char)(nonce[i] >> 8);
         msg[n++] = (unsigned char)(nonce[i] & 0xFFu);
     }
-    for (i = 0; i < 31; ++i) {
+    for (i = 0; i < 35; ++i) {
         msg[n++] = (unsigned char)(block[i] >> 8);
         msg[n++] = (unsigned char)(block[i] & 0xFFu);
     }
@@ -2057,7 +2061,7 @@ static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t
 /* A commissioning client in commissioning mode: stages block (with its CRC) and the MAC
  * under key over this session's nonce (read from the map), or the given mac_words when
  * not NULL (a replay); returns the SEAL's outcome. */
-static outcome client_seal(zw_regmap *rm, const uint_least16_t block[31], const unsigned char key[8],
+static outcome client_seal(zw_regmap *rm, const uint_least16_t block[35], const unsigned char key[8],
                            const uint_least16_t *mac_words, uint_least16_t mac_out[16])
 {
     uint_least16_t nonce[8], macw[16];
@@ -2119,7 +2123,7 @@ static void test_commission_needs_consent(void **state)
     unlock(&rm);
     zw_regmap_set_consent(&rm, false);
     {
-        uint_least16_t block[31];
+        uint_least16_t block[35];
         zw_cert lie = lying_cert();
         block_words(&lie, block);
         EXPECT_OUTCOME(client_seal(&rm, block, k_key, NULL, NULL), ZW_MB_ILLEGAL_VALUE,
@@ -2169,7 +2173,7 @@ static void test_lying_block_needs_key(void **state)
 {
     zw_regmap rm;
     zw_cert c = paper_cert(), lie = lying_cert();
-    uint_least16_t block[31], zeros[16] = {0};
+    uint_least16_t block[35], zeros[16] = {0};
     unsigned char wrong[8];
     unsigned char msg[ZW_AUTH_MSG_BYTES];
     uint_least16_t nonce[8];
@@ -2211,7 +2215,7 @@ static void test_replay_refused(void **state)
 {
     zw_regmap rm;
     zw_cert c = paper_cert();
-    uint_least16_t block[31], mac1[16], nonce1[8], nonce2[8], w[16];
+    uint_least16_t block[35], mac1[16], nonce1[8], nonce2[8], w[16];
     size_t i;
     (void)state;
     rm_init(&rm, &c);
@@ -2251,13 +2255,13 @@ static void test_replay_refused(void **state)
 
 static void test_auth_message_layout(void **state)
 {
-    uint_least16_t nonce[8], block[31];
+    uint_least16_t nonce[8], block[35];
     uint_least8_t msg[ZW_AUTH_MSG_BYTES];
     unsigned char ref[ZW_AUTH_MSG_BYTES], got[ZW_AUTH_MSG_BYTES];
     size_t i;
     (void)state;
     for (i = 0; i < 8; ++i) nonce[i] = (uint_least16_t)(0xA100u + i);
-    for (i = 0; i < 31; ++i) block[i] = (uint_least16_t)(0x0100u * i + 0xFFu - i);
+    for (i = 0; i < 35; ++i) block[i] = (uint_least16_t)(0x0100u * i + 0xFFu - i);
     zw_regmap_auth_message(nonce, block, msg);
     ref_auth_message(nonce, block, ref);
     for (i = 0; i < sizeof got; ++i) got[i] = (unsigned char)msg[i];
@@ -2291,7 +2295,7 @@ static zw_ceilings factory_ceilings(void)
 /* The key holder commissions c on a map with the factory's ceilings; the SEAL's outcome. */
 static outcome keyed_seal(zw_regmap *rm, const zw_cert *c)
 {
-    uint_least16_t block[31];
+    uint_least16_t block[35];
     block_words(c, block);
     unlock(rm);
     return client_seal(rm, block, k_key, NULL, NULL);
@@ -2481,20 +2485,20 @@ static bool test_save(void *ctx, const uint_least8_t *image, size_t len)
 }
 
 /* The documented image (regmap_persist.h), built here: magic, format, block + CRC, K, B,
- * CRC of the 38 words before it. */
+ * CRC of the 42 words before it (format 2). */
 static void ref_image(const zw_cert *c, float K, float B, unsigned format,
                       unsigned char img[ZW_IMAGE_BYTES])
 {
-    uint_least16_t w[39];
+    uint_least16_t w[43];
     size_t i;
     w[0] = 0x5A57u;
     w[1] = 0x4E56u;
     w[2] = (uint_least16_t)format;
     block_words(c, &w[3]);
-    words_of(K, &w[34]);
-    words_of(B, &w[36]);
-    w[38] = ref_crc_words(w, 38);
-    for (i = 0; i < 39; ++i) {
+    words_of(K, &w[38]);
+    words_of(B, &w[40]);
+    w[42] = ref_crc_words(w, 42);
+    for (i = 0; i < 43; ++i) {
         img[2 * i] = (unsigned char)(w[i] >> 8);
         img[2 * i + 1] = (unsigned char)(w[i] & 0xFFu);
     }
@@ -2644,7 +2648,7 @@ static void test_word_order_cdab(void **state)
 {
     zw_regmap rm;
     zw_cert c = paper_cert();
-    uint_least16_t w[4], ref[4], block[31], swapped[31];
+    uint_least16_t w[4], ref[4], block[35], swapped[35];
     size_t i;
     (void)state;
     rm_init(&rm, &c);
@@ -2669,18 +2673,18 @@ static void test_word_order_cdab(void **state)
     /* commissioning: floats swapped on the wire, CRC over the canonical words */
     c.sigma = 0.7f;
     block_words(&c, block);
-    for (i = 0; i < 30; i += 2) {
+    for (i = 0; i < 34; i += 2) {
         swapped[i] = block[i + 1];
         swapped[i + 1] = block[i];
     }
-    swapped[30] = block[30];
+    swapped[34] = block[34];
     unlock(&rm);
-    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, 31, swapped));
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, 35, swapped));
     EXPECT_ACCEPTED(command(&rm, ZW_CMD_SEAL));
     assert_int_equal(zw_regmap_read(&rm, ZW_REG_CERT_SIGMA, 2, w, NULL), ZW_MB_OK);
     words_of(0.7f, ref);
     assert_true(w[0] == ref[1] && w[1] == ref[0]);
-    assert_int_equal(rd(&rm, ZW_REG_CERT_CRC), block[30]);
+    assert_int_equal(rd(&rm, ZW_REG_CERT_CRC), block[34]);
     /* a read that starts inside a value gets its second word on the wire */
     assert_int_equal(rd(&rm, ZW_REG_CERT_SIGMA + 1), ref[0]);
 }
