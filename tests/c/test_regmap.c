@@ -344,6 +344,8 @@ static void check_refused(zw_regmap *rm, const snap *before, const zw_regmap *st
     expect.refused = (struct_before->refused + 1u) & 0xFFFFFFFFu;
     expect.unlock_armed = rm->unlock_armed;
     expect.ws = rm->ws; /* the loop checks' scratch: no state, any contents */
+    memcpy(expect.box_cells, rm->box_cells, sizeof expect.box_cells); /* the box search's too */
+    expect.box_scratch = rm->box_scratch;
     if (memcmp(&expect, rm, sizeof expect) != 0) {
         print_error("%s:%d: %s changed the map beyond the refusal registers\n", file, line, expr);
         _fail(file, line);
@@ -2689,6 +2691,343 @@ static void test_word_order_cdab(void **state)
     assert_int_equal(rd(&rm, ZW_REG_CERT_SIGMA + 1), ref[0]);
 }
 
+/* ---- plant ranges (map version 4) ----------------------------------------------------------- */
+
+/* The paper's drive with the inertia uncertain over [2e-5, 1.5e-4]: at B = 1e-3, K_max has an
+ * interior minimum in m (docs/box.md), so the corners overstate the box's K_max. */
+#define VALLEY_M_LO 2.0e-5f
+#define VALLEY_M_HI 1.5e-4f
+#define VALLEY_B 1.0e-3f
+#define VALLEY_GRID 401
+
+static zw_loop_workspace g_box_ws;
+
+/* K_max(B) of the ideal loop at plant (m, B_SHORT) by the point function (certified, never
+ * above the true one). */
+static double point_k_max(float m, float B)
+{
+    zw_device_loop dl;
+    zw_device_loop_spec spec;
+    zw_real k = 0;
+    memset(&spec, 0, sizeof spec);
+    EXPECT_OK(zw_device_loop_init(&dl, (zw_real)m, (zw_real)B_SHORT, (zw_real)T_20MS, &spec));
+    EXPECT_OK(zw_device_loop_k_max(&dl, &g_box_ws, (zw_real)B, &k));
+    return (double)k;
+}
+
+/* (K, B) at plant (m, B_SHORT) by the point check: 1 stable, -1 surely unstable, 0 marginal. */
+static int point_verdict(float m, float K, float B)
+{
+    zw_device_loop dl;
+    zw_device_loop_spec spec;
+    zw_loop_verdict v;
+    memset(&spec, 0, sizeof spec);
+    EXPECT_OK(zw_device_loop_init(&dl, (zw_real)m, (zw_real)B_SHORT, (zw_real)T_20MS, &spec));
+    EXPECT_OK(zw_device_loop_check(&dl, &g_box_ws, (zw_real)K, (zw_real)B, &v));
+    return v.stable ? 1 : (v.marginal ? 0 : -1);
+}
+
+/* The least point K_max(B) over the valley's m range (a grid, refined around its least
+ * point), and where. */
+static double valley_min(float B, float *m_at)
+{
+    double least = 0;
+    float lo = VALLEY_M_LO, hi = VALLEY_M_HI;
+    int pass, i;
+    for (pass = 0; pass < 2; ++pass) {
+        float best_m = lo, step = (hi - lo) / (float)(VALLEY_GRID - 1);
+        least = point_k_max(lo, B);
+        for (i = 1; i < VALLEY_GRID; ++i) {
+            const float m = (i == VALLEY_GRID - 1) ? hi : lo + step * (float)i;
+            const double k = point_k_max(m, B);
+            if (k < least) {
+                least = k;
+                best_m = m;
+            }
+        }
+        *m_at = best_m;
+        lo = best_m - step > VALLEY_M_LO ? best_m - step : VALLEY_M_LO;
+        hi = best_m + step < VALLEY_M_HI ? best_m + step : VALLEY_M_HI;
+    }
+    return least;
+}
+
+/* A ranged block over the valley: sigma 1, r 1 (required with ranges), wide bounds. */
+static zw_cert valley_cert(void)
+{
+    zw_cert c = paper_cert();
+    c.m = VALLEY_M_LO;
+    c.m_hi = VALLEY_M_HI;
+    c.b = B_SHORT;
+    c.b_hi = B_SHORT;
+    c.k_max = 100.0f;
+    c.dk_max = 100.0f;
+    return c;
+}
+
+/* A pair stable at the block's nominal plant (the lower ends) and at both corners but unstable
+ * at an interior plant is refused; one certified over the box is accepted; the live registers
+ * are box bounds. */
+static void test_box_refuses_interior_instability(void **state)
+{
+    static zw_regmap rm, pt;
+    zw_cert c = valley_cert(), point = valley_cert();
+    float m_at = 0.0f, K_bad, K_good, K_cert;
+    const double least = valley_min(VALLEY_B, &m_at);
+    const double corner_lo = point_k_max(VALLEY_M_LO, VALLEY_B), corner_hi = point_k_max(VALLEY_M_HI, VALLEY_B);
+    (void)state;
+    /* the valley: its least point well below both corners */
+    EXPECT_TRUE_MSG(m_at > VALLEY_M_LO && m_at < VALLEY_M_HI && least < 0.98 * corner_lo &&
+                        least < 0.98 * corner_hi,
+                    "least %g at %g, corners %g %g", least, (double)m_at, (double)corner_lo,
+                    (double)corner_hi);
+    K_bad = (float)((least + (corner_lo < corner_hi ? corner_lo : corner_hi)) / 2);
+    assert_int_equal(point_verdict(VALLEY_M_LO, K_bad, VALLEY_B), 1);
+    assert_int_equal(point_verdict(VALLEY_M_HI, K_bad, VALLEY_B), 1);
+    assert_int_equal(point_verdict(m_at, K_bad, VALLEY_B), -1);
+    /* the point block (the nominal plant alone) accepts it */
+    point.m_hi = 0.0f;
+    point.b_hi = 0.0f;
+    rm_init(&pt, &point);
+    EXPECT_ACCEPTED(write_pair(&pt, K_bad, VALLEY_B));
+    /* the box refuses it, changing nothing (EXPECT_REFUSED compares the whole map) */
+    rm_init(&rm, &c);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+    EXPECT_REFUSED(&rm, write_pair(&rm, K_bad, VALLEY_B), ZW_MB_ILLEGAL_VALUE, ZW_REASON_UNSTABLE);
+    /* 0.9 of the least point value is certified over the box */
+    K_good = (float)(0.9 * least);
+    EXPECT_ACCEPTED(write_pair(&rm, K_good, VALLEY_B));
+    {
+        float K = 0.0f, B = 0.0f;
+        EXPECT_OK(zw_regmap_active_gains(&rm, &K, &B));
+        assert_true(K == K_good && B == VALLEY_B);
+    }
+    /* live: K_MAX a lower bound of the box's infimum, K_CERT below it and itself accepted,
+     * no box form of the B range and the radius */
+    EXPECT_TRUE_MSG((double)rdf(&rm, ZW_REG_LIVE_K_MAX) <= least &&
+                        (double)rdf(&rm, ZW_REG_LIVE_K_MAX) >= 0.95 * least,
+                    "K_MAX %g, least point %g", (double)rdf(&rm, ZW_REG_LIVE_K_MAX), least);
+    K_cert = rdf(&rm, ZW_REG_LIVE_K_CERT);
+    assert_true(K_cert > 0.0f && K_cert <= rdf(&rm, ZW_REG_LIVE_K_MAX));
+    assert_true(isnan(rdf(&rm, ZW_REG_LIVE_B_LO)) && isnan(rdf(&rm, ZW_REG_LIVE_B_HI)) &&
+                isnan(rdf(&rm, ZW_REG_LIVE_RHO)));
+    EXPECT_ACCEPTED(write_K(&rm, K_cert));
+    /* K_MMAX: certified for the box, so not above any plant's own K_mmax */
+    {
+        const float m_probe[3] = {VALLEY_M_LO, m_at, VALLEY_M_HI};
+        const float kmm = rdf(&rm, ZW_REG_LIVE_K_MMAX);
+        int i;
+        assert_true(kmm > 0.0f);
+        for (i = 0; i < 3; ++i) {
+            zw_device_loop dl;
+            zw_device_loop_spec spec;
+            zw_device_loop_extremes e;
+            memset(&spec, 0, sizeof spec);
+            EXPECT_OK(zw_device_loop_init(&dl, (zw_real)m_probe[i], (zw_real)B_SHORT, (zw_real)T_20MS, &spec));
+            EXPECT_OK(zw_device_loop_extremes_compute(&dl, &g_box_ws, &e));
+            EXPECT_TRUE_MSG((zw_real)kmm <= e.K_mmax, "K_MMAX %g above %g at m %g", (double)kmm,
+                            (double)e.K_mmax, (double)m_probe[i]);
+        }
+        /* a pair at the B of K_MMAX, just below it, is certified over the box */
+        EXPECT_ACCEPTED(write_pair(&rm, 0.0f, 0.0f));
+        EXPECT_ACCEPTED(write_pair(&rm, 0.98f * kmm, rdf(&rm, ZW_REG_LIVE_B_AT_KMMAX)));
+        assert_int_equal(point_verdict(m_at, 0.98f * kmm, rdf(&rm, ZW_REG_LIVE_B_AT_KMMAX)), 1);
+    }
+}
+
+/* sigma over the box: K stable at every plant but above sigma K_max at some is ABOVE_SIGMA;
+ * a K unstable at an interior plant is UNSTABLE, whatever sigma. */
+static void test_box_sigma_rule(void **state)
+{
+    static zw_regmap rm;
+    zw_cert c = valley_cert();
+    float m_at = 0.0f;
+    const double least = valley_min(VALLEY_B, &m_at);
+    (void)state;
+    c.sigma = 0.5f;
+    rm_init(&rm, &c);
+    EXPECT_REFUSED(&rm, write_pair(&rm, (float)(0.7 * least), VALLEY_B), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_ABOVE_SIGMA);
+    EXPECT_REFUSED(&rm, write_pair(&rm, (float)(1.05 * least), VALLEY_B), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_UNSTABLE);
+    assert_int_equal(point_verdict(m_at, (float)(1.05 * least), VALLEY_B), -1);
+    EXPECT_ACCEPTED(write_pair(&rm, (float)(0.45 * least), VALLEY_B));
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_CERT) <= 0.5f * rdf(&rm, ZW_REG_LIVE_K_MAX));
+}
+
+/* A K just below the box's infimum cannot be proven within the budget: refused, named,
+ * changing nothing (never accepted without a proof). */
+static void test_box_budget_refuses(void **state)
+{
+    static zw_regmap rm;
+    zw_cert c = valley_cert();
+    float m_at = 0.0f, K;
+    const double least = valley_min(VALLEY_B, &m_at);
+    (void)state;
+    rm_init(&rm, &c);
+    K = (float)(least * (1.0 - 1e-4));
+    assert_int_equal(point_verdict(m_at, K, VALLEY_B), 1);
+    EXPECT_REFUSED(&rm, write_pair(&rm, K, VALLEY_B), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BOX_BUDGET);
+    assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), ZW_REASON_BOX_BUDGET);
+}
+
+/* SEAL's rules for the ranges, and the ceilings applied to each end. */
+static void test_box_block_validation(void **state)
+{
+    static zw_regmap rm;
+    zw_cert c = valley_cert(), x;
+    zw_ceilings k = factory_ceilings();
+    zw_reason why = ZW_REASON_NONE;
+    (void)state;
+    x = c;
+    x.m_hi = 0.5f * x.m; /* below the lower end */
+    EXPECT_STATUS(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BAD_POLICY);
+    x = c;
+    x.b_hi = 0.5f * x.b;
+    EXPECT_STATUS(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BAD_POLICY);
+    x = c;
+    x.m_hi = 0.0f; /* half the shorthand: m_hi 0 with b_hi set is no plant */
+    EXPECT_STATUS(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BAD_POLICY);
+    x = c;
+    x.m_hi = (float)INFINITY;
+    EXPECT_STATUS(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BAD_POLICY);
+    x = c;
+    x.r = 0.999f; /* no box form of the radius rule */
+    EXPECT_STATUS(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BOX_RADIUS);
+    x.m_hi = x.m; /* the same r on a point block (explicit ends) is fine */
+    x.b_hi = x.b;
+    EXPECT_OK(zw_regmap_init(&rm, &x, &why));
+    /* ceilings: each end within plant_tol of the nameplate (r_max 1 allows ranges) */
+    k.r_max = 1.0f;
+    x = paper_cert();
+    x.sigma = 0.8f;
+    rm_init(&rm, &x);
+    EXPECT_OK(zw_regmap_set_ceilings(&rm, &k, &why));
+    x.m = 0.97f * J1;
+    x.m_hi = 1.04f * J1;
+    x.b_hi = 1.04f * B_SHORT;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_OK, ZW_REASON_NONE);
+    assert_true(rdf(&rm, ZW_REG_CERT_M_HI) == 1.04f * J1);
+    x.m_hi = 1.06f * J1; /* the upper end beyond the 5 % tolerance */
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_PLANT_MISMATCH);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    x.m_hi = 1.04f * J1;
+    x.b_hi = 1.06f * B_SHORT;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_PLANT_MISMATCH);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_true(rdf(&rm, ZW_REG_CERT_B_HI) == 1.04f * B_SHORT); /* the sealed block stays */
+    /* a ranged block in force, then a narrower nameplate tolerance unseals it */
+    k.plant_tol = 0.035f;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &k, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_PLANT_MISMATCH);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+}
+
+/* A version-3 client (30-word block, CRC at 0x005E, commands at 0x0060) cannot unlock, stage
+ * its CRC or seal: every such write splits a version-4 float. */
+static void test_version3_client_refused(void **state)
+{
+    static zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t v3[35], cmd;
+    (void)state;
+    rm_init(&rm, &c);
+    c.sigma = 0.6f;
+    block_words(&c, v3); /* the first 30 words are the version-3 block */
+    v3[30] = ref_crc_words(v3, 30);
+    cmd = ZW_CMD_UNLOCK1;
+    EXPECT_REFUSED(&rm, write_words(&rm, 0x0060, 1, &cmd), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_HALF_FLOAT);
+    unlock(&rm); /* even when a version-4 tool unlocked for it: */
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_CERT_M, 31, v3), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_HALF_FLOAT);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, 30, v3));
+    EXPECT_REFUSED(&rm, write_words(&rm, 0x005E, 1, &v3[30]), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_HALF_FLOAT);
+    cmd = ZW_CMD_SEAL;
+    EXPECT_REFUSED(&rm, write_words(&rm, 0x0060, 1, &cmd), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_HALF_FLOAT);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    /* a SEAL by the version-4 tool of what the old client left fails the CRC */
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_CRC);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 1.0f); /* the block in force is the old one */
+}
+
+static bool g_saved_ok;
+static unsigned char g_saved[ZW_IMAGE_BYTES];
+static bool save_copy(void *ctx, const uint_least8_t *image, size_t len)
+{
+    size_t i;
+    (void)ctx;
+    g_saved_ok = len == ZW_IMAGE_BYTES;
+    for (i = 0; i < len && i < ZW_IMAGE_BYTES; ++i) g_saved[i] = (unsigned char)image[i];
+    return true;
+}
+
+/* A ranged block and its gains survive SAVE and restore; a format-1 image is refused. */
+static void test_box_persistence(void **state)
+{
+    static zw_regmap rm, back;
+    zw_cert c = valley_cert();
+    zw_regmap_storage storage;
+    uint_least8_t img[ZW_IMAGE_BYTES], old[78];
+    uint_least16_t w[39];
+    float m_at = 0.0f, K = 0.0f, B = 0.0f;
+    const double least = valley_min(VALLEY_B, &m_at);
+    zw_reason why = ZW_REASON_NONE;
+    size_t i;
+    (void)state;
+    rm_init(&rm, &c);
+    storage.save = save_copy;
+    storage.ctx = NULL;
+    zw_regmap_set_storage(&rm, &storage);
+    zw_regmap_set_consent(&rm, true);
+    EXPECT_ACCEPTED(write_pair(&rm, (float)(0.8 * least), VALLEY_B));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SAVE));
+    assert_true(g_saved_ok);
+    /* the image as documented: block words from the map's registers */
+    assert_true(zw_regmap_image(&rm, img));
+    for (i = 0; i < ZW_IMAGE_BYTES; ++i) assert_int_equal(img[i], g_saved[i]);
+    for (i = 0; i <= ZW_CERT_WORDS; ++i)
+        assert_int_equal(((unsigned)img[6 + 2 * i] << 8) | img[7 + 2 * i],
+                         rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)));
+    memset(&back, 0xA5, sizeof back);
+    EXPECT_OK(zw_regmap_init(&back, NULL, &why));
+    EXPECT_OK(zw_regmap_restore(&back, img, sizeof img, NULL, 0, &why));
+    assert_int_equal(why, ZW_REASON_NONE);
+    assert_int_equal(rd(&back, ZW_REG_RESTORE_SOURCE), 1u);
+    for (i = 0; i <= ZW_CERT_WORDS; ++i)
+        assert_int_equal(rd(&back, (uint_least16_t)(ZW_REG_CERT_M + i)),
+                         rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)));
+    EXPECT_OK(zw_regmap_active_gains(&back, &K, &B));
+    assert_true(K == (float)(0.8 * least) && B == VALLEY_B);
+    assert_true(rdf(&back, ZW_REG_LIVE_K_MAX) == rdf(&rm, ZW_REG_LIVE_K_MAX));
+    /* a format-1 image (map version 3: 30 block words, 78 bytes), valid in its own format:
+     * refused by name, not migrated */
+    w[0] = 0x5A57u;
+    w[1] = 0x4E56u;
+    w[2] = 1u;
+    block_words(&c, &w[3]); /* writes 35 words: the 30 of version 3 are the first */
+    w[33] = ref_crc_words(&w[3], 30);
+    words_of(0.1f, &w[34]);
+    words_of(0.0f, &w[36]);
+    w[38] = ref_crc_words(w, 38);
+    for (i = 0; i < 39; ++i) {
+        old[2 * i] = (uint_least8_t)(w[i] >> 8);
+        old[2 * i + 1] = (uint_least8_t)(w[i] & 0xFFu);
+    }
+    memset(&back, 0xA5, sizeof back);
+    EXPECT_OK(zw_regmap_init(&back, NULL, &why));
+    EXPECT_STATUS(zw_regmap_restore(&back, old, sizeof old, NULL, 0, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_IMAGE_FORMAT);
+    assert_int_equal(rd(&back, ZW_REG_SEALED), 0u);
+    assert_int_equal(rd(&back, ZW_REG_RESTORE_REASON), ZW_REASON_IMAGE_FORMAT);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -2722,6 +3061,12 @@ int main(void)
         cmocka_unit_test(test_save_is_separate_and_checked),
         cmocka_unit_test(test_restore_checks_everything),
         cmocka_unit_test(test_word_order_cdab),
+        cmocka_unit_test(test_box_refuses_interior_instability),
+        cmocka_unit_test(test_box_sigma_rule),
+        cmocka_unit_test(test_box_budget_refuses),
+        cmocka_unit_test(test_box_block_validation),
+        cmocka_unit_test(test_version3_client_refused),
+        cmocka_unit_test(test_box_persistence),
         cmocka_unit_test(test_seal),
         cmocka_unit_test(test_commission_unsealed),
         cmocka_unit_test(test_pdu_read),
