@@ -170,11 +170,10 @@ void zw_cert_opts_to_cert(const zw_cert_opts *o, zw_cert *out)
     unsigned k;
     memset(out, 0, sizeof *out);
     for (k = 0; k < ZW_CERT_FIELDS; ++k) zw_cert_set_field(out, k, (float)o->v[k]);
-    /* one range given: the other quantity is a point (upper end = lower end) */
-    if (out->m_hi != 0.0f || out->b_hi != 0.0f) {
-        if (out->m_hi == 0.0f) out->m_hi = out->m;
-        if (out->b_hi == 0.0f) out->b_hi = out->b;
-    }
+    /* an upper end not given is the lower end (a point in that quantity): the block always
+     * carries explicit ends, as the Python client writes it */
+    if (!o->given[15]) out->m_hi = out->m;
+    if (!o->given[16]) out->b_hi = out->b;
 }
 
 int zw_cert_ranged(const zw_cert *c)

@@ -35,8 +35,8 @@ int zw_parse_long(const char *prog, const char *name, const char *text, long lo,
  * the loop: --delay D (0..8), --velocity-filter none|lowpass:F[Hz]|average:N (fields
  * vfilter and vf_param), --differentiator backward|tustin; the loop defaults to the ideal
  * one (0, none, backward).  Then the plant ranges (map version 4): --m-hi, --b-hi, or
- * --m LO:HI and --b LO:HI (the lower end in --m / --b); none given: the point block (both
- * 0); one given: the other's upper end is its lower end.  Index i is register
+ * --m LO:HI and --b LO:HI (the lower end in --m / --b); an upper end not given is the
+ * lower end (a point block has M_HI = M, B_HI = B).  Index i is register
  * ZW_REG_CERT_M + 2 i. */
 #define ZW_CERT_NFIELDS ((int)ZW_CERT_FIELDS) /* the block's 17 fields, as an int for loops */
 #define ZW_CERT_NPOLICY 11                    /* the first 11: plant and policy */

@@ -29,10 +29,10 @@ def crc16_words(words):
 
 
 def block_words(sigma, delay=0.0, vfilter=0.0, vf_param=0.0, differentiator=0.0):
-    """The 30 words of the block (map v2: plant, policy, then the loop; default the ideal
-    loop)."""
+    """The 34 words of the block (map v4: plant, policy, the loop (default the ideal loop),
+    then the plant's upper ends: a point, as zwidth-tune writes it)."""
     return float_words(85.78e-7, 2.197e-3, 0.02, sigma, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01,
-                       delay, vfilter, vf_param, differentiator)
+                       delay, vfilter, vf_param, differentiator, 85.78e-7, 2.197e-3)
 
 
 def status(d):

@@ -43,7 +43,7 @@ def test_status_of_a_fresh_drive(drive_port):
     for key in ("sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
         words += zm.float_to_words(POLICY[key])
     words += [0] * 8  # the ideal loop: delay, filter, parameter, differentiator all 0.0
-    words += [0] * 4  # M_HI = B_HI = 0: the point block's shorthand (zwidth-drive's default)
+    words += zm.float_to_words(PAPER_PLANT["m"]) + zm.float_to_words(PAPER_PLANT["b"])  # a point
     assert s.policy.crc == zm.crc16_words(words)
     assert s.loop == zm.Loop(0.0, "none", s.loop.cutoff_hz, 0, "backward", 0.0) and s.loop.ideal
     assert s.gains == zm.Gains(0.0, 0.0)
