@@ -616,9 +616,11 @@ zw_reason zw_rm_apply_gains(zw_regmap *rm, float K, float B)
     if (why != ZW_REASON_NONE) {
         return why;
     }
-    /* (0, 0) skips the rules, and a ranged block's write needs no k_max: not known then
-     * (live_refresh computes and keeps it) */
-    if ((K == 0.0f && B == 0.0f) || cert_ranged(&rm->sealed)) {
+    /* (0, 0) skips the rules: k_max is then not known.  A ranged block's write does not
+     * compute it: its cache (keyed on B, the box's value) stays, live_refresh fills it */
+    if (cert_ranged(&rm->sealed)) {
+        /* kept */
+    } else if (K == 0.0f && B == 0.0f) {
         rm->kmax_cached = 0u;
     } else {
         cache_k_max(rm, B, k_max);
@@ -631,6 +633,9 @@ zw_reason zw_rm_apply_gains(zw_regmap *rm, float K, float B)
 /* ---- live registers ------------------------------------------------------------------------ */
 
 
+
+/* K_CERT of a ranged block: this fraction below sigma K_MAX (regmap.h). */
+#define K_CERT_BOX_MARGIN ZW_R(0.015625)
 
 /* Grid of the downward scan in live_k_cert (see there). */
 #define K_CERT_GRID 32u
@@ -665,8 +670,10 @@ ZW_NOINLINE static zw_mb_exception live_k_cert(zw_regmap *rm)
     }
     if (cert_ranged(&rm->sealed)) {
         /* k_max is certified for the box: (0, k_max] stable at B for every plant, so sigma
-         * k_max shrunk by its rounding (and k_over_sigma_up's) passes the box rule; r = 1 */
-        top = (zw_real)rm->sealed.sigma * k_max * (ZW_R(1.0) - (ZW_R(8.0) * ZW_UNIT_ROUNDOFF));
+         * k_max shrunk by its rounding (and k_over_sigma_up's) passes the box rule; r = 1.
+         * Shrunk by K_CERT_BOX_MARGIN more, so that a write of K_CERT is proven again
+         * well within the write's budget (the proof's cost grows as K nears the infimum). */
+        top = (zw_real)rm->sealed.sigma * k_max * (ZW_R(1.0) - K_CERT_BOX_MARGIN);
         if (top > (zw_real)rm->sealed.k_max) {
             top = (zw_real)rm->sealed.k_max;
         }

@@ -123,7 +123,7 @@ typedef enum zw_reason {
  * depth-first stack, sub-box tests per certification, and the relative width at which the
  * K (and SEAL's B) bisections of the live registers stop. */
 #define ZW_REGMAP_BOX_CELLS 64u
-#define ZW_REGMAP_BOX_EVALS 2000u
+#define ZW_REGMAP_BOX_EVALS 4000u
 #define ZW_REGMAP_BOX_REL_TOL ZW_R(1.0e-3)
 
 /* The factory ceilings no block may exceed (zw_regmap_set_ceilings). */
