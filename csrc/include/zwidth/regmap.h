@@ -320,7 +320,9 @@ typedef struct zw_regmap {
     uint_least16_t kmax_cached;
     /* The box search of a ranged block (map version 4, regmap_policy.h): its depth-first
      * cell stack and scratch, here rather than on the stack (scratch only, nothing kept
-     * between requests).  With a ranged block kmax_value holds the box's K_max lower bound. */
+     * between requests): 4.9 KB with float zw_real, 9.6 KB with double, which makes
+     * sizeof(zw_regmap) 7.8 KB / 15.1 KB.  With a ranged block kmax_value holds the box's
+     * K_max lower bound. */
     zw_box_loop_cell box_cells[ZW_REGMAP_BOX_CELLS];
     zw_box_loop_scratch box_scratch;
 } zw_regmap;
