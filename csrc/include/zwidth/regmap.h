@@ -102,10 +102,14 @@
  *           SEAL over the wrong word count fails the CRC (ZW_REASON_CRC).  Clients read
  *           ZW_REG_VERSION first (zwidth's do, and refuse a version they do not know).
  *   With a ranged block (M_HI > M or B_HI > B) a gain pair is certified for the whole box
- *   (regmap_policy.h); the live registers then hold box values: K_MAX and K_CERT lower
- *   bounds of the infimum over the box, K_MMAX and its B certified for the whole box at
- *   SEAL, NaN when the search's budget ran out; B_LO, B_HI and RHO read NaN (no box form
- *   per write); DELTA is that of the lower ends (M, B).
+ *   (regmap_policy.h); the live registers then hold box values: K_MAX a certified lower
+ *   bound of the infimum over the box of K_max(B) (zw_box_loop_k_max, rounded down; lower
+ *   than the infimum by up to ZW_REGMAP_BOX_REL_TOL, more when the budget ran out, never
+ *   above), K_CERT = min(sigma K_MAX (1 - 1/64), k_max) rounded down (the margin keeps its
+ *   proof well within a write's budget), K_MMAX and its B certified for the whole box at
+ *   SEAL (zw_box_loop_k_mmax; NaN on error); B_LO, B_HI and RHO read NaN (no box form per
+ *   write); DELTA is that of the lower ends (M, B).  Cost: regmap_policy.h and
+ *   docs/modbus.md ("Plant ranges").
  *
  *   0x0064  ZW_REG_COMMAND      w       commissioning commands (zwidth/regmap_commission.h)
  *   0x0080  ZW_REG_CONSENT      r       1 when the commissioning enable input is on (map
