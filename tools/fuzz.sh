@@ -72,7 +72,7 @@ def fwords(*xs):
 def gains(K, B):
     return writen(0x0010, fwords(K, B))
 
-status = read(0x0000, 10) + read(0x0010, 4) + read(0x0020, 16) + read(0x0030, 10) + read(0x0040, 31)
+status = read(0x0000, 10) + read(0x0010, 4) + read(0x0020, 16) + read(0x0030, 10) + read(0x0040, 35)
 # A ramp over the ideal loop's region (steps under dk_max 0.1 and db_max 1e-3): 0.44 at
 # B = -1.36e-3 is below 0.9 K_max(B) = 0.4435 with a spectral radius 0.972 < r = 0.98; the
 # harness's block delays by one sample, which refuses the upper part of it.
@@ -82,10 +82,12 @@ ramp = b"".join(gains(K, B) for K, B in [(0.05, -2e-4), (0.13, -5e-4), (0.21, -8
 # A block like the harness's, with sigma 0.8 and r = 1: the ideal loop, and loops of map v2
 # (delay, filter kind, parameter, differentiator).
 policy = [8.578e-6, 2.197e-3, 0.02, 0.8, 1.0, 0.0, 0.45, -2.197e-3, 3.5e-3, 0.2, 2e-3]
-block = fwords(*policy, 0, 0, 0, 0)
-block_lowpass = fwords(*policy, 1, 1, 5.0, 0)
-block_average = fwords(*policy, 0, 2, 3, 1)
-unlock = write1(0x0060, 0xC0DE) + write1(0x0060, 0x5AFE)
+# Map v4: the plant's upper ends follow the loop (a point: m, b again; a box: wider).
+block = fwords(*policy, 0, 0, 0, 0, policy[0], policy[1])
+block_lowpass = fwords(*policy, 1, 1, 5.0, 0, policy[0], policy[1])
+block_average = fwords(*policy, 0, 2, 3, 1, policy[0], policy[1])
+block_box = fwords(*policy[:2], 0.02, 0.8, 1.0, *policy[5:], 1, 0, 0, 0, 1.1 * policy[0], 1.05 * policy[1])
+unlock = write1(0x0064, 0xC0DE) + write1(0x0064, 0x5AFE)
 # Map v3: the harness's verify hook accepts a MAC whose first word is 0x600D.
 mac_ok = writen(0x0090, [0x600D] + [0] * 15) + read(0x0088, 24)
 mac_bad = writen(0x0090, [0x600C] + [0] * 15)
@@ -95,19 +97,21 @@ seeds = {
     "single_k": writen(0x0010, fwords(0.1)) + writen(0x0012, fwords(-5e-4)) + write1(0x0010, 0x3E4C),
     "refusals": gains(float("nan"), 0.0) + gains(0.45, 0.0) + read(0x000A, 2) + write1(0x0000, 1)
                 + rec(bytes([0x04, 0, 0, 0, 1])) + writen(0x0040, fwords(1.0)),
-    "commission": unlock + writen(0x0040, block + [crc16(block)]) + mac_ok + write1(0x0060, 0x5EA1)
+    "commission": unlock + writen(0x0040, block + [crc16(block)]) + mac_ok + write1(0x0064, 0x5EA1)
                   + status + ramp,
     "commission_lowpass": unlock + writen(0x0040, block_lowpass + [crc16(block_lowpass)])
-                          + mac_ok + write1(0x0060, 0x5EA1) + status + ramp,
+                          + mac_ok + write1(0x0064, 0x5EA1) + status + ramp,
     "commission_average": unlock + writen(0x0040, block_average + [crc16(block_average)])
-                          + mac_ok + write1(0x0060, 0x5EA1) + status + ramp,
-    "commission_split": unlock + writen(0x0040, block) + write1(0x005E, crc16(block)) + mac_ok
-                        + write1(0x0060, 0x5EA1) + gains(0.2, -1e-3),
-    "save": ramp + write1(0x0060, 0x5A7E) + read(0x0080, 3),
+                          + mac_ok + write1(0x0064, 0x5EA1) + status + ramp,
+    "commission_box": unlock + writen(0x0040, block_box + [crc16(block_box)])
+                      + mac_ok + write1(0x0064, 0x5EA1) + status + ramp,
+    "commission_split": unlock + writen(0x0040, block) + write1(0x0062, crc16(block)) + mac_ok
+                        + write1(0x0064, 0x5EA1) + gains(0.2, -1e-3),
+    "save": ramp + write1(0x0064, 0x5A7E) + read(0x0080, 3),
     "bad_mac_then_good": unlock + writen(0x0040, block + [crc16(block)]) + mac_bad
-                         + write1(0x0060, 0x5EA1) + mac_ok + write1(0x0060, 0x5EA1) + status,
-    "abort": ramp + unlock + writen(0x0040, block[:4]) + write1(0x0060, 0xAB07) + status,
-    "bad_crc": unlock + writen(0x0040, block + [crc16(block) ^ 1]) + write1(0x0060, 0x5EA1),
+                         + write1(0x0064, 0x5EA1) + mac_ok + write1(0x0064, 0x5EA1) + status,
+    "abort": ramp + unlock + writen(0x0040, block[:4]) + write1(0x0064, 0xAB07) + status,
+    "bad_crc": unlock + writen(0x0040, block + [crc16(block) ^ 1]) + write1(0x0064, 0x5EA1),
     "small_cap": bytes([254, 3]) + read(0x0000, 10) + bytes([254, 1]) + gains(0.1, 0.0)
                  + bytes([255]) + read(0x0010, 4),
 }
@@ -118,13 +122,13 @@ def esc(b: bytes) -> str:
     return "".join(f"\\x{x:02X}" for x in b)
 
 tokens = {
-    "unlock1": b"\x06\x00\x60\xC0\xDE", "unlock2": b"\x06\x00\x60\x5A\xFE",
-    "seal": b"\x06\x00\x60\x5E\xA1", "abort": b"\x06\x00\x60\xAB\x07",
+    "unlock1": b"\x06\x00\x64\xC0\xDE", "unlock2": b"\x06\x00\x64\x5A\xFE",
+    "seal": b"\x06\x00\x64\x5E\xA1", "abort": b"\x06\x00\x64\xAB\x07",
     "cmd_unlock1": b"\xC0\xDE", "cmd_unlock2": b"\x5A\xFE", "cmd_seal": b"\x5E\xA1",
     "cmd_abort": b"\xAB\x07", "addr_k": b"\x00\x10", "addr_b": b"\x00\x12",
-    "addr_cert": b"\x00\x40", "addr_crc": b"\x00\x5E", "addr_cmd": b"\x00\x60",
+    "addr_cert": b"\x00\x40", "addr_crc": b"\x00\x62", "addr_cmd": b"\x00\x64", "addr_m_hi": b"\x00\x5E",
     "addr_loop": b"\x00\x56", "one": struct.pack(">f", 1.0), "two": struct.pack(">f", 2.0),
-    "write_pair": b"\x10\x00\x10\x00\x04\x08", "write_block": b"\x10\x00\x40\x00\x1F\x3E",
+    "write_pair": b"\x10\x00\x10\x00\x04\x08", "write_block": b"\x10\x00\x40\x00\x23\x46",
     "nan": b"\x7F\xC0\x00\x00", "inf": b"\x7F\x80\x00\x00", "k040": struct.pack(">f", 0.40),
     "b136": struct.pack(">f", -1.36e-3),
     "addr_nonce": b"\x00\x88", "addr_mac": b"\x00\x90", "mac_ok": b"\x60\x0D",

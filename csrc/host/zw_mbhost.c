@@ -23,14 +23,15 @@
 const char *const zw_cert_option[ZW_CERT_NFIELDS] = {
     "--m", "--b", "--T", "--sigma", "--r", "--k-min", "--k-max", "--b-min", "--b-max",
     "--dk-max", "--db-max", "--delay", "--velocity-filter", "--velocity-filter",
-    "--differentiator"};
+    "--differentiator", "--m-hi", "--b-hi"};
 
 const char *const zw_cert_label[ZW_CERT_NFIELDS] = {
     "m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max",
-    "delay", "vfilter", "vf_param", "differentiator"};
+    "delay", "vfilter", "vf_param", "differentiator", "m_hi", "b_hi"};
 
 static const double cert_default[ZW_CERT_NFIELDS] = {
-    85.78e-7, 2.197e-3, 0.02, 0.8, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01, 0.0, 0.0, 0.0, 0.0};
+    85.78e-7, 2.197e-3, 0.02, 0.8, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01, 0.0, 0.0, 0.0, 0.0,
+    0.0, 0.0}; /* m_hi = b_hi = 0: the point block */
 
 /* --velocity-filter none | lowpass:F | lowpass:FHz | average:N */
 static int parse_velocity_filter(const char *prog, const char *text, double *kind, double *param)
@@ -131,6 +132,26 @@ int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv,
             return -1;
         }
         o->v[k] = strcmp(v, "tustin") == 0 ? 1.0 : 0.0;
+    } else if ((k == 0 || k == 1) && strchr(argv[*i + 1], ':') != NULL) {
+        /* --m LO:HI, --b LO:HI: a range (map version 4), the lower end in m or b */
+        char lo[64];
+        const char *text = argv[*i + 1], *colon = strchr(text, ':');
+        const int hi_k = k == 0 ? 15 : 16;
+        size_t len = (size_t)(colon - text);
+        if (len == 0 || len >= sizeof lo) {
+            fprintf(stderr, "%s: %s expects a number or LO:HI, got '%s'\n", prog, arg, text);
+            return -1;
+        }
+        memcpy(lo, text, len);
+        lo[len] = '\0';
+        if (!zw_parse_double(prog, arg, lo, &o->v[k]) ||
+            !zw_parse_double(prog, arg, colon + 1, &o->v[hi_k]))
+            return -1;
+        if (fabs(o->v[k]) > (double)FLT_MAX || fabs(o->v[hi_k]) > (double)FLT_MAX) {
+            fprintf(stderr, "%s: %s %s does not fit a float register\n", prog, arg, text);
+            return -1;
+        }
+        o->given[hi_k] = 1;
     } else {
         if (!zw_parse_double(prog, arg, argv[*i + 1], &o->v[k])) return -1;
         /* A float register cannot hold it: refuse here rather than send infinity. */
@@ -147,7 +168,27 @@ int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv,
 void zw_cert_opts_to_cert(const zw_cert_opts *o, zw_cert *out)
 {
     unsigned k;
+    memset(out, 0, sizeof *out);
     for (k = 0; k < ZW_CERT_FIELDS; ++k) zw_cert_set_field(out, k, (float)o->v[k]);
+    /* an upper end not given is the lower end (a point in that quantity): the block always
+     * carries explicit ends, as the Python client writes it */
+    if (!o->given[15]) out->m_hi = out->m;
+    if (!o->given[16]) out->b_hi = out->b;
+}
+
+int zw_cert_ranged(const zw_cert *c)
+{
+    return !(c->m_hi == 0.0f && c->b_hi == 0.0f) && (c->m_hi != c->m || c->b_hi != c->b);
+}
+
+void zw_cert_plant_text(const zw_cert *c, char *buf, size_t cap)
+{
+    if (zw_cert_ranged(c))
+        snprintf(buf, cap, "m in [%.9g, %.9g], b in [%.9g, %.9g], T = %.9g s (a box of plants)",
+                 (double)c->m, (double)c->m_hi, (double)c->b, (double)c->b_hi, (double)c->T);
+    else
+        snprintf(buf, cap, "m = %.9g, b = %.9g, T = %.9g s", (double)c->m, (double)c->b,
+                 (double)c->T);
 }
 
 uint16_t zw_crc16_bytes(const uint8_t *data, size_t len)

@@ -34,8 +34,11 @@ int zw_parse_long(const char *prog, const char *name, const char *text, long lo,
  * --dk-max --db-max (the policy, ZW_CERT_NPOLICY fields, all needed to commission), then
  * the loop: --delay D (0..8), --velocity-filter none|lowpass:F[Hz]|average:N (fields
  * vfilter and vf_param), --differentiator backward|tustin; the loop defaults to the ideal
- * one (0, none, backward).  Index i is register ZW_REG_CERT_M + 2 i. */
-#define ZW_CERT_NFIELDS ((int)ZW_CERT_FIELDS) /* the block's 15 fields, as an int for loops */
+ * one (0, none, backward).  Then the plant ranges (map version 4): --m-hi, --b-hi, or
+ * --m LO:HI and --b LO:HI (the lower end in --m / --b); an upper end not given is the
+ * lower end (a point block has M_HI = M, B_HI = B).  Index i is register
+ * ZW_REG_CERT_M + 2 i. */
+#define ZW_CERT_NFIELDS ((int)ZW_CERT_FIELDS) /* the block's 17 fields, as an int for loops */
 #define ZW_CERT_NPOLICY 11                    /* the first 11: plant and policy */
 
 typedef struct zw_cert_opts {
@@ -56,6 +59,11 @@ int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv,
 
 /* The numbers as the float block. */
 void zw_cert_opts_to_cert(const zw_cert_opts *o, zw_cert *out);
+
+/* 1 when block c holds ranges (M_HI > M or B_HI > B), and the plant as text:
+ * "m = .., b = .., T = .. s" or "m in [.., ..], b in [.., ..], T = .. s (a box of plants)". */
+int zw_cert_ranged(const zw_cert *c);
+void zw_cert_plant_text(const zw_cert *c, char *buf, size_t cap);
 
 /* CRC-16/MODBUS of a byte string (RTU framing; the low byte goes on the wire first). */
 uint16_t zw_crc16_bytes(const uint8_t *data, size_t len);

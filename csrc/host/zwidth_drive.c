@@ -100,7 +100,11 @@ static void usage(FILE *to)
             "\n"
             "Certified block at power-up (sealed; defaults: the paper's drive)\n"
             "  --m M  --b B  --T T plant: mass or inertia J (85.78e-7), damping (2.197e-3),\n"
-            "                      sampling period [s] (0.02)\n"
+            "                      sampling period [s] (0.02); --m LO:HI, --b LO:HI: a box of\n"
+            "                      plants, every gain certified for all of them (needs --r 1\n"
+            "                      --max-r 1; the nameplate is then the ranges' middle, the\n"
+            "                      tolerance at least their half-width; --simulate runs the\n"
+            "                      lower ends)\n"
             "  --sigma S --r R     stiffness fraction of K_max(B) (0.8), spectral radius bound\n"
             "                      (0.999)\n"
             "  --k-min --k-max     K bounds (0, 10)\n"
@@ -1199,6 +1203,18 @@ int main(int argc, char **argv)
     ceil.b = cert.b;
     ceil.T = cert.T;
     ceil.plant_tol = (float)plant_tol;
+    if (zw_cert_ranged(&cert)) {
+        /* a box at power-up: the nameplate is its middle and the tolerance covers its ends
+         * (a little more than the half-width, for the float rounding of the middle) */
+        const double mm = 0.5 * ((double)cert.m + (double)cert.m_hi);
+        const double bm = 0.5 * ((double)cert.b + (double)cert.b_hi);
+        double tol = plant_tol;
+        if (mm > 0.0 && 1.001 * ((double)cert.m_hi - mm) / mm > tol) tol = 1.001 * ((double)cert.m_hi - mm) / mm;
+        if (bm > 0.0 && 1.001 * ((double)cert.b_hi - bm) / bm > tol) tol = 1.001 * ((double)cert.b_hi - bm) / bm;
+        ceil.m = (float)mm;
+        ceil.b = (float)bm;
+        ceil.plant_tol = (float)tol;
+    }
     ceil.k_min = cert.k_min;
     ceil.k_max = cert.k_max;
     ceil.b_min = cert.b_min;

@@ -32,7 +32,7 @@ static void usage(FILE *to)
     fprintf(to,
             "usage: zwidth-tune [connection] status [--json]\n"
             "       zwidth-tune [connection] set [--K K] [--B B] [--json]\n"
-            "       zwidth-tune [connection] commission --m M --b B --T T --sigma S --r R\n"
+            "       zwidth-tune [connection] commission --m M[:M_HI] --b B[:B_HI] --T T --sigma S --r R\n"
             "                   --k-min K --k-max K --b-min B --b-max B --dk-max D --db-max D\n"
             "                   [--delay D] [--velocity-filter none|lowpass:F[Hz]|average:N]\n"
             "                   [--differentiator backward|tustin] [--paper-defaults] [--json]\n"
@@ -56,7 +56,10 @@ static void usage(FILE *to)
             "              [0, 10], B in [-0.01, 0.01], dK 1, dB 0.01).  The loop the drive\n"
             "              runs (default: the ideal one) is part of the block: --delay D\n"
             "              samples (0..8), --velocity-filter lowpass:30Hz or average:4,\n"
-            "              --differentiator tustin; the drive certifies gains for it\n"
+            "              --differentiator tustin; the drive certifies gains for it.\n"
+            "              Plant ranges (map version 4): --m LO:HI and/or --b LO:HI (or\n"
+            "              --m-hi, --b-hi) commission a box of plants: every gain write is\n"
+            "              then certified for every plant of the box (needs --r 1)\n"
             "\n"
             "Connection (Modbus TCP by default)\n"
             "  --host ADDR     drive address (default 127.0.0.1)\n"
@@ -136,7 +139,7 @@ typedef struct snapshot {
     uint_least16_t head[10];  /* 0x00..0x09 */
     uint_least16_t gains[4];  /* 0x10..0x13 */
     uint_least16_t live[24];  /* 0x20..0x37 */
-    uint_least16_t cert[ZW_CERT_WORDS + 1u];  /* 0x40..0x5E: the block and its CRC */
+    uint_least16_t cert[ZW_CERT_WORDS + 1u];  /* 0x40..0x62: the block and its CRC */
     int have_live, have_cert;
     unsigned cert_exc;
 } snapshot;
@@ -197,7 +200,7 @@ static const char *const live_label[8] = {"K_max", "K_cert", "B_lo", "B_hi",
 
 static void print_snapshot_text(const snapshot *s)
 {
-    char loop[200];
+    char loop[200], plant[200];
     int k;
     unsigned reason = (unsigned)s->head[4], exc = (unsigned)s->head[5];
     printf("drive      : zwidth register map v%u, %s mode, %s\n", (unsigned)s->head[1],
@@ -209,8 +212,8 @@ static void print_snapshot_text(const snapshot *s)
     if (s->have_cert) {
         zw_cert c;
         zw_cert_decode(s->cert, &c);
-        printf("plant      : m = %.9g, b = %.9g, T = %.9g s\n", (double)c.m, (double)c.b,
-               (double)c.T);
+        zw_cert_plant_text(&c, plant, sizeof plant);
+        printf("plant      : %s\n", plant);
         printf("policy     : sigma = %.9g, r = %.9g, K in [%.9g, %.9g], B in [%.9g, %.9g],\n"
                "             |dK| <= %.9g, |dB| <= %.9g per write; CRC 0x%04X\n",
                (double)c.sigma, (double)c.r, (double)c.k_min, (double)c.k_max, (double)c.b_min,

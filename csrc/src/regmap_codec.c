@@ -124,7 +124,9 @@ float zw_cert_field(const zw_cert *c, unsigned i)
     case F_DELAY: v = c->delay; break;
     case F_VFILTER: v = c->vfilter; break;
     case F_VF_PARAM: v = c->vf_param; break;
-    default: v = c->differentiator; break;
+    case F_DIFF: v = c->differentiator; break;
+    case F_M_HI: v = c->m_hi; break;
+    default: v = c->b_hi; break;
     }
     return v;
 }
@@ -146,7 +148,9 @@ void zw_cert_set_field(zw_cert *c, unsigned i, float v)
     case F_DELAY: c->delay = v; break;
     case F_VFILTER: c->vfilter = v; break;
     case F_VF_PARAM: c->vf_param = v; break;
-    default: c->differentiator = v; break;
+    case F_DIFF: c->differentiator = v; break;
+    case F_M_HI: c->m_hi = v; break;
+    default: c->b_hi = v; break;
     }
 }
 

@@ -11,7 +11,7 @@
 #include "regmap_internal.h"
 #include "zwidth/selftest.h"
 
-/* Word i (0..22) of the block in force: the sealed block and its CRC, all 0 unsealed.
+/* Word i (0..ZW_CERT_WORDS) of the block in force: the sealed block and its CRC, all 0 unsealed.
  * Only the read path needs it, so it re-encodes rather than keeping a copy. */
 uint_least16_t zw_rm_sealed_word(const zw_regmap *rm, unsigned i)
 {

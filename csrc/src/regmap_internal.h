@@ -22,7 +22,7 @@ enum { L_K_MAX, L_K_CERT, L_B_LO, L_B_HI, L_K_MMAX, L_B_AT_KMMAX, L_RHO, L_DELTA
 /* Index of each field of the certified block (register ZW_REG_CERT_M + 2 i). */
 enum {
     F_M, F_B, F_T, F_SIGMA, F_R, F_K_MIN, F_K_MAX, F_B_MIN, F_B_MAX, F_DK_MAX, F_DB_MAX,
-    F_DELAY, F_VFILTER, F_VF_PARAM, F_DIFF
+    F_DELAY, F_VFILTER, F_VF_PARAM, F_DIFF, F_M_HI, F_B_HI
 };
 
 /* A quiet NaN of type float, for values that do not exist (live registers without a

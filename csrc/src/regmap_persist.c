@@ -12,7 +12,7 @@
 #define IMAGE_MAGIC0 0x5A57u /* "ZW" */
 #define IMAGE_MAGIC1 0x4E56u /* "NV" */
 #define IMAGE_BLOCK 3u       /* first word of the block */
-#define IMAGE_GAINS 34u      /* K, then B */
+#define IMAGE_GAINS (IMAGE_BLOCK + ZW_CERT_WORDS + 1u) /* K, then B */
 #define IMAGE_CRC (ZW_IMAGE_WORDS - 1u)
 
 static uint_least16_t image_word(const uint_least8_t *img, unsigned i)

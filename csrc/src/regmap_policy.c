@@ -14,6 +14,7 @@
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "regmap_internal.h"
 
@@ -59,9 +60,47 @@ static zw_reason check_loop_fields(const zw_regmap *rm)
     return ZW_REASON_NONE;
 }
 
+/* The loop spec of a block's fields f (checked: check_loop_fields).  False (never, for a
+ * checked block) when a field cannot be converted. */
+static bool spec_of(const float f[ZW_CERT_FIELDS], zw_device_loop_spec *spec_out)
+{
+    zw_device_loop_spec spec;
+    (void)memset(&spec, 0, sizeof spec);
+    spec.differentiator = (f[F_DIFF] == 1.0f) ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
+    if (f[F_VFILTER] == 1.0f) {
+        spec.filter = ZW_VFILTER_LOWPASS;
+    } else if (f[F_VFILTER] == 2.0f) {
+        spec.filter = ZW_VFILTER_AVERAGE;
+    } else {
+        spec.filter = ZW_VFILTER_NONE;
+    }
+    /* Never true (check_loop_fields passed these fields, now or when the block was sealed);
+     * checked again so that the float-to-unsigned conversions below are defined for any
+     * block, which the run-time-error analysis cannot relate to the earlier check. */
+    if (!whole_in(f[F_DELAY], (float)ZW_LOOP_MAX_DELAY) ||
+        ((spec.filter == ZW_VFILTER_AVERAGE) && !whole_in(f[F_VF_PARAM], (float)ZW_LOOP_MAX_AVERAGE))) {
+        return false;
+    }
+    spec.delay = (unsigned)f[F_DELAY];
+    spec.cutoff_hz = (spec.filter == ZW_VFILTER_LOWPASS) ? (zw_real)f[F_VF_PARAM] : ZW_R(0.0);
+    spec.pole = ZW_R(0.0);
+    spec.average = (spec.filter == ZW_VFILTER_AVERAGE) ? (unsigned)f[F_VF_PARAM] : 0u;
+    *spec_out = spec;
+    return true;
+}
+
+/* The fields of block c, in register order. */
+static void fields_of(const zw_cert *c, float f[ZW_CERT_FIELDS])
+{
+    unsigned i;
+    for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
+        f[i] = zw_cert_field(c, i);
+    }
+}
+
 /* Build rm->loop from the staged block (staged) or the sealed one; the fields were checked.
  * Reason: BAD_FILTER_PARAM for a cut-off the pole cannot be formed from, BAD_POLICY for
- * the plant. */
+ * the plant.  The loop's plant is the block's (M, B): with a ranged block its lower ends. */
 static zw_reason build_loop(zw_regmap *rm, bool staged)
 {
     zw_device_loop_spec spec;
@@ -71,26 +110,10 @@ static zw_reason build_loop(zw_regmap *rm, bool staged)
     for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
         f[i] = staged ? zw_rm_staged_float(rm, i) : zw_cert_field(&rm->sealed, i);
     }
-    spec.differentiator = (f[F_DIFF] == 1.0f) ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
-    if (f[F_VFILTER] == 1.0f) {
-        spec.filter = ZW_VFILTER_LOWPASS;
-    } else if (f[F_VFILTER] == 2.0f) {
-        spec.filter = ZW_VFILTER_AVERAGE;
-    } else {
-        spec.filter = ZW_VFILTER_NONE;
-    }
     rm->kmax_cached = 0u;
-    /* Never true (check_loop_fields passed these fields, now or when the block was sealed);
-     * checked again so that the float-to-unsigned conversions below are defined for any
-     * block, which the run-time-error analysis cannot relate to the earlier check. */
-    if (!whole_in(f[F_DELAY], (float)ZW_LOOP_MAX_DELAY) ||
-        ((spec.filter == ZW_VFILTER_AVERAGE) && !whole_in(f[F_VF_PARAM], (float)ZW_LOOP_MAX_AVERAGE))) {
+    if (!spec_of(f, &spec)) {
         return ZW_REASON_BAD_POLICY;
     }
-    spec.delay = (unsigned)f[F_DELAY];
-    spec.cutoff_hz = (spec.filter == ZW_VFILTER_LOWPASS) ? (zw_real)f[F_VF_PARAM] : ZW_R(0.0);
-    spec.pole = ZW_R(0.0);
-    spec.average = (spec.filter == ZW_VFILTER_AVERAGE) ? (unsigned)f[F_VF_PARAM] : 0u;
     st = zw_device_loop_init(&rm->loop, (zw_real)f[F_M], (zw_real)f[F_B], (zw_real)f[F_T], &spec);
     if (st == ZW_OK) {
         return ZW_REASON_NONE;
@@ -98,14 +121,147 @@ static zw_reason build_loop(zw_regmap *rm, bool staged)
     return (st == ZW_ERR_FILTER) ? ZW_REASON_BAD_FILTER_PARAM : ZW_REASON_BAD_POLICY;
 }
 
+/* The largest float not above x (x not NaN, at most FLT_MAX). */
+static float float_down(zw_real x)
+{
+    float f = zw_rm_to_float(x);
+    if ((zw_real)f > x) {
+        f = ZW_NEXTAFTERF(f, -ZW_HUGE_VALF);
+    }
+    return f;
+}
+
+/* ---- the plant box (map version 4) --------------------------------------------------------- */
+
+/* M_HI and B_HI both 0: the point block's shorthand (a zw_cert whose new fields are left 0). */
+static bool range_absent(float m_hi, float b_hi)
+{
+    return (m_hi == 0.0f) && (b_hi == 0.0f);
+}
+
+/* Block c certifies a box of plants rather than the one plant (M, B). */
+static bool cert_ranged(const zw_cert *c)
+{
+    return !range_absent(c->m_hi, c->b_hi) && ((c->m_hi != c->m) || (c->b_hi != c->b));
+}
+
+/* The box of block c (zero-initialised first: fields added to zw_plant_box later default
+ * to absent). */
+static void box_of(const zw_cert *c, zw_plant_box *box)
+{
+    (void)memset(box, 0, sizeof *box);
+    box->m_lo = (zw_real)c->m;
+    box->m_hi = (zw_real)c->m_hi;
+    box->b_lo = (zw_real)c->b;
+    box->b_hi = (zw_real)c->b_hi;
+    box->T = (zw_real)c->T;
+}
+
+/* The search's work over the map's own cells and scratch, with the map's budget. */
+static void box_work(zw_regmap *rm, zw_box_loop_work *work)
+{
+    (void)zw_box_loop_work_init(work, rm->box_cells, ZW_REGMAP_BOX_CELLS, &rm->box_scratch);
+    work->max_evals = ZW_REGMAP_BOX_EVALS;
+    work->rel_tol = ZW_REGMAP_BOX_REL_TOL;
+}
+
+/* The box and loop of block c (its fields checked), false if they cannot be formed. */
+static bool box_setup(const zw_cert *c, zw_plant_box *box, zw_device_loop_spec *spec)
+{
+    float f[ZW_CERT_FIELDS];
+    fields_of(c, f);
+    box_of(c, box);
+    return spec_of(f, spec);
+}
+
+/* Box K_max at B: a certified lower bound of the infimum over the box (every K in
+ * (0, K_lower] stable at B for every plant); 0 with an error status when it fails. */
+ZW_NOINLINE static zw_status box_k_max(zw_regmap *rm, const zw_cert *c, float B, zw_real *k_max)
+{
+    zw_plant_box box;
+    zw_device_loop_spec spec;
+    zw_box_loop_work work;
+    zw_box_loop_bound bound;
+    zw_status st;
+    *k_max = ZW_R(0.0);
+    if (!box_setup(c, &box, &spec)) {
+        return ZW_ERR_ARG;
+    }
+    box_work(rm, &work);
+    st = zw_box_loop_k_max(&box, &spec, &rm->ws, (zw_real)B, &work, &bound);
+    if (st == ZW_OK) {
+        *k_max = bound.K_lower;
+    }
+    return st;
+}
+
+/* K / sigma rounded up (K >= 0, sigma in (0, 1]): sigma 1 gives K itself; otherwise the
+ * quotient plus one ulp of it, at least its exact value. */
+static zw_real k_over_sigma_up(float K, float sigma)
+{
+    zw_real q;
+    if (sigma == 1.0f) {
+        return (zw_real)K;
+    }
+    q = (zw_real)K / (zw_real)sigma;
+    return q + (q * ZW_R(2.0) * ZW_UNIT_ROUNDOFF);
+}
+
+/* The stability and sigma rules over the box of block c (regmap_policy.h): (0, K / sigma]
+ * certified at B for every plant, else the reason.  Nothing of rm but scratch changes. */
+ZW_NOINLINE static zw_reason box_certify(zw_regmap *rm, const zw_cert *c, float K, float B)
+{
+    zw_plant_box box;
+    zw_device_loop_spec spec;
+    zw_box_loop_work work;
+    zw_box_loop_verdict v;
+    zw_status st;
+    if (!box_setup(c, &box, &spec)) {
+        return ZW_REASON_UNSTABLE;
+    }
+    box_work(rm, &work);
+    st = zw_box_loop_check(&box, &spec, &rm->ws, k_over_sigma_up(K, c->sigma), (zw_real)B, &work, &v);
+    if (st != ZW_OK) { /* an error of the core counts against the pair */
+        return ZW_REASON_UNSTABLE;
+    }
+    if (v.stable) {
+        return ZW_REASON_NONE;
+    }
+    if (!v.decided) {
+        return ZW_REASON_BOX_BUDGET;
+    }
+    if (c->sigma == 1.0f) {
+        return ZW_REASON_UNSTABLE;
+    }
+    /* refuted at K / sigma: is K itself unstable at the plant found?  (a one-plant box) */
+    box.m_lo = v.m_worst;
+    box.m_hi = v.m_worst;
+    box.b_lo = v.b_worst;
+    box.b_hi = v.b_worst;
+    st = zw_box_loop_check(&box, &spec, &rm->ws, (zw_real)K, (zw_real)B, &work, &v);
+    return ((st == ZW_OK) && v.decided && !v.stable) ? ZW_REASON_UNSTABLE : ZW_REASON_ABOVE_SIGMA;
+}
+
 /* K_MMAX and its B, of the plant and loop in force (the extremes in a frame of their own,
  * only at SEAL and init: with a general loop they cost milliseconds).  *any: some gains are
  * stable (K_mmax > 0). */
-ZW_NOINLINE static void live_extremes(zw_regmap *rm, bool *any)
+ZW_NOINLINE static void live_extremes(zw_regmap *rm, const zw_cert *c, bool *any)
 {
     zw_status st;
     zw_real K = ZW_R(0.0), B = ZW_R(0.0);
-    if (ideal_loop(rm)) {
+    if (cert_ranged(c)) { /* certified for the whole box (box.h) */
+        zw_plant_box box;
+        zw_device_loop_spec spec;
+        zw_box_loop_work work;
+        zw_box_loop_extremes e;
+        st = ZW_ERR_ARG;
+        if (box_setup(c, &box, &spec)) {
+            box_work(rm, &work);
+            st = zw_box_loop_k_mmax(&box, &spec, &rm->ws, &work, &e);
+            K = e.K_mmax;
+            B = e.B_at;
+        }
+    } else if (ideal_loop(rm)) {
         zw_device_extremes e;
         st = zw_device_extremes_compute(&rm->loop.dev, &e);
         K = e.K_mmax;
@@ -118,6 +274,9 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm, bool *any)
     }
     *any = (st == ZW_OK) && (K > ZW_R(0.0));
     rm->live[L_K_MMAX] = (st == ZW_OK) ? zw_rm_to_float(K) : QUIET_NAN_F;
+    if ((st == ZW_OK) && cert_ranged(c)) { /* a box bound: rounded down, never above */
+        rm->live[L_K_MMAX] = float_down(K);
+    }
     rm->live[L_B_AT_KMMAX] = (st == ZW_OK) ? zw_rm_to_float(B) : QUIET_NAN_F;
 }
 
@@ -151,6 +310,11 @@ static zw_reason check_ceilings(const zw_ceilings *k, const float f[ZW_CERT_FIEL
     }
     if (!within_tol(f[F_M], k->m, k->plant_tol) || !within_tol(f[F_B], k->b, k->plant_tol) ||
         !within_tol(f[F_T], k->T, k->plant_tol)) {
+        return ZW_REASON_PLANT_MISMATCH;
+    }
+    /* each end of the ranges too (the point shorthand has none) */
+    if (!range_absent(f[F_M_HI], f[F_B_HI]) &&
+        (!within_tol(f[F_M_HI], k->m, k->plant_tol) || !within_tol(f[F_B_HI], k->b, k->plant_tol))) {
         return ZW_REASON_PLANT_MISMATCH;
     }
     return ZW_REASON_NONE;
@@ -188,6 +352,19 @@ static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_F
     if (!(f[F_M] > 0.0f) || !(f[F_T] > 0.0f) || !(f[F_B] >= 0.0f)) {
         return ZW_REASON_BAD_POLICY;
     }
+    /* the ranges: upper ends not below the lower ones, every corner a valid plant */
+    if (!range_absent(f[F_M_HI], f[F_B_HI])) {
+        zw_plant_box box;
+        (void)memset(&box, 0, sizeof box);
+        box.m_lo = (zw_real)f[F_M];
+        box.m_hi = (zw_real)f[F_M_HI];
+        box.b_lo = (zw_real)f[F_B];
+        box.b_hi = (zw_real)f[F_B_HI];
+        box.T = (zw_real)f[F_T];
+        if (zw_box_validate(&box) != ZW_OK) {
+            return ZW_REASON_BAD_POLICY;
+        }
+    }
     if (!(f[F_K_MIN] <= f[F_K_MAX]) || !(f[F_B_MIN] <= f[F_B_MAX])) {
         return ZW_REASON_BAD_POLICY;
     }
@@ -200,7 +377,15 @@ static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_F
         return ZW_REASON_BAD_POLICY;
     }
     if (rm->has_ceilings != 0u) {
-        return check_ceilings(&rm->ceilings, f);
+        const zw_reason why = check_ceilings(&rm->ceilings, f);
+        if (why != ZW_REASON_NONE) {
+            return why;
+        }
+    }
+    /* no box form of the radius rule here: a ranged block must have r = 1 */
+    if (!range_absent(f[F_M_HI], f[F_B_HI]) && ((f[F_M_HI] != f[F_M]) || (f[F_B_HI] != f[F_B])) &&
+        (f[F_R] != 1.0f)) {
+        return ZW_REASON_BOX_RADIUS;
     }
     return ZW_REASON_NONE;
 }
@@ -229,7 +414,7 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
         why = check_firmware_loop(&rm->ceilings, f);
     }
     if (why == ZW_REASON_NONE) {
-        live_extremes(rm, &any);
+        live_extremes(rm, &c, &any);
         if (!any) {
             why = ZW_REASON_LOOP_NEVER_STABLE;
         } else if (!some_pair_usable(rm, &c)) {
@@ -243,7 +428,7 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
          * its extremes */
         if (rm->is_sealed != 0u) {
             (void)build_loop(rm, false);
-            live_extremes(rm, &any);
+            live_extremes(rm, &rm->sealed, &any);
         }
         return why;
     }
@@ -350,24 +535,29 @@ static bool radius_ok(zw_regmap *rm, float r, float K, float B)
 
 /* K_max at B of the drive's loop (certified; 0 on error, by the core's fail-safe).  The
  * general loop's is taken from the cache when B is the one it holds. */
-static zw_status drive_k_max(zw_regmap *rm, float B, zw_real *k_max)
+static zw_status drive_k_max(zw_regmap *rm, const zw_cert *c, float B, zw_real *k_max)
 {
-    if (ideal_loop(rm)) {
+    const bool ranged = cert_ranged(c);
+    if (!ranged && ideal_loop(rm)) {
         return zw_device_k_max(&rm->loop.dev, (zw_real)B, k_max);
     }
     if (rm->kmax_cached != 0u && rm->kmax_B == B) {
         *k_max = rm->kmax_value;
         return ZW_OK;
     }
+    if (ranged) { /* the box's: a lower bound of the infimum over the box */
+        return box_k_max(rm, c, B, k_max);
+    }
     return zw_device_loop_k_max(&rm->loop, &rm->ws, (zw_real)B, k_max);
 }
 
-/* Keep K_max(B) for the gains now in force (general loop; the ideal one is cheap). */
+/* Keep K_max(B) for the gains now in force (general loop or ranged block; the ideal point
+ * one is cheap).  The cache belongs to the sealed block (build_loop clears it). */
 static void cache_k_max(zw_regmap *rm, float B, zw_real k_max)
 {
     rm->kmax_B = B;
     rm->kmax_value = k_max;
-    rm->kmax_cached = (uint_least16_t)(ideal_loop(rm) ? 0u : 1u);
+    rm->kmax_cached = (uint_least16_t)((ideal_loop(rm) && !cert_ranged(&rm->sealed)) ? 0u : 1u);
 }
 
 /* The rules of regmap_policy.h, in its order, for a write from (K0, B0) under block c (the
@@ -401,10 +591,13 @@ static zw_reason certify_under(zw_regmap *rm, const zw_cert *c, float K0, float 
     if (!step_within(B, B0, c->db_max)) {
         return ZW_REASON_B_STEP;
     }
+    if (cert_ranged(c)) { /* stability and sigma in one proof over the box; r = 1 */
+        return box_certify(rm, c, K, B);
+    }
     if (!stable_ok(rm, K, B)) {
         return ZW_REASON_UNSTABLE;
     }
-    if (drive_k_max(rm, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max) {
+    if (drive_k_max(rm, c, B, &k_max) != ZW_OK || (zw_real)K > (zw_real)c->sigma * k_max) {
         return ZW_REASON_ABOVE_SIGMA;
     }
     *k_max_out = k_max;
@@ -423,8 +616,11 @@ zw_reason zw_rm_apply_gains(zw_regmap *rm, float K, float B)
     if (why != ZW_REASON_NONE) {
         return why;
     }
-    /* (0, 0) skips the rules: k_max is then not known */
-    if (K == 0.0f && B == 0.0f) {
+    /* (0, 0) skips the rules: k_max is then not known.  A ranged block's write does not
+     * compute it: its cache (keyed on B, the box's value) stays, live_refresh fills it */
+    if (cert_ranged(&rm->sealed)) {
+        /* kept */
+    } else if (K == 0.0f && B == 0.0f) {
         rm->kmax_cached = 0u;
     } else {
         cache_k_max(rm, B, k_max);
@@ -437,15 +633,9 @@ zw_reason zw_rm_apply_gains(zw_regmap *rm, float K, float B)
 /* ---- live registers ------------------------------------------------------------------------ */
 
 
-/* The largest float not above x (x not NaN, at most FLT_MAX). */
-static float float_down(zw_real x)
-{
-    float f = zw_rm_to_float(x);
-    if ((zw_real)f > x) {
-        f = ZW_NEXTAFTERF(f, -ZW_HUGE_VALF);
-    }
-    return f;
-}
+
+/* K_CERT of a ranged block: this fraction below sigma K_MAX (regmap.h). */
+#define K_CERT_BOX_MARGIN ZW_R(0.015625)
 
 /* Grid of the downward scan in live_k_cert (see there). */
 #define K_CERT_GRID 32u
@@ -471,12 +661,24 @@ ZW_NOINLINE static zw_mb_exception live_k_cert(zw_regmap *rm)
     unsigned step;
     bool searching;
     rm->live[L_K_CERT] = QUIET_NAN_F;
-    if ((rm->is_sealed == 0u) || (drive_k_max(rm, B, &k_max) != ZW_OK)) {
+    if ((rm->is_sealed == 0u) || (drive_k_max(rm, &rm->sealed, B, &k_max) != ZW_OK)) {
         return ZW_MB_OK;
     }
     top = (zw_real)rm->sealed.sigma * k_max;
     if (top > (zw_real)rm->sealed.k_max) {
         top = (zw_real)rm->sealed.k_max;
+    }
+    if (cert_ranged(&rm->sealed)) {
+        /* k_max is certified for the box: (0, k_max] stable at B for every plant, so sigma
+         * k_max shrunk by its rounding (and k_over_sigma_up's) passes the box rule; r = 1.
+         * Shrunk by K_CERT_BOX_MARGIN more, so that a write of K_CERT is proven again
+         * well within the write's budget (the proof's cost grows as K nears the infimum). */
+        top = (zw_real)rm->sealed.sigma * k_max * (ZW_R(1.0) - K_CERT_BOX_MARGIN);
+        if (top > (zw_real)rm->sealed.k_max) {
+            top = (zw_real)rm->sealed.k_max;
+        }
+        rm->live[L_K_CERT] = (top > ZW_R(0.0)) ? float_down(top) : 0.0f;
+        return ZW_MB_OK;
     }
     if (top > ZW_R(0.0)) {
         top_f = float_down(top);
@@ -541,7 +743,7 @@ ZW_NOINLINE static bool some_pair_usable(zw_regmap *rm, const zw_cert *c)
         if (!(B >= lo && B <= hi)) { /* NaN too */
             continue;
         }
-        if (drive_k_max(rm, B, &k_max) != ZW_OK) {
+        if (drive_k_max(rm, c, B, &k_max) != ZW_OK) {
             continue;
         }
         top = (zw_real)c->sigma * k_max;
@@ -580,7 +782,7 @@ ZW_NOINLINE static void live_refresh(zw_regmap *rm)
     const zw_device *d = &rm->loop.dev;
     zw_real x = ZW_R(0.0), y = ZW_R(0.0), th = ZW_R(0.0);
     zw_status st;
-    bool any;
+    bool any, ranged;
     unsigned i;
     if (rm->is_sealed == 0u) {
         for (i = 0u; i < L_COUNT; ++i) {
@@ -588,11 +790,20 @@ ZW_NOINLINE static void live_refresh(zw_regmap *rm)
         }
         return;
     }
-    st = drive_k_max(rm, rm->B, &x);
-    if (st == ZW_OK && !(rm->K == 0.0f && rm->B == 0.0f)) {
+    ranged = cert_ranged(&rm->sealed);
+    st = drive_k_max(rm, &rm->sealed, rm->B, &x);
+    if (st == ZW_OK && (ranged || !(rm->K == 0.0f && rm->B == 0.0f))) {
         cache_k_max(rm, rm->B, x);
     }
     rm->live[L_K_MAX] = value_or_nan(st, x);
+    if (ranged) {
+        rm->live[L_K_MAX] = (st == ZW_OK) ? float_down(x) : QUIET_NAN_F; /* no box form per write: NaN (regmap.h); delta of the lower ends */
+        rm->live[L_B_LO] = QUIET_NAN_F;
+        rm->live[L_B_HI] = QUIET_NAN_F;
+        rm->live[L_RHO] = QUIET_NAN_F;
+        rm->live[L_DELTA] = zw_rm_to_float(d->co.delta);
+        return;
+    }
     /* both report (0, 0) when the interval is empty, which covers K = 0 */
     /* the general loop's B range is not computed per write (regmap.h): NaN */
     st = ideal_loop(rm) ? zw_device_b_range(d, (zw_real)rm->K, &x, &y, &any) : ZW_ERR_ARG;
@@ -658,6 +869,8 @@ const char *zw_reason_name(zw_reason reason)
     case ZW_REASON_IMAGE_FORMAT: name = "ZW_REASON_IMAGE_FORMAT"; break;
     case ZW_REASON_IMAGE_CRC: name = "ZW_REASON_IMAGE_CRC"; break;
     case ZW_REASON_LOOP_MISMATCH: name = "ZW_REASON_LOOP_MISMATCH"; break;
+    case ZW_REASON_BOX_BUDGET: name = "ZW_REASON_BOX_BUDGET"; break;
+    case ZW_REASON_BOX_RADIUS: name = "ZW_REASON_BOX_RADIUS"; break;
     default: name = "ZW_REASON_UNKNOWN"; break; /* a value outside the enumeration */
     }
     return name;

@@ -41,6 +41,11 @@ client's refusal came in between and the reason is reported as ``REASON_UNKNOWN`
 apart).  ``commission`` reads the block back after SEAL and raises DriveError if the
 drive is not in operation with exactly the block it sent.
 
+A block may hold plant ranges (map version 4): ``commission(m=(0.10, 0.14), ...)`` or
+``m="0.10:0.14"`` makes the drive certify every later gain write for every plant of the box
+(``status().plant.ranged``; the live limits are then box bounds, NaN where the drive has no
+box form).
+
 Commissioning (map version 3) needs the drive's consent (its commissioning enable input;
 ``zwidth-drive --commissioning``) and its key: ``commission(..., key=load_key(path))``
 MACs the drive's fresh nonce and the block with HMAC-SHA256 (``hmac`` and ``hashlib`` of
@@ -111,8 +116,8 @@ __all__ = [
 # ---------------------------------------------------------------------------------------
 
 MAGIC = 0x5A57
-MAP_VERSION = 3  # 3: commissioning needs consent and a MAC (docs/modbus.md)
-CERT_WORDS = 30  # words 0x0040..0x005D covered by the CRC
+MAP_VERSION = 4  # 4: the block holds plant ranges (3: commissioning needs consent and a MAC)
+CERT_WORDS = 34  # words 0x0040..0x0061 covered by the CRC
 KEY_BYTES = 32  # the drive's commissioning key (HMAC-SHA256)
 AUTH_NONCE_WORDS = 8  # ZW_REG_NONCE
 AUTH_MAC_WORDS = 16  # ZW_REG_MAC
@@ -156,8 +161,10 @@ REG: Dict[str, int] = {
     "CERT_VFILTER": 0x0058,
     "CERT_VF_PARAM": 0x005A,
     "CERT_DIFF": 0x005C,
-    "CERT_CRC": 0x005E,
-    "COMMAND": 0x0060,
+    "CERT_M_HI": 0x005E,
+    "CERT_B_HI": 0x0060,
+    "CERT_CRC": 0x0062,
+    "COMMAND": 0x0064,
     "CONSENT": 0x0080,
     "RESTORE_SOURCE": 0x0081,
     "RESTORE_REASON": 0x0082,
@@ -211,6 +218,8 @@ REASONS: Dict[int, str] = {
     37: "ZW_REASON_IMAGE_FORMAT",
     38: "ZW_REASON_IMAGE_CRC",
     39: "ZW_REASON_LOOP_MISMATCH",
+    40: "ZW_REASON_BOX_BUDGET",
+    41: "ZW_REASON_BOX_RADIUS",
 }
 
 # The reason reported for a refusal whose "last refusal" registers were overwritten by
@@ -236,7 +245,7 @@ _BLOCK_STATE = (0x0030, 10)  # device state, and the low-pass pole in force
 _BLOCK_CERT = (0x0040, CERT_WORDS + 1)  # certified block and its CRC
 
 _CERT_FIELDS = ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max",
-                "db_max", "delay", "vfilter", "vf_param", "differentiator")
+                "db_max", "delay", "vfilter", "vf_param", "differentiator", "m_hi", "b_hi")
 # keyed by the block's float fields (0.0 == 0: a whole float finds its name)
 _VFILTERS: Dict[float, str] = {0.0: "none", 1.0: "lowpass", 2.0: "average"}
 _DIFFERENTIATORS: Dict[float, str] = {0.0: "backward", 1.0: "tustin"}
@@ -304,7 +313,7 @@ def load_key(path: "os.PathLike[str] | str") -> bytes:
 
 def auth_message(nonce: Sequence[int], block: Sequence[int]) -> bytes:
     """The message a commissioning client MACs (zw_regmap_auth_message): the map version,
-    the 8 nonce words and the 30 block words with their CRC, every word high byte first."""
+    the 8 nonce words and the 34 block words with their CRC, every word high byte first."""
     if len(nonce) != AUTH_NONCE_WORDS or len(block) != CERT_WORDS + 1:
         raise ValueError(f"auth_message needs {AUTH_NONCE_WORDS} nonce words and "
                          f"{CERT_WORDS + 1} block words")
@@ -379,13 +388,38 @@ def crc16_modbus(data: bytes, crc: int = 0xFFFF) -> int:
 
 def crc16_words(words: Sequence[int]) -> int:
     """CRC-16/MODBUS of 16-bit words, each fed high byte first: what the drive expects in
-    ZW_REG_CERT_CRC over the 30 words of the certified block (zw_crc16_words in C)."""
+    ZW_REG_CERT_CRC over the 34 words of the certified block (zw_crc16_words in C)."""
     data = bytearray()
     for w in words:
         if not 0 <= w <= 0xFFFF:
             raise ValueError(f"words must be 16-bit values, got {w!r}")
         data += bytes(((w >> 8) & 0xFF, w & 0xFF))
     return crc16_modbus(bytes(data))
+
+
+def _plant_of(block: Dict[str, float]) -> "Plant":
+    """The block's plant; M_HI = B_HI = 0 is the point block's shorthand."""
+    m_hi, b_hi = block["m_hi"], block["b_hi"]
+    if m_hi == 0.0 and b_hi == 0.0:
+        m_hi, b_hi = block["m"], block["b"]
+    return Plant(block["m"], block["b"], block["T"], m_hi, b_hi)
+
+
+def _range(name: str, value: Any) -> Tuple[Any, Any]:
+    """m or b as (lower end, upper end): a number (a point), a (lo, hi) pair or "lo:hi"."""
+    if isinstance(value, str):
+        parts = value.split(":")
+        if len(parts) > 2:
+            raise ValueError(f"{name} must be a number, (lo, hi) or 'lo:hi', got {value!r}")
+        try:
+            return float(parts[0]), float(parts[1])
+        except ValueError:
+            raise ValueError(f"{name} must be a number, (lo, hi) or 'lo:hi', got {value!r}") from None
+    if isinstance(value, (tuple, list)):
+        if len(value) != 2:
+            raise ValueError(f"{name} must be a number, (lo, hi) or 'lo:hi', got {value!r}")
+        return value[0], value[1]
+    return value, value
 
 
 def _words_of(block: Sequence[int], addr: int, base: int) -> Tuple[int, int]:
@@ -405,11 +439,20 @@ def _f(block: Sequence[int], addr: int, base: int) -> float:
 @dataclass(frozen=True)
 class Plant:
     """The plant of the certified block: m [kg] (or J [kg m^2]), b [N s/m] (or
-    [N m s/rad]), T [s]."""
+    [N m s/rad]), T [s].  A block holding ranges (map version 4) certifies every plant with
+    m in [m, m_hi] and b in [b, b_hi]; a point block has m_hi == m and b_hi == b (also
+    when the drive holds the shorthand M_HI = B_HI = 0)."""
 
     m: float
     b: float
     T: float
+    m_hi: float = math.nan
+    b_hi: float = math.nan
+
+    @property
+    def ranged(self) -> bool:
+        """True when the block certifies a box of plants rather than one plant."""
+        return self.m_hi != self.m or self.b_hi != self.b
 
 
 @dataclass(frozen=True)
@@ -768,7 +811,7 @@ class Drive:
             mode={0: "operation", 1: "commissioning"}.get(head[REG["MODE"]],
                                                           f"unknown({head[REG['MODE']]})"),
             sealed=bool(head[REG["SEALED"]]),
-            plant=Plant(block["m"], block["b"], block["T"]),
+            plant=_plant_of(block),
             policy=Policy(block["sigma"], block["r"], block["k_min"], block["k_max"],
                           block["b_min"], block["b_max"], block["dk_max"], block["db_max"],
                           cert[REG["CERT_CRC"] - c0]),
@@ -853,6 +896,10 @@ class Drive:
         """Install and seal a new certified block.
 
         m: mass [kg] or inertia J [kg m^2]; b: physical damping [N s/m or N m s/rad];
+        either may be a range (map version 4: a pair (lo, hi) or the text "lo:hi"), and the
+        drive then certifies every gain write for every plant of that box (it needs r = 1,
+        else ZW_REASON_BOX_RADIUS; a write its search cannot prove within its budget is
+        refused, ZW_REASON_BOX_BUDGET); a number is a point (upper end = lower end);
         T: sampling period [s]; sigma: fraction of K_max(B) allowed, in (0, 1]; r: spectral
         radius bound, in (0, 1]; k_min, k_max: K bounds [N/m or N m/rad]; b_min, b_max:
         B bounds [N s/m or N m s/rad]; dk_max [N/m], db_max [N s/m]: largest change of K
@@ -872,7 +919,7 @@ class Drive:
         unlock is refused with ZW_REASON_NO_CONSENT.
 
         Steps: UNLOCK1 and UNLOCK2 (two single writes in a row; the drive turns the output
-        off and publishes a fresh nonce), the 30 block words and their CRC-16/MODBUS in one
+        off and publishes a fresh nonce), the 34 block words and their CRC-16/MODBUS in one
         write-multiple request, the HMAC-SHA256 of nonce and block (auth_mac) in another,
         then SEAL (the drive checks the CRC, the MAC and the policy and returns to
         operation with the gains off).  The drive is the judge of the policy; the client only checks
@@ -883,7 +930,7 @@ class Drive:
         After an accepted SEAL the mode, the SEALED flag, the certified block and its CRC
         are read back: another client (holding the key) could have re-commissioned right
         after, so DriveError (exception 0) naming the CRC sent and the CRC the drive holds
-        is raised unless the drive is in operation, sealed, with exactly the 30 words and
+        is raised unless the drive is in operation, sealed, with exactly the 34 words and
         CRC that were written.  (A client without the key that changes the staged block
         before our SEAL makes the SEAL fail the MAC: refused at "seal", ZW_REASON_AUTH.)"""
         vkind, vparam = _velocity_filter_fields(velocity_filter)
@@ -891,10 +938,13 @@ class Drive:
             raise ValueError(f"delay must be an integer in 0..8, got {delay!r}")
         if differentiator not in ("backward", "tustin"):
             raise ValueError(f"differentiator must be 'backward' or 'tustin', got {differentiator!r}")
-        values = dict(m=m, b=b, T=T, sigma=sigma, r=r, k_min=k_min, k_max=k_max,
+        m_lo, m_hi = _range("m", m)
+        b_lo, b_hi = _range("b", b)
+        values = dict(m=m_lo, b=b_lo, T=T, sigma=sigma, r=r, k_min=k_min, k_max=k_max,
                       b_min=b_min, b_max=b_max, dk_max=dk_max, db_max=db_max,
                       delay=float(delay), vfilter=vkind, vf_param=vparam,
-                      differentiator=1.0 if differentiator == "tustin" else 0.0)
+                      differentiator=1.0 if differentiator == "tustin" else 0.0,
+                      m_hi=m_hi, b_hi=b_hi)
         words: List[int] = []
         for name in _CERT_FIELDS:
             words += float_to_words(values[name], name)

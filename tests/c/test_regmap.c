@@ -48,6 +48,8 @@ static zw_cert paper_cert(void)
     c.vfilter = 0.0f;
     c.vf_param = 0.0f;
     c.differentiator = 0.0f;
+    c.m_hi = 0.0f; /* the point block's shorthand (map version 4) */
+    c.b_hi = 0.0f;
     return c;
 }
 
@@ -271,7 +273,7 @@ static void expect_outcome(outcome o, zw_mb_exception exc, zw_reason why, const 
 static const struct {
     uint_least16_t first, last;
 } k_mapped[] = {
-    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x5E}, {0x60, 0x60}, {0x80, 0x83},
+    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x62}, {0x64, 0x64}, {0x80, 0x83},
     {0x88, 0x9F},
 };
 
@@ -342,6 +344,8 @@ static void check_refused(zw_regmap *rm, const snap *before, const zw_regmap *st
     expect.refused = (struct_before->refused + 1u) & 0xFFFFFFFFu;
     expect.unlock_armed = rm->unlock_armed;
     expect.ws = rm->ws; /* the loop checks' scratch: no state, any contents */
+    memcpy(expect.box_cells, rm->box_cells, sizeof expect.box_cells); /* the box search's too */
+    expect.box_scratch = rm->box_scratch;
     if (memcmp(&expect, rm, sizeof expect) != 0) {
         print_error("%s:%d: %s changed the map beyond the refusal registers\n", file, line, expr);
         _fail(file, line);
@@ -395,14 +399,15 @@ static uint16_t ref_crc_words(const uint_least16_t *w, size_t n)
     return ref_crc_bytes(bytes, 2 * n);
 }
 
-/* The 22 block words of c (host bit casts) and their CRC. */
+/* The 34 block words of c (host bit casts) and their CRC. */
 static void block_words(const zw_cert *c, uint_least16_t w[ZW_CERT_WORDS + 1u])
 {
-    const float f[15] = {c->m,     c->b,     c->T,      c->sigma,  c->r,
+    const float f[17] = {c->m,     c->b,     c->T,      c->sigma,  c->r,
                          c->k_min, c->k_max, c->b_min,  c->b_max,  c->dk_max,
-                         c->db_max, c->delay, c->vfilter, c->vf_param, c->differentiator};
+                         c->db_max, c->delay, c->vfilter, c->vf_param, c->differentiator,
+                         c->m_hi, c->b_hi};
     size_t i;
-    for (i = 0; i < 15; ++i) words_of(f[i], &w[2 * i]);
+    for (i = 0; i < 17; ++i) words_of(f[i], &w[2 * i]);
     w[ZW_CERT_WORDS] = ref_crc_words(w, ZW_CERT_WORDS);
 }
 
@@ -531,7 +536,7 @@ static void test_init_sealed(void **state)
     (void)state;
     rm_init(&rm, &c);
     assert_int_equal(rd(&rm, ZW_REG_MAGIC), 0x5A57u);
-    assert_int_equal(rd(&rm, ZW_REG_VERSION), 3u);
+    assert_int_equal(rd(&rm, ZW_REG_VERSION), 4u);
     assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
     assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
     assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), 0u);
@@ -654,7 +659,7 @@ static void test_access_map_reads(void **state)
     /* a range touching one unmapped word is refused as a whole */
     EXPECT_REFUSED(&rm, read_words(&rm, 0x08, 3, w), ZW_MB_ILLEGAL_ADDRESS,
                    ZW_REASON_UNMAPPED);
-    EXPECT_REFUSED(&rm, read_words(&rm, 0x5E, 2, w), ZW_MB_ILLEGAL_ADDRESS,
+    EXPECT_REFUSED(&rm, read_words(&rm, 0x62, 2, w), ZW_MB_ILLEGAL_ADDRESS,
                    ZW_REASON_UNMAPPED);
     /* past the end of the address space */
     EXPECT_REFUSED(&rm, read_words(&rm, 0xFFFF, 1, w),
@@ -708,7 +713,7 @@ static void test_access_map_writes(void **state)
         } else if (a >= 0x10u && a <= 0x13u) {
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_HALF_FLOAT);
-        } else if (a >= 0x40u && a <= 0x5Du) {
+        } else if (a >= 0x40u && a <= 0x61u) {
             /* the block: a single word is half a float; a whole float is locked */
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_HALF_FLOAT);
@@ -738,10 +743,10 @@ static void test_access_map_writes(void **state)
                        ZW_REASON_HALF_FLOAT);
         EXPECT_REFUSED(&rm, write_words(&rm, 0x41, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_HALF_FLOAT);
-        EXPECT_REFUSED(&rm, write_words(&rm, 0x5C, 3, z), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
-        EXPECT_REFUSED(&rm, write_words(&rm, 0x5D, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x60, 3, z), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x61, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_HALF_FLOAT);
-        EXPECT_REFUSED(&rm, write_words(&rm, 0x5E, 2, z), ZW_MB_ILLEGAL_ADDRESS,
+        EXPECT_REFUSED(&rm, write_words(&rm, 0x62, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_UNMAPPED);
         EXPECT_REFUSED(&rm, write_words(&rm, 0xFFFF, 2, z), ZW_MB_ILLEGAL_ADDRESS,
                        ZW_REASON_UNMAPPED);
@@ -1336,7 +1341,7 @@ static void test_pdu_read(void **state)
     assert_int_equal(r.b[2], 0x5A);
     assert_int_equal(r.b[3], 0x57);
     assert_int_equal(r.b[4], 0x00);
-    assert_int_equal(r.b[5], 0x03); /* map version 3 */
+    assert_int_equal(r.b[5], 0x04); /* map version 4 */
     assert_int_equal(r.b[8], 0x00);
     assert_int_equal(r.b[9], 0x01); /* SEALED */
     EXPECT_ACCEPTED(write_pair(&rm, 0.25f, -0x1p-11f));
@@ -1388,12 +1393,12 @@ static void test_pdu_write(void **state)
     static const uint_least8_t hdr_only[] = {0x10, 0x00, 0x10, 0x00, 0x02};
     static const uint_least8_t q0[] = {0x10, 0x00, 0x10, 0x00, 0x00, 0x00};
     static const uint_least8_t fc6_k[] = {0x06, 0x00, 0x10, 0x3E, 0x80};
-    static const uint_least8_t fc6_short[] = {0x06, 0x00, 0x60, 0xC0};
-    static const uint_least8_t fc6_long[] = {0x06, 0x00, 0x60, 0xC0, 0xDE, 0x00};
+    static const uint_least8_t fc6_short[] = {0x06, 0x00, 0x64, 0xC0};
+    static const uint_least8_t fc6_long[] = {0x06, 0x00, 0x64, 0xC0, 0xDE, 0x00};
     static const uint_least8_t fc6_ro[] = {0x06, 0x00, 0x00, 0x00, 0x00};
-    static const uint_least8_t fc6_unlock1[] = {0x06, 0x00, 0x60, 0xC0, 0xDE};
-    static const uint_least8_t fc6_unlock2[] = {0x06, 0x00, 0x60, 0x5A, 0xFE};
-    static const uint_least8_t fc16_abort[] = {0x10, 0x00, 0x60, 0x00, 0x01, 0x02, 0xAB, 0x07};
+    static const uint_least8_t fc6_unlock1[] = {0x06, 0x00, 0x64, 0xC0, 0xDE};
+    static const uint_least8_t fc6_unlock2[] = {0x06, 0x00, 0x64, 0x5A, 0xFE};
+    static const uint_least8_t fc16_abort[] = {0x10, 0x00, 0x64, 0x00, 0x01, 0x02, 0xAB, 0x07};
     static const uint_least8_t nan_b[] = {0x10, 0x00, 0x12, 0x00, 0x02,
                                           0x04, 0x7F, 0xC0, 0x00, 0x00};
     reply r;
@@ -1474,8 +1479,8 @@ static void test_pdu_resp_cap(void **state)
     static const uint_least8_t pair[] = {0x10, 0x00, 0x10, 0x00, 0x04, 0x08, 0x3E, 0x80,
                                          0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
     static const uint_least8_t bad_fc[] = {0x2B};
-    static const uint_least8_t unlock1[] = {0x06, 0x00, 0x60, 0xC0, 0xDE};
-    static const uint_least8_t unlock2[] = {0x06, 0x00, 0x60, 0x5A, 0xFE};
+    static const uint_least8_t unlock1[] = {0x06, 0x00, 0x64, 0xC0, 0xDE};
+    static const uint_least8_t unlock2[] = {0x06, 0x00, 0x64, 0x5A, 0xFE};
     snap before, after;
     zw_regmap copy;
     reply r;
@@ -1606,6 +1611,7 @@ static void test_reason_names(void **state)
         ZWT_REASON(ZW_REASON_NO_CEILINGS),  ZWT_REASON(ZW_REASON_NO_STORAGE),
         ZWT_REASON(ZW_REASON_STORAGE),      ZWT_REASON(ZW_REASON_IMAGE_FORMAT),
         ZWT_REASON(ZW_REASON_IMAGE_CRC),    ZWT_REASON(ZW_REASON_LOOP_MISMATCH),
+        ZWT_REASON(ZW_REASON_BOX_BUDGET),   ZWT_REASON(ZW_REASON_BOX_RADIUS),
     };
     size_t i;
     (void)state;
@@ -2036,18 +2042,18 @@ static void test_loop_block_certifies_the_real_loop(void **state)
 /* ---- consent and authentication (map version 3; review 2026-12, A3 and A4) --------------- */
 
 /* The message a client MACs, built here from the documented layout (regmap_commission.h):
- * the map version, the nonce words, the 30 block words and the CRC, high byte first. */
-static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t block[31],
+ * the map version, the nonce words, the 34 block words and the CRC, high byte first. */
+static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t block[35],
                              unsigned char msg[ZW_AUTH_MSG_BYTES])
 {
     size_t i, n = 0;
     msg[n++] = 0x00;
-    msg[n++] = 0x03;
+    msg[n++] = 0x04;
     for (i = 0; i < 8; ++i) {
         msg[n++] = (unsigned char)(nonce[i] >> 8);
         msg[n++] = (unsigned char)(nonce[i] & 0xFFu);
     }
-    for (i = 0; i < 31; ++i) {
+    for (i = 0; i < 35; ++i) {
         msg[n++] = (unsigned char)(block[i] >> 8);
         msg[n++] = (unsigned char)(block[i] & 0xFFu);
     }
@@ -2057,7 +2063,7 @@ static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t
 /* A commissioning client in commissioning mode: stages block (with its CRC) and the MAC
  * under key over this session's nonce (read from the map), or the given mac_words when
  * not NULL (a replay); returns the SEAL's outcome. */
-static outcome client_seal(zw_regmap *rm, const uint_least16_t block[31], const unsigned char key[8],
+static outcome client_seal(zw_regmap *rm, const uint_least16_t block[35], const unsigned char key[8],
                            const uint_least16_t *mac_words, uint_least16_t mac_out[16])
 {
     uint_least16_t nonce[8], macw[16];
@@ -2119,7 +2125,7 @@ static void test_commission_needs_consent(void **state)
     unlock(&rm);
     zw_regmap_set_consent(&rm, false);
     {
-        uint_least16_t block[31];
+        uint_least16_t block[35];
         zw_cert lie = lying_cert();
         block_words(&lie, block);
         EXPECT_OUTCOME(client_seal(&rm, block, k_key, NULL, NULL), ZW_MB_ILLEGAL_VALUE,
@@ -2169,7 +2175,7 @@ static void test_lying_block_needs_key(void **state)
 {
     zw_regmap rm;
     zw_cert c = paper_cert(), lie = lying_cert();
-    uint_least16_t block[31], zeros[16] = {0};
+    uint_least16_t block[35], zeros[16] = {0};
     unsigned char wrong[8];
     unsigned char msg[ZW_AUTH_MSG_BYTES];
     uint_least16_t nonce[8];
@@ -2211,7 +2217,7 @@ static void test_replay_refused(void **state)
 {
     zw_regmap rm;
     zw_cert c = paper_cert();
-    uint_least16_t block[31], mac1[16], nonce1[8], nonce2[8], w[16];
+    uint_least16_t block[35], mac1[16], nonce1[8], nonce2[8], w[16];
     size_t i;
     (void)state;
     rm_init(&rm, &c);
@@ -2251,13 +2257,13 @@ static void test_replay_refused(void **state)
 
 static void test_auth_message_layout(void **state)
 {
-    uint_least16_t nonce[8], block[31];
+    uint_least16_t nonce[8], block[35];
     uint_least8_t msg[ZW_AUTH_MSG_BYTES];
     unsigned char ref[ZW_AUTH_MSG_BYTES], got[ZW_AUTH_MSG_BYTES];
     size_t i;
     (void)state;
     for (i = 0; i < 8; ++i) nonce[i] = (uint_least16_t)(0xA100u + i);
-    for (i = 0; i < 31; ++i) block[i] = (uint_least16_t)(0x0100u * i + 0xFFu - i);
+    for (i = 0; i < 35; ++i) block[i] = (uint_least16_t)(0x0100u * i + 0xFFu - i);
     zw_regmap_auth_message(nonce, block, msg);
     ref_auth_message(nonce, block, ref);
     for (i = 0; i < sizeof got; ++i) got[i] = (unsigned char)msg[i];
@@ -2291,7 +2297,7 @@ static zw_ceilings factory_ceilings(void)
 /* The key holder commissions c on a map with the factory's ceilings; the SEAL's outcome. */
 static outcome keyed_seal(zw_regmap *rm, const zw_cert *c)
 {
-    uint_least16_t block[31];
+    uint_least16_t block[35];
     block_words(c, block);
     unlock(rm);
     return client_seal(rm, block, k_key, NULL, NULL);
@@ -2481,20 +2487,20 @@ static bool test_save(void *ctx, const uint_least8_t *image, size_t len)
 }
 
 /* The documented image (regmap_persist.h), built here: magic, format, block + CRC, K, B,
- * CRC of the 38 words before it. */
+ * CRC of the 42 words before it (format 2). */
 static void ref_image(const zw_cert *c, float K, float B, unsigned format,
                       unsigned char img[ZW_IMAGE_BYTES])
 {
-    uint_least16_t w[39];
+    uint_least16_t w[43];
     size_t i;
     w[0] = 0x5A57u;
     w[1] = 0x4E56u;
     w[2] = (uint_least16_t)format;
     block_words(c, &w[3]);
-    words_of(K, &w[34]);
-    words_of(B, &w[36]);
-    w[38] = ref_crc_words(w, 38);
-    for (i = 0; i < 39; ++i) {
+    words_of(K, &w[38]);
+    words_of(B, &w[40]);
+    w[42] = ref_crc_words(w, 42);
+    for (i = 0; i < 43; ++i) {
         img[2 * i] = (unsigned char)(w[i] >> 8);
         img[2 * i + 1] = (unsigned char)(w[i] & 0xFFu);
     }
@@ -2644,7 +2650,7 @@ static void test_word_order_cdab(void **state)
 {
     zw_regmap rm;
     zw_cert c = paper_cert();
-    uint_least16_t w[4], ref[4], block[31], swapped[31];
+    uint_least16_t w[4], ref[4], block[35], swapped[35];
     size_t i;
     (void)state;
     rm_init(&rm, &c);
@@ -2669,20 +2675,357 @@ static void test_word_order_cdab(void **state)
     /* commissioning: floats swapped on the wire, CRC over the canonical words */
     c.sigma = 0.7f;
     block_words(&c, block);
-    for (i = 0; i < 30; i += 2) {
+    for (i = 0; i < 34; i += 2) {
         swapped[i] = block[i + 1];
         swapped[i + 1] = block[i];
     }
-    swapped[30] = block[30];
+    swapped[34] = block[34];
     unlock(&rm);
-    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, 31, swapped));
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, 35, swapped));
     EXPECT_ACCEPTED(command(&rm, ZW_CMD_SEAL));
     assert_int_equal(zw_regmap_read(&rm, ZW_REG_CERT_SIGMA, 2, w, NULL), ZW_MB_OK);
     words_of(0.7f, ref);
     assert_true(w[0] == ref[1] && w[1] == ref[0]);
-    assert_int_equal(rd(&rm, ZW_REG_CERT_CRC), block[30]);
+    assert_int_equal(rd(&rm, ZW_REG_CERT_CRC), block[34]);
     /* a read that starts inside a value gets its second word on the wire */
     assert_int_equal(rd(&rm, ZW_REG_CERT_SIGMA + 1), ref[0]);
+}
+
+/* ---- plant ranges (map version 4) ----------------------------------------------------------- */
+
+/* The paper's drive with the inertia uncertain over [2e-5, 1.5e-4]: at B = 1e-3, K_max has an
+ * interior minimum in m (docs/box.md), so the corners overstate the box's K_max. */
+#define VALLEY_M_LO 2.0e-5f
+#define VALLEY_M_HI 1.5e-4f
+#define VALLEY_B 1.0e-3f
+#define VALLEY_GRID 401
+
+static zw_loop_workspace g_box_ws;
+
+/* K_max(B) of the ideal loop at plant (m, B_SHORT) by the point function (certified, never
+ * above the true one). */
+static double point_k_max(float m, float B)
+{
+    zw_device_loop dl;
+    zw_device_loop_spec spec;
+    zw_real k = 0;
+    memset(&spec, 0, sizeof spec);
+    EXPECT_OK(zw_device_loop_init(&dl, (zw_real)m, (zw_real)B_SHORT, (zw_real)T_20MS, &spec));
+    EXPECT_OK(zw_device_loop_k_max(&dl, &g_box_ws, (zw_real)B, &k));
+    return (double)k;
+}
+
+/* (K, B) at plant (m, B_SHORT) by the point check: 1 stable, -1 surely unstable, 0 marginal. */
+static int point_verdict(float m, float K, float B)
+{
+    zw_device_loop dl;
+    zw_device_loop_spec spec;
+    zw_loop_verdict v;
+    memset(&spec, 0, sizeof spec);
+    EXPECT_OK(zw_device_loop_init(&dl, (zw_real)m, (zw_real)B_SHORT, (zw_real)T_20MS, &spec));
+    EXPECT_OK(zw_device_loop_check(&dl, &g_box_ws, (zw_real)K, (zw_real)B, &v));
+    return v.stable ? 1 : (v.marginal ? 0 : -1);
+}
+
+/* The least point K_max(B) over the valley's m range (a grid, refined around its least
+ * point), and where. */
+static double valley_min(float B, float *m_at)
+{
+    double least = 0;
+    float lo = VALLEY_M_LO, hi = VALLEY_M_HI;
+    int pass, i;
+    for (pass = 0; pass < 2; ++pass) {
+        float best_m = lo, step = (hi - lo) / (float)(VALLEY_GRID - 1);
+        least = point_k_max(lo, B);
+        for (i = 1; i < VALLEY_GRID; ++i) {
+            const float m = (i == VALLEY_GRID - 1) ? hi : lo + step * (float)i;
+            const double k = point_k_max(m, B);
+            if (k < least) {
+                least = k;
+                best_m = m;
+            }
+        }
+        *m_at = best_m;
+        lo = best_m - step > VALLEY_M_LO ? best_m - step : VALLEY_M_LO;
+        hi = best_m + step < VALLEY_M_HI ? best_m + step : VALLEY_M_HI;
+    }
+    return least;
+}
+
+/* A ranged block over the valley: sigma 1, r 1 (required with ranges), wide bounds. */
+static zw_cert valley_cert(void)
+{
+    zw_cert c = paper_cert();
+    c.m = VALLEY_M_LO;
+    c.m_hi = VALLEY_M_HI;
+    c.b = B_SHORT;
+    c.b_hi = B_SHORT;
+    c.k_max = 100.0f;
+    c.dk_max = 100.0f;
+    return c;
+}
+
+/* A pair stable at the block's nominal plant (the lower ends) and at both corners but unstable
+ * at an interior plant is refused; one certified over the box is accepted; the live registers
+ * are box bounds. */
+static void test_box_refuses_interior_instability(void **state)
+{
+    static zw_regmap rm, pt;
+    zw_cert c = valley_cert(), point = valley_cert();
+    float m_at = 0.0f, K_bad, K_good, K_cert;
+    const double least = valley_min(VALLEY_B, &m_at);
+    const double corner_lo = point_k_max(VALLEY_M_LO, VALLEY_B), corner_hi = point_k_max(VALLEY_M_HI, VALLEY_B);
+    (void)state;
+    /* the valley: its least point well below both corners */
+    EXPECT_TRUE_MSG(m_at > VALLEY_M_LO && m_at < VALLEY_M_HI && least < 0.98 * corner_lo &&
+                        least < 0.98 * corner_hi,
+                    "least %g at %g, corners %g %g", least, (double)m_at, (double)corner_lo,
+                    (double)corner_hi);
+    K_bad = (float)((least + (corner_lo < corner_hi ? corner_lo : corner_hi)) / 2);
+    assert_int_equal(point_verdict(VALLEY_M_LO, K_bad, VALLEY_B), 1);
+    assert_int_equal(point_verdict(VALLEY_M_HI, K_bad, VALLEY_B), 1);
+    assert_int_equal(point_verdict(m_at, K_bad, VALLEY_B), -1);
+    /* the point block (the nominal plant alone) accepts it */
+    point.m_hi = 0.0f;
+    point.b_hi = 0.0f;
+    rm_init(&pt, &point);
+    EXPECT_ACCEPTED(write_pair(&pt, K_bad, VALLEY_B));
+    /* the box refuses it, changing nothing (EXPECT_REFUSED compares the whole map) */
+    rm_init(&rm, &c);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
+    EXPECT_REFUSED(&rm, write_pair(&rm, K_bad, VALLEY_B), ZW_MB_ILLEGAL_VALUE, ZW_REASON_UNSTABLE);
+    /* 0.9 of the least point value is certified over the box */
+    K_good = (float)(0.9 * least);
+    EXPECT_ACCEPTED(write_pair(&rm, K_good, VALLEY_B));
+    {
+        float K = 0.0f, B = 0.0f;
+        EXPECT_OK(zw_regmap_active_gains(&rm, &K, &B));
+        assert_true(K == K_good && B == VALLEY_B);
+    }
+    /* live: K_MAX a lower bound of the box's infimum, K_CERT below it and itself accepted,
+     * no box form of the B range and the radius */
+    EXPECT_TRUE_MSG((double)rdf(&rm, ZW_REG_LIVE_K_MAX) <= least &&
+                        (double)rdf(&rm, ZW_REG_LIVE_K_MAX) >= 0.95 * least,
+                    "K_MAX %g, least point %g", (double)rdf(&rm, ZW_REG_LIVE_K_MAX), least);
+    K_cert = rdf(&rm, ZW_REG_LIVE_K_CERT);
+    assert_true(K_cert > 0.0f && K_cert <= rdf(&rm, ZW_REG_LIVE_K_MAX));
+    assert_true(isnan(rdf(&rm, ZW_REG_LIVE_B_LO)) && isnan(rdf(&rm, ZW_REG_LIVE_B_HI)) &&
+                isnan(rdf(&rm, ZW_REG_LIVE_RHO)));
+    EXPECT_ACCEPTED(write_K(&rm, K_cert));
+    /* K_MMAX: certified for the box, so not above any plant's own K_mmax */
+    {
+        const float m_probe[3] = {VALLEY_M_LO, m_at, VALLEY_M_HI};
+        const float kmm = rdf(&rm, ZW_REG_LIVE_K_MMAX);
+        int i;
+        assert_true(kmm > 0.0f);
+        for (i = 0; i < 3; ++i) {
+            zw_device_loop dl;
+            zw_device_loop_spec spec;
+            zw_device_loop_extremes e;
+            memset(&spec, 0, sizeof spec);
+            EXPECT_OK(zw_device_loop_init(&dl, (zw_real)m_probe[i], (zw_real)B_SHORT, (zw_real)T_20MS, &spec));
+            EXPECT_OK(zw_device_loop_extremes_compute(&dl, &g_box_ws, &e));
+            EXPECT_TRUE_MSG((zw_real)kmm <= e.K_mmax, "K_MMAX %g above %g at m %g", (double)kmm,
+                            (double)e.K_mmax, (double)m_probe[i]);
+        }
+        /* a pair at the B of K_MMAX, just below it, is certified over the box */
+        EXPECT_ACCEPTED(write_pair(&rm, 0.0f, 0.0f));
+        EXPECT_ACCEPTED(write_pair(&rm, 0.98f * kmm, rdf(&rm, ZW_REG_LIVE_B_AT_KMMAX)));
+        assert_int_equal(point_verdict(m_at, 0.98f * kmm, rdf(&rm, ZW_REG_LIVE_B_AT_KMMAX)), 1);
+    }
+}
+
+/* sigma over the box: K stable at every plant but above sigma K_max at some is ABOVE_SIGMA;
+ * a K unstable at an interior plant is UNSTABLE, whatever sigma. */
+static void test_box_sigma_rule(void **state)
+{
+    static zw_regmap rm;
+    zw_cert c = valley_cert();
+    float m_at = 0.0f;
+    const double least = valley_min(VALLEY_B, &m_at);
+    (void)state;
+    c.sigma = 0.5f;
+    rm_init(&rm, &c);
+    EXPECT_REFUSED(&rm, write_pair(&rm, (float)(0.7 * least), VALLEY_B), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_ABOVE_SIGMA);
+    EXPECT_REFUSED(&rm, write_pair(&rm, (float)(1.05 * least), VALLEY_B), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_UNSTABLE);
+    assert_int_equal(point_verdict(m_at, (float)(1.05 * least), VALLEY_B), -1);
+    EXPECT_ACCEPTED(write_pair(&rm, (float)(0.45 * least), VALLEY_B));
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_CERT) <= 0.5f * rdf(&rm, ZW_REG_LIVE_K_MAX));
+}
+
+/* A K just below the box's infimum cannot be proven within the budget: refused, named,
+ * changing nothing (never accepted without a proof). */
+static void test_box_budget_refuses(void **state)
+{
+    static zw_regmap rm;
+    zw_cert c = valley_cert();
+    float m_at = 0.0f, K;
+    const double least = valley_min(VALLEY_B, &m_at);
+    (void)state;
+    rm_init(&rm, &c);
+    K = (float)(least * (1.0 - 1e-4));
+    assert_int_equal(point_verdict(m_at, K, VALLEY_B), 1);
+    EXPECT_REFUSED(&rm, write_pair(&rm, K, VALLEY_B), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BOX_BUDGET);
+    assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), ZW_REASON_BOX_BUDGET);
+}
+
+/* SEAL's rules for the ranges, and the ceilings applied to each end. */
+static void test_box_block_validation(void **state)
+{
+    static zw_regmap rm;
+    zw_cert c = valley_cert(), x;
+    zw_ceilings k = factory_ceilings();
+    zw_reason why = ZW_REASON_NONE;
+    (void)state;
+    x = c;
+    x.m_hi = 0.5f * x.m; /* below the lower end */
+    EXPECT_STATUS(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BAD_POLICY);
+    x = c;
+    x.b_hi = 0.5f * x.b;
+    EXPECT_STATUS(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BAD_POLICY);
+    x = c;
+    x.m_hi = 0.0f; /* half the shorthand: m_hi 0 with b_hi set is no plant */
+    EXPECT_STATUS(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BAD_POLICY);
+    x = c;
+    x.m_hi = (float)INFINITY;
+    EXPECT_STATUS(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BAD_POLICY);
+    x = c;
+    x.r = 0.999f; /* no box form of the radius rule */
+    EXPECT_STATUS(zw_regmap_init(&rm, &x, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_BOX_RADIUS);
+    x.m_hi = x.m; /* the same r on a point block (explicit ends) is fine */
+    x.b_hi = x.b;
+    EXPECT_OK(zw_regmap_init(&rm, &x, &why));
+    /* ceilings: each end within plant_tol of the nameplate (r_max 1 allows ranges) */
+    k.r_max = 1.0f;
+    x = paper_cert();
+    x.sigma = 0.8f;
+    rm_init(&rm, &x);
+    EXPECT_OK(zw_regmap_set_ceilings(&rm, &k, &why));
+    x.m = 0.97f * J1;
+    x.m_hi = 1.04f * J1;
+    x.b_hi = 1.04f * B_SHORT;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_OK, ZW_REASON_NONE);
+    assert_true(rdf(&rm, ZW_REG_CERT_M_HI) == 1.04f * J1);
+    x.m_hi = 1.06f * J1; /* the upper end beyond the 5 % tolerance */
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_PLANT_MISMATCH);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    x.m_hi = 1.04f * J1;
+    x.b_hi = 1.06f * B_SHORT;
+    EXPECT_OUTCOME(keyed_seal(&rm, &x), ZW_MB_ILLEGAL_VALUE, ZW_REASON_PLANT_MISMATCH);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_true(rdf(&rm, ZW_REG_CERT_B_HI) == 1.04f * B_SHORT); /* the sealed block stays */
+    /* a ranged block in force, then a narrower nameplate tolerance unseals it */
+    k.plant_tol = 0.035f;
+    EXPECT_STATUS(zw_regmap_set_ceilings(&rm, &k, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_PLANT_MISMATCH);
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+}
+
+/* A version-3 client (30-word block, CRC at 0x005E, commands at 0x0060) cannot unlock, stage
+ * its CRC or seal: every such write splits a version-4 float. */
+static void test_version3_client_refused(void **state)
+{
+    static zw_regmap rm;
+    zw_cert c = paper_cert();
+    uint_least16_t v3[35], cmd;
+    (void)state;
+    rm_init(&rm, &c);
+    c.sigma = 0.6f;
+    block_words(&c, v3); /* the first 30 words are the version-3 block */
+    v3[30] = ref_crc_words(v3, 30);
+    cmd = ZW_CMD_UNLOCK1;
+    EXPECT_REFUSED(&rm, write_words(&rm, 0x0060, 1, &cmd), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_HALF_FLOAT);
+    unlock(&rm); /* even when a version-4 tool unlocked for it: */
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_CERT_M, 31, v3), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_HALF_FLOAT);
+    EXPECT_ACCEPTED(write_words(&rm, ZW_REG_CERT_M, 30, v3));
+    EXPECT_REFUSED(&rm, write_words(&rm, 0x005E, 1, &v3[30]), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_HALF_FLOAT);
+    cmd = ZW_CMD_SEAL;
+    EXPECT_REFUSED(&rm, write_words(&rm, 0x0060, 1, &cmd), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_HALF_FLOAT);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    /* a SEAL by the version-4 tool of what the old client left fails the CRC */
+    EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_CRC);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_true(rdf(&rm, ZW_REG_CERT_SIGMA) == 1.0f); /* the block in force is the old one */
+}
+
+static bool g_saved_ok;
+static unsigned char g_saved[ZW_IMAGE_BYTES];
+static bool save_copy(void *ctx, const uint_least8_t *image, size_t len)
+{
+    size_t i;
+    (void)ctx;
+    g_saved_ok = len == ZW_IMAGE_BYTES;
+    for (i = 0; i < len && i < ZW_IMAGE_BYTES; ++i) g_saved[i] = (unsigned char)image[i];
+    return true;
+}
+
+/* A ranged block and its gains survive SAVE and restore; a format-1 image is refused. */
+static void test_box_persistence(void **state)
+{
+    static zw_regmap rm, back;
+    zw_cert c = valley_cert();
+    zw_regmap_storage storage;
+    uint_least8_t img[ZW_IMAGE_BYTES], old[78];
+    uint_least16_t w[39];
+    float m_at = 0.0f, K = 0.0f, B = 0.0f;
+    const double least = valley_min(VALLEY_B, &m_at);
+    zw_reason why = ZW_REASON_NONE;
+    size_t i;
+    (void)state;
+    rm_init(&rm, &c);
+    storage.save = save_copy;
+    storage.ctx = NULL;
+    zw_regmap_set_storage(&rm, &storage);
+    zw_regmap_set_consent(&rm, true);
+    EXPECT_ACCEPTED(write_pair(&rm, (float)(0.8 * least), VALLEY_B));
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SAVE));
+    assert_true(g_saved_ok);
+    /* the image as documented: block words from the map's registers */
+    assert_true(zw_regmap_image(&rm, img));
+    for (i = 0; i < ZW_IMAGE_BYTES; ++i) assert_int_equal(img[i], g_saved[i]);
+    for (i = 0; i <= ZW_CERT_WORDS; ++i)
+        assert_int_equal(((unsigned)img[6 + 2 * i] << 8) | img[7 + 2 * i],
+                         rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)));
+    memset(&back, 0xA5, sizeof back);
+    EXPECT_OK(zw_regmap_init(&back, NULL, &why));
+    EXPECT_OK(zw_regmap_restore(&back, img, sizeof img, NULL, 0, &why));
+    assert_int_equal(why, ZW_REASON_NONE);
+    assert_int_equal(rd(&back, ZW_REG_RESTORE_SOURCE), 1u);
+    for (i = 0; i <= ZW_CERT_WORDS; ++i)
+        assert_int_equal(rd(&back, (uint_least16_t)(ZW_REG_CERT_M + i)),
+                         rd(&rm, (uint_least16_t)(ZW_REG_CERT_M + i)));
+    EXPECT_OK(zw_regmap_active_gains(&back, &K, &B));
+    assert_true(K == (float)(0.8 * least) && B == VALLEY_B);
+    assert_true(rdf(&back, ZW_REG_LIVE_K_MAX) == rdf(&rm, ZW_REG_LIVE_K_MAX));
+    /* a format-1 image (map version 3: 30 block words, 78 bytes), valid in its own format:
+     * refused by name, not migrated */
+    w[0] = 0x5A57u;
+    w[1] = 0x4E56u;
+    w[2] = 1u;
+    block_words(&c, &w[3]); /* writes 35 words: the 30 of version 3 are the first */
+    w[33] = ref_crc_words(&w[3], 30);
+    words_of(0.1f, &w[34]);
+    words_of(0.0f, &w[36]);
+    w[38] = ref_crc_words(w, 38);
+    for (i = 0; i < 39; ++i) {
+        old[2 * i] = (uint_least8_t)(w[i] >> 8);
+        old[2 * i + 1] = (uint_least8_t)(w[i] & 0xFFu);
+    }
+    memset(&back, 0xA5, sizeof back);
+    EXPECT_OK(zw_regmap_init(&back, NULL, &why));
+    EXPECT_STATUS(zw_regmap_restore(&back, old, sizeof old, NULL, 0, &why), ZW_ERR_ARG);
+    assert_int_equal(why, ZW_REASON_IMAGE_FORMAT);
+    assert_int_equal(rd(&back, ZW_REG_SEALED), 0u);
+    assert_int_equal(rd(&back, ZW_REG_RESTORE_REASON), ZW_REASON_IMAGE_FORMAT);
 }
 
 int main(void)
@@ -2718,6 +3061,12 @@ int main(void)
         cmocka_unit_test(test_save_is_separate_and_checked),
         cmocka_unit_test(test_restore_checks_everything),
         cmocka_unit_test(test_word_order_cdab),
+        cmocka_unit_test(test_box_refuses_interior_instability),
+        cmocka_unit_test(test_box_sigma_rule),
+        cmocka_unit_test(test_box_budget_refuses),
+        cmocka_unit_test(test_box_block_validation),
+        cmocka_unit_test(test_version3_client_refused),
+        cmocka_unit_test(test_box_persistence),
         cmocka_unit_test(test_seal),
         cmocka_unit_test(test_commission_unsealed),
         cmocka_unit_test(test_pdu_read),

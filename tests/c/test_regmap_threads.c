@@ -69,6 +69,8 @@ static zw_cert block(void)
     c.vfilter = 0.0f;
     c.vf_param = 0.0f;
     c.differentiator = 0.0f;
+    c.m_hi = 0.0f; /* a point block (map version 4) */
+    c.b_hi = 0.0f;
     return c;
 }
 

@@ -393,6 +393,8 @@ static void any_cert(zw_cert *c)
     c->vfilter = any_float();
     c->vf_param = any_float();
     c->differentiator = any_float();
+    c->m_hi = any_float(); /* the plant box (map version 4) */
+    c->b_hi = any_float();
 }
 
 static void any_ceilings(zw_ceilings *k)

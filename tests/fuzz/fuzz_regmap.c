@@ -241,6 +241,8 @@ NO_COV static zw_cert block_of(const snapshot *s)
     c.vfilter = f32_at(s, ZW_REG_CERT_VFILTER);
     c.vf_param = f32_at(s, ZW_REG_CERT_VF_PARAM);
     c.differentiator = f32_at(s, ZW_REG_CERT_DIFF);
+    c.m_hi = f32_at(s, ZW_REG_CERT_M_HI);
+    c.b_hi = f32_at(s, ZW_REG_CERT_B_HI);
     return c;
 }
 
@@ -541,10 +543,30 @@ NO_COV static void check_state(const snapshot *before, const snapshot *after, zw
         for (unsigned f = 0; f < ZW_CERT_FIELDS; f++)
             CHECK(!(zw_cert_field(&c, f) != 0.0f && fabsf(zw_cert_field(&c, f)) < FLT_MIN),
                   "sealed field %u is subnormal", f);
+        /* map v4: a ranged block (M_HI = B_HI = 0 is the point shorthand) has ordered ends,
+         * each within the nameplate's tolerance, and r = 1; its pairs are certified for the
+         * whole box, so they must pass the point rules at each corner (checked below) */
+        const bool ranged = !(c.m_hi == 0.0f && c.b_hi == 0.0f) && (c.m_hi != c.m || c.b_hi != c.b);
+        if (ranged) {
+            CHECK(c.m_hi >= c.m && c.b_hi >= c.b && c.r == 1.0f, "sealed ranged block m [%g, %g] b [%g, %g] r %g",
+                  (double)c.m, (double)c.m_hi, (double)c.b, (double)c.b_hi, (double)c.r);
+            CHECK(fabs((double)c.m_hi - (double)k->m) <= (double)k->plant_tol * (double)k->m &&
+                  fabs((double)c.b_hi - (double)k->b) <= (double)k->plant_tol * (double)k->b,
+                  "sealed range ends outside the nameplate tolerance");
+        }
         static plant pl; /* large (the loop); the harness is single-threaded */
+        const bool check_kc = first || u32_at(before, ZW_REG_LIVE_K_CERT) != u32_at(after, ZW_REG_LIVE_K_CERT) ||
+            u32_at(before, ZW_REG_B) != u32_at(after, ZW_REG_B) || before->w[ZW_REG_MODE] != 0;
+        for (unsigned corner = 1; ranged && corner < 4; corner++) {
+            zw_cert cc = c;
+            cc.m = (corner & 1u) ? c.m_hi : c.m;
+            cc.b = (corner & 2u) ? c.b_hi : c.b;
+            check_policy(&cc, &pl);
+            if (check_kc) check_k_cert(&cc, &pl, f32_at(after, ZW_REG_LIVE_K_CERT), B);
+            if (!off) check_pair(&cc, &pl, K, B);
+        }
         check_policy(&c, &pl);
-        if (first || u32_at(before, ZW_REG_LIVE_K_CERT) != u32_at(after, ZW_REG_LIVE_K_CERT) ||
-            u32_at(before, ZW_REG_B) != u32_at(after, ZW_REG_B) || before->w[ZW_REG_MODE] != 0)
+        if (check_kc)
             check_k_cert(&c, &pl, f32_at(after, ZW_REG_LIVE_K_CERT), B);
         if (!off) {
             check_pair(&c, &pl, K, B);

@@ -29,10 +29,10 @@ def crc16_words(words):
 
 
 def block_words(sigma, delay=0.0, vfilter=0.0, vf_param=0.0, differentiator=0.0):
-    """The 30 words of the block (map v2: plant, policy, then the loop; default the ideal
-    loop)."""
+    """The 34 words of the block (map v4: plant, policy, the loop (default the ideal loop),
+    then the plant's upper ends: a point, as zwidth-tune writes it)."""
     return float_words(85.78e-7, 2.197e-3, 0.02, sigma, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01,
-                       delay, vfilter, vf_param, differentiator)
+                       delay, vfilter, vf_param, differentiator, 85.78e-7, 2.197e-3)
 
 
 def status(d):
@@ -158,3 +158,30 @@ def test_minus_zero_gains_stored_as_zero(drive):
         c.set_gains(0.2, -5e-4)
         c.write(E["ZW_REG_K"], [0x8000, 0, 0x8000, 0])
         assert c.read(E["ZW_REG_K"], 4) == [0, 0, 0, 0]
+
+
+def test_commission_a_box_of_plants_with_tune(start_drive):
+    """Map version 4: `zwidth-tune commission --m LO:HI --b LO:HI` seals a ranged block (the
+    drive needs r = 1 in its ceilings); status shows the box; a drive started with ranges
+    takes its middle as the nameplate."""
+    d = start_drive("--max-r", "1")
+    m_lo, m_hi, b_lo, b_hi = 0.97 * 85.78e-7, 1.04 * 85.78e-7, 0.98 * 2.197e-3, 1.03 * 2.197e-3
+    p = d.tune("commission", "--paper-defaults", "--r", "1", "--m", f"{m_lo!r}:{m_hi!r}",
+               "--b", f"{b_lo!r}:{b_hi!r}")
+    assert p.returncode == 0, (p.stdout, p.stderr)
+    s = status(d)
+    assert (s["cert"]["m"], s["cert"]["m_hi"], s["cert"]["b"], s["cert"]["b_hi"]) == \
+        (f32(m_lo), f32(m_hi), f32(b_lo), f32(b_hi))
+    p = d.tune("status")
+    assert "a box of plants" in p.stdout, p.stdout
+    # r < 1 with ranges: refused by name at SEAL, the block in force stays
+    p = d.tune("commission", "--paper-defaults", "--r", "0.999", "--m", f"{m_lo!r}:{m_hi!r}", "--json")
+    assert p.returncode == 3 and json.loads(p.stdout)["reason"] == "ZW_REASON_BOX_RADIUS", p.stdout
+    assert status(d)["cert"]["m_hi"] == f32(m_hi)
+    # a range option that is not LO:HI is a usage error
+    p = d.tune("commission", "--paper-defaults", "--m", "1e-6:")
+    assert p.returncode == 2
+    d2 = start_drive("--m", "8e-6:9.5e-6", "--r", "1", "--max-r", "1")
+    s2 = status(d2)
+    assert (s2["cert"]["m"], s2["cert"]["m_hi"]) == (f32(8e-6), f32(9.5e-6))
+    assert s2["live"]["B_lo"] is None  # NaN: no box form per write

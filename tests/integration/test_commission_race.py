@@ -134,7 +134,7 @@ def test_commission_reads_back_mode_block_and_crc(start_drive):
     pdus = [pdu for _, pdu in proxy.requests]
     seal = pdus.index(struct.pack(">BHH", 6, CMD, E["ZW_CMD_SEAL"]))
     assert struct.pack(">BHH", 3, E["ZW_REG_MAGIC"], 4) in pdus[seal + 1:]  # mode and sealed
-    assert struct.pack(">BHH", 3, E["ZW_REG_CERT_M"], 31) in pdus[seal + 1:]
+    assert struct.pack(">BHH", 3, E["ZW_REG_CERT_M"], 35) in pdus[seal + 1:]
     # the MAC went to the drive before SEAL, over the nonce read after UNLOCK2
     unlock2 = pdus.index(struct.pack(">BHH", 6, CMD, E["ZW_CMD_UNLOCK2"]))
     nonce = pdus.index(struct.pack(">BHH", 3, E["ZW_REG_NONCE"], 8))

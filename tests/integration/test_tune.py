@@ -68,7 +68,7 @@ def test_bad_certified_block_refused_at_startup():
 
 def test_status_of_a_fresh_drive(drive):
     s = status(drive)
-    assert s["magic"] == 0x5A57 and s["version"] == 3
+    assert s["magic"] == 0x5A57 and s["version"] == 4
     assert s["mode"] == "operation" and s["sealed"] is True
     assert s["gains"] == {"K": 0.0, "B": 0.0}
     for k, v in PAPER.items():

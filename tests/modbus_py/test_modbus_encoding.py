@@ -249,11 +249,11 @@ def test_auth_message_agrees_with_the_c_library():
     lib = ctypes.CDLL(str(lib_path))
     lib.zw_regmap_auth_message.restype = None
     nonce = [0xA100 + i for i in range(8)]
-    block = [(0x0100 * i + 0xFF - i) & 0xFFFF for i in range(31)]
-    out = (ctypes.c_uint8 * 80)()
-    lib.zw_regmap_auth_message((ctypes.c_uint16 * 8)(*nonce), (ctypes.c_uint16 * 31)(*block), out)
+    block = [(0x0100 * i + 0xFF - i) & 0xFFFF for i in range(35)]
+    out = (ctypes.c_uint8 * 88)()
+    lib.zw_regmap_auth_message((ctypes.c_uint16 * 8)(*nonce), (ctypes.c_uint16 * 35)(*block), out)
     assert bytes(out) == zm.auth_message(nonce, block)
-    assert zm.auth_message(nonce, block)[:2] == b"\x00\x03"
+    assert zm.auth_message(nonce, block)[:2] == b"\x00\x04"
 
 
 def test_auth_mac_is_rfc4231_hmac_sha256():
@@ -263,7 +263,7 @@ def test_auth_mac_is_rfc4231_hmac_sha256():
     import hmac
     want = bytes.fromhex("5bdcc146bf60754e6a042426089575c75a003f089d2739839dec58b964ec3843")
     assert hmac.new(b"Jefe", b"what do ya want for nothing?", hashlib.sha256).digest() == want
-    nonce, block = [1] * 8, [2] * 31
+    nonce, block = [1] * 8, [2] * 35
     mac = zm.auth_mac(TEST_KEY, nonce, block)
     digest = hmac.new(TEST_KEY, zm.auth_message(nonce, block), hashlib.sha256).digest()
     assert mac == [int.from_bytes(digest[2 * i:2 * i + 2], "big") for i in range(16)]

@@ -5,6 +5,7 @@
 as a client that nobody here wrote (interoperability of the exception responses)."""
 from __future__ import annotations
 
+import math
 import struct
 
 import pytest
@@ -32,8 +33,8 @@ def drive(port: int) -> zm.Drive:
 def test_status_of_a_fresh_drive(drive_port):
     with drive(drive_port) as d:
         s = d.status()
-    assert s.mode == "operation" and s.sealed and s.version == 3
-    assert s.plant == zm.Plant(*(f32(PAPER_PLANT[k]) for k in ("m", "b", "T")))
+    assert s.mode == "operation" and s.sealed and s.version == 4
+    assert s.plant == zm.Plant(*(f32(PAPER_PLANT[k]) for k in ("m", "b", "T", "m", "b")))
     expected_policy = {k: f32(v) for k, v in POLICY.items()}
     assert {k: getattr(s.policy, k) for k in POLICY} == expected_policy
     words = []
@@ -42,6 +43,7 @@ def test_status_of_a_fresh_drive(drive_port):
     for key in ("sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
         words += zm.float_to_words(POLICY[key])
     words += [0] * 8  # the ideal loop: delay, filter, parameter, differentiator all 0.0
+    words += zm.float_to_words(PAPER_PLANT["m"]) + zm.float_to_words(PAPER_PLANT["b"])  # a point
     assert s.policy.crc == zm.crc16_words(words)
     assert s.loop == zm.Loop(0.0, "none", s.loop.cutoff_hz, 0, "backward", 0.0) and s.loop.ideal
     assert s.gains == zm.Gains(0.0, 0.0)
@@ -185,10 +187,12 @@ def test_commission_an_unsealed_drive(start_drive):
         for key in ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
             words += zm.float_to_words(NEW_BLOCK[key])
         words += [0] * 8  # the ideal loop
+        words += zm.float_to_words(NEW_BLOCK["m"]) + zm.float_to_words(NEW_BLOCK["b"])  # a point
         assert c == zm.CommissionResult(True, "ZW_REASON_NONE", 0, "done", zm.crc16_words(words), False)
         s = d.status()
         assert s.sealed and s.mode == "operation" and s.gains == zm.Gains(0.0, 0.0)
-        assert s.plant == zm.Plant(f32(85.78e-7), f32(2.197e-3), f32(0.02))
+        assert s.plant == zm.Plant(f32(85.78e-7), f32(2.197e-3), f32(0.02), f32(85.78e-7), f32(2.197e-3))
+        assert not s.plant.ranged
         assert (s.policy.sigma, s.policy.k_max, s.policy.crc) == (f32(0.9), f32(0.45), c.crc)
         assert d.set_gains(K=0.30, B=-1.0e-3).accepted  # rho 0.846
         r = d.set_gains(K=0.44, B=-1.36e-3)
@@ -231,13 +235,16 @@ def test_commission_without_abort_stays_in_commissioning(drive_port):
 
 
 def block_words(block: dict) -> list:
-    """The 30 words of a certified block followed by its CRC, as written to 0x0040 (the
-    loop fields from delay, vfilter, vf_param, differentiator; default the ideal loop)."""
+    """The 34 words of a certified block followed by its CRC, as written to 0x0040 (the
+    loop fields from delay, vfilter, vf_param, differentiator; default the ideal loop; the
+    upper ends m_hi, b_hi default to m and b, a point block, as commission writes it)."""
     words = []
     for key in ("m", "b", "T", "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max"):
         words += zm.float_to_words(block[key])
     for key in ("delay", "vfilter", "vf_param", "differentiator"):
         words += zm.float_to_words(float(block.get(key, 0.0)))
+    words += zm.float_to_words(float(block.get("m_hi", block["m"])))
+    words += zm.float_to_words(float(block.get("b_hi", block["b"])))
     return words + [zm.crc16_words(words)]
 
 
@@ -293,15 +300,16 @@ def test_lying_block_with_public_docs_only_is_refused(raw, drive_port):
     lie = block_words({**PAPER_PLANT, "m": 2 * 85.78e-7, "sigma": 1.0, "r": 1.0, "k_min": 0.0,
                        "k_max": 1e6, "b_min": -1e3, "b_max": 1e3, "dk_max": 1e6, "db_max": 1e3})
     for cmd in (0xC0DE, 0x5AFE):
-        assert not client.write_register(0x0060, cmd, **unit).isError()
+        assert not client.write_register(zm.REG["COMMAND"], cmd, **unit).isError()
     assert not client.write_registers(0x0040, lie, **unit).isError()
-    rsp = client.write_register(0x0060, 0x5EA1, **unit)
+    rsp = client.write_register(zm.REG["COMMAND"], 0x5EA1, **unit)
     assert rsp.isError() and rsp.exception_code == 0x03
     assert client.read_holding_registers(0x0004, count=1, **unit).registers == [29]  # AUTH
-    assert not client.write_register(0x0060, 0xAB07, **unit).isError()
+    assert not client.write_register(zm.REG["COMMAND"], 0xAB07, **unit).isError()
     with drive(drive_port) as d:
         s = d.status()
-        assert s.mode == "operation" and s.plant == zm.Plant(f32(85.78e-7), f32(2.197e-3), f32(0.02))
+        assert s.mode == "operation" and s.plant == zm.Plant(f32(85.78e-7), f32(2.197e-3), f32(0.02),
+                                                                f32(85.78e-7), f32(2.197e-3))
         r = d.set_gains(K=0.34183, B=2.876e-4)  # the review's pair, unstable on the real plant
         assert not r.accepted
 
@@ -335,13 +343,13 @@ def test_recorded_session_cannot_be_replayed(raw, drive_port, monkeypatch):
         before = d.status()
     assert [a for a, _ in recorded] == [0x0040, 0x0090]
     for cmd in (0xC0DE, 0x5AFE):
-        assert not client.write_register(0x0060, cmd, **unit).isError()
+        assert not client.write_register(zm.REG["COMMAND"], cmd, **unit).isError()
     for addr, words in recorded:
         assert not client.write_registers(addr, words, **unit).isError()
-    rsp = client.write_register(0x0060, 0x5EA1, **unit)
+    rsp = client.write_register(zm.REG["COMMAND"], 0x5EA1, **unit)
     assert rsp.isError() and rsp.exception_code == 0x03
     assert client.read_holding_registers(0x0004, count=1, **unit).registers == [29]
-    assert not client.write_register(0x0060, 0xAB07, **unit).isError()
+    assert not client.write_register(zm.REG["COMMAND"], 0xAB07, **unit).isError()
     with drive(drive_port) as d:
         assert d.status().policy == before.policy
 
@@ -412,7 +420,7 @@ def test_raw_read_of_the_head(raw):
     client, unit = raw
     rsp = client.read_holding_registers(0x0000, count=10, **unit)
     assert not rsp.isError()
-    assert list(rsp.registers[:4]) == [0x5A57, 3, 0, 1]  # magic, map version 3, operation, sealed
+    assert list(rsp.registers[:4]) == [0x5A57, 4, 0, 1]  # magic, map version 4, operation, sealed
 
 
 def test_raw_bad_pair_is_exception_3(raw):
@@ -527,13 +535,13 @@ def test_an_old_client_cannot_seal_a_version_1_block(raw, drive_port):
     words = block_words(NEW_BLOCK)[:22]
     v1 = words + [zm.crc16_words(words)]
     for name in ("UNLOCK1", "UNLOCK2"):
-        assert not client.write_register(0x0060, zm.CMD[name], **unit).isError()
+        assert not client.write_register(zm.REG["COMMAND"], zm.CMD[name], **unit).isError()
     rsp = client.write_registers(0x0040, v1, **unit)
     assert rsp.isError() and rsp.exception_code == 0x02
     assert not client.write_registers(0x0040, words, **unit).isError()
     rsp = client.write_register(0x0056, v1[-1], **unit)
     assert rsp.isError() and rsp.exception_code == 0x02  # half of the DELAY float
-    rsp = client.write_register(0x0060, zm.CMD["SEAL"], **unit)
+    rsp = client.write_register(zm.REG["COMMAND"], zm.CMD["SEAL"], **unit)
     assert rsp.isError() and rsp.exception_code == 0x03
     with drive(drive_port) as d:
         assert d.status().last_refusal == zm.Refusal("ZW_REASON_CRC", 0x03)
@@ -544,3 +552,59 @@ def test_cdab_drive_is_refused_not_misread(start_drive):
     port = start_drive(extra=("--word-order", "cdab"))
     with pytest.raises(zm.DriveError, match="low word first"):
         drive(port).connect()
+
+
+# ---------------------------------------------------------------------------------------
+# plant ranges (map version 4)
+# ---------------------------------------------------------------------------------------
+
+J_PAPER, B_PAPER = PAPER_PLANT["m"], PAPER_PLANT["b"]
+# a box inside the drive's nameplate tolerance (5 %); ranges need r = 1 (drive: --max-r 1)
+BOX_BLOCK = dict(m=(0.97 * J_PAPER, 1.04 * J_PAPER), b=f"{0.98 * B_PAPER!r}:{1.03 * B_PAPER!r}",
+                 T=0.02, sigma=0.8, r=1.0, k_min=0.0, k_max=10.0, b_min=-0.01, b_max=0.01,
+                 dk_max=1.0, db_max=0.01)
+
+
+def test_commission_a_ranged_block(start_drive):
+    """A box of plants commissioned through the client: the drive shows the ranges, its live
+    limits are box bounds (NaN where it has no box form), and it judges writes for the box."""
+    port = start_drive(extra=("--max-r", "1"))
+    with drive(port) as d:
+        c = d.commission(**BOX_BLOCK, key=TEST_KEY)
+        assert (c.accepted, c.reason, c.stage) == (True, "ZW_REASON_NONE", "done")
+        s = d.status()
+        assert s.version == 4 and s.sealed and s.mode == "operation"
+        assert s.plant == zm.Plant(f32(0.97 * J_PAPER), f32(0.98 * B_PAPER), f32(0.02),
+                                   f32(1.04 * J_PAPER), f32(1.03 * B_PAPER))
+        assert s.plant.ranged
+        lim = s.limits
+        assert math.isnan(lim.b_lo) and math.isnan(lim.b_hi) and math.isnan(lim.rho)
+        assert 0.0 < lim.k_cert <= 0.8 * lim.k_max * (1 + 1e-6) and lim.k_mmax > 0.0
+        # K_CERT at the current B is accepted; 0.95 K_MAX is stable for every plant (below
+        # the box's infimum) but above sigma K_max, and K_MAX x 1.3 unstable somewhere
+        r = d.set_gains(K=lim.k_cert, B=0.0)
+        assert r.accepted, r.reason
+        r = d.set_gains(K=0.95 * lim.k_max, B=0.0)
+        assert (r.accepted, r.reason) == (False, "ZW_REASON_ABOVE_SIGMA")
+        r = d.set_gains(K=1.3 * lim.k_max, B=0.0)
+        assert (r.accepted, r.reason) == (False, "ZW_REASON_UNSTABLE")
+        # the paper's example at B = -1.36e-3: within sigma K_max of the lighter plants, not of
+        # the box (K_max falls with J here), so refused, and the gains stay
+        r = d.set_gains(K=0.40, B=-1.36e-3)
+        assert not r.accepted and r.reason in ("ZW_REASON_ABOVE_SIGMA", "ZW_REASON_UNSTABLE")
+        assert d.gains() == zm.Gains(f32(lim.k_cert), 0.0)
+
+
+def test_ranged_block_with_a_radius_bound_is_refused(start_drive):
+    port = start_drive(extra=("--max-r", "1"))
+    with drive(port) as d:
+        c = d.commission(**{**BOX_BLOCK, "r": 0.999}, key=TEST_KEY)
+        assert (c.accepted, c.reason, c.stage, c.aborted) == (False, "ZW_REASON_BOX_RADIUS", "seal", True)
+        assert not d.status().plant.ranged  # the power-up block is back
+
+
+def test_range_arguments_are_checked():
+    with pytest.raises(ValueError, match="m must be"):
+        zm.Drive(LOOPBACK, 1).commission(**{**BOX_BLOCK, "m": (1.0, 2.0, 3.0)}, key=TEST_KEY)
+    with pytest.raises(ValueError, match="b must be"):
+        zm.Drive(LOOPBACK, 1).commission(**{**BOX_BLOCK, "b": "1:2:3"}, key=TEST_KEY)

@@ -16,7 +16,8 @@
  *
  *   addr    name                    access  meaning
  *   0x0000  ZW_REG_MAGIC            r       0x5A57 ("ZW")
- *   0x0001  ZW_REG_VERSION          r       map version, 2 (1: no loop description; see
+ *   0x0001  ZW_REG_VERSION          r       map version, 4 (1: no loop description, 2: no
+ *                                           commissioning consent, 3: no plant ranges; see
  *                                           docs/modbus.md for what changed)
  *   0x0002  ZW_REG_MODE             r       0 operation, 1 commissioning
  *   0x0003  ZW_REG_SEALED           r       1 when the certified block is sealed (CRC valid)
@@ -89,16 +90,28 @@
  *   0x005A  ZW_REG_CERT_VF_PARAM low-pass: cut-off f_c [Hz], 0 < f_c < 1 / (2 T); moving
  *                               average: n, an integer 1..16; none: 0
  *   0x005C  ZW_REG_CERT_DIFF    differentiator: 0 backward difference, 1 Tustin
- *   0x005E  ZW_REG_CERT_CRC     CRC-16/MODBUS of the 30 words 0x0040..0x005D, each word
+ *   The plant box (map version 4): the block certifies every plant m in [M, M_HI],
+ *   b in [B, B_HI] (M and B are the lower ends):
+ *   0x005E  ZW_REG_CERT_M_HI    upper end of m (M_HI = M, B_HI = B: one plant, as in
+ *   0x0060  ZW_REG_CERT_B_HI    upper end of b  version 3; M_HI = B_HI = 0 means the same)
+ *   0x0062  ZW_REG_CERT_CRC     CRC-16/MODBUS of the 34 words 0x0040..0x0061, each word
  *                               fed high byte first (rw in commissioning mode)
- *           A version-1 client writes a 22-word block and its CRC at 0x0056: that write
- *           splits the DELAY value (refused, ZW_REASON_HALF_FLOAT) and its SEAL fails the
- *           CRC over 30 words (ZW_REASON_CRC), so it can never seal; it should read
- *           ZW_REG_VERSION first (zwidth's clients do, and refuse a version they do not
- *           know).
+ *           Older clients can never seal: a version-1 client's CRC at 0x0056 splits DELAY,
+ *           and a version-3 client's CRC at 0x005E splits M_HI and its commands at 0x0060
+ *           split B_HI (each refused, ZW_REASON_HALF_FLOAT, so it cannot even unlock); a
+ *           SEAL over the wrong word count fails the CRC (ZW_REASON_CRC).  Clients read
+ *           ZW_REG_VERSION first (zwidth's do, and refuse a version they do not know).
+ *   With a ranged block (M_HI > M or B_HI > B) a gain pair is certified for the whole box
+ *   (regmap_policy.h); the live registers then hold box values: K_MAX a certified lower
+ *   bound of the infimum over the box of K_max(B) (zw_box_loop_k_max, rounded down; lower
+ *   than the infimum by up to ZW_REGMAP_BOX_REL_TOL, more when the budget ran out, never
+ *   above), K_CERT = min(sigma K_MAX (1 - 1/64), k_max) rounded down (the margin keeps its
+ *   proof well within a write's budget), K_MMAX and its B certified for the whole box at
+ *   SEAL (zw_box_loop_k_mmax; NaN on error); B_LO, B_HI and RHO read NaN (no box form per
+ *   write); DELTA is that of the lower ends (M, B).  Cost: regmap_policy.h and
+ *   docs/modbus.md ("Plant ranges").
  *
- *
- *   0x0060  ZW_REG_COMMAND      w       commissioning commands (zwidth/regmap_commission.h)
+ *   0x0064  ZW_REG_COMMAND      w       commissioning commands (zwidth/regmap_commission.h)
  *   0x0080  ZW_REG_CONSENT      r       1 when the commissioning enable input is on (map
  *                                       version 3; zwidth/regmap_commission.h)
  *   0x0081  ZW_REG_RESTORE_SOURCE r     what zw_regmap_restore applied: 0 nothing, 1 the
@@ -163,6 +176,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "zwidth/box.h"
 #include "zwidth/device_loop.h"
 #include "zwidth/regmap_codec.h"
 #include "zwidth/regmap_commission.h"
@@ -213,8 +227,10 @@ enum {
     ZW_REG_CERT_VFILTER = 0x0058,
     ZW_REG_CERT_VF_PARAM = 0x005A,
     ZW_REG_CERT_DIFF = 0x005C,
-    ZW_REG_CERT_CRC = 0x005E,
-    ZW_REG_COMMAND = 0x0060,
+    ZW_REG_CERT_M_HI = 0x005E,
+    ZW_REG_CERT_B_HI = 0x0060,
+    ZW_REG_CERT_CRC = 0x0062,
+    ZW_REG_COMMAND = 0x0064,
     ZW_REG_CONSENT = 0x0080,
     ZW_REG_RESTORE_SOURCE = 0x0081,
     ZW_REG_RESTORE_REASON = 0x0082,
@@ -225,7 +241,7 @@ enum {
 };
 
 #define ZW_REGMAP_MAGIC 0x5A57u
-#define ZW_REGMAP_VERSION 3u
+#define ZW_REGMAP_VERSION 4u
 
 
 /* Modbus exception codes used. */
@@ -306,6 +322,13 @@ typedef struct zw_regmap {
     float kmax_B;
     zw_real kmax_value;
     uint_least16_t kmax_cached;
+    /* The box search of a ranged block (map version 4, regmap_policy.h): its depth-first
+     * cell stack and scratch, here rather than on the stack (scratch only, nothing kept
+     * between requests): 4.9 KB with float zw_real, 9.6 KB with double, which makes
+     * sizeof(zw_regmap) 7.8 KB / 15.1 KB.  With a ranged block kmax_value holds the box's
+     * K_max lower bound. */
+    zw_box_loop_cell box_cells[ZW_REGMAP_BOX_CELLS];
+    zw_box_loop_scratch box_scratch;
 } zw_regmap;
 
 /* Power-up (init context: before the control loop and the Modbus task run): with cert

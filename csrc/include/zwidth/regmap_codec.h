@@ -16,7 +16,7 @@
 extern "C" {
 #endif
 
-#define ZW_CERT_WORDS 30u /* words 0x0040..0x005D covered by the CRC */
+#define ZW_CERT_WORDS 34u /* words 0x0040..0x0061 covered by the CRC (map version 4) */
 
 /* The certified block as numbers (what the CRC seals, in register order). */
 typedef struct zw_cert {
@@ -31,15 +31,19 @@ typedef struct zw_cert {
     float vfilter;         /* 0 none, 1 low-pass, 2 moving average */
     float vf_param;        /* low-pass cut-off [Hz], or the average's n, or 0 */
     float differentiator;  /* 0 backward, 1 Tustin */
+    /* the plant box (map version 4): m in [m, m_hi], b in [b, b_hi].  A point block has
+     * m_hi = m and b_hi = b; m_hi = b_hi = 0 is the same point block (so a zw_cert whose
+     * new fields are zero-initialised keeps its version-3 meaning). */
+    float m_hi, b_hi;
 } zw_cert;
 
 /* The block's fields in register order (0 m, 1 b, 2 T, 3 sigma, 4 r, 5 k_min, 6 k_max,
  * 7 b_min, 8 b_max, 9 dk_max, 10 db_max, 11 delay, 12 vfilter, 13 vf_param,
- * 14 differentiator): the one place that order is written down. */
-#define ZW_CERT_FIELDS 15u
+ * 14 differentiator, 15 m_hi, 16 b_hi): the one place that order is written down. */
+#define ZW_CERT_FIELDS 17u
 float zw_cert_field(const zw_cert *c, unsigned field);
 void zw_cert_set_field(zw_cert *c, unsigned field, float value);
-/* The block as it is on the wire: 30 words, then its CRC (words[ZW_CERT_WORDS]). */
+/* The block as it is on the wire: 34 words, then its CRC (words[ZW_CERT_WORDS]). */
 void zw_cert_encode(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS + 1u]);
 void zw_cert_decode(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *c);
 

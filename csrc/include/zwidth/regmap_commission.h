@@ -3,7 +3,7 @@
 /* zwidth/regmap_commission.h - commissioning of the register map (part of
  * zwidth/regmap.h, the entry point): the command register and what its commands do.
  *
- *   0x0060  ZW_REG_COMMAND      w       ZW_CMD_UNLOCK1 then ZW_CMD_UNLOCK2 (two writes in a
+ *   0x0064  ZW_REG_COMMAND      w       ZW_CMD_UNLOCK1 then ZW_CMD_UNLOCK2 (two writes in a
  *                                       row) opens commissioning mode and turns the output
  *                                       off (K = B = 0); ZW_CMD_SEAL checks the CRC and the
  *                                       policy and returns to operation (gains stay off);
@@ -31,7 +31,7 @@
  *     8 words, r; 0 outside commissioning); without the hooks, or when the RNG fails,
  *     UNLOCK2 is refused with ZW_REASON_RNG and nothing changes.  The client writes the
  *     block, its CRC and a MAC of zw_regmap_auth_message (the map version, the nonce, the
- *     30 block words and the CRC) under the drive's key into ZW_REG_MAC (0x0090, 16 words,
+ *     34 block words and the CRC) under the drive's key into ZW_REG_MAC (0x0090, 16 words,
  *     rw in commissioning, reset to 0 by UNLOCK2).  SEAL checks, in this order: consent,
  *     the self-test, the CRC, the MAC (the firmware's verify hook; ZW_REASON_AUTH), then
  *     the policy.  A refused SEAL changes nothing (the client may correct and retry under
@@ -61,7 +61,7 @@ extern "C" {
 
 #define ZW_AUTH_NONCE_WORDS 8u  /* 128-bit nonce, ZW_REG_NONCE */
 #define ZW_AUTH_MAC_WORDS 16u   /* 256-bit MAC (HMAC-SHA256 on zwidth's hosts), ZW_REG_MAC */
-#define ZW_AUTH_MSG_BYTES 80u   /* 2 (map version) + 16 (nonce) + 62 (block words and CRC) */
+#define ZW_AUTH_MSG_BYTES 88u   /* 2 (map version) + 16 (nonce) + 70 (block words and CRC) */
 
 /* What the firmware supplies for commissioning (the map has no crypto of its own).  Both
  * run in the Modbus task, during the request that needs them.
@@ -78,7 +78,7 @@ typedef struct zw_regmap_auth {
 } zw_regmap_auth;
 
 /* The message a commissioning client MACs (and SEAL verifies): ZW_REGMAP_VERSION as two
- * bytes, high first; the nonce words; the 30 block words and the CRC word, each word high
+ * bytes, high first; the nonce words; the 34 block words and the CRC word, each word high
  * byte first.  Bytes 0..255 in uint_least8_t.  Any argument NULL: no-op. */
 void zw_regmap_auth_message(const uint_least16_t nonce[ZW_AUTH_NONCE_WORDS],
                             const uint_least16_t block[ZW_CERT_WORDS + 1u],

@@ -9,9 +9,13 @@
  * The image (ZW_IMAGE_BYTES, every word high byte first):
  *   words 0, 1   0x5A57 0x4E56 ("ZWNV")
  *   word  2      ZW_IMAGE_FORMAT
- *   words 3..33  the sealed block's 30 words and its CRC
- *   words 34..37 K and B (binary32, high word first)
- *   word  38     CRC-16/MODBUS of words 0..37
+ *   words 3..37  the sealed block's 34 words and its CRC (map version 4: the plant ranges)
+ *   words 38..41 K and B (binary32, high word first)
+ *   word  42     CRC-16/MODBUS of words 0..41
+ * Format 2 (map version 4).  A format-1 image (78 bytes, map version 3's 30-word block) is
+ * refused, ZW_REASON_IMAGE_FORMAT, not migrated: the drive then starts with its power-up
+ * block and gains off until it is commissioned again (a migration would seal a block no
+ * client wrote in the new layout; the old image stays in storage, untouched).
  * SAVE (in operation, with a sealed block and consent; refused ZW_REASON_NO_CONSENT,
  * ZW_REASON_NOT_SEALED, ZW_REASON_NO_STORAGE without the hook, ZW_REASON_STORAGE when it
  * reports a failure) changes no register but the refusal ones when refused.
@@ -39,9 +43,9 @@ extern "C" {
 #endif
 
 #define ZW_CMD_SAVE 0x5A7Eu
-#define ZW_IMAGE_FORMAT 1u
-#define ZW_IMAGE_WORDS 39u
-#define ZW_IMAGE_BYTES 78u
+#define ZW_IMAGE_FORMAT 2u
+#define ZW_IMAGE_WORDS 43u
+#define ZW_IMAGE_BYTES 86u
 
 /* The firmware's non-volatile storage: save writes the image (len bytes, each 0..255)
  * and returns true once it is stored durably (write the new copy, keep the previous one

@@ -14,6 +14,16 @@
  *   zw_device_loop_check, zw_device_loop_k_max, zw_device_loop_radius_within
  *   (device_loop.h), all with the gains' conversion rounding in their guard.
  *   (-0.0 in a gain is stored as +0.0.)
+ * A ranged block (map version 4: M_HI > M or B_HI > B) replaces the stability and sigma
+ * rules by one proof over the box: zw_box_loop_check at (K / sigma rounded up, B) certifies
+ * every K' in (0, K / sigma] stable at B for every plant of the box (box.h; its outward
+ * rounding covers the conversion of the gains, as the point path's guard does), which
+ * implies K stable and K <= sigma K_max(B; m, b) at every plant.  Not certified: refuted
+ * (a plant of the box where the gains are surely unstable) gives ZW_REASON_UNSTABLE when K
+ * itself is unstable there (or sigma = 1), else ZW_REASON_ABOVE_SIGMA; the budget of
+ * ZW_REGMAP_BOX_EVALS sub-box tests spent without a proof either way gives
+ * ZW_REASON_BOX_BUDGET.  The radius rule is the stability rule there (r = 1: a ranged
+ * block with r < 1 is refused at SEAL, ZW_REASON_BOX_RADIUS).
  *
  * What a block must be (power-up and SEAL), in this order, the first failure the reason:
  *   every field finite and none a float subnormal (ZW_REASON_BAD_POLICY, _SUBNORMAL);
@@ -21,8 +31,13 @@
  *   step from (0, 0) within the bounds (ZW_REASON_BAD_POLICY); within the factory ceilings
  *   when they are set (sigma <= sigma_max, r <= r_max, [k_min, k_max] and [b_min, b_max]
  *   inside the factory's, dk_max and db_max at most the factory's: ZW_REASON_ABOVE_CEILING;
- *   m, b and T each within plant_tol (relative) of the nameplate: ZW_REASON_PLANT_MISMATCH);
- *   the loop fields (reasons 22..26); then some pair other than (0, 0) passes every rule of
+ *   m, b and T each within plant_tol (relative) of the nameplate, for a ranged block each
+ *   end of the m and b ranges: ZW_REASON_PLANT_MISMATCH); the ranges (version 4): M_HI >= M
+ *   and B_HI >= B (or both 0: the point block) and every corner a valid plant
+ *   (zw_box_validate) (ZW_REASON_BAD_POLICY), r = 1 when ranged (ZW_REASON_BOX_RADIUS,
+ *   checked after the ceilings);
+ *   the loop fields (reasons 22..26); then (ranged: over the box) some pair other than
+ *   (0, 0) passes every rule of
  *   a gain write made from (0, 0) (ZW_REASON_ONLY_OFF: probed at the B of K_mmax, at 0 and
  *   at 8 B across the range one step reaches, K at eleven fractions 1/64 .. 1 of
  *   min(sigma K_max(B), k_max, dk_max), and K = k_min; a block whose usable set all these
@@ -36,6 +51,7 @@
 #define ZWIDTH_REGMAP_POLICY_H
 
 #include "zwidth/precision.h"
+#include "zwidth/real.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -95,8 +111,24 @@ typedef enum zw_reason {
     ZW_REASON_STORAGE = 36,       /* SAVE: the storage hook reported a failure */
     ZW_REASON_IMAGE_FORMAT = 37,  /* restore: length, magic or format version wrong */
     ZW_REASON_IMAGE_CRC = 38,     /* restore: the image's CRC (or its block's) is wrong */
-    ZW_REASON_LOOP_MISMATCH = 39  /* the block's loop is not the one the firmware runs */
+    ZW_REASON_LOOP_MISMATCH = 39, /* the block's loop is not the one the firmware runs */
+    /* the plant box (map version 4) */
+    ZW_REASON_BOX_BUDGET = 40,    /* a ranged block's search ran out of its budget before a
+                                     proof either way: refused, never accepted unproven */
+    ZW_REASON_BOX_RADIUS = 41     /* SEAL: a ranged block with r < 1 (the radius rule has no
+                                     box form here) */
 } zw_reason;
+
+/* The box search of a ranged block (map version 4), its memory in zw_regmap: cells of the
+ * depth-first stack, sub-box tests per certification, and the relative width at which the
+ * K (and SEAL's B) bisections of the live registers stop.  Worst case of one gain write:
+ * ZW_REGMAP_BOX_EVALS sub-box tests for its proof (twice for a refusal with sigma < 1, the
+ * second naming the reason); when it is accepted and changes B, the live K_MAX refresh adds
+ * at most 60 certifications of as many tests (typically 10 to 12: it stops at
+ * ZW_REGMAP_BOX_REL_TOL) and a few point K_max.  Measured on the host: docs/modbus.md. */
+#define ZW_REGMAP_BOX_CELLS 64u
+#define ZW_REGMAP_BOX_EVALS 4000u
+#define ZW_REGMAP_BOX_REL_TOL ZW_R(1.0e-3)
 
 /* The factory ceilings no block may exceed (zw_regmap_set_ceilings). */
 typedef struct zw_ceilings {
