@@ -61,14 +61,15 @@ use units <<'C'
     return 0;
 C
 use loop <<'C'
-    static zw_device_loop dl; /* 1.3 KB: not on the stack */
+    static zw_device_loop dl;   /* 1.3 KB: not on the stack */
+    static zw_loop_workspace ws; /* the checks' scratch (loop.h) */
     zw_device_loop_spec spec = {1u, ZW_DIFF_BACKWARD, ZW_VFILTER_NONE, ZW_R(0.0), ZW_R(0.0), 0u};
     zw_loop_verdict v;
     zw_real k, lo, hi;
     bool ne;
     if (zw_device_loop_init(&dl, in, in, in, &spec) != ZW_OK) return 1;
-    if (zw_device_loop_check(&dl, in, in, &v) != ZW_OK || zw_device_loop_k_max(&dl, in, &k) != ZW_OK) return 2;
-    if (zw_device_loop_b_range(&dl, in, &lo, &hi, &ne) != ZW_OK) return 3;
+    if (zw_device_loop_check(&dl, &ws, in, in, &v) != ZW_OK || zw_device_loop_k_max(&dl, &ws, in, &k) != ZW_OK) return 2;
+    if (zw_device_loop_b_range(&dl, &ws, in, &lo, &hi, &ne) != ZW_OK) return 3;
     sink = v.stable + (hi > k) + ne;
     return 0;
 C

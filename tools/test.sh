@@ -68,6 +68,10 @@ step "MCU footprint (Cortex-M4F, Cortex-M0): targets, and docs/footprint.md + RE
 tools/footprint.sh --check >/dev/null
 echo "footprint within targets; docs/footprint.md and the README table match the source"
 
+step "firmware uses of docs/firmware.md link for the Cortex-M4F (tools/firmware_uses.sh)"
+tools/firmware_uses.sh >/dev/null
+echo "every firmware use links (check, extremes, units, loop, regmap)"
+
 step "zw_selftest on the Cortex-M4F (QEMU): c99 passes, GNU-mode contraction and round-to-zero refused"
 tools/fpenv_m4f.sh
 
