@@ -102,9 +102,105 @@ static zw_status box_validate(const zw_plant_box *box)
     return ZW_OK;
 }
 
+/* A part's range: finite, 0 <= lo <= hi (negative: `negative`, as plant.h names it). */
+static zw_status box_part_range(zw_real lo, zw_real hi, zw_status negative)
+{
+    if (ZW_IS_NAN(lo) || ZW_IS_NAN(hi)) {
+        return ZW_ERR_NAN;
+    }
+    if (!ZW_IS_FINITE(lo) || !ZW_IS_FINITE(hi)) {
+        return ZW_ERR_INF;
+    }
+    if (lo < ZW_R(0.0)) {
+        return negative;
+    }
+    if (lo > hi) {
+        return ZW_ERR_BOX;
+    }
+    return ZW_OK;
+}
+
+/* [a_lo + p_lo, a_hi + p_hi] rounded outward (exact when the part is 0: today's box). */
+static void box_fold_sum(zw_real a_lo, zw_real a_hi, zw_real p_lo, zw_real p_hi, zw_real *lo,
+                         zw_real *hi)
+{
+    *lo = (p_lo > ZW_R(0.0)) ? bx_max(a_lo, bx_down(a_lo + p_lo)) : a_lo;
+    *hi = (p_hi > ZW_R(0.0)) ? bx_up(a_hi + p_hi) : a_hi;
+}
+
+static zw_status box_fold(const zw_plant_box *box, zw_plant_box *f)
+{
+    zw_status st;
+    if ((box == NULL) || (f == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = box_part_range(box->k_lo, box->k_hi, ZW_ERR_ARG);
+    if (st == ZW_OK) {
+        st = box_part_range(box->m_h_lo, box->m_h_hi, ZW_ERR_ARG);
+    }
+    if (st == ZW_OK) {
+        st = box_part_range(box->b_h_lo, box->b_h_hi, ZW_ERR_DAMPING);
+    }
+    if (st == ZW_OK) {
+        st = box_part_range(box->k_h_lo, box->k_h_hi, ZW_ERR_ARG);
+    }
+    if (st == ZW_OK) {
+        st = box_part_range(box->tau_lo, box->tau_hi, ZW_ERR_ARG);
+    }
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (box->tau_hi > ZW_R(0.0)) {
+        return ZW_ERR_ARG; /* a lag range: not supported yet */
+    }
+    st = box_validate(box); /* m, b, T themselves */
+    if (st != ZW_OK) {
+        return st;
+    }
+    *f = *box;
+    box_fold_sum(box->m_lo, box->m_hi, box->m_h_lo, box->m_h_hi, &f->m_lo, &f->m_hi);
+    box_fold_sum(box->b_lo, box->b_hi, box->b_h_lo, box->b_h_hi, &f->b_lo, &f->b_hi);
+    box_fold_sum(box->k_lo, box->k_hi, box->k_h_lo, box->k_h_hi, &f->k_lo, &f->k_hi);
+    f->m_h_lo = ZW_R(0.0);
+    f->m_h_hi = ZW_R(0.0);
+    f->b_h_lo = ZW_R(0.0);
+    f->b_h_hi = ZW_R(0.0);
+    f->k_h_lo = ZW_R(0.0);
+    f->k_h_hi = ZW_R(0.0);
+    st = box_validate(f); /* the totals */
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (f->k_hi > ZW_R(0.0)) {
+        /* the enclosure's series domain: delta, kappa <= ZW_BOX_KAPPA_MAX over the box */
+        const zw_real delta_hi = bx_up(bx_up(f->b_hi * f->T) / f->m_lo);
+        const zw_real kappa_hi = bx_up(bx_up(bx_up(f->k_hi * f->T) * f->T) / f->m_lo);
+        if (!(delta_hi <= ZW_BOX_KAPPA_MAX) || !(kappa_hi <= ZW_BOX_KAPPA_MAX)) {
+            return ZW_ERR_RANGE;
+        }
+    }
+    return ZW_OK;
+}
+
+zw_status zw_box_fold(const zw_plant_box *box, zw_plant_box *folded)
+{
+    return box_fold(box, folded);
+}
+
 zw_status zw_box_validate(const zw_plant_box *box)
 {
-    return box_validate(box);
+    zw_plant_box f;
+    return box_fold(box, &f);
+}
+
+/* The closed form's box: folded, without stiffness (ZW_ERR_ARG). */
+static zw_status box_fold_ideal(const zw_plant_box *box, zw_plant_box *f)
+{
+    zw_status st = box_fold(box, f);
+    if ((st == ZW_OK) && (f->k_hi > ZW_R(0.0))) {
+        st = ZW_ERR_ARG;
+    }
+    return st;
 }
 
 static zw_status box_validate_work(const zw_box_work *work)
@@ -530,13 +626,18 @@ static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work
     out->b_worst = s.b_worst;
     out->evals = s.evals;
     out->converged = (outcome == ZW_BOX_CONVERGED);
+    out->k_worst = ZW_R(0.0);
     return ZW_OK;
 }
 
 zw_status zw_box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work *work,
                        zw_box_bound *out)
 {
-    zw_status st = box_k_max(box, B, work, out);
+    zw_plant_box f;
+    zw_status st = box_fold_ideal(box, &f);
+    if (st == ZW_OK) {
+        st = box_k_max(&f, B, work, out);
+    }
     if (st != ZW_OK) {
         bx_fail_bound(out);
     }
@@ -613,7 +714,11 @@ static zw_status box_check(const zw_plant_box *box, zw_real K, zw_real B, const 
 zw_status zw_box_check(const zw_plant_box *box, zw_real K, zw_real B, const zw_box_work *work,
                        zw_box_verdict *out)
 {
-    zw_status st = box_check(box, K, B, work, out);
+    zw_plant_box f;
+    zw_status st = box_fold_ideal(box, &f);
+    if (st == ZW_OK) {
+        st = box_check(&f, K, B, work, out);
+    }
     if (st != ZW_OK) {
         box_fail_box_verdict(out);
     }
@@ -765,7 +870,11 @@ static zw_status box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw
 
 zw_status zw_box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw_box_extremes *out)
 {
-    zw_status st = box_k_mmax(box, work, out);
+    zw_plant_box f;
+    zw_status st = box_fold_ideal(box, &f);
+    if (st == ZW_OK) {
+        st = box_k_mmax(&f, work, out);
+    }
     if (st != ZW_OK) {
         box_fail_extremes(out);
     }
@@ -908,7 +1017,11 @@ static zw_status box_b_range(const zw_plant_box *box, zw_real K, const zw_box_wo
 zw_status zw_box_b_range(const zw_plant_box *box, zw_real K, const zw_box_work *work,
                          zw_real *B_lo, zw_real *B_hi, bool *nonempty)
 {
-    zw_status st = box_b_range(box, K, work, B_lo, B_hi, nonempty);
+    zw_plant_box f;
+    zw_status st = box_fold_ideal(box, &f);
+    if (st == ZW_OK) {
+        st = box_b_range(&f, K, work, B_lo, B_hi, nonempty);
+    }
     if (st != ZW_OK) {
         zw_fail_interval(B_lo, B_hi, nonempty);
     }
