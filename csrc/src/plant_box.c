@@ -238,9 +238,10 @@ static zw_eb pb_half(zw_eb a)
 }
 
 /* Truncation after PB_TERMS terms, for |w|, |a|, |b| <= PB_SERIES_LIMIT = 4 (1 + 1/64)
- * (the balls' outward rounding may pass 4 by a few ulps): the single series' tail is below
- * 2 (4.0625^21 / 42!) < 1e-38, the divided ones' below 2 (22 4.0625^21 / 44!) < 1e-40
- * (|h_m(a, b)| <= (m + 1) 4.0625^m); PB_TAIL covers both. */
+ * (the balls' outward rounding may pass 4 by a few ulps): successive terms shrink by a
+ * factor below 1/2, so the single series' tail is below 2 (4.0625^21 / 42!) < 1e-38 and the
+ * divided ones' below 2 (22 4.0625^21 / 44!) < 2e-40 (|h_m(a, b)| <= (m + 1) 4.0625^m);
+ * PB_TAIL covers both. */
 #define PB_TERMS 21u
 #define PB_TAIL ZW_R(2e-38)
 #define PB_SERIES_LIMIT ZW_R(4.0625)
