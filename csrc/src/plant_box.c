@@ -265,7 +265,8 @@ static zw_real pb_inv_factorial(unsigned n)
 static zw_eb pb_inv_factorial_eb(unsigned n)
 {
     const zw_real f = pb_inv_factorial(n);
-    return zw_eb_make(f, (zw_real)(n + 1u) * (ZW_U * f + ZW_ETA));
+    const zw_real roundings = (zw_real)n + ZW_R(1.0);
+    return zw_eb_make(f, roundings * (ZW_U * f + ZW_ETA));
 }
 
 /* C(w) = sum w^k / (2k)! (odd = 0), S(w) = sum w^k / (2k + 1)! (odd = 1), by Horner. */
@@ -416,7 +417,7 @@ zw_status zw_plant_enclose2(zw_plant *out, zw_real delta_lo, zw_real delta_hi, z
         } else if (kappa_lo > kappa_hi) {
             st = ZW_ERR_BOX;
         } else if (kappa_hi == ZW_R(0.0)) {
-            return zw_plant_enclose(out, delta_lo, delta_hi);
+            st = pb_enclose(out, delta_lo, delta_hi); /* zw_plant_enclose's */
         } else {
             st = pb_enclose2(out, delta_lo, delta_hi, kappa_lo, kappa_hi);
         }
