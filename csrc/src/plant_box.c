@@ -332,7 +332,9 @@ static zw_status pb_enclose2(zw_plant *out, zw_real delta_lo, zw_real delta_hi, 
     h = pb_ball(bx_down(h_lo), bx_up(h_hi));
     kappa = pb_ball(kappa_lo, kappa_hi);
     h2 = pb_ball(bx_max(ZW_R(0.0), bx_down(bx_down(h_lo) * bx_down(h_lo))), bx_up(bx_up(h_hi) * bx_up(h_hi)));
-    w2 = pb_ball(bx_down(h2.v - h2.e - kappa_hi), bx_up(h2.v + h2.e - kappa_lo));
+    /* one rounding per bx_down / bx_up (box_interval.h): near critical damping the second
+     * subtraction cancels, so the first one's rounding must be covered on its own */
+    w2 = pb_ball(bx_down(bx_down(h2.v - h2.e) - kappa_hi), bx_up(bx_up(h2.v + h2.e) - kappa_lo));
     if (!pb_within(w2, PB_SERIES_LIMIT) || !pb_within(h2, PB_SERIES_LIMIT)) {
         return ZW_ERR_RANGE;
     }
