@@ -126,10 +126,8 @@ MODULE_STACK_LIMITS="loop:$LOOP_STACK_LIMIT loop_limits:$LOOP_STACK_LIMIT device
 # zw_sweep_check_many is a host sweep (sweep.h: blocks of 16 points of fields on the stack,
 # a 9 KB table of polynomials in float): reported, not gated, like the loop's.
 # box_loop (the general loop's boxes) keeps a zw_device_loop and three interval polynomials
-# on the stack: reported, not gated (docs/box.md).  zw_box_check and zw_box_k_max hold the
-# box folded with its plant-side parts (zw_box_fold, 60 B in float) over their search: 528 B,
-# 16 B over the box's 512 B (folding inside a non-inlined search init would bring them back).
-STACK_NOT_GATED="zw_box_b_range zw_box_check zw_box_k_max zw_box_k_mmax zw_box_loop_b_range zw_box_loop_check zw_box_loop_k_max zw_box_loop_k_mmax zw_device_loop_b_range zw_device_loop_extremes_compute zw_device_loop_init_plant zw_device_loop_k_max zw_regmap_handle_pdu zw_regmap_init zw_regmap_restore zw_regmap_set_ceilings zw_regmap_write zw_sweep_check_many"
+# on the stack: reported, not gated (docs/box.md).
+STACK_NOT_GATED="zw_box_b_range zw_box_k_mmax zw_box_loop_b_range zw_box_loop_check zw_box_loop_k_max zw_box_loop_k_mmax zw_device_loop_b_range zw_device_loop_extremes_compute zw_device_loop_init_plant zw_device_loop_k_max zw_regmap_handle_pdu zw_regmap_init zw_regmap_restore zw_regmap_set_ceilings zw_regmap_write zw_sweep_check_many"
 for n in "$TEXT_LIMIT" "$STACK_LIMIT" "$LOOP_STACK_LIMIT" "$PLANT_STACK_LIMIT"; do
     case "$n" in
     '' | *[!0-9]*)

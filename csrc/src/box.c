@@ -29,6 +29,13 @@
 #include "zwidth/coeffs.h"
 #include "zwidth/device.h"
 #include "box_interval.h"
+
+/* A hint (box_setup): keeps a frame off the search's stack chain. */
+#if defined(__GNUC__)
+#define BOX_NOINLINE __attribute__((noinline))
+#else
+#define BOX_NOINLINE
+#endif
 #include "internal.h"
 
 /* d12 peaks at delta = 2.68799934549949... with 0.27870311291437160... (40 digits in
@@ -297,7 +304,7 @@ static zw_status box_cell_bound(zw_real T, zw_real B, zw_box_cell *cell)
 /* ---- the branch and bound ------------------------------------------------------------ */
 
 typedef struct zw_box_search {
-    const zw_plant_box *box;
+    zw_real T;
     const zw_box_work *work;
     zw_box_cell *cells;    /* work->cells */
     zw_real B;
@@ -325,7 +332,7 @@ static zw_status box_point_value(zw_box_search *s, zw_real m, zw_real b)
     zw_device d;
     zw_real k;
     zw_status st;
-    st = zw_device_init(&d, m, b, s->box->T);
+    st = zw_device_init(&d, m, b, s->T);
     if (st != ZW_OK) {
         return st;
     }
@@ -469,7 +476,7 @@ static zw_status box_search_init(zw_box_search *s, const zw_plant_box *box, cons
 {
     zw_box_cell root;
     zw_status st;
-    s->box = box;
+    s->T = box->T;
     s->work = work;
     s->cells = work->cells;
     s->B = B;
@@ -524,7 +531,7 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
             if (s->upper <= K) {
                 zw_device d;
                 zw_verdict v;
-                st = zw_device_init(&d, s->m_worst, s->b_worst, s->box->T);
+                st = zw_device_init(&d, s->m_worst, s->b_worst, s->T);
                 if (st != ZW_OK) {
                     return st;
                 }
@@ -558,17 +565,17 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
             continue;
         }
         parent = s->cells[0];
-        if (!box_split_cell(s->box->T, &parent, &left, &right)) {
+        if (!box_split_cell(s->T, &parent, &left, &right)) {
             return ZW_OK; /* cannot refine */
         }
         s->live -= 1u;
         s->cells[0] = s->cells[s->live];
         box_sift_down(s->cells, s->live, 0u);
-        st = box_cell_bound(s->box->T, s->B, &left);
+        st = box_cell_bound(s->T, s->B, &left);
         if (st != ZW_OK) {
             return st;
         }
-        st = box_cell_bound(s->box->T, s->B, &right);
+        st = box_cell_bound(s->T, s->B, &right);
         if (st != ZW_OK) {
             return st;
         }
@@ -590,6 +597,34 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
 /* ---- public functions ----------------------------------------------------------------- */
 
 
+/* Fold and validate the box, the work and the gains (K when with_K), and start the search
+ * (box_search_init).  Not inlined: the folded box (60 B in float) stays off the search's
+ * chain (tools/footprint.sh), the search keeps only T. */
+BOX_NOINLINE static zw_status box_setup(zw_box_search *s, const zw_plant_box *box, const zw_box_work *work,
+                                        zw_real K, bool with_K, zw_real B)
+{
+    zw_plant_box f;
+    zw_status st = box_fold_ideal(box, &f);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_validate_work(work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (with_K) {
+        st = bx_validate_gain(&f, K, true);
+        if (st != ZW_OK) {
+            return st;
+        }
+    }
+    st = bx_validate_gain(&f, B, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    return box_search_init(s, &f, work, B);
+}
+
 static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work *work,
                            zw_box_bound *out)
 {
@@ -600,19 +635,7 @@ static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work
     if (out == NULL) {
         return ZW_ERR_NULL;
     }
-    st = box_validate(box);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = box_validate_work(work);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = bx_validate_gain(box, B, false);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = box_search_init(&s, box, work, B);
+    st = box_setup(&s, box, work, ZW_R(0.0), false, B);
     if (st != ZW_OK) {
         return st;
     }
@@ -633,11 +656,7 @@ static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work
 zw_status zw_box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work *work,
                        zw_box_bound *out)
 {
-    zw_plant_box f;
-    zw_status st = box_fold_ideal(box, &f);
-    if (st == ZW_OK) {
-        st = box_k_max(&f, B, work, out);
-    }
+    zw_status st = box_k_max(box, B, work, out); /* folds in box_setup */
     if (st != ZW_OK) {
         bx_fail_bound(out);
     }
@@ -683,25 +702,18 @@ static zw_status box_check(const zw_plant_box *box, zw_real K, zw_real B, const 
     if (out == NULL) {
         return ZW_ERR_NULL;
     }
-    st = box_validate(box);
+    st = box_setup(&s, box, work, K, true, B);
     if (st != ZW_OK) {
         return st;
     }
-    st = box_validate_work(work);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = bx_validate_gain(box, K, true);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = bx_validate_gain(box, B, false);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = box_decide(box, K, B, work, &outcome, &s, &lower);
-    if (st != ZW_OK) {
-        return st;
+    if (!(K > ZW_R(0.0))) { /* K <= 0 is unstable at every plant */
+        lower = ZW_R(0.0);
+        outcome = ZW_BOX_REFUTED;
+    } else {
+        st = box_search_run(&s, ZW_BOX_GOAL_DECIDE, K, &outcome, &lower);
+        if (st != ZW_OK) {
+            return st;
+        }
     }
     out->stable = (outcome == ZW_BOX_CERTIFIED);
     out->decided = (outcome == ZW_BOX_CERTIFIED) || (outcome == ZW_BOX_REFUTED);
@@ -714,11 +726,7 @@ static zw_status box_check(const zw_plant_box *box, zw_real K, zw_real B, const 
 zw_status zw_box_check(const zw_plant_box *box, zw_real K, zw_real B, const zw_box_work *work,
                        zw_box_verdict *out)
 {
-    zw_plant_box f;
-    zw_status st = box_fold_ideal(box, &f);
-    if (st == ZW_OK) {
-        st = box_check(&f, K, B, work, out);
-    }
+    zw_status st = box_check(box, K, B, work, out); /* folds in box_setup */
     if (st != ZW_OK) {
         box_fail_box_verdict(out);
     }
