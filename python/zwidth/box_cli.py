@@ -54,8 +54,11 @@ def _part(value: Any) -> Union[float, PlantRange]:
 
 
 def has_range(args: argparse.Namespace) -> bool:
-    """Does any plant option hold a range LO:HI?"""
-    return any(isinstance(getattr(args, n, None), PlantRange) for n in _RANGE_OPTIONS)
+    """Does any plant option hold a range LO:HI (--stiffness and --hand's entries too, once
+    cli.py parses them with parse_range / parse_hand)?"""
+    hand = getattr(args, "hand", None)
+    return (any(isinstance(getattr(args, n, None), PlantRange) for n in _RANGE_OPTIONS + ("stiffness",))
+            or (isinstance(hand, tuple) and any(isinstance(v, PlantRange) for v in hand)))
 
 
 def _box(args: argparse.Namespace) -> PlantBox:

@@ -93,3 +93,9 @@ def test_box_cli_parts():
     assert out.data["stable"] and "k" in out.data["K_max"]["worst_plant"]
     assert any("hand: m_h in [0.25, 0.5]" in line for line in out.lines)
     assert box_cli._summary(box)["stiffness"] == [0.0, 2000.0]
+    # a range in a part alone makes the plant a box
+    point = _args(m=0.1, b=0.5)
+    assert not box_cli.has_range(point)
+    assert box_cli.has_range(_args(m=0.1, b=0.5, stiffness=PlantRange(0.0, 10.0)))
+    assert box_cli.has_range(_args(m=0.1, b=0.5, hand=box_cli.parse_hand("0.2:0.5,1,100")))
+    assert not box_cli.has_range(_args(m=0.1, b=0.5, hand=(0.2, 1.0, 100.0)))
