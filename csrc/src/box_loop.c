@@ -20,7 +20,8 @@
  * interval arithmetic rounded outward (box_interval.h).  Every plant and gain of the sub-box
  * has its P inside the coefficient intervals [lo_k, hi_k]; Kharitonov's theorem: such an
  * interval polynomial (degree invariant) is Hurwitz iff its four Kharitonov polynomials are.
- * The constant coefficient is alpha (c1 + c2) Dv(1) (den_s(0) = Nvs(0) = 0); for the sub-box
+ * The constant coefficient is alpha (c1 + c2) Dv(1) (den_s(0) = Nvs(0) = 0; with stiffness
+ * den_s(0) = 2 P >= 0 adds to it, bl_cell_test); for the sub-box
  * at the bottom of the K range (K_lo = 0, meaning K -> 0+) it is in (0, hi_0]:
  * the family is the union over eps > 0 of the families with q0 in [eps, hi_0], so it is
  * Hurwitz if K2, K3 (q0 = hi_0) and, for all small eps, K1, K4 with q0 = eps are; and
@@ -313,8 +314,8 @@ static zw_real bl_mid(zw_real lo, zw_real hi)
 }
 
 /* Split along the widest side: m relative; b and B in units of m / T + |B| + b (as delta and
- * beta feel them); K relative to the K asked for (K_ref), Kp relative to K_ref + Kp.  False when no side can be split
- * further in floating point. */
+ * beta feel them); K relative to the K asked for (K_ref), Kp relative to K_ref + Kp.  False
+ * when no side can be split further in floating point. */
 static bool bl_split(zw_real T, zw_real K_ref, const zw_box_loop_cell *c, zw_box_loop_cell *left,
                      zw_box_loop_cell *right)
 {
