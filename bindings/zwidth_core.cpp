@@ -1261,13 +1261,34 @@ PYBIND11_MODULE(_core, mod) {
 // Python layer (zwidth/box.py) reads only when status is ZW_OK.
 namespace {
 
+// The plant-side parts of a box (box.h: k_lo, k_hi, m_h_lo, m_h_hi, b_h_lo, b_h_hi, k_h_lo,
+// k_h_hi, tau_lo, tau_hi), a sequence of 10 numbers or None (all 0: no part).
+void box_set_parts(zw_plant_box &box, const py::object &parts) {
+    double v[10] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    if (!parts.is_none()) {
+        const py::sequence seq = py::reinterpret_borrow<py::sequence>(parts);
+        if (seq.size() != 10) throw py::value_error("parts must hold 10 numbers (box.h's plant-side fields)");
+        for (std::size_t i = 0; i < 10; ++i) v[i] = py::cast<double>(seq[i]);
+    }
+    box.k_lo = v[0];
+    box.k_hi = v[1];
+    box.m_h_lo = v[2];
+    box.m_h_hi = v[3];
+    box.b_h_lo = v[4];
+    box.b_h_hi = v[5];
+    box.k_h_lo = v[6];
+    box.k_h_hi = v[7];
+    box.tau_lo = v[8];
+    box.tau_hi = v[9];
+}
+
 struct BoxCall {
     zw_plant_box box;
     std::vector<zw_box_cell> cells;
     zw_box_work work;
     BoxCall(double m_lo, double m_hi, double b_lo, double b_hi, double T, long capacity, long max_evals,
             double rel_tol)
-        : box{m_lo, m_hi, b_lo, b_hi, T} {
+        : box{m_lo, m_hi, b_lo, b_hi, T, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0} {
         if (capacity < static_cast<long>(ZW_BOX_MIN_CELLS) || capacity > (1L << 24))
             throw py::value_error("capacity must be in " + std::to_string(ZW_BOX_MIN_CELLS) + "..2^24");
         if (max_evals < 1 || max_evals > static_cast<long>(ZW_BOX_MAX_EVALS))
@@ -1281,8 +1302,9 @@ struct BoxCall {
 };
 
 py::dict box_k_max(double m_lo, double m_hi, double b_lo, double b_hi, double T, double B, long capacity,
-                   long max_evals, double rel_tol) {
+                   long max_evals, double rel_tol, const py::object &parts) {
     BoxCall c(m_lo, m_hi, b_lo, b_hi, T, capacity, max_evals, rel_tol);
+    box_set_parts(c.box, parts);
     zw_box_bound r;
     zw_status st;
     {
@@ -1297,12 +1319,14 @@ py::dict box_k_max(double m_lo, double m_hi, double b_lo, double b_hi, double T,
     out["b_worst"] = r.b_worst;
     out["evals"] = static_cast<long>(r.evals);
     out["converged"] = r.converged;
+    out["k_worst"] = r.k_worst;
     return out;
 }
 
 py::dict box_check(double m_lo, double m_hi, double b_lo, double b_hi, double T, double K, double B, long capacity,
-                   long max_evals, double rel_tol) {
+                   long max_evals, double rel_tol, const py::object &parts) {
     BoxCall c(m_lo, m_hi, b_lo, b_hi, T, capacity, max_evals, rel_tol);
+    box_set_parts(c.box, parts);
     zw_box_verdict v;
     zw_status st;
     {
@@ -1320,8 +1344,9 @@ py::dict box_check(double m_lo, double m_hi, double b_lo, double b_hi, double T,
 }
 
 py::dict box_b_range(double m_lo, double m_hi, double b_lo, double b_hi, double T, double K, long capacity,
-                     long max_evals, double rel_tol) {
+                     long max_evals, double rel_tol, const py::object &parts) {
     BoxCall c(m_lo, m_hi, b_lo, b_hi, T, capacity, max_evals, rel_tol);
+    box_set_parts(c.box, parts);
     double lo = 0.0, hi = 0.0;
     bool nonempty = false;
     zw_status st;
@@ -1338,8 +1363,9 @@ py::dict box_b_range(double m_lo, double m_hi, double b_lo, double b_hi, double 
 }
 
 py::dict box_k_mmax(double m_lo, double m_hi, double b_lo, double b_hi, double T, long capacity, long max_evals,
-                    double rel_tol) {
+                    double rel_tol, const py::object &parts) {
     BoxCall c(m_lo, m_hi, b_lo, b_hi, T, capacity, max_evals, rel_tol);
+    box_set_parts(c.box, parts);
     zw_box_extremes x;
     zw_status st;
     {
@@ -1371,7 +1397,7 @@ struct BoxLoopCall {
     BoxLoopCall(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay, int differentiator,
                 int filter, double cutoff_or_pole, bool pole_given, unsigned average, long capacity,
                 long max_evals, double rel_tol)
-        : box{m_lo, m_hi, b_lo, b_hi, T} {
+        : box{m_lo, m_hi, b_lo, b_hi, T, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0} {
         if (capacity < static_cast<long>(ZW_BOX_LOOP_MIN_CELLS) || capacity > (1L << 24))
             throw py::value_error("capacity must be in " + std::to_string(ZW_BOX_LOOP_MIN_CELLS) + "..2^24");
         if (max_evals < 1 || max_evals > static_cast<long>(ZW_BOX_MAX_EVALS))
@@ -1395,9 +1421,10 @@ struct BoxLoopCall {
 
 py::dict box_loop_k_max(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
                         int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
-                        double B, long capacity, long max_evals, double rel_tol) {
+                        double B, long capacity, long max_evals, double rel_tol, const py::object &parts) {
     BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
                   capacity, max_evals, rel_tol);
+    box_set_parts(c.box, parts);
     zw_box_loop_bound r;
     zw_status st;
     {
@@ -1412,14 +1439,16 @@ py::dict box_loop_k_max(double m_lo, double m_hi, double b_lo, double b_hi, doub
     out["b_worst"] = r.b_worst;
     out["evals"] = static_cast<long>(r.evals);
     out["converged"] = r.converged;
+    out["k_worst"] = r.k_worst;
     return out;
 }
 
 py::dict box_loop_check(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
                         int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
-                        double K, double B, long capacity, long max_evals, double rel_tol) {
+                        double K, double B, long capacity, long max_evals, double rel_tol, const py::object &parts) {
     BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
                   capacity, max_evals, rel_tol);
+    box_set_parts(c.box, parts);
     zw_box_loop_verdict v;
     zw_status st;
     {
@@ -1433,14 +1462,16 @@ py::dict box_loop_check(double m_lo, double m_hi, double b_lo, double b_hi, doub
     out["m_worst"] = v.m_worst;
     out["b_worst"] = v.b_worst;
     out["evals"] = static_cast<long>(v.evals);
+    out["k_worst"] = v.k_worst;
     return out;
 }
 
 py::dict box_loop_b_range(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
                           int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
-                          double K, long capacity, long max_evals, double rel_tol) {
+                          double K, long capacity, long max_evals, double rel_tol, const py::object &parts) {
     BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
                   capacity, max_evals, rel_tol);
+    box_set_parts(c.box, parts);
     double lo = 0.0, hi = 0.0;
     bool nonempty = false;
     zw_status st;
@@ -1458,9 +1489,10 @@ py::dict box_loop_b_range(double m_lo, double m_hi, double b_lo, double b_hi, do
 
 py::dict box_loop_k_mmax(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
                          int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
-                         long capacity, long max_evals, double rel_tol) {
+                         long capacity, long max_evals, double rel_tol, const py::object &parts) {
     BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
                   capacity, max_evals, rel_tol);
+    box_set_parts(c.box, parts);
     zw_box_loop_extremes x;
     zw_status st;
     {
@@ -1476,6 +1508,7 @@ py::dict box_loop_k_mmax(double m_lo, double m_hi, double b_lo, double b_hi, dou
     out["b_worst"] = x.b_worst;
     out["evals"] = static_cast<long>(x.evals);
     out["converged"] = x.converged;
+    out["k_worst"] = x.k_worst;
     return out;
 }
 
@@ -1484,23 +1517,24 @@ py::dict box_loop_k_mmax(double m_lo, double m_hi, double b_lo, double b_hi, dou
 void zw_register_box(py::module_ &mod) {
     const auto ml = py::arg("m_lo"), mh = py::arg("m_hi"), bl = py::arg("b_lo"), bh = py::arg("b_hi"),
                T = py::arg("T"), cap = py::arg("capacity"), ev = py::arg("max_evals"), tol = py::arg("rel_tol");
-    mod.def("box_k_max", &box_k_max, ml, mh, bl, bh, T, py::arg("B"), cap, ev, tol, "zw_box_k_max.");
-    mod.def("box_check", &box_check, ml, mh, bl, bh, T, py::arg("K"), py::arg("B"), cap, ev, tol, "zw_box_check.");
-    mod.def("box_b_range", &box_b_range, ml, mh, bl, bh, T, py::arg("K"), cap, ev, tol, "zw_box_b_range.");
-    mod.def("box_k_mmax", &box_k_mmax, ml, mh, bl, bh, T, cap, ev, tol, "zw_box_k_mmax.");
+    const auto parts = py::arg("parts") = py::none();  // box.h's plant-side fields (10) or None
+    mod.def("box_k_max", &box_k_max, ml, mh, bl, bh, T, py::arg("B"), cap, ev, tol, parts, "zw_box_k_max.");
+    mod.def("box_check", &box_check, ml, mh, bl, bh, T, py::arg("K"), py::arg("B"), cap, ev, tol, parts, "zw_box_check.");
+    mod.def("box_b_range", &box_b_range, ml, mh, bl, bh, T, py::arg("K"), cap, ev, tol, parts, "zw_box_b_range.");
+    mod.def("box_k_mmax", &box_k_mmax, ml, mh, bl, bh, T, cap, ev, tol, parts, "zw_box_k_mmax.");
     mod.attr("BOX_DEFAULT_EVALS") = long{ZW_BOX_DEFAULT_EVALS};
     mod.attr("BOX_DEFAULT_REL_TOL") = double{ZW_BOX_DEFAULT_REL_TOL};
     mod.def("box_loop_k_max", &box_loop_k_max, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
             py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), py::arg("B"),
-            cap, ev, tol, "zw_box_loop_k_max.");
+            cap, ev, tol, parts, "zw_box_loop_k_max.");
     mod.def("box_loop_check", &box_loop_check, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
             py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), py::arg("K"),
-            py::arg("B"), cap, ev, tol, "zw_box_loop_check.");
+            py::arg("B"), cap, ev, tol, parts, "zw_box_loop_check.");
     mod.def("box_loop_b_range", &box_loop_b_range, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
             py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), py::arg("K"),
-            cap, ev, tol, "zw_box_loop_b_range.");
+            cap, ev, tol, parts, "zw_box_loop_b_range.");
     mod.def("box_loop_k_mmax", &box_loop_k_mmax, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
-            py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), cap, ev, tol,
+            py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), cap, ev, tol, parts,
             "zw_box_loop_k_mmax.");
     mod.attr("BOX_LOOP_DEFAULT_REL_TOL") = double{ZW_BOX_LOOP_DEFAULT_REL_TOL};
 }

@@ -35,6 +35,29 @@ B_PAPER = 2.197e-3
 GRIDS = (2, 11, 51)
 
 
+def _hand_box(delay: int) -> str:
+    """A drive-like device with a spring and a coupled hand in ranges (box.h's plant-side
+    parts): the certified K_max against the corners and grids of the folded (M, Bp, Kp)."""
+    m, b, T, B = (0.1, 0.14), (0.5, 0.8), 0.001, 5.0
+    hand = ((0.25, 0.5), (1.0, 3.0), (100.0, 600.0))
+    box = zwidth.PlantBox(m, b, T, delay=delay, stiffness=(0.0, 50.0), hand=hand)
+    t0 = time.perf_counter()
+    k = box.k_max(B)
+    t = time.perf_counter() - t0
+    M, Bp, Kp = box.totals
+    lines = [f"\nHand box (m {m[0]:g}..{m[1]:g}, b {b[0]:g}..{b[1]:g}, k_p 0..50, hand m_h {hand[0][0]:g}..{hand[0][1]:g}, "
+             f"b_h {hand[1][0]:g}..{hand[1][1]:g}, k_h {hand[2][0]:g}..{hand[2][1]:g}, T {T:g}, d = {delay}, B {B:g}): "
+             f"certified K_lower {k.K_lower:.6g} (K_upper {k.K_upper:.6g} at M = {k.m_worst:.4g}, Kp = {k.k_worst:.4g}) "
+             f"in {1e3 * t:.0f} ms ({k.evals} cell tests);"]
+    for g in (2, 11):
+        mm, bb, kk = np.meshgrid(np.linspace(M.lo, M.hi, g), np.linspace(Bp.lo, Bp.hi, g), np.linspace(Kp.lo, Kp.hi, g))
+        t0 = time.perf_counter()
+        kg = float(np.min(box._device(mm.ravel(), bb.ravel(), kk.ravel()).k_max(B)))
+        lines.append(f"  {g} x {g} x {g} grid of the folded plants: min {kg:.6g} in {1e3 * (time.perf_counter() - t0):.0f} ms "
+                     f"(K_lower / min {k.K_lower / kg:.4f})")
+    return "\n".join(lines)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--boxes", type=int, default=40)
@@ -103,6 +126,7 @@ def main() -> None:
         extra.append(f"  {g} x {g} grid: min {kg:.6g}, {'certifies an unstable pair' if bad else 'safe here'} "
                      f"(overestimate {100 * max(0.0, kg - k.K_upper) / k.K_upper:.3g} %)")
     text += "\n".join(extra)
+    text += "\n" + _hand_box(args.delay)
     print(text)
     if args.markdown:
         with open(args.markdown, "w") as f:

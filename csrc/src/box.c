@@ -29,6 +29,13 @@
 #include "zwidth/coeffs.h"
 #include "zwidth/device.h"
 #include "box_interval.h"
+
+/* A hint (box_setup): keeps a frame off the search's stack chain. */
+#if defined(__GNUC__)
+#define BOX_NOINLINE __attribute__((noinline))
+#else
+#define BOX_NOINLINE
+#endif
 #include "internal.h"
 
 /* d12 peaks at delta = 2.68799934549949... with 0.27870311291437160... (40 digits in
@@ -102,9 +109,105 @@ static zw_status box_validate(const zw_plant_box *box)
     return ZW_OK;
 }
 
+/* A part's range: finite, 0 <= lo <= hi (negative: `negative`, as plant.h names it). */
+static zw_status box_part_range(zw_real lo, zw_real hi, zw_status negative)
+{
+    if (ZW_IS_NAN(lo) || ZW_IS_NAN(hi)) {
+        return ZW_ERR_NAN;
+    }
+    if (!ZW_IS_FINITE(lo) || !ZW_IS_FINITE(hi)) {
+        return ZW_ERR_INF;
+    }
+    if (lo < ZW_R(0.0)) {
+        return negative;
+    }
+    if (lo > hi) {
+        return ZW_ERR_BOX;
+    }
+    return ZW_OK;
+}
+
+/* [a_lo + p_lo, a_hi + p_hi] rounded outward (exact when the part is 0: today's box). */
+static void box_fold_sum(zw_real a_lo, zw_real a_hi, zw_real p_lo, zw_real p_hi, zw_real *lo,
+                         zw_real *hi)
+{
+    *lo = (p_lo > ZW_R(0.0)) ? bx_max(a_lo, bx_down(a_lo + p_lo)) : a_lo;
+    *hi = (p_hi > ZW_R(0.0)) ? bx_up(a_hi + p_hi) : a_hi;
+}
+
+static zw_status box_fold(const zw_plant_box *box, zw_plant_box *f)
+{
+    zw_status st;
+    if ((box == NULL) || (f == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = box_part_range(box->k_lo, box->k_hi, ZW_ERR_ARG);
+    if (st == ZW_OK) {
+        st = box_part_range(box->m_h_lo, box->m_h_hi, ZW_ERR_ARG);
+    }
+    if (st == ZW_OK) {
+        st = box_part_range(box->b_h_lo, box->b_h_hi, ZW_ERR_DAMPING);
+    }
+    if (st == ZW_OK) {
+        st = box_part_range(box->k_h_lo, box->k_h_hi, ZW_ERR_ARG);
+    }
+    if (st == ZW_OK) {
+        st = box_part_range(box->tau_lo, box->tau_hi, ZW_ERR_ARG);
+    }
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (box->tau_hi > ZW_R(0.0)) {
+        return ZW_ERR_ARG; /* a lag range: not supported yet */
+    }
+    st = box_validate(box); /* m, b, T themselves */
+    if (st != ZW_OK) {
+        return st;
+    }
+    *f = *box;
+    box_fold_sum(box->m_lo, box->m_hi, box->m_h_lo, box->m_h_hi, &f->m_lo, &f->m_hi);
+    box_fold_sum(box->b_lo, box->b_hi, box->b_h_lo, box->b_h_hi, &f->b_lo, &f->b_hi);
+    box_fold_sum(box->k_lo, box->k_hi, box->k_h_lo, box->k_h_hi, &f->k_lo, &f->k_hi);
+    f->m_h_lo = ZW_R(0.0);
+    f->m_h_hi = ZW_R(0.0);
+    f->b_h_lo = ZW_R(0.0);
+    f->b_h_hi = ZW_R(0.0);
+    f->k_h_lo = ZW_R(0.0);
+    f->k_h_hi = ZW_R(0.0);
+    st = box_validate(f); /* the totals */
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (f->k_hi > ZW_R(0.0)) {
+        /* the enclosure's series domain: delta, kappa <= ZW_BOX_KAPPA_MAX over the box */
+        const zw_real delta_hi = bx_up(bx_up(f->b_hi * f->T) / f->m_lo);
+        const zw_real kappa_hi = bx_up(bx_up(bx_up(f->k_hi * f->T) * f->T) / f->m_lo);
+        if (!(delta_hi <= ZW_BOX_KAPPA_MAX) || !(kappa_hi <= ZW_BOX_KAPPA_MAX)) {
+            return ZW_ERR_RANGE;
+        }
+    }
+    return ZW_OK;
+}
+
+zw_status zw_box_fold(const zw_plant_box *box, zw_plant_box *folded)
+{
+    return box_fold(box, folded);
+}
+
 zw_status zw_box_validate(const zw_plant_box *box)
 {
-    return box_validate(box);
+    zw_plant_box f;
+    return box_fold(box, &f);
+}
+
+/* The closed form's box: folded, without stiffness (ZW_ERR_ARG). */
+static zw_status box_fold_ideal(const zw_plant_box *box, zw_plant_box *f)
+{
+    zw_status st = box_fold(box, f);
+    if ((st == ZW_OK) && (f->k_hi > ZW_R(0.0))) {
+        st = ZW_ERR_ARG;
+    }
+    return st;
 }
 
 static zw_status box_validate_work(const zw_box_work *work)
@@ -201,7 +304,7 @@ static zw_status box_cell_bound(zw_real T, zw_real B, zw_box_cell *cell)
 /* ---- the branch and bound ------------------------------------------------------------ */
 
 typedef struct zw_box_search {
-    const zw_plant_box *box;
+    zw_real T;
     const zw_box_work *work;
     zw_box_cell *cells;    /* work->cells */
     zw_real B;
@@ -229,7 +332,7 @@ static zw_status box_point_value(zw_box_search *s, zw_real m, zw_real b)
     zw_device d;
     zw_real k;
     zw_status st;
-    st = zw_device_init(&d, m, b, s->box->T);
+    st = zw_device_init(&d, m, b, s->T);
     if (st != ZW_OK) {
         return st;
     }
@@ -373,7 +476,7 @@ static zw_status box_search_init(zw_box_search *s, const zw_plant_box *box, cons
 {
     zw_box_cell root;
     zw_status st;
-    s->box = box;
+    s->T = box->T;
     s->work = work;
     s->cells = work->cells;
     s->B = B;
@@ -428,7 +531,7 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
             if (s->upper <= K) {
                 zw_device d;
                 zw_verdict v;
-                st = zw_device_init(&d, s->m_worst, s->b_worst, s->box->T);
+                st = zw_device_init(&d, s->m_worst, s->b_worst, s->T);
                 if (st != ZW_OK) {
                     return st;
                 }
@@ -462,17 +565,17 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
             continue;
         }
         parent = s->cells[0];
-        if (!box_split_cell(s->box->T, &parent, &left, &right)) {
+        if (!box_split_cell(s->T, &parent, &left, &right)) {
             return ZW_OK; /* cannot refine */
         }
         s->live -= 1u;
         s->cells[0] = s->cells[s->live];
         box_sift_down(s->cells, s->live, 0u);
-        st = box_cell_bound(s->box->T, s->B, &left);
+        st = box_cell_bound(s->T, s->B, &left);
         if (st != ZW_OK) {
             return st;
         }
-        st = box_cell_bound(s->box->T, s->B, &right);
+        st = box_cell_bound(s->T, s->B, &right);
         if (st != ZW_OK) {
             return st;
         }
@@ -494,6 +597,34 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
 /* ---- public functions ----------------------------------------------------------------- */
 
 
+/* Fold and validate the box, the work and the gains (K when with_K), and start the search
+ * (box_search_init).  Not inlined: the folded box (60 B in float) stays off the search's
+ * chain (tools/footprint.sh), the search keeps only T. */
+BOX_NOINLINE static zw_status box_setup(zw_box_search *s, const zw_plant_box *box, const zw_box_work *work,
+                                        zw_real K, bool with_K, zw_real B)
+{
+    zw_plant_box f;
+    zw_status st = box_fold_ideal(box, &f);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = box_validate_work(work);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if (with_K) {
+        st = bx_validate_gain(&f, K, true);
+        if (st != ZW_OK) {
+            return st;
+        }
+    }
+    st = bx_validate_gain(&f, B, false);
+    if (st != ZW_OK) {
+        return st;
+    }
+    return box_search_init(s, &f, work, B);
+}
+
 static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work *work,
                            zw_box_bound *out)
 {
@@ -504,19 +635,7 @@ static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work
     if (out == NULL) {
         return ZW_ERR_NULL;
     }
-    st = box_validate(box);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = box_validate_work(work);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = bx_validate_gain(box, B, false);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = box_search_init(&s, box, work, B);
+    st = box_setup(&s, box, work, ZW_R(0.0), false, B);
     if (st != ZW_OK) {
         return st;
     }
@@ -530,13 +649,14 @@ static zw_status box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work
     out->b_worst = s.b_worst;
     out->evals = s.evals;
     out->converged = (outcome == ZW_BOX_CONVERGED);
+    out->k_worst = ZW_R(0.0);
     return ZW_OK;
 }
 
 zw_status zw_box_k_max(const zw_plant_box *box, zw_real B, const zw_box_work *work,
                        zw_box_bound *out)
 {
-    zw_status st = box_k_max(box, B, work, out);
+    zw_status st = box_k_max(box, B, work, out); /* folds in box_setup */
     if (st != ZW_OK) {
         bx_fail_bound(out);
     }
@@ -582,25 +702,18 @@ static zw_status box_check(const zw_plant_box *box, zw_real K, zw_real B, const 
     if (out == NULL) {
         return ZW_ERR_NULL;
     }
-    st = box_validate(box);
+    st = box_setup(&s, box, work, K, true, B);
     if (st != ZW_OK) {
         return st;
     }
-    st = box_validate_work(work);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = bx_validate_gain(box, K, true);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = bx_validate_gain(box, B, false);
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = box_decide(box, K, B, work, &outcome, &s, &lower);
-    if (st != ZW_OK) {
-        return st;
+    if (!(K > ZW_R(0.0))) { /* K <= 0 is unstable at every plant */
+        lower = ZW_R(0.0);
+        outcome = ZW_BOX_REFUTED;
+    } else {
+        st = box_search_run(&s, ZW_BOX_GOAL_DECIDE, K, &outcome, &lower);
+        if (st != ZW_OK) {
+            return st;
+        }
     }
     out->stable = (outcome == ZW_BOX_CERTIFIED);
     out->decided = (outcome == ZW_BOX_CERTIFIED) || (outcome == ZW_BOX_REFUTED);
@@ -613,7 +726,7 @@ static zw_status box_check(const zw_plant_box *box, zw_real K, zw_real B, const 
 zw_status zw_box_check(const zw_plant_box *box, zw_real K, zw_real B, const zw_box_work *work,
                        zw_box_verdict *out)
 {
-    zw_status st = box_check(box, K, B, work, out);
+    zw_status st = box_check(box, K, B, work, out); /* folds in box_setup */
     if (st != ZW_OK) {
         box_fail_box_verdict(out);
     }
@@ -765,7 +878,11 @@ static zw_status box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw
 
 zw_status zw_box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw_box_extremes *out)
 {
-    zw_status st = box_k_mmax(box, work, out);
+    zw_plant_box f;
+    zw_status st = box_fold_ideal(box, &f);
+    if (st == ZW_OK) {
+        st = box_k_mmax(&f, work, out);
+    }
     if (st != ZW_OK) {
         box_fail_extremes(out);
     }
@@ -908,7 +1025,11 @@ static zw_status box_b_range(const zw_plant_box *box, zw_real K, const zw_box_wo
 zw_status zw_box_b_range(const zw_plant_box *box, zw_real K, const zw_box_work *work,
                          zw_real *B_lo, zw_real *B_hi, bool *nonempty)
 {
-    zw_status st = box_b_range(box, K, work, B_lo, B_hi, nonempty);
+    zw_plant_box f;
+    zw_status st = box_fold_ideal(box, &f);
+    if (st == ZW_OK) {
+        st = box_b_range(&f, K, work, B_lo, B_hi, nonempty);
+    }
     if (st != ZW_OK) {
         zw_fail_interval(B_lo, B_hi, nonempty);
     }

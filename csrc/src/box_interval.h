@@ -135,6 +135,7 @@ static inline void bx_fail_bound(zw_box_bound *out)
         out->b_worst = ZW_NAN;
         out->evals = 0u;
         out->converged = false;
+        out->k_worst = ZW_NAN;
     }
 }
 

@@ -20,7 +20,8 @@
  * interval arithmetic rounded outward (box_interval.h).  Every plant and gain of the sub-box
  * has its P inside the coefficient intervals [lo_k, hi_k]; Kharitonov's theorem: such an
  * interval polynomial (degree invariant) is Hurwitz iff its four Kharitonov polynomials are.
- * The constant coefficient is alpha (c1 + c2) Dv(1) (den_s(0) = Nvs(0) = 0); for the sub-box
+ * The constant coefficient is alpha (c1 + c2) Dv(1) (den_s(0) = Nvs(0) = 0; with stiffness
+ * den_s(0) = 2 P >= 0 adds to it, bl_cell_test); for the sub-box
  * at the bottom of the K range (K_lo = 0, meaning K -> 0+) it is in (0, hi_0]:
  * the family is the union over eps > 0 of the families with q0 in [eps, hi_0], so it is
  * Hurwitz if K2, K3 (q0 = hi_0) and, for all small eps, K1, K4 with q0 = eps are; and
@@ -48,7 +49,7 @@ typedef enum bl_result { BL_STABLE = 0, BL_UNSURE = 1, BL_UNSTABLE = 2 } bl_resu
 /* The loop; its velocity estimate in s (ascending powers, exact but for 1 +- a) is kept in
  * the scratch (sc->dvs, sc->nvs), with the rest of the large arrays. */
 typedef struct bl_loop {
-    const zw_plant_box *box;
+    zw_plant_box box; /* folded (zw_box_fold): M, Bp, Kp */
     zw_box_loop_scratch *sc;
     zw_device_loop_spec spec;
     zw_real pole; /* a, LOWPASS */
@@ -98,7 +99,7 @@ static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_devi
     bx_iv *dvs = sc->dvs, *nvs = sc->nvs;
     unsigned i;
     zw_status st;
-    L->box = box;
+    L->box = *box;
     L->sc = sc;
     L->spec = *spec;
     L->delay = spec->delay;
@@ -229,7 +230,8 @@ static bx_iv bl_from_eb(zw_real v, zw_real e)
  * UNSURE otherwise (never UNSTABLE: a Kharitonov vertex is not a plant). */
 BL_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_cell *c, bl_result *res)
 {
-    const zw_real T = L->box->T;
+    const zw_real T = L->box.T;
+    const bool stiff = (L->box.k_hi > ZW_R(0.0));
     zw_plant pl;
     bx_iv den_s[3], num_s[2], m_iv, alpha, beta, gain_v[ZW_LOOP_MAX_AVERAGE + 1u];
     zw_box_loop_scratch *sc = L->sc;
@@ -242,12 +244,22 @@ BL_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_ce
     *res = BL_UNSURE;
     dlo = bx_max(ZW_R(0.0), bx_down(bx_down(c->b_lo * T) / c->m_hi));
     dhi = bx_up(bx_up(c->b_hi * T) / c->m_lo);
-    st = zw_plant_enclose(&pl, dlo, dhi);
+    if (stiff) {
+        /* the folded box has delta, kappa <= ZW_PLANT_ENCLOSE_MAX (zw_box_fold): the
+         * outward-rounded ends may pass it, the plants do not */
+        const zw_real klo = bx_max(ZW_R(0.0), bx_down(bx_down(bx_down(c->k_lo * T) * T) / c->m_hi));
+        const zw_real khi = bx_up(bx_up(bx_up(c->k_hi * T) * T) / c->m_lo);
+        st = zw_plant_enclose2(&pl, bx_min(dlo, ZW_PLANT_ENCLOSE_MAX), bx_min(dhi, ZW_PLANT_ENCLOSE_MAX),
+                               bx_min(klo, ZW_PLANT_ENCLOSE_MAX), bx_min(khi, ZW_PLANT_ENCLOSE_MAX));
+    } else {
+        st = zw_plant_enclose(&pl, dlo, dhi);
+    }
     if (st != ZW_OK) {
         return st;
     }
-    /* ascending: den_s = 0 + 4 (1 - e) s + 4 (1 + e) s^2;  num_s = (c1 + c2) + d12 s */
-    den_s[0] = bx_point(ZW_R(0.0));
+    /* ascending: den_s = 2 P + 4 R s + 2 Q s^2 (ideal: 0 + 4 (1 - e) s + 4 (1 + e) s^2);
+     * num_s = (c1 + c2) + d12 s, or 2 G + 2 delta H s (plant_box.h) */
+    den_s[0] = stiff ? bl_from_eb(pl.den_s[2], pl.den_s_err[2]) : bx_point(ZW_R(0.0));
     den_s[1] = bl_from_eb(pl.den_s[1], pl.den_s_err[1]);
     den_s[2] = bl_from_eb(pl.den_s[0], pl.den_s_err[0]);
     num_s[0] = bl_from_eb(pl.num_s[1], pl.num_s_err[1]);
@@ -279,8 +291,9 @@ BL_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_ce
             return ZW_ERR_RANGE;
         }
     }
-    /* K_lo = 0: q0 = alpha (c1 + c2) Dvs(0) in (0, P[0].hi], K1 / s and K4 / s */
-    if (c->K_lo == ZW_R(0.0)) {
+    /* K_lo = 0: q0 = (2 P + alpha num_s(0)) Dvs(0) > 0 at every point (P >= 0, alpha > 0)
+     * but its enclosure may reach 0: then K1 / s and K4 / s */
+    if ((c->K_lo == ZW_R(0.0)) && !(P[0].lo > ZW_R(0.0))) {
         if (!(P[0].hi > ZW_R(0.0))) {
             return ZW_OK;
         }
@@ -301,21 +314,23 @@ static zw_real bl_mid(zw_real lo, zw_real hi)
 }
 
 /* Split along the widest side: m relative; b and B in units of m / T + |B| + b (as delta and
- * beta feel them); K relative to the K asked for (K_ref).  False when no side can be split
- * further in floating point. */
+ * beta feel them); K relative to the K asked for (K_ref), Kp relative to K_ref + Kp.  False
+ * when no side can be split further in floating point. */
 static bool bl_split(zw_real T, zw_real K_ref, const zw_box_loop_cell *c, zw_box_loop_cell *left,
                      zw_box_loop_cell *right)
 {
     const zw_real mm = bl_mid(c->m_lo, c->m_hi), bm = bl_mid(c->b_lo, c->b_hi), Bm = bl_mid(c->B_lo, c->B_hi);
-    const zw_real Km = bl_mid(c->K_lo, c->K_hi);
+    const zw_real Km = bl_mid(c->K_lo, c->K_hi), km = bl_mid(c->k_lo, c->k_hi);
     const zw_real scale = mm / T + bm + ZW_FABS(Bm);
-    zw_real w[4], best = -ZW_R(1.0);
+    zw_real w[5], best = -ZW_R(1.0);
     int side = -1, i;
     w[0] = ((mm > c->m_lo) && (mm < c->m_hi)) ? (c->m_hi - c->m_lo) / c->m_hi : -ZW_R(1.0);
     w[1] = ((bm > c->b_lo) && (bm < c->b_hi)) ? (c->b_hi - c->b_lo) / scale : -ZW_R(1.0);
     w[2] = ((Km > c->K_lo) && (Km < c->K_hi)) ? (c->K_hi - c->K_lo) / K_ref : -ZW_R(1.0);
     w[3] = ((Bm > c->B_lo) && (Bm < c->B_hi)) ? (c->B_hi - c->B_lo) / scale : -ZW_R(1.0);
-    for (i = 0; i < 4; ++i) {
+    /* Kp beside K (both springs: alpha + kappa is the loop's DC stiffness) */
+    w[4] = ((km > c->k_lo) && (km < c->k_hi)) ? (c->k_hi - c->k_lo) / (K_ref + km) : -ZW_R(1.0);
+    for (i = 0; i < 5; ++i) {
         if (w[i] > best) {
             best = w[i];
             side = i;
@@ -340,6 +355,10 @@ static bool bl_split(zw_real T, zw_real K_ref, const zw_box_loop_cell *c, zw_box
         left->B_hi = Bm;
         right->B_lo = Bm;
         break;
+    case 4:
+        left->k_hi = km;
+        right->k_lo = km;
+        break;
     default:
         return false;
     }
@@ -350,18 +369,25 @@ typedef enum bl_outcome { BL_OPEN = 0, BL_CERTIFIED = 1, BL_REFUTED = 2 } bl_out
 
 typedef struct bl_search {
     uint_least32_t evals;
-    zw_real m_worst, b_worst; /* refuted plant, or the last cell not certified */
+    zw_real m_worst, b_worst, k_worst; /* refuted plant, or the last cell not certified */
 } bl_search;
+
+/* The point loop at plant (M, Bp, Kp) (Kp = 0: zw_device_loop_init's). */
+static zw_status bl_point_init(const bl_loop *L, zw_device_loop *dl, zw_real m, zw_real b, zw_real k)
+{
+    return zw_device_loop_init_plant(dl, m, b, L->box.T, k, ZW_R(0.0), ZW_R(0.0), ZW_R(0.0), ZW_R(0.0),
+                                     &L->spec);
+}
 
 /* Is (K, B) surely unstable at plant (m, b)?  (the guarded point check, not marginal) */
 BL_NOINLINE static zw_status bl_point_unstable(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b,
-                                   zw_real K, zw_real B, bool *unstable)
+                                   zw_real k, zw_real K, zw_real B, bool *unstable)
 {
     zw_device_loop *dl = &L->sc->dl;
     zw_loop_verdict v;
     zw_status st;
     *unstable = false;
-    st = zw_device_loop_init(dl, m, b, L->box->T, &L->spec);
+    st = bl_point_init(L, dl, m, b, k);
     if (st != ZW_OK) {
         return st;
     }
@@ -377,13 +403,14 @@ BL_NOINLINE static zw_status bl_point_unstable(const bl_loop *L, zw_loop_workspa
 static zw_status bl_certify(const bl_loop *L, zw_loop_workspace *ws, zw_real K, zw_real B_lo,
                             zw_real B_hi, const zw_box_loop_work *work, bl_search *s, bl_outcome *outcome)
 {
-    const zw_plant_box *box = L->box;
+    const zw_plant_box *box = &L->box;
     zw_box_loop_cell *cells = work->cells;
     uint_least32_t live = 1u, used = 0u;
     zw_status st;
     *outcome = BL_OPEN;
     s->m_worst = ZW_NAN;
     s->b_worst = ZW_NAN;
+    s->k_worst = ZW_NAN;
     if (!(K > ZW_R(0.0))) {
         return ZW_OK;
     }
@@ -395,6 +422,8 @@ static zw_status bl_certify(const bl_loop *L, zw_loop_workspace *ws, zw_real K, 
     cells[0].K_hi = K;
     cells[0].B_lo = B_lo;
     cells[0].B_hi = B_hi;
+    cells[0].k_lo = box->k_lo;
+    cells[0].k_hi = box->k_hi;
     while (live > 0u) {
         zw_box_loop_cell c = cells[live - 1u], left, right;
         bl_result res;
@@ -414,7 +443,9 @@ static zw_status bl_certify(const bl_loop *L, zw_loop_workspace *ws, zw_real K, 
         }
         s->m_worst = bl_mid(c.m_lo, c.m_hi);
         s->b_worst = bl_mid(c.b_lo, c.b_hi);
-        st = bl_point_unstable(L, ws, s->m_worst, s->b_worst, c.K_hi, bl_mid(c.B_lo, c.B_hi), &unstable);
+        s->k_worst = bl_mid(c.k_lo, c.k_hi);
+        st = bl_point_unstable(L, ws, s->m_worst, s->b_worst, s->k_worst, c.K_hi, bl_mid(c.B_lo, c.B_hi),
+                               &unstable);
         if (st != ZW_OK) {
             return st;
         }
@@ -432,6 +463,7 @@ static zw_status bl_certify(const bl_loop *L, zw_loop_workspace *ws, zw_real K, 
     *outcome = BL_CERTIFIED;
     s->m_worst = ZW_NAN;
     s->b_worst = ZW_NAN;
+    s->k_worst = ZW_NAN;
     return ZW_OK;
 }
 
@@ -472,11 +504,12 @@ static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_l
                           zw_loop_workspace *ws, const zw_box_loop_work *work)
 {
     zw_box_loop_scratch *sc;
+    zw_plant_box f;
     zw_status st;
     if ((spec == NULL) || (ws == NULL)) {
         return ZW_ERR_NULL;
     }
-    st = zw_box_validate(box);
+    st = zw_box_fold(box, &f);
     if (st != ZW_OK) {
         return st;
     }
@@ -485,11 +518,14 @@ static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_l
         return st;
     }
     sc = work->scratch;
-    st = zw_device_loop_init(&sc->dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi), box->T, spec);
+    L->box = f;
+    L->spec = *spec;
+    /* the centre plant's loop validates the spec before bl_loop_init reads it */
+    st = bl_point_init(L, &sc->dl, bl_mid(f.m_lo, f.m_hi), bl_mid(f.b_lo, f.b_hi), bl_mid(f.k_lo, f.k_hi));
     if (st != ZW_OK) {
         return st;
     }
-    return bl_loop_init(L, box, spec, sc);
+    return bl_loop_init(L, &f, spec, sc);
 }
 
 /* ---- public functions -------------------------------------------------------------------- */
@@ -504,6 +540,7 @@ static void bl_fail_verdict(zw_box_loop_verdict *out)
     out->m_worst = ZW_NAN;
     out->b_worst = ZW_NAN;
     out->evals = 0u;
+    out->k_worst = ZW_NAN;
 }
 
 static zw_status bl_check(const zw_plant_box *box, const zw_device_loop_spec *spec, zw_loop_workspace *ws,
@@ -520,20 +557,24 @@ static zw_status bl_check(const zw_plant_box *box, const zw_device_loop_spec *sp
     if (st != ZW_OK) {
         return st;
     }
-    st = bx_validate_gain(box, K, true);
+    st = bx_validate_gain(&L.box, K, true);
     if (st != ZW_OK) {
         return st;
     }
-    st = bx_validate_gain(box, B, false);
+    st = bx_validate_gain(&L.box, B, false);
     if (st != ZW_OK) {
         return st;
     }
     s.evals = 0u;
-    if (!(K > ZW_R(0.0))) { /* K <= 0 is unstable at every plant (p(1) = alpha Na(1)) */
+    if (!(K > ZW_R(0.0))) {
+        /* K <= 0 is unstable at every plant without stiffness (p(1) = alpha Na(1)); with it,
+         * small K <= 0 may be stable: not decided */
+        const bool stiff = (L.box.k_hi > ZW_R(0.0));
         out->stable = false;
-        out->decided = true;
-        out->m_worst = box->m_lo;
-        out->b_worst = box->b_lo;
+        out->decided = !stiff;
+        out->m_worst = stiff ? ZW_NAN : L.box.m_lo;
+        out->b_worst = stiff ? ZW_NAN : L.box.b_lo;
+        out->k_worst = stiff ? ZW_NAN : ZW_R(0.0);
         out->evals = 0u;
         return ZW_OK;
     }
@@ -545,6 +586,7 @@ static zw_status bl_check(const zw_plant_box *box, const zw_device_loop_spec *sp
     out->decided = (outcome != BL_OPEN);
     out->m_worst = s.m_worst;
     out->b_worst = s.b_worst;
+    out->k_worst = s.k_worst;
     out->evals = s.evals;
     return ZW_OK;
 }
@@ -562,12 +604,12 @@ zw_status zw_box_loop_check(const zw_plant_box *box, const zw_device_loop_spec *
 
 
 /* K_max(B) at one plant (certified point value); keeps the least in *best. */
-static zw_status bl_point_k_max(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b, zw_real B,
-                                zw_box_loop_bound *best)
+static zw_status bl_point_k_max(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b, zw_real kp,
+                                zw_real B, zw_box_loop_bound *best)
 {
     zw_device_loop *dl = &L->sc->dl;
     zw_real k;
-    zw_status st = zw_device_loop_init(dl, m, b, L->box->T, &L->spec);
+    zw_status st = bl_point_init(L, dl, m, b, kp);
     if (st != ZW_OK) {
         return st;
     }
@@ -579,6 +621,7 @@ static zw_status bl_point_k_max(const bl_loop *L, zw_loop_workspace *ws, zw_real
         best->K_upper = k;
         best->m_worst = m;
         best->b_worst = b;
+        best->k_worst = kp;
     }
     return ZW_OK;
 }
@@ -599,21 +642,25 @@ static zw_status bl_k_max(const zw_plant_box *box, const zw_device_loop_spec *sp
     if (st != ZW_OK) {
         return st;
     }
-    st = bx_validate_gain(box, B, false);
+    st = bx_validate_gain(&L.box, B, false);
     if (st != ZW_OK) {
         return st;
     }
     out->K_lower = ZW_R(0.0);
     out->K_upper = ZW_INF;
-    out->m_worst = box->m_lo;
-    out->b_worst = box->b_lo;
+    out->m_worst = L.box.m_lo;
+    out->b_worst = L.box.b_lo;
+    out->k_worst = L.box.k_lo;
     out->evals = 0u;
     out->converged = false;
-    /* the corners and the centre bound the answer from above */
-    for (corner = 0; corner < 5; ++corner) {
-        const zw_real m = (corner == 4) ? bl_mid(box->m_lo, box->m_hi) : (((corner & 1) != 0) ? box->m_hi : box->m_lo);
-        const zw_real b = (corner == 4) ? bl_mid(box->b_lo, box->b_hi) : (((corner & 2) != 0) ? box->b_hi : box->b_lo);
-        st = bl_point_k_max(&L, ws, m, b, B, out);
+    /* the corners and the centre bound the answer from above (Kp's corners with stiffness) */
+    for (corner = 0; corner < ((L.box.k_hi > ZW_R(0.0)) ? 9 : 5); ++corner) {
+        const zw_plant_box *f = &L.box;
+        const bool centre = (corner == 8) || ((corner == 4) && !(f->k_hi > ZW_R(0.0)));
+        const zw_real m = centre ? bl_mid(f->m_lo, f->m_hi) : (((corner & 1) != 0) ? f->m_hi : f->m_lo);
+        const zw_real b = centre ? bl_mid(f->b_lo, f->b_hi) : (((corner & 2) != 0) ? f->b_hi : f->b_lo);
+        const zw_real kp = centre ? bl_mid(f->k_lo, f->k_hi) : (((corner & 4) != 0) ? f->k_hi : f->k_lo);
+        st = bl_point_k_max(&L, ws, m, b, kp, B, out);
         if (st != ZW_OK) {
             return st;
         }
@@ -634,7 +681,7 @@ static zw_status bl_k_max(const zw_plant_box *box, const zw_device_loop_spec *sp
         } else {
             hi = mid;
             if (!ZW_IS_NAN(s.m_worst)) { /* the sub-box that limited: its centre's value */
-                st = bl_point_k_max(&L, ws, s.m_worst, s.b_worst, B, out);
+                st = bl_point_k_max(&L, ws, s.m_worst, s.b_worst, s.k_worst, B, out);
                 if (st != ZW_OK) {
                     return st;
                 }
@@ -668,7 +715,7 @@ static zw_status bl_grow(const bl_loop *L, zw_loop_workspace *ws, zw_real K, zw_
                          zw_real outside_start, const zw_box_loop_work *work, zw_real *end)
 {
     zw_real inside = inside_start, outside = outside_start;
-    const zw_real scale = ZW_FABS(inside) + ZW_FABS(outside) + L->box->b_hi;
+    const zw_real scale = ZW_FABS(inside) + ZW_FABS(outside) + L->box.b_hi;
     int step;
     for (step = 0; step < BL_BISECT_STEPS; ++step) {
         bl_search s;
@@ -710,7 +757,7 @@ static zw_status bl_b_range(const zw_plant_box *box, const zw_device_loop_spec *
     if (st != ZW_OK) {
         return st;
     }
-    st = bx_validate_gain(box, K, true);
+    st = bx_validate_gain(&L.box, K, true);
     if (st != ZW_OK) {
         return st;
     }
@@ -768,6 +815,7 @@ static void bl_fail_extremes(zw_box_loop_extremes *out)
     out->b_worst = ZW_NAN;
     out->evals = 0u;
     out->converged = false;
+    out->k_worst = ZW_NAN;
 }
 
 /* Golden-section search of B over the centre plant's B range (no proof that the box's K_max
@@ -779,6 +827,7 @@ static zw_status bl_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *s
     zw_device_loop *dl;
     zw_device_loop_extremes x;
     zw_box_loop_bound f1, f2, fin;
+    zw_plant_box f;
     zw_real a, b, c1, c2;
     uint_least32_t evals = 0u;
     int step;
@@ -789,7 +838,7 @@ static zw_status bl_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *s
     if ((spec == NULL) || (ws == NULL)) {
         return ZW_ERR_NULL;
     }
-    st = zw_box_validate(box);
+    st = zw_box_fold(box, &f);
     if (st != ZW_OK) {
         return st;
     }
@@ -798,7 +847,8 @@ static zw_status bl_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *s
         return st;
     }
     dl = &work->scratch->dl;
-    st = zw_device_loop_init(dl, bl_mid(box->m_lo, box->m_hi), bl_mid(box->b_lo, box->b_hi), box->T, spec);
+    st = zw_device_loop_init_plant(dl, bl_mid(f.m_lo, f.m_hi), bl_mid(f.b_lo, f.b_hi), f.T, bl_mid(f.k_lo, f.k_hi),
+                                   ZW_R(0.0), ZW_R(0.0), ZW_R(0.0), ZW_R(0.0), spec);
     if (st != ZW_OK) {
         return st;
     }
@@ -848,6 +898,7 @@ static zw_status bl_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *s
     out->K_upper_at = fin.K_upper;
     out->m_worst = fin.m_worst;
     out->b_worst = fin.b_worst;
+    out->k_worst = fin.k_worst;
     out->evals = evals;
     out->converged = fin.converged;
     return ZW_OK;

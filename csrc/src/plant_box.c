@@ -186,6 +186,251 @@ static zw_status pb_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
     return ZW_OK;
 }
 
+/* ---- with stiffness: midpoint-radius evaluation of plant.c's series regime ------------
+ *
+ * zw_eb (internal.h) is a midpoint-radius arithmetic: add, sub, mul (with the a.e b.e term)
+ * and div (radius of the divisor below its modulus) each enclose the exact result for every
+ * pair of points of the operands' balls, with their own rounding.  The functions below
+ * extend it to exp and expm1 (bounds over the whole ball, libm within 1 ulp as coeffs.c
+ * assumes) and to the series of the entire functions (plant.c), whose truncation is bounded
+ * for every point with |w| <= PB_SERIES_LIMIT. */
+
+/* The ball covering [lo, hi] (rounded outward). */
+static zw_eb pb_ball(zw_real lo, zw_real hi)
+{
+    bx_iv iv = bx_make(lo, hi);
+    zw_eb r;
+    pb_store(iv, &r.v, &r.e);
+    return r;
+}
+
+/* e^(a.v + a.e) rounded up: the largest derivative of exp and expm1 over the ball. */
+static zw_real pb_exp_top(zw_eb a)
+{
+    return ZW_EXP(a.v + a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) + ZW_ETA;
+}
+
+static zw_eb pb_exp(zw_eb a)
+{
+    const zw_real v = ZW_EXP(a.v);
+    return zw_eb_make(v, pb_exp_top(a) * a.e + ZW_R(2.0) * ZW_U * v + ZW_ETA);
+}
+
+/* expm1: 2 ulps (4u), the portable fallback's documented bound (portable_math.h). */
+static zw_eb pb_expm1(zw_eb a)
+{
+    const zw_real v = ZW_EXPM1(a.v);
+    return zw_eb_make(v, pb_exp_top(a) * a.e + ZW_R(4.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+}
+
+static zw_eb pb_neg(zw_eb a)
+{
+    return zw_eb_make(-a.v, a.e);
+}
+
+static zw_eb pb_twice(zw_eb a)
+{
+    return zw_eb_make(ZW_R(2.0) * a.v, ZW_R(2.0) * a.e);
+}
+
+static zw_eb pb_half(zw_eb a)
+{
+    return zw_eb_make(ZW_R(0.5) * a.v, ZW_R(0.5) * a.e + ZW_ETA);
+}
+
+/* Truncation after PB_TERMS terms, for |w|, |a|, |b| <= PB_SERIES_LIMIT = 4 (1 + 1/64)
+ * (the balls' outward rounding may pass 4 by a few ulps): successive terms shrink by a
+ * factor below 1/2, so the single series' tail is below 2 (4.0625^21 / 42!) < 1e-38 and the
+ * divided ones' below 2 (22 4.0625^21 / 44!) < 2e-40 (|h_m(a, b)| <= (m + 1) 4.0625^m);
+ * PB_TAIL covers both. */
+#define PB_TERMS 21u
+#define PB_TAIL ZW_R(2e-38)
+#define PB_SERIES_LIMIT ZW_R(4.0625)
+
+static bool pb_within(zw_eb a, zw_real limit)
+{
+    return (ZW_FABS(a.v) + a.e) <= limit;
+}
+
+/* 1 / n! (n roundings: within n (u / n! + eta)). */
+static zw_real pb_inv_factorial(unsigned n)
+{
+    unsigned i;
+    zw_real f = ZW_R(1.0);
+    for (i = 2u; i <= n; ++i) {
+        f = f / (zw_real)i;
+    }
+    return f;
+}
+
+static zw_eb pb_inv_factorial_eb(unsigned n)
+{
+    const zw_real f = pb_inv_factorial(n);
+    const zw_real roundings = (zw_real)n + ZW_R(1.0);
+    return zw_eb_make(f, roundings * (ZW_U * f + ZW_ETA));
+}
+
+/* C(w) = sum w^k / (2k)! (odd = 0), S(w) = sum w^k / (2k + 1)! (odd = 1), by Horner. */
+static zw_eb pb_series(zw_eb w, unsigned odd)
+{
+    unsigned k;
+    zw_eb acc = zw_eb_exact(ZW_R(0.0));
+    for (k = PB_TERMS; k > 0u; --k) {
+        acc = zw_eb_add(zw_eb_mul(acc, w), pb_inv_factorial_eb(2u * (k - 1u) + odd));
+    }
+    acc.e += PB_TAIL;
+    return acc;
+}
+
+/* The divided differences C[a, b] = sum_{k>=1} h_{k-1}(a, b) / (2k)! and
+ * S[a, b] = sum_{k>=1} h_{k-1}(a, b) / (2k + 1)!, h_m(a, b) = sum_j a^j b^(m - j). */
+static void pb_series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
+{
+    unsigned k;
+    zw_eb apow = zw_eb_exact(ZW_R(1.0));
+    zw_eb hm = zw_eb_exact(ZW_R(1.0));
+    zw_eb sc = zw_eb_exact(ZW_R(0.0)), ss = zw_eb_exact(ZW_R(0.0));
+    for (k = 1u; k <= PB_TERMS; ++k) {
+        if (k > 1u) {
+            apow = zw_eb_mul(apow, a);
+            hm = zw_eb_add(zw_eb_mul(hm, b), apow);
+        }
+        sc = zw_eb_add(sc, zw_eb_mul(hm, pb_inv_factorial_eb(2u * k)));
+        ss = zw_eb_add(ss, zw_eb_mul(hm, pb_inv_factorial_eb(2u * k + 1u)));
+    }
+    sc.e += PB_TAIL;
+    ss.e += PB_TAIL;
+    *cd = sc;
+    *sd = ss;
+}
+
+static void pb_set(zw_real *v, zw_real *e, zw_eb x)
+{
+    *v = x.v;
+    *e = bx_up(x.e);
+}
+
+/* plant.c's series regime (its comment has the formulas):
+ *   tr = 2 e^-h C(w2), det = e^-delta, R = -expm1(-delta), G = 2 e^-h C[w2, h^2],
+ *   H = e^-h S[w2, h^2], P = kappa G, Q = 1 + det + tr, b1, b0 = G / 2 +- h H,
+ *   D = 2 z^2 - 2 tr z + 2 det, N = 2 b1 z + 2 b0, D_s = 2 Q s^2 + 4 R s + 2 P,
+ *   N_s = 2 delta H s + 2 G, D(1 + w) = 2 w^2 + 2 (P + R) w + 2 P.
+ * P >= 0 (kappa >= 0 and G > 0: C' > 0 on w >= -pi^2, so C[w2, h^2] > 0), so its ball's
+ * part below 0 is dropped. */
+static zw_status pb_enclose2(zw_plant *out, zw_real delta_lo, zw_real delta_hi, zw_real kappa_lo,
+                             zw_real kappa_hi)
+{
+    const zw_eb one = zw_eb_exact(ZW_R(1.0));
+    const zw_real h_lo = ZW_R(0.5) * delta_lo, h_hi = ZW_R(0.5) * delta_hi; /* exact or tiny */
+    zw_eb h, kappa, h2, w2, delta, eh, det, R, C, cd, sd, G, H, P, Q, b1, b0;
+    zw_real mid;
+    bx_iv p_iv;
+    zw_status st;
+    unsigned i;
+    if (!(delta_hi <= ZW_PLANT_ENCLOSE_MAX) || !(kappa_hi <= ZW_PLANT_ENCLOSE_MAX)) {
+        return ZW_ERR_RANGE;
+    }
+    h = pb_ball(bx_down(h_lo), bx_up(h_hi));
+    kappa = pb_ball(kappa_lo, kappa_hi);
+    h2 = pb_ball(bx_max(ZW_R(0.0), bx_down(bx_down(h_lo) * bx_down(h_lo))), bx_up(bx_up(h_hi) * bx_up(h_hi)));
+    /* one rounding per bx_down / bx_up (box_interval.h): near critical damping the second
+     * subtraction cancels, so the first one's rounding must be covered on its own */
+    w2 = pb_ball(bx_down(bx_down(h2.v - h2.e) - kappa_hi), bx_up(bx_up(h2.v + h2.e) - kappa_lo));
+    if (!pb_within(w2, PB_SERIES_LIMIT) || !pb_within(h2, PB_SERIES_LIMIT)) {
+        return ZW_ERR_RANGE;
+    }
+    delta = pb_twice(h);
+    eh = pb_exp(pb_neg(h));
+    det = pb_exp(pb_neg(delta));
+    R = pb_neg(pb_expm1(pb_neg(delta)));
+    C = zw_eb_mul(eh, pb_series(w2, 0u));
+    pb_series_divided(w2, h2, &cd, &sd);
+    G = pb_twice(zw_eb_mul(eh, cd));
+    H = zw_eb_mul(eh, sd);
+    P = zw_eb_mul(kappa, G);
+    p_iv = bx_make(bx_max(ZW_R(0.0), bx_down(P.v - P.e)), bx_up(P.v + P.e));
+    pb_store(p_iv, &P.v, &P.e);
+    Q = zw_eb_add(zw_eb_add(one, det), pb_twice(C));
+    b1 = zw_eb_add(pb_half(G), zw_eb_mul(h, H));
+    b0 = zw_eb_sub(pb_half(G), zw_eb_mul(h, H));
+
+    out->order = 2u;
+    for (i = 0u; i <= ZW_PLANT_MAX_ORDER; ++i) {
+        out->den[i] = ZW_R(0.0);
+        out->den_err[i] = ZW_R(0.0);
+        out->den_s[i] = ZW_R(0.0);
+        out->den_s_err[i] = ZW_R(0.0);
+        out->den_w[i] = ZW_R(0.0);
+        out->den_w_err[i] = ZW_R(0.0);
+    }
+    for (i = 0u; i < ZW_PLANT_MAX_ORDER; ++i) {
+        out->num[i] = ZW_R(0.0);
+        out->num_err[i] = ZW_R(0.0);
+        out->num_s[i] = ZW_R(0.0);
+        out->num_s_err[i] = ZW_R(0.0);
+    }
+    out->den[0] = ZW_R(2.0);
+    pb_set(&out->den[1], &out->den_err[1], pb_neg(pb_twice(pb_twice(C))));
+    pb_set(&out->den[2], &out->den_err[2], pb_twice(det));
+    pb_set(&out->num[0], &out->num_err[0], pb_twice(b1));
+    pb_set(&out->num[1], &out->num_err[1], pb_twice(b0));
+    pb_set(&out->den_s[0], &out->den_s_err[0], pb_twice(Q));
+    pb_set(&out->den_s[1], &out->den_s_err[1], pb_twice(pb_twice(R)));
+    pb_set(&out->den_s[2], &out->den_s_err[2], pb_twice(P));
+    pb_set(&out->num_s[0], &out->num_s_err[0], pb_twice(zw_eb_mul(delta, H)));
+    pb_set(&out->num_s[1], &out->num_s_err[1], pb_twice(G));
+    out->den_w[0] = ZW_R(2.0);
+    pb_set(&out->den_w[1], &out->den_w_err[1], pb_twice(zw_eb_add(P, R)));
+    pb_set(&out->den_w[2], &out->den_w_err[2], pb_twice(P));
+
+    /* the midpoint, informational */
+    mid = ZW_R(0.5) * delta_lo + ZW_R(0.5) * delta_hi;
+    st = zw_coeffs_init(&out->c, mid);
+    if (st != ZW_OK) {
+        return st;
+    }
+    out->c.delta_relerr = (mid > ZW_R(0.0)) ? bx_up((delta_hi - delta_lo) / (mid + mid)) : ZW_R(0.0);
+    out->spec.delta = mid;
+    out->spec.kappa = kappa.v;
+    out->spec.lambda = ZW_R(0.0);
+    out->spec.delta_relerr = out->c.delta_relerr;
+    out->spec.kappa_relerr = (kappa.v > ZW_R(0.0)) ? bx_up(kappa.e / kappa.v) : ZW_R(0.0);
+    out->spec.lambda_relerr = ZW_R(0.0);
+    if (!pb_all_finite(out)) {
+        return ZW_ERR_RANGE;
+    }
+    return ZW_OK;
+}
+
+zw_status zw_plant_enclose2(zw_plant *out, zw_real delta_lo, zw_real delta_hi, zw_real kappa_lo,
+                            zw_real kappa_hi)
+{
+    zw_status st;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = pb_validate(delta_lo, delta_hi);
+    if (st == ZW_OK) {
+        if (ZW_IS_NAN(kappa_lo) || ZW_IS_NAN(kappa_hi)) {
+            st = ZW_ERR_NAN;
+        } else if (!ZW_IS_FINITE(kappa_lo) || !ZW_IS_FINITE(kappa_hi)) {
+            st = ZW_ERR_INF;
+        } else if (kappa_lo < ZW_R(0.0)) {
+            st = ZW_ERR_ARG;
+        } else if (kappa_lo > kappa_hi) {
+            st = ZW_ERR_BOX;
+        } else if (kappa_hi == ZW_R(0.0)) {
+            st = pb_enclose(out, delta_lo, delta_hi); /* zw_plant_enclose's */
+        } else {
+            st = pb_enclose2(out, delta_lo, delta_hi, kappa_lo, kappa_hi);
+        }
+    }
+    if (st != ZW_OK) {
+        zw_plant_fail(out);
+    }
+    return st;
+}
+
 zw_status zw_plant_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
 {
     zw_status st;

@@ -21,6 +21,15 @@ of plants and gains); there "stable at (K, B)" means every K' in (0, K] is stabl
 every plant, and ``extremes()`` searches B by golden section (certified at the B it ends
 on).
 
+Plant-side parts (``stiffness`` k_p, a coupled ``hand`` with ranges of m_h, b_h, k_h) enter
+the plant only through M = m + m_h, Bp = b + b_h, Kp = k_p + k_h: the C core folds the box
+into ranges of those (sums rounded outward), and the worst plants reported (``m_worst``,
+``b_worst``, ``k_worst``) are the totals.  With stiffness only the general-loop method
+certifies (``method='kharitonov'``, chosen by ``'auto'``), over the enclosure of the plant
+with stiffness (docs/box.md), within delta = Bp T / M <= 4 and kappa = Kp T^2 / M <= 4 (far
+beyond a haptic drive's: ZW_ERR_RANGE otherwise).  An actuator-lag range is not supported
+yet (``actuator_tau`` other than 0: ZW_ERR_ARG).
+
 A separate class rather than ``Device`` with interval arguments: a ``Device`` broadcasts
 over arrays of plants and answers per plant, while a box answers once for all of them
 (and runs a search whose budget is part of the answer).
@@ -102,6 +111,7 @@ class BoxBound(Result):
     b_worst: float
     evals: int
     converged: bool
+    k_worst: float = 0.0  #: the worst plant's Kp (0 without stiffness)
 
     @property
     def gap(self) -> float:
@@ -121,6 +131,7 @@ class BoxVerdict(Result):
     K_lower: float
     m_worst: float
     b_worst: float
+    k_worst: float = 0.0
 
     @property
     def word(self) -> str:
@@ -140,6 +151,10 @@ class BoxExtremes(Result):
     m_worst: float
     b_worst: float
     converged: bool
+    k_worst: float = 0.0
+
+
+HandLike = Tuple[RangeLike, RangeLike, RangeLike]
 
 
 class PlantBox:
@@ -149,25 +164,38 @@ class PlantBox:
     as the inertia J (units N m/rad, N m s/rad).  ``capacity`` (cells of the work list),
     ``max_evals`` (cell bounds per search) and ``rel_tol`` (stop at this relative gap)
     bound each search.  Invalid boxes raise :class:`zwidth.ZwidthError` (status
-    ``ZW_ERR_BOX`` for lo > hi).
+    ``ZW_ERR_BOX`` for lo > hi).  ``stiffness`` (k_p) and ``hand`` = (m_h, b_h, k_h) are each
+    a number or a range, as m and b (module docstring).
     """
 
     def __init__(self, m: RangeLike, b: RangeLike, T: float, *, rotary: bool = False,
                  capacity: int = DEFAULT_CAPACITY, max_evals: Optional[int] = None,
                  rel_tol: Optional[float] = None, delay: int = 0, velocity_filter: VelocityFilter = None,
-                 differentiator: str = "backward", method: str = "auto") -> None:
+                 differentiator: str = "backward", method: str = "auto", stiffness: RangeLike = 0.0,
+                 hand: Optional[HandLike] = None, actuator_tau: RangeLike = 0.0) -> None:
         self.m = _as_range("J" if rotary else "m", m)
         self.b = _as_range("b", b)
         self.T = float(T)
         self.rotary = bool(rotary)
+        #: Physical stiffness k_p, the hand's (m_h, b_h, k_h) ranges, the lag (0: absent).
+        self.stiffness = _as_range("stiffness", stiffness)
+        if hand is not None and not (isinstance(hand, (tuple, list)) and len(hand) == 3):
+            raise ValueError(f"zwidth.PlantBox: hand must be (m_h, b_h, k_h), each a number or (lo, hi), got {hand!r}")
+        h = (0.0, 0.0, 0.0) if hand is None else hand
+        self.hand: Tuple[PlantRange, PlantRange, PlantRange] = (
+            _as_range("hand m_h", h[0]), _as_range("hand b_h", h[1]), _as_range("hand k_h", h[2]))
+        self.actuator_tau = _as_range("actuator_tau", actuator_tau)
+        stiff = self.stiffness.hi > 0.0 or self.hand[2].hi > 0.0
         #: The loop (:class:`zwidth.loop.Loop`), as a Device's keywords give it.
         self.loop: Loop = device_loop("PlantBox", delay, velocity_filter, differentiator)
         if method not in ("auto", "closed-form", "kharitonov"):
             raise ValueError(f"zwidth.PlantBox: method must be 'auto', 'closed-form' or 'kharitonov', got {method!r}")
         if method == "closed-form" and not self.loop.ideal:
             raise ValueError("zwidth.PlantBox: the closed form holds for the paper's ideal loop only")
+        if method == "closed-form" and stiff:
+            raise ValueError("zwidth.PlantBox: the closed form holds for the plant without stiffness only")
         #: 'closed-form' (box.c, the ideal loop) or 'kharitonov' (box_loop.c, any loop).
-        self.method = ("closed-form" if self.loop.ideal else "kharitonov") if method == "auto" else method
+        self.method = ("closed-form" if self.loop.ideal and not stiff else "kharitonov") if method == "auto" else method
         general = self.method == "kharitonov"
         self.capacity = int(capacity)
         self.max_evals = int(max_evals if max_evals is not None else
@@ -189,9 +217,29 @@ class PlantBox:
 
     def __repr__(self) -> str:
         loop = "" if self.loop.ideal else f", loop={self.loop.describe()!r}"
-        return f"PlantBox({self.mass_symbol}={self.m}, b={self.b}, T={self.T:g}{loop})"
+        parts = f", stiffness={self.stiffness}" if self.stiffness.hi > 0.0 else ""
+        if any(r.hi > 0.0 for r in self.hand):
+            parts += f", hand=({self.hand[0]}, {self.hand[1]}, {self.hand[2]})"
+        return f"PlantBox({self.mass_symbol}={self.m}, b={self.b}, T={self.T:g}{parts}{loop})"
 
-    def _device(self, m: float, b: float) -> Device:
+    @property
+    def parts(self) -> Tuple[float, ...]:
+        """box.h's plant-side fields: k_lo, k_hi, m_h_lo, m_h_hi, b_h_lo, b_h_hi, k_h_lo,
+        k_h_hi, tau_lo, tau_hi."""
+        out: Tuple[float, ...] = ()
+        for r in (self.stiffness, *self.hand, self.actuator_tau):
+            out += (r.lo, r.hi)
+        return out
+
+    @property
+    def totals(self) -> Tuple[PlantRange, PlantRange, PlantRange]:
+        """The ranges of M = m + m_h, Bp = b + b_h, Kp = k_p + k_h (rounded to nearest;
+        the core rounds them outward)."""
+        (mh, bh, kh), k = self.hand, self.stiffness
+        return (PlantRange(self.m.lo + mh.lo, self.m.hi + mh.hi), PlantRange(self.b.lo + bh.lo, self.b.hi + bh.hi),
+                PlantRange(k.lo + kh.lo, k.hi + kh.hi))
+
+    def _device(self, m: float, b: float, k: float = 0.0) -> Device:
         lp = self.loop
         vf: VelocityFilter = None
         if lp.filter == "lowpass":
@@ -199,21 +247,25 @@ class PlantBox:
         elif lp.filter == "average":
             vf = ("average", lp.average)
         return Device(m, b, self.T, rotary=self.rotary, delay=lp.delay, velocity_filter=vf,
-                      differentiator=lp.differentiator)
+                      differentiator=lp.differentiator, stiffness=k)
 
     @property
     def nominal(self) -> Device:
-        """The plant at the middle of the box (with the box's loop)."""
-        return self._device(self.m.mid, self.b.mid)
+        """The plant at the middle of the box (with the box's loop; a hand folded in)."""
+        M, Bp, Kp = self.totals
+        return self._device(M.mid, Bp.mid, Kp.mid)
 
     def corners(self) -> Tuple[Device, ...]:
-        return tuple(self._device(m, b) for m in (self.m.lo, self.m.hi) for b in (self.b.lo, self.b.hi))
+        M, Bp, Kp = self.totals
+        ks = (Kp.lo, Kp.hi) if Kp.hi > Kp.lo else (Kp.lo,)
+        return tuple(self._device(m, b, k) for m in (M.lo, M.hi) for b in (Bp.lo, Bp.hi) for k in ks)
 
     # ---- the C calls ------------------------------------------------------------------
 
     def _call(self, kernel: Any, *gains: float, max_evals_override: Optional[int] = None) -> Dict[str, Any]:
         out: Dict[str, Any] = kernel(self.m.lo, self.m.hi, self.b.lo, self.b.hi, self.T, *gains, self.capacity,
-                      self.max_evals if max_evals_override is None else max_evals_override, self.rel_tol)
+                      self.max_evals if max_evals_override is None else max_evals_override, self.rel_tol,
+                      self.parts)
         return out
 
     def _call_loop(self, kernel: Any, *gains: float, max_evals_override: Optional[int] = None) -> Dict[str, Any]:
@@ -225,7 +277,7 @@ class PlantBox:
                                      opts["differentiator"], opts["filter"], value, pole_given, opts["average"],
                                      *gains, self.capacity,
                                      self.max_evals if max_evals_override is None else max_evals_override,
-                                     self.rel_tol)
+                                     self.rel_tol, self.parts)
         return out
 
     def _raise(self, out: Dict[str, Any], function: str, gains: Dict[str, float]) -> Dict[str, Any]:
@@ -235,10 +287,21 @@ class PlantBox:
         sym = self.mass_symbol
         values = {f"{sym}_lo": self.m.lo, f"{sym}_hi": self.m.hi, "b_lo": self.b.lo, "b_hi": self.b.hi,
                   "T": self.T, **gains}
+        ranges = {sym: self.m, "b": self.b, "stiffness": self.stiffness, "hand m_h": self.hand[0],
+                  "hand b_h": self.hand[1], "hand k_h": self.hand[2], "actuator_tau": self.actuator_tau}
+        for name in ("stiffness", "hand m_h", "hand b_h", "hand k_h", "actuator_tau"):
+            if ranges[name].hi != 0.0 or ranges[name].lo != 0.0:
+                values[name + "_lo"], values[name + "_hi"] = ranges[name].lo, ranges[name].hi
         parameter: Optional[str] = None
+        negative = next((n for n in ("stiffness", "hand m_h", "hand b_h", "hand k_h", "actuator_tau")
+                         if ranges[n].lo < 0.0), None)
         if status == "ZW_ERR_BOX":
-            parameter = sym if self.m.lo > self.m.hi else "b"
-            what = f"{parameter} range must have lo <= hi, got {values[parameter + '_lo']!r}:{values[parameter + '_hi']!r}"
+            parameter = next((n for n, r in ranges.items() if r.lo > r.hi), "b")
+            what = f"{parameter} range must have lo <= hi, got {ranges[parameter]}"
+        elif status in ("ZW_ERR_ARG", "ZW_ERR_DAMPING") and negative is not None:
+            parameter, what = negative, f"{negative} must be >= 0, got {ranges[negative].lo!r}"
+        elif status == "ZW_ERR_ARG" and self.actuator_tau.hi > 0.0:
+            parameter, what = "actuator_tau", "an actuator lag range is not supported by the box yet"
         elif status == "ZW_ERR_MASS":
             parameter, what = sym, f"{sym}_lo must be > 0, got {self.m.lo!r}"
         elif status == "ZW_ERR_DAMPING":
@@ -250,7 +313,8 @@ class PlantBox:
             what = f"{parameter} must be a finite number, got {values.get(parameter or '', float('nan'))!r}"
         elif status == "ZW_ERR_RANGE":
             what = ("the box reaches plants outside the core's range (a corner refused by Device, "
-                    "or b_hi T / m_lo above 1e6), or a gain overflows once normalized")
+                    "or b_hi T / m_lo above 1e6; with stiffness, delta = Bp T / M or kappa = Kp T^2 / M "
+                    "above 4), or a gain overflows once normalized")
         elif status == "ZW_ERR_ARG":
             what = "capacity, max_evals or rel_tol out of range (rel_tol in [0, 1))"
         elif status in ("ZW_ERR_DELAY", "ZW_ERR_FILTER"):
@@ -269,7 +333,7 @@ class PlantBox:
         else:
             out = self._raise(self._call(_core.box_k_max, float(B)), "k_max", {"B": float(B)})
         return BoxBound(float(out["K_lower"]), float(out["K_upper"]), float(out["m_worst"]),
-                        float(out["b_worst"]), int(out["evals"]), bool(out["converged"]))
+                        float(out["b_worst"]), int(out["evals"]), bool(out["converged"]), float(out["k_worst"]))
 
     def verdict(self, K: float, B: float) -> BoxVerdict:
         """Is (K, B) stable for every plant of the box?  (general loop: every K' in (0, K];
@@ -278,7 +342,7 @@ class PlantBox:
             out = self._raise(self._call_loop(_core.box_loop_check, float(K), float(B)), "verdict",
                               {"K": float(K), "B": float(B)})
             return BoxVerdict(bool(out["stable"]), bool(out["decided"]), float(K) if out["stable"] else 0.0,
-                              float(out["m_worst"]), float(out["b_worst"]))
+                              float(out["m_worst"]), float(out["b_worst"]), float(out["k_worst"]))
         out = self._raise(self._call(_core.box_check, float(K), float(B)), "verdict",
                           {"K": float(K), "B": float(B)})
         return BoxVerdict(bool(out["stable"]), bool(out["decided"]), float(out["K_lower"]),
@@ -302,9 +366,11 @@ class PlantBox:
         if self.method == "kharitonov":
             # K_mmax_upper: the worst plant's own K_mmax (informational, as for the closed form)
             out = self._raise(self._call_loop(_core.box_loop_k_mmax), "extremes", {})
-            own = float(self._device(float(out["m_worst"]), float(out["b_worst"])).extremes().K_mmax)
+            own = float(self._device(float(out["m_worst"]), float(out["b_worst"]),
+                                     float(out["k_worst"])).extremes().K_mmax)
             return BoxExtremes(float(out["K_mmax"]), float(out["B_at"]), float(out["K_upper_at"]), own,
-                               float(out["m_worst"]), float(out["b_worst"]), bool(out["converged"]))
+                               float(out["m_worst"]), float(out["b_worst"]), bool(out["converged"]),
+                               float(out["k_worst"]))
         out = self._raise(self._call(_core.box_k_mmax), "extremes", {})
         return BoxExtremes(float(out["K_mmax"]), float(out["B_at"]), float(out["K_upper_at"]),
                            float(out["K_mmax_upper"]), float(out["m_worst"]), float(out["b_worst"]),

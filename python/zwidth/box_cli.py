@@ -6,6 +6,13 @@ A range makes the plant a :class:`zwidth.PlantBox`; ``check``, ``limits`` and
 ``plot region`` then answer for every plant of the box, for the paper's ideal loop or the
 loop given by --delay, --velocity-filter and --differentiator (``plot region``: ideal only).
 cli.main hands such command lines to :func:`main` here; everything else stays in cli.py.
+
+Plant-side parts over a box: ``--stiffness K_P`` and ``--hand M_H,B_H,K_H`` (each a number
+or LO:HI; :func:`parse_hand` is the --hand type that takes ranges) make the box's plant the
+coupled one (certified by the general loop's method); ``--actuator-tau`` is refused over a
+box (ZW_ERR_ARG: not supported yet).  cli.main still refuses parts over a plant range and
+parses --stiffness, --hand as numbers: that refusal and those types are cli.py's to lift
+(two lines); :func:`_box` already takes numbers, ranges or LO:HI strings.
 """
 from __future__ import annotations
 
@@ -13,9 +20,9 @@ import argparse
 import math
 import sys
 from pathlib import Path
-from typing import Any, Dict, List
+from typing import Any, Dict, List, Optional, Tuple, Union
 
-from .box import PlantBox, PlantRange
+from .box import PlantBox, PlantRange, parse_range
 from .cli import (EXIT_INVALID, EXIT_OK, EXIT_PLOT, EXIT_UNSTABLE, _emit, _fmt, _Outcome, _PlotError,
                   _Usage, _velocity_filter, _write_figure)
 from ._kernels import ZwidthError
@@ -24,9 +31,34 @@ _RANGE_OPTIONS = ("m", "J", "b")
 _COMMANDS = ("check", "limits", "plot")
 
 
+def parse_hand(text: str) -> Tuple[Union[float, PlantRange], ...]:
+    """--hand M_H,B_H,K_H, each a number or LO:HI ('0.2:0.5,1:3,100:600')."""
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"--hand needs M_H,B_H,K_H (each a number or LO:HI), got {text!r}")
+    try:
+        return tuple(parse_range(v) for v in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--hand needs M_H,B_H,K_H (each a number or LO:HI), got {text!r}") from None
+
+
+def _part(value: Any) -> Union[float, PlantRange]:
+    """A part's option value: a number, a PlantRange, or its text (LO:HI)."""
+    if value is None:
+        return 0.0
+    if isinstance(value, str):
+        return parse_range(value)
+    if isinstance(value, PlantRange):
+        return value
+    return float(value)
+
+
 def has_range(args: argparse.Namespace) -> bool:
-    """Does any plant option hold a range LO:HI?"""
-    return any(isinstance(getattr(args, n, None), PlantRange) for n in _RANGE_OPTIONS)
+    """Does any plant option hold a range LO:HI (--stiffness and --hand's entries too, once
+    cli.py parses them with parse_range / parse_hand)?"""
+    hand = getattr(args, "hand", None)
+    return (any(isinstance(getattr(args, n, None), PlantRange) for n in _RANGE_OPTIONS + ("stiffness",))
+            or (isinstance(hand, tuple) and any(isinstance(v, PlantRange) for v in hand)))
 
 
 def _box(args: argparse.Namespace) -> PlantBox:
@@ -40,8 +72,19 @@ def _box(args: argparse.Namespace) -> PlantBox:
     if (args.K is None) != (args.B is None):
         raise _Usage("give both --K and --B (or neither)")
     rotary = args.J is not None
+    hand_arg = getattr(args, "hand", None)
+    hand: Optional[Tuple[Union[float, PlantRange], ...]] = None
+    if hand_arg is not None:
+        hand = parse_hand(hand_arg) if isinstance(hand_arg, str) else tuple(_part(v) for v in hand_arg)
     return PlantBox(args.J if rotary else args.m, args.b, args.T, rotary=rotary, delay=args.delay,
-                    velocity_filter=_velocity_filter(args), differentiator=args.differentiator)
+                    velocity_filter=_velocity_filter(args), differentiator=args.differentiator,
+                    stiffness=_part(getattr(args, "stiffness", None)),
+                    hand=None if hand is None else (hand[0], hand[1], hand[2]),
+                    actuator_tau=_part(getattr(args, "actuator_tau", None)))
+
+
+def _has_parts(box: PlantBox) -> bool:
+    return box.stiffness.hi > 0.0 or any(r.hi > 0.0 for r in box.hand)
 
 
 def _units(box: PlantBox) -> Dict[str, str]:
@@ -52,15 +95,39 @@ def _units(box: PlantBox) -> Dict[str, str]:
 
 def _header(box: PlantBox) -> str:
     u = _units(box)
-    return (f"Plant box: {box.mass_symbol} in [{_fmt(box.m.lo)}, {_fmt(box.m.hi)}] {u['m']}, "
+    text = (f"Plant box: {box.mass_symbol} in [{_fmt(box.m.lo)}, {_fmt(box.m.hi)}] {u['m']}, "
             f"b in [{_fmt(box.b.lo)}, {_fmt(box.b.hi)}] {u['b']}, T = {_fmt(box.T)} s "
             f"(loop: {box.loop.describe()})")
+    if box.stiffness.hi > 0.0:
+        text += f"\n  device stiffness k_p in [{_fmt(box.stiffness.lo)}, {_fmt(box.stiffness.hi)}] {u['K']}"
+    if any(r.hi > 0.0 for r in box.hand):
+        mh, bh, kh = box.hand
+        text += (f"\n  hand: m_h in [{_fmt(mh.lo)}, {_fmt(mh.hi)}] {u['m']}, b_h in [{_fmt(bh.lo)}, "
+                 f"{_fmt(bh.hi)}] {u['b']}, k_h in [{_fmt(kh.lo)}, {_fmt(kh.hi)}] {u['K']} "
+                 f"(worst plants below are the totals M, Bp, Kp)")
+    return text
 
 
 def _summary(box: PlantBox) -> Dict[str, Any]:
-    return {"mass": box.mass_symbol, "m_lo": box.m.lo, "m_hi": box.m.hi, "b_lo": box.b.lo,
-            "b_hi": box.b.hi, "T": box.T, "rotary": box.rotary, "loop": box.loop.describe(),
-            "method": box.method}
+    out = {"mass": box.mass_symbol, "m_lo": box.m.lo, "m_hi": box.m.hi, "b_lo": box.b.lo,
+           "b_hi": box.b.hi, "T": box.T, "rotary": box.rotary, "loop": box.loop.describe(),
+           "method": box.method}
+    if _has_parts(box):
+        out["stiffness"] = [box.stiffness.lo, box.stiffness.hi]
+        out["hand"] = [[r.lo, r.hi] for r in box.hand]
+    return out
+
+
+def _plant(box: PlantBox, m: float, b: float, k: float) -> Dict[str, float]:
+    out = {box.mass_symbol: m, "b": b}
+    if _has_parts(box):
+        out["k"] = k
+    return out
+
+
+def _plant_text(box: PlantBox, m: float, b: float, k: float) -> str:
+    text = f"{box.mass_symbol} = {_fmt(m)}, b = {_fmt(b)}"
+    return text + (f", k = {_fmt(k)}" if _has_parts(box) else "")
 
 
 def cmd_check(args: argparse.Namespace, box: PlantBox) -> _Outcome:
@@ -74,16 +141,17 @@ def cmd_check(args: argparse.Namespace, box: PlantBox) -> _Outcome:
     br = box.b_range(K) if K > 0 else None
     u, sym = _units(box), box.mass_symbol
     data = {"verdict": v.word, "stable": v.stable, "decided": v.decided, "K": K, "B": B,
-            "worst_plant": {sym: v.m_worst, "b": v.b_worst},
+            "worst_plant": _plant(box, v.m_worst, v.b_worst, v.k_worst),
             "K_max": {"certified": k.K_lower, "at_worst_plant": k.K_upper, "gap": k.gap,
-                      "worst_plant": {sym: k.m_worst, "b": k.b_worst}, "converged": k.converged},
+                      "worst_plant": _plant(box, k.m_worst, k.b_worst, k.k_worst), "converged": k.converged},
             "B_range": None if br is None else {"lo": br.lo, "hi": br.hi, "nonempty": br.nonempty}}
     lines = [_header(box), f"Gains: K = {_fmt(K)} {u['K']}, B = {_fmt(B)} {u['B']}",
              f"Verdict for every plant of the box: {v.word.upper()}"]
     if v.stable:
-        lines.append(f"  least K_max found at {sym} = {_fmt(v.m_worst)}, b = {_fmt(v.b_worst)}")
+        if not math.isnan(v.m_worst):
+            lines.append(f"  least K_max found at {_plant_text(box, v.m_worst, v.b_worst, v.k_worst)}")
     elif v.decided:
-        lines.append(f"  unstable at {sym} = {_fmt(v.m_worst)}, b = {_fmt(v.b_worst)}")
+        lines.append(f"  unstable at {_plant_text(box, v.m_worst, v.b_worst, v.k_worst)}")
     else:
         lines.append("  undecided: the search budget ran out (counts as not stable)")
     lines.append(f"  K_max over the box at this B >= {_fmt(k.K_lower)} {u['K']} (certified; "
@@ -100,17 +168,18 @@ def cmd_limits(args: argparse.Namespace, box: PlantBox) -> _Outcome:
     kp = box.k_max(0.0)
     nom = box.nominal.extremes()
     u, sym = _units(box), box.mass_symbol
+    M, Bp, Kp = box.totals
     data = {"K_mmax": x.K_mmax, "B_at_K_mmax": x.B_at, "K_upper_at": x.K_upper_at,
-            "K_mmax_upper": x.K_mmax_upper, "worst_plant": {sym: x.m_worst, "b": x.b_worst},
+            "K_mmax_upper": x.K_mmax_upper, "worst_plant": _plant(box, x.m_worst, x.b_worst, x.k_worst),
             "converged": x.converged, "K_p_max": kp.K_lower,
-            "nominal": {sym: box.m.mid, "b": box.b.mid, "K_mmax": float(nom.K_mmax),
+            "nominal": {**_plant(box, M.mid, Bp.mid, Kp.mid), "K_mmax": float(nom.K_mmax),
                         "B_at_K_mmax": float(nom.B_at_K_mmax)}}
     lines = [_header(box), "", "Limits for every plant of the box (certified, never above the true ones)",
              f"  K_mmax   = {_fmt(x.K_mmax)} {u['K']} at B = {_fmt(x.B_at)} {u['B']}",
-             f"    worst plant {sym} = {_fmt(x.m_worst)}, b = {_fmt(x.b_worst)} "
+             f"    worst plant {_plant_text(box, x.m_worst, x.b_worst, x.k_worst)} "
              f"(its own K_mmax {_fmt(x.K_mmax_upper)}: no single B does better)",
              f"  K with B = 0 (stiffness only): K < {_fmt(kp.K_lower)} {u['K']}",
-             f"  nominal plant ({sym} = {_fmt(box.m.mid)}, b = {_fmt(box.b.mid)}): "
+             f"  nominal plant ({_plant_text(box, M.mid, Bp.mid, Kp.mid)}): "
              f"K_mmax = {_fmt(nom.K_mmax)} {u['K']} at B = {_fmt(nom.B_at_K_mmax)} {u['B']}"]
     return _Outcome(EXIT_OK, data, lines)
 
@@ -157,4 +226,4 @@ def main(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
     return int(outcome.status)
 
 
-__all__: List[str] = ["has_range", "main"]
+__all__: List[str] = ["has_range", "main", "parse_hand"]

@@ -62,7 +62,7 @@ static long double grid_min(const zw_plant_box *box, long double B, int n, long 
  * spans m_K2 = 7.6e-6 and m_K1 = 4.2e-5, where K_mmax falls and rises again in m. */
 static zw_plant_box nonmonotone_box(void)
 {
-    zw_plant_box box = {R(5e-6), R(5e-5), R(2.0e-3), R(2.4e-3), R(0.02)};
+    zw_plant_box box = {.m_lo = R(5e-6), .m_hi = R(5e-5), .b_lo = R(2.0e-3), .b_hi = R(2.4e-3), .T = R(0.02)};
     return box;
 }
 
@@ -97,7 +97,7 @@ static void test_k_max_nonmonotone(void **state)
  * the corners alone overestimate the box's K_max (why the search exists). */
 static void test_corners_are_not_enough(void **state)
 {
-    zw_plant_box box = {R(2.0e-5), R(1.5e-4), R(2.197e-3), R(2.197e-3), R(0.02)};
+    zw_plant_box box = {.m_lo = R(2.0e-5), .m_hi = R(1.5e-4), .b_lo = R(2.197e-3), .b_hi = R(2.197e-3), .T = R(0.02)};
     const zw_real B = R(1.0e-3);
     long double m_at = 0, b_at = 0;
     long double least = grid_min(&box, B, 401, &m_at, &b_at);
@@ -120,7 +120,7 @@ static void test_corners_are_not_enough(void **state)
 
 static void test_point_box(void **state)
 {
-    zw_plant_box box = {R(1e-5), R(1e-5), R(2.197e-3), R(2.197e-3), R(0.02)};
+    zw_plant_box box = {.m_lo = R(1e-5), .m_hi = R(1e-5), .b_lo = R(2.197e-3), .b_hi = R(2.197e-3), .T = R(0.02)};
     (void)state;
     expect_bound_below_grid(&box, R(-1.0e-3), PREC(1e-5, 1e-3));
     expect_bound_below_grid(&box, R(1.0e-4), PREC(1e-5, 1e-3));
@@ -130,8 +130,8 @@ static void test_point_box(void **state)
  * B > 0, and the bound stays below the grid (the line's overflowed lambda is not a NaN). */
 static void test_zero_damping(void **state)
 {
-    zw_plant_box flat = {R(0.1), R(0.3), R(0.0), R(0.0), R(0.01)};
-    zw_plant_box from0 = {R(0.1), R(0.3), R(0.0), R(5.0), R(0.01)};
+    zw_plant_box flat = {.m_lo = R(0.1), .m_hi = R(0.3), .b_lo = R(0.0), .b_hi = R(0.0), .T = R(0.01)};
+    zw_plant_box from0 = {.m_lo = R(0.1), .m_hi = R(0.3), .b_lo = R(0.0), .b_hi = R(5.0), .T = R(0.01)};
     zw_box_work w = work();
     zw_box_bound r;
     (void)state;
@@ -208,7 +208,7 @@ static void test_check_budget(void **state)
     assert_true((long double)r.K_lower <= grid_min(&box, 0.0L, 201, NULL, NULL));
     /* the search stays inside the caller's capacity: cells past it are never written */
     {
-        const zw_plant_box valley = {R(2.0e-5), R(1.5e-4), R(2.197e-3), R(2.197e-3), R(0.02)};
+        const zw_plant_box valley = {.m_lo = R(2.0e-5), .m_hi = R(1.5e-4), .b_lo = R(2.197e-3), .b_hi = R(2.197e-3), .T = R(0.02)};
         size_t i;
         memset(g_cells, ZWT_SENTINEL, sizeof g_cells);
         w.capacity = 64u;
@@ -288,16 +288,16 @@ static void test_errors(void **state)
         zw_plant_box box;
         zw_status want;
     } bad[] = {
-        {{R(1e-5), R(1e-6), R(1e-3), R(2e-3), R(0.02)}, ZW_ERR_BOX},
-        {{R(1e-5), R(2e-5), R(3e-3), R(2e-3), R(0.02)}, ZW_ERR_BOX},
-        {{R(0.0), R(2e-5), R(1e-3), R(2e-3), R(0.02)}, ZW_ERR_MASS},
-        {{R(-1e-5), R(2e-5), R(1e-3), R(2e-3), R(0.02)}, ZW_ERR_MASS},
-        {{R(1e-5), R(2e-5), R(-1e-3), R(2e-3), R(0.02)}, ZW_ERR_DAMPING},
-        {{R(1e-5), R(2e-5), R(1e-3), R(2e-3), R(0.0)}, ZW_ERR_PERIOD},
-        {{(zw_real)NAN, R(2e-5), R(1e-3), R(2e-3), R(0.02)}, ZW_ERR_NAN},
-        {{R(1e-5), R(2e-5), R(1e-3), (zw_real)NAN, R(0.02)}, ZW_ERR_NAN},
-        {{R(1e-5), (zw_real)INFINITY, R(1e-3), R(2e-3), R(0.02)}, ZW_ERR_INF},
-        {{R(1e-5), R(2e-5), R(1e-3), R(2e3), R(0.02)}, ZW_ERR_RANGE}, /* delta 4e6 */
+        {{.m_lo = R(1e-5), .m_hi = R(1e-6), .b_lo = R(1e-3), .b_hi = R(2e-3), .T = R(0.02)}, ZW_ERR_BOX},
+        {{.m_lo = R(1e-5), .m_hi = R(2e-5), .b_lo = R(3e-3), .b_hi = R(2e-3), .T = R(0.02)}, ZW_ERR_BOX},
+        {{.m_lo = R(0.0), .m_hi = R(2e-5), .b_lo = R(1e-3), .b_hi = R(2e-3), .T = R(0.02)}, ZW_ERR_MASS},
+        {{.m_lo = R(-1e-5), .m_hi = R(2e-5), .b_lo = R(1e-3), .b_hi = R(2e-3), .T = R(0.02)}, ZW_ERR_MASS},
+        {{.m_lo = R(1e-5), .m_hi = R(2e-5), .b_lo = R(-1e-3), .b_hi = R(2e-3), .T = R(0.02)}, ZW_ERR_DAMPING},
+        {{.m_lo = R(1e-5), .m_hi = R(2e-5), .b_lo = R(1e-3), .b_hi = R(2e-3), .T = R(0.0)}, ZW_ERR_PERIOD},
+        {{.m_lo = (zw_real)NAN, .m_hi = R(2e-5), .b_lo = R(1e-3), .b_hi = R(2e-3), .T = R(0.02)}, ZW_ERR_NAN},
+        {{.m_lo = R(1e-5), .m_hi = R(2e-5), .b_lo = R(1e-3), .b_hi = (zw_real)NAN, .T = R(0.02)}, ZW_ERR_NAN},
+        {{.m_lo = R(1e-5), .m_hi = (zw_real)INFINITY, .b_lo = R(1e-3), .b_hi = R(2e-3), .T = R(0.02)}, ZW_ERR_INF},
+        {{.m_lo = R(1e-5), .m_hi = R(2e-5), .b_lo = R(1e-3), .b_hi = R(2e3), .T = R(0.02)}, ZW_ERR_RANGE}, /* delta 4e6 */
     };
     size_t i;
     (void)state;

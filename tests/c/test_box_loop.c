@@ -133,8 +133,8 @@ static long double ideal_grid_min(const zw_plant_box *box, long double B, int n)
  * where the default budget stops at a 3.3e-3 gap in double at B = 1e-3). */
 static void test_ideal_loop_never_above_and_tight(void **state)
 {
-    const zw_plant_box boxes[2] = {{R(1.0e-5), R(1.4e-5), R(2.0e-3), R(2.4e-3), R(0.02)},
-                                   {R(2.0e-5), R(9.0e-5), R(2.0e-3), R(2.4e-3), R(0.02)}};
+    const zw_plant_box boxes[2] = {{.m_lo = R(1.0e-5), .m_hi = R(1.4e-5), .b_lo = R(2.0e-3), .b_hi = R(2.4e-3), .T = R(0.02)},
+                                   {.m_lo = R(2.0e-5), .m_hi = R(9.0e-5), .b_lo = R(2.0e-3), .b_hi = R(2.4e-3), .T = R(0.02)}};
     const zw_real Bs[3] = {R(0.0), R(1.0e-4), R(1.0e-3)};
     zw_device_loop_spec spec;
     zw_box_loop_work w = work();
@@ -162,7 +162,7 @@ static void test_ideal_loop_never_above_and_tight(void **state)
  * itself tested against mpmath), and every plant's certified point K_max is above it. */
 static void test_delay_box_consistent(void **state)
 {
-    const zw_plant_box box = {R(1.0e-5), R(1.4e-5), R(2.0e-3), R(2.4e-3), R(0.02)};
+    const zw_plant_box box = {.m_lo = R(1.0e-5), .m_hi = R(1.4e-5), .b_lo = R(2.0e-3), .b_hi = R(2.4e-3), .T = R(0.02)};
     zw_device_loop_spec spec;
     zw_box_loop_work w = work();
     zw_box_loop_bound bd;
@@ -200,7 +200,7 @@ static void test_delay_box_consistent(void **state)
 
 static void test_filters(void **state)
 {
-    const zw_plant_box box = {R(1.0e-5), R(1.2e-5), R(2.0e-3), R(2.2e-3), R(0.02)};
+    const zw_plant_box box = {.m_lo = R(1.0e-5), .m_hi = R(1.2e-5), .b_lo = R(2.0e-3), .b_hi = R(2.2e-3), .T = R(0.02)};
     zw_device_loop_spec specs[4];
     zw_box_loop_work w = work();
     int i;
@@ -235,7 +235,7 @@ static void test_filters(void **state)
 
 static void test_b_range(void **state)
 {
-    const zw_plant_box box = {R(1.0e-5), R(1.4e-5), R(2.0e-3), R(2.4e-3), R(0.02)};
+    const zw_plant_box box = {.m_lo = R(1.0e-5), .m_hi = R(1.4e-5), .b_lo = R(2.0e-3), .b_hi = R(2.4e-3), .T = R(0.02)};
     zw_device_loop_spec spec;
     zw_box_loop_work w = work();
     zw_box_loop_verdict v;
@@ -262,7 +262,7 @@ static void test_b_range(void **state)
  * at least the box's K_max at B = 0, below the centre plant's K_mmax. */
 static void test_k_mmax(void **state)
 {
-    const zw_plant_box box = {R(1.0e-5), R(1.4e-5), R(2.0e-3), R(2.4e-3), R(0.02)};
+    const zw_plant_box box = {.m_lo = R(1.0e-5), .m_hi = R(1.4e-5), .b_lo = R(2.0e-3), .b_hi = R(2.4e-3), .T = R(0.02)};
     zw_device_loop_spec spec;
     zw_box_loop_work w = work();
     zw_box_loop_extremes x;
@@ -291,7 +291,7 @@ static void test_k_mmax(void **state)
 
 static void test_errors(void **state)
 {
-    const zw_plant_box box = {R(1.0e-5), R(1.4e-5), R(2.0e-3), R(2.4e-3), R(0.02)};
+    const zw_plant_box box = {.m_lo = R(1.0e-5), .m_hi = R(1.4e-5), .b_lo = R(2.0e-3), .b_hi = R(2.4e-3), .T = R(0.02)};
     zw_plant_box bad = box;
     zw_device_loop_spec spec;
     zw_box_loop_work w = work(), bw;

@@ -42,6 +42,16 @@ static void any_box(zw_plant_box *b)
     b->b_lo = any_real();
     b->b_hi = any_real();
     b->T = any_real();
+    b->k_lo = any_real();
+    b->k_hi = any_real();
+    b->m_h_lo = any_real();
+    b->m_h_hi = any_real();
+    b->b_h_lo = any_real();
+    b->b_h_hi = any_real();
+    b->k_h_lo = any_real();
+    b->k_h_hi = any_real();
+    b->tau_lo = any_real();
+    b->tau_hi = any_real();
 }
 
 int main(void)
@@ -89,6 +99,7 @@ int main(void)
     sink_real = bound.b_worst;
     sink_u32 = bound.evals;
     sink_int = bound.converged;
+    sink_real = bound.k_worst;
 
     (void)zw_box_check(&box, any_real(), any_real(), &work, &verdict);
     sink_int = verdict.stable;

@@ -28,8 +28,10 @@
  * in 1..ZW_LOOP_MAX_AVERAGE) and may fail on any input; every other stub writes every output
  * on every return, any value on success and the fail-safe value on error (verdict not
  * stable, limit 0, range empty, extremes 0), and returns any status.  The loop workspace is
- * only passed through to them.  zw_loop_lowpass_pole (loop.c) and zw_box_validate (box.c)
- * are the real ones.
+ * only passed through to them.  zw_loop_lowpass_pole (loop.c), zw_box_validate and
+ * zw_box_fold (box.c) and zw_plant_enclose2 (plant_box.c) are the real ones;
+ * zw_device_loop_init_plant (the point plant with stiffness) is stubbed as
+ * zw_device_loop_init.
  */
 #include <stdbool.h>
 #include <stddef.h>
@@ -99,6 +101,18 @@ zw_status zw_device_loop_init(zw_device_loop *out, zw_real m, zw_real b, zw_real
         return any_error();
     }
     return ZW_OK;
+}
+
+zw_status zw_device_loop_init_plant(zw_device_loop *out, zw_real m, zw_real b, zw_real T,
+                                    zw_real k_p, zw_real tau, zw_real m_h, zw_real b_h,
+                                    zw_real k_h, const zw_device_loop_spec *spec)
+{
+    (void)k_p;
+    (void)tau;
+    (void)m_h;
+    (void)b_h;
+    (void)k_h;
+    return zw_device_loop_init(out, m, b, T, spec);
 }
 
 zw_status zw_device_loop_check(const zw_device_loop *dl, zw_loop_workspace *ws, zw_real K,
@@ -186,6 +200,16 @@ static void any_box(zw_plant_box *b)
     b->b_lo = any_real();
     b->b_hi = any_real();
     b->T = any_real();
+    b->k_lo = any_real();
+    b->k_hi = any_real();
+    b->m_h_lo = any_real();
+    b->m_h_hi = any_real();
+    b->b_h_lo = any_real();
+    b->b_h_hi = any_real();
+    b->k_h_lo = any_real();
+    b->k_h_hi = any_real();
+    b->tau_lo = any_real();
+    b->tau_hi = any_real();
 }
 
 /* Any contents (box.h: the scratch needs no initialisation; each entry is written before it
@@ -257,6 +281,8 @@ static void drive(zw_velocity_filter filter)
         cells[i].K_hi = any_real();
         cells[i].B_lo = any_real();
         cells[i].B_hi = any_real();
+        cells[i].k_lo = any_real();
+        cells[i].k_hi = any_real();
     }
     any_scratch(&scratch);
     if (capacity > ZW_EVA_CELLS) {
@@ -285,6 +311,7 @@ static void drive(zw_velocity_filter filter)
     sink_real = verdict.m_worst;
     sink_real = verdict.b_worst;
     sink_u32 = verdict.evals;
+    sink_real = verdict.k_worst;
 
     (void)zw_box_loop_k_max(&box, &spec, &ws, any_real(), &work, &bound);
     sink_real = bound.K_lower;
@@ -293,6 +320,7 @@ static void drive(zw_velocity_filter filter)
     sink_real = bound.b_worst;
     sink_u32 = bound.evals;
     sink_int = bound.converged;
+    sink_real = bound.k_worst;
 
     (void)zw_box_loop_b_range(&box, &spec, &ws, any_real(), &work, &lo, &hi, &nonempty);
     sink_real = lo;
@@ -307,6 +335,7 @@ static void drive(zw_velocity_filter filter)
     sink_real = x.b_worst;
     sink_u32 = x.evals;
     sink_int = x.converged;
+    sink_real = x.k_worst;
 
     (void)zw_box_loop_check(maybe_null(&box), maybe_null(&spec), maybe_null(&ws), any_real(),
                             any_real(), maybe_null(&work), maybe_null(&verdict));

@@ -151,6 +151,9 @@ static void drive_enclose(void)
     (void)zw_plant_enclose(&plant, any_real(), any_real());
     read_plant(&plant);
     (void)zw_plant_enclose(maybe_null(&plant), any_real(), any_real());
+    (void)zw_plant_enclose2(&plant, any_real(), any_real(), any_real(), any_real());
+    read_plant(&plant);
+    (void)zw_plant_enclose2(maybe_null(&plant), any_real(), any_real(), any_real(), any_real());
 }
 
 static void drive_eval(void)

@@ -47,14 +47,16 @@ def _types(zw):
                     ("den_w", R * (MAX_ORDER + 1)), ("den_w_err", R * (MAX_ORDER + 1))]
 
     class Box(ctypes.Structure):
-        _fields_ = [(n, R) for n in ("m_lo", "m_hi", "b_lo", "b_hi", "T")]
+        _fields_ = [(n, R) for n in ("m_lo", "m_hi", "b_lo", "b_hi", "T", "k_lo", "k_hi", "m_h_lo", "m_h_hi",
+                                     "b_h_lo", "b_h_hi", "k_h_lo", "k_h_hi", "tau_lo", "tau_hi")]
 
     class DLSpec(ctypes.Structure):
         _fields_ = [("delay", c_uint), ("differentiator", c_int), ("filter", c_int),
                     ("cutoff_hz", R), ("pole", R), ("average", c_uint)]
 
     class Cell(ctypes.Structure):
-        _fields_ = [(n, R) for n in ("m_lo", "m_hi", "b_lo", "b_hi", "K_lo", "K_hi", "B_lo", "B_hi")]
+        _fields_ = [(n, R) for n in ("m_lo", "m_hi", "b_lo", "b_hi", "K_lo", "K_hi", "B_lo", "B_hi", "k_lo",
+                                     "k_hi")]
 
     class Scratch(ctypes.Structure):  # larger than zw_box_loop_scratch in both precisions
         _fields_ = [("bytes", ctypes.c_ubyte * 16384)]
@@ -65,7 +67,7 @@ def _types(zw):
 
     class Bound(ctypes.Structure):
         _fields_ = [("K_lower", R), ("K_upper", R), ("m_worst", R), ("b_worst", R),
-                    ("evals", ctypes.c_uint32), ("converged", c_bool)]
+                    ("evals", ctypes.c_uint32), ("converged", c_bool), ("k_worst", R)]
 
     P, W = POINTER, POINTER(zw.LoopWorkspace)
     sigs = {

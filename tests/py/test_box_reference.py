@@ -110,7 +110,9 @@ class Box:
         self.zw = zw
 
         class PlantBox(ctypes.Structure):
-            _fields_ = [("m_lo", R), ("m_hi", R), ("b_lo", R), ("b_hi", R), ("T", R)]
+            _fields_ = [("m_lo", R), ("m_hi", R), ("b_lo", R), ("b_hi", R), ("T", R)] + [
+                (n, R) for n in ("k_lo", "k_hi", "m_h_lo", "m_h_hi", "b_h_lo", "b_h_hi", "k_h_lo", "k_h_hi",
+                                 "tau_lo", "tau_hi")]
 
         class Cell(ctypes.Structure):
             _fields_ = [("m_lo", R), ("m_hi", R), ("b_lo", R), ("b_hi", R), ("bound", R)]
@@ -121,7 +123,7 @@ class Box:
 
         class Bound(ctypes.Structure):
             _fields_ = [("K_lower", R), ("K_upper", R), ("m_worst", R), ("b_worst", R),
-                        ("evals", c_uint32), ("converged", c_bool)]
+                        ("evals", c_uint32), ("converged", c_bool), ("k_worst", R)]
 
         class BoxVerdict(ctypes.Structure):
             _fields_ = [("stable", c_bool), ("decided", c_bool), ("K_lower", R), ("m_worst", R),

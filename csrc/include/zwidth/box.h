@@ -29,6 +29,7 @@
 #include <stdint.h>
 
 #include "zwidth/device_loop.h"
+#include "zwidth/plant_box.h"
 #include "zwidth/real.h"
 #include "zwidth/status.h"
 
@@ -38,12 +39,37 @@ extern "C" {
 
 /* Plants m in [m_lo, m_hi] (mass or inertia), b in [b_lo, b_hi], period T.  Valid:
  * finite, 0 < m_lo <= m_hi, 0 <= b_lo <= b_hi, T > 0, every plant's (m, b, T) accepted by
- * zw_device_init, and b_hi T / m_lo below ZW_BOX_DELTA_MAX. */
+ * zw_device_init, and b_hi T / m_lo below ZW_BOX_DELTA_MAX.
+ *
+ * The plant-side parts (plant.h), added at the end so that a zero-initialised box (or a
+ * positional {m_lo, m_hi, b_lo, b_hi, T}) is the ideal plant's box as before: a physical
+ * stiffness k_p in [k_lo, k_hi], a coupled hand of mass m_h in [m_h_lo, m_h_hi], damping
+ * b_h in [b_h_lo, b_h_hi] and stiffness k_h in [k_h_lo, k_h_hi] (every range 0 <= lo <= hi;
+ * all 0: no part).  The plant depends on them only through M = m + m_h, Bp = b + b_h,
+ * Kp = k_p + k_h, so the box is folded into ranges of M, Bp, Kp (sums rounded outward)
+ * and a plant reported by the functions below (m_worst, b_worst, k_worst) is (M, Bp, Kp).
+ * With stiffness (k_hi + k_h_hi > 0) only the general loop (zw_box_loop_*) certifies, and
+ * the folded box must keep delta = Bp T / M and kappa = Kp T^2 / M at most ZW_BOX_KAPPA_MAX
+ * (ZW_ERR_RANGE; the enclosure's series domain, docs/box.md); the closed-form functions
+ * (zw_box_k_max, _check, _b_range, _k_mmax) refuse stiffness with ZW_ERR_ARG.  An actuator
+ * lag range (tau_hi > 0) is not supported yet: ZW_ERR_ARG everywhere. */
 typedef struct zw_plant_box {
     zw_real m_lo, m_hi;
     zw_real b_lo, b_hi;
     zw_real T;
+    zw_real k_lo, k_hi;     /* physical stiffness k_p [N/m] */
+    zw_real m_h_lo, m_h_hi; /* the hand's mass */
+    zw_real b_h_lo, b_h_hi; /* the hand's damping */
+    zw_real k_h_lo, k_h_hi; /* the hand's stiffness */
+    zw_real tau_lo, tau_hi; /* actuator lag [s]: must be 0 (not supported yet) */
 } zw_plant_box;
+
+/* Largest normalized delta and kappa of a box with stiffness (plant_box.h). */
+#define ZW_BOX_KAPPA_MAX ZW_PLANT_ENCLOSE_MAX
+
+/* The box folded into M, Bp, Kp ranges (m_lo.. = M, b_lo.. = Bp, k_lo.. = Kp, the hand's
+ * fields 0; sums rounded outward) and validated: zw_box_validate's errors. */
+zw_status zw_box_fold(const zw_plant_box *box, zw_plant_box *folded);
 
 /* Largest normalized damping b T / m a box may reach (far beyond any real device; keeps
  * every bound of the enclosure finite in both precisions). */
@@ -91,6 +117,7 @@ typedef struct zw_box_bound {
     zw_real m_worst, b_worst; /* that plant */
     uint_least32_t evals;     /* cell bounds computed */
     bool converged;           /* relative gap <= rel_tol */
+    zw_real k_worst;          /* that plant's Kp (0 without stiffness) */
 } zw_box_bound;
 
 /* Errors of the functions below: those of zw_box_validate, ZW_ERR_NULL (work, its cells,
@@ -153,12 +180,15 @@ zw_status zw_box_k_mmax(const zw_plant_box *box, const zw_box_work *work, zw_box
  * "Certified at (K, B)" means more than (K, B) stable: every K' in (0, K] is stable at B
  * for every plant of the box (the gain can be ramped up from 0), so K_lower below is a
  * lower bound of the infimum over the box of K_max(B; m, b) (device_loop.h) even where a
- * plant's stable K are not one interval.  The ideal plant only (no spring, hand, lag).
+ * plant's stable K are not one interval.  With stiffness the plant is enclosed over the
+ * sub-box's (delta, kappa) by zw_plant_enclose2 and Kp is one more dimension of the
+ * sub-boxes; a hand is folded into M, Bp, Kp (zw_box_fold).  No lag yet.
  */
 
 /* A sub-box of plants and of the gains (K_lo = 0 stands for K -> 0+). */
 typedef struct zw_box_loop_cell {
     zw_real m_lo, m_hi, b_lo, b_hi, K_lo, K_hi, B_lo, B_hi;
+    zw_real k_lo, k_hi; /* Kp */
 } zw_box_loop_cell;
 
 /* An interval [lo, hi] (the scratch's polynomials). */
@@ -208,6 +238,7 @@ typedef struct zw_box_loop_verdict {
     zw_real m_worst, b_worst; /* refuted: that plant; else the centre of the last sub-box not
                                  certified (NaN when every sub-box was) */
     uint_least32_t evals;     /* sub-box tests */
+    zw_real k_worst;          /* that plant's Kp */
 } zw_box_loop_verdict;
 
 /* Errors of the functions below: those of zw_box_validate and of zw_device_loop_init at the
@@ -248,6 +279,7 @@ typedef struct zw_box_loop_extremes {
     zw_real m_worst, b_worst; /* that plant */
     uint_least32_t evals;     /* sub-box tests, every search */
     bool converged;           /* the search at B_at converged */
+    zw_real k_worst;          /* that plant's Kp */
 } zw_box_loop_extremes;
 
 /* The largest K that one B makes stable for every plant (max over B of zw_box_loop_k_max's

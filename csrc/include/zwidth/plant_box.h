@@ -37,6 +37,20 @@ extern "C" {
  * order 0 (refused by every consumer of zw_plant) and every number NaN. */
 zw_status zw_plant_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi);
 
+/* The order-2 plant with stiffness (plant.h, lambda = 0) enclosed over every (delta, kappa)
+ * of [delta_lo, delta_hi] x [kappa_lo, kappa_hi]: the exact coefficients (D, N, D_s, N_s,
+ * D in w) lie within value +- err of the fields filled here, for any width.  How
+ * (docs/box.md): every coefficient is an entire function of h = delta / 2 and
+ * w2 = h^2 - kappa (plant.c's series regime), evaluated in midpoint-radius arithmetic
+ * (zw_eb, whose products keep the radii's product: rigorous for any radius) from balls
+ * enclosing h, h^2, w2 and kappa, with the series' truncation bounded for |w2|, h^2 <= 4.
+ * So the domain is delta, kappa <= ZW_PLANT_ENCLOSE_MAX (beyond: ZW_ERR_RANGE).
+ * kappa_hi = 0 is zw_plant_enclose.  Errors: those of zw_plant_enclose, ZW_ERR_ARG
+ * (kappa_lo < 0), ZW_ERR_BOX (kappa_lo > kappa_hi); fail-safe as zw_plant_enclose. */
+#define ZW_PLANT_ENCLOSE_MAX ZW_R(4.0)
+zw_status zw_plant_enclose2(zw_plant *out, zw_real delta_lo, zw_real delta_hi, zw_real kappa_lo,
+                            zw_real kappa_hi);
+
 #ifdef __cplusplus
 }
 #endif

@@ -26,6 +26,7 @@
 /* box.h */
 #define zw_box_work_init zw_box_work_init_f
 #define zw_box_validate zw_box_validate_f
+#define zw_box_fold zw_box_fold_f
 #define zw_box_k_max zw_box_k_max_f
 #define zw_box_check zw_box_check_f
 #define zw_box_b_range zw_box_b_range_f
@@ -37,6 +38,7 @@
 #define zw_box_loop_k_mmax zw_box_loop_k_mmax_f
 /* plant_box.h */
 #define zw_plant_enclose zw_plant_enclose_f
+#define zw_plant_enclose2 zw_plant_enclose2_f
 /* sweep.h */
 #define zw_sweep_fields_init zw_sweep_fields_init_f
 #define zw_sweep_check_many zw_sweep_check_many_f
