@@ -8,11 +8,9 @@ loop given by --delay, --velocity-filter and --differentiator (``plot region``: 
 cli.main hands such command lines to :func:`main` here; everything else stays in cli.py.
 
 Plant-side parts over a box: ``--stiffness K_P`` and ``--hand M_H,B_H,K_H`` (each a number
-or LO:HI; :func:`parse_hand` is the --hand type that takes ranges) make the box's plant the
+or LO:HI; cli.parse_hand is the --hand type) make the box's plant the
 coupled one (certified by the general loop's method); ``--actuator-tau`` is refused over a
-box (ZW_ERR_ARG: not supported yet).  cli.main still refuses parts over a plant range and
-parses --stiffness, --hand as numbers: that refusal and those types are cli.py's to lift
-(two lines); :func:`_box` already takes numbers, ranges or LO:HI strings.
+box (cli.main says so; the lag's box enclosure is not built).
 """
 from __future__ import annotations
 
@@ -24,22 +22,11 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 
 from .box import PlantBox, PlantRange, parse_range
 from .cli import (EXIT_INVALID, EXIT_OK, EXIT_PLOT, EXIT_UNSTABLE, _emit, _fmt, _Outcome, _PlotError,
-                  _Usage, _velocity_filter, _write_figure)
+                  _apply_preset, _Usage, _velocity_filter, _write_figure, parse_hand)
 from ._kernels import ZwidthError
 
 _RANGE_OPTIONS = ("m", "J", "b")
 _COMMANDS = ("check", "limits", "plot")
-
-
-def parse_hand(text: str) -> Tuple[Union[float, PlantRange], ...]:
-    """--hand M_H,B_H,K_H, each a number or LO:HI ('0.2:0.5,1:3,100:600')."""
-    parts = text.split(",")
-    if len(parts) != 3:
-        raise argparse.ArgumentTypeError(f"--hand needs M_H,B_H,K_H (each a number or LO:HI), got {text!r}")
-    try:
-        return tuple(parse_range(v) for v in parts)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"--hand needs M_H,B_H,K_H (each a number or LO:HI), got {text!r}") from None
 
 
 def _part(value: Any) -> Union[float, PlantRange]:
@@ -54,14 +41,14 @@ def _part(value: Any) -> Union[float, PlantRange]:
 
 
 def has_range(args: argparse.Namespace) -> bool:
-    """Does any plant option hold a range LO:HI (--stiffness and --hand's entries too, once
-    cli.py parses them with parse_range / parse_hand)?"""
+    """Does any plant option hold a range LO:HI (--m, --J, --b, --stiffness, --hand's entries)?"""
     hand = getattr(args, "hand", None)
     return (any(isinstance(getattr(args, n, None), PlantRange) for n in _RANGE_OPTIONS + ("stiffness",))
             or (isinstance(hand, tuple) and any(isinstance(v, PlantRange) for v in hand)))
 
 
 def _box(args: argparse.Namespace) -> PlantBox:
+    _apply_preset(args)  # --preset paper-drive with a range (--hand 0:1e-6,0,0): the drive's m, b, T
     norm = [f"--{n}" for n in ("delta", "alpha", "beta") if getattr(args, n, None) is not None]
     if norm:
         raise _Usage(f"plant ranges are in real units: {', '.join(norm)} cannot be combined with them")

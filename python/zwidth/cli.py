@@ -16,7 +16,7 @@ import os
 import sys
 import textwrap
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Sequence, TextIO, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, TextIO, Tuple, Union
 
 from numpy.typing import NDArray
 
@@ -24,7 +24,7 @@ import numpy as np
 
 from . import (BOUNDS, DELTA0, REGIONS, Device, ZwidthError, __version__, alpha_max, beta_interval,
                corner, extremes, hyperbola_top, spectral_radius, verdict)
-from .box import parse_range
+from .box import PlantRange, parse_range
 from .device import SENSITIVITY_WORDS, LoopNotSupported
 from .normalized import plant_parts
 from .results import Extremes
@@ -501,16 +501,17 @@ def _device_loop_options(args: argparse.Namespace) -> Dict[str, Any]:
             "differentiator": args.differentiator}
 
 
-def _hand(text: str) -> Tuple[float, float, float]:
-    """--hand M_H,B_H,K_H as three numbers."""
+def parse_hand(text: str) -> Tuple[Union[float, PlantRange], ...]:
+    """--hand M_H,B_H,K_H: three numbers (one hand), or any of them a range LO:HI (a box of
+    hands: check and limits over every plant of it, box_cli)."""
     parts = text.split(",")
     if len(parts) != 3:
-        raise argparse.ArgumentTypeError(f"--hand needs three numbers M_H,B_H,K_H (kg, N s/m, N/m), got {text!r}")
+        raise argparse.ArgumentTypeError(f"--hand needs M_H,B_H,K_H (kg, N s/m, N/m; each a number or LO:HI), "
+                                         f"got {text!r}")
     try:
-        m_h, b_h, k_h = (float(v) for v in parts)
+        return tuple(parse_range(v) for v in parts)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"--hand needs three numbers M_H,B_H,K_H, got {text!r}") from None
-    return m_h, b_h, k_h
+        raise argparse.ArgumentTypeError(f"--hand needs M_H,B_H,K_H (each a number or LO:HI), got {text!r}") from None
 
 
 def _plant_part_options(args: argparse.Namespace) -> Dict[str, Any]:
@@ -1465,10 +1466,11 @@ def _add_plant_options(p: argparse.ArgumentParser) -> None:
         "plant-side parts (real-unit plant; default none; the gains are then normalized by m + m_h)")
     pp.add_argument("--actuator-tau", type=_number, metavar="S",
                     help="actuator (current-loop) lag: the force reaches the plant through 1/(S s + 1), S in s")
-    pp.add_argument("--hand", type=_hand, metavar="M_H,B_H,K_H",
-                    help="a coupled hand (coupled stability): mass [kg], damping [N s/m], stiffness [N/m]")
-    pp.add_argument("--stiffness", type=_number, metavar="K_P",
-                    help="the device's own stiffness (a return spring, a cable) [N/m]")
+    pp.add_argument("--hand", type=parse_hand, metavar="M_H,B_H,K_H",
+                    help="a coupled hand (coupled stability): mass [kg], damping [N s/m], stiffness [N/m]; "
+                         "any of them a range LO:HI certifies check and limits for every hand in it")
+    pp.add_argument("--stiffness", type=parse_range, metavar="K_P",
+                    help="the device's own stiffness (a return spring, a cable) [N/m] (or a range LO:HI)")
     p.add_argument("--json", action="store_true", help="print one JSON object (keys below)")
 
 
@@ -1598,9 +1600,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     from . import box_cli  # plant ranges (--m 0.10:0.14): every plant of a box
     parts_given = [f"--{n.replace('_', '-')}" for n in ("actuator_tau", "hand", "stiffness")
                    if getattr(args, n, None) is not None]
-    if parts_given and box_cli.has_range(args):
-        sub.error(f"{', '.join(parts_given)}: plant-side parts are taken on one plant (check, limits, advise, "
-                  f"plot), not yet over a plant range: give --m, --b as single values")
+    if box_cli.has_range(args) and getattr(args, "actuator_tau", None) is not None:
+        sub.error("--actuator-tau: a plant range is certified without an actuator lag (the lag's box "
+                  "enclosure is not built); give --m, --b, --stiffness, --hand as single values to use it")
     if parts_given and args.command == "plot" and args.kind == "extremes":
         sub.error(f"{', '.join(parts_given)}: plot extremes draws the paper's ideal plant over delta; for a "
                   f"plant with parts use 'plot region' or 'plot influence' with --m/--J, --b, --T")

@@ -99,3 +99,27 @@ def test_box_cli_parts():
     assert box_cli.has_range(_args(m=0.1, b=0.5, stiffness=PlantRange(0.0, 10.0)))
     assert box_cli.has_range(_args(m=0.1, b=0.5, hand=box_cli.parse_hand("0.2:0.5,1,100")))
     assert not box_cli.has_range(_args(m=0.1, b=0.5, hand=(0.2, 1.0, 100.0)))
+
+
+def test_cli_parts_over_a_range(capsys):
+    """cli.main takes --stiffness and --hand ranges (the box path) and refuses a lag with them."""
+    import json
+
+    from zwidth import cli
+    argv = ["limits", "--m", "0.1", "--b", "0.5", "--T", "0.001", "--delay", "1", "--stiffness", "0:2000", "--json"]
+    assert cli.main(argv) == 0
+    data = json.loads(capsys.readouterr().out)
+    kmmax = data["K_mmax"]
+    assert data["box"]["stiffness"] == [0.0, 2000.0]
+    # never above the point K_mmax of either end of the spring's range
+    for k in (0.0, 2000.0):
+        point = zwidth.Device(0.1, 0.5, 0.001, delay=1, stiffness=k).extremes().K_mmax
+        assert 0 < kmmax <= float(point) * (1 + 1e-12)
+    # a point hand stays on the point path; a range in one of its entries makes a box
+    assert cli.main(["check", "--m", "0.1", "--b", "0.5", "--T", "0.001", "--hand", "0.05,1,100",
+                     "--K", "2000", "--B", "5", "--json"]) == 0
+    assert "Plant box" not in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        cli.main(["limits", "--m", "0.1", "--b", "0.5", "--T", "0.001", "--stiffness", "0:2000",
+                  "--actuator-tau", "1e-3"])
+    assert "certified without an actuator lag" in capsys.readouterr().err
