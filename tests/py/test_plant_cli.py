@@ -261,8 +261,8 @@ def test_plot_with_parts_writes_the_figure(tmp_path, kind):
 def test_plot_refusals_and_help():
     r = run("plot", "extremes", "--stiffness", "1")
     assert r.returncode == 2 and "plot region" in r.stderr
-    r = run("check", "--m", "0.1:0.2", "--b", "1", "--T", "1e-3", "--K", "1", "--B", "0", "--stiffness", "1")
-    assert r.returncode == 2 and "not yet over a plant range" in r.stderr
+    r = run("check", "--m", "0.1:0.2", "--b", "1", "--T", "1e-3", "--K", "1", "--B", "0", "--actuator-tau", "1e-3")
+    assert r.returncode == 2 and "certified without an actuator lag" in r.stderr
     help_text = run("plot", "--help").stdout
     assert "with plant-side parts" in help_text and "tau, m_h, b_h, k_h and k_p" in help_text
 
