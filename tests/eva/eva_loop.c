@@ -15,7 +15,7 @@
  * coefficients; the workspace holds any contents (loop.h: "needs no initialisation ...
  * any contents (garbage, another loop's) are fine"; the check's rows, roots and
  * radii any values; the limits' part, which loop_limits.c uses (its driver is
- * pending_loop_limits.c), as in static storage); every output is read after the call, and each
+ * eva_loop_limits.c), as in static storage); every output is read after the call, and each
  * call is repeated with every pointer independently NULL or valid.
  *
  * device_loop's limits call loop_limits.h (zw_loop_alpha_max, zw_loop_beta_interval,
