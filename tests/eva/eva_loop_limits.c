@@ -30,6 +30,7 @@
 
 #include "zwidth/loop.h"
 #include "zwidth/loop_limits.h"
+#include "eva_any.h"
 
 /*@ requires \valid(ws) && \valid(out);
     assigns \result, *out, ws->row[0 .. ZW_LOOP_MAX_DEGREE], ws->row_err[0 .. ZW_LOOP_MAX_DEGREE],
@@ -50,33 +51,6 @@ zw_status zw_loop_check(const zw_loop *loop, zw_loop_workspace *ws, zw_real alph
     ensures *stable == 0 || *stable == 1; */
 zw_status zw_loop_is_stable(const zw_loop *loop, zw_loop_workspace *ws, zw_real alpha, zw_real beta,
                             bool *stable);
-
-volatile zw_real any_real_source;
-volatile unsigned any_unsigned_source;
-volatile int any_int_source;
-
-volatile zw_real sink_real;
-volatile int sink_int;
-volatile unsigned sink_unsigned;
-
-static zw_real any_real(void) { return any_real_source; }
-static bool any_bool(void) { return any_int_source != 0; }
-
-#define maybe_null(p) (any_bool() ? (p) : NULL)
-
-static void any_coeffs(zw_coeffs *c)
-{
-    c->delta = any_real();
-    c->e = any_real();
-    c->c1 = any_real();
-    c->c2 = any_real();
-    c->d12 = any_real();
-    c->s = any_real();
-    c->g = any_real();
-    c->sigma = any_real();
-    c->hs = any_real();
-    c->delta_relerr = any_real();
-}
 
 /* Every field any value, the filter kind any int (the known kinds and every other: no
  * split is needed here, unlike eva_loop.c, whose construction of the parts needs the
