@@ -26,7 +26,7 @@
 # and every listed one must still occur: fails (exit 1) on a new alarm, on a listed alarm
 # that is gone, on a key without its row in docs/eva.md, on an Eva warning or error, or
 # when a function of a driver's modules is not reached; exit 2 when Frama-C is missing.
-# Time: see docs/eva.md (per run; the two builds of a driver run in parallel).
+# Time: see docs/eva.md (per run; ZW_EVA_JOBS runs at a time, default 2).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -91,7 +91,11 @@ run() { # run DRIVER NAME MACHDEP DEFINES SUFFIX
         -then -metrics -metrics-eva-cover -report-csv "$out/$name.csv" >"$out/$name.log" 2>&1 &&
         echo $((SECONDS - start)) >"$out/$name.seconds"
 }
+# Every run (driver x build) is an independent Frama-C process: ZW_EVA_JOBS of them at a
+# time (default 2, the cores of the CI machine), each started as soon as one ends.
+jobs_max=${ZW_EVA_JOBS:-2}
 analyses=()
+names=()
 for driver in "${DRIVERS[@]}"; do
     area=$(basename "$driver" .c)
     area=${area#eva_}
@@ -99,21 +103,33 @@ for driver in "${DRIVERS[@]}"; do
         echo "eva.sh: $driver has no 'eva-modules:' line" >&2
         exit 2
     fi
-    # both precisions of one driver in parallel (2 cores), drivers one after another
-    run "$driver" "$area-double" x86_64 "" "" &
-    double_pid=$!
-    run "$driver" "$area-float" x86_32 "-DZW_REAL_FLOAT" _f &
-    float_pid=$!
-    status=0
-    wait "$double_pid" || status=$?
-    wait "$float_pid" || status=$?
-    if [ "$status" != 0 ]; then
-        echo "eva.sh: frama-c failed on $driver (exit $status); the logs:" >&2
-        tail -n 20 "$out/$area"-*.log >&2
-        exit 2
-    fi
     analyses+=("$area:$(driver_line "$driver" modules | tr ' ' ',')")
 done
+for driver in "${DRIVERS[@]}"; do
+    area=$(basename "$driver" .c)
+    area=${area#eva_}
+    for build in double float; do
+        while [ "$(jobs -rp | wc -l)" -ge "$jobs_max" ]; do
+            wait -n || true
+        done
+        if [ "$build" = double ]; then
+            run "$driver" "$area-double" x86_64 "" "" &
+        else
+            run "$driver" "$area-float" x86_32 "-DZW_REAL_FLOAT" _f &
+        fi
+        names+=("$area-$build")
+    done
+done
+wait || true
+for name in "${names[@]}"; do
+    # a run that failed wrote no time
+    if [ ! -f "$out/$name.seconds" ]; then
+        echo "eva.sh: frama-c failed on the run $name; its log:" >&2
+        tail -n 20 "$out/$name.log" >&2
+        exit 2
+    fi
+done
+echo "eva.sh: all runs done in $SECONDS s of wall time ($jobs_max at a time)"
 
 python3 - "$out" "${analyses[@]}" <<'PY'
 import collections, csv, os, re, sys

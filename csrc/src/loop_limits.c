@@ -313,6 +313,11 @@ ZW_NOINLINE static void response(const ll_plant *p, zw_real theta, ll_cplx *r0, 
         *r0 = cdiv(cmul(rot, ze), cz);
         r0->re *= -p->two_c1;
         r0->im *= -p->two_c1;
+    } else {
+        /* general_r0's (which the callers read only where it succeeded); written here so
+         * that R0 is defined on every path, as the analysis (docs/eva.md) can see */
+        r0->re = ZW_R(0.0);
+        r0->im = ZW_R(0.0);
     }
     if (sp->differentiator == ZW_DIFF_TUSTIN) {
         s->re = ZW_R(1.0) / ch;
@@ -1287,22 +1292,26 @@ ZW_NOINLINE static void zero_walk(zw_loop_workspace *ws)
 ZW_NOINLINE static zw_status extremes_of(zw_loop_workspace *ws, zw_loop_extremes *out)
 {
     const ll_walk *w;
+    unsigned last;
     zero_walk(ws);
     w = &ws->lim_walk;
     if (w->count == 0u) {
         return ZW_ERR_DOMAIN;
     }
+    /* the last cell: count <= ZW_LOOP_MAX_INTERVALS (walk_record's guard), the bound stated
+     * where the analysis (docs/eva.md) cannot carry it through the walk's loop */
+    last = (w->count < ZW_LOOP_MAX_INTERVALS) ? (w->count - 1u) : (ZW_LOOP_MAX_INTERVALS - 1u);
     /* Where a closing crossing is poorly resolved (its pair next to z = -1, e.g. near
      * delta0), push the ends outwards by bisection on "alpha_max(beta) > 0": every beta
      * where it holds is in the stable range at alpha -> 0+ (certified by alpha_max). */
     out->beta_mmin = w->cell_lo[0];
-    out->beta_mmax = w->cell_hi[w->count - 1u];
+    out->beta_mmax = w->cell_hi[last];
     push_end(ws, out->beta_mmax, w->outer[1]);
     out->beta_mmax = ws->lim_ext.a;
     push_end(ws, out->beta_mmin, w->outer[0]);
     out->beta_mmin = ws->lim_ext.a;
     ws->lim_walk.i = 0u;
-    while (ws->lim_walk.i < w->count) {
+    while (ws->lim_walk.i <= last) { /* i < count */
         maximise(ws, w->cell_lo[ws->lim_walk.i], w->cell_hi[ws->lim_walk.i]);
         if (ws->lim_ext.best_a > out->alpha_mmax) {
             out->alpha_mmax = ws->lim_ext.best_a;

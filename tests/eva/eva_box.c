@@ -19,21 +19,13 @@
 #include <stdint.h>
 
 #include "zwidth/box.h"
+#include "eva_any.h"
 
 #define ZW_EVA_CELLS 8u
 
-volatile zw_real any_real_source;
-volatile int any_int_source;
 volatile uint_least32_t any_u32_source;
 
-volatile zw_real sink_real;
-volatile int sink_int;
 volatile uint_least32_t sink_u32;
-
-static zw_real any_real(void) { return any_real_source; }
-static bool any_bool(void) { return any_int_source != 0; }
-
-#define maybe_null(p) (any_bool() ? (p) : NULL)
 
 static void any_box(zw_plant_box *b)
 {

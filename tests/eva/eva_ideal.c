@@ -32,38 +32,14 @@
 #include "zwidth/region.h"
 #include "zwidth/selftest.h"
 #include "zwidth/status.h"
+#include "eva_any.h"
 
-volatile zw_real any_real_source;
 volatile float any_float_source;
-volatile int any_int_source;
 volatile size_t any_size_source;
 volatile ptrdiff_t any_stride_source;
 
-/* Sinks: every output is read into one of these. */
-volatile zw_real sink_real;
-volatile int sink_int;
 volatile size_t sink_size;
 volatile const char *sink_name;
-
-static zw_real any_real(void) { return any_real_source; }
-static bool any_bool(void) { return any_int_source != 0; }
-
-/* The pointer or NULL, either way. */
-#define maybe_null(p) (any_bool() ? (p) : NULL)
-
-static void any_coeffs(zw_coeffs *c)
-{
-    c->delta = any_real();
-    c->e = any_real();
-    c->c1 = any_real();
-    c->c2 = any_real();
-    c->d12 = any_real();
-    c->s = any_real();
-    c->g = any_real();
-    c->sigma = any_real();
-    c->hs = any_real();
-    c->delta_relerr = any_real();
-}
 
 static void any_device(zw_device *d)
 {

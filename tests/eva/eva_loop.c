@@ -15,7 +15,7 @@
  * coefficients; the workspace holds any contents (loop.h: "needs no initialisation ...
  * any contents (garbage, another loop's) are fine"; the check's rows, roots and
  * radii any values; the limits' part, which loop_limits.c uses (its driver is
- * pending_loop_limits.c), as in static storage); every output is read after the call, and each
+ * eva_loop_limits.c), as in static storage); every output is read after the call, and each
  * call is repeated with every pointer independently NULL or valid.
  *
  * device_loop's limits call loop_limits.h (zw_loop_alpha_max, zw_loop_beta_interval,
@@ -30,6 +30,7 @@
 #include "zwidth/loop.h"
 #include "zwidth/loop_limits.h"
 #include "../../csrc/src/internal.h" /* zw_routh_hurwitz, the loop's Routh test for box_loop.c */
+#include "eva_any.h"
 
 /*@ requires \valid(alpha_max);
     assigns \result, *alpha_max \from indirect:loop, indirect:ws, beta;
@@ -49,33 +50,6 @@ zw_status zw_loop_beta_interval(const zw_loop *loop, zw_loop_workspace *ws, zw_r
             \initialized(&out->beta_mmin); */
 zw_status zw_loop_extremes_compute(const zw_loop *loop, zw_loop_workspace *ws,
                                    zw_loop_extremes *out);
-
-volatile zw_real any_real_source;
-volatile int any_int_source;
-volatile unsigned any_unsigned_source;
-
-volatile zw_real sink_real;
-volatile int sink_int;
-volatile unsigned sink_unsigned;
-
-static zw_real any_real(void) { return any_real_source; }
-static bool any_bool(void) { return any_int_source != 0; }
-
-#define maybe_null(p) (any_bool() ? (p) : NULL)
-
-static void any_coeffs(zw_coeffs *c)
-{
-    c->delta = any_real();
-    c->e = any_real();
-    c->c1 = any_real();
-    c->c2 = any_real();
-    c->d12 = any_real();
-    c->s = any_real();
-    c->g = any_real();
-    c->sigma = any_real();
-    c->hs = any_real();
-    c->delta_relerr = any_real();
-}
 
 static void any_spec(zw_loop_spec *s)
 {

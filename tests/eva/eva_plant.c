@@ -18,33 +18,7 @@
 
 #include "zwidth/plant.h"
 #include "zwidth/plant_box.h"
-
-volatile zw_real any_real_source;
-volatile int any_int_source;
-volatile unsigned any_unsigned_source;
-
-volatile zw_real sink_real;
-volatile int sink_int;
-volatile unsigned sink_unsigned;
-
-static zw_real any_real(void) { return any_real_source; }
-static bool any_bool(void) { return any_int_source != 0; }
-
-#define maybe_null(p) (any_bool() ? (p) : NULL)
-
-static void any_coeffs(zw_coeffs *c)
-{
-    c->delta = any_real();
-    c->e = any_real();
-    c->c1 = any_real();
-    c->c2 = any_real();
-    c->d12 = any_real();
-    c->s = any_real();
-    c->g = any_real();
-    c->sigma = any_real();
-    c->hs = any_real();
-    c->delta_relerr = any_real();
-}
+#include "eva_any.h"
 
 static void any_spec(zw_plant_spec *s)
 {
