@@ -451,97 +451,135 @@ typedef struct order2 {
     zw_eb ch, sh;    /* e^-h C(w2) = tr / 2 and e^-h S(w2) = exp[p1, p2] = Phi01 */
 } order2;
 
+/* Every result of an out-of-line call goes to a named variable of a block that ends where
+ * it is no longer needed (or to *o): a call nested in an argument leaves an unnamed
+ * temporary that GCC keeps in the frame for the whole function (the stack,
+ * tools/footprint.sh).  The same operations on the same operands as the nested form. */
 static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
 {
     const zw_eb one = zw_eb_exact(ZW_R(1.0));
     const zw_eb w2 = eb_square_minus(h, kappa);
     const zw_eb delta = eb_twice(h);
-    const zw_eb eh = eb_exp(eb_neg(h));
-    zw_eb C, S, G, H;
+    zw_eb eh, t, u, C, S, G, H;
+    eh = eb_exp(eb_neg(h));
     o->det = eb_exp(eb_neg(delta));
-    o->R = eb_neg(eb_expm1(eb_neg(delta)));
+    t = eb_expm1(eb_neg(delta));
+    o->R = eb_neg(t);
+    o->h = h;
+    o->w2 = w2;
 
     if (eb_within(h, ZW_R(2.0)) && eb_within(w2, PLANT_SERIES_LIMIT)) {
         zw_eb cd, sd;
-        series_divided(w2, zw_eb_mul(h, h), &cd, &sd);
-        C = zw_eb_mul(eh, series_single(w2, 0u));
+        t = zw_eb_mul(h, h);
+        series_divided(w2, t, &cd, &sd);
+        t = series_single(w2, 0u);
+        C = zw_eb_mul(eh, t);
         o->ch = C;
-        o->sh = zw_eb_mul(eh, series_single(w2, 1u));
-        o->h = h;
-        o->w2 = w2;
-        G = eb_twice(zw_eb_mul(eh, cd));
+        t = series_single(w2, 1u);
+        o->sh = zw_eb_mul(eh, t);
+        t = zw_eb_mul(eh, cd);
+        G = eb_twice(t);
         H = zw_eb_mul(eh, sd);
         o->tr = eb_twice(C);
         o->P = zw_eb_mul(kappa, G);
-        o->Q = zw_eb_add(zw_eb_add(one, o->det), o->tr);
+        t = zw_eb_add(one, o->det);
+        o->Q = zw_eb_add(t, o->tr);
         o->bsum = G;
         o->bdiff = zw_eb_mul(delta, H);
-        o->b1 = zw_eb_add(eb_half(G), zw_eb_mul(h, H));
-        o->b0 = zw_eb_sub(eb_half(G), zw_eb_mul(h, H));
+        t = zw_eb_mul(h, H);
+        o->b1 = zw_eb_add(eb_half(G), t);
+        o->b0 = zw_eb_sub(eb_half(G), t);
         return;
     }
     if (w2.v >= ZW_R(0.5) * (h.v * h.v)) {
-        const zw_eb r = eb_sqrt(w2);
-        const zw_eb hr = zw_eb_add(h, r);
-        const zw_eb p2 = eb_neg(hr);
-        const zw_eb p1 = eb_neg(zw_eb_div(kappa, hr));
-        const zw_eb z1 = eb_exp(p1), z2 = eb_exp(p2);
-        const zw_eb e01 = eb_e0(p1), e02 = eb_e0(p2);
-        const zw_eb sh = zw_eb_div(zw_eb_sub(z1, z2), eb_twice(r));
+        zw_eb r, hr, p1, p2, z1, z2, e01;
+        r = eb_sqrt(w2);
+        hr = zw_eb_add(h, r);
+        p2 = eb_neg(hr);
+        t = zw_eb_div(kappa, hr);
+        p1 = eb_neg(t);
+        z1 = eb_exp(p1);
+        z2 = eb_exp(p2);
+        e01 = eb_e0(p1);
+        t = zw_eb_sub(z1, z2);
+        o->sh = zw_eb_div(t, eb_twice(r));
         o->tr = zw_eb_add(z1, z2);
-        o->P = zw_eb_mul(eb_expm1(p1), eb_expm1(p2));
-        o->Q = zw_eb_mul(zw_eb_add(one, z1), zw_eb_add(one, z2));
-        o->b1 = zw_eb_div(zw_eb_sub(e01, sh), hr);
-        o->b0 = zw_eb_div(zw_eb_sub(sh, zw_eb_mul(z2, e01)), hr);
-        o->bsum = zw_eb_mul(e01, e02);
+        t = eb_expm1(p1);
+        u = eb_expm1(p2);
+        o->P = zw_eb_mul(t, u);
+        t = zw_eb_add(one, z1);
+        u = zw_eb_add(one, z2);
+        o->Q = zw_eb_mul(t, u);
+        t = zw_eb_sub(e01, o->sh);
+        o->b1 = zw_eb_div(t, hr);
+        t = zw_eb_mul(z2, e01);
+        t = zw_eb_sub(o->sh, t);
+        o->b0 = zw_eb_div(t, hr);
+        t = eb_e0(p2);
+        o->bsum = zw_eb_mul(e01, t);
         o->ch = eb_half(o->tr);
-        o->sh = sh;
-        o->h = h;
-        o->w2 = w2;
         o->bdiff = zw_eb_sub(o->b1, o->b0);
         return;
     }
     if (eb_within(w2, PLANT_SERIES_LIMIT)) {
-        C = zw_eb_mul(eh, series_single(w2, 0u));
-        S = zw_eb_mul(eh, series_single(w2, 1u));
+        t = series_single(w2, 0u);
+        C = zw_eb_mul(eh, t);
+        t = series_single(w2, 1u);
+        S = zw_eb_mul(eh, t);
     } else if (w2.v > ZW_R(0.0)) {
-        const zw_eb r = eb_sqrt(w2);
-        const zw_eb hr = zw_eb_add(h, r);
-        const zw_eb z1 = eb_exp(eb_neg(zw_eb_div(kappa, hr))), z2 = eb_exp(eb_neg(hr));
-        C = eb_half(zw_eb_add(z1, z2));
-        S = zw_eb_div(zw_eb_sub(z1, z2), eb_twice(r));
+        zw_eb r, hr, z1, z2;
+        r = eb_sqrt(w2);
+        hr = zw_eb_add(h, r);
+        t = zw_eb_div(kappa, hr);
+        z1 = eb_exp(eb_neg(t));
+        z2 = eb_exp(eb_neg(hr));
+        t = zw_eb_add(z1, z2);
+        C = eb_half(t);
+        t = zw_eb_sub(z1, z2);
+        S = zw_eb_div(t, eb_twice(r));
     } else {
-        const zw_eb om = eb_sqrt(eb_neg(w2));
-        C = zw_eb_mul(eh, eb_cos(om));
-        S = zw_eb_div(zw_eb_mul(eh, eb_sin(om)), om);
+        zw_eb om;
+        om = eb_sqrt(eb_neg(w2));
+        t = eb_cos(om);
+        C = zw_eb_mul(eh, t);
+        t = eb_sin(om);
+        t = zw_eb_mul(eh, t);
+        S = zw_eb_div(t, om);
     }
     o->tr = eb_twice(C);
     o->ch = C;
     o->sh = S;
-    o->h = h;
-    o->w2 = w2;
     if ((w2.v < ZW_R(0.0)) && (h.v <= ZW_R(2.0))) {
         /* complex poles far from critical, light damping: the sums of squares */
-        const zw_eb om = eb_sqrt(eb_neg(w2));
-        const zw_eb half = eb_half(om);
-        const zw_eb sn = eb_sin(half), cs = eb_cos(half);
-        const zw_eb em = eb_expm1(eb_neg(h));
-        const zw_eb em2 = zw_eb_mul(em, em);
-        const zw_eb four_eh = eb_twice(eb_twice(eh));
-        o->P = zw_eb_add(em2, zw_eb_mul(four_eh, zw_eb_mul(sn, sn)));
-        o->Q = zw_eb_add(em2, zw_eb_mul(four_eh, zw_eb_mul(cs, cs)));
+        zw_eb om, sn, cs, em2, four_eh;
+        om = eb_sqrt(eb_neg(w2));
+        sn = eb_sin(eb_half(om));
+        cs = eb_cos(eb_half(om));
+        t = eb_expm1(eb_neg(h));
+        em2 = zw_eb_mul(t, t);
+        four_eh = eb_twice(eb_twice(eh));
+        t = zw_eb_mul(sn, sn);
+        t = zw_eb_mul(four_eh, t);
+        o->P = zw_eb_add(em2, t);
+        t = zw_eb_mul(cs, cs);
+        t = zw_eb_mul(four_eh, t);
+        o->Q = zw_eb_add(em2, t);
     } else {
         /* h > 2: 1 + det - tr >= (1 - e^-h)^2 > 3/4 for complex poles, and for real ones
          * with w2 < h^2 / 2 tr < e^(-0.29 h) + e^-h: a bounded cancellation */
-        o->P = zw_eb_sub(zw_eb_add(one, o->det), o->tr);
-        o->Q = zw_eb_add(zw_eb_add(one, o->det), o->tr);
+        t = zw_eb_add(one, o->det);
+        o->P = zw_eb_sub(t, o->tr);
+        o->Q = zw_eb_add(t, o->tr);
     }
     G = zw_eb_div(o->P, kappa);
-    H = zw_eb_div(zw_eb_sub(eb_e0(eb_neg(delta)), S), kappa);
+    t = eb_e0(eb_neg(delta));
+    t = zw_eb_sub(t, S);
+    H = zw_eb_div(t, kappa);
     o->bsum = G;
     o->bdiff = zw_eb_mul(delta, H);
-    o->b1 = zw_eb_add(eb_half(G), zw_eb_mul(h, H));
-    o->b0 = zw_eb_sub(eb_half(G), zw_eb_mul(h, H));
+    t = zw_eb_mul(h, H);
+    o->b1 = zw_eb_add(eb_half(G), t);
+    o->b0 = zw_eb_sub(eb_half(G), t);
 }
 
 static void plant_from_order2(zw_plant *p, const order2 *o)
@@ -623,94 +661,184 @@ static zw_eb series_shifted4(zw_eb h, zw_eb hp, zw_eb w2)
     return sum;
 }
 
-static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
+/* The order-3 plant's intermediate values (order3_build), kept in one place so that each
+ * step's own temporaries end with it (see order2_compute). */
+typedef struct order3 {
+    zw_eb hp, hp2, kp, a, oma, opa, phi11;
+    zw_eb T, U, y0, x1, x0;
+    zw_eb y0_series, x1_far;
+    bool series_ok;
+} order3;
+
+/* hp, kp, a, 1 -+ a, Phi11; T from the direct form, the series and the far pair; the series'
+ * y0 and the far pair's x1 (infinite bounds when not computed). */
+static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
 {
     const zw_eb one = zw_eb_exact(ZW_R(1.0));
     const zw_eb h = o->h, w2 = o->w2;
-    const zw_eb hp = zw_eb_sub(h, nu);
-    const zw_eb hp2 = zw_eb_mul(hp, hp);
-    const zw_eb kp = zw_eb_sub(hp2, w2);
-    const zw_eb a = eb_exp(eb_neg(nu));
-    const zw_eb oma = eb_neg(eb_expm1(eb_neg(nu)));
-    const zw_eb opa = zw_eb_add(one, a);
-    const zw_eb phi11 = zw_eb_sub(o->ch, zw_eb_mul(h, o->sh));
-    const bool series_ok = eb_within(w2, PLANT_SERIES_LIMIT) && eb_within(hp2, PLANT_SERIES_LIMIT);
-    zw_eb T, U, y0, x1, x0, t;
-    zw_eb y0_series = zw_eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
-    zw_eb x1_far = zw_eb_make(ZW_R(0.0), ZW_INF);
+    zw_eb t, u;
+    q->hp = zw_eb_sub(h, nu);
+    q->hp2 = zw_eb_mul(q->hp, q->hp);
+    q->kp = zw_eb_sub(q->hp2, w2);
+    q->a = eb_exp(eb_neg(nu));
+    t = eb_expm1(eb_neg(nu));
+    q->oma = eb_neg(t);
+    q->opa = zw_eb_add(one, q->a);
+    t = zw_eb_mul(h, o->sh);
+    q->phi11 = zw_eb_sub(o->ch, t);
+    q->series_ok = eb_within(w2, PLANT_SERIES_LIMIT) && eb_within(q->hp2, PLANT_SERIES_LIMIT);
+    q->y0_series = zw_eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
+    q->x1_far = zw_eb_make(ZW_R(0.0), ZW_INF);
 
-    /* T */
-    T = zw_eb_div(zw_eb_sub(zw_eb_sub(a, o->ch), zw_eb_mul(hp, o->sh)), kp);
-    if (series_ok) {
-        zw_eb cd, sd;
-        const zw_eb eh = eb_exp(eb_neg(h));
-        series_divided(w2, hp2, &cd, &sd);
-        T = eb_better(T, zw_eb_mul(eh, zw_eb_add(cd, zw_eb_mul(hp, sd))));
+    t = zw_eb_sub(q->a, o->ch);
+    u = zw_eb_mul(q->hp, o->sh);
+    t = zw_eb_sub(t, u);
+    q->T = zw_eb_div(t, q->kp);
+    if (q->series_ok) {
+        zw_eb cd, sd, eh;
+        eh = eb_exp(eb_neg(h));
+        series_divided(w2, q->hp2, &cd, &sd);
+        u = zw_eb_mul(q->hp, sd);
+        t = zw_eb_add(cd, u);
+        t = zw_eb_mul(eh, t);
+        q->T = eb_better(q->T, t);
         /* y0 = det a exp[-p1, -p2, -p3]: the same series with h' -> -h' */
-        y0_series = zw_eb_mul(zw_eb_mul(a, eh), zw_eb_sub(cd, zw_eb_mul(hp, sd)));
+        t = zw_eb_mul(q->a, eh);
+        u = zw_eb_sub(cd, u);
+        q->y0_series = zw_eb_mul(t, u);
     }
-    if (w2.v >= ZW_R(1.0)) {
-        const zw_eb r = eb_sqrt(w2);
-        const zw_eb hr = zw_eb_add(h, r);
-        const zw_eb p1 = eb_neg(zw_eb_div(kappa, hr)), p2 = eb_neg(hr), p3 = eb_neg(nu);
-        t = zw_eb_div(zw_eb_sub(eb_exp_dd(p3, p1), eb_exp_dd(p3, p2)), eb_twice(r));
-        T = eb_better(T, t);
-        /* x1 / nu = exp[0, p3, p1, p2] = (exp[0, p3, p1] - exp[0, p3, p2]) / (p1 - p2), each
-         * the b1 of the real pole pair {p3, p_i} (no cancellation for nu -> 0) */
-        {
-            order2 q1, q2;
-            order2_compute(eb_half(zw_eb_sub(nu, p1)), zw_eb_mul(nu, eb_neg(p1)), &q1);
-            order2_compute(eb_half(zw_eb_sub(nu, p2)), zw_eb_mul(nu, eb_neg(p2)), &q2);
-            x1_far = zw_eb_mul(nu, zw_eb_div(zw_eb_sub(q1.b1, q2.b1), eb_twice(r)));
-        }
-    }
+}
+
+/* The far pair (w2 >= 1): T as a difference of divided differences, and
+ * x1 / nu = exp[0, p3, p1, p2] = (exp[0, p3, p1] - exp[0, p3, p2]) / (p1 - p2), each the b1
+ * of the real pole pair {p3, p_i} (no cancellation for nu -> 0). */
+static void order3_far(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
+{
+    const zw_eb h = o->h;
+    zw_eb r, hr, p1, p2, p3, t, u, b1_first;
+    order2 pair;
+    r = eb_sqrt(o->w2);
+    hr = zw_eb_add(h, r);
+    t = zw_eb_div(kappa, hr);
+    p1 = eb_neg(t);
+    p2 = eb_neg(hr);
+    p3 = eb_neg(nu);
+    t = eb_exp_dd(p3, p1);
+    u = eb_exp_dd(p3, p2);
+    t = zw_eb_sub(t, u);
+    t = zw_eb_div(t, eb_twice(r));
+    q->T = eb_better(q->T, t);
+    t = zw_eb_sub(nu, p1);
+    u = zw_eb_mul(nu, eb_neg(p1));
+    order2_compute(eb_half(t), u, &pair);
+    b1_first = pair.b1;
+    t = zw_eb_sub(nu, p2);
+    u = zw_eb_mul(nu, eb_neg(p2));
+    order2_compute(eb_half(t), u, &pair);
+    t = zw_eb_sub(b1_first, pair.b1);
+    t = zw_eb_div(t, eb_twice(r));
+    q->x1_far = zw_eb_mul(nu, t);
+}
+
+/* U, y0, x1, x0 from T, each by the form with the smallest bound. */
+static void order3_numerators(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
+{
+    const zw_eb h = o->h;
+    zw_eb t, u;
     /* U = S^ - nu T, or (nu Phi11 + kappa S^ - nu a) / kappa' (no cancellation for nu >> 1) */
-    U = zw_eb_sub(o->sh, zw_eb_mul(nu, T));
-    t = zw_eb_div(zw_eb_sub(zw_eb_add(zw_eb_mul(nu, phi11), zw_eb_mul(kappa, o->sh)),
-                            zw_eb_mul(nu, a)),
-                  kp);
-    U = eb_better(U, t);
-    y0 = zw_eb_sub(zw_eb_mul(o->sh, U), zw_eb_mul(phi11, T));
-    y0 = eb_better(y0, y0_series);
+    t = zw_eb_mul(nu, q->T);
+    q->U = zw_eb_sub(o->sh, t);
+    t = zw_eb_mul(nu, q->phi11);
+    u = zw_eb_mul(kappa, o->sh);
+    t = zw_eb_add(t, u);
+    u = zw_eb_mul(nu, q->a);
+    t = zw_eb_sub(t, u);
+    t = zw_eb_div(t, q->kp);
+    q->U = eb_better(q->U, t);
+    t = zw_eb_mul(o->sh, q->U);
+    u = zw_eb_mul(q->phi11, q->T);
+    q->y0 = zw_eb_sub(t, u);
+    q->y0 = eb_better(q->y0, q->y0_series);
     /* x1 = nu exp[0, p1, p2, p3] = b1 - T (cancels for nu -> 0), or
      * nu (E0(-nu) - S^ + (nu - 2 h) b1) / kappa' (no cancellation for large kappa), or for
      * a small plant nu e^-h sum_k H_k / (k + 3)!, H the complete symmetric polynomials of the
      * nodes shifted by h: (h, r, -r, h'), H_k = A_k + w2 H_{k-2}, A_k = h' A_{k-1} + h^k */
-    x1 = zw_eb_sub(o->b1, T);
-    t = zw_eb_div(zw_eb_mul(nu, zw_eb_add(zw_eb_sub(eb_e0(eb_neg(nu)), o->sh),
-                                          zw_eb_mul(zw_eb_sub(nu, eb_twice(h)), o->b1))),
-                  kp);
-    x1 = eb_better(x1, t);
-    x1 = eb_better(x1, x1_far);
-    if (series_ok && eb_within(h, ZW_R(2.0))) {
-        x1 = eb_better(x1, zw_eb_mul(zw_eb_mul(nu, eb_exp(eb_neg(h))), series_shifted4(h, hp, w2)));
+    q->x1 = zw_eb_sub(o->b1, q->T);
+    t = eb_e0(eb_neg(nu));
+    t = zw_eb_sub(t, o->sh);
+    u = zw_eb_sub(nu, eb_twice(h));
+    u = zw_eb_mul(u, o->b1);
+    t = zw_eb_add(t, u);
+    t = zw_eb_mul(nu, t);
+    t = zw_eb_div(t, q->kp);
+    q->x1 = eb_better(q->x1, t);
+    q->x1 = eb_better(q->x1, q->x1_far);
+    if (q->series_ok && eb_within(h, ZW_R(2.0))) {
+        t = eb_exp(eb_neg(h));
+        t = zw_eb_mul(nu, t);
+        u = series_shifted4(h, q->hp, o->w2);
+        t = zw_eb_mul(t, u);
+        q->x1 = eb_better(q->x1, t);
     }
     /* x0 = b0 - y0, or nu Phi01 T - Phi11 x1 (small for nu -> 0 without cancelling) */
-    x0 = zw_eb_sub(o->b0, y0);
-    t = zw_eb_sub(zw_eb_mul(zw_eb_mul(nu, o->sh), T), zw_eb_mul(phi11, x1));
-    x0 = eb_better(x0, t);
+    q->x0 = zw_eb_sub(o->b0, q->y0);
+    t = zw_eb_mul(nu, o->sh);
+    t = zw_eb_mul(t, q->T);
+    u = zw_eb_mul(q->phi11, q->x1);
+    t = zw_eb_sub(t, u);
+    q->x0 = eb_better(q->x0, t);
+}
 
+/* The order-3 polynomials from X, Y and a. */
+static void order3_polys(const order2 *o, const order3 *q, zw_plant *p)
+{
+    const zw_eb one = zw_eb_exact(ZW_R(1.0));
+    zw_eb t, u, xd;
     p->order = 3u;
     /* N3 / 2 = x1 z^2 + (x0 - a x1 + (1 - a) y1) z + ((1 - a) y0 - a x0) */
-    set_eb(&p->num[0], &p->num_err[0], eb_twice(x1));
-    set_eb(&p->num[1], &p->num_err[1],
-           eb_twice(zw_eb_add(zw_eb_sub(x0, zw_eb_mul(a, x1)), zw_eb_mul(oma, T))));
-    set_eb(&p->num[2], &p->num_err[2],
-           eb_twice(zw_eb_sub(zw_eb_mul(oma, y0), zw_eb_mul(a, x0))));
+    set_eb(&p->num[0], &p->num_err[0], eb_twice(q->x1));
+    t = zw_eb_mul(q->a, q->x1);
+    t = zw_eb_sub(q->x0, t);
+    u = zw_eb_mul(q->oma, q->T);
+    t = zw_eb_add(t, u);
+    set_eb(&p->num[1], &p->num_err[1], eb_twice(t));
+    t = zw_eb_mul(q->oma, q->y0);
+    u = zw_eb_mul(q->a, q->x0);
+    t = zw_eb_sub(t, u);
+    set_eb(&p->num[2], &p->num_err[2], eb_twice(t));
     /* N3_s / 2 = ((1 + a) s + (1 - a)) X_s + (1 - a)(1 - s) Y_s */
-    {
-        const zw_eb xd = zw_eb_sub(x1, x0), xs = zw_eb_add(x1, x0), yd = zw_eb_sub(T, y0);
-        set_eb(&p->num_s[0], &p->num_s_err[0],
-               eb_twice(zw_eb_sub(zw_eb_mul(opa, xd), zw_eb_mul(oma, yd))));
-        set_eb(&p->num_s[1], &p->num_s_err[1],
-               eb_twice(zw_eb_sub(zw_eb_add(zw_eb_mul(opa, xs), zw_eb_mul(oma, xd)),
-                                  eb_twice(zw_eb_mul(oma, y0)))));
-        set_eb(&p->num_s[2], &p->num_s_err[2], eb_twice(zw_eb_mul(oma, o->bsum)));
-    }
+    xd = zw_eb_sub(q->x1, q->x0);
+    t = zw_eb_mul(q->opa, xd);
+    u = zw_eb_sub(q->T, q->y0);
+    u = zw_eb_mul(q->oma, u);
+    t = zw_eb_sub(t, u);
+    set_eb(&p->num_s[0], &p->num_s_err[0], eb_twice(t));
+    t = zw_eb_add(q->x1, q->x0);
+    t = zw_eb_mul(q->opa, t);
+    u = zw_eb_mul(q->oma, xd);
+    t = zw_eb_add(t, u);
+    u = zw_eb_mul(q->oma, q->y0);
+    t = zw_eb_sub(t, eb_twice(u));
+    set_eb(&p->num_s[1], &p->num_s_err[1], eb_twice(t));
+    t = zw_eb_mul(q->oma, o->bsum);
+    set_eb(&p->num_s[2], &p->num_s_err[2], eb_twice(t));
     /* D3 = D2 (z - a): in s, times (1 + a) s + (1 - a); in w = z - 1, times w + (1 - a) */
-    zw_eb_poly_mul_linear(p->den, p->den_err, 2u, one, eb_neg(a));
-    zw_eb_poly_mul_linear(p->den_s, p->den_s_err, 2u, opa, oma);
-    zw_eb_poly_mul_linear(p->den_w, p->den_w_err, 2u, one, oma);
+    zw_eb_poly_mul_linear(p->den, p->den_err, 2u, one, eb_neg(q->a));
+    zw_eb_poly_mul_linear(p->den_s, p->den_s_err, 2u, q->opa, q->oma);
+    zw_eb_poly_mul_linear(p->den_w, p->den_w_err, 2u, one, q->oma);
+}
+
+/* In steps, each with its own temporaries; the far pair's two order-2 plants one after the
+ * other. */
+static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
+{
+    order3 q;
+    order3_poles(o, nu, &q);
+    if (o->w2.v >= ZW_R(1.0)) {
+        order3_far(o, kappa, nu, &q);
+    }
+    order3_numerators(o, kappa, nu, &q);
+    order3_polys(o, &q, p);
 }
 
 /* ---- the general plant ---------------------------------------------------------------- */
@@ -737,11 +865,13 @@ static zw_status check_plant_spec(const zw_plant_spec *spec)
     return ZW_OK;
 }
 
+/* Built in place in *out (no second zw_plant on the stack), fail-safe at every return;
+ * *spec is copied first, since it may be out->spec. */
 zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
 {
     zw_status st;
     zw_coeffs c;
-    zw_plant p;
+    zw_plant_spec sp;
     if (out == NULL) {
         return ZW_ERR_NULL;
     }
@@ -749,48 +879,48 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
         zw_plant_fail(out);
         return ZW_ERR_NULL;
     }
-    st = check_plant_spec(spec);
+    sp = *spec;
+    st = check_plant_spec(&sp);
     if (st != ZW_OK) {
         zw_plant_fail(out);
         return st;
     }
-    st = zw_coeffs_init(&c, spec->delta);
+    st = zw_coeffs_init(&c, sp.delta);
     if (st != ZW_OK) {
         zw_plant_fail(out);
         return st;
     }
-    c.delta_relerr = spec->delta_relerr;
-    if ((spec->kappa == ZW_R(0.0)) && (spec->lambda == ZW_R(0.0))) {
+    c.delta_relerr = sp.delta_relerr;
+    if ((sp.kappa == ZW_R(0.0)) && (sp.lambda == ZW_R(0.0))) {
         return zw_plant_from_coeffs(out, &c);
     }
-    zw_plant_fail(&p);
+    zw_plant_fail(out);
     {
         order2 o;
-        const zw_eb h = zw_eb_make(ZW_R(0.5) * spec->delta,
-                                ZW_R(0.5) * spec->delta * spec->delta_relerr + ZW_ETA);
-        const zw_eb kappa = zw_eb_make(spec->kappa, spec->kappa * spec->kappa_relerr);
+        const zw_eb h = zw_eb_make(ZW_R(0.5) * sp.delta,
+                                ZW_R(0.5) * sp.delta * sp.delta_relerr + ZW_ETA);
+        const zw_eb kappa = zw_eb_make(sp.kappa, sp.kappa * sp.kappa_relerr);
         order2_compute(h, kappa, &o);
-        p.order = 2u;
-        plant_from_order2(&p, &o);
-        if (spec->lambda > ZW_R(0.0)) {
+        out->order = 2u;
+        plant_from_order2(out, &o);
+        if (sp.lambda > ZW_R(0.0)) {
             /* nu = 1 / lambda: one rounding, and 1 / (lambda (1 +- rho)) within
              * nu rho / (1 - rho) <= nu rho (16 / 15) of nu */
-            const zw_real nu = ZW_R(1.0) / spec->lambda;
-            const zw_eb nub = zw_eb_make(nu, nu * (spec->lambda_relerr * ZW_R(1.0667) + ZW_U) + ZW_ETA);
+            const zw_real nu = ZW_R(1.0) / sp.lambda;
+            const zw_eb nub = zw_eb_make(nu, nu * (sp.lambda_relerr * ZW_R(1.0667) + ZW_U) + ZW_ETA);
             if (!ZW_IS_FINITE(nu)) {
                 zw_plant_fail(out);
                 return ZW_ERR_RANGE;
             }
-            order3_build(&o, kappa, nub, &p);
+            order3_build(&o, kappa, nub, out);
         }
     }
-    p.spec = *spec;
-    p.c = c;
-    if (!plant_finite(&p)) {
+    out->spec = sp;
+    out->c = c;
+    if (!plant_finite(out)) {
         zw_plant_fail(out);
         return ZW_ERR_RANGE;
     }
-    *out = p;
     return ZW_OK;
 }
 
