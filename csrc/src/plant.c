@@ -89,11 +89,13 @@ static bool relerr_ok(zw_real r)
 
 /* ---- the ideal plant ------------------------------------------------------------------ */
 
+/* Built in place in *out (no second zw_plant on the stack); *c is copied first, since it may
+ * be &out->c (zw_plant_init). */
 zw_status zw_plant_from_coeffs(zw_plant *out, const zw_coeffs *c)
 {
     zw_status st;
-    zw_plant p;
-    zw_eb f1, f0, two = zw_eb_exact(ZW_R(2.0));
+    zw_coeffs cc;
+    zw_eb f1, f0, t, two = zw_eb_exact(ZW_R(2.0));
     if (out == NULL) {
         return ZW_ERR_NULL;
     }
@@ -108,47 +110,51 @@ zw_status zw_plant_from_coeffs(zw_plant *out, const zw_coeffs *c)
         zw_plant_fail(out);
         return st;
     }
-    zw_plant_fail(&p); /* every unused entry NaN */
-    p.c = *c;
-    p.spec.delta = c->delta;
-    p.spec.kappa = ZW_R(0.0);
-    p.spec.lambda = ZW_R(0.0);
-    p.spec.delta_relerr = c->delta_relerr;
-    p.spec.kappa_relerr = ZW_R(0.0);
-    p.spec.lambda_relerr = ZW_R(0.0);
-    p.order = 2u;
+    cc = *c;
+    zw_plant_fail(out); /* every unused entry NaN */
+    out->c = cc;
+    out->spec.delta = cc.delta;
+    out->spec.kappa = ZW_R(0.0);
+    out->spec.lambda = ZW_R(0.0);
+    out->spec.delta_relerr = cc.delta_relerr;
+    out->spec.kappa_relerr = ZW_R(0.0);
+    out->spec.lambda_relerr = ZW_R(0.0);
+    out->order = 2u;
 
     /* N = c1 z + c2,  N_s = d12 s + (c1 + c2) */
-    set_eb(&p.num[0], &p.num_err[0], zw_coef_field(c, c->c1));
-    set_eb(&p.num[1], &p.num_err[1], zw_coef_field(c, c->c2));
-    set_eb(&p.num_s[0], &p.num_s_err[0], zw_coef_field(c, c->d12));
-    set_eb(&p.num_s[1], &p.num_s_err[1], zw_coef_field(c, c->s));
+    t = zw_coef_field(&cc, cc.c1);
+    set_eb(&out->num[0], &out->num_err[0], t);
+    t = zw_coef_field(&cc, cc.c2);
+    set_eb(&out->num[1], &out->num_err[1], t);
+    t = zw_coef_field(&cc, cc.d12);
+    set_eb(&out->num_s[0], &out->num_s_err[0], t);
+    t = zw_coef_field(&cc, cc.s);
+    set_eb(&out->num_s[1], &out->num_s_err[1], t);
 
     /* D = 2 (z - 1)(z - e) = 2 z^2 - 2 (1 + e) z + 2 e, as loop.c forms it: 2, times z - 1,
      * times z - e. */
-    p.den[0] = ZW_R(2.0);
-    p.den_err[0] = ZW_R(0.0);
-    p.den[1] = ZW_R(-2.0);
-    p.den_err[1] = ZW_R(0.0);
-    zw_coef_zme(c, &f1, &f0);
-    zw_eb_poly_mul_linear(p.den, p.den_err, 1u, f1, f0);
+    out->den[0] = ZW_R(2.0);
+    out->den_err[0] = ZW_R(0.0);
+    out->den[1] = ZW_R(-2.0);
+    out->den_err[1] = ZW_R(0.0);
+    zw_coef_zme(&cc, &f1, &f0);
+    zw_eb_poly_mul_linear(out->den, out->den_err, 1u, f1, f0);
 
     /* D_s = 2 (2 s) ((1 + e) s + (1 - e)): 4 (1 + e) s^2 + 4 (1 - e) s + 0 */
-    zw_coef_zme_s(c, &f1, &f0);
-    set_eb(&p.den_s[0], &p.den_s_err[0], eb_scale2(f1, ZW_R(4.0)));
-    set_eb(&p.den_s[1], &p.den_s_err[1], eb_scale2(f0, ZW_R(4.0)));
-    set_eb(&p.den_s[2], &p.den_s_err[2], zw_eb_exact(ZW_R(0.0)));
+    zw_coef_zme_s(&cc, &f1, &f0);
+    set_eb(&out->den_s[0], &out->den_s_err[0], eb_scale2(f1, ZW_R(4.0)));
+    set_eb(&out->den_s[1], &out->den_s_err[1], eb_scale2(f0, ZW_R(4.0)));
+    set_eb(&out->den_s[2], &out->den_s_err[2], zw_eb_exact(ZW_R(0.0)));
 
     /* D in w = z - 1: 2 w (w + (1 - e)) = 2 w^2 + 2 (1 - e) w + 0 */
-    set_eb(&p.den_w[0], &p.den_w_err[0], two);
-    set_eb(&p.den_w[1], &p.den_w_err[1], eb_scale2(f0, ZW_R(2.0)));
-    set_eb(&p.den_w[2], &p.den_w_err[2], zw_eb_exact(ZW_R(0.0)));
+    set_eb(&out->den_w[0], &out->den_w_err[0], two);
+    set_eb(&out->den_w[1], &out->den_w_err[1], eb_scale2(f0, ZW_R(2.0)));
+    set_eb(&out->den_w[2], &out->den_w_err[2], zw_eb_exact(ZW_R(0.0)));
 
-    if (!plant_finite(&p)) {
+    if (!plant_finite(out)) {
         zw_plant_fail(out);
         return ZW_ERR_RANGE;
     }
-    *out = p;
     return ZW_OK;
 }
 
@@ -390,7 +396,8 @@ static zw_eb series_single(zw_eb w, unsigned odd)
         const unsigned n = 2u * (k - 1u) + odd;
         const unsigned roundings = n + 1u;
         const zw_real cf = inv_factorial(n);
-        acc = zw_eb_add(zw_eb_mul(acc, w), zw_eb_make(cf, (zw_real)roundings * (ZW_U * cf + ZW_ETA)));
+        acc = zw_eb_mul(acc, w);
+        acc = zw_eb_add(acc, zw_eb_make(cf, (zw_real)roundings * (ZW_U * cf + ZW_ETA)));
     }
     acc.e += PLANT_TAIL;
     return acc;
@@ -403,10 +410,12 @@ static void series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
     zw_eb apow = zw_eb_exact(ZW_R(1.0)); /* a^(k-1) */
     zw_eb hm = zw_eb_exact(ZW_R(1.0));   /* h_{k-1}(a, b) */
     zw_eb sc = zw_eb_exact(ZW_R(0.0)), ss = zw_eb_exact(ZW_R(0.0));
+    zw_eb t;
     for (k = 1u; k <= PLANT_TERMS; ++k) {
         if (k > 1u) {
             apow = zw_eb_mul(apow, a);
-            hm = zw_eb_add(zw_eb_mul(hm, b), apow);
+            hm = zw_eb_mul(hm, b);
+            hm = zw_eb_add(hm, apow);
         }
         {
             const unsigned n = 2u * k;
@@ -414,8 +423,10 @@ static void series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
             const unsigned ns = n + 2u;
             const zw_real fc = inv_factorial(n);
             const zw_real fs = inv_factorial(n + 1u);
-            sc = zw_eb_add(sc, zw_eb_mul(hm, zw_eb_make(fc, (zw_real)nc * (ZW_U * fc + ZW_ETA))));
-            ss = zw_eb_add(ss, zw_eb_mul(hm, zw_eb_make(fs, (zw_real)ns * (ZW_U * fs + ZW_ETA))));
+            t = zw_eb_mul(hm, zw_eb_make(fc, (zw_real)nc * (ZW_U * fc + ZW_ETA)));
+            sc = zw_eb_add(sc, t);
+            t = zw_eb_mul(hm, zw_eb_make(fs, (zw_real)ns * (ZW_U * fs + ZW_ETA)));
+            ss = zw_eb_add(ss, t);
         }
     }
     sc.e += PLANT_TAIL;
@@ -595,7 +606,10 @@ static void plant_from_order2(zw_plant *p, const order2 *o)
     set_eb(&p->num_s[0], &p->num_s_err[0], eb_twice(o->bdiff));
     set_eb(&p->num_s[1], &p->num_s_err[1], eb_twice(o->bsum));
     set_eb(&p->den_w[0], &p->den_w_err[0], zw_eb_exact(ZW_R(2.0)));
-    set_eb(&p->den_w[1], &p->den_w_err[1], eb_twice(zw_eb_add(o->P, o->R)));
+    {
+        const zw_eb pr = zw_eb_add(o->P, o->R);
+        set_eb(&p->den_w[1], &p->den_w_err[1], eb_twice(pr));
+    }
     set_eb(&p->den_w[2], &p->den_w_err[2], eb_twice(o->P));
 }
 
@@ -644,16 +658,19 @@ static zw_eb series_shifted4(zw_eb h, zw_eb hp, zw_eb w2)
     zw_eb sum = zw_eb_exact(ZW_R(0.0));
     zw_real f = ZW_R(1.0) / ZW_R(6.0);                    /* 1 / (k + 3)!, rounded */
     for (k = 0u; k < PLANT_TERMS4; ++k) {
-        zw_eb H;
+        zw_eb H, t;
         const unsigned kf = k + 3u;      /* (k + 3)! = (k + 2)! kf */
         const unsigned roundings = k + 4u;
         if (k > 0u) {
             hpow = zw_eb_mul(hpow, h);
-            A = zw_eb_add(zw_eb_mul(hp, A), hpow);
+            A = zw_eb_mul(hp, A);
+            A = zw_eb_add(A, hpow);
             f = f / (zw_real)kf;
         }
-        H = zw_eb_add(A, zw_eb_mul(w2, H2));
-        sum = zw_eb_add(sum, zw_eb_mul(H, zw_eb_make(f, (zw_real)roundings * (ZW_U * f + ZW_ETA))));
+        t = zw_eb_mul(w2, H2);
+        H = zw_eb_add(A, t);
+        t = zw_eb_mul(H, zw_eb_make(f, (zw_real)roundings * (ZW_U * f + ZW_ETA)));
+        sum = zw_eb_add(sum, t);
         H2 = H1;
         H1 = H;
     }
@@ -664,31 +681,30 @@ static zw_eb series_shifted4(zw_eb h, zw_eb hp, zw_eb w2)
 /* The order-3 plant's intermediate values (order3_build), kept in one place so that each
  * step's own temporaries end with it (see order2_compute). */
 typedef struct order3 {
-    zw_eb hp, hp2, kp, a, oma, opa, phi11;
-    zw_eb T, U, y0, x1, x0;
-    zw_eb y0_series, x1_far;
+    zw_eb hp, kp, a, oma, opa, phi11;
+    zw_eb T, y0, x1, x0;
+    zw_eb y0_series, T_far, x1_far;
     bool series_ok;
 } order3;
 
-/* hp, kp, a, 1 -+ a, Phi11; T from the direct form, the series and the far pair; the series'
- * y0 and the far pair's x1 (infinite bounds when not computed). */
+/* hp, kp, a, 1 -+ a, Phi11; T from the direct form, the series and the far pair
+ * (order3_far, before); the series' y0 (an infinite bound when not computed). */
 static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
 {
     const zw_eb one = zw_eb_exact(ZW_R(1.0));
     const zw_eb h = o->h, w2 = o->w2;
-    zw_eb t, u;
+    zw_eb t, u, hp2;
     q->hp = zw_eb_sub(h, nu);
-    q->hp2 = zw_eb_mul(q->hp, q->hp);
-    q->kp = zw_eb_sub(q->hp2, w2);
+    hp2 = zw_eb_mul(q->hp, q->hp);
+    q->kp = zw_eb_sub(hp2, w2);
     q->a = eb_exp(eb_neg(nu));
     t = eb_expm1(eb_neg(nu));
     q->oma = eb_neg(t);
     q->opa = zw_eb_add(one, q->a);
     t = zw_eb_mul(h, o->sh);
     q->phi11 = zw_eb_sub(o->ch, t);
-    q->series_ok = eb_within(w2, PLANT_SERIES_LIMIT) && eb_within(q->hp2, PLANT_SERIES_LIMIT);
+    q->series_ok = eb_within(w2, PLANT_SERIES_LIMIT) && eb_within(hp2, PLANT_SERIES_LIMIT);
     q->y0_series = zw_eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
-    q->x1_far = zw_eb_make(ZW_R(0.0), ZW_INF);
 
     t = zw_eb_sub(q->a, o->ch);
     u = zw_eb_mul(q->hp, o->sh);
@@ -697,7 +713,7 @@ static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
     if (q->series_ok) {
         zw_eb cd, sd, eh;
         eh = eb_exp(eb_neg(h));
-        series_divided(w2, q->hp2, &cd, &sd);
+        series_divided(w2, hp2, &cd, &sd);
         u = zw_eb_mul(q->hp, sd);
         t = zw_eb_add(cd, u);
         t = zw_eb_mul(eh, t);
@@ -707,17 +723,20 @@ static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
         u = zw_eb_sub(cd, u);
         q->y0_series = zw_eb_mul(t, u);
     }
+    if (w2.v >= ZW_R(1.0)) {
+        q->T = eb_better(q->T, q->T_far);
+    }
 }
 
 /* The far pair (w2 >= 1): T as a difference of divided differences, and
  * x1 / nu = exp[0, p3, p1, p2] = (exp[0, p3, p1] - exp[0, p3, p2]) / (p1 - p2), each the b1
- * of the real pole pair {p3, p_i} (no cancellation for nu -> 0). */
-static void order3_far(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
+ * of the real pole pair {p3, p_i} (no cancellation for nu -> 0).  Only h, w2 of the plant's
+ * order2: done before that is computed, so that the two are not on the stack at once. */
+static void order3_far(zw_eb h, zw_eb w2, zw_eb kappa, zw_eb nu, order3 *q)
 {
-    const zw_eb h = o->h;
     zw_eb r, hr, p1, p2, p3, t, u, b1_first;
     order2 pair;
-    r = eb_sqrt(o->w2);
+    r = eb_sqrt(w2);
     hr = zw_eb_add(h, r);
     t = zw_eb_div(kappa, hr);
     p1 = eb_neg(t);
@@ -726,8 +745,7 @@ static void order3_far(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
     t = eb_exp_dd(p3, p1);
     u = eb_exp_dd(p3, p2);
     t = zw_eb_sub(t, u);
-    t = zw_eb_div(t, eb_twice(r));
-    q->T = eb_better(q->T, t);
+    q->T_far = zw_eb_div(t, eb_twice(r));
     t = zw_eb_sub(nu, p1);
     u = zw_eb_mul(nu, eb_neg(p1));
     order2_compute(eb_half(t), u, &pair);
@@ -744,18 +762,18 @@ static void order3_far(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
 static void order3_numerators(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
 {
     const zw_eb h = o->h;
-    zw_eb t, u;
+    zw_eb t, u, U;
     /* U = S^ - nu T, or (nu Phi11 + kappa S^ - nu a) / kappa' (no cancellation for nu >> 1) */
     t = zw_eb_mul(nu, q->T);
-    q->U = zw_eb_sub(o->sh, t);
+    U = zw_eb_sub(o->sh, t);
     t = zw_eb_mul(nu, q->phi11);
     u = zw_eb_mul(kappa, o->sh);
     t = zw_eb_add(t, u);
     u = zw_eb_mul(nu, q->a);
     t = zw_eb_sub(t, u);
     t = zw_eb_div(t, q->kp);
-    q->U = eb_better(q->U, t);
-    t = zw_eb_mul(o->sh, q->U);
+    U = eb_better(U, t);
+    t = zw_eb_mul(o->sh, U);
     u = zw_eb_mul(q->phi11, q->T);
     q->y0 = zw_eb_sub(t, u);
     q->y0 = eb_better(q->y0, q->y0_series);
@@ -772,7 +790,9 @@ static void order3_numerators(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
     t = zw_eb_mul(nu, t);
     t = zw_eb_div(t, q->kp);
     q->x1 = eb_better(q->x1, t);
-    q->x1 = eb_better(q->x1, q->x1_far);
+    if (o->w2.v >= ZW_R(1.0)) {
+        q->x1 = eb_better(q->x1, q->x1_far);
+    }
     if (q->series_ok && eb_within(h, ZW_R(2.0))) {
         t = eb_exp(eb_neg(h));
         t = zw_eb_mul(nu, t);
@@ -828,17 +848,24 @@ static void order3_polys(const order2 *o, const order3 *q, zw_plant *p)
     zw_eb_poly_mul_linear(p->den_w, p->den_w_err, 2u, one, q->oma);
 }
 
-/* In steps, each with its own temporaries; the far pair's two order-2 plants one after the
- * other. */
-static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
+/* The order-2 plant and its order-3 extension, in steps, each with its own temporaries: the
+ * far pair's two order-2 plants first, then the plant's own. */
+static void order3_build(zw_eb h, zw_eb kappa, zw_eb nu, zw_plant *p)
 {
     order3 q;
-    order3_poles(o, nu, &q);
-    if (o->w2.v >= ZW_R(1.0)) {
-        order3_far(o, kappa, nu, &q);
+    const zw_eb w2 = eb_square_minus(h, kappa); /* = order2_compute's */
+    if (w2.v >= ZW_R(1.0)) {
+        order3_far(h, w2, kappa, nu, &q);
     }
-    order3_numerators(o, kappa, nu, &q);
-    order3_polys(o, &q, p);
+    {
+        order2 o;
+        order2_compute(h, kappa, &o);
+        p->order = 2u;
+        plant_from_order2(p, &o);
+        order3_poles(&o, nu, &q);
+        order3_numerators(&o, kappa, nu, &q);
+        order3_polys(&o, &q, p);
+    }
 }
 
 /* ---- the general plant ---------------------------------------------------------------- */
@@ -870,7 +897,6 @@ static zw_status check_plant_spec(const zw_plant_spec *spec)
 zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
 {
     zw_status st;
-    zw_coeffs c;
     zw_plant_spec sp;
     if (out == NULL) {
         return ZW_ERR_NULL;
@@ -881,28 +907,23 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
     }
     sp = *spec;
     st = check_plant_spec(&sp);
+    zw_plant_fail(out); /* every unused entry NaN */
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_coeffs_init(&out->c, sp.delta);
     if (st != ZW_OK) {
         zw_plant_fail(out);
         return st;
     }
-    st = zw_coeffs_init(&c, sp.delta);
-    if (st != ZW_OK) {
-        zw_plant_fail(out);
-        return st;
-    }
-    c.delta_relerr = sp.delta_relerr;
+    out->c.delta_relerr = sp.delta_relerr;
     if ((sp.kappa == ZW_R(0.0)) && (sp.lambda == ZW_R(0.0))) {
-        return zw_plant_from_coeffs(out, &c);
+        return zw_plant_from_coeffs(out, &out->c);
     }
-    zw_plant_fail(out);
     {
-        order2 o;
         const zw_eb h = zw_eb_make(ZW_R(0.5) * sp.delta,
                                 ZW_R(0.5) * sp.delta * sp.delta_relerr + ZW_ETA);
         const zw_eb kappa = zw_eb_make(sp.kappa, sp.kappa * sp.kappa_relerr);
-        order2_compute(h, kappa, &o);
-        out->order = 2u;
-        plant_from_order2(out, &o);
         if (sp.lambda > ZW_R(0.0)) {
             /* nu = 1 / lambda: one rounding, and 1 / (lambda (1 +- rho)) within
              * nu rho / (1 - rho) <= nu rho (16 / 15) of nu */
@@ -912,11 +933,15 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
                 zw_plant_fail(out);
                 return ZW_ERR_RANGE;
             }
-            order3_build(&o, kappa, nub, out);
+            order3_build(h, kappa, nub, out);
+        } else {
+            order2 o;
+            order2_compute(h, kappa, &o);
+            out->order = 2u;
+            plant_from_order2(out, &o);
         }
     }
     out->spec = sp;
-    out->c = c;
     if (!plant_finite(out)) {
         zw_plant_fail(out);
         return ZW_ERR_RANGE;
