@@ -468,13 +468,14 @@ typedef struct order2 {
  * tools/footprint.sh).  The same operations on the same operands as the nested form. */
 static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
 {
-    const zw_eb one = zw_eb_exact(ZW_R(1.0));
     const zw_eb w2 = eb_square_minus(h, kappa);
     const zw_eb delta = eb_twice(h);
     zw_eb eh, t, u, C, S, G, H;
-    eh = eb_exp(eb_neg(h));
-    o->det = eb_exp(eb_neg(delta));
-    t = eb_expm1(eb_neg(delta));
+    t = eb_neg(h);
+    eh = eb_exp(t);
+    t = eb_neg(delta);
+    o->det = eb_exp(t);
+    t = eb_expm1(t);
     o->R = eb_neg(t);
     o->h = h;
     o->w2 = w2;
@@ -493,13 +494,15 @@ static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
         H = zw_eb_mul(eh, sd);
         o->tr = eb_twice(C);
         o->P = zw_eb_mul(kappa, G);
-        t = zw_eb_add(one, o->det);
+        t = zw_eb_exact(ZW_R(1.0));
+        t = zw_eb_add(t, o->det);
         o->Q = zw_eb_add(t, o->tr);
         o->bsum = G;
         o->bdiff = zw_eb_mul(delta, H);
-        t = zw_eb_mul(h, H);
-        o->b1 = zw_eb_add(eb_half(G), t);
-        o->b0 = zw_eb_sub(eb_half(G), t);
+        u = zw_eb_mul(h, H);
+        t = eb_half(G);
+        o->b1 = zw_eb_add(t, u);
+        o->b0 = zw_eb_sub(t, u);
         return;
     }
     if (w2.v >= ZW_R(0.5) * (h.v * h.v)) {
@@ -513,13 +516,15 @@ static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
         z2 = eb_exp(p2);
         e01 = eb_e0(p1);
         t = zw_eb_sub(z1, z2);
-        o->sh = zw_eb_div(t, eb_twice(r));
+        u = eb_twice(r);
+        o->sh = zw_eb_div(t, u);
         o->tr = zw_eb_add(z1, z2);
         t = eb_expm1(p1);
         u = eb_expm1(p2);
         o->P = zw_eb_mul(t, u);
-        t = zw_eb_add(one, z1);
-        u = zw_eb_add(one, z2);
+        t = zw_eb_exact(ZW_R(1.0));
+        u = zw_eb_add(t, z2);
+        t = zw_eb_add(t, z1);
         o->Q = zw_eb_mul(t, u);
         t = zw_eb_sub(e01, o->sh);
         o->b1 = zw_eb_div(t, hr);
@@ -542,15 +547,19 @@ static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
         r = eb_sqrt(w2);
         hr = zw_eb_add(h, r);
         t = zw_eb_div(kappa, hr);
-        z1 = eb_exp(eb_neg(t));
-        z2 = eb_exp(eb_neg(hr));
+        t = eb_neg(t);
+        z1 = eb_exp(t);
+        t = eb_neg(hr);
+        z2 = eb_exp(t);
         t = zw_eb_add(z1, z2);
         C = eb_half(t);
         t = zw_eb_sub(z1, z2);
-        S = zw_eb_div(t, eb_twice(r));
+        u = eb_twice(r);
+        S = zw_eb_div(t, u);
     } else {
         zw_eb om;
-        om = eb_sqrt(eb_neg(w2));
+        t = eb_neg(w2);
+        om = eb_sqrt(t);
         t = eb_cos(om);
         C = zw_eb_mul(eh, t);
         t = eb_sin(om);
@@ -563,10 +572,12 @@ static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
     if ((w2.v < ZW_R(0.0)) && (h.v <= ZW_R(2.0))) {
         /* complex poles far from critical, light damping: the sums of squares */
         zw_eb om, sn, cs, em2, four_eh;
-        om = eb_sqrt(eb_neg(w2));
+        t = eb_neg(w2);
+        om = eb_sqrt(t);
         sn = eb_sin(eb_half(om));
         cs = eb_cos(eb_half(om));
-        t = eb_expm1(eb_neg(h));
+        t = eb_neg(h);
+        t = eb_expm1(t);
         em2 = zw_eb_mul(t, t);
         four_eh = eb_twice(eb_twice(eh));
         t = zw_eb_mul(sn, sn);
@@ -578,19 +589,22 @@ static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
     } else {
         /* h > 2: 1 + det - tr >= (1 - e^-h)^2 > 3/4 for complex poles, and for real ones
          * with w2 < h^2 / 2 tr < e^(-0.29 h) + e^-h: a bounded cancellation */
-        t = zw_eb_add(one, o->det);
+        t = zw_eb_exact(ZW_R(1.0));
+        t = zw_eb_add(t, o->det);
         o->P = zw_eb_sub(t, o->tr);
         o->Q = zw_eb_add(t, o->tr);
     }
     G = zw_eb_div(o->P, kappa);
-    t = eb_e0(eb_neg(delta));
+    t = eb_neg(delta);
+    t = eb_e0(t);
     t = zw_eb_sub(t, S);
     H = zw_eb_div(t, kappa);
     o->bsum = G;
     o->bdiff = zw_eb_mul(delta, H);
-    t = zw_eb_mul(h, H);
-    o->b1 = zw_eb_add(eb_half(G), t);
-    o->b0 = zw_eb_sub(eb_half(G), t);
+    u = zw_eb_mul(h, H);
+    t = eb_half(G);
+    o->b1 = zw_eb_add(t, u);
+    o->b0 = zw_eb_sub(t, u);
 }
 
 static void plant_from_order2(zw_plant *p, const order2 *o)
@@ -691,16 +705,17 @@ typedef struct order3 {
  * (order3_far, before); the series' y0 (an infinite bound when not computed). */
 static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
 {
-    const zw_eb one = zw_eb_exact(ZW_R(1.0));
     const zw_eb h = o->h, w2 = o->w2;
     zw_eb t, u, hp2;
     q->hp = zw_eb_sub(h, nu);
     hp2 = zw_eb_mul(q->hp, q->hp);
     q->kp = zw_eb_sub(hp2, w2);
-    q->a = eb_exp(eb_neg(nu));
-    t = eb_expm1(eb_neg(nu));
+    u = eb_neg(nu);
+    q->a = eb_exp(u);
+    t = eb_expm1(u);
     q->oma = eb_neg(t);
-    q->opa = zw_eb_add(one, q->a);
+    t = zw_eb_exact(ZW_R(1.0));
+    q->opa = zw_eb_add(t, q->a);
     t = zw_eb_mul(h, o->sh);
     q->phi11 = zw_eb_sub(o->ch, t);
     q->series_ok = eb_within(w2, PLANT_SERIES_LIMIT) && eb_within(hp2, PLANT_SERIES_LIMIT);
@@ -712,7 +727,8 @@ static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
     q->T = zw_eb_div(t, q->kp);
     if (q->series_ok) {
         zw_eb cd, sd, eh;
-        eh = eb_exp(eb_neg(h));
+        t = eb_neg(h);
+        eh = eb_exp(t);
         series_divided(w2, hp2, &cd, &sd);
         u = zw_eb_mul(q->hp, sd);
         t = zw_eb_add(cd, u);
@@ -734,10 +750,11 @@ static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
  * order2: done before that is computed, so that the two are not on the stack at once. */
 static void order3_far(zw_eb h, zw_eb w2, zw_eb kappa, zw_eb nu, order3 *q)
 {
-    zw_eb r, hr, p1, p2, p3, t, u, b1_first;
+    zw_eb r2, hr, p1, p2, p3, t, u, b1_first;
     order2 pair;
-    r = eb_sqrt(w2);
-    hr = zw_eb_add(h, r);
+    t = eb_sqrt(w2);
+    hr = zw_eb_add(h, t);
+    r2 = eb_twice(t);
     t = zw_eb_div(kappa, hr);
     p1 = eb_neg(t);
     p2 = eb_neg(hr);
@@ -745,16 +762,20 @@ static void order3_far(zw_eb h, zw_eb w2, zw_eb kappa, zw_eb nu, order3 *q)
     t = eb_exp_dd(p3, p1);
     u = eb_exp_dd(p3, p2);
     t = zw_eb_sub(t, u);
-    q->T_far = zw_eb_div(t, eb_twice(r));
+    q->T_far = zw_eb_div(t, r2);
     t = zw_eb_sub(nu, p1);
-    u = zw_eb_mul(nu, eb_neg(p1));
-    order2_compute(eb_half(t), u, &pair);
+    t = eb_half(t);
+    u = eb_neg(p1);
+    u = zw_eb_mul(nu, u);
+    order2_compute(t, u, &pair);
     b1_first = pair.b1;
     t = zw_eb_sub(nu, p2);
-    u = zw_eb_mul(nu, eb_neg(p2));
-    order2_compute(eb_half(t), u, &pair);
+    t = eb_half(t);
+    u = eb_neg(p2);
+    u = zw_eb_mul(nu, u);
+    order2_compute(t, u, &pair);
     t = zw_eb_sub(b1_first, pair.b1);
-    t = zw_eb_div(t, eb_twice(r));
+    t = zw_eb_div(t, r2);
     q->x1_far = zw_eb_mul(nu, t);
 }
 
@@ -782,9 +803,11 @@ static void order3_numerators(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
      * a small plant nu e^-h sum_k H_k / (k + 3)!, H the complete symmetric polynomials of the
      * nodes shifted by h: (h, r, -r, h'), H_k = A_k + w2 H_{k-2}, A_k = h' A_{k-1} + h^k */
     q->x1 = zw_eb_sub(o->b1, q->T);
-    t = eb_e0(eb_neg(nu));
+    t = eb_neg(nu);
+    t = eb_e0(t);
     t = zw_eb_sub(t, o->sh);
-    u = zw_eb_sub(nu, eb_twice(h));
+    u = eb_twice(h);
+    u = zw_eb_sub(nu, u);
     u = zw_eb_mul(u, o->b1);
     t = zw_eb_add(t, u);
     t = zw_eb_mul(nu, t);
@@ -794,7 +817,8 @@ static void order3_numerators(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
         q->x1 = eb_better(q->x1, q->x1_far);
     }
     if (q->series_ok && eb_within(h, ZW_R(2.0))) {
-        t = eb_exp(eb_neg(h));
+        t = eb_neg(h);
+        t = eb_exp(t);
         t = zw_eb_mul(nu, t);
         u = series_shifted4(h, q->hp, o->w2);
         t = zw_eb_mul(t, u);
@@ -812,7 +836,6 @@ static void order3_numerators(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
 /* The order-3 polynomials from X, Y and a. */
 static void order3_polys(const order2 *o, const order3 *q, zw_plant *p)
 {
-    const zw_eb one = zw_eb_exact(ZW_R(1.0));
     zw_eb t, u, xd;
     p->order = 3u;
     /* N3 / 2 = x1 z^2 + (x0 - a x1 + (1 - a) y1) z + ((1 - a) y0 - a x0) */
@@ -838,30 +861,33 @@ static void order3_polys(const order2 *o, const order3 *q, zw_plant *p)
     u = zw_eb_mul(q->oma, xd);
     t = zw_eb_add(t, u);
     u = zw_eb_mul(q->oma, q->y0);
-    t = zw_eb_sub(t, eb_twice(u));
+    u = eb_twice(u);
+    t = zw_eb_sub(t, u);
     set_eb(&p->num_s[1], &p->num_s_err[1], eb_twice(t));
     t = zw_eb_mul(q->oma, o->bsum);
     set_eb(&p->num_s[2], &p->num_s_err[2], eb_twice(t));
     /* D3 = D2 (z - a): in s, times (1 + a) s + (1 - a); in w = z - 1, times w + (1 - a) */
-    zw_eb_poly_mul_linear(p->den, p->den_err, 2u, one, eb_neg(q->a));
+    t = zw_eb_exact(ZW_R(1.0));
+    u = eb_neg(q->a);
+    zw_eb_poly_mul_linear(p->den, p->den_err, 2u, t, u);
     zw_eb_poly_mul_linear(p->den_s, p->den_s_err, 2u, q->opa, q->oma);
-    zw_eb_poly_mul_linear(p->den_w, p->den_w_err, 2u, one, q->oma);
+    zw_eb_poly_mul_linear(p->den_w, p->den_w_err, 2u, t, q->oma);
 }
 
-/* The order-2 plant and its order-3 extension, in steps, each with its own temporaries: the
- * far pair's two order-2 plants first, then the plant's own. */
-static void order3_build(zw_eb h, zw_eb kappa, zw_eb nu, zw_plant *p)
+/* The order-2 plant and, with the lag (lag true), its order-3 extension, in steps, each with
+ * its own temporaries: the far pair's two order-2 plants first, then the plant's own. */
+static void plant_build(zw_eb h, zw_eb kappa, bool lag, zw_eb nu, zw_plant *p)
 {
     order3 q;
+    order2 o;
     const zw_eb w2 = eb_square_minus(h, kappa); /* = order2_compute's */
-    if (w2.v >= ZW_R(1.0)) {
+    if (lag && (w2.v >= ZW_R(1.0))) {
         order3_far(h, w2, kappa, nu, &q);
     }
-    {
-        order2 o;
-        order2_compute(h, kappa, &o);
-        p->order = 2u;
-        plant_from_order2(p, &o);
+    order2_compute(h, kappa, &o);
+    p->order = 2u;
+    plant_from_order2(p, &o);
+    if (lag) {
         order3_poles(&o, nu, &q);
         order3_numerators(&o, kappa, nu, &q);
         order3_polys(&o, &q, p);
@@ -924,22 +950,16 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
         const zw_eb h = zw_eb_make(ZW_R(0.5) * sp.delta,
                                 ZW_R(0.5) * sp.delta * sp.delta_relerr + ZW_ETA);
         const zw_eb kappa = zw_eb_make(sp.kappa, sp.kappa * sp.kappa_relerr);
-        if (sp.lambda > ZW_R(0.0)) {
-            /* nu = 1 / lambda: one rounding, and 1 / (lambda (1 +- rho)) within
-             * nu rho / (1 - rho) <= nu rho (16 / 15) of nu */
-            const zw_real nu = ZW_R(1.0) / sp.lambda;
-            const zw_eb nub = zw_eb_make(nu, nu * (sp.lambda_relerr * ZW_R(1.0667) + ZW_U) + ZW_ETA);
-            if (!ZW_IS_FINITE(nu)) {
-                zw_plant_fail(out);
-                return ZW_ERR_RANGE;
-            }
-            order3_build(h, kappa, nub, out);
-        } else {
-            order2 o;
-            order2_compute(h, kappa, &o);
-            out->order = 2u;
-            plant_from_order2(out, &o);
+        const bool lag = (sp.lambda > ZW_R(0.0));
+        /* nu = 1 / lambda: one rounding, and 1 / (lambda (1 +- rho)) within
+         * nu rho / (1 - rho) <= nu rho (16 / 15) of nu (lambda = 0: unused) */
+        const zw_real nu = lag ? (ZW_R(1.0) / sp.lambda) : ZW_R(0.0);
+        const zw_eb nub = zw_eb_make(nu, nu * (sp.lambda_relerr * ZW_R(1.0667) + ZW_U) + ZW_ETA);
+        if (!ZW_IS_FINITE(nu)) {
+            zw_plant_fail(out);
+            return ZW_ERR_RANGE;
         }
+        plant_build(h, kappa, lag, nub, out);
     }
     out->spec = sp;
     if (!plant_finite(out)) {
