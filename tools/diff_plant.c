@@ -210,7 +210,7 @@ static int same_verdict(const zw_box_loop_verdict *a, const zw_box_loop_verdict 
 static int diff_boxes(const lib *o, const lib *n, long count)
 {
     zw_box_loop_work wo, wn;
-    long i, bad = 0, ok = 0, stable = 0;
+    long i, bad = 0, ok = 0, stable = 0, evals = 0;
     if ((o->work_init(&wo, g_cells[0], 1024u, &g_scr[0]) != ZW_OK) ||
         (n->work_init(&wn, g_cells[1], 1024u, &g_scr[1]) != ZW_OK)) {
         fprintf(stderr, "diff_plant: work init failed\n");
@@ -258,8 +258,10 @@ static int diff_boxes(const lib *o, const lib *n, long count)
         }
         ok += (so == ZW_OK);
         stable += (so == ZW_OK) && vo.stable;
+        evals += (so == ZW_OK) ? (long)vo.evals : 0;
     }
-    printf("zw_box_loop_check: %ld boxes (%ld ok, %ld stable), %ld differ\n", count, ok, stable, bad);
+    printf("zw_box_loop_check: %ld boxes (%ld ok, %ld stable, %ld sub-box tests), %ld differ\n", count, ok,
+           stable, evals, bad);
     return bad != 0;
 }
 
