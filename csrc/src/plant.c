@@ -695,6 +695,7 @@ static zw_eb series_shifted4(zw_eb h, zw_eb hp, zw_eb w2)
 /* The order-3 plant's intermediate values (order3_build), kept in one place so that each
  * step's own temporaries end with it (see order2_compute). */
 typedef struct order3 {
+    zw_eb h, kappa, nu, w2; /* the inputs (w2 = order2's) */
     zw_eb hp, kp, a, oma, opa, phi11;
     zw_eb T, y0, x1, x0;
     zw_eb y0_series, T_far, x1_far;
@@ -703,22 +704,21 @@ typedef struct order3 {
 
 /* hp, kp, a, 1 -+ a, Phi11; T from the direct form, the series and the far pair
  * (order3_far, before); the series' y0 (an infinite bound when not computed). */
-static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
+static void order3_poles(const order2 *o, order3 *q)
 {
-    const zw_eb h = o->h, w2 = o->w2;
     zw_eb t, u, hp2;
-    q->hp = zw_eb_sub(h, nu);
+    q->hp = zw_eb_sub(q->h, q->nu);
     hp2 = zw_eb_mul(q->hp, q->hp);
-    q->kp = zw_eb_sub(hp2, w2);
-    u = eb_neg(nu);
+    q->kp = zw_eb_sub(hp2, q->w2);
+    u = eb_neg(q->nu);
     q->a = eb_exp(u);
     t = eb_expm1(u);
     q->oma = eb_neg(t);
     t = zw_eb_exact(ZW_R(1.0));
     q->opa = zw_eb_add(t, q->a);
-    t = zw_eb_mul(h, o->sh);
+    t = zw_eb_mul(q->h, o->sh);
     q->phi11 = zw_eb_sub(o->ch, t);
-    q->series_ok = eb_within(w2, PLANT_SERIES_LIMIT) && eb_within(hp2, PLANT_SERIES_LIMIT);
+    q->series_ok = eb_within(q->w2, PLANT_SERIES_LIMIT) && eb_within(hp2, PLANT_SERIES_LIMIT);
     q->y0_series = zw_eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
 
     t = zw_eb_sub(q->a, o->ch);
@@ -727,9 +727,9 @@ static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
     q->T = zw_eb_div(t, q->kp);
     if (q->series_ok) {
         zw_eb cd, sd, eh;
-        t = eb_neg(h);
+        t = eb_neg(q->h);
         eh = eb_exp(t);
-        series_divided(w2, hp2, &cd, &sd);
+        series_divided(q->w2, hp2, &cd, &sd);
         u = zw_eb_mul(q->hp, sd);
         t = zw_eb_add(cd, u);
         t = zw_eb_mul(eh, t);
@@ -739,7 +739,7 @@ static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
         u = zw_eb_sub(cd, u);
         q->y0_series = zw_eb_mul(t, u);
     }
-    if (w2.v >= ZW_R(1.0)) {
+    if (q->w2.v >= ZW_R(1.0)) {
         q->T = eb_better(q->T, q->T_far);
     }
 }
@@ -748,49 +748,48 @@ static void order3_poles(const order2 *o, zw_eb nu, order3 *q)
  * x1 / nu = exp[0, p3, p1, p2] = (exp[0, p3, p1] - exp[0, p3, p2]) / (p1 - p2), each the b1
  * of the real pole pair {p3, p_i} (no cancellation for nu -> 0).  Only h, w2 of the plant's
  * order2: done before that is computed, so that the two are not on the stack at once. */
-static void order3_far(zw_eb h, zw_eb w2, zw_eb kappa, zw_eb nu, order3 *q)
+static void order3_far(order3 *q)
 {
     zw_eb r2, hr, p1, p2, p3, t, u, b1_first;
     order2 pair;
-    t = eb_sqrt(w2);
-    hr = zw_eb_add(h, t);
+    t = eb_sqrt(q->w2);
+    hr = zw_eb_add(q->h, t);
     r2 = eb_twice(t);
-    t = zw_eb_div(kappa, hr);
+    t = zw_eb_div(q->kappa, hr);
     p1 = eb_neg(t);
     p2 = eb_neg(hr);
-    p3 = eb_neg(nu);
+    p3 = eb_neg(q->nu);
     t = eb_exp_dd(p3, p1);
     u = eb_exp_dd(p3, p2);
     t = zw_eb_sub(t, u);
     q->T_far = zw_eb_div(t, r2);
-    t = zw_eb_sub(nu, p1);
+    t = zw_eb_sub(q->nu, p1);
     t = eb_half(t);
     u = eb_neg(p1);
-    u = zw_eb_mul(nu, u);
+    u = zw_eb_mul(q->nu, u);
     order2_compute(t, u, &pair);
     b1_first = pair.b1;
-    t = zw_eb_sub(nu, p2);
+    t = zw_eb_sub(q->nu, p2);
     t = eb_half(t);
     u = eb_neg(p2);
-    u = zw_eb_mul(nu, u);
+    u = zw_eb_mul(q->nu, u);
     order2_compute(t, u, &pair);
     t = zw_eb_sub(b1_first, pair.b1);
     t = zw_eb_div(t, r2);
-    q->x1_far = zw_eb_mul(nu, t);
+    q->x1_far = zw_eb_mul(q->nu, t);
 }
 
 /* U, y0, x1, x0 from T, each by the form with the smallest bound. */
-static void order3_numerators(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
+static void order3_numerators(const order2 *o, order3 *q)
 {
-    const zw_eb h = o->h;
     zw_eb t, u, U;
     /* U = S^ - nu T, or (nu Phi11 + kappa S^ - nu a) / kappa' (no cancellation for nu >> 1) */
-    t = zw_eb_mul(nu, q->T);
+    t = zw_eb_mul(q->nu, q->T);
     U = zw_eb_sub(o->sh, t);
-    t = zw_eb_mul(nu, q->phi11);
-    u = zw_eb_mul(kappa, o->sh);
+    t = zw_eb_mul(q->nu, q->phi11);
+    u = zw_eb_mul(q->kappa, o->sh);
     t = zw_eb_add(t, u);
-    u = zw_eb_mul(nu, q->a);
+    u = zw_eb_mul(q->nu, q->a);
     t = zw_eb_sub(t, u);
     t = zw_eb_div(t, q->kp);
     U = eb_better(U, t);
@@ -803,30 +802,30 @@ static void order3_numerators(const order2 *o, zw_eb kappa, zw_eb nu, order3 *q)
      * a small plant nu e^-h sum_k H_k / (k + 3)!, H the complete symmetric polynomials of the
      * nodes shifted by h: (h, r, -r, h'), H_k = A_k + w2 H_{k-2}, A_k = h' A_{k-1} + h^k */
     q->x1 = zw_eb_sub(o->b1, q->T);
-    t = eb_neg(nu);
+    t = eb_neg(q->nu);
     t = eb_e0(t);
     t = zw_eb_sub(t, o->sh);
-    u = eb_twice(h);
-    u = zw_eb_sub(nu, u);
+    u = eb_twice(q->h);
+    u = zw_eb_sub(q->nu, u);
     u = zw_eb_mul(u, o->b1);
     t = zw_eb_add(t, u);
-    t = zw_eb_mul(nu, t);
+    t = zw_eb_mul(q->nu, t);
     t = zw_eb_div(t, q->kp);
     q->x1 = eb_better(q->x1, t);
     if (o->w2.v >= ZW_R(1.0)) {
         q->x1 = eb_better(q->x1, q->x1_far);
     }
-    if (q->series_ok && eb_within(h, ZW_R(2.0))) {
-        t = eb_neg(h);
+    if (q->series_ok && eb_within(q->h, ZW_R(2.0))) {
+        t = eb_neg(q->h);
         t = eb_exp(t);
-        t = zw_eb_mul(nu, t);
-        u = series_shifted4(h, q->hp, o->w2);
+        t = zw_eb_mul(q->nu, t);
+        u = series_shifted4(q->h, q->hp, o->w2);
         t = zw_eb_mul(t, u);
         q->x1 = eb_better(q->x1, t);
     }
     /* x0 = b0 - y0, or nu Phi01 T - Phi11 x1 (small for nu -> 0 without cancelling) */
     q->x0 = zw_eb_sub(o->b0, q->y0);
-    t = zw_eb_mul(nu, o->sh);
+    t = zw_eb_mul(q->nu, o->sh);
     t = zw_eb_mul(t, q->T);
     u = zw_eb_mul(q->phi11, q->x1);
     t = zw_eb_sub(t, u);
@@ -880,16 +879,19 @@ static void plant_build(zw_eb h, zw_eb kappa, bool lag, zw_eb nu, zw_plant *p)
 {
     order3 q;
     order2 o;
-    const zw_eb w2 = eb_square_minus(h, kappa); /* = order2_compute's */
-    if (lag && (w2.v >= ZW_R(1.0))) {
-        order3_far(h, w2, kappa, nu, &q);
+    q.h = h;
+    q.kappa = kappa;
+    q.nu = nu;
+    q.w2 = eb_square_minus(h, kappa); /* = order2_compute's */
+    if (lag && (q.w2.v >= ZW_R(1.0))) {
+        order3_far(&q);
     }
     order2_compute(h, kappa, &o);
     p->order = 2u;
     plant_from_order2(p, &o);
     if (lag) {
-        order3_poles(&o, nu, &q);
-        order3_numerators(&o, kappa, nu, &q);
+        order3_poles(&o, &q);
+        order3_numerators(&o, &q);
         order3_polys(&o, &q, p);
     }
 }
