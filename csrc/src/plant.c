@@ -739,9 +739,7 @@ static void order3_poles(const order2 *o, order3 *q)
         u = zw_eb_sub(cd, u);
         q->y0_series = zw_eb_mul(t, u);
     }
-    if (q->w2.v >= ZW_R(1.0)) {
-        q->T = eb_better(q->T, q->T_far);
-    }
+    q->T = eb_better(q->T, q->T_far);
 }
 
 /* The far pair (w2 >= 1): T as a difference of divided differences, and
@@ -812,9 +810,7 @@ static void order3_numerators(const order2 *o, order3 *q)
     t = zw_eb_mul(q->nu, t);
     t = zw_eb_div(t, q->kp);
     q->x1 = eb_better(q->x1, t);
-    if (o->w2.v >= ZW_R(1.0)) {
-        q->x1 = eb_better(q->x1, q->x1_far);
-    }
+    q->x1 = eb_better(q->x1, q->x1_far);
     if (q->series_ok && eb_within(q->h, ZW_R(2.0))) {
         t = eb_neg(q->h);
         t = eb_exp(t);
@@ -883,6 +879,8 @@ static void plant_build(zw_eb h, zw_eb kappa, bool lag, zw_eb nu, zw_plant *p)
     q.kappa = kappa;
     q.nu = nu;
     q.w2 = eb_square_minus(h, kappa); /* = order2_compute's */
+    q.T_far = zw_eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
+    q.x1_far = q.T_far;
     if (lag && (q.w2.v >= ZW_R(1.0))) {
         order3_far(&q);
     }
