@@ -110,7 +110,7 @@ MODULE_STACK_LIMITS="loop:$LOOP_STACK_LIMIT loop_limits:$LOOP_STACK_LIMIT device
 # plant (the plant-side parts' discretization, plant.h): called once per plant, at power-up
 # or commissioning, never on a control path; its running error bounds through the order-2
 # and order-3 formulas (the order-3 state, the plant's order2 and the far pair's, one at a
-# time) keep 808 B on the Cortex-M4F float stack, 976 B on the M0 (it builds in place in
+# time) keep 816 B on the Cortex-M4F float stack, 976 B on the M0 (it builds in place in
 # *out, and every call result lands in a named block-scoped variable: GCC keeps each
 # unnamed aggregate temporary for the whole frame): gated at its own 1024 B so that it
 # cannot grow unseen.  plant_box (box enclosures): the loop's 512 B.

@@ -879,8 +879,22 @@ static void plant_build(zw_eb h, zw_eb kappa, bool lag, zw_eb nu, zw_plant *p)
     q.kappa = kappa;
     q.nu = nu;
     q.w2 = eb_square_minus(h, kappa); /* = order2_compute's */
-    q.T_far = zw_eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
+    /* every other field unbounded until its step computes it (the far pair's stay so when
+     * it is not run: never taken) */
+    q.T_far = zw_eb_make(ZW_R(0.0), ZW_INF);
     q.x1_far = q.T_far;
+    q.hp = q.T_far;
+    q.kp = q.T_far;
+    q.a = q.T_far;
+    q.oma = q.T_far;
+    q.opa = q.T_far;
+    q.phi11 = q.T_far;
+    q.T = q.T_far;
+    q.y0 = q.T_far;
+    q.x1 = q.T_far;
+    q.x0 = q.T_far;
+    q.y0_series = q.T_far;
+    q.series_ok = false;
     if (lag && (q.w2.v >= ZW_R(1.0))) {
         order3_far(&q);
     }
