@@ -7,6 +7,7 @@
 # tree, both precisions: zw_plant_init's every field and status (bitwise) and
 # zw_box_loop_check's verdicts must be identical (tools/diff_plant.c).
 # Usage: bash tools/diff_plant.sh [BASE [SPECS [BOXES]]]   (defaults: HEAD 50000 300)
+# DIFF_PLANT_VALUES_ONLY=1: compare the values and statuses only, not the bounds (*_err).
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 cd "$ROOT"

@@ -13,6 +13,8 @@
 
 #include <stddef.h>
 
+#include "zwidth/portable_math.h"
+
 #include "internal.h"
 
 /* ---- small polynomial helpers (degree <= ZW_PLANT_MAX_ORDER, highest power first) ---- */
@@ -241,8 +243,13 @@ zw_status zw_plant_eval(const zw_plant *plant, zw_real re, zw_real im, zw_real *
  * every operation propagates both its rounding and its inputs' bounds (zw_eb's arithmetic is
  * rigorous for that: its products keep the a.e b.e term).  The library functions below bound
  * the change of f over the whole ball (a Lipschitz bound on it) plus libm's own error, taken
- * as 1 ulp (2u relative) as coeffs.c does.  These hold for balls of any width; a bound that
- * overflows makes zw_plant_init answer ZW_ERR_RANGE. */
+ * as 1 ulp (2u relative) as coeffs.c does, and for expm1 ZW_EXPM1_PORTABLE_ULPS: the bound of
+ * the portable fallback a ZW_PORTABLE_MATH build uses (portable_math.h; plant_box.c charges
+ * the same).  These hold for balls of any width; a bound that overflows makes
+ * zw_plant_init answer ZW_ERR_RANGE. */
+
+/* expm1's relative error: ZW_EXPM1_PORTABLE_ULPS ulps, an ulp being at most 2u. */
+#define PLANT_EXPM1_REL (ZW_R(2.0) * (zw_real)ZW_EXPM1_PORTABLE_ULPS * ZW_U)
 
 static zw_eb eb_neg(zw_eb a)
 {
@@ -266,13 +273,14 @@ static zw_eb eb_exp(zw_eb a)
 static zw_eb eb_expm1(zw_eb a)
 {
     const zw_real v = ZW_EXPM1(a.v);
-    return zw_eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+    return zw_eb_make(v, exp_top(a) * a.e + PLANT_EXPM1_REL * ZW_FABS(v) + ZW_ETA);
 }
 
 /* E0(a) = (e^a - 1) / a = int_0^1 e^(a t) dt (1 at 0), for a.v <= 0.  Its log-derivative is
  * the mean of t under the weight e^(a t): in (0, 1), at most 1/2 for a <= 0 and at most
  * 1/|a|; so over the ball E0 stays within a factor e^(a.e) of E0(a) and
- * |E0(y) - E0(a)| <= E0(a) e^(a.e) slope a.e. */
+ * |E0(y) - E0(a)| <= E0(a) e^(a.e) slope a.e.  Rounding: expm1's, the division's u and u of
+ * slack. */
 static zw_eb eb_e0(zw_eb a)
 {
     zw_real v, slope;
@@ -291,7 +299,7 @@ static zw_eb eb_e0(zw_eb a)
         slope = ZW_R(1.0);
     }
     return zw_eb_make(v, v * (ZW_EXP(a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) * slope * a.e +
-                           ZW_R(4.0) * ZW_U) +
+                           (PLANT_EXPM1_REL + ZW_R(2.0) * ZW_U)) +
                           ZW_R(2.0) * ZW_ETA);
 }
 
