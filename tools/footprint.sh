@@ -105,13 +105,15 @@ TEXT_METRIC=${FOOTPRINT_TEXT_METRIC:-text+rodata}
 STACK_LIMIT=${FOOTPRINT_STACK_LIMIT:-256}
 LOOP_STACK_LIMIT=${FOOTPRINT_LOOP_STACK_LIMIT:-512}
 # module:limit pairs; modules not named here have STACK_LIMIT
-PLANT_STACK_LIMIT=${FOOTPRINT_PLANT_STACK_LIMIT:-2304}
+PLANT_STACK_LIMIT=${FOOTPRINT_PLANT_STACK_LIMIT:-1024}
 MODULE_STACK_LIMITS="loop:$LOOP_STACK_LIMIT loop_limits:$LOOP_STACK_LIMIT device_loop:$LOOP_STACK_LIMIT box:$LOOP_STACK_LIMIT box_loop:$LOOP_STACK_LIMIT plant:$PLANT_STACK_LIMIT plant_box:$LOOP_STACK_LIMIT"
 # plant (the plant-side parts' discretization, plant.h): called once per plant, at power-up
 # or commissioning, never on a control path; its running error bounds through the order-2
-# and order-3 formulas keep about 2.2 KB on the Cortex-M4F float stack (a zw_plant is
-# built in a local and copied out, so a failure leaves *out fail-safe): gated at its own
-# 2304 B so that it cannot grow unseen.  plant_box (box enclosures): the loop's 512 B.
+# and order-3 formulas (the order-3 state, the plant's order2 and the far pair's, one at a
+# time) keep 816 B on the Cortex-M4F float stack, 976 B on the M0 (it builds in place in
+# *out, and every call result lands in a named block-scoped variable: GCC keeps each
+# unnamed aggregate temporary for the whole frame): gated at its own 1024 B so that it
+# cannot grow unseen.  plant_box (box enclosures): the loop's 512 B.
 # box (certification over a plant box, offline / commissioning use): the loop's 512 B; its
 # b_range and k_mmax nest a whole search under their own and are reported, not gated.
 # Over their module's target on the Cortex-M4F float build: reported, not gated.  Remove a

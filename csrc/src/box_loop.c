@@ -425,7 +425,7 @@ static zw_status bl_certify(const bl_loop *L, zw_loop_workspace *ws, zw_real K, 
     cells[0].k_lo = box->k_lo;
     cells[0].k_hi = box->k_hi;
     while (live > 0u) {
-        zw_box_loop_cell c = cells[live - 1u], left, right;
+        zw_box_loop_cell c = cells[live - 1u];
         bl_result res;
         bool unstable;
         if (used >= work->max_evals) {
@@ -453,11 +453,11 @@ static zw_status bl_certify(const bl_loop *L, zw_loop_workspace *ws, zw_real K, 
             *outcome = BL_REFUTED;
             return ZW_OK;
         }
-        if ((live + 2u > work->capacity) || !bl_split(box->T, K, &c, &left, &right)) {
+        /* split straight into the stack (right below left): no halves on this frame, which
+         * is on the point checks' chain (tools/footprint.sh) */
+        if ((live + 2u > work->capacity) || !bl_split(box->T, K, &c, &cells[live + 1u], &cells[live])) {
             return ZW_OK;
         }
-        cells[live] = right;
-        cells[live + 1u] = left;
         live += 2u;
     }
     *outcome = BL_CERTIFIED;

@@ -13,6 +13,8 @@
 
 #include <stddef.h>
 
+#include "zwidth/portable_math.h"
+
 #include "internal.h"
 
 /* ---- small polynomial helpers (degree <= ZW_PLANT_MAX_ORDER, highest power first) ---- */
@@ -89,11 +91,13 @@ static bool relerr_ok(zw_real r)
 
 /* ---- the ideal plant ------------------------------------------------------------------ */
 
+/* Built in place in *out (no second zw_plant on the stack); *c is copied first, since it may
+ * be &out->c (zw_plant_init). */
 zw_status zw_plant_from_coeffs(zw_plant *out, const zw_coeffs *c)
 {
     zw_status st;
-    zw_plant p;
-    zw_eb f1, f0, two = zw_eb_exact(ZW_R(2.0));
+    zw_coeffs cc;
+    zw_eb f1, f0, t, two = zw_eb_exact(ZW_R(2.0));
     if (out == NULL) {
         return ZW_ERR_NULL;
     }
@@ -108,47 +112,51 @@ zw_status zw_plant_from_coeffs(zw_plant *out, const zw_coeffs *c)
         zw_plant_fail(out);
         return st;
     }
-    zw_plant_fail(&p); /* every unused entry NaN */
-    p.c = *c;
-    p.spec.delta = c->delta;
-    p.spec.kappa = ZW_R(0.0);
-    p.spec.lambda = ZW_R(0.0);
-    p.spec.delta_relerr = c->delta_relerr;
-    p.spec.kappa_relerr = ZW_R(0.0);
-    p.spec.lambda_relerr = ZW_R(0.0);
-    p.order = 2u;
+    cc = *c;
+    zw_plant_fail(out); /* every unused entry NaN */
+    out->c = cc;
+    out->spec.delta = cc.delta;
+    out->spec.kappa = ZW_R(0.0);
+    out->spec.lambda = ZW_R(0.0);
+    out->spec.delta_relerr = cc.delta_relerr;
+    out->spec.kappa_relerr = ZW_R(0.0);
+    out->spec.lambda_relerr = ZW_R(0.0);
+    out->order = 2u;
 
     /* N = c1 z + c2,  N_s = d12 s + (c1 + c2) */
-    set_eb(&p.num[0], &p.num_err[0], zw_coef_field(c, c->c1));
-    set_eb(&p.num[1], &p.num_err[1], zw_coef_field(c, c->c2));
-    set_eb(&p.num_s[0], &p.num_s_err[0], zw_coef_field(c, c->d12));
-    set_eb(&p.num_s[1], &p.num_s_err[1], zw_coef_field(c, c->s));
+    t = zw_coef_field(&cc, cc.c1);
+    set_eb(&out->num[0], &out->num_err[0], t);
+    t = zw_coef_field(&cc, cc.c2);
+    set_eb(&out->num[1], &out->num_err[1], t);
+    t = zw_coef_field(&cc, cc.d12);
+    set_eb(&out->num_s[0], &out->num_s_err[0], t);
+    t = zw_coef_field(&cc, cc.s);
+    set_eb(&out->num_s[1], &out->num_s_err[1], t);
 
     /* D = 2 (z - 1)(z - e) = 2 z^2 - 2 (1 + e) z + 2 e, as loop.c forms it: 2, times z - 1,
      * times z - e. */
-    p.den[0] = ZW_R(2.0);
-    p.den_err[0] = ZW_R(0.0);
-    p.den[1] = ZW_R(-2.0);
-    p.den_err[1] = ZW_R(0.0);
-    zw_coef_zme(c, &f1, &f0);
-    zw_eb_poly_mul_linear(p.den, p.den_err, 1u, f1, f0);
+    out->den[0] = ZW_R(2.0);
+    out->den_err[0] = ZW_R(0.0);
+    out->den[1] = ZW_R(-2.0);
+    out->den_err[1] = ZW_R(0.0);
+    zw_coef_zme(&cc, &f1, &f0);
+    zw_eb_poly_mul_linear(out->den, out->den_err, 1u, f1, f0);
 
     /* D_s = 2 (2 s) ((1 + e) s + (1 - e)): 4 (1 + e) s^2 + 4 (1 - e) s + 0 */
-    zw_coef_zme_s(c, &f1, &f0);
-    set_eb(&p.den_s[0], &p.den_s_err[0], eb_scale2(f1, ZW_R(4.0)));
-    set_eb(&p.den_s[1], &p.den_s_err[1], eb_scale2(f0, ZW_R(4.0)));
-    set_eb(&p.den_s[2], &p.den_s_err[2], zw_eb_exact(ZW_R(0.0)));
+    zw_coef_zme_s(&cc, &f1, &f0);
+    set_eb(&out->den_s[0], &out->den_s_err[0], eb_scale2(f1, ZW_R(4.0)));
+    set_eb(&out->den_s[1], &out->den_s_err[1], eb_scale2(f0, ZW_R(4.0)));
+    set_eb(&out->den_s[2], &out->den_s_err[2], zw_eb_exact(ZW_R(0.0)));
 
     /* D in w = z - 1: 2 w (w + (1 - e)) = 2 w^2 + 2 (1 - e) w + 0 */
-    set_eb(&p.den_w[0], &p.den_w_err[0], two);
-    set_eb(&p.den_w[1], &p.den_w_err[1], eb_scale2(f0, ZW_R(2.0)));
-    set_eb(&p.den_w[2], &p.den_w_err[2], zw_eb_exact(ZW_R(0.0)));
+    set_eb(&out->den_w[0], &out->den_w_err[0], two);
+    set_eb(&out->den_w[1], &out->den_w_err[1], eb_scale2(f0, ZW_R(2.0)));
+    set_eb(&out->den_w[2], &out->den_w_err[2], zw_eb_exact(ZW_R(0.0)));
 
-    if (!plant_finite(&p)) {
+    if (!plant_finite(out)) {
         zw_plant_fail(out);
         return ZW_ERR_RANGE;
     }
-    *out = p;
     return ZW_OK;
 }
 
@@ -235,8 +243,13 @@ zw_status zw_plant_eval(const zw_plant *plant, zw_real re, zw_real im, zw_real *
  * every operation propagates both its rounding and its inputs' bounds (zw_eb's arithmetic is
  * rigorous for that: its products keep the a.e b.e term).  The library functions below bound
  * the change of f over the whole ball (a Lipschitz bound on it) plus libm's own error, taken
- * as 1 ulp (2u relative) as coeffs.c does.  These hold for balls of any width; a bound that
- * overflows makes zw_plant_init answer ZW_ERR_RANGE. */
+ * as 1 ulp (2u relative) as coeffs.c does, and for expm1 ZW_EXPM1_PORTABLE_ULPS: the bound of
+ * the portable fallback a ZW_PORTABLE_MATH build uses (portable_math.h; plant_box.c charges
+ * the same).  These hold for balls of any width; a bound that overflows makes
+ * zw_plant_init answer ZW_ERR_RANGE. */
+
+/* expm1's relative error: ZW_EXPM1_PORTABLE_ULPS ulps, an ulp being at most 2u. */
+#define PLANT_EXPM1_REL (ZW_R(2.0) * (zw_real)ZW_EXPM1_PORTABLE_ULPS * ZW_U)
 
 static zw_eb eb_neg(zw_eb a)
 {
@@ -260,13 +273,14 @@ static zw_eb eb_exp(zw_eb a)
 static zw_eb eb_expm1(zw_eb a)
 {
     const zw_real v = ZW_EXPM1(a.v);
-    return zw_eb_make(v, exp_top(a) * a.e + ZW_R(2.0) * ZW_U * ZW_FABS(v) + ZW_ETA);
+    return zw_eb_make(v, exp_top(a) * a.e + PLANT_EXPM1_REL * ZW_FABS(v) + ZW_ETA);
 }
 
 /* E0(a) = (e^a - 1) / a = int_0^1 e^(a t) dt (1 at 0), for a.v <= 0.  Its log-derivative is
  * the mean of t under the weight e^(a t): in (0, 1), at most 1/2 for a <= 0 and at most
  * 1/|a|; so over the ball E0 stays within a factor e^(a.e) of E0(a) and
- * |E0(y) - E0(a)| <= E0(a) e^(a.e) slope a.e. */
+ * |E0(y) - E0(a)| <= E0(a) e^(a.e) slope a.e.  Rounding: expm1's, the division's u and u of
+ * slack. */
 static zw_eb eb_e0(zw_eb a)
 {
     zw_real v, slope;
@@ -285,7 +299,7 @@ static zw_eb eb_e0(zw_eb a)
         slope = ZW_R(1.0);
     }
     return zw_eb_make(v, v * (ZW_EXP(a.e) * (ZW_R(1.0) + ZW_R(4.0) * ZW_U) * slope * a.e +
-                           ZW_R(4.0) * ZW_U) +
+                           (PLANT_EXPM1_REL + ZW_R(2.0) * ZW_U)) +
                           ZW_R(2.0) * ZW_ETA);
 }
 
@@ -390,7 +404,8 @@ static zw_eb series_single(zw_eb w, unsigned odd)
         const unsigned n = 2u * (k - 1u) + odd;
         const unsigned roundings = n + 1u;
         const zw_real cf = inv_factorial(n);
-        acc = zw_eb_add(zw_eb_mul(acc, w), zw_eb_make(cf, (zw_real)roundings * (ZW_U * cf + ZW_ETA)));
+        acc = zw_eb_mul(acc, w);
+        acc = zw_eb_add(acc, zw_eb_make(cf, (zw_real)roundings * (ZW_U * cf + ZW_ETA)));
     }
     acc.e += PLANT_TAIL;
     return acc;
@@ -403,10 +418,12 @@ static void series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
     zw_eb apow = zw_eb_exact(ZW_R(1.0)); /* a^(k-1) */
     zw_eb hm = zw_eb_exact(ZW_R(1.0));   /* h_{k-1}(a, b) */
     zw_eb sc = zw_eb_exact(ZW_R(0.0)), ss = zw_eb_exact(ZW_R(0.0));
+    zw_eb t;
     for (k = 1u; k <= PLANT_TERMS; ++k) {
         if (k > 1u) {
             apow = zw_eb_mul(apow, a);
-            hm = zw_eb_add(zw_eb_mul(hm, b), apow);
+            hm = zw_eb_mul(hm, b);
+            hm = zw_eb_add(hm, apow);
         }
         {
             const unsigned n = 2u * k;
@@ -414,8 +431,10 @@ static void series_divided(zw_eb a, zw_eb b, zw_eb *cd, zw_eb *sd)
             const unsigned ns = n + 2u;
             const zw_real fc = inv_factorial(n);
             const zw_real fs = inv_factorial(n + 1u);
-            sc = zw_eb_add(sc, zw_eb_mul(hm, zw_eb_make(fc, (zw_real)nc * (ZW_U * fc + ZW_ETA))));
-            ss = zw_eb_add(ss, zw_eb_mul(hm, zw_eb_make(fs, (zw_real)ns * (ZW_U * fs + ZW_ETA))));
+            t = zw_eb_mul(hm, zw_eb_make(fc, (zw_real)nc * (ZW_U * fc + ZW_ETA)));
+            sc = zw_eb_add(sc, t);
+            t = zw_eb_mul(hm, zw_eb_make(fs, (zw_real)ns * (ZW_U * fs + ZW_ETA)));
+            ss = zw_eb_add(ss, t);
         }
     }
     sc.e += PLANT_TAIL;
@@ -451,97 +470,149 @@ typedef struct order2 {
     zw_eb ch, sh;    /* e^-h C(w2) = tr / 2 and e^-h S(w2) = exp[p1, p2] = Phi01 */
 } order2;
 
+/* Every result of an out-of-line call goes to a named variable of a block that ends where
+ * it is no longer needed (or to *o): a call nested in an argument leaves an unnamed
+ * temporary that GCC keeps in the frame for the whole function (the stack,
+ * tools/footprint.sh).  The same operations on the same operands as the nested form. */
 static void order2_compute(zw_eb h, zw_eb kappa, order2 *o)
 {
-    const zw_eb one = zw_eb_exact(ZW_R(1.0));
     const zw_eb w2 = eb_square_minus(h, kappa);
     const zw_eb delta = eb_twice(h);
-    const zw_eb eh = eb_exp(eb_neg(h));
-    zw_eb C, S, G, H;
-    o->det = eb_exp(eb_neg(delta));
-    o->R = eb_neg(eb_expm1(eb_neg(delta)));
+    zw_eb eh, t, u, C, S, G, H;
+    t = eb_neg(h);
+    eh = eb_exp(t);
+    t = eb_neg(delta);
+    o->det = eb_exp(t);
+    t = eb_expm1(t);
+    o->R = eb_neg(t);
+    o->h = h;
+    o->w2 = w2;
 
     if (eb_within(h, ZW_R(2.0)) && eb_within(w2, PLANT_SERIES_LIMIT)) {
         zw_eb cd, sd;
-        series_divided(w2, zw_eb_mul(h, h), &cd, &sd);
-        C = zw_eb_mul(eh, series_single(w2, 0u));
+        t = zw_eb_mul(h, h);
+        series_divided(w2, t, &cd, &sd);
+        t = series_single(w2, 0u);
+        C = zw_eb_mul(eh, t);
         o->ch = C;
-        o->sh = zw_eb_mul(eh, series_single(w2, 1u));
-        o->h = h;
-        o->w2 = w2;
-        G = eb_twice(zw_eb_mul(eh, cd));
+        t = series_single(w2, 1u);
+        o->sh = zw_eb_mul(eh, t);
+        t = zw_eb_mul(eh, cd);
+        G = eb_twice(t);
         H = zw_eb_mul(eh, sd);
         o->tr = eb_twice(C);
         o->P = zw_eb_mul(kappa, G);
-        o->Q = zw_eb_add(zw_eb_add(one, o->det), o->tr);
+        t = zw_eb_exact(ZW_R(1.0));
+        t = zw_eb_add(t, o->det);
+        o->Q = zw_eb_add(t, o->tr);
         o->bsum = G;
         o->bdiff = zw_eb_mul(delta, H);
-        o->b1 = zw_eb_add(eb_half(G), zw_eb_mul(h, H));
-        o->b0 = zw_eb_sub(eb_half(G), zw_eb_mul(h, H));
+        u = zw_eb_mul(h, H);
+        t = eb_half(G);
+        o->b1 = zw_eb_add(t, u);
+        o->b0 = zw_eb_sub(t, u);
         return;
     }
     if (w2.v >= ZW_R(0.5) * (h.v * h.v)) {
-        const zw_eb r = eb_sqrt(w2);
-        const zw_eb hr = zw_eb_add(h, r);
-        const zw_eb p2 = eb_neg(hr);
-        const zw_eb p1 = eb_neg(zw_eb_div(kappa, hr));
-        const zw_eb z1 = eb_exp(p1), z2 = eb_exp(p2);
-        const zw_eb e01 = eb_e0(p1), e02 = eb_e0(p2);
-        const zw_eb sh = zw_eb_div(zw_eb_sub(z1, z2), eb_twice(r));
+        zw_eb r, hr, p1, p2, z1, z2, e01;
+        r = eb_sqrt(w2);
+        hr = zw_eb_add(h, r);
+        p2 = eb_neg(hr);
+        t = zw_eb_div(kappa, hr);
+        p1 = eb_neg(t);
+        z1 = eb_exp(p1);
+        z2 = eb_exp(p2);
+        e01 = eb_e0(p1);
+        t = zw_eb_sub(z1, z2);
+        u = eb_twice(r);
+        o->sh = zw_eb_div(t, u);
         o->tr = zw_eb_add(z1, z2);
-        o->P = zw_eb_mul(eb_expm1(p1), eb_expm1(p2));
-        o->Q = zw_eb_mul(zw_eb_add(one, z1), zw_eb_add(one, z2));
-        o->b1 = zw_eb_div(zw_eb_sub(e01, sh), hr);
-        o->b0 = zw_eb_div(zw_eb_sub(sh, zw_eb_mul(z2, e01)), hr);
-        o->bsum = zw_eb_mul(e01, e02);
+        t = eb_expm1(p1);
+        u = eb_expm1(p2);
+        o->P = zw_eb_mul(t, u);
+        t = zw_eb_exact(ZW_R(1.0));
+        u = zw_eb_add(t, z2);
+        t = zw_eb_add(t, z1);
+        o->Q = zw_eb_mul(t, u);
+        t = zw_eb_sub(e01, o->sh);
+        o->b1 = zw_eb_div(t, hr);
+        t = zw_eb_mul(z2, e01);
+        t = zw_eb_sub(o->sh, t);
+        o->b0 = zw_eb_div(t, hr);
+        t = eb_e0(p2);
+        o->bsum = zw_eb_mul(e01, t);
         o->ch = eb_half(o->tr);
-        o->sh = sh;
-        o->h = h;
-        o->w2 = w2;
         o->bdiff = zw_eb_sub(o->b1, o->b0);
         return;
     }
     if (eb_within(w2, PLANT_SERIES_LIMIT)) {
-        C = zw_eb_mul(eh, series_single(w2, 0u));
-        S = zw_eb_mul(eh, series_single(w2, 1u));
+        t = series_single(w2, 0u);
+        C = zw_eb_mul(eh, t);
+        t = series_single(w2, 1u);
+        S = zw_eb_mul(eh, t);
     } else if (w2.v > ZW_R(0.0)) {
-        const zw_eb r = eb_sqrt(w2);
-        const zw_eb hr = zw_eb_add(h, r);
-        const zw_eb z1 = eb_exp(eb_neg(zw_eb_div(kappa, hr))), z2 = eb_exp(eb_neg(hr));
-        C = eb_half(zw_eb_add(z1, z2));
-        S = zw_eb_div(zw_eb_sub(z1, z2), eb_twice(r));
+        zw_eb r, hr, z1, z2;
+        r = eb_sqrt(w2);
+        hr = zw_eb_add(h, r);
+        t = zw_eb_div(kappa, hr);
+        t = eb_neg(t);
+        z1 = eb_exp(t);
+        t = eb_neg(hr);
+        z2 = eb_exp(t);
+        t = zw_eb_add(z1, z2);
+        C = eb_half(t);
+        t = zw_eb_sub(z1, z2);
+        u = eb_twice(r);
+        S = zw_eb_div(t, u);
     } else {
-        const zw_eb om = eb_sqrt(eb_neg(w2));
-        C = zw_eb_mul(eh, eb_cos(om));
-        S = zw_eb_div(zw_eb_mul(eh, eb_sin(om)), om);
+        zw_eb om;
+        t = eb_neg(w2);
+        om = eb_sqrt(t);
+        t = eb_cos(om);
+        C = zw_eb_mul(eh, t);
+        t = eb_sin(om);
+        t = zw_eb_mul(eh, t);
+        S = zw_eb_div(t, om);
     }
     o->tr = eb_twice(C);
     o->ch = C;
     o->sh = S;
-    o->h = h;
-    o->w2 = w2;
     if ((w2.v < ZW_R(0.0)) && (h.v <= ZW_R(2.0))) {
         /* complex poles far from critical, light damping: the sums of squares */
-        const zw_eb om = eb_sqrt(eb_neg(w2));
-        const zw_eb half = eb_half(om);
-        const zw_eb sn = eb_sin(half), cs = eb_cos(half);
-        const zw_eb em = eb_expm1(eb_neg(h));
-        const zw_eb em2 = zw_eb_mul(em, em);
-        const zw_eb four_eh = eb_twice(eb_twice(eh));
-        o->P = zw_eb_add(em2, zw_eb_mul(four_eh, zw_eb_mul(sn, sn)));
-        o->Q = zw_eb_add(em2, zw_eb_mul(four_eh, zw_eb_mul(cs, cs)));
+        zw_eb om, sn, cs, em2, four_eh;
+        t = eb_neg(w2);
+        om = eb_sqrt(t);
+        sn = eb_sin(eb_half(om));
+        cs = eb_cos(eb_half(om));
+        t = eb_neg(h);
+        t = eb_expm1(t);
+        em2 = zw_eb_mul(t, t);
+        four_eh = eb_twice(eb_twice(eh));
+        t = zw_eb_mul(sn, sn);
+        t = zw_eb_mul(four_eh, t);
+        o->P = zw_eb_add(em2, t);
+        t = zw_eb_mul(cs, cs);
+        t = zw_eb_mul(four_eh, t);
+        o->Q = zw_eb_add(em2, t);
     } else {
         /* h > 2: 1 + det - tr >= (1 - e^-h)^2 > 3/4 for complex poles, and for real ones
          * with w2 < h^2 / 2 tr < e^(-0.29 h) + e^-h: a bounded cancellation */
-        o->P = zw_eb_sub(zw_eb_add(one, o->det), o->tr);
-        o->Q = zw_eb_add(zw_eb_add(one, o->det), o->tr);
+        t = zw_eb_exact(ZW_R(1.0));
+        t = zw_eb_add(t, o->det);
+        o->P = zw_eb_sub(t, o->tr);
+        o->Q = zw_eb_add(t, o->tr);
     }
     G = zw_eb_div(o->P, kappa);
-    H = zw_eb_div(zw_eb_sub(eb_e0(eb_neg(delta)), S), kappa);
+    t = eb_neg(delta);
+    t = eb_e0(t);
+    t = zw_eb_sub(t, S);
+    H = zw_eb_div(t, kappa);
     o->bsum = G;
     o->bdiff = zw_eb_mul(delta, H);
-    o->b1 = zw_eb_add(eb_half(G), zw_eb_mul(h, H));
-    o->b0 = zw_eb_sub(eb_half(G), zw_eb_mul(h, H));
+    u = zw_eb_mul(h, H);
+    t = eb_half(G);
+    o->b1 = zw_eb_add(t, u);
+    o->b0 = zw_eb_sub(t, u);
 }
 
 static void plant_from_order2(zw_plant *p, const order2 *o)
@@ -557,7 +628,10 @@ static void plant_from_order2(zw_plant *p, const order2 *o)
     set_eb(&p->num_s[0], &p->num_s_err[0], eb_twice(o->bdiff));
     set_eb(&p->num_s[1], &p->num_s_err[1], eb_twice(o->bsum));
     set_eb(&p->den_w[0], &p->den_w_err[0], zw_eb_exact(ZW_R(2.0)));
-    set_eb(&p->den_w[1], &p->den_w_err[1], eb_twice(zw_eb_add(o->P, o->R)));
+    {
+        const zw_eb pr = zw_eb_add(o->P, o->R);
+        set_eb(&p->den_w[1], &p->den_w_err[1], eb_twice(pr));
+    }
     set_eb(&p->den_w[2], &p->den_w_err[2], eb_twice(o->P));
 }
 
@@ -606,16 +680,19 @@ static zw_eb series_shifted4(zw_eb h, zw_eb hp, zw_eb w2)
     zw_eb sum = zw_eb_exact(ZW_R(0.0));
     zw_real f = ZW_R(1.0) / ZW_R(6.0);                    /* 1 / (k + 3)!, rounded */
     for (k = 0u; k < PLANT_TERMS4; ++k) {
-        zw_eb H;
+        zw_eb H, t;
         const unsigned kf = k + 3u;      /* (k + 3)! = (k + 2)! kf */
         const unsigned roundings = k + 4u;
         if (k > 0u) {
             hpow = zw_eb_mul(hpow, h);
-            A = zw_eb_add(zw_eb_mul(hp, A), hpow);
+            A = zw_eb_mul(hp, A);
+            A = zw_eb_add(A, hpow);
             f = f / (zw_real)kf;
         }
-        H = zw_eb_add(A, zw_eb_mul(w2, H2));
-        sum = zw_eb_add(sum, zw_eb_mul(H, zw_eb_make(f, (zw_real)roundings * (ZW_U * f + ZW_ETA))));
+        t = zw_eb_mul(w2, H2);
+        H = zw_eb_add(A, t);
+        t = zw_eb_mul(H, zw_eb_make(f, (zw_real)roundings * (ZW_U * f + ZW_ETA)));
+        sum = zw_eb_add(sum, t);
         H2 = H1;
         H1 = H;
     }
@@ -623,94 +700,220 @@ static zw_eb series_shifted4(zw_eb h, zw_eb hp, zw_eb w2)
     return sum;
 }
 
-static void order3_build(const order2 *o, zw_eb kappa, zw_eb nu, zw_plant *p)
-{
-    const zw_eb one = zw_eb_exact(ZW_R(1.0));
-    const zw_eb h = o->h, w2 = o->w2;
-    const zw_eb hp = zw_eb_sub(h, nu);
-    const zw_eb hp2 = zw_eb_mul(hp, hp);
-    const zw_eb kp = zw_eb_sub(hp2, w2);
-    const zw_eb a = eb_exp(eb_neg(nu));
-    const zw_eb oma = eb_neg(eb_expm1(eb_neg(nu)));
-    const zw_eb opa = zw_eb_add(one, a);
-    const zw_eb phi11 = zw_eb_sub(o->ch, zw_eb_mul(h, o->sh));
-    const bool series_ok = eb_within(w2, PLANT_SERIES_LIMIT) && eb_within(hp2, PLANT_SERIES_LIMIT);
-    zw_eb T, U, y0, x1, x0, t;
-    zw_eb y0_series = zw_eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
-    zw_eb x1_far = zw_eb_make(ZW_R(0.0), ZW_INF);
+/* The order-3 plant's intermediate values (order3_build), kept in one place so that each
+ * step's own temporaries end with it (see order2_compute). */
+typedef struct order3 {
+    zw_eb h, kappa, nu, w2; /* the inputs (w2 = order2's) */
+    zw_eb hp, kp, a, oma, opa, phi11;
+    zw_eb T, y0, x1, x0;
+    zw_eb y0_series, T_far, x1_far;
+    bool series_ok;
+} order3;
 
-    /* T */
-    T = zw_eb_div(zw_eb_sub(zw_eb_sub(a, o->ch), zw_eb_mul(hp, o->sh)), kp);
-    if (series_ok) {
-        zw_eb cd, sd;
-        const zw_eb eh = eb_exp(eb_neg(h));
-        series_divided(w2, hp2, &cd, &sd);
-        T = eb_better(T, zw_eb_mul(eh, zw_eb_add(cd, zw_eb_mul(hp, sd))));
+/* hp, kp, a, 1 -+ a, Phi11; T from the direct form, the series and the far pair
+ * (order3_far, before); the series' y0 (an infinite bound when not computed). */
+static void order3_poles(const order2 *o, order3 *q)
+{
+    zw_eb t, u, hp2;
+    q->hp = zw_eb_sub(q->h, q->nu);
+    hp2 = zw_eb_mul(q->hp, q->hp);
+    q->kp = zw_eb_sub(hp2, q->w2);
+    u = eb_neg(q->nu);
+    q->a = eb_exp(u);
+    t = eb_expm1(u);
+    q->oma = eb_neg(t);
+    t = zw_eb_exact(ZW_R(1.0));
+    q->opa = zw_eb_add(t, q->a);
+    t = zw_eb_mul(q->h, o->sh);
+    q->phi11 = zw_eb_sub(o->ch, t);
+    q->series_ok = eb_within(q->w2, PLANT_SERIES_LIMIT) && eb_within(hp2, PLANT_SERIES_LIMIT);
+    q->y0_series = zw_eb_make(ZW_R(0.0), ZW_INF); /* never taken unless computed */
+
+    t = zw_eb_sub(q->a, o->ch);
+    u = zw_eb_mul(q->hp, o->sh);
+    t = zw_eb_sub(t, u);
+    q->T = zw_eb_div(t, q->kp);
+    if (q->series_ok) {
+        zw_eb cd, sd, eh;
+        t = eb_neg(q->h);
+        eh = eb_exp(t);
+        series_divided(q->w2, hp2, &cd, &sd);
+        u = zw_eb_mul(q->hp, sd);
+        t = zw_eb_add(cd, u);
+        t = zw_eb_mul(eh, t);
+        q->T = eb_better(q->T, t);
         /* y0 = det a exp[-p1, -p2, -p3]: the same series with h' -> -h' */
-        y0_series = zw_eb_mul(zw_eb_mul(a, eh), zw_eb_sub(cd, zw_eb_mul(hp, sd)));
+        t = zw_eb_mul(q->a, eh);
+        u = zw_eb_sub(cd, u);
+        q->y0_series = zw_eb_mul(t, u);
     }
-    if (w2.v >= ZW_R(1.0)) {
-        const zw_eb r = eb_sqrt(w2);
-        const zw_eb hr = zw_eb_add(h, r);
-        const zw_eb p1 = eb_neg(zw_eb_div(kappa, hr)), p2 = eb_neg(hr), p3 = eb_neg(nu);
-        t = zw_eb_div(zw_eb_sub(eb_exp_dd(p3, p1), eb_exp_dd(p3, p2)), eb_twice(r));
-        T = eb_better(T, t);
-        /* x1 / nu = exp[0, p3, p1, p2] = (exp[0, p3, p1] - exp[0, p3, p2]) / (p1 - p2), each
-         * the b1 of the real pole pair {p3, p_i} (no cancellation for nu -> 0) */
-        {
-            order2 q1, q2;
-            order2_compute(eb_half(zw_eb_sub(nu, p1)), zw_eb_mul(nu, eb_neg(p1)), &q1);
-            order2_compute(eb_half(zw_eb_sub(nu, p2)), zw_eb_mul(nu, eb_neg(p2)), &q2);
-            x1_far = zw_eb_mul(nu, zw_eb_div(zw_eb_sub(q1.b1, q2.b1), eb_twice(r)));
-        }
-    }
+    q->T = eb_better(q->T, q->T_far);
+}
+
+/* The far pair (w2 >= 1): T as a difference of divided differences, and
+ * x1 / nu = exp[0, p3, p1, p2] = (exp[0, p3, p1] - exp[0, p3, p2]) / (p1 - p2), each the b1
+ * of the real pole pair {p3, p_i} (no cancellation for nu -> 0).  Only h, w2 of the plant's
+ * order2: done before that is computed, so that the two are not on the stack at once. */
+static void order3_far(order3 *q)
+{
+    zw_eb r2, hr, p1, p2, p3, t, u, b1_first;
+    order2 pair;
+    t = eb_sqrt(q->w2);
+    hr = zw_eb_add(q->h, t);
+    r2 = eb_twice(t);
+    t = zw_eb_div(q->kappa, hr);
+    p1 = eb_neg(t);
+    p2 = eb_neg(hr);
+    p3 = eb_neg(q->nu);
+    t = eb_exp_dd(p3, p1);
+    u = eb_exp_dd(p3, p2);
+    t = zw_eb_sub(t, u);
+    q->T_far = zw_eb_div(t, r2);
+    t = zw_eb_sub(q->nu, p1);
+    t = eb_half(t);
+    u = eb_neg(p1);
+    u = zw_eb_mul(q->nu, u);
+    order2_compute(t, u, &pair);
+    b1_first = pair.b1;
+    t = zw_eb_sub(q->nu, p2);
+    t = eb_half(t);
+    u = eb_neg(p2);
+    u = zw_eb_mul(q->nu, u);
+    order2_compute(t, u, &pair);
+    t = zw_eb_sub(b1_first, pair.b1);
+    t = zw_eb_div(t, r2);
+    q->x1_far = zw_eb_mul(q->nu, t);
+}
+
+/* U, y0, x1, x0 from T, each by the form with the smallest bound. */
+static void order3_numerators(const order2 *o, order3 *q)
+{
+    zw_eb t, u, U;
     /* U = S^ - nu T, or (nu Phi11 + kappa S^ - nu a) / kappa' (no cancellation for nu >> 1) */
-    U = zw_eb_sub(o->sh, zw_eb_mul(nu, T));
-    t = zw_eb_div(zw_eb_sub(zw_eb_add(zw_eb_mul(nu, phi11), zw_eb_mul(kappa, o->sh)),
-                            zw_eb_mul(nu, a)),
-                  kp);
+    t = zw_eb_mul(q->nu, q->T);
+    U = zw_eb_sub(o->sh, t);
+    t = zw_eb_mul(q->nu, q->phi11);
+    u = zw_eb_mul(q->kappa, o->sh);
+    t = zw_eb_add(t, u);
+    u = zw_eb_mul(q->nu, q->a);
+    t = zw_eb_sub(t, u);
+    t = zw_eb_div(t, q->kp);
     U = eb_better(U, t);
-    y0 = zw_eb_sub(zw_eb_mul(o->sh, U), zw_eb_mul(phi11, T));
-    y0 = eb_better(y0, y0_series);
+    t = zw_eb_mul(o->sh, U);
+    u = zw_eb_mul(q->phi11, q->T);
+    q->y0 = zw_eb_sub(t, u);
+    q->y0 = eb_better(q->y0, q->y0_series);
     /* x1 = nu exp[0, p1, p2, p3] = b1 - T (cancels for nu -> 0), or
      * nu (E0(-nu) - S^ + (nu - 2 h) b1) / kappa' (no cancellation for large kappa), or for
      * a small plant nu e^-h sum_k H_k / (k + 3)!, H the complete symmetric polynomials of the
      * nodes shifted by h: (h, r, -r, h'), H_k = A_k + w2 H_{k-2}, A_k = h' A_{k-1} + h^k */
-    x1 = zw_eb_sub(o->b1, T);
-    t = zw_eb_div(zw_eb_mul(nu, zw_eb_add(zw_eb_sub(eb_e0(eb_neg(nu)), o->sh),
-                                          zw_eb_mul(zw_eb_sub(nu, eb_twice(h)), o->b1))),
-                  kp);
-    x1 = eb_better(x1, t);
-    x1 = eb_better(x1, x1_far);
-    if (series_ok && eb_within(h, ZW_R(2.0))) {
-        x1 = eb_better(x1, zw_eb_mul(zw_eb_mul(nu, eb_exp(eb_neg(h))), series_shifted4(h, hp, w2)));
+    q->x1 = zw_eb_sub(o->b1, q->T);
+    t = eb_neg(q->nu);
+    t = eb_e0(t);
+    t = zw_eb_sub(t, o->sh);
+    u = eb_twice(q->h);
+    u = zw_eb_sub(q->nu, u);
+    u = zw_eb_mul(u, o->b1);
+    t = zw_eb_add(t, u);
+    t = zw_eb_mul(q->nu, t);
+    t = zw_eb_div(t, q->kp);
+    q->x1 = eb_better(q->x1, t);
+    q->x1 = eb_better(q->x1, q->x1_far);
+    if (q->series_ok && eb_within(q->h, ZW_R(2.0))) {
+        t = eb_neg(q->h);
+        t = eb_exp(t);
+        t = zw_eb_mul(q->nu, t);
+        u = series_shifted4(q->h, q->hp, o->w2);
+        t = zw_eb_mul(t, u);
+        q->x1 = eb_better(q->x1, t);
     }
     /* x0 = b0 - y0, or nu Phi01 T - Phi11 x1 (small for nu -> 0 without cancelling) */
-    x0 = zw_eb_sub(o->b0, y0);
-    t = zw_eb_sub(zw_eb_mul(zw_eb_mul(nu, o->sh), T), zw_eb_mul(phi11, x1));
-    x0 = eb_better(x0, t);
+    q->x0 = zw_eb_sub(o->b0, q->y0);
+    t = zw_eb_mul(q->nu, o->sh);
+    t = zw_eb_mul(t, q->T);
+    u = zw_eb_mul(q->phi11, q->x1);
+    t = zw_eb_sub(t, u);
+    q->x0 = eb_better(q->x0, t);
+}
 
+/* The order-3 polynomials from X, Y and a. */
+static void order3_polys(const order2 *o, const order3 *q, zw_plant *p)
+{
+    zw_eb t, u, xd;
     p->order = 3u;
     /* N3 / 2 = x1 z^2 + (x0 - a x1 + (1 - a) y1) z + ((1 - a) y0 - a x0) */
-    set_eb(&p->num[0], &p->num_err[0], eb_twice(x1));
-    set_eb(&p->num[1], &p->num_err[1],
-           eb_twice(zw_eb_add(zw_eb_sub(x0, zw_eb_mul(a, x1)), zw_eb_mul(oma, T))));
-    set_eb(&p->num[2], &p->num_err[2],
-           eb_twice(zw_eb_sub(zw_eb_mul(oma, y0), zw_eb_mul(a, x0))));
+    set_eb(&p->num[0], &p->num_err[0], eb_twice(q->x1));
+    t = zw_eb_mul(q->a, q->x1);
+    t = zw_eb_sub(q->x0, t);
+    u = zw_eb_mul(q->oma, q->T);
+    t = zw_eb_add(t, u);
+    set_eb(&p->num[1], &p->num_err[1], eb_twice(t));
+    t = zw_eb_mul(q->oma, q->y0);
+    u = zw_eb_mul(q->a, q->x0);
+    t = zw_eb_sub(t, u);
+    set_eb(&p->num[2], &p->num_err[2], eb_twice(t));
     /* N3_s / 2 = ((1 + a) s + (1 - a)) X_s + (1 - a)(1 - s) Y_s */
-    {
-        const zw_eb xd = zw_eb_sub(x1, x0), xs = zw_eb_add(x1, x0), yd = zw_eb_sub(T, y0);
-        set_eb(&p->num_s[0], &p->num_s_err[0],
-               eb_twice(zw_eb_sub(zw_eb_mul(opa, xd), zw_eb_mul(oma, yd))));
-        set_eb(&p->num_s[1], &p->num_s_err[1],
-               eb_twice(zw_eb_sub(zw_eb_add(zw_eb_mul(opa, xs), zw_eb_mul(oma, xd)),
-                                  eb_twice(zw_eb_mul(oma, y0)))));
-        set_eb(&p->num_s[2], &p->num_s_err[2], eb_twice(zw_eb_mul(oma, o->bsum)));
-    }
+    xd = zw_eb_sub(q->x1, q->x0);
+    t = zw_eb_mul(q->opa, xd);
+    u = zw_eb_sub(q->T, q->y0);
+    u = zw_eb_mul(q->oma, u);
+    t = zw_eb_sub(t, u);
+    set_eb(&p->num_s[0], &p->num_s_err[0], eb_twice(t));
+    t = zw_eb_add(q->x1, q->x0);
+    t = zw_eb_mul(q->opa, t);
+    u = zw_eb_mul(q->oma, xd);
+    t = zw_eb_add(t, u);
+    u = zw_eb_mul(q->oma, q->y0);
+    u = eb_twice(u);
+    t = zw_eb_sub(t, u);
+    set_eb(&p->num_s[1], &p->num_s_err[1], eb_twice(t));
+    t = zw_eb_mul(q->oma, o->bsum);
+    set_eb(&p->num_s[2], &p->num_s_err[2], eb_twice(t));
     /* D3 = D2 (z - a): in s, times (1 + a) s + (1 - a); in w = z - 1, times w + (1 - a) */
-    zw_eb_poly_mul_linear(p->den, p->den_err, 2u, one, eb_neg(a));
-    zw_eb_poly_mul_linear(p->den_s, p->den_s_err, 2u, opa, oma);
-    zw_eb_poly_mul_linear(p->den_w, p->den_w_err, 2u, one, oma);
+    t = zw_eb_exact(ZW_R(1.0));
+    u = eb_neg(q->a);
+    zw_eb_poly_mul_linear(p->den, p->den_err, 2u, t, u);
+    zw_eb_poly_mul_linear(p->den_s, p->den_s_err, 2u, q->opa, q->oma);
+    zw_eb_poly_mul_linear(p->den_w, p->den_w_err, 2u, t, q->oma);
+}
+
+/* The order-2 plant and, with the lag (lag true), its order-3 extension, in steps, each with
+ * its own temporaries: the far pair's two order-2 plants first, then the plant's own. */
+static void plant_build(zw_eb h, zw_eb kappa, bool lag, zw_eb nu, zw_plant *p)
+{
+    order3 q;
+    order2 o;
+    q.h = h;
+    q.kappa = kappa;
+    q.nu = nu;
+    q.w2 = eb_square_minus(h, kappa); /* = order2_compute's */
+    /* every other field unbounded until its step computes it (the far pair's stay so when
+     * it is not run: never taken) */
+    q.T_far = zw_eb_make(ZW_R(0.0), ZW_INF);
+    q.x1_far = q.T_far;
+    q.hp = q.T_far;
+    q.kp = q.T_far;
+    q.a = q.T_far;
+    q.oma = q.T_far;
+    q.opa = q.T_far;
+    q.phi11 = q.T_far;
+    q.T = q.T_far;
+    q.y0 = q.T_far;
+    q.x1 = q.T_far;
+    q.x0 = q.T_far;
+    q.y0_series = q.T_far;
+    q.series_ok = false;
+    if (lag && (q.w2.v >= ZW_R(1.0))) {
+        order3_far(&q);
+    }
+    order2_compute(h, kappa, &o);
+    p->order = 2u;
+    plant_from_order2(p, &o);
+    if (lag) {
+        order3_poles(&o, &q);
+        order3_numerators(&o, &q);
+        order3_polys(&o, &q, p);
+    }
 }
 
 /* ---- the general plant ---------------------------------------------------------------- */
@@ -737,11 +940,12 @@ static zw_status check_plant_spec(const zw_plant_spec *spec)
     return ZW_OK;
 }
 
+/* Built in place in *out (no second zw_plant on the stack), fail-safe at every return;
+ * *spec is copied first, since it may be out->spec. */
 zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
 {
     zw_status st;
-    zw_coeffs c;
-    zw_plant p;
+    zw_plant_spec sp;
     if (out == NULL) {
         return ZW_ERR_NULL;
     }
@@ -749,48 +953,41 @@ zw_status zw_plant_init(zw_plant *out, const zw_plant_spec *spec)
         zw_plant_fail(out);
         return ZW_ERR_NULL;
     }
-    st = check_plant_spec(spec);
+    sp = *spec;
+    st = check_plant_spec(&sp);
+    zw_plant_fail(out); /* every unused entry NaN */
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = zw_coeffs_init(&out->c, sp.delta);
     if (st != ZW_OK) {
         zw_plant_fail(out);
         return st;
     }
-    st = zw_coeffs_init(&c, spec->delta);
-    if (st != ZW_OK) {
-        zw_plant_fail(out);
-        return st;
+    out->c.delta_relerr = sp.delta_relerr;
+    if ((sp.kappa == ZW_R(0.0)) && (sp.lambda == ZW_R(0.0))) {
+        return zw_plant_from_coeffs(out, &out->c);
     }
-    c.delta_relerr = spec->delta_relerr;
-    if ((spec->kappa == ZW_R(0.0)) && (spec->lambda == ZW_R(0.0))) {
-        return zw_plant_from_coeffs(out, &c);
-    }
-    zw_plant_fail(&p);
     {
-        order2 o;
-        const zw_eb h = zw_eb_make(ZW_R(0.5) * spec->delta,
-                                ZW_R(0.5) * spec->delta * spec->delta_relerr + ZW_ETA);
-        const zw_eb kappa = zw_eb_make(spec->kappa, spec->kappa * spec->kappa_relerr);
-        order2_compute(h, kappa, &o);
-        p.order = 2u;
-        plant_from_order2(&p, &o);
-        if (spec->lambda > ZW_R(0.0)) {
-            /* nu = 1 / lambda: one rounding, and 1 / (lambda (1 +- rho)) within
-             * nu rho / (1 - rho) <= nu rho (16 / 15) of nu */
-            const zw_real nu = ZW_R(1.0) / spec->lambda;
-            const zw_eb nub = zw_eb_make(nu, nu * (spec->lambda_relerr * ZW_R(1.0667) + ZW_U) + ZW_ETA);
-            if (!ZW_IS_FINITE(nu)) {
-                zw_plant_fail(out);
-                return ZW_ERR_RANGE;
-            }
-            order3_build(&o, kappa, nub, &p);
+        const zw_eb h = zw_eb_make(ZW_R(0.5) * sp.delta,
+                                ZW_R(0.5) * sp.delta * sp.delta_relerr + ZW_ETA);
+        const zw_eb kappa = zw_eb_make(sp.kappa, sp.kappa * sp.kappa_relerr);
+        const bool lag = (sp.lambda > ZW_R(0.0));
+        /* nu = 1 / lambda: one rounding, and 1 / (lambda (1 +- rho)) within
+         * nu rho / (1 - rho) <= nu rho (16 / 15) of nu (lambda = 0: unused) */
+        const zw_real nu = lag ? (ZW_R(1.0) / sp.lambda) : ZW_R(0.0);
+        const zw_eb nub = zw_eb_make(nu, nu * (sp.lambda_relerr * ZW_R(1.0667) + ZW_U) + ZW_ETA);
+        if (!ZW_IS_FINITE(nu)) {
+            zw_plant_fail(out);
+            return ZW_ERR_RANGE;
         }
+        plant_build(h, kappa, lag, nub, out);
     }
-    p.spec = *spec;
-    p.c = c;
-    if (!plant_finite(&p)) {
+    out->spec = sp;
+    if (!plant_finite(out)) {
         zw_plant_fail(out);
         return ZW_ERR_RANGE;
     }
-    *out = p;
     return ZW_OK;
 }
 
