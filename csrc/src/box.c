@@ -30,12 +30,6 @@
 #include "zwidth/device.h"
 #include "box_interval.h"
 
-/* A hint (box_setup): keeps a frame off the search's stack chain. */
-#if defined(__GNUC__)
-#define BOX_NOINLINE __attribute__((noinline))
-#else
-#define BOX_NOINLINE
-#endif
 #include "internal.h"
 
 /* d12 peaks at delta = 2.68799934549949... with 0.27870311291437160... (40 digits in
@@ -600,7 +594,7 @@ static zw_status box_search_run(zw_box_search *s, zw_box_goal goal, zw_real K,
 /* Fold and validate the box, the work and the gains (K when with_K), and start the search
  * (box_search_init).  Not inlined: the folded box (60 B in float) stays off the search's
  * chain (tools/footprint.sh), the search keeps only T. */
-BOX_NOINLINE static zw_status box_setup(zw_box_search *s, const zw_plant_box *box, const zw_box_work *work,
+ZW_NOINLINE static zw_status box_setup(zw_box_search *s, const zw_plant_box *box, const zw_box_work *work,
                                         zw_real K, bool with_K, zw_real B)
 {
     zw_plant_box f;

@@ -35,13 +35,6 @@
 #include "zwidth/plant_box.h"
 #include "box_interval.h"
 
-/* Keeps the cell test's frame (the plant's enclosure, the gains' intervals) off the point
- * checks' chain (the stack, tools/footprint.sh).  Only a hint. */
-#if defined(__GNUC__)
-#define BL_NOINLINE __attribute__((noinline))
-#else
-#define BL_NOINLINE
-#endif
 #define BL_BISECT_STEPS 60
 
 typedef enum bl_result { BL_STABLE = 0, BL_UNSURE = 1, BL_UNSTABLE = 2 } bl_result;
@@ -228,7 +221,7 @@ static bx_iv bl_from_eb(zw_real v, zw_real e)
 /* Is every K in the cell's range (K_lo = 0: (0, K_hi]) stable for every plant and B of the
  * cell?  STABLE proves it;
  * UNSURE otherwise (never UNSTABLE: a Kharitonov vertex is not a plant). */
-BL_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_cell *c, bl_result *res)
+ZW_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_cell *c, bl_result *res)
 {
     const zw_real T = L->box.T;
     const bool stiff = (L->box.k_hi > ZW_R(0.0));
@@ -380,7 +373,7 @@ static zw_status bl_point_init(const bl_loop *L, zw_device_loop *dl, zw_real m, 
 }
 
 /* Is (K, B) surely unstable at plant (m, b)?  (the guarded point check, not marginal) */
-BL_NOINLINE static zw_status bl_point_unstable(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b,
+ZW_NOINLINE static zw_status bl_point_unstable(const bl_loop *L, zw_loop_workspace *ws, zw_real m, zw_real b,
                                    zw_real k, zw_real K, zw_real B, bool *unstable)
 {
     zw_device_loop *dl = &L->sc->dl;

@@ -25,6 +25,16 @@
 #define ZW_U ZW_UNIT_ROUNDOFF
 #define ZW_ETA ZW_REAL_MIN
 
+/* Keeps a helper out of line where the compiler would merge it into its caller, so that
+ * the frames along the deep call chains (root test, box search, register map) stay small
+ * (the stack gate of tools/footprint.sh).  Only a hint: nothing depends on it for
+ * correctness. */
+#if defined(__GNUC__)
+#define ZW_NOINLINE __attribute__((noinline))
+#else
+#define ZW_NOINLINE
+#endif
+
 typedef struct zw_eb {
     zw_real v; /* computed value */
     zw_real e; /* bound on |v - exact| */

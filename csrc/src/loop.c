@@ -19,14 +19,6 @@
 
 #include "internal.h"
 
-/* Keeps a helper out of line so that the frames along the root test's call chain stay
- * small and are not merged into one large frame (the stack target of tools/footprint.sh,
- * as regmap.c does).  Only a hint: nothing depends on it for correctness. */
-#if defined(__GNUC__)
-#define ZW_NOINLINE __attribute__((noinline))
-#else
-#define ZW_NOINLINE
-#endif
 
 /* The small helpers of the tests' inner loops, inlined where the build optimizes for speed
  * (host, -O2: the call overhead was half the cost of a low-degree check) and left to the

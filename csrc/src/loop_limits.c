@@ -18,14 +18,6 @@
 
 #include "internal.h"
 
-/* Out of line (GCC): a helper that runs the guarded check or a scan keeps its own small
- * frame instead of merging into its caller's (the stack target of tools/footprint.sh).
- * Only a hint: nothing depends on it for correctness. */
-#if defined(__GNUC__)
-#define ZW_NOINLINE __attribute__((noinline))
-#else
-#define ZW_NOINLINE
-#endif
 
 #ifdef ZW_REAL_FLOAT
 #define LL_ITER 40u    /* bisection / golden-section steps: enough for float's 24 bits */

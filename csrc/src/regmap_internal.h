@@ -13,6 +13,7 @@
 #include <stddef.h>
 
 #include "zwidth/regmap.h"
+#include "internal.h"
 
 #define CRC_INDEX ZW_CERT_WORDS /* staged[CRC_INDEX] is the CRC word */
 
@@ -39,15 +40,6 @@ static inline float zw_rm_quiet_nan_f(void)
 #define QUIET_NAN_F (zw_rm_quiet_nan_f())
 #endif
 
-/* Keeps a function out of line where the compiler would merge it into its only caller, so
- * that the caller can end in it as a tail call and the deep chains into the core start from
- * a small frame (the stack gate of tools/footprint.sh).  Only a hint: nothing depends on it
- * for correctness. */
-#if defined(__GNUC__)
-#define ZW_NOINLINE __attribute__((noinline))
-#else
-#define ZW_NOINLINE
-#endif
 
 static inline bool zw_rm_finite_f(float x)
 {

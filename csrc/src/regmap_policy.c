@@ -166,7 +166,7 @@ static void box_work(zw_regmap *rm, zw_box_loop_work *work)
 }
 
 /* The box and loop of block c (its fields checked), false if they cannot be formed. */
-static bool box_setup(const zw_cert *c, zw_plant_box *box, zw_device_loop_spec *spec)
+static bool cert_box_setup(const zw_cert *c, zw_plant_box *box, zw_device_loop_spec *spec)
 {
     float f[ZW_CERT_FIELDS];
     fields_of(c, f);
@@ -176,7 +176,7 @@ static bool box_setup(const zw_cert *c, zw_plant_box *box, zw_device_loop_spec *
 
 /* Box K_max at B: a certified lower bound of the infimum over the box (every K in
  * (0, K_lower] stable at B for every plant); 0 with an error status when it fails. */
-ZW_NOINLINE static zw_status box_k_max(zw_regmap *rm, const zw_cert *c, float B, zw_real *k_max)
+ZW_NOINLINE static zw_status cert_box_k_max(zw_regmap *rm, const zw_cert *c, float B, zw_real *k_max)
 {
     zw_plant_box box;
     zw_device_loop_spec spec;
@@ -184,7 +184,7 @@ ZW_NOINLINE static zw_status box_k_max(zw_regmap *rm, const zw_cert *c, float B,
     zw_box_loop_bound bound;
     zw_status st;
     *k_max = ZW_R(0.0);
-    if (!box_setup(c, &box, &spec)) {
+    if (!cert_box_setup(c, &box, &spec)) {
         return ZW_ERR_ARG;
     }
     box_work(rm, &work);
@@ -209,14 +209,14 @@ static zw_real k_over_sigma_up(float K, float sigma)
 
 /* The stability and sigma rules over the box of block c (regmap_policy.h): (0, K / sigma]
  * certified at B for every plant, else the reason.  Nothing of rm but scratch changes. */
-ZW_NOINLINE static zw_reason box_certify(zw_regmap *rm, const zw_cert *c, float K, float B)
+ZW_NOINLINE static zw_reason cert_box_certify(zw_regmap *rm, const zw_cert *c, float K, float B)
 {
     zw_plant_box box;
     zw_device_loop_spec spec;
     zw_box_loop_work work;
     zw_box_loop_verdict v;
     zw_status st;
-    if (!box_setup(c, &box, &spec)) {
+    if (!cert_box_setup(c, &box, &spec)) {
         return ZW_REASON_UNSTABLE;
     }
     box_work(rm, &work);
@@ -255,7 +255,7 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm, const zw_cert *c, bool *any
         zw_box_loop_work work;
         zw_box_loop_extremes e;
         st = ZW_ERR_ARG;
-        if (box_setup(c, &box, &spec)) {
+        if (cert_box_setup(c, &box, &spec)) {
             box_work(rm, &work);
             st = zw_box_loop_k_mmax(&box, &spec, &rm->ws, &work, &e);
             K = e.K_mmax;
@@ -546,7 +546,7 @@ static zw_status drive_k_max(zw_regmap *rm, const zw_cert *c, float B, zw_real *
         return ZW_OK;
     }
     if (ranged) { /* the box's: a lower bound of the infimum over the box */
-        return box_k_max(rm, c, B, k_max);
+        return cert_box_k_max(rm, c, B, k_max);
     }
     return zw_device_loop_k_max(&rm->loop, &rm->ws, (zw_real)B, k_max);
 }
@@ -592,7 +592,7 @@ static zw_reason certify_under(zw_regmap *rm, const zw_cert *c, float K0, float 
         return ZW_REASON_B_STEP;
     }
     if (cert_ranged(c)) { /* stability and sigma in one proof over the box; r = 1 */
-        return box_certify(rm, c, K, B);
+        return cert_box_certify(rm, c, K, B);
     }
     if (!stable_ok(rm, K, B)) {
         return ZW_REASON_UNSTABLE;
