@@ -7,7 +7,7 @@
  * eva-support: status
  * eva-defines: -DZW_REGMAP_NO_C11_ATOMICS
  * eva-precision: 1
- * eva-options: -eva-auto-loop-unroll 40
+ * eva-options: -eva-auto-loop-unroll 50
  *
  * The map's calls into the ideal core (device.h, selftest.h) and the general loop
  * (device_loop.h) are replaced by the stubs below, which their own drivers (eva_ideal.c,
@@ -27,6 +27,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "zwidth/box.h"
 #include "zwidth/device.h"
 #include "zwidth/device_loop.h"
 #include "zwidth/regmap.h"
@@ -331,6 +332,134 @@ zw_status zw_device_extremes_compute(const zw_device *d, zw_device_extremes *out
 zw_status zw_selftest(void)
 {
     return any_bool() ? ZW_OK : any_error();
+}
+
+/* ---- the plant box: stubs with the contracts of box.h --------------------------------
+ * The same treatment for the box certification of a ranged block (map version 4):
+ * eva_box.c and eva_box_loop.c analyse the real functions (every output written on every
+ * return, the fail-safe values of box.h on error); here each writes every output, any
+ * value of its type on success and the fail-safe value on error, and returns any status.
+ * Without them Eva takes each prototype's default assigns, whose values it cannot show
+ * initialized. */
+
+zw_status zw_box_validate(const zw_plant_box *box)
+{
+    (void)box;
+    return any_bool() ? ZW_OK : any_error();
+}
+
+zw_status zw_box_loop_work_init(zw_box_loop_work *work, zw_box_loop_cell *cells,
+                                uint_least32_t capacity, zw_box_loop_scratch *scratch)
+{
+    if ((work == NULL) || (cells == NULL) || (scratch == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    if (capacity < ZW_BOX_LOOP_MIN_CELLS) {
+        return ZW_ERR_ARG;
+    }
+    work->cells = cells;
+    work->scratch = scratch;
+    work->capacity = capacity;
+    work->max_evals = ZW_BOX_LOOP_DEFAULT_EVALS;
+    work->rel_tol = ZW_BOX_LOOP_DEFAULT_REL_TOL;
+    return ZW_OK;
+}
+
+zw_status zw_box_loop_check(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                            zw_loop_workspace *ws, zw_real K, zw_real B,
+                            const zw_box_loop_work *work, zw_box_loop_verdict *out)
+{
+    (void)box;
+    (void)spec;
+    (void)ws;
+    (void)K;
+    (void)B;
+    (void)work;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    out->stable = false; /* fail-safe: not stable, not decided, plants NaN, count 0 */
+    out->decided = false;
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
+    out->evals = 0u;
+    out->k_worst = ZW_NAN;
+    if (any_bool()) {
+        return any_error();
+    }
+    out->stable = any_bool();
+    out->decided = out->stable || any_bool();
+    out->m_worst = any_real();
+    out->b_worst = any_real();
+    out->evals = any_u32_source;
+    out->k_worst = any_real();
+    return ZW_OK;
+}
+
+zw_status zw_box_loop_k_max(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                            zw_loop_workspace *ws, zw_real B, const zw_box_loop_work *work,
+                            zw_box_loop_bound *out)
+{
+    zw_real k = any_real();
+    (void)box;
+    (void)spec;
+    (void)ws;
+    (void)B;
+    (void)work;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    out->K_lower = ZW_R(0.0); /* fail-safe: certifies nothing */
+    out->K_upper = ZW_R(0.0);
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
+    out->evals = 0u;
+    out->converged = false;
+    out->k_worst = ZW_NAN;
+    if (any_bool()) {
+        return any_error();
+    }
+    out->K_lower = k >= ZW_R(0.0) ? k : ZW_R(0.0); /* 0 or more, +inf included */
+    out->K_upper = any_real();
+    out->m_worst = any_real();
+    out->b_worst = any_real();
+    out->evals = any_u32_source;
+    out->converged = any_bool();
+    out->k_worst = any_real();
+    return ZW_OK;
+}
+
+zw_status zw_box_loop_k_mmax(const zw_plant_box *box, const zw_device_loop_spec *spec,
+                             zw_loop_workspace *ws, const zw_box_loop_work *work,
+                             zw_box_loop_extremes *out)
+{
+    (void)box;
+    (void)spec;
+    (void)ws;
+    (void)work;
+    if (out == NULL) {
+        return ZW_ERR_NULL;
+    }
+    out->K_mmax = ZW_R(0.0); /* fail-safe: certifies nothing */
+    out->B_at = ZW_NAN;
+    out->K_upper_at = ZW_R(0.0);
+    out->m_worst = ZW_NAN;
+    out->b_worst = ZW_NAN;
+    out->evals = 0u;
+    out->converged = false;
+    out->k_worst = ZW_NAN;
+    if (any_bool()) {
+        return any_error();
+    }
+    out->K_mmax = any_real();
+    out->B_at = any_real();
+    out->K_upper_at = any_real();
+    out->m_worst = any_real();
+    out->b_worst = any_real();
+    out->evals = any_u32_source;
+    out->converged = any_bool();
+    out->k_worst = any_real();
+    return ZW_OK;
 }
 
 /* ---- the firmware's hooks -------------------------------------------------------------- */
