@@ -158,19 +158,19 @@ static void box_of(const zw_cert *c, zw_plant_box *box)
 }
 
 /* The search's work over the map's own cells and scratch, with the map's budget. */
-static void box_work(zw_regmap *rm, zw_box_loop_work *work)
-{
-    (void)zw_box_loop_work_init(work, rm->box_cells, ZW_REGMAP_BOX_CELLS, &rm->box_scratch);
-    work->max_evals = ZW_REGMAP_BOX_EVALS;
-    work->rel_tol = ZW_REGMAP_BOX_REL_TOL;
-}
-
-/* The box and loop of block c (its fields checked), false if they cannot be formed. */
-static bool cert_box_setup(const zw_cert *c, zw_plant_box *box, zw_device_loop_spec *spec)
+/* The box and loop of block c (its fields checked) and the search's work list in the map,
+ * false if any of them cannot be formed (then nothing may be certified). */
+static bool cert_box_setup(zw_regmap *rm, const zw_cert *c, zw_plant_box *box,
+                           zw_device_loop_spec *spec, zw_box_loop_work *work)
 {
     float f[ZW_CERT_FIELDS];
     fields_of(c, f);
     box_of(c, box);
+    if (zw_box_loop_work_init(work, rm->box_cells, ZW_REGMAP_BOX_CELLS, &rm->box_scratch) != ZW_OK) {
+        return false;
+    }
+    work->max_evals = ZW_REGMAP_BOX_EVALS;
+    work->rel_tol = ZW_REGMAP_BOX_REL_TOL;
     return spec_of(f, spec);
 }
 
@@ -184,10 +184,9 @@ ZW_NOINLINE static zw_status cert_box_k_max(zw_regmap *rm, const zw_cert *c, flo
     zw_box_loop_bound bound;
     zw_status st;
     *k_max = ZW_R(0.0);
-    if (!cert_box_setup(c, &box, &spec)) {
+    if (!cert_box_setup(rm, c, &box, &spec, &work)) {
         return ZW_ERR_ARG;
     }
-    box_work(rm, &work);
     st = zw_box_loop_k_max(&box, &spec, &rm->ws, (zw_real)B, &work, &bound);
     if (st == ZW_OK) {
         *k_max = bound.K_lower;
@@ -216,10 +215,9 @@ ZW_NOINLINE static zw_reason cert_box_certify(zw_regmap *rm, const zw_cert *c, f
     zw_box_loop_work work;
     zw_box_loop_verdict v;
     zw_status st;
-    if (!cert_box_setup(c, &box, &spec)) {
+    if (!cert_box_setup(rm, c, &box, &spec, &work)) {
         return ZW_REASON_UNSTABLE;
     }
-    box_work(rm, &work);
     st = zw_box_loop_check(&box, &spec, &rm->ws, k_over_sigma_up(K, c->sigma), (zw_real)B, &work, &v);
     if (st != ZW_OK) { /* an error of the core counts against the pair */
         return ZW_REASON_UNSTABLE;
@@ -255,8 +253,7 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm, const zw_cert *c, bool *any
         zw_box_loop_work work;
         zw_box_loop_extremes e;
         st = ZW_ERR_ARG;
-        if (cert_box_setup(c, &box, &spec)) {
-            box_work(rm, &work);
+        if (cert_box_setup(rm, c, &box, &spec, &work)) {
             st = zw_box_loop_k_mmax(&box, &spec, &rm->ws, &work, &e);
             K = e.K_mmax;
             B = e.B_at;
