@@ -27,6 +27,9 @@
 
 #define PROG "zwidth-tune"
 
+
+/* Least wait for SEAL's answer, in seconds (cmd_commission). */
+#define SEAL_TIMEOUT_S 30u
 static void usage(FILE *to)
 {
     fprintf(to,
@@ -68,7 +71,7 @@ static void usage(FILE *to)
             "  --baud N        RTU baud rate (default 19200)\n"
             "  --parity P      RTU parity N, E or O (default N)\n"
             "  --slave ID      RTU slave address 1..247 / TCP unit id 0..255 (default 1)\n"
-            "  --timeout MS    response timeout (default 1000)\n"
+            "  --timeout MS    response timeout (default 1000; SEAL waits at least 30 s)\n"
             "  --json          machine-readable output (one JSON object on stdout)\n"
             "  --version       print the version of zwidth and exit\n"
             "\n"
@@ -495,9 +498,20 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const uint8_t k
         if (exc == 0) return commission_transport_error(ctx, "cannot write the MAC");
         return commission_refused(ctx, "mac", exc, 1, json);
     }
-    if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_SEAL, &exc) != 0) {
-        if (exc == 0) return commission_transport_error(ctx, "cannot send the seal command");
-        return commission_refused(ctx, "seal", exc, 1, json);
+    /* SEAL certifies the block (a ranged one over its whole plant box: about a second on a
+     * PC, more on a drive's MCU, and more again under a sanitizer): its answer gets at
+     * least SEAL_TIMEOUT_S, whatever --timeout says for the other requests. */
+    {
+        uint32_t to_sec = 0u, to_usec = 0u;
+        int sealed_rc;
+        (void)modbus_get_response_timeout(ctx, &to_sec, &to_usec);
+        if (to_sec < SEAL_TIMEOUT_S) (void)modbus_set_response_timeout(ctx, SEAL_TIMEOUT_S, 0u);
+        sealed_rc = write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_SEAL, &exc);
+        (void)modbus_set_response_timeout(ctx, to_sec, to_usec);
+        if (sealed_rc != 0) {
+            if (exc == 0) return commission_transport_error(ctx, "cannot send the seal command");
+            return commission_refused(ctx, "seal", exc, 1, json);
+        }
     }
     /* SEAL was accepted: the MAC covers our block, so what was sealed is ours.  Read back
      * what the drive is doing now: another client may have unlocked it again since (its

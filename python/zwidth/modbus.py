@@ -922,7 +922,10 @@ class Drive:
         off and publishes a fresh nonce), the 34 block words and their CRC-16/MODBUS in one
         write-multiple request, the HMAC-SHA256 of nonce and block (auth_mac) in another,
         then SEAL (the drive checks the CRC, the MAC and the policy and returns to
-        operation with the gains off).  The drive is the judge of the policy; the client only checks
+        operation with the gains off).  A ranged block's SEAL certifies over its whole
+        plant box (about a second on a PC, longer on a drive's MCU): give the Drive a
+        timeout that covers it (``Drive(host, timeout=30)``; zwidth-tune waits 30 s for
+        SEAL by itself).  The drive is the judge of the policy; the client only checks
         that every value can be sent (ValueError naming the argument otherwise).  If a
         step is refused and abort_on_refusal is true (default), ABORT is sent so the
         drive restores its last sealed block and returns to operation.
