@@ -21,8 +21,8 @@ def f32(x: float) -> float:
     return struct.unpack(">f", struct.pack(">f", x))[0]
 
 
-def drive(port: int) -> zm.Drive:
-    return zm.Drive(LOOPBACK, port, timeout=TIMEOUT)
+def drive(port: int, timeout: float = TIMEOUT) -> zm.Drive:
+    return zm.Drive(LOOPBACK, port, timeout=timeout)
 
 
 # ---------------------------------------------------------------------------------------
@@ -569,7 +569,7 @@ def test_commission_a_ranged_block(start_drive):
     """A box of plants commissioned through the client: the drive shows the ranges, its live
     limits are box bounds (NaN where it has no box form), and it judges writes for the box."""
     port = start_drive(extra=("--max-r", "1"))
-    with drive(port) as d:
+    with drive(port, timeout=30.0) as d:  # a ranged SEAL certifies over the box (modbus.py)
         c = d.commission(**BOX_BLOCK, key=TEST_KEY)
         assert (c.accepted, c.reason, c.stage) == (True, "ZW_REASON_NONE", "done")
         s = d.status()
