@@ -511,10 +511,10 @@ static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_l
         return st;
     }
     sc = work->scratch;
-    L->box = f;
-    L->spec = *spec;
-    /* the centre plant's loop validates the spec before bl_loop_init reads it */
-    st = bl_point_init(L, &sc->dl, bl_mid(f.m_lo, f.m_hi), bl_mid(f.b_lo, f.b_hi), bl_mid(f.k_lo, f.k_hi));
+    /* the centre plant's loop validates the spec before bl_loop_init reads it (the caller's
+     * spec itself, not a copy: Eva then knows the average it bounds, docs/eva.md) */
+    st = zw_device_loop_init_plant(&sc->dl, bl_mid(f.m_lo, f.m_hi), bl_mid(f.b_lo, f.b_hi), f.T,
+                                   bl_mid(f.k_lo, f.k_hi), ZW_R(0.0), ZW_R(0.0), ZW_R(0.0), ZW_R(0.0), spec);
     if (st != ZW_OK) {
         return st;
     }
