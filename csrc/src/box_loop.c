@@ -92,10 +92,16 @@ static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_devi
     bx_iv *dvs = sc->dvs, *nvs = sc->nvs;
     unsigned i;
     zw_status st;
+    const unsigned delay = spec->delay;
+    /* bl_setup's zw_device_loop_init_plant validated the spec; the degree's parts are bounded
+     * again where they index the arrays (unreachable, the same errors: docs/eva.md) */
+    if (delay > ZW_LOOP_MAX_DELAY) {
+        return ZW_ERR_DELAY;
+    }
     L->box = *box;
     L->sc = sc;
     L->spec = *spec;
-    L->delay = spec->delay;
+    L->delay = delay;
     L->pole = spec->pole;
     if ((spec->filter == ZW_VFILTER_LOWPASS) && !(spec->cutoff_hz == ZW_R(0.0))) {
         st = zw_loop_lowpass_pole(spec->cutoff_hz, box->T, &L->pole);
@@ -112,6 +118,9 @@ static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_devi
         /* backward: Dv = n z^n, Nv = z^n - 1;  Tustin: Dv = n z^(n-1) (z + 1), Nv = 2 (z^n - 1) */
         const unsigned n = spec->average;
         bx_iv *plus = sc->poly[0], *minus = sc->poly[1]; /* (1 + s)^n, (1 - s)^n */
+        if ((n < 1u) || (n > ZW_LOOP_MAX_AVERAGE)) {
+            return ZW_ERR_FILTER;
+        }
         L->mv = n;
         bl_poly_zero(plus, ZW_LOOP_MAX_AVERAGE + 2u);
         bl_poly_zero(minus, ZW_LOOP_MAX_AVERAGE + 2u);

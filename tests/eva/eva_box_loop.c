@@ -6,7 +6,7 @@
  * eva-modules: box_loop
  * eva-support: status coeffs plant plant_box box loop
  * eva-precision: 1
- * eva-split-return: bl_loop_init:0,zw_device_loop_init_plant{f}:0
+ * eva-split-return: bl_loop_init:0
  * eva-options: -eva-domains cvalue,octagon -eva-widening-delay 10
  *
  * As eva_ideal.c: a read of a volatile is any value of its type (NaN and infinities
