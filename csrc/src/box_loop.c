@@ -241,7 +241,7 @@ ZW_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_ce
     bx_iv *t2 = sc->poly[1];
     bx_iv *P = sc->poly[2];
     zw_real dlo, dhi;
-    unsigned i, deg, first = 0u;
+    unsigned i, first = 0u;
     zw_status st;
     *res = BL_UNSURE;
     dlo = bx_max(ZW_R(0.0), bx_down(bx_down(c->b_lo * T) / c->m_hi));
@@ -272,20 +272,17 @@ ZW_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_ce
     beta = bx_div_pos(bx_make(bx_down(c->B_lo * T), bx_up(c->B_hi * T)), m_iv);
     /* first part: (1 + s)^d den_s Dvs */
     bl_poly_mul(den_s, 2u, sc->dvs, L->mv, t1);
-    deg = 2u + L->mv;
+    /* each factor's degree from i (not a running sum: Eva bounds it without relations) */
     for (i = 0u; i < L->delay; ++i) {
-        bl_poly_times_linear(t1, deg, ZW_R(1.0), ZW_R(1.0));
-        deg += 1u;
+        bl_poly_times_linear(t1, 2u + L->mv + i, ZW_R(1.0), ZW_R(1.0));
     }
     /* second part: (1 - s)^(d+1) num_s (alpha Dvs + beta Nvs) */
     for (i = 0u; i <= L->mv; ++i) {
         gain_v[i] = bx_add(bx_mul(alpha, sc->dvs[i]), bx_mul(beta, sc->nvs[i]));
     }
     bl_poly_mul(num_s, 1u, gain_v, L->mv, t2);
-    deg = 1u + L->mv;
     for (i = 0u; i <= L->delay; ++i) {
-        bl_poly_times_linear(t2, deg, ZW_R(1.0), -ZW_R(1.0));
-        deg += 1u;
+        bl_poly_times_linear(t2, 1u + L->mv + i, ZW_R(1.0), -ZW_R(1.0));
     }
     for (i = 0u; i <= L->n; ++i) {
         P[i] = bx_add(t1[i], t2[i]);
