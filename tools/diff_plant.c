@@ -6,7 +6,9 @@
 /* tools/diff_plant.c - differential test of two builds of the core (tools/diff_plant.sh):
  * loads an old and a new shared library of the same precision with dlopen and compares,
  * bit for bit, every field of zw_plant_init's output and its status on random and hard
- * specs, and zw_box_loop_check's verdicts on random plant boxes.  Exit 0: identical. */
+ * specs, zw_box_loop_check's verdicts on random plant boxes, and (every filter and
+ * differentiator) zw_box_loop_check's verdicts and zw_box_loop_k_max's bounds, every field
+ * bitwise.  Exit 0: identical. */
 #include <dlfcn.h>
 #include <math.h>
 #include <stdint.h>
@@ -27,10 +29,15 @@ typedef zw_status (*box_check_fn)(const zw_plant_box *, const zw_device_loop_spe
                                   zw_loop_workspace *, zw_real, zw_real, const zw_box_loop_work *,
                                   zw_box_loop_verdict *);
 
+typedef zw_status (*box_k_max_fn)(const zw_plant_box *, const zw_device_loop_spec *,
+                                  zw_loop_workspace *, zw_real, const zw_box_loop_work *,
+                                  zw_box_loop_bound *);
+
 typedef struct lib {
     plant_init_fn plant_init;
     work_init_fn work_init;
     box_check_fn box_check;
+    box_k_max_fn box_k_max;
 } lib;
 
 static void *sym(void *h, const char *name)
@@ -54,6 +61,7 @@ static lib load(const char *path)
     *(void **)&l.plant_init = sym(h, STR(zw_plant_init));
     *(void **)&l.work_init = sym(h, STR(zw_box_loop_work_init));
     *(void **)&l.box_check = sym(h, STR(zw_box_loop_check));
+    *(void **)&l.box_k_max = sym(h, STR(zw_box_loop_k_max));
     return l;
 }
 
@@ -269,6 +277,97 @@ static int diff_boxes(const lib *o, const lib *n, long count)
     return bad != 0;
 }
 
+static int same_bound(const zw_box_loop_bound *a, const zw_box_loop_bound *b)
+{
+    return same_bits(a->K_lower, b->K_lower) && same_bits(a->K_upper, b->K_upper) &&
+           same_bits(a->m_worst, b->m_worst) && same_bits(a->b_worst, b->b_worst) &&
+           same_bits(a->k_worst, b->k_worst) && (a->evals == b->evals) && (a->converged == b->converged);
+}
+
+/* Boxes with and without stiffness and hand, every filter kind and differentiator, any
+ * delay 0..2: the verdict and the K_max bound, every field bitwise (errors included). */
+static int diff_filters(const lib *o, const lib *n, long count)
+{
+    zw_box_loop_work wo, wn;
+    long i, bad = 0, ok = 0, stable = 0, stiff = 0;
+    double k_lower = 0.0;
+    if ((o->work_init(&wo, g_cells[0], 1024u, &g_scr[0]) != ZW_OK) ||
+        (n->work_init(&wn, g_cells[1], 1024u, &g_scr[1]) != ZW_OK)) {
+        fprintf(stderr, "diff_plant: work init failed\n");
+        return 1;
+    }
+    wo.max_evals = wn.max_evals = 200u;
+    for (i = 0; i < count; ++i) {
+        zw_plant_box box;
+        zw_device_loop_spec spec;
+        zw_box_loop_verdict vo, vn;
+        zw_box_loop_bound bo, bn;
+        zw_status so, sn, ko, kn;
+        const double m = log_uniform(1e-5, 1.0), b = log_uniform(1e-4, 10.0), T = log_uniform(1e-4, 0.02);
+        const double k = (next_u64() % 2u == 0u) ? 0.0 : log_uniform(1.0, 1e5);
+        zw_real K, B;
+        memset(&box, 0, sizeof box);
+        memset(&spec, 0, sizeof spec);
+        box.m_lo = (zw_real)m;
+        box.m_hi = (zw_real)(m * (1.0 + 0.2 * unit()));
+        box.b_lo = (zw_real)b;
+        box.b_hi = (zw_real)(b * (1.0 + 0.2 * unit()));
+        box.T = (zw_real)T;
+        box.k_lo = (zw_real)k;
+        box.k_hi = (zw_real)(k * (1.0 + 0.2 * unit()));
+        if (next_u64() % 3u == 0u) {
+            box.m_h_lo = (zw_real)(0.1 * m);
+            box.m_h_hi = (zw_real)(0.15 * m);
+            box.b_h_lo = (zw_real)(0.1 * b);
+            box.b_h_hi = (zw_real)(0.2 * b);
+            box.k_h_lo = (zw_real)(0.1 * k);
+            box.k_h_hi = (zw_real)(0.2 * k);
+        }
+        spec.delay = (unsigned)(next_u64() % 3u);
+        spec.differentiator = (next_u64() & 1u) ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
+        switch (next_u64() % 4u) {
+        case 0u:
+            spec.filter = ZW_VFILTER_NONE;
+            break;
+        case 1u:
+            spec.filter = ZW_VFILTER_LOWPASS;
+            spec.pole = (zw_real)(0.9 * unit());
+            break;
+        case 2u:
+            spec.filter = ZW_VFILTER_LOWPASS;
+            spec.cutoff_hz = (zw_real)(log_uniform(0.01, 0.4) / T);
+            break;
+        default:
+            spec.filter = ZW_VFILTER_AVERAGE;
+            spec.average = 1u + (unsigned)(next_u64() % 16u);
+            break;
+        }
+        K = (zw_real)(log_uniform(1e-3, 10.0) * 2.0 * b / T);
+        B = (zw_real)((next_u64() & 1u) ? 0.0 : 0.1 * b * unit());
+        memset(&vo, 0xA5, sizeof vo);
+        memset(&vn, 0x5A, sizeof vn);
+        memset(&bo, 0xA5, sizeof bo);
+        memset(&bn, 0x5A, sizeof bn);
+        so = o->box_check(&box, &spec, &g_ws[0], K, B, &wo, &vo);
+        sn = n->box_check(&box, &spec, &g_ws[1], K, B, &wn, &vn);
+        ko = o->box_k_max(&box, &spec, &g_ws[0], B, &wo, &bo);
+        kn = n->box_k_max(&box, &spec, &g_ws[1], B, &wn, &bn);
+        if ((so != sn) || !same_verdict(&vo, &vn) || (ko != kn) || !same_bound(&bo, &bn)) {
+            fprintf(stderr, "box %ld (filter %d average %u): check %d/%d stable %d/%d; k_max %d/%d K_lower %.17g/%.17g\n",
+                    i, (int)spec.filter, spec.average, (int)so, (int)sn, vo.stable, vn.stable, (int)ko, (int)kn,
+                    (double)bo.K_lower, (double)bn.K_lower);
+            ++bad;
+        }
+        ok += (so == ZW_OK) && (ko == ZW_OK);
+        stable += (so == ZW_OK) && vo.stable;
+        stiff += (k > 0.0);
+        k_lower += (ko == ZW_OK) ? (double)bo.K_lower : 0.0;
+    }
+    printf("zw_box_loop_check + _k_max, every filter: %ld boxes (%ld with stiffness, %ld both ok, %ld stable, "
+           "sum of K_lower %.6g), %ld differ\n", count, stiff, ok, stable, k_lower, bad);
+    return bad != 0;
+}
+
 int main(int argc, char **argv)
 {
     lib o, n;
@@ -285,6 +384,7 @@ int main(int argc, char **argv)
     n = load(argv[2]);
     bad = diff_plants(&o, &n, specs);
     bad |= diff_boxes(&o, &n, boxes);
+    bad |= diff_filters(&o, &n, boxes);
     printf("%s\n", bad ? "DIFFER" : "identical");
     return bad ? 1 : 0;
 }

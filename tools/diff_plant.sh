@@ -5,7 +5,8 @@
 
 # tools/diff_plant.sh - differential test: the core at BASE (a commit) against the working
 # tree, both precisions: zw_plant_init's every field and status (bitwise) and
-# zw_box_loop_check's verdicts must be identical (tools/diff_plant.c).
+# zw_box_loop_check's verdicts and zw_box_loop_k_max's bounds (every filter) must be
+# identical (tools/diff_plant.c).
 # Usage: bash tools/diff_plant.sh [BASE [SPECS [BOXES]]]   (defaults: HEAD 50000 300)
 # DIFF_PLANT_VALUES_ONLY=1: compare the values and statuses only, not the bounds (*_err).
 set -euo pipefail

@@ -185,7 +185,26 @@ static zw_status box_fold(const zw_plant_box *box, zw_plant_box *f)
 
 zw_status zw_box_fold(const zw_plant_box *box, zw_plant_box *folded)
 {
-    return box_fold(box, folded);
+    const zw_status st = box_fold(box, folded);
+    if ((st != ZW_OK) && (folded != NULL)) {
+        /* fail-safe: a box every function refuses (NaN), never a partly folded one */
+        folded->m_lo = ZW_NAN;
+        folded->m_hi = ZW_NAN;
+        folded->b_lo = ZW_NAN;
+        folded->b_hi = ZW_NAN;
+        folded->T = ZW_NAN;
+        folded->k_lo = ZW_NAN;
+        folded->k_hi = ZW_NAN;
+        folded->m_h_lo = ZW_NAN;
+        folded->m_h_hi = ZW_NAN;
+        folded->b_h_lo = ZW_NAN;
+        folded->b_h_hi = ZW_NAN;
+        folded->k_h_lo = ZW_NAN;
+        folded->k_h_hi = ZW_NAN;
+        folded->tau_lo = ZW_NAN;
+        folded->tau_hi = ZW_NAN;
+    }
+    return st;
 }
 
 zw_status zw_box_validate(const zw_plant_box *box)

@@ -92,10 +92,16 @@ static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_devi
     bx_iv *dvs = sc->dvs, *nvs = sc->nvs;
     unsigned i;
     zw_status st;
+    const unsigned delay = spec->delay;
+    /* bl_setup's zw_device_loop_init_plant validated the spec; the degree's parts are bounded
+     * again where they index the arrays (unreachable, the same errors: docs/eva.md) */
+    if (delay > ZW_LOOP_MAX_DELAY) {
+        return ZW_ERR_DELAY;
+    }
     L->box = *box;
     L->sc = sc;
     L->spec = *spec;
-    L->delay = spec->delay;
+    L->delay = delay;
     L->pole = spec->pole;
     if ((spec->filter == ZW_VFILTER_LOWPASS) && !(spec->cutoff_hz == ZW_R(0.0))) {
         st = zw_loop_lowpass_pole(spec->cutoff_hz, box->T, &L->pole);
@@ -112,6 +118,9 @@ static zw_status bl_loop_init(bl_loop *L, const zw_plant_box *box, const zw_devi
         /* backward: Dv = n z^n, Nv = z^n - 1;  Tustin: Dv = n z^(n-1) (z + 1), Nv = 2 (z^n - 1) */
         const unsigned n = spec->average;
         bx_iv *plus = sc->poly[0], *minus = sc->poly[1]; /* (1 + s)^n, (1 - s)^n */
+        if ((n < 1u) || (n > ZW_LOOP_MAX_AVERAGE)) {
+            return ZW_ERR_FILTER;
+        }
         L->mv = n;
         bl_poly_zero(plus, ZW_LOOP_MAX_AVERAGE + 2u);
         bl_poly_zero(minus, ZW_LOOP_MAX_AVERAGE + 2u);
@@ -232,7 +241,7 @@ ZW_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_ce
     bx_iv *t2 = sc->poly[1];
     bx_iv *P = sc->poly[2];
     zw_real dlo, dhi;
-    unsigned i, deg, first = 0u;
+    unsigned i, first = 0u;
     zw_status st;
     *res = BL_UNSURE;
     dlo = bx_max(ZW_R(0.0), bx_down(bx_down(c->b_lo * T) / c->m_hi));
@@ -263,20 +272,17 @@ ZW_NOINLINE static zw_status bl_cell_test(const bl_loop *L, const zw_box_loop_ce
     beta = bx_div_pos(bx_make(bx_down(c->B_lo * T), bx_up(c->B_hi * T)), m_iv);
     /* first part: (1 + s)^d den_s Dvs */
     bl_poly_mul(den_s, 2u, sc->dvs, L->mv, t1);
-    deg = 2u + L->mv;
+    /* each factor's degree from i (not a running sum: Eva bounds it without relations) */
     for (i = 0u; i < L->delay; ++i) {
-        bl_poly_times_linear(t1, deg, ZW_R(1.0), ZW_R(1.0));
-        deg += 1u;
+        bl_poly_times_linear(t1, 2u + L->mv + i, ZW_R(1.0), ZW_R(1.0));
     }
     /* second part: (1 - s)^(d+1) num_s (alpha Dvs + beta Nvs) */
     for (i = 0u; i <= L->mv; ++i) {
         gain_v[i] = bx_add(bx_mul(alpha, sc->dvs[i]), bx_mul(beta, sc->nvs[i]));
     }
     bl_poly_mul(num_s, 1u, gain_v, L->mv, t2);
-    deg = 1u + L->mv;
     for (i = 0u; i <= L->delay; ++i) {
-        bl_poly_times_linear(t2, deg, ZW_R(1.0), -ZW_R(1.0));
-        deg += 1u;
+        bl_poly_times_linear(t2, 1u + L->mv + i, ZW_R(1.0), -ZW_R(1.0));
     }
     for (i = 0u; i <= L->n; ++i) {
         P[i] = bx_add(t1[i], t2[i]);
@@ -511,10 +517,10 @@ static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_l
         return st;
     }
     sc = work->scratch;
-    L->box = f;
-    L->spec = *spec;
-    /* the centre plant's loop validates the spec before bl_loop_init reads it */
-    st = bl_point_init(L, &sc->dl, bl_mid(f.m_lo, f.m_hi), bl_mid(f.b_lo, f.b_hi), bl_mid(f.k_lo, f.k_hi));
+    /* the centre plant's loop validates the spec before bl_loop_init reads it (the caller's
+     * spec itself, not a copy: Eva then knows the average it bounds, docs/eva.md) */
+    st = zw_device_loop_init_plant(&sc->dl, bl_mid(f.m_lo, f.m_hi), bl_mid(f.b_lo, f.b_hi), f.T,
+                                   bl_mid(f.k_lo, f.k_hi), ZW_R(0.0), ZW_R(0.0), ZW_R(0.0), ZW_R(0.0), spec);
     if (st != ZW_OK) {
         return st;
     }

@@ -358,6 +358,14 @@ static void test_errors(void **state)
     box = device_box();
     box.k_hi = R(5.0e5);
     EXPECT_STATUS(zw_box_validate(&box), ZW_ERR_RANGE);
+    /* fail-safe: a failed fold (here after the totals were written) leaves no usable box */
+    {
+        zw_plant_box f = device_box();
+        EXPECT_STATUS(zw_box_fold(&box, &f), ZW_ERR_RANGE);
+        assert_true(isnan(f.m_lo) && isnan(f.m_hi) && isnan(f.b_lo) && isnan(f.b_hi) && isnan(f.T));
+        assert_true(isnan(f.k_lo) && isnan(f.k_hi) && isnan(f.m_h_lo) && isnan(f.k_h_hi) && isnan(f.tau_hi));
+        EXPECT_STATUS(zw_box_validate(&f), ZW_ERR_NAN);
+    }
     /* the closed form has no spring; a hand's mass and damping it takes */
     box = device_box();
     box.k_hi = R(10.0);

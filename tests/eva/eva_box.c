@@ -12,7 +12,8 @@
  * left uninitialized: docs/eva.md).  The caller's part of the contract (box.h): cells
  * points to capacity cells; here capacity is any value in [0, ZW_EVA_CELLS] over an array
  * of ZW_EVA_CELLS.  Every output is read after the call, and each call is repeated with
- * every pointer independently NULL or valid.
+ * every pointer independently NULL or valid.  zw_box_fold's output is read field by field
+ * (every path writes the whole folded box, the fail-safe one on error).
  */
 #include <stdbool.h>
 #include <stddef.h>
@@ -44,6 +45,26 @@ static void any_box(zw_plant_box *b)
     b->k_h_hi = any_real();
     b->tau_lo = any_real();
     b->tau_hi = any_real();
+}
+
+/* Every field of a box, read (an output a path leaves unwritten is an alarm). */
+static void read_box(const zw_plant_box *b)
+{
+    sink_real = b->m_lo;
+    sink_real = b->m_hi;
+    sink_real = b->b_lo;
+    sink_real = b->b_hi;
+    sink_real = b->T;
+    sink_real = b->k_lo;
+    sink_real = b->k_hi;
+    sink_real = b->m_h_lo;
+    sink_real = b->m_h_hi;
+    sink_real = b->b_h_lo;
+    sink_real = b->b_h_hi;
+    sink_real = b->k_h_lo;
+    sink_real = b->k_h_hi;
+    sink_real = b->tau_lo;
+    sink_real = b->tau_hi;
 }
 
 int main(void)
@@ -83,6 +104,12 @@ int main(void)
     any_box(&box);
     (void)zw_box_validate(&box);
     (void)zw_box_validate(maybe_null(&box));
+    {
+        zw_plant_box folded;
+        (void)zw_box_fold(&box, &folded);
+        read_box(&folded);
+        (void)zw_box_fold(maybe_null(&box), maybe_null(&folded));
+    }
 
     (void)zw_box_k_max(&box, any_real(), &work, &bound);
     sink_real = bound.K_lower;

@@ -68,7 +68,8 @@ typedef struct zw_plant_box {
 #define ZW_BOX_KAPPA_MAX ZW_PLANT_ENCLOSE_MAX
 
 /* The box folded into M, Bp, Kp ranges (m_lo.. = M, b_lo.. = Bp, k_lo.. = Kp, the hand's
- * fields 0; sums rounded outward) and validated: zw_box_validate's errors. */
+ * fields 0; sums rounded outward) and validated: zw_box_validate's errors (then *folded is
+ * all NaN, a box every function refuses). */
 zw_status zw_box_fold(const zw_plant_box *box, zw_plant_box *folded);
 
 /* Largest normalized damping b T / m a box may reach (far beyond any real device; keeps
