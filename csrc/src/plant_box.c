@@ -120,19 +120,10 @@ static zw_status pb_ranges_init(pb_ranges *r, zw_real delta_lo, zw_real delta_hi
     return ZW_OK;
 }
 
-static zw_status pb_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
+/* An order-2 plant with every coefficient and bound 0 (the enclosures fill theirs in). */
+static void pb_order2_zero(zw_plant *out)
 {
-    pb_ranges r;
-    zw_real mid;
-    zw_status st = pb_validate(delta_lo, delta_hi);
     unsigned i;
-    if (st != ZW_OK) {
-        return st;
-    }
-    st = pb_ranges_init(&r, delta_lo, delta_hi);
-    if (st != ZW_OK) {
-        return st;
-    }
     out->order = 2u;
     for (i = 0u; i <= ZW_PLANT_MAX_ORDER; ++i) {
         out->den[i] = ZW_R(0.0);
@@ -148,6 +139,21 @@ static zw_status pb_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
         out->num_s[i] = ZW_R(0.0);
         out->num_s_err[i] = ZW_R(0.0);
     }
+}
+
+static zw_status pb_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
+{
+    pb_ranges r;
+    zw_real mid;
+    zw_status st = pb_validate(delta_lo, delta_hi);
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = pb_ranges_init(&r, delta_lo, delta_hi);
+    if (st != ZW_OK) {
+        return st;
+    }
+    pb_order2_zero(out);
     /* D = 2 z^2 - 2 (1 + e) z + 2 e;  N = c1 z + c2 (doubling and negation are exact) */
     out->den[0] = ZW_R(2.0);
     pb_store(bx_make(-ZW_R(2.0) * r.one_plus_e.hi, -ZW_R(2.0) * r.one_plus_e.lo), &out->den[1],
@@ -326,7 +332,6 @@ static zw_status pb_enclose2(zw_plant *out, zw_real delta_lo, zw_real delta_hi, 
     zw_real mid;
     bx_iv p_iv;
     zw_status st;
-    unsigned i;
     if (!(delta_hi <= ZW_PLANT_ENCLOSE_MAX) || !(kappa_hi <= ZW_PLANT_ENCLOSE_MAX)) {
         return ZW_ERR_RANGE;
     }
@@ -354,21 +359,7 @@ static zw_status pb_enclose2(zw_plant *out, zw_real delta_lo, zw_real delta_hi, 
     b1 = zw_eb_add(pb_half(G), zw_eb_mul(h, H));
     b0 = zw_eb_sub(pb_half(G), zw_eb_mul(h, H));
 
-    out->order = 2u;
-    for (i = 0u; i <= ZW_PLANT_MAX_ORDER; ++i) {
-        out->den[i] = ZW_R(0.0);
-        out->den_err[i] = ZW_R(0.0);
-        out->den_s[i] = ZW_R(0.0);
-        out->den_s_err[i] = ZW_R(0.0);
-        out->den_w[i] = ZW_R(0.0);
-        out->den_w_err[i] = ZW_R(0.0);
-    }
-    for (i = 0u; i < ZW_PLANT_MAX_ORDER; ++i) {
-        out->num[i] = ZW_R(0.0);
-        out->num_err[i] = ZW_R(0.0);
-        out->num_s[i] = ZW_R(0.0);
-        out->num_s_err[i] = ZW_R(0.0);
-    }
+    pb_order2_zero(out);
     out->den[0] = ZW_R(2.0);
     pb_set(&out->den[1], &out->den_err[1], pb_neg(pb_twice(pb_twice(C))));
     pb_set(&out->den[2], &out->den_err[2], pb_twice(det));

@@ -872,17 +872,7 @@ def cmd_advise_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     if inf.cutoffs is not None and math.isfinite(float(inf.K_mmax_at_best_cutoff)):
         lines.append(f"  low-pass: of {len(inf.cutoffs)} cut-offs up to Nyquist, {_fmt(inf.best_cutoff)}{fu} keeps "
                      f"most: K_mmax = {_fmt(inf.K_mmax_at_best_cutoff)}{ku}")
-    status = EXIT_OK
-    if plant.has_gains:
-        margins = _margins(args)
-        _, _, v, certified, suggestions, data["gains"] = _gains_advice(plant, dev, " with this loop", margins)
-        if not certified:
-            status = EXIT_UNSTABLE
-        lines += ["", f"Gains {plant.gains_text()}: {v.word.upper()}"
-                  + (f" ({v.deciding_name})" if v.deciding_name else "")
-                  + f"; margins {margins.text()}: " + ("CERTIFIED" if certified else "NOT CERTIFIED")]
-        lines += [f"   - {x['text']}" for x in suggestions]
-    return _Outcome(status, data, lines)
+    return _Outcome(_advise_gains(args, plant, dev, " with this loop", data, lines), data, lines)
 
 
 #: The margins the drive certifies with (docs/modbus.md: zwidth-drive, zwidth-tune commission
@@ -961,6 +951,21 @@ def _certified_interval(grid: NDArray[np.float64], ok: NDArray[np.bool_], curren
     lo = _refine(float(grid[first]), float(grid[first - 1]) if first > 0 else below, good)
     hi = _refine(float(grid[last]), float(grid[last + 1]) if last + 1 < grid.size else above, good)
     return lo, hi, min(max(current, lo), hi)
+
+
+def _advise_gains(args: argparse.Namespace, plant: _Plant, dev: Device, what: str, data: Dict[str, Any],
+                  lines: List[str]) -> int:
+    """advise's verdict and suggestions for the given gains (none given: nothing), appended to
+    data and lines; the exit status (unstable when the gains are not certified)."""
+    if not plant.has_gains:
+        return EXIT_OK
+    margins = _margins(args)
+    _, _, v, certified, suggestions, data["gains"] = _gains_advice(plant, dev, what, margins)
+    lines += ["", f"Gains {plant.gains_text()}: {v.word.upper()}"
+              + (f" ({v.deciding_name})" if v.deciding_name else "")
+              + f"; margins {margins.text()}: " + ("CERTIFIED" if certified else "NOT CERTIFIED")]
+    lines += [f"   - {x['text']}" for x in suggestions]
+    return EXIT_OK if certified else EXIT_UNSTABLE
 
 
 def _gains_advice(plant: _Plant, dev: Device, which_loop: str, margins: _Margins
@@ -1111,17 +1116,7 @@ def cmd_advise_plant(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         lines.append(f"  this loop keeps {100 * float(inf.K_mmax_kept):.4g} % of the paper's loop's K_mmax on this "
                      f"plant; by delay: " + ", ".join(f"{int(d)}: {_fmt(k)}" for d, k in
                                                        zip(inf.delays, inf.K_mmax_by_delay)) + f" {u['K']}")
-    status = EXIT_OK
-    if plant.has_gains:
-        margins = _margins(args)
-        _, _, v, certified, suggestions, data["gains"] = _gains_advice(plant, dev, " with these parts", margins)
-        if not certified:
-            status = EXIT_UNSTABLE
-        lines += ["", f"Gains {plant.gains_text()}: {v.word.upper()}"
-                  + (f" ({v.deciding_name})" if v.deciding_name else "")
-                  + f"; margins {margins.text()}: " + ("CERTIFIED" if certified else "NOT CERTIFIED")]
-        lines += [f"   - {x['text']}" for x in suggestions]
-    return _Outcome(status, data, lines)
+    return _Outcome(_advise_gains(args, plant, dev, " with these parts", data, lines), data, lines)
 
 
 def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
