@@ -462,9 +462,12 @@ static void sweep_block_pieces(const zw_real *x, zw_real *e, zw_real *g, zw_real
 }
 
 /* The fields on [2, 64) of a block, branch-free: every point through the closed forms at
- * x = delta (the others at x = 2), then selected by delta. */
-static void sweep_block_closed(const zw_real *d, const zw_real *x, zw_real *e, zw_real *g, zw_real *hs,
-                               zw_real *d12, zw_real *inv_sigma)
+ * x = delta (the others at x = 2), then selected by delta.  kept: the block has points
+ * below 2, whose fields sweep_block_pieces wrote and the select keeps; without them every
+ * lane takes the closed form's (those at 64 and above are replaced afterwards), so no lane
+ * is read before it is written (MISRA C:2012 rule 9.1). */
+static void sweep_block_closed(const zw_real *d, const zw_real *x, bool kept, zw_real *e, zw_real *g,
+                               zw_real *hs, zw_real *d12, zw_real *inv_sigma)
 {
     zw_real ce[ZW_SWEEP_BLOCK], cg[ZW_SWEEP_BLOCK], chs[ZW_SWEEP_BLOCK], cd12[ZW_SWEEP_BLOCK];
     zw_real cinv[ZW_SWEEP_BLOCK];
@@ -481,7 +484,7 @@ static void sweep_block_closed(const zw_real *d, const zw_real *x, zw_real *e, z
         cd12[j] = f.d12;
     }
     for (j = 0u; j < ZW_SWEEP_BLOCK; ++j) {
-        const bool here = (d[j] >= ZW_SWEEP_TABLE_END) && (d[j] < ZW_SWEEP_CLOSED_END);
+        const bool here = !kept || ((d[j] >= ZW_SWEEP_TABLE_END) && (d[j] < ZW_SWEEP_CLOSED_END));
         e[j] = here ? ce[j] : e[j];
         g[j] = here ? cg[j] : g[j];
         hs[j] = here ? chs[j] : hs[j];
@@ -685,7 +688,7 @@ static zw_status sweep_check_many(size_t n, const zw_real *delta, ptrdiff_t delt
                 sweep_block_pieces(x_below, e, g, hs, d12, inv_sigma);
             }
             if (closed != ZW_R(0.0)) {
-                sweep_block_closed(d, x_closed, e, g, hs, d12, inv_sigma);
+                sweep_block_closed(d, x_closed, below != ZW_R(0.0), e, g, hs, d12, inv_sigma);
             }
         }
         if ((below + closed) != (zw_real)ZW_SWEEP_BLOCK) { /* delta >= 64: zw_coeffs_init */
