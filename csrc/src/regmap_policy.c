@@ -139,25 +139,31 @@ static bool range_absent(float m_hi, float b_hi)
     return (m_hi == 0.0f) && (b_hi == 0.0f);
 }
 
-/* Block c certifies a box of plants rather than the one plant (M, B). */
+/* A block with these plant fields describes a box of plants rather than the one plant
+ * (m, b). */
+static bool plant_ranged(float m, float m_hi, float b, float b_hi)
+{
+    return !range_absent(m_hi, b_hi) && ((m_hi != m) || (b_hi != b));
+}
+
+/* Block c certifies a box of plants. */
 static bool cert_ranged(const zw_cert *c)
 {
-    return !range_absent(c->m_hi, c->b_hi) && ((c->m_hi != c->m) || (c->b_hi != c->b));
+    return plant_ranged(c->m, c->m_hi, c->b, c->b_hi);
 }
 
-/* The box of block c (zero-initialised first: fields added to zw_plant_box later default
- * to absent). */
-static void box_of(const zw_cert *c, zw_plant_box *box)
+/* The box of a block's fields f (zero-initialised first: fields added to zw_plant_box later
+ * default to absent). */
+static void box_of(const float f[ZW_CERT_FIELDS], zw_plant_box *box)
 {
     (void)memset(box, 0, sizeof *box);
-    box->m_lo = (zw_real)c->m;
-    box->m_hi = (zw_real)c->m_hi;
-    box->b_lo = (zw_real)c->b;
-    box->b_hi = (zw_real)c->b_hi;
-    box->T = (zw_real)c->T;
+    box->m_lo = (zw_real)f[F_M];
+    box->m_hi = (zw_real)f[F_M_HI];
+    box->b_lo = (zw_real)f[F_B];
+    box->b_hi = (zw_real)f[F_B_HI];
+    box->T = (zw_real)f[F_T];
 }
 
-/* The search's work over the map's own cells and scratch, with the map's budget. */
 /* The box and loop of block c (its fields checked) and the search's work list in the map,
  * false if any of them cannot be formed (then nothing may be certified). */
 static bool cert_box_setup(zw_regmap *rm, const zw_cert *c, zw_plant_box *box,
@@ -165,7 +171,7 @@ static bool cert_box_setup(zw_regmap *rm, const zw_cert *c, zw_plant_box *box,
 {
     float f[ZW_CERT_FIELDS];
     fields_of(c, f);
-    box_of(c, box);
+    box_of(f, box);
     if (zw_box_loop_work_init(work, rm->box_cells, ZW_REGMAP_BOX_CELLS, &rm->box_scratch) != ZW_OK) {
         return false;
     }
@@ -352,12 +358,7 @@ static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_F
     /* the ranges: upper ends not below the lower ones, every corner a valid plant */
     if (!range_absent(f[F_M_HI], f[F_B_HI])) {
         zw_plant_box box;
-        (void)memset(&box, 0, sizeof box);
-        box.m_lo = (zw_real)f[F_M];
-        box.m_hi = (zw_real)f[F_M_HI];
-        box.b_lo = (zw_real)f[F_B];
-        box.b_hi = (zw_real)f[F_B_HI];
-        box.T = (zw_real)f[F_T];
+        box_of(f, &box);
         if (zw_box_validate(&box) != ZW_OK) {
             return ZW_REASON_BAD_POLICY;
         }
@@ -380,8 +381,7 @@ static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_F
         }
     }
     /* no box form of the radius rule here: a ranged block must have r = 1 */
-    if (!range_absent(f[F_M_HI], f[F_B_HI]) && ((f[F_M_HI] != f[F_M]) || (f[F_B_HI] != f[F_B])) &&
-        (f[F_R] != 1.0f)) {
+    if (plant_ranged(f[F_M], f[F_M_HI], f[F_B], f[F_B_HI]) && (f[F_R] != 1.0f)) {
         return ZW_REASON_BOX_RADIUS;
     }
     return ZW_REASON_NONE;
@@ -615,12 +615,12 @@ zw_reason zw_rm_apply_gains(zw_regmap *rm, float K, float B)
     }
     /* (0, 0) skips the rules: k_max is then not known.  A ranged block's write does not
      * compute it: its cache (keyed on B, the box's value) stays, live_refresh fills it */
-    if (cert_ranged(&rm->sealed)) {
-        /* kept */
-    } else if (K == 0.0f && B == 0.0f) {
-        rm->kmax_cached = 0u;
-    } else {
-        cache_k_max(rm, B, k_max);
+    if (!cert_ranged(&rm->sealed)) {
+        if (K == 0.0f && B == 0.0f) {
+            rm->kmax_cached = 0u;
+        } else {
+            cache_k_max(rm, B, k_max);
+        }
     }
     zw_rm_publish_gains(rm, K == 0.0f ? 0.0f : K, B == 0.0f ? 0.0f : B);
     rm->accepted = (rm->accepted + 1u) & 0xFFFFFFFFu;
