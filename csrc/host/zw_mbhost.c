@@ -5,6 +5,7 @@
 
 /* zw_mbhost.c - helpers shared by zwidth-drive and zwidth-tune (see zw_mbhost.h). */
 #include "zw_mbhost.h"
+#include "zw_hostloop.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -33,35 +34,33 @@ static const double cert_default[ZW_CERT_NFIELDS] = {
     85.78e-7, 2.197e-3, 0.02, 0.8, 0.999, 0.0, 10.0, -0.01, 0.01, 1.0, 0.01, 0.0, 0.0, 0.0, 0.0,
     0.0, 0.0}; /* m_hi = b_hi = 0: the point block */
 
-/* --velocity-filter none | lowpass:F | lowpass:FHz | average:N */
+/* --velocity-filter as the block holds it: none, lowpass:F[Hz] (the cut-off; the block has
+ * no field for a bare pole) or average:N.  The spelling is zw_hostloop's, shared with
+ * zwidth-limits and the Python CLI. */
 static int parse_velocity_filter(const char *prog, const char *text, double *kind, double *param)
 {
-    long n;
-    if (strcmp(text, "none") == 0) {
+    zw_velocity_filter k;
+    double f_c, pole;
+    unsigned n;
+    if (!zw_parse_velocity_filter(prog, text, &k, &f_c, &pole, &n)) return 0;
+    if (k == ZW_VFILTER_NONE) {
         *kind = *param = 0.0;
         return 1;
     }
-    if (strncmp(text, "lowpass:", 8) == 0) {
-        char num[64];
-        size_t len = strlen(text + 8);
-        if (len >= 2 && strcmp(text + 8 + len - 2, "Hz") == 0) len -= 2;
-        if (len > 0 && len < sizeof num) {
-            memcpy(num, text + 8, len);
-            num[len] = '\0';
-            if (!zw_parse_double(prog, "--velocity-filter lowpass", num, param)) return 0;
-            if (*param > 0.0 && *param <= (double)FLT_MAX) {
-                *kind = 1.0;
-                return 1;
-            }
-        }
-    } else if (strncmp(text, "average:", 8) == 0) {
-        if (!zw_parse_long(prog, "--velocity-filter average", text + 8, 1, 16, &n)) return 0;
+    if (k == ZW_VFILTER_LOWPASS && f_c > 0.0 && f_c <= (double)FLT_MAX) {
+        *kind = 1.0;
+        *param = f_c;
+        return 1;
+    }
+    if (k == ZW_VFILTER_AVERAGE && n >= 1u && n <= 16u) {
         *kind = 2.0;
         *param = (double)n;
         return 1;
     }
     fprintf(stderr, "%s: --velocity-filter expects none, lowpass:F[Hz] (F > 0) or average:N "
-                    "(1..16), got '%s'\n", prog, text);
+                    "(1..16), got '%s'%s\n", prog, text,
+            k == ZW_VFILTER_LOWPASS && f_c == 0.0 && pole != 0.0
+                ? " (the certified block holds a cut-off in Hz, not a pole)" : "");
     return 0;
 }
 
@@ -126,12 +125,9 @@ int zw_cert_opts_parse(const char *prog, zw_cert_opts *o, int argc, char **argv,
         if (!parse_velocity_filter(prog, argv[*i + 1], &o->v[12], &o->v[13])) return -1;
         o->given[13] = 1;
     } else if (k == 14) { /* --differentiator */
-        const char *v = argv[*i + 1];
-        if (strcmp(v, "backward") != 0 && strcmp(v, "tustin") != 0) {
-            fprintf(stderr, "%s: %s expects backward or tustin, got '%s'\n", prog, arg, v);
-            return -1;
-        }
-        o->v[k] = strcmp(v, "tustin") == 0 ? 1.0 : 0.0;
+        zw_differentiator diff;
+        if (!zw_parse_differentiator(prog, argv[*i + 1], &diff)) return -1;
+        o->v[k] = diff == ZW_DIFF_TUSTIN ? 1.0 : 0.0;
     } else if ((k == 0 || k == 1) && strchr(argv[*i + 1], ':') != NULL) {
         /* --m LO:HI, --b LO:HI: a range (map version 4), the lower end in m or b */
         char lo[64];
