@@ -46,6 +46,7 @@
 
 #include <modbus.h>
 
+#include "zw_hostloop.h"
 #include "zw_mbhost.h"
 #include "zwidth/sim.h"
 #include "zwidth/zwidth.h"
@@ -97,20 +98,32 @@ static void usage(FILE *to)
             "                      client stalled in the middle of a frame makes room\n"
             "  --frame-timeout MS  a TCP frame must be complete within this (default 500)\n"
             "  --idle-timeout S    drop TCP clients silent this long, 0 never (default 300)\n"
-            "\n"
-            "Certified block at power-up (sealed; defaults: the paper's drive)\n"
+            "\n",
+            MAX_CLIENTS_LIMIT);
+    fprintf(to,
+            "Certified block at power-up (sealed; without plant options: the paper's drive,\n"
+            "its ideal loop and its gain bounds, said at start)\n"
             "  --m M  --b B  --T T plant: mass or inertia J (85.78e-7), damping (2.197e-3),\n"
-            "                      sampling period [s] (0.02); --m LO:HI, --b LO:HI: a box of\n"
+            "                      sampling period [s] (0.02).  A plant other than the paper's\n"
+            "                      needs its loop (--delay) and its gain bounds (--k-max, --b-min,\n"
+            "                      --b-max, --dk-max, --db-max, or --gain-bounds from-limits);\n"
+            "                      --m LO:HI, --b LO:HI: a box of\n"
             "                      plants, every gain certified for all of them (needs --r 1\n"
             "                      --max-r 1; the nameplate is then the ranges' middle, the\n"
             "                      tolerance at least their half-width; --simulate runs the\n"
             "                      lower ends)\n"
             "  --sigma S --r R     stiffness fraction of K_max(B) (0.8), spectral radius bound\n"
             "                      (0.999)\n"
-            "  --k-min --k-max     K bounds (0, 10)\n"
-            "  --b-min --b-max     B bounds (-0.01, 0.01)\n"
-            "  --dk-max --db-max   largest change of K and B per accepted write (1, 0.01)\n"
-            "  --delay D           the loop this drive runs: force applied D samples late (0)\n"
+            "  --k-min --k-max     K bounds (paper's drive: 0, 10)\n"
+            "  --b-min --b-max     B bounds (paper's drive: -0.01, 0.01)\n"
+            "  --dk-max --db-max   largest change of K and B per accepted write (paper's drive:\n"
+            "                      1, 0.01)\n"
+            "  --gain-bounds from-limits\n"
+            "                      derive the bounds not given from the plant's certified limits\n"
+            "                      in this loop: K in [0, K_mmax], B over the loop's B range as\n"
+            "                      K -> 0+, steps the full spans (printed at start; a point plant)\n"
+            "  --delay D           the loop this drive runs: force applied D samples late\n"
+            "                      (required with a plant; the paper's drive: 0)\n"
             "  --velocity-filter F none, lowpass:30Hz (first-order, cut-off in Hz) or average:4\n"
             "                      (moving average over N samples) (none)\n"
             "  --differentiator X  backward or tustin (backward); gains are certified for this\n"
@@ -134,8 +147,7 @@ static void usage(FILE *to)
             "  --key-file PATH     this drive's key, 64 hex digits, mode 600 (umask 077;\n"
             "                      openssl rand -hex 32 > drive.key); a client must MAC the\n"
             "                      block and the drive's nonce with it (HMAC-SHA256)\n"
-            "\n",
-            MAX_CLIENTS_LIMIT);
+            "\n");
     fprintf(to,
             "Simulation\n"
             "  --simulate          run the plant m x'' + b x' = F (from --m --b --T) in this\n"
@@ -482,9 +494,10 @@ static size_t serve_pdu(drive *d, const uint8_t *pdu, size_t len, uint8_t *rsp, 
     }
     for (i = 0; i < rlen; ++i) rsp[i] = (uint8_t)(rsp_b[i] & 0xFFu);
 
-    if (len >= 5)
-        snprintf(what, sizeof what, "%s 0x%02X addr 0x%04X qty %u", fc_name(fc), fc,
-                 (unsigned)(pdu[1] << 8 | pdu[2]), (unsigned)(pdu[3] << 8 | pdu[4]));
+    if (len >= 5) /* 0x06 carries the value written, 0x03 and 0x10 a quantity */
+        snprintf(what, sizeof what, "%s 0x%02X addr 0x%04X %s %u", fc_name(fc), fc,
+                 (unsigned)(pdu[1] << 8 | pdu[2]), fc == 0x06u ? "value" : "qty",
+                 (unsigned)(pdu[3] << 8 | pdu[4]));
     else
         snprintf(what, sizeof what, "fc 0x%02X, %lu-byte PDU", fc, (unsigned long)len);
     if (ex != ZW_MB_OK) {
@@ -1072,6 +1085,99 @@ static int serve_rtu(drive *d, const char *dev, int baud, char parity, int slave
  * main
  * ------------------------------------------------------------------------------------- */
 
+/* 1 when the options give a plant other than the paper's drive (a value that differs
+ * from its default, or a range): it then needs its loop and its gain bounds. */
+static int plant_of_options(const zw_cert_opts *co)
+{
+    zw_cert_opts paper;
+    static const int plant_fields[] = {0, 1, 2, 15, 16};
+    size_t k;
+    zw_cert_opts_defaults(&paper);
+    for (k = 0; k < sizeof plant_fields / sizeof plant_fields[0]; ++k) {
+        const int f = plant_fields[k];
+        if (co->given[f] && (f >= 15 || co->v[f] != paper.v[f])) return 1;
+    }
+    return 0;
+}
+
+/* The gain bounds: the paper drive's defaults without a plant; given, or derived from the
+ * plant's certified limits in its loop (--gain-bounds from-limits), with one.  Fills the
+ * bounds not given when deriving, says where they come from in from (for the start line);
+ * 0 after printing why the drive refuses to start. */
+static int gain_bounds(zw_cert_opts *co, int from_limits, char *from, size_t cap)
+{
+    static const int bound_fields[] = {6, 7, 8, 9, 10}; /* k_max b_min b_max dk_max db_max */
+    static zw_device_loop dl;                           /* large: not on the stack */
+    static zw_loop_workspace ws;
+    const int plant = plant_of_options(co);
+    char missing[128] = "";
+    size_t k, n_missing = 0;
+    if (plant && !co->given[11]) {
+        fprintf(stderr, PROG ": a drive given its plant (--m/--J, --b, --T) needs its loop: "
+                        ZW_LOOP_NOT_STATED "\n");
+        return 0;
+    }
+    for (k = 0; k < sizeof bound_fields / sizeof bound_fields[0]; ++k)
+        if (!co->given[bound_fields[k]]) {
+            size_t len = strlen(missing);
+            snprintf(missing + len, sizeof missing - len, "%s%s", n_missing ? ", " : "",
+                     zw_cert_option[bound_fields[k]]);
+            ++n_missing;
+        }
+    if (!from_limits) {
+        if (plant && n_missing > 0) {
+            fprintf(stderr, PROG ": a drive given its plant (--m/--J, --b, --T) needs its gain "
+                            "bounds: give %s, or --gain-bounds from-limits (K in [0, K_mmax of the "
+                            "loop], B over the loop's B range, steps the full spans); the paper "
+                            "drive's bounds (K <= 10, |B| <= 0.01) do not fit another plant\n",
+                    missing);
+            return 0;
+        }
+        snprintf(from, cap, "%s", !plant && n_missing == 5 ? "the paper drive's defaults"
+                                  : n_missing == 0 ? "given" : "given; the others the paper drive's defaults");
+        return 1;
+    }
+    if (co->given[15] || co->given[16]) {
+        fprintf(stderr, PROG ": --gain-bounds from-limits needs a point plant (not --m LO:HI or "
+                        "--b LO:HI): give the bounds (--k-max, --b-min, --b-max, --dk-max, --db-max)\n");
+        return 0;
+    }
+    {
+        zw_device_loop_spec spec;
+        zw_device_loop_extremes y;
+        zw_status st;
+        double v[5];
+        memset(&spec, 0, sizeof spec);
+        spec.delay = (unsigned)co->v[11];
+        spec.filter = co->v[12] == 1.0 ? ZW_VFILTER_LOWPASS : co->v[12] == 2.0 ? ZW_VFILTER_AVERAGE
+                                                                               : ZW_VFILTER_NONE;
+        if (spec.filter == ZW_VFILTER_LOWPASS) spec.cutoff_hz = co->v[13];
+        if (spec.filter == ZW_VFILTER_AVERAGE) spec.average = (unsigned)co->v[13];
+        spec.differentiator = co->v[14] == 1.0 ? ZW_DIFF_TUSTIN : ZW_DIFF_BACKWARD;
+        if ((st = zw_device_loop_init(&dl, co->v[0], co->v[1], co->v[2], &spec)) != ZW_OK ||
+            (st = zw_device_loop_extremes_compute(&dl, &ws, &y)) != ZW_OK || !(y.K_mmax > 0.0)) {
+            fprintf(stderr, PROG ": --gain-bounds from-limits: no certified limits for this plant "
+                            "and loop (%s)\n", zw_status_name(st));
+            return 0;
+        }
+        v[0] = y.K_mmax;
+        v[1] = y.B_mmin;
+        v[2] = y.B_mmax;
+        v[3] = y.K_mmax;
+        v[4] = y.B_mmax - y.B_mmin;
+        for (k = 0; k < 5; ++k) { /* the float register rounded inward: never wider */
+            float f = (float)v[k];
+            if (k == 1 ? (double)f < v[k] : (double)f > v[k]) f = nextafterf(f, k == 1 ? INFINITY : 0.0f);
+            if (!co->given[bound_fields[k]]) co->v[bound_fields[k]] = (double)f;
+        }
+        if (!co->given[5]) co->v[5] = 0.0;
+        snprintf(from, cap, "%s from the loop's certified limits: K_mmax = %.6g, B range (%.6g, "
+                 "%.6g) as K -> 0+", n_missing == 5 ? "derived" : "those not given derived",
+                 v[0], v[1], v[2]);
+    }
+    return 1;
+}
+
 int main(int argc, char **argv)
 {
     static drive d; /* large; one per process */
@@ -1082,7 +1188,8 @@ int main(int argc, char **argv)
     const char *host = "127.0.0.1", *rtu = NULL, *key_file = NULL;
     long port = 1502, baud = 19200, slave = 1, max_clients = 16, frame_ms = 500, idle_s = 300;
     char parity = 'N';
-    int unsealed = 0, simulate = 0, commissioning = 0, cdab = 0, i, rc;
+    int unsealed = 0, simulate = 0, commissioning = 0, cdab = 0, from_limits = 0, i, rc;
+    char bounds_from[200];
     double speed = 1.0, x0 = 0.01, max_sigma = 0.95, max_r = 0.999, plant_tol = 0.05;
     zw_ceilings ceil;
     struct in_addr probe;
@@ -1106,6 +1213,16 @@ int main(int argc, char **argv)
         if (strcmp(arg, "--unsealed") == 0) { unsealed = 1; continue; }
         if (strcmp(arg, "--simulate") == 0) { simulate = 1; continue; }
         if (strcmp(arg, "--commissioning") == 0) { commissioning = 1; continue; }
+        if (strcmp(arg, "--gain-bounds") == 0) {
+            if (val == NULL || strcmp(val, "from-limits") != 0) {
+                fprintf(stderr, PROG ": --gain-bounds expects from-limits%s%s%s\n",
+                        val != NULL ? ", got '" : "", val != NULL ? val : "", val != NULL ? "'" : "");
+                return ZW_EXIT_USAGE;
+            }
+            from_limits = 1;
+            ++i;
+            continue;
+        }
         if (strcmp(arg, "--host") != 0 && strcmp(arg, "--port") != 0 &&
             strcmp(arg, "--rtu") != 0 && strcmp(arg, "--baud") != 0 &&
             strcmp(arg, "--parity") != 0 && strcmp(arg, "--slave") != 0 &&
@@ -1183,7 +1300,21 @@ int main(int argc, char **argv)
         }
     }
 
+    if (!gain_bounds(&co, from_limits, bounds_from, sizeof bounds_from)) return ZW_EXIT_USAGE;
     zw_cert_opts_to_cert(&co, &cert);
+    { /* which plant, loop and bounds this drive certifies for, always said */
+        char plant[200], loop[200];
+        if (zw_cert_ranged(&cert))
+            snprintf(plant, sizeof plant, "m in [%.6g, %.6g], b in [%.6g, %.6g], T = %.6g s",
+                     co.v[0], co.given[15] ? co.v[15] : co.v[0], co.v[1],
+                     co.given[16] ? co.v[16] : co.v[1], co.v[2]);
+        else
+            snprintf(plant, sizeof plant, "m = %.6g, b = %.6g, T = %.6g s", co.v[0], co.v[1], co.v[2]);
+        zw_cert_loop_text(&cert, loop, sizeof loop);
+        logf_("%s %s; loop: %s; gain bounds: K in [%.6g, %.6g], B in [%.6g, %.6g], |dK| <= %.6g, "
+              "|dB| <= %.6g per write (%s)", plant_of_options(&co) ? "plant" : "the paper's drive:",
+              plant, loop, co.v[5], co.v[6], co.v[7], co.v[8], co.v[9], co.v[10], bounds_from);
+    }
     st = zw_regmap_init(&d.rm, unsealed ? NULL : &cert, &reason);
     if (st == ZW_ERR_FPENV) { /* the machine, not the block: no block could be sealed here */
         fprintf(stderr, PROG ": the floating-point self-test failed (%s, %s): this build or "
