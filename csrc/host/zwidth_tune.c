@@ -7,6 +7,7 @@
  *
  *   zwidth-tune status                 mode, sealed, plant, policy, gains, live limits, ...
  *   zwidth-tune set --K K --B B        one Write Multiple Registers request, then the verdict
+ *   zwidth-tune save                   SAVE: the sealed block and the gains to the drive's storage
  *   zwidth-tune commission --m .. ..   unlock, write the certified block and its CRC, seal
  *
  * Register map: csrc/include/zwidth/regmap.h and docs/modbus.md.
@@ -35,6 +36,7 @@ static void usage(FILE *to)
     fprintf(to,
             "usage: zwidth-tune [connection] status [--json]\n"
             "       zwidth-tune [connection] set [--K K] [--B B] [--json]\n"
+            "       zwidth-tune [connection] save [--json]\n"
             "       zwidth-tune [connection] commission --m M[:M_HI] --b B[:B_HI] --T T --sigma S --r R\n"
             "                   --k-min K --k-max K --b-min B --b-max B --dk-max D --db-max D\n"
             "                   [--delay D] [--velocity-filter none|lowpass:F[Hz]|average:N]\n"
@@ -47,12 +49,16 @@ static void usage(FILE *to)
             "              device state, counters and the last refusal (reason, exception)\n"
             "  set         write K and B in ONE Write Multiple Registers request (judged as a\n"
             "              pair), or one of them alone; then read back and print the verdict\n"
+            "  save        SAVE (0x5A7E to COMMAND): the drive writes its sealed block and the\n"
+            "              active gains to non-volatile storage, restored at power-up\n"
+            "              (zwidth-drive --state-file); then say what was saved, or why not\n"
             "  commission  unlock (two command writes), read the drive's nonce, write the\n"
             "              certified block, its CRC-16 and an HMAC-SHA256 of nonce and block\n"
             "              under the drive's key (--key-file: 64 hex digits, mode 600), seal;\n"
             "              then read back mode, block and CRC and say what the drive did.  On\n"
             "              a refused step the commissioning is aborted (the last sealed block\n"
-            "              comes back).  Gains are off afterwards.  The drive must consent\n"
+            "              comes back).  Gains are off afterwards, also after a refusal (the\n"
+            "              UNLOCK turned the output off): set them again.  The drive must consent\n"
             "              (zwidth-drive --commissioning --key-file)\n"
             "              --paper-defaults takes omitted fields from the paper's drive\n"
             "              (J = 85.78e-7, b = 2.197e-3, T = 0.02, sigma 0.8, r 0.999, K in\n"
@@ -72,10 +78,14 @@ static void usage(FILE *to)
             "  --parity P      RTU parity N, E or O (default N)\n"
             "  --slave ID      RTU slave address 1..247 / TCP unit id 0..255 (default 1)\n"
             "  --timeout MS    response timeout (default 1000; SEAL waits at least 30 s)\n"
+            "  --word-order W  auto (default: as the drive's WORD_ORDER register says), abcd\n"
+            "                  (high word first) or cdab (low word first, zwidth-drive\n"
+            "                  --word-order cdab): floats and 32-bit values; a drive that\n"
+            "                  speaks the other order is refused\n"
             "  --json          machine-readable output (one JSON object on stdout)\n"
             "  --version       print the version of zwidth and exit\n"
             "\n"
-            "Exit status: 0 done (set: accepted; commission: sealed), 3 the drive refused\n"
+            "Exit status: 0 done (set: accepted; save: saved; commission: sealed), 3 the drive refused\n"
             "(reason and exception printed), 2 bad arguments, connection or protocol error.\n");
 }
 
@@ -83,7 +93,26 @@ typedef struct conn_opts {
     const char *host, *rtu;
     long port, baud, slave, timeout_ms;
     char parity;
+    int word_order; /* -1 auto, else ZW_WORD_ORDER_ABCD / _CDAB */
 } conn_opts;
+
+/* The drive's word order (read_head sets it from WORD_ORDER): every two-register value is
+ * turned into ABCD right after a read and back into the drive's order right before a
+ * write, so that everything in between (decoding, the block's CRC, the MAC) sees ABCD. */
+static int g_want_order = -1;
+static int g_cdab = 0;
+
+/* swap the two words of each pair in w[0..n-1] (n even) when the drive speaks CDAB */
+static void wire_pairs(uint_least16_t *w, int n)
+{
+    int i;
+    if (!g_cdab) return;
+    for (i = 0; i + 1 < n; i += 2) {
+        uint_least16_t t = w[i];
+        w[i] = w[i + 1];
+        w[i + 1] = t;
+    }
+}
 
 /* ---------------------------------------------------------------------------------------
  * Register access
@@ -170,17 +199,29 @@ static int read_head(modbus_t *ctx, snapshot *s)
         return ZW_EXIT_USAGE;
     }
     {
-        uint_least16_t order[1];
+        uint_least16_t order[1]; /* a one-register value: the same in both orders */
         if (read_regs(ctx, ZW_REG_WORD_ORDER, 1, order, &exc) != 0)
             return protocol_error("cannot read the word order");
-        if (order[0] != ZW_WORD_ORDER_ABCD) { /* every float would read wrong */
-            fprintf(stderr, PROG ": the drive sends floats low word first (CDAB); this tool "
-                            "speaks ABCD (zwidth-drive --word-order abcd, or mbpoll without -B)\n");
+        if (order[0] != ZW_WORD_ORDER_ABCD && order[0] != ZW_WORD_ORDER_CDAB) {
+            fprintf(stderr, PROG ": the drive reports word order %u (neither 0 ABCD nor 1 CDAB)\n",
+                    (unsigned)order[0]);
             return ZW_EXIT_USAGE;
         }
+        if (g_want_order >= 0 && (unsigned)g_want_order != order[0]) { /* would read wrong */
+            fprintf(stderr, PROG ": the drive sends floats %s; --word-order %s says %s "
+                            "(leave --word-order out, or give --word-order %s)\n",
+                    order[0] == ZW_WORD_ORDER_CDAB ? "low word first (CDAB)" : "high word first (ABCD)",
+                    g_want_order == (int)ZW_WORD_ORDER_CDAB ? "cdab" : "abcd",
+                    g_want_order == (int)ZW_WORD_ORDER_CDAB ? "low word first" : "high word first",
+                    order[0] == ZW_WORD_ORDER_CDAB ? "cdab" : "abcd");
+            return ZW_EXIT_USAGE;
+        }
+        g_cdab = order[0] == ZW_WORD_ORDER_CDAB;
     }
+    wire_pairs(&s->head[6], 4); /* the two counters */
     if (read_regs(ctx, ZW_REG_K, 4, s->gains, &exc) != 0)
         return protocol_error("cannot read the gains");
+    wire_pairs(s->gains, 4);
     return ZW_EXIT_OK;
 }
 
@@ -191,8 +232,10 @@ static int read_snapshot(modbus_t *ctx, snapshot *s)
     if (rc != ZW_EXIT_OK) return rc;
     s->have_live = read_regs(ctx, ZW_REG_LIVE_K_MAX, 24, s->live, &exc) == 0;
     if (!s->have_live) return protocol_error("cannot read the live limits");
+    wire_pairs(s->live, 24); /* 0x20..0x37: all floats, and the u32 step */
     s->have_cert = read_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, s->cert, &s->cert_exc) == 0;
     if (!s->have_cert && s->cert_exc == 0) return protocol_error("cannot read the certified block");
+    if (s->have_cert) wire_pairs(s->cert, (int)ZW_CERT_WORDS); /* not the CRC word */
     return ZW_EXIT_OK;
 }
 
@@ -323,6 +366,9 @@ static int cmd_set(modbus_t *ctx, int have_K, double K, int have_B, double B, in
         zw_float_to_words((float)B, &w[n]);
         n += 2;
     }
+    rc = read_head(ctx, &after); /* a zwidth drive, and its word order, before writing */
+    if (rc != ZW_EXIT_OK) return rc;
+    wire_pairs(w, n);
     wrc = write_regs(ctx, addr, n, w, &exc);
     err = errno;
     if (wrc != 0 && exc == 0) {
@@ -389,13 +435,18 @@ static int commission_refused(modbus_t *ctx, const char *step, unsigned exc, int
                               int json)
 {
     snapshot s;
-    unsigned reason = REASON_NOT_OURS, abort_exc = 0;
-    int aborted = 0;
+    unsigned reason = REASON_NOT_OURS, abort_exc = 0, gexc = 0;
+    int aborted = 0, have_gains;
+    uint_least16_t g[4];
     char state[96];
     if (read_head(ctx, &s) == ZW_EXIT_OK && (unsigned)s.head[5] == exc)
         reason = (unsigned)s.head[4];
     if (abort_it) aborted = write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_ABORT, &abort_exc) == 0;
     drive_state_text(ctx, state, sizeof state);
+    /* a refusal after the UNLOCK: the UNLOCK turned the output off, and neither the refusal
+     * nor ABORT brings the old gains back; read what the drive holds now */
+    have_gains = abort_it && read_regs(ctx, ZW_REG_K, 4, g, &gexc) == 0;
+    if (have_gains) wire_pairs(g, 4);
     if (json) {
         printf("{\"verdict\": \"refused\", \"step\": ");
         zw_json_string(stdout, step);
@@ -403,6 +454,12 @@ static int commission_refused(modbus_t *ctx, const char *step, unsigned exc, int
         print_refusal_json(reason, exc);
         printf(", \"aborted\": %s, \"drive\": ", aborted ? "true" : "false");
         zw_json_string(stdout, state);
+        if (have_gains) {
+            printf(", \"gains\": {");
+            json_kv_float("K", (double)fw(&g[0]), 0);
+            json_kv_float("B", (double)fw(&g[2]), 1);
+            printf("}, \"output_off\": %s", fw(&g[0]) == 0.0f && fw(&g[2]) == 0.0f ? "true" : "false");
+        }
         printf("}\n");
     } else {
         printf("refused at %s: %s (exception 0x%02X %s)%s; the drive is now %s\n", step,
@@ -420,8 +477,72 @@ static int commission_refused(modbus_t *ctx, const char *step, unsigned exc, int
                    "(or another client changed the staged block)\n");
         else if (reason == ZW_REASON_RNG)
             printf("the drive has no commissioning key or RNG (zwidth-drive --key-file)\n");
+        if (have_gains && fw(&g[0]) == 0.0f && fw(&g[2]) == 0.0f)
+            printf("the output is now off: gains K = 0, B = 0 (the UNLOCK turned it off; the "
+                   "refusal and ABORT do not bring the old gains back); set gains again with "
+                   "zwidth-tune set --K K --B B\n");
+        else if (have_gains)
+            printf("active gains now K = %.9g, B = %.9g (set since the UNLOCK turned the output "
+                   "off)\n", (double)fw(&g[0]), (double)fw(&g[2]));
+        else if (abort_it)
+            printf("the UNLOCK turned the output off (gains 0, 0); set gains again with "
+                   "zwidth-tune set --K K --B B once the drive is in operation\n");
     }
     return ZW_EXIT_REFUSED;
+}
+
+/* SAVE: the drive writes its sealed block and the active gains to its non-volatile
+ * storage (restored at power-up); say what was saved, read back, or why not. */
+static int cmd_save(modbus_t *ctx, int json)
+{
+    snapshot s;
+    unsigned exc, reason;
+    uint_least16_t crc[1];
+    int rc = read_head(ctx, &s), src;
+    if (rc != ZW_EXIT_OK) return rc;
+    if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_SAVE, &exc) != 0) {
+        if (exc == 0) return protocol_error("cannot send the save command");
+        rc = read_head(ctx, &s);
+        if (rc != ZW_EXIT_OK) return rc;
+        reason = (unsigned)s.head[5] == exc ? (unsigned)s.head[4] : REASON_NOT_OURS;
+        if (json) {
+            printf("{\"verdict\": \"refused\", ");
+            print_refusal_json(reason, exc);
+            printf("}\n");
+            return ZW_EXIT_REFUSED;
+        }
+        printf("refused: %s (exception 0x%02X %s); nothing was saved\n",
+               zw_reason_name((zw_reason)reason), exc, zw_exception_name(exc));
+        if (reason == ZW_REASON_NO_STORAGE)
+            printf("the drive has no non-volatile storage (zwidth-drive --state-file PATH)\n");
+        else if (reason == ZW_REASON_STORAGE)
+            printf("the drive's storage reported a failure; the previous saved copy is unchanged\n");
+        else if (reason == ZW_REASON_NOT_SEALED)
+            printf("the drive has no sealed block to save: commission one first\n");
+        else if (reason == ZW_REASON_BAD_COMMAND)
+            printf("the drive is in commissioning mode: finish (SEAL) or ABORT first\n");
+        else if (reason == ZW_REASON_NO_CONSENT)
+            printf("the drive does not consent (its commissioning enable input is off: "
+                   "zwidth-drive --commissioning)\n");
+        return ZW_EXIT_REFUSED;
+    }
+    rc = read_head(ctx, &s); /* what was saved: the block in force and the gains, read back */
+    if (rc != ZW_EXIT_OK) return rc;
+    src = read_regs(ctx, ZW_REG_CERT_CRC, 1, crc, &exc) == 0;
+    if (json) {
+        printf("{\"verdict\": \"saved\", \"crc\": ");
+        if (src) printf("%u", (unsigned)crc[0]);
+        else printf("null");
+        json_kv_float("K", (double)fw(&s.gains[0]), 1);
+        json_kv_float("B", (double)fw(&s.gains[2]), 1);
+        printf("}\n");
+    } else {
+        printf("saved: the drive stored its sealed block");
+        if (src) printf(" (CRC 0x%04X)", (unsigned)crc[0]);
+        printf(" and the active gains K = %.9g, B = %.9g; they are restored at power-up\n",
+               (double)fw(&s.gains[0]), (double)fw(&s.gains[2]));
+    }
+    return ZW_EXIT_OK;
 }
 
 /* A transport failure after the drive may have entered commissioning mode: send ABORT
@@ -453,7 +574,7 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const uint8_t k
                           int json)
 {
     zw_cert cert;
-    uint_least16_t w[ZW_CERT_WORDS + 1u], head[4], back[ZW_CERT_WORDS + 1u];
+    uint_least16_t w[ZW_CERT_WORDS + 1u], wire[ZW_CERT_WORDS + 1u], head[4], back[ZW_CERT_WORDS + 1u];
     uint_least16_t nonce[ZW_AUTH_NONCE_WORDS], macw[ZW_AUTH_MAC_WORDS];
     uint_least8_t msg[ZW_AUTH_MSG_BYTES];
     uint8_t mac[2u * ZW_AUTH_MAC_WORDS];
@@ -490,7 +611,9 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const uint8_t k
     }
     for (k = 0; k < (int)ZW_AUTH_MAC_WORDS; ++k)
         macw[k] = (uint_least16_t)(((unsigned)mac[2 * k] << 8) | mac[2 * k + 1]);
-    if (write_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, w, &exc) != 0) {
+    for (k = 0; k <= (int)ZW_CERT_WORDS; ++k) wire[k] = w[k];
+    wire_pairs(wire, (int)ZW_CERT_WORDS); /* the CRC and the MAC stay over the ABCD words */
+    if (write_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, wire, &exc) != 0) {
         if (exc == 0) return commission_transport_error(ctx, "cannot write the certified block");
         return commission_refused(ctx, "block", exc, 1, json);
     }
@@ -519,6 +642,7 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const uint8_t k
     if (read_regs(ctx, ZW_REG_MAGIC, 4, head, &exc) != 0 ||
         read_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, back, &exc) != 0)
         return protocol_error("cannot read back the sealed block");
+    wire_pairs(back, (int)ZW_CERT_WORDS);
     for (k = 0; k <= (int)ZW_CERT_WORDS && back[k] == w[k]; ++k) {}
     same = k > (int)ZW_CERT_WORDS;
     what = head[2] != 0u ? "the drive accepted SEAL, but is in commissioning mode again: another "
@@ -585,7 +709,7 @@ static modbus_t *connect_drive(const conn_opts *o)
 
 int main(int argc, char **argv)
 {
-    conn_opts o = {"127.0.0.1", NULL, 1502, 19200, 1, 1000, 'N'};
+    conn_opts o = {"127.0.0.1", NULL, 1502, 19200, 1, 1000, 'N', -1};
     zw_cert_opts co;
     const char *cmd = NULL, *key_file = NULL;
     uint8_t key[ZW_KEY_BYTES];
@@ -645,7 +769,8 @@ int main(int argc, char **argv)
                     strcmp(arg, "--host") == 0 || strcmp(arg, "--port") == 0 ||
                             strcmp(arg, "--rtu") == 0 || strcmp(arg, "--baud") == 0 ||
                             strcmp(arg, "--parity") == 0 || strcmp(arg, "--slave") == 0 ||
-                            strcmp(arg, "--timeout") == 0 || strcmp(arg, "--key-file") == 0
+                            strcmp(arg, "--timeout") == 0 || strcmp(arg, "--key-file") == 0 ||
+                            strcmp(arg, "--word-order") == 0
                         ? "missing value for"
                         : "unknown option",
                     arg);
@@ -675,6 +800,14 @@ int main(int argc, char **argv)
             if (!zw_parse_long(PROG, arg, val, 10, 60000, &o.timeout_ms)) return ZW_EXIT_USAGE;
         } else if (strcmp(arg, "--key-file") == 0) {
             key_file = val;
+        } else if (strcmp(arg, "--word-order") == 0) {
+            if (strcmp(val, "auto") == 0) o.word_order = -1;
+            else if (strcmp(val, "abcd") == 0) o.word_order = (int)ZW_WORD_ORDER_ABCD;
+            else if (strcmp(val, "cdab") == 0) o.word_order = (int)ZW_WORD_ORDER_CDAB;
+            else {
+                fprintf(stderr, PROG ": --word-order expects auto, abcd or cdab, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
         } else {
             fprintf(stderr, PROG ": unknown option '%s'\n", arg);
             usage(stderr);
@@ -690,7 +823,7 @@ int main(int argc, char **argv)
         return ZW_EXIT_USAGE;
     }
     if (cmd == NULL) {
-        fprintf(stderr, PROG ": missing command (status, set or commission)\n");
+        fprintf(stderr, PROG ": missing command (status, set, save or commission)\n");
         usage(stderr);
         return ZW_EXIT_USAGE;
     }
@@ -713,8 +846,8 @@ int main(int argc, char **argv)
         }
         if (missing) return ZW_EXIT_USAGE;
         if (!zw_key_load(PROG, key_file, key)) return ZW_EXIT_USAGE;
-    } else if (strcmp(cmd, "status") != 0) {
-        fprintf(stderr, PROG ": unknown command '%s' (status, set or commission)\n", cmd);
+    } else if (strcmp(cmd, "status") != 0 && strcmp(cmd, "save") != 0) {
+        fprintf(stderr, PROG ": unknown command '%s' (status, set, save or commission)\n", cmd);
         return ZW_EXIT_USAGE;
     }
     for (k = 0; k < ZW_CERT_NFIELDS; ++k)
@@ -727,9 +860,11 @@ int main(int argc, char **argv)
         return ZW_EXIT_USAGE;
     }
 
+    g_want_order = o.word_order;
     ctx = connect_drive(&o);
     if (ctx == NULL) return ZW_EXIT_USAGE;
     if (strcmp(cmd, "status") == 0) rc = cmd_status(ctx, json);
+    else if (strcmp(cmd, "save") == 0) rc = cmd_save(ctx, json);
     else if (strcmp(cmd, "set") == 0) rc = cmd_set(ctx, have_K, K, have_B, B, json);
     else rc = cmd_commission(ctx, &co, key, json);
     modbus_close(ctx);
