@@ -14,10 +14,11 @@ drive's reasons.  It never re-decides a verdict.
     from zwidth.modbus import Drive
 
     with Drive("127.0.0.1", 1502) as drive:
-        print(drive.status().limits.k_cert)            # certified K ceiling [N/m]
+        print(drive.status().limits.K_cert)            # certified K ceiling [N/m]
         result = drive.set_gains(K=0.30, B=-1.0e-3)     # one write-multiple request
         if not result.accepted:
             print(result.reason)                        # e.g. "ZW_REASON_ABOVE_SIGMA"
+        print(drive.save())                             # SAVE: restored at power-up
 
 Why pymodbus rather than bindings to a C Modbus client: pymodbus is a well-kept,
 pure-Python Modbus library, so a tuning script needs no compiled extension (no libmodbus,
@@ -29,8 +30,16 @@ the drive.  Tested with pymodbus 3.16.1 (unit keyword ``device_id``, pymodbus 3.
 
 Units: a linear device uses m [kg], b [N s/m], K [N/m], B [N s/m]; a rotary one reads m as
 the inertia J [kg m^2], b [N m s/rad], K [N m/rad], B [N m s/rad].  T is in seconds.  Every
-float crosses the wire as IEEE-754 binary32 over two registers, high word first ("ABCD"),
-so read-back values are the binary32 roundings of what was written.
+float crosses the wire as IEEE-754 binary32 over two registers, high word first ("ABCD")
+or, on a drive that serves CDAB (``zwidth-drive --word-order cdab``), low word first: the
+client follows the drive's WORD_ORDER register (``Drive(word_order="auto")``, the default;
+``"abcd"`` or ``"cdab"`` insist on one and refuse a drive that speaks the other).  The
+block's CRC and the commissioning MAC are over the ABCD words in both orders.  Read-back
+values are the binary32 roundings of what was written.
+
+A commissioning refused after its UNLOCK (at the nonce, block, MAC or SEAL step) leaves the
+output off: the UNLOCK set the gains to (0, 0), and neither the refusal nor ABORT brings the
+old ones back.  ``CommissionResult.message`` says so, with how to set gains again.
 
 Other clients may share the drive.  Whether a request was accepted is always decided by
 the drive's answer to that request.  The refusal reason is read from the drive's "last
@@ -68,6 +77,7 @@ import numbers
 import os
 import stat
 import struct
+import warnings
 from dataclasses import dataclass
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
@@ -87,6 +97,7 @@ __all__ = [
     "Loop",
     "GainResult",
     "CommissionResult",
+    "SaveResult",
     "REG",
     "REASONS",
     "REASON_UNKNOWN",
@@ -507,26 +518,64 @@ class Gains:
 @dataclass(frozen=True)
 class Limits:
     """Live limits computed by the drive at the active gains (all NaN without a sealed
-    block).
+    block).  Named as K_max / K_mmax elsewhere (``zwidth.Device``, ``zwidth-tune status
+    --json``); the lowercase names of earlier releases (``k_max``, ``k_cert``, ``b_lo``,
+    ``b_hi``, ``k_mmax``, ``b_at_k_mmax``) still read, with a DeprecationWarning.
 
-    k_max: K_max at the current B [N/m] (exact region); k_cert: certified K ceiling at the
+    K_max: K_max at the current B [N/m] (exact region); K_cert: certified K ceiling at the
     current B [N/m]: the largest K (a binary32) that passes all the certification rules
-    that depend on K at this B -- K <= k_max, K <= sigma K_max(B), stable, spectral radius
-    < r -- as found by the drive's search (a scan down from min(sigma K_max(B), k_max) and
-    a bisection); 0 when no K qualifies.  The k_min and step rules are not applied, so a
-    write of k_cert can still be refused by them.  b_lo, b_hi: the stable B interval at the
-    current K [N s/m] (both 0 when K = 0); k_mmax: largest stable K of the plant [N/m];
-    b_at_k_mmax: the B that attains it [N s/m]; rho: spectral radius at the current gains
-    (1); delta = b T / m (1)."""
+    that depend on K at this B -- K <= the block's k_max, K <= sigma K_max(B), stable,
+    spectral radius < r -- as found by the drive's search (a scan down from
+    min(sigma K_max(B), k_max) and a bisection); 0 when no K qualifies.  The k_min and step
+    rules are not applied, so a write of K_cert can still be refused by them.  B_lo, B_hi:
+    the stable B interval at the current K [N s/m] (both 0 when K = 0); K_mmax: largest
+    stable K of the plant [N/m]; B_at_K_mmax: the B that attains it [N s/m]; rho: spectral
+    radius at the current gains (1); delta = b T / m (1)."""
 
-    k_max: float
-    k_cert: float
-    b_lo: float
-    b_hi: float
-    k_mmax: float
-    b_at_k_mmax: float
+    K_max: float
+    K_cert: float
+    B_lo: float
+    B_hi: float
+    K_mmax: float
+    B_at_K_mmax: float
     rho: float
     delta: float
+
+    def _old(self, old: str, new: str) -> float:
+        warnings.warn(f"Limits.{old} is deprecated: use Limits.{new}", DeprecationWarning,
+                      stacklevel=3)
+        value: float = getattr(self, new)
+        return value
+
+    @property
+    def k_max(self) -> float:
+        """Deprecated alias of K_max."""
+        return self._old("k_max", "K_max")
+
+    @property
+    def k_cert(self) -> float:
+        """Deprecated alias of K_cert."""
+        return self._old("k_cert", "K_cert")
+
+    @property
+    def b_lo(self) -> float:
+        """Deprecated alias of B_lo."""
+        return self._old("b_lo", "B_lo")
+
+    @property
+    def b_hi(self) -> float:
+        """Deprecated alias of B_hi."""
+        return self._old("b_hi", "B_hi")
+
+    @property
+    def k_mmax(self) -> float:
+        """Deprecated alias of K_mmax."""
+        return self._old("k_mmax", "K_mmax")
+
+    @property
+    def b_at_k_mmax(self) -> float:
+        """Deprecated alias of B_at_K_mmax."""
+        return self._old("b_at_k_mmax", "B_at_K_mmax")
 
 
 @dataclass(frozen=True)
@@ -608,7 +657,10 @@ class CommissionResult:
     reason / exception: as in GainResult, for the first refused step; stage: the step that
     was refused ("unlock", "write", "mac", "seal") or "done"; crc: the CRC-16/MODBUS sent for the
     block; aborted: after a refusal the client sent ABORT, so the drive went back to the
-    last sealed block (and to operation)."""
+    last sealed block (and to operation); output_off: the gains read back afterwards are
+    (0, 0) -- after an accepted SEAL, and after a refusal that came once the UNLOCK had
+    turned the output off (the refusal and ABORT do not bring the old gains back: set them
+    again with ``set_gains``); message: all that in words (also ``str(result)``)."""
 
     accepted: bool
     reason: str
@@ -616,6 +668,44 @@ class CommissionResult:
     stage: str
     crc: int
     aborted: bool
+    output_off: bool = False
+    message: str = ""
+
+    def __str__(self) -> str:
+        return self.message or repr(self)
+
+
+@dataclass(frozen=True)
+class SaveResult:
+    """Outcome of SAVE (``Drive.save()``).
+
+    accepted: the drive wrote its sealed block and the active gains to its non-volatile
+    storage (restored at power-up); reason / exception: as in GainResult
+    ("ZW_REASON_NO_STORAGE": the drive has no storage, ``zwidth-drive`` without
+    ``--state-file``; "ZW_REASON_STORAGE": the storage failed; "ZW_REASON_NOT_SEALED";
+    "ZW_REASON_NO_CONSENT"; "ZW_REASON_BAD_COMMAND": in commissioning mode); crc: the CRC of
+    the block in force, K, B: the gains, read back after the SAVE; message: in words (also
+    ``str(result)``)."""
+
+    accepted: bool
+    reason: str
+    exception: int
+    crc: int
+    K: float
+    B: float
+    message: str = ""
+
+    def __str__(self) -> str:
+        return self.message or repr(self)
+
+
+_SAVE_HINTS = {
+    "ZW_REASON_NO_STORAGE": "the drive has no non-volatile storage (zwidth-drive --state-file PATH)",
+    "ZW_REASON_STORAGE": "the drive's storage reported a failure; the previous saved copy is unchanged",
+    "ZW_REASON_NOT_SEALED": "the drive has no sealed block to save: commission one first",
+    "ZW_REASON_NO_CONSENT": "the drive does not consent (its commissioning enable input is off)",
+    "ZW_REASON_BAD_COMMAND": "the drive is in commissioning mode: finish (SEAL) or ABORT first",
+}
 
 
 class DriveError(RuntimeError):
@@ -640,20 +730,25 @@ class Drive:
 
     host: address of the drive (default 127.0.0.1); port: TCP port (default 1502, what
     zwidth-drive listens on); unit: Modbus unit (device) identifier, 0..255 (default 1);
-    timeout: seconds to wait for a connection or a response (default 1.0).
+    timeout: seconds to wait for a connection or a response (default 1.0); word_order:
+    "auto" (default: as the drive's WORD_ORDER register says), "abcd" (high word first) or
+    "cdab" (low word first); with "abcd" or "cdab" a drive that speaks the other order is
+    refused (DriveError) rather than misread.
 
     Use as a context manager (``with Drive(...) as d:``) or call ``connect()``/``close()``;
     methods connect on first use.  Connecting checks the map's magic (0x5A57) and version
     (1).  Requests are never retried (a gain write or a command is not idempotent)."""
 
     def __init__(self, host: str = "127.0.0.1", port: int = 1502, unit: int = 1,
-                 timeout: float = 1.0):
+                 timeout: float = 1.0, word_order: str = "auto"):
         if not isinstance(host, str) or not host:
             raise ValueError(f"host must be a non-empty string, got {host!r}")
         if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= 65535:
             raise ValueError(f"port must be an integer in 1..65535, got {port!r}")
         if isinstance(unit, bool) or not isinstance(unit, int) or not 0 <= unit <= 255:
             raise ValueError(f"unit must be an integer in 0..255, got {unit!r}")
+        if word_order not in ("auto", "abcd", "cdab"):
+            raise ValueError(f"word_order must be 'auto', 'abcd' or 'cdab', got {word_order!r}")
         t = _real("timeout", timeout)
         if not (t > 0 and math.isfinite(t)):
             raise ValueError(f"timeout must be > 0 seconds and finite, got {timeout!r}")
@@ -663,6 +758,8 @@ class Drive:
         self.timeout = t
         self._client: Any = None  # pymodbus ModbusTcpClient (imported on connect)
         self._unit_kw = "device_id"
+        self.word_order = word_order  # as asked; the drive's order once connected: self._cdab
+        self._cdab = word_order == "cdab"
 
     # -- connection ---------------------------------------------------------------------
 
@@ -706,10 +803,18 @@ class Drive:
             self.close()
             raise DriveError(f"{self.address} is not a zwidth drive of map version "
                              f"{MAP_VERSION} (magic 0x{head[0]:04X}, version {head[1]})")
-        if self._read(REG["WORD_ORDER"], 1)[0] != 0:
+        order = self._read(REG["WORD_ORDER"], 1)[0]  # one register: the same in both orders
+        names = {0: "abcd", 1: "cdab"}
+        if order not in names:
             self.close()
-            raise DriveError(f"{self.address} sends floats low word first (CDAB); this client "
-                             f"speaks ABCD (zwidth-drive --word-order abcd)")
+            raise DriveError(f"{self.address} reports word order {order} (neither 0 ABCD nor 1 CDAB)")
+        if self.word_order != "auto" and names[order] != self.word_order:
+            self.close()
+            raise DriveError(
+                f"{self.address} sends floats {'low' if order else 'high'} word first "
+                f"({names[order].upper()}); this client was asked for {self.word_order.upper()} "
+                f"(Drive(..., word_order={names[order]!r}) or the default 'auto')")
+        self._cdab = order == 1
         return self
 
     def close(self) -> None:
@@ -727,7 +832,18 @@ class Drive:
         self.close()
 
     def __repr__(self) -> str:
-        return f"Drive({self.host!r}, {self.port}, unit={self.unit}, timeout={self.timeout})"
+        return (f"Drive({self.host!r}, {self.port}, unit={self.unit}, timeout={self.timeout}, "
+                f"word_order={self.word_order!r})")
+
+    def _pairs(self, words: Sequence[int], n: Optional[int] = None) -> List[int]:
+        """words with the two words of each of the first n (default all) swapped when the
+        drive speaks CDAB: ABCD <-> the drive's wire order (the swap is its own inverse)."""
+        out = list(words)
+        if self._cdab:
+            end = len(out) if n is None else n
+            for i in range(0, end - 1, 2):
+                out[i], out[i + 1] = out[i + 1], out[i]
+        return out
 
     # -- raw requests -------------------------------------------------------------------
 
@@ -799,10 +915,11 @@ class Drive:
         """Read the whole map (five read requests, one per mapped block).  DriveError if
         the drive refuses a read."""
         head = self._read(*_BLOCK_HEAD)
-        gains = self._read(*_BLOCK_GAINS)
-        live = self._read(*_BLOCK_LIVE)
-        state = self._read(*_BLOCK_STATE)
-        cert = self._read(*_BLOCK_CERT)
+        head = head[:6] + self._pairs(head[6:])  # the two u32 counters
+        gains = self._pairs(self._read(*_BLOCK_GAINS))
+        live = self._pairs(self._read(*_BLOCK_LIVE))
+        state = self._pairs(self._read(*_BLOCK_STATE))
+        cert = self._pairs(self._read(*_BLOCK_CERT), CERT_WORDS)  # not the CRC word
         c0 = _BLOCK_CERT[0]
         block = {name: _f(cert, c0 + 2 * i, c0) for i, name in enumerate(_CERT_FIELDS)}
         l0 = _BLOCK_LIVE[0]
@@ -817,12 +934,12 @@ class Drive:
                           cert[REG["CERT_CRC"] - c0]),
             gains=Gains(words_to_float(gains[0], gains[1]), words_to_float(gains[2], gains[3])),
             limits=Limits(
-                k_max=_f(live, REG["LIVE_K_MAX"], l0),
-                k_cert=_f(live, REG["LIVE_K_CERT"], l0),
-                b_lo=_f(live, REG["LIVE_B_LO"], l0),
-                b_hi=_f(live, REG["LIVE_B_HI"], l0),
-                k_mmax=_f(live, REG["LIVE_K_MMAX"], l0),
-                b_at_k_mmax=_f(live, REG["LIVE_B_AT_KMMAX"], l0),
+                K_max=_f(live, REG["LIVE_K_MAX"], l0),
+                K_cert=_f(live, REG["LIVE_K_CERT"], l0),
+                B_lo=_f(live, REG["LIVE_B_LO"], l0),
+                B_hi=_f(live, REG["LIVE_B_HI"], l0),
+                K_mmax=_f(live, REG["LIVE_K_MMAX"], l0),
+                B_at_K_mmax=_f(live, REG["LIVE_B_AT_KMMAX"], l0),
                 rho=_f(live, REG["LIVE_RHO"], l0),
                 delta=_f(live, REG["LIVE_DELTA"], l0),
             ),
@@ -851,7 +968,7 @@ class Drive:
 
     def gains(self) -> Gains:
         """The active gains K [N/m], B [N s/m] (one read request)."""
-        g = self._read(*_BLOCK_GAINS)
+        g = self._pairs(self._read(*_BLOCK_GAINS))
         return Gains(words_to_float(g[0], g[1]), words_to_float(g[2], g[3]))
 
     def set_gains(self, K: Optional[float] = None, B: Optional[float] = None) -> GainResult:
@@ -876,7 +993,8 @@ class Drive:
             words += float_to_words(K, "K")
         if B is not None:
             words += float_to_words(B, "B")
-        exc = self._write_many(addr, words)
+        self._client_or_connect()  # the drive's word order is known from here on
+        exc = self._write_many(addr, self._pairs(words))
         reason = self._refusal_reason(exc) if exc else REASONS[0]
         now = self.gains()
         return GainResult(accepted=exc == 0, reason=reason, exception=exc, K=now.K, B=now.B)
@@ -957,11 +1075,22 @@ class Drive:
                              f"(load_key(path)), got {type(key).__name__}")
 
         def refused(stage: str, exc: int, abort: bool) -> CommissionResult:
+            """abort: the refusal came after the UNLOCK (which turned the output off)."""
             reason = self._refusal_reason(exc)
             aborted = False
             if abort and abort_on_refusal:
                 aborted = self.command("ABORT") == 0
-            return CommissionResult(False, reason, exc, stage, crc, aborted)
+            text = (f"commissioning refused at {stage}: {reason} (exception {exc})"
+                    + ("; ABORT sent: the last sealed block is back" if aborted else ""))
+            off = False
+            if abort:
+                now = self.gains()
+                off = now == Gains(0.0, 0.0)
+                text += ("; the output is now off: gains (0, 0) -- the UNLOCK turned it off, and "
+                         "neither the refusal nor ABORT brings the old gains back; set them "
+                         "again with Drive.set_gains(K=..., B=...)" if off else
+                         f"; active gains now K = {now.K:.9g}, B = {now.B:.9g}")
+            return CommissionResult(False, reason, exc, stage, crc, aborted, off, text)
 
         exc = self.command("UNLOCK1")
         if exc:
@@ -971,7 +1100,7 @@ class Drive:
             return refused("unlock", exc, False)
         nonce = self._read(REG["NONCE"], AUTH_NONCE_WORDS)
         mac = auth_mac(bytes(key), nonce, words + [crc])
-        exc = self._write_many(REG["CERT_M"], words + [crc])
+        exc = self._write_many(REG["CERT_M"], self._pairs(words) + [crc])  # CRC, MAC: ABCD
         if exc:
             return refused("write", exc, True)
         exc = self._write_many(REG["MAC"], mac)
@@ -981,11 +1110,31 @@ class Drive:
         if exc:
             return refused("seal", exc, True)
         mode, sealed = self._read(REG["MODE"], 2)
-        held = self._read(*_BLOCK_CERT)
+        held = self._pairs(self._read(*_BLOCK_CERT), CERT_WORDS)
         if mode != 0 or held != words + [crc] or sealed != 1:
             raise DriveError(
                 f"zwidth drive at {self.address}: after SEAL the drive is not in operation "
                 f"with the block this client sent (another client commissioned after us?): "
                 f"MODE = {mode}, sent CRC 0x{crc:04X}, drive holds CRC 0x{held[-1]:04X}"
                 f"{'' if held[:-1] == words else ' over different words'}, SEALED = {sealed}")
-        return CommissionResult(True, REASONS[0], 0, "done", crc, False)
+        return CommissionResult(True, REASONS[0], 0, "done", crc, False, True,
+                                f"commissioned: the drive sealed the block (CRC 0x{crc:04X}) and is in "
+                                f"operation; the output is off (gains 0, 0) until set_gains")
+
+    def save(self) -> SaveResult:
+        """SAVE (0x5A7E to COMMAND): the drive writes its sealed block and the active gains
+        to its non-volatile storage (``zwidth-drive --state-file``), which it checks and
+        restores at power-up.  Returns a SaveResult (accepted, or the drive's reason, e.g.
+        ZW_REASON_NO_STORAGE) with the block's CRC and the gains read back; it raises only
+        when the drive cannot be reached (ConnectionError) or refuses a read (DriveError)."""
+        exc = self.command("SAVE")
+        reason = self._refusal_reason(exc) if exc else REASONS[0]
+        crc = self._read(REG["CERT_CRC"], 1)[0]
+        now = self.gains()
+        if exc == 0:
+            text = (f"saved: the drive stored its sealed block (CRC 0x{crc:04X}) and the active "
+                    f"gains K = {now.K:.9g}, B = {now.B:.9g}; they are restored at power-up")
+        else:
+            hint = _SAVE_HINTS.get(reason, "")
+            text = f"SAVE refused: {reason} (exception {exc}); nothing was saved" + (f": {hint}" if hint else "")
+        return SaveResult(exc == 0, reason, exc, crc, now.K, now.B, text)

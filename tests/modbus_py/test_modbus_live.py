@@ -21,8 +21,13 @@ def f32(x: float) -> float:
     return struct.unpack(">f", struct.pack(">f", x))[0]
 
 
-def drive(port: int, timeout: float = TIMEOUT) -> zm.Drive:
-    return zm.Drive(LOOPBACK, port, timeout=timeout)
+def drive(port: int, timeout: float = TIMEOUT, **kw) -> zm.Drive:
+    return zm.Drive(LOOPBACK, port, timeout=timeout, **kw)
+
+
+def fields6(c: zm.CommissionResult) -> tuple:
+    """The outcome without its words: accepted, reason, exception, stage, crc, aborted."""
+    return (c.accepted, c.reason, c.exception, c.stage, c.crc, c.aborted)
 
 
 # ---------------------------------------------------------------------------------------
@@ -48,10 +53,10 @@ def test_status_of_a_fresh_drive(drive_port):
     assert s.loop == zm.Loop(0.0, "none", s.loop.cutoff_hz, 0, "backward", 0.0) and s.loop.ideal
     assert s.gains == zm.Gains(0.0, 0.0)
     # The paper: K_mmax = 0.4934 N m/rad at B = -1.357e-3 N m s/rad, delta = 5.12241.
-    assert s.limits.k_mmax == pytest.approx(0.493379, rel=1e-5)
-    assert s.limits.b_at_k_mmax == pytest.approx(-1.3567e-3, rel=1e-4)
+    assert s.limits.K_mmax == pytest.approx(0.493379, rel=1e-5)
+    assert s.limits.B_at_K_mmax == pytest.approx(-1.3567e-3, rel=1e-4)
     assert s.limits.delta == pytest.approx(5.12241, rel=1e-5)
-    assert s.limits.k_max == pytest.approx(0.357709, rel=1e-5)  # at B = 0
+    assert s.limits.K_max == pytest.approx(0.357709, rel=1e-5)  # at B = 0
     assert s.state == zm.State(0.0, 0.0, 0.0, 0)
     assert s.counters == zm.Counters(0, 0)
     assert s.last_refusal == zm.Refusal("ZW_REASON_NONE", 0)
@@ -77,8 +82,8 @@ def test_accepted_pair_is_one_change(drive_port):
     assert s.gains == zm.Gains(f32(0.30), f32(-1.0e-3))
     assert s.counters == zm.Counters(accepted=1, refused=0)
     # The live ceiling at the new B is sigma K_max(B) (below k_max = 10).
-    assert s.limits.k_cert == pytest.approx(POLICY["sigma"] * s.limits.k_max, rel=1e-6)
-    assert s.limits.b_lo < f32(-1.0e-3) < s.limits.b_hi
+    assert s.limits.K_cert == pytest.approx(POLICY["sigma"] * s.limits.K_max, rel=1e-6)
+    assert s.limits.B_lo < f32(-1.0e-3) < s.limits.B_hi
     assert 0.0 < s.limits.rho < POLICY["r"]
 
 
@@ -145,7 +150,7 @@ def test_paper_example_sigma_085(start_drive):
     with drive(port) as d:
         r = d.set_gains(K=0.40, B=-1.36e-3)
         assert r == zm.GainResult(True, "ZW_REASON_NONE", 0, f32(0.40), f32(-1.36e-3))
-        assert d.status().limits.k_cert == pytest.approx(0.85 * 0.492754, rel=1e-5)
+        assert d.status().limits.K_cert == pytest.approx(0.85 * 0.492754, rel=1e-5)
         r = d.set_gains(K=0.45, B=-1.36e-3)  # stable (0.45 < 0.4928), but above the fraction
         assert r == zm.GainResult(False, "ZW_REASON_ABOVE_SIGMA", 0x03, f32(0.40), f32(-1.36e-3))
 
@@ -160,7 +165,7 @@ def test_paper_example_sigma_08(start_drive):
             assert r == zm.GainResult(False, "ZW_REASON_ABOVE_SIGMA", 0x03, 0.0, 0.0)
         r = d.set_gains(K=0.39, B=-1.36e-3)
         assert r == zm.GainResult(True, "ZW_REASON_NONE", 0, f32(0.39), f32(-1.36e-3))
-        assert d.status().limits.k_cert == pytest.approx(0.8 * 0.492754, rel=1e-5)
+        assert d.status().limits.K_cert == pytest.approx(0.8 * 0.492754, rel=1e-5)
 
 
 # ---------------------------------------------------------------------------------------
@@ -188,7 +193,8 @@ def test_commission_an_unsealed_drive(start_drive):
             words += zm.float_to_words(NEW_BLOCK[key])
         words += [0] * 8  # the ideal loop
         words += zm.float_to_words(NEW_BLOCK["m"]) + zm.float_to_words(NEW_BLOCK["b"])  # a point
-        assert c == zm.CommissionResult(True, "ZW_REASON_NONE", 0, "done", zm.crc16_words(words), False)
+        assert fields6(c) == (True, "ZW_REASON_NONE", 0, "done", zm.crc16_words(words), False)
+        assert c.output_off and "the output is off (gains 0, 0) until set_gains" in str(c)
         s = d.status()
         assert s.sealed and s.mode == "operation" and s.gains == zm.Gains(0.0, 0.0)
         assert s.plant == zm.Plant(f32(85.78e-7), f32(2.197e-3), f32(0.02), f32(85.78e-7), f32(2.197e-3))
@@ -269,6 +275,9 @@ def test_block_replaced_before_seal_fails_the_mac(raw, drive_port, monkeypatch):
         c = d.commission(**NEW_BLOCK, key=TEST_KEY)
         assert (c.accepted, c.reason, c.exception, c.stage, c.aborted) == \
             (False, "ZW_REASON_AUTH", 0x03, "seal", True)
+        # the UNLOCK turned the output off, and the result says so and how to set gains again
+        assert c.output_off and "the output is now off: gains (0, 0)" in c.message
+        assert "Drive.set_gains(K=..., B=...)" in str(c)
         s = d.status()
     assert s.sealed and s.mode == "operation"
     assert s.policy == before.policy and s.policy.crc != theirs[-1]
@@ -288,7 +297,7 @@ def test_commission_read_back_passes_when_the_rival_writes_the_same_block(raw, d
 
         monkeypatch.setattr(d, "command", rival_then)
         c = d.commission(**NEW_BLOCK, key=TEST_KEY)
-    assert c == zm.CommissionResult(True, "ZW_REASON_NONE", 0, "done", ours[-1], False)
+    assert fields6(c) == (True, "ZW_REASON_NONE", 0, "done", ours[-1], False)
 
 
 def test_lying_block_with_public_docs_only_is_refused(raw, drive_port):
@@ -484,12 +493,12 @@ def test_drive_started_with_a_delay_certifies_for_it(start_drive):
         s = d.status()
         assert s.loop == zm.Loop(1.0, "none", s.loop.cutoff_hz, 0, "backward", 0.0)
         assert not s.loop.ideal
-        assert 0 < s.limits.k_max < 0.5 * ideal.limits.k_max
-        assert 0 < s.limits.k_mmax < ideal.limits.k_mmax
-        assert s.limits.b_lo != s.limits.b_lo  # NaN: not computed per write (regmap.h)
+        assert 0 < s.limits.K_max < 0.5 * ideal.limits.K_max
+        assert 0 < s.limits.K_mmax < ideal.limits.K_mmax
+        assert s.limits.B_lo != s.limits.B_lo  # NaN: not computed per write (regmap.h)
         r = d.set_gains(K=0.40, B=-1.36e-3)
         assert (r.accepted, r.reason, r.exception) == (False, "ZW_REASON_UNSTABLE", 0x03)
-        k = f32(0.5 * s.limits.k_cert)
+        k = f32(0.5 * s.limits.K_cert)
         assert d.set_gains(K=k, B=0.0).accepted
 
 
@@ -510,7 +519,7 @@ def test_commission_with_a_low_pass_filter(start_drive):
         assert s.loop.pole == pytest.approx(math.exp(-2 * math.pi * 5.0 * f32(0.02)), rel=1e-6)
         assert s.policy.crc == c.crc == block_words({**NEW_BLOCK, "delay": 1, "vfilter": 1,
                                                      "vf_param": 5.0})[-1]
-        assert d.set_gains(K=f32(0.5 * s.limits.k_cert), B=0.0).accepted
+        assert d.set_gains(K=f32(0.5 * s.limits.K_cert), B=0.0).accepted
 
 
 @pytest.mark.parametrize("loop, reason", [
@@ -548,10 +557,87 @@ def test_an_old_client_cannot_seal_a_version_1_block(raw, drive_port):
         assert d.command("ABORT") == 0
 
 
-def test_cdab_drive_is_refused_not_misread(start_drive):
-    port = start_drive(extra=("--word-order", "cdab"))
-    with pytest.raises(zm.DriveError, match="low word first"):
-        drive(port).connect()
+def test_cdab_drive_is_spoken(start_drive):
+    """zwidth-drive --word-order cdab: the client follows WORD_ORDER (word_order="auto", or
+    "cdab"), so status, set_gains and commission read and write what an ABCD drive does;
+    asking for the other order is refused, not misread."""
+    abcd, cdab = start_drive(), start_drive(extra=("--word-order", "cdab"))
+    with drive(abcd) as a, drive(cdab) as c, drive(cdab, word_order="cdab") as c2:
+        sa, sc = a.status(), c.status()
+        assert sc == sa and sc.policy.crc == sa.policy.crc and sc.limits.K_mmax == pytest.approx(0.493379, rel=1e-5)
+        for d in (a, c2):
+            r = d.set_gains(K=0.39, B=-1.36e-3)
+            assert r.accepted and (r.K, r.B) == (f32(0.39), f32(-1.36e-3))
+            assert d.gains() == zm.Gains(f32(0.39), f32(-1.36e-3))
+        assert c.status().limits == a.status().limits and c.status().counters == a.status().counters
+        r = c.set_gains(K=0.45)  # above sigma K_max(B): refused, with the reason, in CDAB too
+        assert (r.accepted, r.reason, r.K) == (False, "ZW_REASON_ABOVE_SIGMA", f32(0.39))
+        res = c.commission(**NEW_BLOCK, key=TEST_KEY)  # CRC and MAC over the ABCD words
+        assert res.accepted, res
+        assert c.status().policy == zm.Policy(*(f32(NEW_BLOCK[k]) for k in (
+            "sigma", "r", "k_min", "k_max", "b_min", "b_max", "dk_max", "db_max")), res.crc)
+        assert res.crc == a.commission(**NEW_BLOCK, key=TEST_KEY).crc  # one CRC, either order
+    with pytest.raises(zm.DriveError, match=r"low word first \(CDAB\); this client was asked for ABCD"):
+        drive(cdab, word_order="abcd").connect()
+    with pytest.raises(zm.DriveError, match=r"high word first \(ABCD\)"):
+        drive(abcd, word_order="cdab").connect()
+    with pytest.raises(ValueError, match="word_order"):
+        zm.Drive(LOOPBACK, abcd, word_order="badc")
+
+
+def test_save_then_restart_restores(start_drive, tmp_path):
+    """Drive.save(): the drive stores its block and gains; a drive started again on the same
+    state file has them back (RESTORE_SOURCE 1)."""
+    from mb_support import stop
+
+    state = tmp_path / "state.bin"
+    port = start_drive(extra=("--state-file", str(state)))
+    with drive(port) as d:
+        assert d.set_gains(K=0.39, B=-1.36e-3).accepted
+        r = d.save()
+        crc = d.status().policy.crc
+    assert isinstance(r, zm.SaveResult) and r.accepted and r.reason == "ZW_REASON_NONE"
+    assert (r.crc, r.K, r.B) == (crc, f32(0.39), f32(-1.36e-3))
+    assert str(r) == (f"saved: the drive stored its sealed block (CRC 0x{crc:04X}) and the active gains "
+                      f"K = {f32(0.39):.9g}, B = {f32(-1.36e-3):.9g}; they are restored at power-up")
+    stop(start_drive.procs[-1])
+    port = start_drive(extra=("--state-file", str(state)))
+    with drive(port) as d:
+        assert d.gains() == zm.Gains(f32(0.39), f32(-1.36e-3))
+        assert d._read(zm.REG["RESTORE_SOURCE"], 1) == [1]
+
+
+def test_save_without_storage_says_why(drive_port):
+    with drive(drive_port) as d:
+        r = d.save()
+    assert (r.accepted, r.reason, r.exception) == (False, "ZW_REASON_NO_STORAGE", 0x03)
+    assert "nothing was saved" in r.message and "--state-file" in r.message
+
+
+def test_wrong_key_commission_says_the_output_is_off(drive_port):
+    with drive(drive_port) as d:
+        assert d.set_gains(K=0.39, B=-1.36e-3).accepted
+        c = d.commission(**NEW_BLOCK, key=bytes(32))
+        assert (c.accepted, c.reason, c.stage, c.aborted, c.output_off) == \
+            (False, "ZW_REASON_AUTH", "seal", True, True)
+        assert c.message.startswith("commissioning refused at seal: ZW_REASON_AUTH (exception 3); "
+                                    "ABORT sent: the last sealed block is back; the output is now off")
+        assert d.gains() == zm.Gains(0.0, 0.0)  # what the message says
+
+
+def test_limits_names_match_k_max_elsewhere(drive_port):
+    """Limits.K_max, K_cert, K_mmax, ... as zwidth.Device and zwidth-tune's JSON name them;
+    the old lowercase names still read, with a DeprecationWarning."""
+    with drive(drive_port) as d:
+        lim = d.status().limits
+    assert [f for f in lim.__dataclass_fields__] == ["K_max", "K_cert", "B_lo", "B_hi", "K_mmax",
+                                                     "B_at_K_mmax", "rho", "delta"]
+    for old, new in (("k_max", "K_max"), ("k_cert", "K_cert"), ("k_mmax", "K_mmax"),
+                     ("b_lo", "B_lo"), ("b_hi", "B_hi"), ("b_at_k_mmax", "B_at_K_mmax")):
+        with pytest.warns(DeprecationWarning, match=f"Limits.{old} is deprecated: use Limits.{new}"):
+            assert getattr(lim, old) == getattr(lim, new)
+    with pytest.raises(AttributeError):
+        lim.k_max = 1.0  # type: ignore[misc]
 
 
 # ---------------------------------------------------------------------------------------
@@ -578,21 +664,21 @@ def test_commission_a_ranged_block(start_drive):
                                    f32(1.04 * J_PAPER), f32(1.03 * B_PAPER))
         assert s.plant.ranged
         lim = s.limits
-        assert math.isnan(lim.b_lo) and math.isnan(lim.b_hi) and math.isnan(lim.rho)
-        assert 0.0 < lim.k_cert <= 0.8 * lim.k_max * (1 + 1e-6) and lim.k_mmax > 0.0
+        assert math.isnan(lim.B_lo) and math.isnan(lim.B_hi) and math.isnan(lim.rho)
+        assert 0.0 < lim.K_cert <= 0.8 * lim.K_max * (1 + 1e-6) and lim.K_mmax > 0.0
         # K_CERT at the current B is accepted; 0.95 K_MAX is stable for every plant (below
         # the box's infimum) but above sigma K_max, and K_MAX x 1.3 unstable somewhere
-        r = d.set_gains(K=lim.k_cert, B=0.0)
+        r = d.set_gains(K=lim.K_cert, B=0.0)
         assert r.accepted, r.reason
-        r = d.set_gains(K=0.95 * lim.k_max, B=0.0)
+        r = d.set_gains(K=0.95 * lim.K_max, B=0.0)
         assert (r.accepted, r.reason) == (False, "ZW_REASON_ABOVE_SIGMA")
-        r = d.set_gains(K=1.3 * lim.k_max, B=0.0)
+        r = d.set_gains(K=1.3 * lim.K_max, B=0.0)
         assert (r.accepted, r.reason) == (False, "ZW_REASON_UNSTABLE")
         # the paper's example at B = -1.36e-3: within sigma K_max of the lighter plants, not of
         # the box (K_max falls with J here), so refused, and the gains stay
         r = d.set_gains(K=0.40, B=-1.36e-3)
         assert not r.accepted and r.reason in ("ZW_REASON_ABOVE_SIGMA", "ZW_REASON_UNSTABLE")
-        assert d.gains() == zm.Gains(f32(lim.k_cert), 0.0)
+        assert d.gains() == zm.Gains(f32(lim.K_cert), 0.0)
 
 
 def test_ranged_block_with_a_radius_bound_is_refused(start_drive):
