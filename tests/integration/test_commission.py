@@ -91,7 +91,7 @@ def test_commissioning_end_to_end(start_drive):
     assert v.pop("drive").startswith("in operation, sealed block CRC 0x")  # read back
     assert v == {"verdict": "refused", "step": "seal", "reason": "ZW_REASON_BAD_POLICY",
                  "reason_code": 20, "exception": 3, "exception_name": "ILLEGAL_DATA_VALUE",
-                 "aborted": True}
+                 "aborted": True, "gains": {"K": 0, "B": 0}, "output_off": True}
     s = status(d)
     assert s["sealed"] is True and s["mode"] == "operation" and s["cert"]["sigma"] == f32(0.9)
     assert s["gains"] == {"K": 0.0, "B": 0.0}  # unlocking turned the output off
@@ -181,7 +181,11 @@ def test_commission_a_box_of_plants_with_tune(start_drive):
     # a range option that is not LO:HI is a usage error
     p = d.tune("commission", "--paper-defaults", "--m", "1e-6:")
     assert p.returncode == 2
-    d2 = start_drive("--m", "8e-6:9.5e-6", "--r", "1", "--max-r", "1")
+    # a box other than the paper's plant states its loop and its gain bounds (zwidth-drive
+    # refuses to start without them, test_drive_options.py)
+    d2 = start_drive("--m", "8e-6:9.5e-6", "--r", "1", "--max-r", "1", "--delay", "0",
+                     "--k-max", "10", "--b-min", "-0.01", "--b-max", "0.01", "--dk-max", "1",
+                     "--db-max", "0.01")
     s2 = status(d2)
     assert (s2["cert"]["m"], s2["cert"]["m_hi"]) == (f32(8e-6), f32(9.5e-6))
     assert s2["live"]["B_lo"] is None  # NaN: no box form per write

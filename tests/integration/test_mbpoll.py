@@ -81,5 +81,14 @@ def test_mbpoll_cdab_drive(start_drive):
     assert values(p.stdout) == {0: 0x5A57}
     p = mbpoll(d, "-t", "4", "-r", "131", "-c", "1", LOOPBACK)
     assert values(p.stdout) == {131: 1}
-    p = d.tune("status")  # zwidth-tune speaks ABCD and says so rather than misread
-    assert p.returncode == 2 and "low word first (CDAB)" in p.stderr, p.stderr
+    # zwidth-tune follows WORD_ORDER: it reads what mbpoll wrote, and writes what mbpoll reads
+    p = d.tune("status", "--json")
+    assert p.returncode == 0, p.stderr
+    assert {k: f32(v) for k, v in json.loads(p.stdout)["gains"].items()} == {"K": f32(0.2), "B": f32(-0.0005)}
+    p = d.tune("--word-order", "cdab", "set", "--K", "0.25", "--B", "-0.0004")
+    assert p.returncode == 0 and p.stdout.startswith("accepted: active gains K = 0.25"), (p.stdout, p.stderr)
+    p = mbpoll(d, "-t", "4:float", "-r", "16", "-c", "2", LOOPBACK)
+    assert values(p.stdout) == {16: pytest.approx(0.25, rel=1e-6), 18: pytest.approx(-0.0004, rel=1e-6)}
+    # asked for the other order, it says so rather than misread
+    p = d.tune("--word-order", "abcd", "status")
+    assert p.returncode == 2 and "low word first (CDAB); --word-order abcd says high word first" in p.stderr, p.stderr

@@ -232,3 +232,74 @@ def test_loop_options_are_checked():
     p = subprocess.run([str(DRIVE), "--host", LOOPBACK, "--port", "0", "--velocity-filter", "average:2",
                         "--differentiator", "tustin"], capture_output=True, text=True, timeout=20)
     assert p.returncode == 2 and "ZW_REASON_LOOP_NEVER_STABLE" in p.stderr
+
+
+# ---------------------------------------------------------------------------------------
+# save, CDAB, a refused commissioning (issue 24)
+# ---------------------------------------------------------------------------------------
+
+def test_save_then_restart_restores(start_drive, tmp_path):
+    """`zwidth-tune save` stores the sealed block and the gains; a drive started again on
+    that state file has both back."""
+    state = tmp_path / "drive.state"
+    d = start_drive("--state-file", str(state))
+    assert set_gains(d, "--K", "0.39", "--B", "-1.36e-3")[0] == 0
+    crc = status(d)["cert"]["crc"]
+    p = d.tune("save")
+    assert p.returncode == 0, (p.stdout, p.stderr)
+    assert p.stdout == (f"saved: the drive stored its sealed block (CRC 0x{crc:04X}) and the active "
+                        f"gains K = 0.389999986, B = -0.00135999999; they are restored at power-up\n")
+    assert state.stat().st_size == 86
+    p = d.tune("save", "--json")
+    assert p.returncode == 0 and loads(p.stdout) == {"verdict": "saved", "crc": crc, "K": f32(0.39),
+                                                     "B": f32(-1.36e-3)}
+    d.stop()
+    d = start_drive("--state-file", str(state))
+    s = status(d)
+    assert s["gains"] == {"K": f32(0.39), "B": f32(-1.36e-3)} and s["cert"]["crc"] == crc
+
+
+def test_save_refused_says_why(drive):
+    p = drive.tune("save")
+    assert p.returncode == 3
+    assert p.stdout == ("refused: ZW_REASON_NO_STORAGE (exception 0x03 ILLEGAL_DATA_VALUE); nothing was "
+                        "saved\nthe drive has no non-volatile storage (zwidth-drive --state-file PATH)\n")
+    p = drive.tune("save", "--json")
+    assert p.returncode == 3 and loads(p.stdout)["reason"] == "ZW_REASON_NO_STORAGE"
+
+
+def test_cdab_drive_round_trip(start_drive):
+    """zwidth-drive --word-order cdab: zwidth-tune follows WORD_ORDER; set and status give what
+    they give on an ABCD drive, and a commissioning there seals the same CRC."""
+    a, c = start_drive(), start_drive("--word-order", "cdab")
+    for d in (a, c):
+        assert set_gains(d, "--K", "0.39", "--B", "-1.36e-3") == (0, {"verdict": "accepted", "K": f32(0.39),
+                                                                      "B": f32(-1.36e-3), "requests": 1})
+        assert set_gains(d, "--K", "0.45")[1]["reason"] == "ZW_REASON_ABOVE_SIGMA"
+    assert status(c) == status(a)
+    crcs = []
+    for d in (a, c):
+        p = d.tune("commission", "--paper-defaults", "--sigma", "0.85", "--json")
+        assert p.returncode == 0, (p.stdout, p.stderr)
+        crcs.append(loads(p.stdout)["crc"])
+    assert crcs[0] == crcs[1] == status(c)["cert"]["crc"]
+    assert status(c)["cert"]["sigma"] == f32(0.85)
+    p = c.tune("--word-order", "abcd", "status")
+    assert p.returncode == 2 and "low word first (CDAB)" in p.stderr
+
+
+def test_commission_refused_at_seal_says_the_output_is_off(start_drive, tmp_path):
+    from zwmb_harness import write_key
+
+    d = start_drive()
+    assert set_gains(d, "--K", "0.39", "--B", "-1.36e-3")[0] == 0
+    wrong = write_key(tmp_path / "wrong.key", "00" * 32)
+    p = d.tune("commission", "--paper-defaults", "--key-file", str(wrong))
+    assert p.returncode == 3
+    lines = p.stdout.splitlines()
+    assert lines[0].startswith("refused at seal: ZW_REASON_AUTH (exception 0x03 ILLEGAL_DATA_VALUE); "
+                               "we sent ABORT; the drive is now in operation, sealed block CRC 0x")
+    assert lines[-1] == ("the output is now off: gains K = 0, B = 0 (the UNLOCK turned it off; the "
+                         "refusal and ABORT do not bring the old gains back); set gains again with "
+                         "zwidth-tune set --K K --B B")
+    assert status(d)["gains"] == {"K": 0.0, "B": 0.0}  # as it says
