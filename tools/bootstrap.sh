@@ -16,6 +16,9 @@
 #   tools/bootstrap.sh            probe, install what is missing, verify
 #   tools/bootstrap.sh --check    probe only; print what is missing (exit 1 if anything is)
 #   tools/bootstrap.sh --demo     only what tools/demo.sh needs (C compiler, CMake, Ninja)
+#   tools/bootstrap.sh --modbus-demo
+#                                 only what tools/modbus_demo.sh needs (the demo's, plus
+#                                 pkg-config, libmodbus and libcrypto; no .venv)
 #
 # Python: a virtualenv in .venv with tools/requirements-test.txt; the zwidth package itself
 # is installed by tools/test.sh (pip install .).
@@ -30,6 +33,7 @@ case "${1:-}" in
     "") ;;
     --check) mode=check ;;
     --demo) mode=demo ;;
+    --modbus-demo) mode=modbus-demo ;;
     -h|--help) sed -n '2,/^[^#]/{/^#/p}' "$0" | grep -v 'SPDX-' | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "bootstrap.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
 esac
@@ -81,19 +85,21 @@ probe_frama_c_eva() { printf 'int main(void){volatile int v = 0; int a[2] = {0, 
 probe_python_venv() { quiet python3 -c 'import venv, ensurepip'; }
 probe_python_headers() { quiet python3 -c 'import os, sysconfig; assert os.path.exists(os.path.join(sysconfig.get_paths()["include"], "Python.h"))'; }
 
-# The capabilities, the Debian packages that give each, and which steps need it.
-#        name           probe               packages                                  demo?
+# The capabilities, the Debian packages that give each, and which demo modes need it
+# (demo: tools/demo.sh, mbdemo: tools/modbus_demo.sh; every capability is needed by the
+# full mode).
+#        name           probe               packages                                  demos
 caps=(
-    "C99 compiler + libm|probe_c|gcc libc6-dev|demo"
+    "C99 compiler + libm|probe_c|gcc libc6-dev|demo mbdemo"
     "C++ compiler|probe_cxx|g++|"
-    "CMake >= 3.18|probe_cmake|cmake|demo"
-    "Ninja|probe_ninja|ninja-build|demo"
-    "pkg-config|probe_pkg_config|pkg-config|"
+    "CMake >= 3.18|probe_cmake|cmake|demo mbdemo"
+    "Ninja|probe_ninja|ninja-build|demo mbdemo"
+    "pkg-config|probe_pkg_config|pkg-config|mbdemo"
     "gcc ASan/UBSan runtime|probe_sanitizers|libasan8 libubsan1|"
     "gcc ThreadSanitizer runtime|probe_tsan|libtsan2|"
     "cmocka (C unit tests)|probe_cmocka|libcmocka-dev|"
-    "libmodbus (drive, tuning tool)|probe_modbus|libmodbus-dev|"
-    "OpenSSL libcrypto HMAC-SHA256 (commissioning key)|probe_libcrypto|libssl-dev|"
+    "libmodbus (drive, tuning tool)|probe_modbus|libmodbus-dev|mbdemo"
+    "OpenSSL libcrypto HMAC-SHA256 (commissioning key)|probe_libcrypto|libssl-dev|mbdemo"
     "Cortex-M cross link with newlib (footprint, QEMU)|probe_arm|gcc-arm-none-eabi libnewlib-arm-none-eabi|"
     "QEMU mps2-an386 (Cortex-M4 benchmark)|probe_qemu_m4|qemu-system-arm|"
     "valgrind callgrind (instruction counts)|probe_valgrind|valgrind|"
@@ -113,7 +119,10 @@ probe_all() {
     local entry name probe pkgs demo
     for entry in "${caps[@]}"; do
         IFS='|' read -r name probe pkgs demo <<<"$entry"
-        [ "$mode" = demo ] && [ "$demo" != demo ] && continue
+        case "$mode" in  # a demo mode probes only what that demo needs
+            demo) [[ " $demo " == *" demo "* ]] || continue ;;
+            modbus-demo) [[ " $demo " == *" mbdemo "* ]] || continue ;;
+        esac
         if ! "$probe"; then
             missing_names+=("$name")
             # libFuzzer's runtime is a separate package named after clang's major version
