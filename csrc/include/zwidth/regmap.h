@@ -146,9 +146,12 @@
  *                   single writer of everything but the state registers), at a priority
  *                   below the control loop, never in the serial/Ethernet receive ISR: an
  *                   accepted write or a SEAL runs the core (live registers, K_CERT search,
- *                   400-iteration root finder) for thousands of float operations, milliseconds
- *                   on a soft-float C28x; measure its worst case on the target and size the
- *                   Modbus response timeout for it.  The control loop only ever reads the
+ *                   400-iteration root finder, and for a ranged block the box search): a
+ *                   point block's SEAL measured 37,840 instructions on a Cortex-M4F, a
+ *                   ranged block's SEAL 3.3e9 (about 20 s at 168 MHz), far more on a
+ *                   soft-float C28x; measure its worst case on the target and size the
+ *                   Modbus task's watchdog and the master's response timeout for it (a
+ *                   ranged SEAL needs seconds, not milliseconds).  The control loop only ever reads the
  *                   gains it is handed, so a long request never delays a control sample.
  * The two cross-context channels are published through a double buffer and a sequence word
  * stored once: the writer fills the slot not in force, then stores the sequence word that
@@ -289,8 +292,9 @@ typedef struct zw_regmap_state_slot {
 typedef struct zw_regmap {
     zw_cert sealed;                 /* the block in force */
     /* derived from sealed: the plant (loop.dev) and the drive's loop, the gains' rounding
-     * in its guard.  The largest part of the map: about 1.4 KB with float zw_real (the
-     * loop's 12 coefficient arrays of ZW_LOOP_MAX_DEGREE + 1), 2.7 KB with double. */
+     * in its guard.  1,688 B with float zw_real on a Cortex-M4F (the loop's 12
+     * coefficient arrays of ZW_LOOP_MAX_DEGREE + 1; 1,692 B on x86-64), 3,376 B with
+     * double (x86-64). */
     zw_device_loop loop;
     zw_loop_workspace ws;           /* scratch of the general loop's checks (loop.h): here, off
                                        the stack; one map is served by one task at a time */
@@ -324,8 +328,11 @@ typedef struct zw_regmap {
     uint_least16_t kmax_cached;
     /* The box search of a ranged block (map version 4, regmap_policy.h): its depth-first
      * cell stack and scratch, here rather than on the stack (scratch only, nothing kept
-     * between requests): 4.9 KB with float zw_real, 9.6 KB with double, which makes
-     * sizeof(zw_regmap) 7.8 KB / 15.1 KB.  With a ranged block kmax_value holds the box's
+     * between requests): 2,560 + 2,880 B with float zw_real on a Cortex-M4F (2,560 +
+     * 2,884 B on x86-64), 5,120 + 5,760 B with double (x86-64), the largest part of the
+     * map: sizeof(zw_regmap) is 8,436 B on the Cortex-M4F (float), 8,504 B / 16,456 B on
+     * x86-64 (float / double; measured with sizeof, docs/modbus.md).  With a ranged block
+     * kmax_value holds the box's
      * K_max lower bound. */
     zw_box_loop_cell box_cells[ZW_REGMAP_BOX_CELLS];
     zw_box_loop_scratch box_scratch;
