@@ -33,8 +33,10 @@ int zw_parse_long(const char *prog, const char *name, const char *text, long lo,
 /* The certified block as options: --m --b --T --sigma --r --k-min --k-max --b-min --b-max
  * --dk-max --db-max (the policy, ZW_CERT_NPOLICY fields, all needed to commission), then
  * the loop: --delay D (0..8), --velocity-filter none|lowpass:F[Hz]|average:N (fields
- * vfilter and vf_param), --differentiator backward|tustin; the loop defaults to the ideal
- * one (0, none, backward).  Then the plant ranges (map version 4): --m-hi, --b-hi, or
+ * vfilter and vf_param; spelled as zw_hostloop.h parses it, shared with zwidth-limits; the
+ * block holds a cut-off, so pole:A is refused), --differentiator backward|tustin; the loop
+ * fields default to the ideal one (0, none, backward), and given[11] says whether --delay
+ * was given (zwidth-drive requires it with a plant).  Then the plant ranges (map version 4): --m-hi, --b-hi, or
  * --m LO:HI and --b LO:HI (the lower end in --m / --b); an upper end not given is the
  * lower end (a point block has M_HI = M, B_HI = B).  Index i is register
  * ZW_REG_CERT_M + 2 i. */
