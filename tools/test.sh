@@ -80,7 +80,7 @@ tools/fuzz.sh "${ZW_FUZZ_SECONDS:-30}" 2>&1 | tail -n 4
 
 step "Python package: pip install . (scikit-build-core, pybind11), then mypy --strict and stubtest"
 .venv/bin/python -m pip install -q --disable-pip-version-check .
-.venv/bin/zwidth limits --m 0.1 --b 30 --T 0.01 >/dev/null
+.venv/bin/zwidth limits --m 0.1 --b 30 --T 0.01 --delay 0 >/dev/null
 .venv/bin/python -m mypy
 .venv/bin/python -m mypy.stubtest zwidth._core
 

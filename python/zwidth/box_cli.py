@@ -22,7 +22,7 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 
 from .box import PlantBox, PlantRange, parse_range
 from .cli import (EXIT_INVALID, EXIT_OK, EXIT_PLOT, EXIT_UNSTABLE, _emit, _fmt, _Outcome, _PlotError,
-                  _apply_preset, _Usage, _velocity_filter, _write_figure, parse_hand)
+                  _apply_preset, _Usage, _velocity_filter, _write_figure, parse_hand, require_loop)
 from ._kernels import ZwidthError
 
 _RANGE_OPTIONS = ("m", "J", "b")
@@ -49,6 +49,7 @@ def has_range(args: argparse.Namespace) -> bool:
 
 def _box(args: argparse.Namespace) -> PlantBox:
     _apply_preset(args)  # --preset paper-drive with a range (--hand 0:1e-6,0,0): the drive's m, b, T
+    require_loop(args)
     norm = [f"--{n}" for n in ("delta", "alpha", "beta") if getattr(args, n, None) is not None]
     if norm:
         raise _Usage(f"plant ranges are in real units: {', '.join(norm)} cannot be combined with them")
@@ -83,8 +84,7 @@ def _units(box: PlantBox) -> Dict[str, str]:
 def _header(box: PlantBox) -> str:
     u = _units(box)
     text = (f"Plant box: {box.mass_symbol} in [{_fmt(box.m.lo)}, {_fmt(box.m.hi)}] {u['m']}, "
-            f"b in [{_fmt(box.b.lo)}, {_fmt(box.b.hi)}] {u['b']}, T = {_fmt(box.T)} s "
-            f"(loop: {box.loop.describe()})")
+            f"b in [{_fmt(box.b.lo)}, {_fmt(box.b.hi)}] {u['b']}, T = {_fmt(box.T)} s")
     if box.stiffness.hi > 0.0:
         text += f"\n  device stiffness k_p in [{_fmt(box.stiffness.lo)}, {_fmt(box.stiffness.hi)}] {u['K']}"
     if any(r.hi > 0.0 for r in box.hand):
@@ -209,7 +209,7 @@ def main(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
         return EXIT_PLOT
     if args.json:
         outcome.data = {"mode": "box", "box": _summary(box), "units": _units(box), **outcome.data}
-    _emit(outcome, args.command, None, args.json, sys.stdout)
+    _emit(outcome, args.command, None, args.json, sys.stdout, loop=box.loop)
     return int(outcome.status)
 
 

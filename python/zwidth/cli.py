@@ -60,13 +60,17 @@ exit status:
 
 simulate takes a scene file instead of a plant (docs/scenes.md): 'zwidth simulate --help'.
 
+every verdict and limit is for a stated loop: --delay N is required (0 the paper's ideal
+loop, 1 most firmware: the force applied at the next tick), with --velocity-filter and
+--differentiator where they apply; --preset paper-drive carries the paper's loop.
+
 examples:
-  zwidth limits --m 0.1 --b 30 --T 0.01
-  zwidth check --J 85.78e-7 --b 2.197e-3 --T 0.02 --K 0.39 --B -1.36e-3
-  zwidth check --delta 5.122 --alpha 23 --beta -1.5 --json
-  zwidth limits --J 5e-6:5e-5 --b 2.0e-3:2.4e-3 --T 0.02   (ranges: every plant of the box, docs/box.md)
-  zwidth advise --J 85.78e-7 --b 2.197e-3 --T 0.02 --K 0.5 --B -1.36e-3
-  zwidth plot region --delta 5.122 --alpha 23 --beta -1.5 -o region.png
+  zwidth limits --m 0.12 --b 0.8 --T 1e-3 --delay 1 --velocity-filter lowpass:100Hz
+  zwidth check --J 85.78e-7 --b 2.197e-3 --T 0.02 --K 0.39 --B -1.36e-3 --delay 0
+  zwidth check --delta 5.122 --alpha 23 --beta -1.5 --delay 0 --json
+  zwidth limits --J 5e-6:5e-5 --b 2.0e-3:2.4e-3 --T 0.02 --delay 1   (ranges: every plant of the box, docs/box.md)
+  zwidth advise --preset paper-drive --K 0.5 --B -1.36e-3
+  zwidth plot region --delta 5.122 --alpha 23 --beta -1.5 --delay 0 -o region.png
   zwidth simulate scenes/paper-fig15.toml --plot fig15.png
 
 'zwidth SUBCOMMAND --help' lists the keys of each subcommand's --json output."""
@@ -254,6 +258,14 @@ _BOUND_TEXT = {
 }
 
 
+#: Why a verdict or limit needs the loop stated (exit 2 when it is not).
+LOOP_NOT_STATED = ("the loop is not stated: give --delay N, the samples between measuring the position "
+                   "and applying its force (--delay 0 for the paper's ideal loop; most firmware computes "
+                   "during the period and applies at the next tick: --delay 1), and --velocity-filter if "
+                   "the velocity is filtered (lowpass:100Hz, average:4); --preset paper-drive states the "
+                   "paper's loop")
+
+
 class _Usage(Exception):
     """A usage error found after parsing (reported through parser.error, exit 2)."""
 
@@ -317,6 +329,7 @@ class _Plant:
     beta: Optional[float] = None
     loop: Loop = dataclasses.field(default_factory=Loop)  # what the drive runs (--delay, ...)
     preset: Optional[str] = None   # --preset, when the plant came from one
+    loop_from_preset: bool = False  # no --delay: the preset's loop
     kappa: float = 0.0             # normalized plant-side parts (--kappa, --lambda; normalized mode)
     lambda_: float = 0.0
 
@@ -392,7 +405,8 @@ class _Plant:
         return "\nPlant-side parts: " + "; ".join(out) + f" (gains normalized by {self.mass} + m_h)"
 
     def header(self) -> str:
-        loop = ("" if self.loop.ideal else f"\nLoop: {self.loop.describe()}") + self.parts_text()
+        """The plant (the loop is the line before it: loop_line, printed by _emit)."""
+        loop = self.parts_text()
         if self.device is None:
             return f"Plant (normalized): delta = bT/m = {_fmt(self.delta)}" + loop
         u = self.units() or {}
@@ -427,6 +441,9 @@ def _apply_preset(args: argparse.Namespace) -> None:
     if norm_given:
         raise _Usage(f"--preset {name} is a real-unit plant: it cannot be combined with {', '.join(norm_given)}")
     preset = PRESETS[name]
+    if getattr(args, "delay", None) is None:
+        args.delay = 0  # the paper's drive runs the paper's loop: the preset states it
+        args.loop_from_preset = True
     if args.m is None and args.J is None:
         args.J = preset["J"]
     for key in ("b", "T"):
@@ -461,6 +478,7 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
             raise _Usage("--alpha and --beta need --delta")
         if (args.alpha is None) != (args.beta is None):
             raise _Usage("give both --alpha and --beta (or neither)")
+        require_loop(args, normalized=True)
         extremes(args.delta)  # validates delta (ZwidthError naming it)
         kappa = getattr(args, "kappa", None) or 0.0
         lam = getattr(args, "lambda_", None) or 0.0
@@ -474,16 +492,34 @@ def _plant(args: argparse.Namespace, *, need_plant: bool = True) -> Optional[_Pl
         raise _Usage(f"the plant needs {', '.join(missing)} (or --preset paper-drive)")
     if (args.K is None) != (args.B is None):
         raise _Usage("give both --K and --B (or neither)")
+    require_loop(args)
     loop_options = _device_loop_options(args)
     parts = _plant_part_options(args)
     dev = (Device(args.J, args.b, args.T, rotary=True, **loop_options, **parts) if args.J is not None
            else Device(args.m, args.b, args.T, **loop_options, **parts))
     plant = _Plant(delta=float(dev.delta), device=dev, K=args.K, B=args.B, loop=dev.loop,
-                   preset=getattr(args, "preset", None))
+                   preset=getattr(args, "preset", None), loop_from_preset=getattr(args, "loop_from_preset", False))
     if args.K is not None:
         n = dev.normalize(args.K, args.B)
         plant.alpha, plant.beta = float(n.alpha), float(n.beta)
     return plant
+
+
+def require_loop(args: argparse.Namespace, *, normalized: bool = False) -> None:
+    """Every verdict and limit is for a stated loop: --delay (or a preset's loop), else a
+    usage error saying what to give and why (never the paper's loop by default). A
+    mistyped loop option is named first, as zwidth-limits does."""
+    if getattr(args, "velocity_filter", None) is not None:
+        vf = _velocity_filter(args)
+        if normalized and vf is not None and vf[0] == "lowpass":
+            raise _Usage(_HZ_NEEDS_PERIOD)
+    if getattr(args, "delay", None) is None:
+        raise _Usage(LOOP_NOT_STATED)
+
+
+def loop_line(loop: Loop, from_preset: bool = False) -> str:
+    """The first line of every output: the loop judged, in full."""
+    return f"Loop: {loop.statement()}" + (", from --preset paper-drive" if from_preset else "")
 
 
 def _velocity_filter(args: argparse.Namespace) -> Optional[Tuple[str, Any]]:
@@ -526,11 +562,14 @@ def _plant_part_options(args: argparse.Namespace) -> Dict[str, Any]:
     return out
 
 
+_HZ_NEEDS_PERIOD = ("argument --velocity-filter: a cut-off in Hz needs the period: give a real-unit plant "
+                    "(--m, --b, --T), or the pole in the normalized space (pole:A, A = exp(-2 pi f_c T))")
+
+
 def _normalized_loop(args: argparse.Namespace) -> Loop:
     vf = _velocity_filter(args)
     if vf is not None and vf[0] == "lowpass":
-        raise _Usage("argument --velocity-filter: a cut-off in Hz needs the period: give a real-unit plant "
-                     "(--m, --b, --T), or the pole in the normalized space (pole:A, A = exp(-2 pi f_c T))")
+        raise _Usage(_HZ_NEEDS_PERIOD)
     pole = vf[1] if vf is not None and vf[0] == "pole" else 0.0
     average = vf[1] if vf is not None and vf[0] == "average" else None
     return normalized_loop("check", args.delay, pole, average, args.differentiator)
@@ -643,7 +682,60 @@ def cmd_check_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         lines.append("  beta range at this alpha: " + (
             f"{_fmt(beta_range['lo'])} < beta < {_fmt(beta_range['hi'])}"
             if beta_range["nonempty"] else "none (no beta is stable at this alpha)") + " (this loop)")
+    data["delay_1"], more = _delay1_check(plant, bool(v.stable))
+    lines += more
     return _Outcome(EXIT_OK if bool(v.stable) else EXIT_UNSTABLE, data, lines)
+
+
+_DELAY1 = "with 1 sample of delay (most firmware applies the force at the next tick)"
+
+
+def _delay1_check(plant: _Plant, stable: bool) -> Tuple[Optional[Dict[str, Any]], List[str]]:
+    """For a loop stated without delay: the same gains with 1 sample of delay (the JSON
+    object and the lines; a warning when only the undelayed loop is stable).  None, [] for
+    a delayed loop."""
+    if plant.loop.delay != 0:
+        return None, []
+    if plant.device is not None:
+        d1 = plant.device.with_delay(1)
+        K, B = float(plant.K), float(plant.B)  # type: ignore[arg-type]
+        v, rho, limit = d1.verdict(K, B), d1.spectral_radius(K, B), d1.k_max(B)
+        limit_text = f"K_max at this B = {_fmt(limit)} {(plant.units() or {})['K']}"
+        data = {"verdict": v.word, "stable": bool(v.stable), "spectral_radius": rho, "K_max": limit}
+    else:
+        kw = {**_device_pole_kwargs(plant), "delay": 1}
+        alpha, beta = float(plant.alpha), float(plant.beta)  # type: ignore[arg-type]
+        v = verdict(plant.delta, alpha, beta, **kw)
+        rho, limit = spectral_radius(plant.delta, alpha, beta, **kw), alpha_max(plant.delta, beta, **kw)
+        limit_text = f"alpha_max at this beta = {_fmt(limit)}"
+        data = {"verdict": v.word, "stable": bool(v.stable), "spectral_radius": rho, "alpha_max": limit}
+    lines = [f"  {_DELAY1}: {v.word.upper()} (spectral radius {_fmt(rho)}; {limit_text})"]
+    if stable and not bool(v.stable):
+        lines += textwrap.wrap("warning: these gains are stable only if the force is applied in the sample "
+                               "its position is measured in (--delay 0); with 1 sample of delay they are not. "
+                               "Check when your firmware applies the force.", 92,
+                               initial_indent="  ", subsequent_indent="    ")
+    return data, lines
+
+
+def _delay1_limits(plant: _Plant, K_mmax: float) -> Tuple[Optional[Dict[str, Any]], List[str]]:
+    """For a loop stated without delay: the same plant's limits with 1 sample of delay
+    (JSON object, lines); K_mmax is this loop's (real units, or alpha_mmax normalized)."""
+    if plant.loop.delay != 0:
+        return None, []
+    if plant.device is not None:
+        x: Any = plant.device.with_delay(1).extremes()
+        u = plant.units() or {}
+        top, at = float(x.K_mmax), float(x.B_at_K_mmax)
+        text = f"K_mmax = {_fmt(top)} {u['K']} at B = {_fmt(at)} {u['B']}"
+        data = {"K_mmax": top, "B_at_K_mmax": at, "B_mmax": float(x.B_mmax)}
+    else:
+        x = extremes(plant.delta, **{**_device_pole_kwargs(plant), "delay": 1})
+        top, at = float(x.alpha_mmax), float(x.beta_at_alpha_mmax)
+        text = f"alpha_mmax = {_fmt(top)} at beta = {_fmt(at)}"
+        data = {"alpha_mmax": top, "beta_at_alpha_mmax": at, "beta_mmax": float(x.beta_mmax)}
+    share = f" ({100 * top / K_mmax:.4g} % of this loop's)" if K_mmax > 0.0 else ""
+    return data, ["", f"{_DELAY1[0].upper()}{_DELAY1[1:]}, certified:", f"  {text}{share}"]
 
 
 def _device_pole_kwargs(plant: _Plant) -> Dict[str, Any]:
@@ -717,6 +809,8 @@ def cmd_limits_loop(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         ]
     lines.append(f"  this loop keeps {100 * kept:.4g} % of the ideal loop's largest stiffness"
                  + (" (the paper's loop on the same device without its plant-side parts)" if plant.parts else ""))
+    data["delay_1"], more = _delay1_limits(plant, float(real["K_mmax"] if dev is not None else ext.alpha_mmax))
+    lines += more
     return _Outcome(EXIT_OK, data, lines)
 
 
@@ -777,6 +871,8 @@ def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
         lines.append("  beta range at this alpha: " + (
             f"{_fmt(beta_range['lo'])} < beta < {_fmt(beta_range['hi'])}"
             if beta_range["nonempty"] else "none (no beta is stable at this alpha)"))
+    data["delay_1"], more = _delay1_check(plant, bool(v.stable))
+    lines += more
     return _Outcome(EXIT_OK if bool(v.stable) else EXIT_UNSTABLE, data, lines)
 
 
@@ -847,6 +943,8 @@ def cmd_limits(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     else:
         judgement = f"exact here (delta <= delta0 = {_fmt(DELTA0)})"
     lines += [f"  legacy region (no line) would claim {claim}", f"    -> {judgement}"]
+    data["delay_1"], more = _delay1_limits(plant, float(real["K_mmax"] if dev is not None else ext.alpha_mmax))
+    lines += more
     return _Outcome(EXIT_OK, data, lines)
 
 
@@ -965,6 +1063,8 @@ def _advise_gains(args: argparse.Namespace, plant: _Plant, dev: Device, what: st
               + (f" ({v.deciding_name})" if v.deciding_name else "")
               + f"; margins {margins.text()}: " + ("CERTIFIED" if certified else "NOT CERTIFIED")]
     lines += [f"   - {x['text']}" for x in suggestions]
+    data["gains"]["delay_1"], more = _delay1_check(plant, certified)
+    lines += more
     return EXIT_OK if certified else EXIT_UNSTABLE
 
 
@@ -1175,6 +1275,8 @@ def cmd_advise(args: argparse.Namespace, plant: _Plant) -> _Outcome:
             lines += [f"   - {s['text']}" for s in suggestions]
         elif not certified:
             lines.append("  no change of one gain or of m, b or T (within 1e-3..1e3 x) certifies them")
+        data["gains"]["delay_1"], more = _delay1_check(plant, certified)
+        lines += more
     return _Outcome(status, data, lines)
 
 
@@ -1310,6 +1412,23 @@ def _linear_words(sim: Any) -> str:
     return "without " + ", ".join(left) if left else "the loop simulated"
 
 
+def _simulated_loops(sims: Any) -> str:
+    """simulate's first line: the loop each case analyses, as its scene file states it (its
+    [delay], [velocity_filter], [average], [differentiator]; none of them: the paper's loop)."""
+    def text(s: Any) -> str:
+        dev = s.device
+        if dev is None:
+            return f"{int(s.params.get('delay_samples', 0))} samples delay: simulated only (the analysis takes up to 8)"
+        loop: Loop = dev.loop
+        if loop.filter == "lowpass" and "cutoff_hz" in s.params:  # name the scene's cut-off beside its pole
+            loop = dataclasses.replace(loop, cutoff=float(s.params["cutoff_hz"]))
+        return loop.statement()
+    texts = [text(s) for s in sims]
+    if len(set(texts)) <= 1:
+        return f"Loop: {texts[0] if texts else 'none (no case)'} (as the scene states it)"
+    return "Loop (as the scene states it, per case): " + "; ".join(f"{s.label}: {t}" for s, t in zip(sims, texts))
+
+
 def _growth(v: Any) -> str:
     # A settled run has decayed to rounding: its envelope ratio says nothing.
     return "(settled)" if v.outcome == "stable" else _fmt(v.growth)
@@ -1351,7 +1470,8 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
     }
     pos = scene.units["position"]
     plural = "s" if len(sims) != 1 else ""
-    lines = [f"Scene {scene.name} ({scene.source})" + (f": {scene.description}" if scene.description else ""),
+    lines = [_simulated_loops(sims),
+             f"Scene {scene.name} ({scene.source})" + (f": {scene.description}" if scene.description else ""),
              f"  {'rotary' if scene.rotary else 'translational'} plant; effects: "
              + (", ".join(scene.effects) if scene.effects else "none (the ideal loop: exact solution)")
              + f"; {len(sims)} case{plural}, {_fmt(scene.duration)} s each; {_bytes(memory)} of arrays", ""]
@@ -1384,7 +1504,7 @@ def cmd_simulate(args: argparse.Namespace) -> _Outcome:
     if scene.linear and not scene.ideal and sims and sims[0].device is not None:
         from .sim import loop_words
         lines.append(f"  loop analysed: {loop_words(sims[0].params, sims[0].device)}; 'ideal loop' is what "
-                     f"zwidth check says without the loop options")
+                     f"zwidth check says with --delay 0")
     for s in sims:
         if s.verdict.outcome != "stable" or not scene.linear:
             lines += textwrap.wrap(f"{s.label}: {s.verdict.outcome}: {s.verdict.reason}", 92, initial_indent="  ",
@@ -1448,10 +1568,12 @@ def _add_plant_options(p: argparse.ArgumentParser) -> None:
     norm.add_argument("--lambda", dest="lambda_", type=_number, metavar="LAMBDA",
                       help="normalized actuator lag tau/T (>= 0; default 0: none)")
     lp = p.add_argument_group(
-        "the loop the drive runs (default: the paper's: no delay, no filter, backward difference)")
-    lp.add_argument("--delay", type=int, default=0, metavar="N",
-                    help="samples between measuring x_k and applying its force, 0..8 (1: computed "
-                         "during the period, applied at the next tick)")
+        "the loop the drive runs (--delay is required: nothing is assumed; no filter and the backward "
+        "difference unless given)")
+    lp.add_argument("--delay", type=int, default=None, metavar="N",
+                    help="samples between measuring x_k and applying its force, 0..8: 0 is the paper's "
+                         "ideal loop, 1 what most firmware does (computed during the period, applied at "
+                         "the next tick); required, except with --preset paper-drive (the paper's loop)")
     lp.add_argument("--velocity-filter", metavar="SPEC",
                     help="lowpass:30Hz (first-order, cut-off in Hz; real units), pole:0.83 (its pole "
                          "a = exp(-2 pi f_c T)), average:4 (moving average over n = 1..16 samples)")
@@ -1544,15 +1666,23 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _emit(outcome: _Outcome, command: str, plant: Optional[_Plant], as_json: bool, stream: TextIO) -> None:
+def _emit(outcome: _Outcome, command: str, plant: Optional[_Plant], as_json: bool, stream: TextIO,
+          loop: Optional[Loop] = None) -> None:
+    """Print the outcome: JSON (the loop right after the command) or text (the loop on the
+    first line).  ``loop``: the loop judged when there is no _Plant (a plant box)."""
+    if plant is not None:
+        loop = plant.loop
     if as_json:
         head: Dict[str, Any] = {"command": command}
+        if loop is not None:
+            head["loop"] = loop.as_dict()
         if plant is not None and command != "plot":
             head.update(mode="real" if plant.real else "normalized", plant=plant.summary(),
-                        units=plant.units(), loop=plant.loop.as_dict())
+                        units=plant.units())
         print(json.dumps(_jsonable({**head, **outcome.data}), allow_nan=False), file=stream)
     else:
-        print("\n".join(outcome.lines), file=stream)
+        first = [] if loop is None else [loop_line(loop, plant is not None and plant.loop_from_preset)]
+        print("\n".join(first + outcome.lines), file=stream)
 
 
 _NUMBER_OPTIONS = frozenset({"--m", "--J", "--b", "--T", "--K", "--B", "--delta", "--alpha",

@@ -110,6 +110,8 @@ class Device:
                 raise ZwidthError(f"zwidth.Device: the velocity filter's pole must be in [0, 1), got {bad!r} "
                                   f"[ZW_ERR_FILTER]", "ZW_ERR_FILTER", "velocity_filter", (), {"pole": bad})
             self.filter_pole = _as_result(a)
+        if self.filter_pole is not None:  # the loop names its pole too (JSON, repr), not only the cut-off
+            self.loop = dataclasses.replace(self.loop, pole=self.filter_pole)
 
     @classmethod
     def rotary(cls, J: ArrayLike, b: ArrayLike, T: ArrayLike, *, errors: Errors = "raise", delay: int = 0,
@@ -127,6 +129,15 @@ class Device:
         parts: what the lag, the hand and the spring change is this Device against that one."""
         return Device(self._m, self._b, self._T, errors=self.errors, rotary=self.is_rotary, delay=self.loop.delay,
                       velocity_filter=_filter_of(self.loop), differentiator=self.loop.differentiator)
+
+    def with_delay(self, delay: int) -> "Device":
+        """The same plant, plant-side parts, velocity filter and differentiator with another
+        delay (the CLI judges an undelayed loop's gains with 1 sample too: most firmware
+        applies the force at the next tick)."""
+        k_p, tau, m_h, b_h, k_h = self._parts
+        return Device(self._m, self._b, self._T, errors=self.errors, rotary=self.is_rotary, delay=delay,
+                      velocity_filter=_filter_of(self.loop), differentiator=self.loop.differentiator,
+                      actuator_tau=tau, hand=(m_h, b_h, k_h), stiffness=k_p)
 
     def ideal(self) -> "Device":
         """The same plant with the paper's loop (no delay, no filter, backward difference)
@@ -204,7 +215,7 @@ class Device:
     def __repr__(self) -> str:
         def show(a: NDArray[np.float64]) -> str:
             return f"{float(a):.6g}" if a.ndim == 0 else f"array(shape={a.shape})"
-        loop = "" if self.loop.ideal else f", loop={self.loop.describe()!r}"
+        loop = f", loop={self.loop.statement()!r}"  # always named: a verdict is only as good as its loop
         parts = ""
         if self.has_plant_parts:
             k_p, tau, m_h, b_h, k_h = self._parts
@@ -216,18 +227,22 @@ class Device:
     def _plant(self) -> Tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         return self._m, self._b, self._T
 
+    def _errors(self, errors: Optional[Errors]) -> Errors:
+        """A method's errors= (None: the Device's own)."""
+        return self.errors if errors is None else errors
+
     def _call(self, function: str, kernel: Any, names: Tuple[str, ...], gains: Tuple[ArrayLike, ...],
-              **options: Any) -> Tuple[Any, Any]:
-        return call(f"Device.{function}", kernel, self._names + names, self._plant() + gains, self.errors,
-                    **options)
+              errors: Optional[Errors] = None, **options: Any) -> Tuple[Any, Any]:
+        return call(f"Device.{function}", kernel, self._names + names, self._plant() + gains,
+                    self._errors(errors), **options)
 
     def _loop_call(self, function: str, kernel: Any, names: Tuple[str, ...], gains: Tuple[ArrayLike, ...],
-                   **options: Any) -> Tuple[Any, Any]:
+                   errors: Optional[Errors] = None, **options: Any) -> Tuple[Any, Any]:
         loop = self.loop
         pole_given = loop.cutoff is None and loop.pole is not None
         name, value = ("filter_pole", loop.pole) if pole_given else ("cutoff", 0.0 if loop.cutoff is None else loop.cutoff)
         return call(f"Device.{function}", kernel, self._names + (name,) + _PART_NAMES + names,
-                    self._plant() + (value,) + self._parts + gains, self.errors, pole_given=pole_given,
+                    self._plant() + (value,) + self._parts + gains, self._errors(errors), pole_given=pole_given,
                     **loop.kernel_options(), **options)
 
     def _ideal_only(self, function: str, what: str) -> None:
@@ -242,70 +257,74 @@ class Device:
                 f"limits), Device.loop_influence() what the loop costs and which filter cut-off keeps most, "
                 f"and Device(...).ideal().{function}() the paper's loop", "ZW_ERR_ARG", None, (), {})
 
-    def normalize(self, K: ArrayLike, B: ArrayLike) -> Normalized:
+    def normalize(self, K: ArrayLike, B: ArrayLike, *, errors: Optional[Errors] = None) -> Normalized:
         """(delta, alpha, beta) = (b T/m, K T^2/m, B T/m) for gains K [N/m], B [N s/m]
-        (with a hand: m + m_h and b + b_h in place of m and b)."""
+        (with a hand: m + m_h and b + b_h in place of m and b).  ``errors`` ("raise" or
+        "mask"; every method takes it) overrides the Device's own for this call."""
         out, _ = call("Device.normalize", _core.device_normalize, self._names + ("K", "B"),
-                      self._coupled() + (K, B), self.errors)
+                      self._coupled() + (K, B), self._errors(errors))
         return Normalized.from_outputs(out)
 
-    def is_stable(self, K: ArrayLike, B: ArrayLike, *, region: str = "exact") -> Any:
+    def is_stable(self, K: ArrayLike, B: ArrayLike, *, region: str = "exact", errors: Optional[Errors] = None) -> Any:
         """Is the gain pair K [N/m], B [N s/m] stable? (bool; guarded: never True for an
         unstable pair).  ``region`` as in :func:`zwidth.check`."""
         if self._general:
             self._exact_only("is_stable", region)
-            out, _ = self._loop_call("is_stable", _core.device_loop_check, ("K", "B"), (K, B), full=False)
+            out, _ = self._loop_call("is_stable", _core.device_loop_check, ("K", "B"), (K, B), errors, full=False)
             return out["stable"]
-        out, _ = self._call("is_stable", _core.device_check, ("K", "B"), (K, B),
+        out, _ = self._call("is_stable", _core.device_check, ("K", "B"), (K, B), errors,
                             region=region_code("Device.is_stable", region), full=False)
         return out["stable"]
 
-    def verdict(self, K: ArrayLike, B: ArrayLike, *, region: str = "exact") -> Union[Verdict, LoopVerdict]:
+    def verdict(self, K: ArrayLike, B: ArrayLike, *, region: str = "exact",
+                errors: Optional[Errors] = None) -> Union[Verdict, LoopVerdict]:
         """:meth:`is_stable` with the reasons: a :class:`zwidth.Verdict` (marginal, deciding,
         violated, status) for the paper's loop, a :class:`zwidth.LoopVerdict` (marginal, the
         deciding boundary 'z=1' / 'z=-1' / 'complex pair at X Hz', status) for any other."""
         if self._general:
             self._exact_only("verdict", region)
-            out, status = self._loop_call("verdict", _core.device_loop_check, ("K", "B"), (K, B), full=True)
+            out, status = self._loop_call("verdict", _core.device_loop_check, ("K", "B"), (K, B), errors, full=True)
             frequency = out["theta"] / (2.0 * np.pi * self._T)
             return LoopVerdict.from_outputs(out, frequency=_as_result(np.asarray(frequency)),
-                                            status=_as_result(status), frequency_unit="Hz")
-        out, status = self._call("verdict", _core.device_check, ("K", "B"), (K, B),
+                                            status=_as_result(status), frequency_unit="Hz", loop=self.loop)
+        out, status = self._call("verdict", _core.device_check, ("K", "B"), (K, B), errors,
                                  region=region_code("Device.verdict", region), full=True)
-        return Verdict.from_outputs(out, status=_as_result(status))
+        return Verdict.from_outputs(out, status=_as_result(status), loop=self.loop)
 
-    def spectral_radius(self, K: ArrayLike, B: ArrayLike) -> Any:
+    def spectral_radius(self, K: ArrayLike, B: ArrayLike, *, errors: Optional[Errors] = None) -> Any:
         """Largest closed-loop pole modulus at K, B (stable iff < 1; informational)."""
         if self._general:
-            out, _ = self._loop_call("spectral_radius", _core.device_loop_spectral_radius, ("K", "B"), (K, B))
+            out, _ = self._loop_call("spectral_radius", _core.device_loop_spectral_radius, ("K", "B"), (K, B),
+                                     errors)
             return out["rho"]
-        out, _ = self._call("spectral_radius", _core.device_spectral_radius, ("K", "B"), (K, B))
+        out, _ = self._call("spectral_radius", _core.device_spectral_radius, ("K", "B"), (K, B), errors)
         return out["rho"]
 
-    def margin(self, K: ArrayLike, B: ArrayLike) -> Any:
+    def margin(self, K: ArrayLike, B: ArrayLike, *, errors: Optional[Errors] = None) -> Any:
         """Stability margin 1 - rho: how far the slowest closed-loop pole lies inside the
         unit circle (> 0 stable, <= 0 not; a pole at radius rho decays as rho^n per sample).
         For a certified yes/no use :meth:`is_stable` or :meth:`radius_within`."""
-        return 1.0 - self.spectral_radius(K, B)
+        return 1.0 - self.spectral_radius(K, B, errors=errors)
 
-    def radius_within(self, K: ArrayLike, B: ArrayLike, radius: ArrayLike) -> Any:
+    def radius_within(self, K: ArrayLike, B: ArrayLike, radius: ArrayLike, *,
+                      errors: Optional[Errors] = None) -> Any:
         """Do all closed-loop poles lie inside |z| < radius? (bool, guarded, no roots)."""
         if self._general:
             out, _ = self._loop_call("radius_within", _core.device_loop_radius_within, ("K", "B", "radius"),
-                                     (K, B, radius))
+                                     (K, B, radius), errors)
             return out["within"]
         out, _ = self._call("radius_within", _core.device_radius_within, ("K", "B", "radius"),
-                            (K, B, radius))
+                            (K, B, radius), errors)
         return out["within"]
 
-    def k_max(self, B: ArrayLike) -> Any:
+    def k_max(self, B: ArrayLike, *, errors: Optional[Errors] = None) -> Any:
         """sup K [N/m] stable at damping B [N s/m] (0 where no K is).  For a loop other
         than the paper's: the end of the stable interval (0, K_max) of that loop, certified
         (zw_loop_alpha_max, pulled inward for the unit conversions)."""
         if self._general:
-            out, _ = self._loop_call("k_max", _core.device_loop_k_max, ("B",), (B,))
+            out, _ = self._loop_call("k_max", _core.device_loop_k_max, ("B",), (B,), errors)
             return out["K_max"]
-        out, _ = self._call("k_max", _core.device_k_max, ("B",), (B,))
+        out, _ = self._call("k_max", _core.device_k_max, ("B",), (B,), errors)
         return out["K_max"]
 
     def boundary(self, *, points: int = 1001) -> DeviceBoundary:
@@ -324,13 +343,13 @@ class Device:
         Bs = np.unique(np.concatenate([grid, [float(b) for b in special if lo < float(b) < hi]]))
         return DeviceBoundary(B=Bs, K=np.asarray(self.k_max(Bs), dtype=float))
 
-    def b_range(self, K: ArrayLike) -> Interval:
+    def b_range(self, K: ArrayLike, *, errors: Optional[Errors] = None) -> Interval:
         """The open interval (lo, hi) of B [N s/m] stable at stiffness K [N/m].  For a loop
         other than the paper's: the widest such interval, certified (inside the true one)."""
         if self._general:
-            out, _ = self._loop_call("b_range", _core.device_loop_b_range, ("K",), (K,))
+            out, _ = self._loop_call("b_range", _core.device_loop_b_range, ("K",), (K,), errors)
             return Interval.from_outputs(out)
-        out, _ = self._call("b_range", _core.device_b_range, ("K",), (K,))
+        out, _ = self._call("b_range", _core.device_b_range, ("K",), (K,), errors)
         return Interval.from_outputs(out)
 
     def extremes(self) -> Union[DeviceExtremes, DeviceLoopExtremes]:

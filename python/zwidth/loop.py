@@ -87,7 +87,8 @@ class Loop:
     differentiator: 'backward' (the paper's) or 'tustin'
     filter:         'none', 'lowpass' or 'average'
     cutoff:         low-pass cut-off f_c [Hz] (a Device's filter; array allowed), else None
-    pole:           low-pass pole a in [0, 1) (the normalized functions' filter_pole), else None
+    pole:           low-pass pole a in [0, 1): the normalized functions' filter_pole, or the
+                    pole exp(-2 pi f_c T) of a Device's cut-off at its T; else None
     average:        moving-average length n (1..16), else None
     """
 
@@ -127,12 +128,30 @@ class Loop:
             parts.append(f"{self.differentiator} differentiator")
         return ", ".join(parts)
 
+    def statement(self) -> str:
+        """The whole loop in words, every part named even where it is the paper's (the
+        first line of every CLI output; zwidth-limits words it the same): 'the paper's
+        ideal loop (delay 0, backward difference, no velocity filter)', '1 sample delay, backward difference, velocity
+        low-pass 100 Hz (pole 0.533488)'."""
+        delay = "delay 0" if self.delay == 0 else f"{self.delay} sample{'s' if self.delay != 1 else ''} delay"
+        diff = "backward difference" if self.differentiator == "backward" else f"{self.differentiator} differentiator"
+        if self.filter == "lowpass":
+            pole = "" if self.pole is None else f"pole {_values(self.pole)}"
+            vf = (f"velocity low-pass {_values(self.cutoff)} Hz" + (f" ({pole})" if pole else "")
+                  if self.cutoff is not None else f"velocity low-pass {pole}")
+        elif self.filter == "average":
+            vf = f"velocity moving average of {self.average} samples"
+        else:
+            vf = "no velocity filter"
+        text = f"{delay}, {diff}, {vf}"
+        return f"the paper's ideal loop ({text})" if self.ideal else text
+
     def as_dict(self) -> Dict[str, Any]:
         c = None if self.cutoff is None else np.asarray(self.cutoff).tolist()
         p = None if self.pole is None else np.asarray(self.pole).tolist()
         return {"delay": self.delay, "differentiator": self.differentiator, "filter": self.filter,
                 "cutoff": c, "pole": p, "average": self.average, "ideal": self.ideal,
-                "text": self.describe()}
+                "text": self.describe(), "statement": self.statement()}
 
 
 def _values(x: Any) -> str:

@@ -148,10 +148,10 @@ def verdict(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, region: str 
         out, status = call("verdict", _core.loop_check, _DPAB, g.plant(delta) + (alpha, beta), errors,
                            full=True, **g.loop.kernel_options())
         return LoopVerdict.from_outputs(out, frequency=out["theta"] / (2.0 * np.pi),
-                                        status=_as_result(status))
+                                        status=_as_result(status), loop=g.loop)
     out, status = call("verdict", _core.check, _DAB, (delta, alpha, beta), errors,
                        region=region_code("verdict", region), full=True)
-    return Verdict.from_outputs(out, status=_as_result(status))
+    return Verdict.from_outputs(out, status=_as_result(status), loop=g.loop)
 
 
 def spectral_radius(delta: ArrayLike, alpha: ArrayLike, beta: ArrayLike, *, delay: int = 0,

@@ -163,13 +163,20 @@ class Result:
         return (getattr(self, f.name) for f in self._result_fields())
 
     def as_dict(self) -> Dict[str, Any]:
-        """The fields by name (values as stored: numpy scalars or arrays)."""
-        return {f.name: getattr(self, f.name) for f in self._result_fields()}
+        """The fields by name (values as stored: numpy scalars or arrays); a verdict's
+        ``loop`` as the loop's own dict (:meth:`zwidth.Loop.as_dict`)."""
+        out = {f.name: getattr(self, f.name) for f in self._result_fields()}
+        for f in dataclasses.fields(self):
+            if f.metadata.get("as_dict") and getattr(self, f.name) is not None:
+                out[f.name] = getattr(self, f.name).as_dict()
+        return out
 
     def __repr__(self) -> str:
         parts = []
         for f in dataclasses.fields(self):
-            if f.repr:
+            if f.metadata.get("as_dict"):   # a verdict's loop, in words (none when built by hand)
+                parts += [_loop_repr(getattr(self, f.name)).lstrip(", ")] if getattr(self, f.name) is not None else []
+            elif f.repr:
                 parts.append(f"{f.name}={_format(getattr(self, f.name))}")
         return f"{type(self).__name__}({', '.join(parts)})"
 
@@ -187,6 +194,11 @@ class Result:
         """Build from a kernel's outputs (extra keys ignored) plus ``extra`` fields."""
         names = {f.name for f in dataclasses.fields(cls) if f.init}
         return cls(**{k: v for k, v in outputs.items() if k in names}, **extra)
+
+
+def _loop_repr(loop: Any) -> str:
+    """', loop=...' of a verdict's repr: the loop it judged, in words."""
+    return "" if loop is None else f", loop={loop.statement()!r}"
 
 
 def _verdict_word(stable: Any, marginal: Any) -> Any:
@@ -216,6 +228,9 @@ class Verdict(Result):
     deciding: Any
     violated: Any
     status: Any
+    #: the loop this verdict is for (:class:`zwidth.Loop`; None only when built by hand):
+    #: printed by repr and in as_dict(), not unpacked with the fields
+    loop: Any = dataclasses.field(default=None, metadata={"result": False, "as_dict": True})
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "deciding", _named(Bound, self.deciding))
@@ -241,14 +256,14 @@ class Verdict(Result):
             if not self.stable:
                 violated = [name for bit, name in _BOUND_NAMES.items() if int(self.violated) & bit]
                 text += f", deciding={str(self.deciding)!r}, violated={violated}"
-            return text + ")"
+            return text + _loop_repr(self.loop) + ")"
         stable = np.asarray(self.stable)
         codes = np.asarray(self.deciding)
         counts = ", ".join(f"{_BOUND_NAMES[int(c)]}: {int((codes == c).sum())}"
                            for c in np.unique(codes) if int(c) in _BOUND_NAMES)
         return (f"Verdict(shape={stable.shape}, stable={int(stable.sum())} of {stable.size}, "
                 f"marginal={int(np.asarray(self.marginal).sum())}"
-                + (f", deciding={{{counts}}}" if counts else "") + ")")
+                + (f", deciding={{{counts}}}" if counts else "") + _loop_repr(self.loop) + ")")
 
 
 @dataclasses.dataclass(frozen=True, repr=False)
@@ -451,6 +466,9 @@ class LoopVerdict(Result):
     status: Any
     #: "Hz" (a Device) or "cycles/sample" (normalized): the unit of frequency
     frequency_unit: str = dataclasses.field(default="cycles/sample", repr=False, metadata={"result": False})
+    #: the loop this verdict is for (:class:`zwidth.Loop`; None only when built by hand):
+    #: printed by repr and in as_dict(), not unpacked with the fields
+    loop: Any = dataclasses.field(default=None, metadata={"result": False, "as_dict": True})
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "boundary", _named(LoopBoundary, self.boundary))
@@ -479,7 +497,7 @@ class LoopVerdict(Result):
             text = f"LoopVerdict(stable={bool(self.stable)}, marginal={bool(self.marginal)}"
             if not self.stable:
                 text += f", deciding={self.deciding_name!r}"
-            return text + ")"
+            return text + _loop_repr(self.loop) + ")"
         return super().__repr__()
 
 

@@ -805,7 +805,7 @@ def _run_case(case: Case, scene: Scene, bar: Any) -> Simulation:
             assert isinstance(ideal_verdict, Verdict)
             ideal = ideal_verdict
             if bool(ideal.stable) and not bool(analytic.stable):
-                note = (f"the paper's ideal loop (zwidth check without the loop options) is stable at these "
+                note = (f"the paper's ideal loop (zwidth check --delay 0) is stable at these "
                         f"gains, but this loop ({words}) is {analytic.word}: {analytic.deciding_name}")
             elif not bool(ideal.stable) and bool(analytic.stable):
                 note = f"the paper's ideal loop is not stable at these gains; this loop ({words}) is stable"

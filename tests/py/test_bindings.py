@@ -937,18 +937,24 @@ def test_results_repr_unpacking_and_as_dict():
         fields = [f.name for f in dataclasses.fields(res) if f.metadata.get("result", True)]
         assert fields == RESULT_KEYS[name], (name, fields)
         d = res.as_dict()
-        assert list(d) == RESULT_KEYS[name]
+        # a verdict also names the loop it judged (a dict, not a field to unpack)
+        judged = name == "Verdict" and getattr(res, "loop", None) is not None
+        assert list(d) == RESULT_KEYS[name] + (["loop"] if judged else [])
+        if judged:
+            assert d["loop"] == res.loop.as_dict() and d["loop"]["delay"] == 0
         unpacked = tuple(res)
         assert len(unpacked) == len(fields)
         for value, key in zip(unpacked, fields):
             assert value is d[key] is getattr(res, key)
     v = scalar[0]  # delta = 5.122, alpha = 10, beta = -1
-    assert repr(v) == (f"Verdict(stable={bool(v.stable)}, marginal={bool(v.marginal)})" if v.stable else
+    ideal = 'loop="the paper\'s ideal loop (delay 0, backward difference, no velocity filter)"'
+    assert repr(v) == (f"Verdict(stable={bool(v.stable)}, marginal={bool(v.marginal)}, {ideal})" if v.stable else
                        f"Verdict(stable=False, marginal={bool(v.marginal)}, deciding={v.deciding_name!r}, "
-                       f"violated={[n for n, bit in zwidth.BOUNDS.items() if int(v.violated) & bit]})")
+                       f"violated={[n for n, bit in zwidth.BOUNDS.items() if int(v.violated) & bit]}, {ideal})")
     unstable = zwidth.verdict(5.122, 30.0, 8.0)
     assert not unstable.stable and re.fullmatch(r"Verdict\(stable=False, marginal=False, deciding='\w+', "
-                                                r"violated=\['\w+'(, '\w+')*\]\)", repr(unstable)), repr(unstable)
+                                                r"violated=\['\w+'(, '\w+')*\], " + re.escape(ideal) + r"\)",
+                                                repr(unstable)), repr(unstable)
     assert repr(masked[0]) == "Verdict(invalid: ZW_ERR_NAN)"
     ext = scalar[7]
     assert re.fullmatch(r"DeviceExtremes\(K_mmax=0\.4933\d\d, B_at_K_mmax=-0\.0013567\d?, at_corner=True, .*\)",
@@ -962,11 +968,15 @@ def test_results_repr_unpacking_and_as_dict():
 
 def test_device_repr_and_rotary():
     rot = zwidth.Device.rotary(J_PAPER, B_PAPER, T_PAPER)
-    assert repr(rot) == "Device(J=8.578e-06, b=0.002197, T=0.02, delta=5.12241)"
+    ideal = 'loop="the paper\'s ideal loop (delay 0, backward difference, no velocity filter)"'
+    assert repr(rot) == f"Device(J=8.578e-06, b=0.002197, T=0.02, delta=5.12241, {ideal})"
     lin = zwidth.Device(0.1, 30.0, 0.01)
-    assert repr(lin) == "Device(m=0.1, b=30, T=0.01, delta=3)"
+    assert repr(lin) == f"Device(m=0.1, b=30, T=0.01, delta=3, {ideal})"
     arr = zwidth.Device(np.ones((2, 3)), 1.0, 0.1)
-    assert repr(arr) == "Device(m=array(shape=(2, 3)), b=1, T=0.1, delta=array(shape=(2, 3)))"
+    assert repr(arr) == f"Device(m=array(shape=(2, 3)), b=1, T=0.1, delta=array(shape=(2, 3)), {ideal})"
+    late = zwidth.Device(0.12, 0.8, 1e-3, delay=1, velocity_filter=("lowpass", 100.0))
+    assert repr(late).endswith(", loop='1 sample delay, backward difference, velocity low-pass 100 Hz "
+                               "(pole 0.533488)')"), repr(late)
     with pytest.raises(ZwidthError, match=r"zwidth\.Device: J must be > 0") as info:
         zwidth.Device.rotary(0.0, 1.0, 1.0)
     assert info.value.parameter == "J"  # a rotary plant's errors name its inertia

@@ -12,7 +12,7 @@ import zwidth
 from test_box_reference import box_min_ref
 from test_cli import run, run_json
 
-BOX = ("--J", "5e-6:5e-5", "--b", "2.0e-3:2.4e-3", "--T", "0.02")
+BOX = ("--J", "5e-6:5e-5", "--b", "2.0e-3:2.4e-3", "--T", "0.02", "--delay", "0")
 
 
 def test_limits_json_is_plantbox():
@@ -40,7 +40,7 @@ def test_check_exit_codes():
 def test_refusals():
     r = run("advise", *BOX)
     assert r.returncode == 2 and "plant ranges" in r.stderr
-    r = run("limits", "--m", "2:1", "--b", "1", "--T", "0.01")
+    r = run("limits", "--m", "2:1", "--b", "1", "--T", "0.01", "--delay", "0")
     assert r.returncode == 3 and "lo <= hi" in r.stderr
     r = run("plot", "region", *BOX, "--delay", "1", "-o", "unused.png")
     assert r.returncode == 2 and "ideal loop" in r.stderr

@@ -117,9 +117,9 @@ def test_cli_parts_over_a_range(capsys):
         assert 0 < kmmax <= float(point) * (1 + 1e-12)
     # a point hand stays on the point path; a range in one of its entries makes a box
     assert cli.main(["check", "--m", "0.1", "--b", "0.5", "--T", "0.001", "--hand", "0.05,1,100",
-                     "--K", "2000", "--B", "5", "--json"]) == 0
+                     "--K", "2000", "--B", "5", "--delay", "0", "--json"]) == 0
     assert "Plant box" not in capsys.readouterr().out
     with pytest.raises(SystemExit):
         cli.main(["limits", "--m", "0.1", "--b", "0.5", "--T", "0.001", "--stiffness", "0:2000",
-                  "--actuator-tau", "1e-3"])
+                  "--actuator-tau", "1e-3", "--delay", "0"])
     assert "certified without an actuator lag" in capsys.readouterr().err

@@ -29,8 +29,9 @@ def _command():
 
 
 ZW = _command()
-SHORT = ("--J", "85.78e-7", "--b", "2.197e-3", "--T", "0.02")  # the paper's drive, delta = 5.122
-LINEAR = ("--m", "0.1", "--b", "30", "--T", "0.01")               # the paper's simulation, delta = 3
+# the paper's loop, stated (no command assumes it: test_loop_not_stated)
+SHORT = ("--J", "85.78e-7", "--b", "2.197e-3", "--T", "0.02", "--delay", "0")  # the paper's drive, delta = 5.122
+LINEAR = ("--m", "0.1", "--b", "30", "--T", "0.01", "--delay", "0")               # the paper's simulation, delta = 3
 
 
 def run(*args, **kwargs):
@@ -62,13 +63,13 @@ def same(json_value, api_value):
     (("check", *SHORT, "--K", "0.39", "--B", "-1.36e-3"), 0),
     (("check", *SHORT, "--K", "0.5", "--B", "-1.36e-3"), 1),
     (("check", *SHORT, "--K=0.5", "--B=-1.36e-3"), 1),
-    (("check", "--delta", "5.122", "--alpha", "23", "--beta", "-1.5"), 1),
-    (("check", "--delta", "5.122", "--alpha", "23", "--beta", "-1.5", "--region", "legacy"), 0),
-    (("check", "--delta", "5.122", "--alpha", "0", "--beta", "0"), 1),  # marginal is not stable
+    (("check", "--delta", "5.122", "--delay", "0", "--alpha", "23", "--beta", "-1.5"), 1),
+    (("check", "--delta", "5.122", "--delay", "0", "--alpha", "23", "--beta", "-1.5", "--region", "legacy"), 0),
+    (("check", "--delta", "5.122", "--delay", "0", "--alpha", "0", "--beta", "0"), 1),  # marginal is not stable
     (("advise", *SHORT), 0),
     (("advise", *SHORT, "--K", "0.39", "--B", "-1.36e-3"), 0),
     (("advise", *SHORT, "--K", "0.5", "--B", "-1.36e-3"), 1),
-    (("advise", "--delta", "5.122", "--alpha", "23", "--beta", "-1.5"), 1),
+    (("advise", "--delta", "5.122", "--delay", "0", "--alpha", "23", "--beta", "-1.5"), 1),
 ])
 def test_exit_codes(args, code):
     r = run(*args)
@@ -77,17 +78,17 @@ def test_exit_codes(args, code):
 
 
 @pytest.mark.parametrize("args, code, words", [
-    (("limits", "--m", "-1", "--b", "30", "--T", "0.01"), 3, ["--m", "m must be > 0"]),
-    (("limits", "--J", "0", "--b", "30", "--T", "0.01"), 3, ["--J", "must be > 0"]),
-    (("limits", "--m", "0.1", "--b", "-1", "--T", "0.01"), 3, ["--b", "b must be >= 0"]),
-    (("limits", "--m", "0.1", "--b", "30", "--T", "0"), 3, ["--T", "T must be > 0"]),
-    (("limits", "--delta", "-1"), 3, ["--delta", "delta must be >= 0"]),
+    (("limits", "--m", "-1", "--b", "30", "--T", "0.01", "--delay", "0"), 3, ["--m", "m must be > 0"]),
+    (("limits", "--J", "0", "--b", "30", "--T", "0.01", "--delay", "0"), 3, ["--J", "must be > 0"]),
+    (("limits", "--m", "0.1", "--b", "-1", "--T", "0.01", "--delay", "0"), 3, ["--b", "b must be >= 0"]),
+    (("limits", "--m", "0.1", "--b", "30", "--T", "0", "--delay", "0"), 3, ["--T", "T must be > 0"]),
+    (("limits", "--delta", "-1", "--delay", "0"), 3, ["--delta", "delta must be >= 0"]),
     (("check", *LINEAR, "--K", "nan", "--B", "0"), 3, ["--K", "NaN"]),
     (("check", *LINEAR, "--K", "1", "--B", "inf"), 3, ["--B", "finite"]),
-    (("limits", "--m", "abc", "--b", "30", "--T", "0.01"), 2, ["--m", "'abc'"]),
+    (("limits", "--m", "abc", "--b", "30", "--T", "0.01", "--delay", "0"), 2, ["--m", "'abc'"]),
     (("check", *LINEAR, "--K", "1", "--B", "x1"), 2, ["--B", "'x1'"]),
-    (("limits", "--m", "0.1", "--J", "0.1", "--b", "30", "--T", "0.01"), 2, ["--J", "--m"]),
-    (("limits", *LINEAR, "--delta", "3"), 2, ["--delta", "--m"]),
+    (("limits", "--m", "0.1", "--J", "0.1", "--b", "30", "--T", "0.01", "--delay", "0"), 2, ["--J", "--m"]),
+    (("limits", *LINEAR, "--delta", "3", "--delay", "0"), 2, ["--delta", "--m"]),
     (("limits", "--m", "0.1", "--b", "30"), 2, ["--T"]),
     (("check", *LINEAR), 2, ["--K", "--B"]),
     (("check", *LINEAR, "--K", "1"), 2, ["--B"]),
@@ -95,9 +96,9 @@ def test_exit_codes(args, code):
     (("check", *LINEAR, "--K", "1", "--B", "0", "--region", "nope"), 2, ["--region", "nope"]),
     (("limits",), 2, ["--m", "--delta"]),
     ((), 2, ["check", "limits"]),
-    (("plot", "region", "--delta", "3", "-o", "x.txt"), 2, ["--output", ".png, .pdf"]),
+    (("plot", "region", "--delta", "3", "--delay", "0", "-o", "x.txt"), 2, ["--output", ".png, .pdf"]),
     (("plot", "extremes", "--delta-min", "0"), 2, ["--delta-min"]),
-    (("plot", "device", "--delta", "3"), 2, ["real-unit"]),
+    (("plot", "device", "--delta", "3", "--delay", "0"), 2, ["real-unit"]),
 ])
 def test_errors_name_the_option(args, code, words):
     r = run(*args, "--json") if args else run()
@@ -126,21 +127,21 @@ SCHEMAS = {
               "deciding": (str, type(None)), "deciding_text": (str, type(None)), "violated": list,
               "exact_stable": bool, "spectral_radius": float, "K": NUM, "B": NUM, "alpha": float,
               "beta": float, "K_max": NUM, "B_range": (dict, type(None)), "alpha_max": float,
-              "beta_range": INTERVAL},
+              "beta_range": INTERVAL, "delay_1": (dict, type(None))},
     "limits": {**COMMON, "K_mmax": NUM, "B_at_K_mmax": NUM, "K_p_max": NUM, "B_mmax": NUM,
                "B_mmin": NUM, "alpha_mmax": float, "beta_at_alpha_mmax": float,
                "alpha_p_max": float, "beta_mmax": float, "beta_mmin": float, "at_corner": bool,
                "corner": {"alpha": NUM, "beta": NUM}, "delta0": float, "above_delta0": bool,
                "legacy": {"K_mmax": NUM, "B_at_K_mmax": NUM, "alpha_mmax": float,
                           "beta_at_alpha_mmax": float, "region_unsafe": bool,
-                          "overstates_K_mmax": bool}},
+                          "overstates_K_mmax": bool}, "delay_1": (dict, type(None))},
     "advise": {**COMMON, "influence": dict, "trends": str, "advice": str,
                "gains": (dict, type(None))},
 }
 GAINS = {"K": NUM, "B": NUM, "alpha": NUM, "beta": NUM, "verdict": str, "stable": bool,
          "marginal": bool, "deciding": (str, type(None)), "spectral_radius": float, "K_max": float,
          "B_range": INTERVAL, "margins": {"sigma": float, "r": float}, "certified": bool,
-         "suggestions": list}
+         "suggestions": list, "delay_1": (dict, type(None))}
 SUGGESTION = {"change": str, "lo": NUM, "hi": NUM, "value": NUM, "text": str}
 INFLUENCE_INTS = ("K_vs_m", "K_vs_b", "K_vs_T", "B_vs_m", "B_vs_b", "B_vs_T")
 
@@ -157,13 +158,13 @@ def conforms(obj, schema, where="$"):
 
 @pytest.mark.parametrize("args", [
     ("check", *SHORT, "--K", "0.39", "--B", "-1.36e-3"),
-    ("check", "--delta", "5.122", "--alpha", "23", "--beta", "-1.5"),
+    ("check", "--delta", "5.122", "--delay", "0", "--alpha", "23", "--beta", "-1.5"),
     ("limits", *LINEAR),
     ("limits", *SHORT),
-    ("limits", "--delta", "2"),
+    ("limits", "--delta", "2", "--delay", "0"),
     ("advise", *SHORT),
     ("advise", *SHORT, "--K", "0.5", "--B", "-1.36e-3"),
-    ("advise", "--delta", "5.122", "--alpha", "23", "--beta", "-1.5"),
+    ("advise", "--delta", "5.122", "--delay", "0", "--alpha", "23", "--beta", "-1.5"),
 ])
 def test_json_schema(args):
     command = args[0]
@@ -195,7 +196,7 @@ def test_json_schema(args):
 
 def test_check_json_normalized_line():
     """The paper's Fig. 19(a) point: unstable, decided by the line; every number is the API's."""
-    obj = run_json("check", "--delta", "5.122", "--alpha", "23", "--beta", "-1.5", code=1)
+    obj = run_json("check", "--delta", "5.122", "--delay", "0", "--alpha", "23", "--beta", "-1.5", code=1)
     v = zwidth.verdict(5.122, 23.0, -1.5)
     assert obj["verdict"] == "unstable" and obj["deciding"] == "line" == v.deciding_name
     assert obj["violated"] == ["line"] and obj["stable"] is False and obj["exact_stable"] is False
@@ -251,7 +252,7 @@ def test_limits_json_matches_api(args, make):
 
 
 def test_limits_json_below_delta0_has_no_corner():
-    obj = run_json("limits", "--delta", "2")
+    obj = run_json("limits", "--delta", "2", "--delay", "0")
     assert obj["corner"] == {"alpha": None, "beta": None}  # NaN -> null
     assert obj["legacy"]["region_unsafe"] is False and obj["K_mmax"] is None
 
@@ -322,14 +323,14 @@ def test_preset_names_the_papers_drive_and_nothing_is_filled_in():
     assert run_json("limits", "--preset", "paper-drive", "--T", "0.008")["plant"]["T"] == 0.008
     r = run("limits", "--m", "0.12", "--b", "0.8")
     assert r.returncode == 2 and "the plant needs --T (or --preset paper-drive)" in r.stderr
-    r = run("limits", "--preset", "paper-drive", "--delta", "3")
+    r = run("limits", "--preset", "paper-drive", "--delta", "3", "--delay", "0")
     assert r.returncode == 2 and "--preset" in r.stderr
     r = run("limits", *SHORT, "--K", "0.39", "--B", "-1.36e-3")  # would be ignored: refused
     assert r.returncode == 2 and "zwidth check" in r.stderr
 
 
 def test_advise_normalized_uses_unit_plant():
-    obj = run_json("advise", "--delta", "5.122", code=0)
+    obj = run_json("advise", "--delta", "5.122", "--delay", "0", code=0)
     inf = zwidth.Device(1.0, 5.122, 1.0).influence()
     assert same(obj["influence"]["m_K2"], inf.m_K2) and obj["gains"] is None
 
@@ -346,7 +347,7 @@ def test_human_output_units_and_digits():
     rot = run("check", *SHORT, "--K", "0.39", "--B", "-1.36e-3").stdout
     assert "J = 8.578e-06 kg m^2" in rot and "N m/rad" in rot and "N m s/rad" in rot
     assert "STABLE" in rot and "N/m " not in rot
-    bad = run("check", "--delta", "5.122", "--alpha", "23", "--beta", "-1.5").stdout
+    bad = run("check", "--delta", "5.122", "--delay", "0", "--alpha", "23", "--beta", "-1.5").stdout
     assert "UNSTABLE" in bad and "line" in bad
 
 
@@ -378,9 +379,79 @@ def test_help():
 
 def test_json_has_no_nan_tokens():
     """NaN (corner below delta0) and inf (T_B at b = 0) come out as null, strict JSON."""
-    for args in (("limits", "--delta", "1"), ("advise", "--m", "0.1", "--b", "0", "--T", "0.01")):
+    for args in (("limits", "--delta", "1", "--delay", "0"), ("advise", "--m", "0.1", "--b", "0", "--T", "0.01", "--delay", "0")):
         out = run(*args, "--json").stdout
         assert "NaN" not in out and "Infinity" not in out
         json.loads(out, parse_constant=lambda c: pytest.fail(f"non-standard constant {c}"))
-    obj = run_json("advise", "--m", "0.1", "--b", "0", "--T", "0.01")
+    obj = run_json("advise", "--m", "0.1", "--b", "0", "--T", "0.01", "--delay", "0")
     assert np.isinf(zwidth.Device(0.1, 0.0, 0.01).influence().T_B) and obj["influence"]["T_B"] is None
+
+
+# ---------------------------------------------------------------------------------------
+# The loop is stated, never assumed (issue 24): the new-user trial's device, m = 0.12 kg,
+# b = 0.8 N s/m, T = 1 ms, whose firmware applies the force a sample late and low-passes
+# the velocity at 100 Hz
+# ---------------------------------------------------------------------------------------
+
+TRIAL = ("--m", "0.12", "--b", "0.8", "--T", "1e-3")
+TRIAL_GAINS = ("--K", "50000", "--B", "60")
+
+
+@pytest.mark.parametrize("args", [
+    ("limits", *TRIAL),
+    ("check", *TRIAL, *TRIAL_GAINS),
+    ("advise", *TRIAL, *TRIAL_GAINS),
+    ("check", "--delta", "0.5", "--alpha", "0.1", "--beta", "0.2"),
+    ("limits", "--J", "5e-6:5e-5", "--b", "2e-3:2.4e-3", "--T", "0.02"),         # a plant box
+    ("check", *TRIAL, *TRIAL_GAINS, "--velocity-filter", "lowpass:100Hz"),     # a filter is not a delay
+    ("plot", "device", *TRIAL, "-o", "unused.png"),
+])
+def test_loop_not_stated(args, tmp_path):
+    r = run(*args, cwd=tmp_path)
+    assert r.returncode == 2 and r.stdout == "", (r.returncode, r.stdout)
+    assert "the loop is not stated" in r.stderr and "--delay 0 for the paper's ideal loop" in r.stderr
+    assert "--delay 1" in r.stderr and not (tmp_path / "unused.png").exists()
+
+
+def test_trial_pair_in_its_loop_and_the_ideal_loops_warning():
+    late = run_json("check", *TRIAL, *TRIAL_GAINS, "--delay", "1", "--velocity-filter", "lowpass:100Hz", code=1)
+    assert list(late)[:2] == ["command", "loop"] and late["verdict"] == "unstable"
+    assert late["loop"]["delay"] == 1 and late["loop"]["cutoff"] == 100.0
+    assert late["loop"]["pole"] == pytest.approx(np.exp(-2 * np.pi * 100.0 * 1e-3), rel=1e-15)
+    assert late["loop"]["statement"] == ("1 sample delay, backward difference, velocity low-pass 100 Hz "
+                                         "(pole 0.533488)")
+    dev = zwidth.Device(0.12, 0.8, 1e-3, delay=1, velocity_filter=("lowpass", 100.0))
+    assert late["spectral_radius"] == float(dev.spectral_radius(50000.0, 60.0)) > 1
+    text = run("check", *TRIAL, *TRIAL_GAINS, "--delay", "1", "--velocity-filter", "lowpass:100Hz")
+    assert text.stdout.splitlines()[0] == ("Loop: 1 sample delay, backward difference, velocity low-pass "
+                                           "100 Hz (pole 0.533488)")
+    # the ideal loop, stated: stable, and the 1-sample verdict with a warning beside it
+    ideal = run_json("advise", *TRIAL, *TRIAL_GAINS, "--delay", "0")
+    assert ideal["loop"]["delay"] == 0 and ideal["gains"]["stable"] is True
+    one = zwidth.Device(0.12, 0.8, 1e-3, delay=1)
+    assert ideal["gains"]["delay_1"]["stable"] is False
+    assert ideal["gains"]["delay_1"]["spectral_radius"] == float(one.spectral_radius(50000.0, 60.0))
+    text = run("check", *TRIAL, *TRIAL_GAINS, "--delay", "0").stdout
+    assert text.startswith("Loop: the paper's ideal loop (delay 0, backward difference, no velocity filter)\n")
+    assert "with 1 sample of delay" in text and "UNSTABLE" in text and "warning:" in text
+    # limits: the 1-sample line beside the ideal loop's, never above the certified delay-1 limit
+    lim = run_json("limits", *TRIAL, "--delay", "0")
+    assert lim["delay_1"]["K_mmax"] == float(one.extremes().K_mmax) < lim["K_mmax"] / 4
+    # the preset carries the paper's loop and says so
+    pre = run("limits", "--preset", "paper-drive").stdout.splitlines()[0]
+    assert pre == ("Loop: the paper's ideal loop (delay 0, backward difference, no velocity filter), "
+                   "from --preset paper-drive")
+
+
+def test_api_results_carry_their_loop():
+    dev = zwidth.Device(0.12, 0.8, 1e-3, delay=1, velocity_filter=("lowpass", 100.0))
+    v = dev.verdict(50000.0, 60.0)
+    assert v.loop == dev.loop and "1 sample delay" in repr(v) and v.as_dict()["loop"]["delay"] == 1
+    assert dev.loop.as_dict()["pole"] == pytest.approx(0.533488, abs=5e-7)
+    ideal = zwidth.Device(0.12, 0.8, 1e-3)
+    assert "the paper's ideal loop" in repr(ideal) and "the paper's ideal loop" in repr(ideal.verdict(5e4, 60.0))
+    assert dev.with_delay(0).loop.delay == 0 and dev.with_delay(0).loop.cutoff == 100.0
+    # an errors= override per call: a NaN gain masked, not raised
+    assert not bool(dev.is_stable(float("nan"), 60.0, errors="mask"))
+    with pytest.raises(zwidth.ZwidthError):
+        dev.is_stable(float("nan"), 60.0)

@@ -492,7 +492,8 @@ def test_verdict_deciding_prints_and_compares_by_name():
     v = zwidth.verdict(5.122, 23.0, -1.5)  # paper Fig. 19(a): beyond the line
     assert v.deciding == "line" and v.deciding == zwidth.Bound.LINE == zwidth.BOUNDS["line"]
     assert str(v.deciding) == "line" and f"{v.deciding}" == "line" and v.deciding != "hyperbola"
-    assert repr(v) == "Verdict(stable=False, marginal=False, deciding='line', violated=['line'])"
+    assert repr(v) == ("Verdict(stable=False, marginal=False, deciding='line', violated=['line'], "
+                       "loop=\"the paper's ideal loop (delay 0, backward difference, no velocity filter)\")")
     both = zwidth.Device.rotary(85.78e-7, 2.197e-3, 0.02).verdict(0.5, -1.36e-3)
     assert both.deciding == "hyperbola" and str(both.violated) == "hyperbola|line"
     assert zwidth.Bound.LINE in both.violated

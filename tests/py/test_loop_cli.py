@@ -16,7 +16,10 @@ USER = ("--m", "0.12", "--b", "0.8", "--T", "1e-3", "--K", "5e4", "--B", "50")
 
 
 def test_new_user_case_is_unstable_with_one_sample_of_delay():
-    ideal = run_json("check", *USER, code=0)
+    unstated = run("check", *USER)   # the trial's command: no verdict for a loop nobody stated
+    assert unstated.returncode == 2 and unstated.stdout == ""
+    assert "--delay 0 for the paper's ideal loop" in unstated.stderr and "--delay 1" in unstated.stderr
+    ideal = run_json("check", *USER, "--delay", "0", code=0)
     assert ideal["verdict"] == "stable" and ideal["loop"]["ideal"] is True
     late = run_json("check", *USER, "--delay", "1", code=1)
     assert late["verdict"] == "unstable" and late["loop"]["delay"] == 1
@@ -44,7 +47,7 @@ def test_filter_and_differentiator_shown_and_equal_to_the_api():
                   "--delay", "1", "--velocity-filter", "lowpass:30Hz", code=0)
     assert ok["verdict"] == "stable"
     avg = run_json("check", "--delta", "0.5", "--alpha", "0.1", "--beta", "0.2", "--velocity-filter", "average:4",
-                   code=0)
+                   "--delay", "0", code=0)
     assert avg["stable"] == bool(zwidth.check(0.5, 0.1, 0.2, average=4)) and avg["loop"]["average"] == 4
     pole = run_json("check", "--delta", "0.5", "--alpha", "0.1", "--beta", "0.2", "--velocity-filter", "pole:0.8",
                     "--delay", "2")
@@ -52,10 +55,10 @@ def test_filter_and_differentiator_shown_and_equal_to_the_api():
 
 
 def test_ideal_options_give_todays_output():
-    a = run("check", *USER)
+    a = run("check", *USER, "--delay", "0")
     b = run("check", *USER, "--delay", "0", "--differentiator", "backward", "--velocity-filter", "none")
     assert a.stdout == b.stdout and a.returncode == b.returncode == 0
-    assert "Loop:" not in a.stdout
+    assert a.stdout.startswith("Loop: the paper's ideal loop (delay 0, backward difference, no velocity filter)\n")
 
 
 @pytest.mark.parametrize("args, option", [
@@ -68,7 +71,7 @@ def test_ideal_options_give_todays_output():
     (("--velocity-filter", "pole:1.5"), "--velocity-filter"),
 ])
 def test_invalid_loop_values_exit_3_naming_the_option(args, option):
-    r = run("check", *USER, *args)
+    r = run("check", *USER, "--delay", "0", *args)
     assert r.returncode == 3, (r.stdout, r.stderr)
     assert f"invalid value of {option}" in r.stderr
 

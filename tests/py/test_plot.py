@@ -257,12 +257,14 @@ def test_missing_matplotlib_gives_install_hint(monkeypatch):
 
 
 def test_cli_plot_writes_files(tmp_path):
-    r = run("plot", "region", "--delta", "5.122", "--alpha", "23", "--beta", "-1.5", "--json",
+    r = run("plot", "region", "--delta", "5.122", "--delay", "0", "--alpha", "23", "--beta", "-1.5", "--json",
             cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     obj = json.loads(r.stdout)
-    assert obj == {"command": "plot", "kind": "region", "file": "zwidth-region.png", "format": "png",
+    assert obj == {"command": "plot", "loop": zwidth.Loop().as_dict(), "kind": "region",
+                   "file": "zwidth-region.png", "format": "png",
                    "bytes": (tmp_path / "zwidth-region.png").stat().st_size}
+    assert list(obj)[:2] == ["command", "loop"]
     assert_not_blank_png(tmp_path / "zwidth-region.png")
     out = tmp_path / "device.svg"
     r = run("plot", "device", *SHORT, "--K", "0.39", "--B", "-1.36e-3", "-o", out)
@@ -275,7 +277,7 @@ def test_cli_plot_writes_files(tmp_path):
 
 
 def test_cli_plot_exit_4(tmp_path):
-    r = run("plot", "region", "--delta", "3", "-o", tmp_path / "missing-dir" / "x.png")
+    r = run("plot", "region", "--delta", "3", "--delay", "0", "-o", tmp_path / "missing-dir" / "x.png")
     assert r.returncode == 4 and "cannot write" in r.stderr and r.stdout == ""
     shim = tmp_path / "shim" / "matplotlib"
     shim.mkdir(parents=True)
