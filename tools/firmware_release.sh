@@ -69,8 +69,9 @@ done
 for h in $private; do cp "csrc/src/$h" "$S/csrc/src/"; done
 tools/amalgamate.sh "$S/amalgamation" >/dev/null
 cp docs/firmware.md "$S/docs/"
-for d in $(grep -o '([a-z_-]*\.md)' docs/firmware.md | tr -d '()' | sort -u); do
-    [ -f "docs/$d" ] && cp "docs/$d" "$S/docs/"
+# every doc firmware.md links, to the page or to a section of it ((modbus.md#firmware-...))
+for d in $(grep -oE '\([a-z_-]+\.md[)#]' docs/firmware.md | tr -d '()#' | sort -u); do
+    cp "docs/$d" "$S/docs/"   # a link to a missing doc fails the release
 done
 cp LICENSE CHANGELOG.md REUSE.toml "$S/"
 cp LICENSES/*.txt "$S/LICENSES/"

@@ -39,8 +39,15 @@ import sys
 import time
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
-import mpmath
-import numpy as np
+try:
+    import mpmath
+    import numpy as np
+    import zwidth  # noqa: F401  (every method of the report calls it)
+except ImportError as exc:  # a usage error, said as one: not a traceback
+    print(f"generate.py: {exc.name or exc} is not importable by {sys.executable}: the report needs "
+          f"numpy, mpmath and the zwidth package (pip install . into the interpreter, e.g. "
+          f"tools/test.sh's .venv: .venv/bin/python bench/report/generate.py --quick)", file=sys.stderr)
+    sys.exit(2)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))

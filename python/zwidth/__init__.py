@@ -24,7 +24,7 @@ Simulation (time domain, paper Fig. 13; scenes as TOML files, docs/scenes.md):
     load_scene -> Scene, simulate -> SimulationSet of Simulation (numpy arrays, SimVerdict,
     the analytic verdict for linear scenes), SceneError
 Also: zwidth.plot (matplotlib, optional extra "plot"), zwidth.modbus (pymodbus client of
-a drive, optional extra "modbus"; import it explicitly), the ``zwidth`` command line.
+a drive, optional extra "modbus"), both imported on first use, the ``zwidth`` command line.
 """
 from __future__ import annotations
 
@@ -77,3 +77,12 @@ __all__ = [
     "load_scene", "Scene", "SceneError", "simulate", "Simulation", "SimulationSet", "SimVerdict",
 ]
 del annotations  # the __future__ import, not part of the API
+
+
+def __getattr__(name: str) -> object:
+    """zwidth.plot and zwidth.modbus after ``import zwidth`` alone: imported on first use,
+    so that neither matplotlib nor pymodbus is needed to import zwidth (PEP 562)."""
+    if name in ("plot", "modbus"):
+        import importlib
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module 'zwidth' has no attribute {name!r}")
