@@ -876,15 +876,6 @@ def cmd_check(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     return _Outcome(EXIT_OK if bool(v.stable) else EXIT_UNSTABLE, data, lines)
 
 
-def _refuse_loop(command: str, plant: Optional[_Plant]) -> None:
-    if plant is not None and not plant.loop.ideal:
-        raise LoopNotSupported(
-            f"zwidth {command}: this figure is about the paper's ideal loop; for a loop with "
-            f"{plant.loop.describe()} use 'zwidth plot region' (the region it keeps), 'zwidth plot influence' "
-            f"with a plant-side part (--actuator-tau, --hand, --stiffness: numerical, any loop) or 'zwidth "
-            f"limits' / 'zwidth advise' with the same options", "ZW_ERR_ARG", None, (), {})
-
-
 def cmd_limits(args: argparse.Namespace, plant: _Plant) -> _Outcome:
     """Largest stable K and B, the B range and what the legacy region would claim."""
     if plant.general:
@@ -1306,12 +1297,15 @@ def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
 
     def draw(plot: Any) -> Any:
         if kind == "extremes":
-            return plot.extremes(args.delta_min, args.delta_max)
+            return plot.extremes(args.delta_min, args.delta_max, mark=None if plant is None else plant.delta)
         if kind in ("region", "device") and plant is not None and plant.parts and plant.device is not None:
             # real units: the region with the lag / hand / spring over the same device without them
             return plot.plant_region(plant.device, plant.K, plant.B)
-        if kind == "influence" and plant is not None and plant.parts and plant.device is not None:
-            return plot.plant_influence(plant.device)
+        if kind in ("region", "device") and plant is not None and plant.device is not None and plant.general:
+            # real units: the region of the loop the device runs over the paper's ideal loop's
+            return plot.device_region(plant.device, plant.K, plant.B)
+        if kind == "influence" and plant is not None and plant.device is not None and (plant.parts or plant.general):
+            return plot.plant_influence(plant.device)   # numerical: any loop
         if kind == "region":
             assert plant is not None
             point = None if not plant.has_gains else (float(plant.beta), float(plant.alpha))  # type: ignore[arg-type]
@@ -1322,8 +1316,7 @@ def cmd_plot(args: argparse.Namespace, plant: Optional[_Plant]) -> _Outcome:
                 T = None if plant.device is None else float(plant.device.T)
                 return plot.loop_region(plant.delta, point=point, T=T, loop_text=plant.loop.describe(), **kw)
             return plot.region(plant.delta, point=point)
-        assert plant is not None and plant.device is not None
-        _refuse_loop(f"plot {kind}", plant)
+        assert plant is not None and plant.device is not None and not plant.general   # the paper's loop
         if kind == "influence":
             return plot.influence(plant.device)
         return plot.device(plant.device, plant.K, plant.B)
@@ -1744,8 +1737,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 if not 0.0 < args.delta_min < args.delta_max < math.inf:
                     raise _Usage(f"need 0 < --delta-min < --delta-max < inf, got "
                                  f"{args.delta_min:g} and {args.delta_max:g}")
-                if _plant(args, need_plant=False) is not None:
-                    raise _Usage("plot extremes draws every delta: give --delta-min/--delta-max, not a plant")
+                plant = _plant(args, need_plant=False)   # if given: its delta is marked
+                if plant is not None and plant.general:
+                    raise LoopNotSupported(
+                        f"plot extremes draws the paper's ideal loop over delta; for a loop with "
+                        f"{plant.loop.describe()} draw 'plot region' or 'plot influence' with the same options",
+                        "ZW_ERR_ARG", None, (), {})
             else:
                 plant = _plant(args)
                 if args.kind in ("influence", "device") and plant is not None and not plant.real:
@@ -1763,7 +1760,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         sub.error(str(exc))  # exits 2
     except LoopNotSupported as exc:
         print(f"zwidth {args.command}: error: not available: {exc}", file=sys.stderr)
-        return EXIT_INVALID
+        return EXIT_PLOT if args.command == "plot" else EXIT_INVALID   # a figure it cannot draw
     except ZwidthError as exc:
         option = _option_of(exc)
         where = f"invalid value of {option}: " if option else "invalid input: "

@@ -44,7 +44,8 @@ if TYPE_CHECKING:
     from .sim import Simulation, SimulationSet
 
 __all__ = ["region", "loop_region", "extremes", "influence", "device", "simulation", "save",
-           "CRITICAL_DELTAS", "FORMATS", "box_region", "plant_region", "plant_influence"]
+           "CRITICAL_DELTAS", "FORMATS", "box_region", "plant_region", "device_region",
+           "plant_influence"]
 
 _INSTALL_HINT = "zwidth.plot needs matplotlib: pip install zwidth[plot]"
 
@@ -332,7 +333,7 @@ def _zoom(ax: "Axes", bounds: Tuple[float, float, float, float], lo: float, hi: 
 
 
 def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
-             fig: Optional["Figure"] = None, points: int = 1500) -> "Figure":
+             fig: Optional["Figure"] = None, points: int = 1500, mark: Optional[float] = None) -> "Figure":
     """The impedance extremes against delta (log axis; paper Figs. 8-10), six panels.
 
     (a) alpha_mmax and alpha with beta = 0 (proportional control, Fig. 9a);
@@ -343,8 +344,14 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
     local min at delta_B; (f) the ratio alpha_p_max / alpha_mmax (Fig. 9b).  The critical
     deltas of ``CRITICAL_DELTAS`` are dotted vertical lines, explained in the legend below.
     All values from ``zwidth.extremes``.  Draws into ``fig`` if given (it is cleared).
+    ``mark``: a plant's delta, a solid black line in every panel (the range widened to hold it).
     """
     delta_min, delta_max = _scalar("delta_min", delta_min), _scalar("delta_max", delta_max)
+    if mark is not None:
+        mark = _scalar("mark", mark)
+        if not 0.0 < mark < math.inf:
+            raise ValueError(f"zwidth.plot.extremes: mark must be a delta > 0, got {mark!r}")
+        delta_min, delta_max = min(delta_min, mark / 1.5), max(delta_max, mark * 1.5)
     if not (0.0 < delta_min < delta_max and math.isfinite(delta_max)):
         raise ValueError(f"zwidth.plot.extremes: need 0 < delta_min < delta_max < inf, "
                          f"got {delta_min!r}, {delta_max!r}")
@@ -431,6 +438,8 @@ def extremes(delta_min: float = 1e-3, delta_max: float = 20.0, *,
         _tidy_log_axes(ax)
         ax.set_xlim(delta_min, delta_max)
         _mark_criticals(ax, delta_min, delta_max)
+        if mark is not None:
+            ax.axvline(mark, color="black", linewidth=1.4, label=rf"your plant: $\delta$ = {mark:.4g}")
         ax.grid(True, which="major", color="0.9")
         ax.legend(loc=where, fontsize="small")
     for ax in axes[-2:]:
@@ -989,14 +998,34 @@ def plant_region(device: Device, K: Optional[float] = None, B: Optional[float] =
     verdict when given.  A scalar Device; works for a device without parts too (both equal).
     """
     _scalar_device(device, "plant_region")
+    return _real_region(device, device.without_plant_parts(), "without the parts", f"with {_parts_text(device)}",
+                        "the plant-side parts make K_mmax {ratio} x that without them", K, B, ax, resolution)
+
+
+def device_region(device: Device, K: Optional[float] = None, B: Optional[float] = None, *,
+                  ax: Optional["Axes"] = None, resolution: Tuple[int, int] = (400, 300)) -> "Figure":
+    """The region of the loop a device runs (delay, velocity filter, differentiator, parts),
+    real units, beside the paper's ideal loop's for the same plant (grey, ``device.ideal()``).
+
+    As :func:`plant_region`: every grid point by the guarded check, each certified K_max(B)
+    as a line, K_mmax of both in the title, (B, K) marked with the device's verdict.
+    """
+    _scalar_device(device, "device_region")
+    return _real_region(device, device.ideal(), "the paper's ideal loop", f"this loop: {device.loop.describe()}",
+                        "this loop's K_mmax is {ratio} x the ideal loop's", K, B, ax, resolution)
+
+
+def _real_region(device: Device, other: Device, other_label: str, this_label: str, ratio_text: str,
+                 K: Optional[float], B: Optional[float], ax: Optional["Axes"],
+                 resolution: Tuple[int, int]) -> "Figure":
+    """device's region (blue) over other's (grey) in (B, K), real units; legend beside the axes."""
     if (K is None) != (B is None):
-        raise ValueError("zwidth.plot.plant_region: give both K and B (or neither)")
-    plain = device.without_plant_parts()
-    lim, lim0 = device.extremes(), plain.extremes()
+        raise ValueError("zwidth.plot: give both K and B (or neither)")
+    lim, lim0 = device.extremes(), other.extremes()
     u = _units(device)
     b_lo = min(float(lim.B_mmin), float(lim0.B_mmin))
     b_hi = max(float(lim.B_mmax), float(lim0.B_mmax))
-    k_hi = 1.25 * max(float(lim.K_mmax), float(lim0.K_mmax))  # room for the legend
+    k_hi = 1.08 * max(float(lim.K_mmax), float(lim0.K_mmax))
     spring = float(device.stiffness) + float(device.hand[2])
     k_lo = -min(1.2 * spring, 0.15 * k_hi) if spring > 0.0 else 0.0
     if K is not None and B is not None:
@@ -1007,34 +1036,32 @@ def plant_region(device: Device, K: Optional[float] = None, B: Optional[float] =
     Bs = np.linspace(b_lo - 0.05 * width, b_hi + 0.05 * width, nb)
     Ks = np.linspace(k_lo, k_hi, nk)
     BB, KK = np.meshgrid(Bs, Ks)
-    with_parts = np.asarray(device.is_stable(KK, BB), dtype=bool)
-    without = np.asarray(plain.is_stable(KK, BB), dtype=bool)
-    fig, ax = _own_axes(ax, (8.5, 5.5))
+    this = np.asarray(device.is_stable(KK, BB), dtype=bool)
+    theirs = np.asarray(other.is_stable(KK, BB), dtype=bool)
+    fig, ax = _own_axes(ax, (10.0, 5.5))
     extent = (Bs[0], Bs[-1], Ks[0], Ks[-1])
-    ax.imshow(np.where(without, 0.8, 1.0), origin="lower", extent=extent, aspect="auto", cmap="gray",
+    ax.imshow(np.where(theirs, 0.8, 1.0), origin="lower", extent=extent, aspect="auto", cmap="gray",
               vmin=0.0, vmax=1.0, interpolation="nearest")
-    ax.imshow(np.ma.masked_where(~with_parts, np.ones_like(KK)), origin="lower", extent=extent, aspect="auto",
+    ax.imshow(np.ma.masked_where(~this, np.ones_like(KK)), origin="lower", extent=extent, aspect="auto",
               cmap="Blues", vmin=0.0, vmax=1.6, alpha=0.7, interpolation="nearest")
-    for dev, l, colour in ((plain, lim0, "0.25"), (device, lim, "#1f4e99")):
+    for dev, l, colour in ((other, lim0, "0.25"), (device, lim, "#1f4e99")):
         curve = np.linspace(float(l.B_mmin), float(l.B_mmax), 801)[1:-1]
         ax.plot(curve, np.asarray(dev.k_max(curve), dtype=float), color=colour, linewidth=1.3)
         ax.plot([float(l.B_at_K_mmax)], [float(l.K_mmax)], "o", color=colour, markersize=6)
     ax.axhline(0.0, color="0.5", linewidth=0.8)
-    loop = device.loop.describe()
-    handles = [_proxy(color="0.7", linewidth=8, label=f"without the parts (K_mmax {float(lim0.K_mmax):.4g})"),
-               _proxy(color="#6fa8dc", linewidth=8, label=f"with {_parts_text(device)} "
-                                                         f"(K_mmax {float(lim.K_mmax):.4g})"),
+    handles = [_proxy(color="0.7", linewidth=8, label=f"{other_label} (K_mmax {float(lim0.K_mmax):.4g})"),
+               _proxy(color="#6fa8dc", linewidth=8, label=f"{this_label} (K_mmax {float(lim.K_mmax):.4g})"),
                _proxy(color="#1f4e99", linewidth=1.3, label="certified K_max(B) (lines)")]
     if K is not None and B is not None:
         handles += _mark_verdict(ax, float(B), float(K), device.verdict(float(K), float(B)),
                                  f"(B, K) = ({float(B):.4g}, {float(K):.4g})")
     ratio = float(lim.K_mmax) / float(lim0.K_mmax) if float(lim0.K_mmax) > 0.0 else math.nan
     ax.set_title(f"{u['m']} = {float(device.m):.4g} {u['m_unit']}, b = {float(device.b):.4g} {u['b_unit']}, "
-                 f"T = {float(device.T):.4g} s, loop: {loop}\nthe plant-side parts make K_mmax "
-                 f"{ratio:.3g} x that without them", fontsize=9)
+                 f"T = {float(device.T):.4g} s, loop: {device.loop.describe()}\n"
+                 + ratio_text.format(ratio=f"{ratio:.3g}"), fontsize=9)
     ax.set_xlabel(f"B [{u['B_unit']}]")
     ax.set_ylabel(f"K [{u['K_unit']}]")
-    ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9)
+    _legend_outside(ax, handles)   # the figure's constrained layout makes room for it
     return fig
 
 

@@ -114,10 +114,7 @@ def test_advise_a_loop():
     assert obj["gains"]["verdict"] == "unstable" and obj["gains"]["suggestions"][0]["change"] == "K"
 
 
-@pytest.mark.parametrize("kind", ["device", "influence"])
-def test_paper_figures_refuse_a_loop(kind, tmp_path):
-    r = run("plot", kind, "--m", "0.12", "--b", "0.8", "--T", "1e-3", "--delay", "1", "-o", tmp_path / "x.png")
-    assert r.returncode == 3 and "plot region" in r.stderr
+# plot device / influence of a delayed loop: test_plot.py::test_cli_plots_a_delayed_filtered_loop
 
 
 def test_plot_region_of_a_loop(tmp_path):

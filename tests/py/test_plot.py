@@ -344,3 +344,55 @@ def test_extreme_deltas_draw_where_the_legacy_top_overflows(draw):
     drawn, the legend saying the legacy region reaches far beyond the view."""
     fig = draw()
     assert any("far beyond the view" in t for t in legend_texts(fig.axes[0].get_legend()))
+
+
+# ---------------------------------------------------------------------------------------
+# Figures for the loop the user runs (issue 24): real units, the ideal loop beside
+# ---------------------------------------------------------------------------------------
+
+TRIAL_LOOP = ("--m", "0.12", "--b", "0.8", "--T", "1e-3", "--delay", "1", "--velocity-filter", "lowpass:100Hz")
+
+
+@pytest.mark.parametrize("kind", ["device", "region", "influence"])
+def test_cli_plots_a_delayed_filtered_loop(kind, tmp_path):
+    out = tmp_path / f"{kind}.png"
+    r = run("plot", kind, *TRIAL_LOOP, "--K", "5000", "--B", "20", "-o", out, "--json")
+    assert r.returncode == 0, r.stderr
+    obj = json.loads(r.stdout)
+    assert obj["loop"]["delay"] == 1 and obj["loop"]["cutoff"] == 100.0 and obj["file"] == str(out)
+    assert_not_blank_png(out)
+
+
+def test_device_region_in_real_units_beside_the_ideal_loop():
+    dev = zwidth.Device(0.12, 0.8, 1e-3, delay=1, velocity_filter=("lowpass", 100.0))
+    fig = zp.device_region(dev, 5000.0, 20.0)
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "B [N s/m]" and ax.get_ylabel() == "K [N/m]"
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    ideal, this = float(dev.ideal().extremes().K_mmax), float(dev.extremes().K_mmax)
+    assert labels[0] == f"the paper's ideal loop (K_mmax {ideal:.4g})"
+    assert labels[1].startswith("this loop: 1 sample delay") and f"(K_mmax {this:.4g})" in labels[1]
+    assert labels[3].endswith("stable") and this < ideal / 5   # the trial's loop keeps about 11 %
+    # the view holds the ideal region: K up to its K_mmax, B over its B range
+    assert ax.get_ylim()[1] >= ideal and ax.get_xlim()[1] >= float(dev.ideal().extremes().B_mmax)
+    # the legend sits right of the axes, not on the curves
+    fig.canvas.draw()
+    legend_box = ax.get_legend().get_window_extent()
+    assert legend_box.x0 >= ax.get_window_extent().x1
+    plt.close(fig)
+
+
+def test_plot_extremes_marks_the_plants_delta(tmp_path):
+    fig = zp.extremes(mark=0.00666667)
+    for ax in fig.axes[:6]:
+        assert any(t.get_text() == r"your plant: $\delta$ = 0.006667" for t in ax.get_legend().get_texts())
+    plt.close(fig)
+    far = zp.extremes(1e-3, 20.0, mark=100.0)   # the range widens to hold it
+    assert far.axes[0].get_xlim()[1] >= 150.0
+    plt.close(far)
+    r = run("plot", "extremes", "--m", "0.12", "--b", "0.8", "--T", "1e-3", "--delay", "0",
+            "-o", tmp_path / "e.png")
+    assert r.returncode == 0, r.stderr
+    # the figure is the paper's loop's: a delayed loop cannot be drawn there (4: cannot plot)
+    r = run("plot", "extremes", *TRIAL_LOOP, "-o", tmp_path / "no.png")
+    assert r.returncode == 4 and "plot region" in r.stderr and not (tmp_path / "no.png").exists()
