@@ -306,21 +306,33 @@ int main(void)
     return 0;
 }
 EOF
+# The same firmware with the start-up self-test that docs/firmware.md asks of every use
+# (information: the 4 KiB target is for check + extremes; this row says what it costs).
+sed 's/^    zw_extremes x;$/&\
+    if (zw_selftest() != ZW_OK) return 4;/' "$B/main.c" >"$B/main_st.c"
+grep -q 'zw_selftest()' "$B/main_st.c" || fail_build "the self-test main (sed on main.c)"
 for t in $TARGETS; do
     objs=""
     for m in $MODULES; do objs="$objs $B/$t/$m.o"; done
-    # shellcheck disable=SC2086
-    ${CROSS}gcc $CFLAGS ${TFLAGS[$t]} -Icsrc/include -c "$B/main.c" -o "$B/$t/app/main.o" \
-        >"$B/log" 2>&1 || fail_build "tiny main for ${TNAME[$t]}"
-    # shellcheck disable=SC2086
-    ${CROSS}gcc ${TFLAGS[$t]} $LDFLAGS -Wl,-Map="$B/$t/app/app.map" "$B/$t/app/main.o" $objs -lm \
-        -o "$B/$t/app/app.elf" >"$B/log" 2>&1 || fail_build "link of the tiny main for ${TNAME[$t]}"
+    mkdir -p "$B/$t/app_st"
+    for a in app app_st; do
+        src=$B/main.c
+        [ "$a" = app_st ] && src=$B/main_st.c
+        # shellcheck disable=SC2086
+        ${CROSS}gcc $CFLAGS ${TFLAGS[$t]} -Icsrc/include -c "$src" -o "$B/$t/$a/main.o" \
+            >"$B/log" 2>&1 || fail_build "tiny main ($a) for ${TNAME[$t]}"
+        # shellcheck disable=SC2086
+        ${CROSS}gcc ${TFLAGS[$t]} $LDFLAGS -Wl,-Map="$B/$t/$a/app.map" "$B/$t/$a/main.o" $objs -lm \
+            -o "$B/$t/$a/app.elf" >"$B/log" 2>&1 || fail_build "link of the tiny main ($a) for ${TNAME[$t]}"
+    done
 done
 
 # link.tsv: target origin object kind bytes, from the map ("Linker script and memory map").
-# origin: zwidth | main | libm | libgcc | libc (libc_nano, libnosys, crt*) | other.
+# origin: zwidth | main | libm | libgcc | libc (libc_nano, libnosys, crt*) | other; of the
+# self-test image (app_st) only its zwidth and libm bytes, as origins zwidth_st, libm_st.
 for t in $TARGETS; do
-    awk -v t="$t" -v modules="$MODULES" '
+    for a in app app_st; do
+    awk -v t="$t" -v modules="$MODULES" -v tag="$a" '
         BEGIN { n = split(modules, M, " "); for (i = 1; i <= n; i++) ismod[M[i] ".o"] = 1 }
         function hex(s,   i, c, v) {
             v = 0; s = tolower(s); sub(/^0x/, "", s)
@@ -345,6 +357,7 @@ for t in $TARGETS; do
             else if (file ~ /lib(c|c_nano|g|g_nano|nosys)\.a\(|crt[0-9a-z]*\.o$/) o = "libc"
             else o = "other"
             sub(/^.*\//, "", obj); sub(/^.*\(/, "", obj); sub(/\)$/, "", obj); sub(/^lib_a-/, "", obj)
+            if (tag == "app_st") { if (o != "zwidth" && o != "libm") return; o = o "_st" }
             printf "%s\t%s\t%s\t%s\t%d\t%s\n", t, o, obj, k, hex(size), sec
         }
         /^Linker script and memory map/ { on = 1; next }
@@ -357,7 +370,8 @@ for t in $TARGETS; do
         /^ [^ *]/ {
             if (NF == 1) pending = $1
             else if (NF >= 4 && $3 ~ /^0x/) record($1, $3, $4)
-        }' "$B/$t/app/app.map" | unsuffix "$t"
+        }' "$B/$t/$a/app.map" | unsuffix "$t"
+    done
     # Berkeley totals of the image, for the padding remainder.
     ${CROSS}size "$B/$t/app/app.elf" | awk -v t="$t" 'NR == 2 { printf "%s\tTOTAL\timage\ttext\t%d\n%s\tTOTAL\timage\tdata\t%d\n%s\tTOTAL\timage\tbss\t%d\n", t, $1, t, $2, t, $3 }'
 done >"$B/link.tsv"
@@ -647,6 +661,10 @@ awk -F'\t' \
             t = LT[i]
             printf "| check + extremes as linked into a firmware (zw_coeffs_init, zw_check, zw_extremes_compute; --gc-sections), zwidth bytes, %s, libm excluded | %d | %d | %s |\n", tn[t], text_limit, lfl[t, "zwidth"], (linked_ok[t] ? "pass" : "**FAIL**")
         }
+        for (i = 1; i <= nl; i++) {
+            t = LT[i]
+            printf "| check + extremes + zw_selftest (which docs/firmware.md asks of every use), linked the same way, zwidth bytes, %s, libm excluded | - | %d | not a target (the %d B target is check + extremes): %s%d B against it |\n", tn[t], lfl[t, "zwidth_st"], text_limit, (lfl[t, "zwidth_st"] > text_limit ? "+" : ""), lfl[t, "zwidth_st"] - text_limit
+        }
         for (i = 1; i <= ng; i++) {
             t = G[i]
             printf "| worst call-chain stack of any %s, %s, libraries excluded | %d | %d (%s) | %s |\n", (t == "m0" ? "check or extremes function (status, coeffs, region, extremes)" : "public function of the ideal core (every module but loop, loop_limits, device_loop)"), tn[t], stack_limit, worst[t], worstf[t], (over[t] == "" ? "pass" : "**FAIL**: " over[t])
@@ -738,6 +756,12 @@ awk -F'\t' \
             for (j = 1; j <= nlm[t]; j++) { o = lmobj[t, j]; s = s (s == "" ? "" : ", ") o " " lm[t, o] }
             print "- " tn[t] ": " (s == "" ? "none" : s)
         }
+        print ""
+        line = "The same main with `zw_selftest()` at start-up (docs/firmware.md asks it of every use) keeps"
+        for (i = 1; i <= nt; i++) { t = T[i]; line = line (i == 1 ? " " : (i == nt ? " and " : ", ")) lfl[t, "zwidth_st"] " bytes of zwidth core on " tn[t] " (+" (lfl[t, "zwidth_st"] - lfl[t, "zwidth"]) ")" }
+        lmd = ""
+        for (i = 1; i <= nt; i++) { t = T[i]; if (lfl[t, "libm_st"] != lfl[t, "libm"]) lmd = lmd (lmd == "" ? "" : ", ") sprintf("%+d bytes on %s", lfl[t, "libm_st"] - lfl[t, "libm"], tn[t]) }
+        print line "; libm " (lmd == "" ? "the same on every target (the self-test calls only functions the check and the extremes pull in)" : lmd) "."
         print ""
 
         print "## Largest functions and tables (object files)"
