@@ -10,6 +10,7 @@
 # over real sockets and a pseudo-terminal (zwidth-tune, the Python client, mbpoll), a
 # bounded libFuzzer run on the request handler (ZW_FUZZ_SECONDS, default 30), and the
 # release checks (reuse lint, the firmware tarball on the Cortex-M4F, sdist and wheel), the
+# file lists of docs/firmware.md built from the doc's text (tools/firmware_files.sh), the
 # firmware part's MISRA C:2012 check (tools/misra.sh) and Eva analysis (tools/eva.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -71,6 +72,10 @@ echo "footprint within targets; docs/footprint.md and the README table match the
 step "firmware uses of docs/firmware.md link for the Cortex-M4F (tools/firmware_uses.sh)"
 tools/firmware_uses.sh >/dev/null
 echo "every firmware use links (check, extremes, units, loop, regmap)"
+
+step "file lists of docs/firmware.md and README.md's C example build from the docs' text (tools/firmware_files.sh)"
+tools/firmware_files.sh >/dev/null
+echo "every use's files build alone (M4F, host float + double); the README C example is warning-free; the checker fails on broken copies"
 
 step "zw_selftest on the Cortex-M4F (QEMU): c99 passes, GNU-mode contraction and round-to-zero refused"
 tools/fpenv_m4f.sh
