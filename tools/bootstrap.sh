@@ -71,6 +71,8 @@ probe_libcrypto() { printf '#include <openssl/hmac.h>\n#include <openssl/evp.h>\
 probe_arm() { printf '#include <math.h>\nvolatile float x=2.0f;int main(void){return sqrtf(x)>1.0f?0:1;}\n' \
     | compile_and_link arm-none-eabi-gcc c -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard \
         --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections -lm; }
+probe_avr() { printf '#include <math.h>\n#include <stdint.h>\nvolatile float x = 2.0f;\nint main(void){return (sizeof(int) == 2u && sqrtf(x) > 1.0f) ? 0 : 1;}\n' \
+    | compile_and_link avr-gcc c -mmcu=atmega2560 -std=c99 -Os -lm; }
 probe_qemu_m4() { qemu-system-arm -machine help 2>/dev/null | grep -q '^mps2-an386'; }
 probe_valgrind() { quiet valgrind --tool=callgrind --callgrind-out-file=/dev/null true; }
 probe_fuzzer() { printf '#include <stddef.h>\n#include <stdint.h>\nint LLVMFuzzerTestOneInput(const uint8_t*d,size_t n){(void)d;(void)n;return 0;}\n' \
@@ -102,6 +104,7 @@ caps=(
     "OpenSSL libcrypto HMAC-SHA256 (commissioning key)|probe_libcrypto|libssl-dev|mbdemo"
     "Cortex-M cross link with newlib (footprint, QEMU)|probe_arm|gcc-arm-none-eabi libnewlib-arm-none-eabi|"
     "QEMU mps2-an386 (Cortex-M4 benchmark)|probe_qemu_m4|qemu-system-arm|"
+    "avr-gcc + avr-libc (16-bit-int build, tools/avr_build.sh)|probe_avr|gcc-avr avr-libc|"
     "valgrind callgrind (instruction counts)|probe_valgrind|valgrind|"
     "clang libFuzzer + ASan/UBSan (fuzzing)|probe_fuzzer|clang|"
     "socat (RTU over a pseudo-terminal)|probe_socat|socat|"

@@ -11,7 +11,7 @@
 # bounded libFuzzer run on the request handler (ZW_FUZZ_SECONDS, default 30), and the
 # release checks (reuse lint, the firmware tarball on the Cortex-M4F, sdist and wheel), the
 # file lists of docs/firmware.md built from the doc's text (tools/firmware_files.sh), the
-# firmware part's MISRA C:2012 check (tools/misra.sh) and Eva analysis (tools/eva.sh).
+# firmware part built for a 16-bit-int AVR (tools/avr_build.sh), its MISRA C:2012 check (tools/misra.sh) and Eva analysis (tools/eva.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/bootstrap.sh
@@ -76,6 +76,9 @@ echo "every firmware use links (check, extremes, units, loop, regmap)"
 step "file lists of docs/firmware.md and README.md's C example build from the docs' text (tools/firmware_files.sh)"
 tools/firmware_files.sh >/dev/null
 echo "every use's files build alone (M4F, host float + double); the README C example is warning-free; the checker fails on broken copies"
+
+step "the firmware part on a 16-bit-int target: every module builds with avr-gcc (tools/avr_build.sh)"
+tools/avr_build.sh
 
 step "zw_selftest on the Cortex-M4F (QEMU): c99 passes, GNU-mode contraction and round-to-zero refused"
 tools/fpenv_m4f.sh

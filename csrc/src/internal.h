@@ -207,7 +207,7 @@ static inline zw_real zw_nan_fallback(void)
 #define ZW_NAN (zw_nan_fallback())
 #endif
 /* +inf: a spectral radius that certifies nothing (rho >= 1). */
-#define ZW_INF ((zw_real)HUGE_VAL)
+#define ZW_INF (ZW_HUGE_VAL)
 
 /* The verdict of a failed check: not stable, not marginal, no constraint blamed. */
 static inline void zw_fail_verdict(zw_verdict *out)

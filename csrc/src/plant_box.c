@@ -7,6 +7,7 @@
 #include "zwidth/plant_box.h"
 
 #include <stddef.h>
+#include <string.h>
 
 #include "box_interval.h"
 
@@ -146,6 +147,9 @@ static zw_status pb_enclose(zw_plant *out, zw_real delta_lo, zw_real delta_hi)
     pb_ranges r;
     zw_real mid;
     zw_status st = pb_validate(delta_lo, delta_hi);
+    /* pb_ranges_init fills every field when it succeeds; cleared first all the same, for
+     * compilers that cannot see it (avr-gcc 5.4's -Wmaybe-uninitialized) */
+    (void)memset(&r, 0, sizeof r);
     if (st != ZW_OK) {
         return st;
     }
