@@ -29,8 +29,11 @@
  * others near R's).  So K1 / s and K4 / s (degree n - 1) are tested instead.
  */
 #include "zwidth/box.h"
+#include "zwidth/box_cert.h"
 
+#include <float.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "zwidth/plant_box.h"
 #include "box_interval.h"
@@ -312,56 +315,87 @@ static zw_real bl_mid(zw_real lo, zw_real hi)
     return lo + ZW_R(0.5) * (hi - lo);
 }
 
-/* Split along the widest side: m relative; b and B in units of m / T + |B| + b (as delta and
- * beta feel them); K relative to the K asked for (K_ref), Kp relative to K_ref + Kp.  False
- * when no side can be split further in floating point. */
-static bool bl_split(zw_real T, zw_real K_ref, const zw_box_loop_cell *c, zw_box_loop_cell *left,
-                     zw_box_loop_cell *right)
+/* The side bl_split halves (ZW_BOX_CERT_SPLIT_*), 0 when none can be split further in
+ * floating point: the widest, m relative; b and B in units of m / T + |B| + b (as delta and
+ * beta feel them); K relative to the K asked for (K_ref), Kp relative to K_ref + Kp. */
+static unsigned bl_split_side(zw_real T, zw_real K_ref, const zw_box_loop_cell *c)
 {
     const zw_real mm = bl_mid(c->m_lo, c->m_hi), bm = bl_mid(c->b_lo, c->b_hi), Bm = bl_mid(c->B_lo, c->B_hi);
     const zw_real Km = bl_mid(c->K_lo, c->K_hi), km = bl_mid(c->k_lo, c->k_hi);
     const zw_real scale = mm / T + bm + ZW_FABS(Bm);
     zw_real w[5], best = -ZW_R(1.0);
-    int side = -1, i;
+    unsigned side = 0u, i;
     w[0] = ((mm > c->m_lo) && (mm < c->m_hi)) ? (c->m_hi - c->m_lo) / c->m_hi : -ZW_R(1.0);
     w[1] = ((bm > c->b_lo) && (bm < c->b_hi)) ? (c->b_hi - c->b_lo) / scale : -ZW_R(1.0);
     w[2] = ((Km > c->K_lo) && (Km < c->K_hi)) ? (c->K_hi - c->K_lo) / K_ref : -ZW_R(1.0);
     w[3] = ((Bm > c->B_lo) && (Bm < c->B_hi)) ? (c->B_hi - c->B_lo) / scale : -ZW_R(1.0);
     /* Kp beside K (both springs: alpha + kappa is the loop's DC stiffness) */
     w[4] = ((km > c->k_lo) && (km < c->k_hi)) ? (c->k_hi - c->k_lo) / (K_ref + km) : -ZW_R(1.0);
-    for (i = 0; i < 5; ++i) {
+    for (i = 0u; i < 5u; ++i) {
         if (w[i] > best) {
             best = w[i];
-            side = i;
+            side = i + 1u;
         }
     }
+    return (best > ZW_R(0.0)) ? side : 0u;
+}
+
+/* Halve c along side (ZW_BOX_CERT_SPLIT_*) at its midpoint; false (halves undefined) when
+ * the midpoint is not strictly inside (a certificate's bad split) or side is not a side. */
+static bool bl_halve(const zw_box_loop_cell *c, unsigned side, zw_box_loop_cell *left, zw_box_loop_cell *right)
+{
+    zw_real lo, hi, mid;
+    zw_real *left_hi, *right_lo;
     *left = *c;
     *right = *c;
     switch (side) {
-    case 0:
-        left->m_hi = mm;
-        right->m_lo = mm;
+    case ZW_BOX_CERT_SPLIT_M:
+        lo = c->m_lo;
+        hi = c->m_hi;
+        left_hi = &left->m_hi;
+        right_lo = &right->m_lo;
         break;
-    case 1:
-        left->b_hi = bm;
-        right->b_lo = bm;
+    case ZW_BOX_CERT_SPLIT_BP:
+        lo = c->b_lo;
+        hi = c->b_hi;
+        left_hi = &left->b_hi;
+        right_lo = &right->b_lo;
         break;
-    case 2:
-        left->K_hi = Km;
-        right->K_lo = Km;
+    case ZW_BOX_CERT_SPLIT_K:
+        lo = c->K_lo;
+        hi = c->K_hi;
+        left_hi = &left->K_hi;
+        right_lo = &right->K_lo;
         break;
-    case 3:
-        left->B_hi = Bm;
-        right->B_lo = Bm;
+    case ZW_BOX_CERT_SPLIT_B:
+        lo = c->B_lo;
+        hi = c->B_hi;
+        left_hi = &left->B_hi;
+        right_lo = &right->B_lo;
         break;
-    case 4:
-        left->k_hi = km;
-        right->k_lo = km;
+    case ZW_BOX_CERT_SPLIT_KP:
+        lo = c->k_lo;
+        hi = c->k_hi;
+        left_hi = &left->k_hi;
+        right_lo = &right->k_lo;
         break;
     default:
         return false;
     }
+    mid = bl_mid(lo, hi);
+    if (!(mid > lo) || !(mid < hi)) {
+        return false;
+    }
+    *left_hi = mid;
+    *right_lo = mid;
     return true;
+}
+
+/* Split along the widest side (bl_split_side); false when none can be split further. */
+static bool bl_split(zw_real T, zw_real K_ref, const zw_box_loop_cell *c, zw_box_loop_cell *left,
+                     zw_box_loop_cell *right)
+{
+    return bl_halve(c, bl_split_side(T, K_ref, c), left, right);
 }
 
 typedef enum bl_outcome { BL_OPEN = 0, BL_CERTIFIED = 1, BL_REFUTED = 2 } bl_outcome;
@@ -398,6 +432,21 @@ ZW_NOINLINE static zw_status bl_point_unstable(const bl_loop *L, zw_loop_workspa
     return ZW_OK;
 }
 
+/* The whole box x (0, K] x [B_lo, B_hi]. */
+static void bl_root(const zw_plant_box *box, zw_real K, zw_real B_lo, zw_real B_hi, zw_box_loop_cell *c)
+{
+    c->m_lo = box->m_lo;
+    c->m_hi = box->m_hi;
+    c->b_lo = box->b_lo;
+    c->b_hi = box->b_hi;
+    c->K_lo = ZW_R(0.0);
+    c->K_hi = K;
+    c->B_lo = B_lo;
+    c->B_hi = B_hi;
+    c->k_lo = box->k_lo;
+    c->k_hi = box->k_hi;
+}
+
 /* Certify every K' in (0, K] at every B in [B_lo, B_hi] for the whole box, depth first. */
 static zw_status bl_certify(const bl_loop *L, zw_loop_workspace *ws, zw_real K, zw_real B_lo,
                             zw_real B_hi, const zw_box_loop_work *work, bl_search *s, bl_outcome *outcome)
@@ -413,16 +462,7 @@ static zw_status bl_certify(const bl_loop *L, zw_loop_workspace *ws, zw_real K, 
     if (!(K > ZW_R(0.0))) {
         return ZW_OK;
     }
-    cells[0].m_lo = box->m_lo;
-    cells[0].m_hi = box->m_hi;
-    cells[0].b_lo = box->b_lo;
-    cells[0].b_hi = box->b_hi;
-    cells[0].K_lo = ZW_R(0.0);
-    cells[0].K_hi = K;
-    cells[0].B_lo = B_lo;
-    cells[0].B_hi = B_hi;
-    cells[0].k_lo = box->k_lo;
-    cells[0].k_hi = box->k_hi;
+    bl_root(box, K, B_lo, B_hi, &cells[0]);
     while (live > 0u) {
         zw_box_loop_cell c = cells[live - 1u];
         bl_result res;
@@ -498,11 +538,26 @@ zw_status zw_box_loop_work_init(zw_box_loop_work *work, zw_box_loop_cell *cells,
     return ZW_OK;
 }
 
-/* The box, the work, the spec (zw_device_loop_init at the centre validates it) and ws. */
+/* The loop over the folded box f with scratch sc (the spec validated by zw_device_loop_init
+ * at the centre). */
+static zw_status bl_setup_scratch(bl_loop *L, const zw_plant_box *f, const zw_device_loop_spec *spec,
+                                  zw_box_loop_scratch *sc)
+{
+    /* the centre plant's loop validates the spec before bl_loop_init reads it (the caller's
+     * spec itself, not a copy: Eva then knows the average it bounds, docs/eva.md) */
+    zw_status st = zw_device_loop_init_plant(&sc->dl, bl_mid(f->m_lo, f->m_hi), bl_mid(f->b_lo, f->b_hi), f->T,
+                                             bl_mid(f->k_lo, f->k_hi), ZW_R(0.0), ZW_R(0.0), ZW_R(0.0),
+                                             ZW_R(0.0), spec);
+    if (st != ZW_OK) {
+        return st;
+    }
+    return bl_loop_init(L, f, spec, sc);
+}
+
+/* The box, the work, the spec and ws. */
 static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_loop_spec *spec,
                           zw_loop_workspace *ws, const zw_box_loop_work *work)
 {
-    zw_box_loop_scratch *sc;
     zw_plant_box f;
     zw_status st;
     if ((spec == NULL) || (ws == NULL)) {
@@ -516,15 +571,7 @@ static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_l
     if (st != ZW_OK) {
         return st;
     }
-    sc = work->scratch;
-    /* the centre plant's loop validates the spec before bl_loop_init reads it (the caller's
-     * spec itself, not a copy: Eva then knows the average it bounds, docs/eva.md) */
-    st = zw_device_loop_init_plant(&sc->dl, bl_mid(f.m_lo, f.m_hi), bl_mid(f.b_lo, f.b_hi), f.T,
-                                   bl_mid(f.k_lo, f.k_hi), ZW_R(0.0), ZW_R(0.0), ZW_R(0.0), ZW_R(0.0), spec);
-    if (st != ZW_OK) {
-        return st;
-    }
-    return bl_loop_init(L, &f, spec, sc);
+    return bl_setup_scratch(L, &f, spec, work->scratch);
 }
 
 /* ---- public functions -------------------------------------------------------------------- */
@@ -910,6 +957,479 @@ zw_status zw_box_loop_k_mmax(const zw_plant_box *box, const zw_device_loop_spec 
     zw_status st = bl_k_mmax(box, spec, ws, work, out);
     if (st != ZW_OK) {
         bl_fail_extremes(out);
+    }
+    return st;
+}
+
+/* ---- certificates (box_cert.h) ------------------------------------------------------------- */
+
+static unsigned bc_node(const zw_box_cert *cert, uint_least32_t j)
+{
+    return ((unsigned)cert->nodes[j / 4u] >> (4u * (unsigned)(j % 4u))) & 0xFu;
+}
+
+static void bc_set_node(zw_box_cert *cert, uint_least32_t j, unsigned code)
+{
+    const unsigned shift = 4u * (unsigned)(j % 4u);
+    const unsigned word = ((unsigned)cert->nodes[j / 4u] & ~(0xFu << shift)) | ((code & 0xFu) << shift);
+    cert->nodes[j / 4u] = (uint_least16_t)word;
+}
+
+/* A step's claim is one the box can normalize: finite increasing ends, a level > 0. */
+static bool bc_step_ok(const bl_loop *L, float B_lo, float B_hi, float K)
+{
+    return (B_lo < B_hi) && (K > 0.0f) && (bx_validate_gain(&L->box, (zw_real)K, true) == ZW_OK) &&
+           (bx_validate_gain(&L->box, (zw_real)B_lo, false) == ZW_OK) &&
+           (bx_validate_gain(&L->box, (zw_real)B_hi, false) == ZW_OK);
+}
+
+/* One step's tree from node *pos: every leaf's cell proven, every split valid. */
+static zw_box_cert_fault bc_verify_step(const bl_loop *L, const zw_box_cert *cert, unsigned step,
+                                        const zw_box_loop_work *work, uint_least32_t *pos, uint_least32_t *leaves)
+{
+    zw_box_loop_cell *cells = work->cells;
+    unsigned live = 1u;
+    bl_root(&L->box, (zw_real)cert->K[step], (zw_real)cert->B[step], (zw_real)cert->B[step + 1u], &cells[0]);
+    while (live > 0u) {
+        const zw_box_loop_cell c = cells[live - 1u];
+        unsigned code;
+        live -= 1u;
+        if (*pos >= (uint_least32_t)cert->n_nodes) {
+            return ZW_BOX_CERT_BAD_NODE;
+        }
+        code = bc_node(cert, *pos);
+        *pos += 1u;
+        if (code == ZW_BOX_CERT_LEAF) {
+            bl_result res;
+            if (*leaves >= ZW_BOX_CERT_MAX_LEAVES) {
+                return ZW_BOX_CERT_TOO_MANY;
+            }
+            *leaves += 1u;
+            if ((bl_cell_test(L, &c, &res) != ZW_OK) || (res != BL_STABLE)) {
+                return ZW_BOX_CERT_LEAF_FAILS;
+            }
+        } else if (code > ZW_BOX_CERT_SPLIT_KP) {
+            return ZW_BOX_CERT_BAD_NODE;
+        } else {
+            if ((live + 2u > ZW_BOX_CERT_STACK) || !bl_halve(&c, code, &cells[live + 1u], &cells[live])) {
+                return ZW_BOX_CERT_BAD_SPLIT;
+            }
+            live += 2u;
+        }
+    }
+    return ZW_BOX_CERT_OK;
+}
+
+/* The work's cells hold the walk's stack and its scratch the interval polynomials. */
+static zw_status bc_validate_work(const zw_box_loop_work *work)
+{
+    if ((work == NULL) || (work->cells == NULL) || (work->scratch == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    return (work->capacity >= ZW_BOX_CERT_STACK) ? ZW_OK : ZW_ERR_ARG;
+}
+
+static zw_status bc_verify(const zw_plant_box *box, const zw_device_loop_spec *spec, const zw_box_cert *cert,
+                           const zw_box_loop_work *work, zw_box_cert_fault *fault, uint_least32_t *leaves)
+{
+    bl_loop L;
+    zw_plant_box f;
+    uint_least32_t pos = 0u, j;
+    unsigned i;
+    zw_status st;
+    if ((spec == NULL) || (cert == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_box_fold(box, &f);
+    if (st == ZW_OK) {
+        st = bc_validate_work(work);
+    }
+    if (st != ZW_OK) {
+        return st;
+    }
+    st = bl_setup_scratch(&L, &f, spec, work->scratch);
+    if (st != ZW_OK) {
+        return st;
+    }
+    if ((cert->n_steps < 1u) || (cert->n_steps > ZW_BOX_CERT_MAX_STEPS) || (cert->n_nodes < 1u) ||
+        (cert->n_nodes > ZW_BOX_CERT_MAX_NODES)) {
+        *fault = ZW_BOX_CERT_BAD_HEADER;
+        return ZW_OK;
+    }
+    for (i = 0u; i < (unsigned)cert->n_steps; ++i) {
+        if (!bc_step_ok(&L, cert->B[i], cert->B[i + 1u], cert->K[i])) {
+            *fault = ZW_BOX_CERT_BAD_STEP;
+            return ZW_OK;
+        }
+    }
+    for (i = 0u; i < (unsigned)cert->n_steps; ++i) {
+        *fault = bc_verify_step(&L, cert, i, work, &pos, leaves);
+        if (*fault != ZW_BOX_CERT_OK) {
+            return ZW_OK;
+        }
+    }
+    /* every node used once, nothing after: one certificate, one encoding */
+    for (j = pos; j < 4u * ZW_BOX_CERT_NODE_WORDS; ++j) {
+        if ((j < (uint_least32_t)cert->n_nodes) || (bc_node(cert, j) != 0u)) {
+            *fault = ZW_BOX_CERT_UNUSED;
+            return ZW_OK;
+        }
+    }
+    *fault = ZW_BOX_CERT_OK;
+    return ZW_OK;
+}
+
+zw_status zw_box_cert_verify(const zw_plant_box *box, const zw_device_loop_spec *spec, const zw_box_cert *cert,
+                             const zw_box_loop_work *work, zw_box_cert_fault *fault, uint_least32_t *leaves)
+{
+    zw_box_cert_fault local_fault = ZW_BOX_CERT_BAD_HEADER;
+    uint_least32_t local_leaves = 0u;
+    zw_status st;
+    if ((fault == NULL) || (leaves == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = bc_verify(box, spec, cert, work, &local_fault, &local_leaves);
+    *fault = (st == ZW_OK) ? local_fault : ZW_BOX_CERT_BAD_HEADER;
+    *leaves = local_leaves;
+    return st;
+}
+
+/* The step holding B (the one with the larger level on a breakpoint); false outside. */
+static bool bc_step_at(const zw_box_cert *cert, float B, unsigned *step)
+{
+    unsigned lo = 0u, hi;
+    if ((cert == NULL) || (cert->n_steps < 1u) || (cert->n_steps > ZW_BOX_CERT_MAX_STEPS)) {
+        return false;
+    }
+    hi = (unsigned)cert->n_steps;
+    if (!(B >= cert->B[0]) || !(B <= cert->B[hi])) {
+        return false;
+    }
+    while (hi - lo > 1u) { /* the last step starting at or below B */
+        const unsigned mid = lo + ((hi - lo) / 2u);
+        if (cert->B[mid] <= B) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    if ((lo > 0u) && (B == cert->B[lo]) && (cert->K[lo - 1u] > cert->K[lo])) {
+        lo -= 1u;
+    }
+    *step = lo;
+    return true;
+}
+
+void zw_box_cert_level(const zw_box_cert *cert, float B, float *K, bool *inside)
+{
+    unsigned step = 0u;
+    const bool in = bc_step_at(cert, B, &step);
+    if (K != NULL) {
+        *K = in ? cert->K[step] : 0.0f;
+    }
+    if (inside != NULL) {
+        *inside = in;
+    }
+}
+
+void zw_box_cert_b_range(const zw_box_cert *cert, float K, float B, float *B_lo, float *B_hi, bool *nonempty)
+{
+    unsigned step = 0u, first, last;
+    const bool in = bc_step_at(cert, B, &step) && (cert->K[step] >= K);
+    if ((B_lo == NULL) || (B_hi == NULL) || (nonempty == NULL)) {
+        return;
+    }
+    *nonempty = in;
+    *B_lo = (float)ZW_NAN;
+    *B_hi = (float)ZW_NAN;
+    if (!in) {
+        return;
+    }
+    first = step;
+    last = step;
+    while ((first > 0u) && (cert->K[first - 1u] >= K)) {
+        first -= 1u;
+    }
+    while ((last + 1u < (unsigned)cert->n_steps) && (cert->K[last + 1u] >= K)) {
+        last += 1u;
+    }
+    *B_lo = cert->B[first];
+    *B_hi = cert->B[last + 1u];
+}
+
+void zw_box_cert_k_mmax(const zw_box_cert *cert, float *K, float *B)
+{
+    unsigned i, best = 0u;
+    if ((K == NULL) || (B == NULL)) {
+        return;
+    }
+    *K = 0.0f;
+    *B = (float)ZW_NAN;
+    if ((cert == NULL) || (cert->n_steps < 1u) || (cert->n_steps > ZW_BOX_CERT_MAX_STEPS)) {
+        return;
+    }
+    for (i = 1u; i < (unsigned)cert->n_steps; ++i) {
+        if (cert->K[i] > cert->K[best]) {
+            best = i;
+        }
+    }
+    *K = cert->K[best];
+    *B = cert->B[best] + (0.5f * (cert->B[best + 1u] - cert->B[best]));
+}
+
+/* ---- the host's search (zw_box_cert_build) ---- */
+
+/* The largest float not above x (0 < x < FLT_MAX). */
+static float bc_float_down(zw_real x)
+{
+    float f = (float)x;
+    if ((zw_real)f > x) {
+        f = ZW_NEXTAFTERF(f, 0.0f);
+    }
+    return f;
+}
+
+/* c widened by ZW_BOX_CERT_WIDEN (relative) at every end but K_lo = 0, which stays. */
+static void bc_widen(const zw_box_loop_cell *c, zw_box_loop_cell *w)
+{
+    const zw_real e = ZW_BOX_CERT_WIDEN;
+    w->m_lo = c->m_lo - (e * c->m_lo);
+    w->m_hi = c->m_hi + (e * c->m_hi);
+    w->b_lo = c->b_lo - (e * c->b_lo);
+    w->b_hi = c->b_hi + (e * c->b_hi);
+    w->K_lo = c->K_lo - (e * c->K_lo);
+    w->K_hi = c->K_hi + (e * c->K_hi);
+    w->B_lo = c->B_lo - (e * ZW_FABS(c->B_lo));
+    w->B_hi = c->B_hi + (e * ZW_FABS(c->B_hi));
+    w->k_lo = c->k_lo - (e * c->k_lo);
+    w->k_hi = c->k_hi + (e * c->k_hi);
+}
+
+typedef struct bc_builder {
+    const bl_loop *L;
+    zw_loop_workspace *ws;
+    const zw_box_loop_work *work;
+    zw_box_cert *cert;
+    uint_least32_t tests;
+} bc_builder;
+
+/* Try to prove (0, K] over [B_lo, B_hi] within budget leaves, writing its preorder from node
+ * pos; *n_nodes its length when *proven. */
+static zw_status bc_prove(bc_builder *bd, zw_real K, zw_real B_lo, zw_real B_hi, unsigned budget,
+                          uint_least32_t pos, uint_least32_t *n_nodes, bool *proven)
+{
+    const bl_loop *L = bd->L;
+    zw_box_loop_cell *cells = bd->work->cells;
+    unsigned live = 1u, leaves = 0u;
+    uint_least32_t n = 0u;
+    *proven = false;
+    bl_root(&L->box, K, B_lo, B_hi, &cells[0]);
+    while (live > 0u) {
+        const zw_box_loop_cell c = cells[live - 1u];
+        zw_box_loop_cell w;
+        bl_result res = BL_UNSURE;
+        unsigned side;
+        bool unstable;
+        live -= 1u;
+        if ((leaves + live + 1u > budget) || (pos + n >= ZW_BOX_CERT_MAX_NODES)) {
+            return ZW_OK; /* every waiting cell needs a leaf at least */
+        }
+        bc_widen(&c, &w);
+        bd->tests += 1u;
+        if ((bl_cell_test(L, &w, &res) == ZW_OK) && (res == BL_STABLE)) {
+            bc_set_node(bd->cert, pos + n, ZW_BOX_CERT_LEAF);
+            n += 1u;
+            leaves += 1u;
+            continue;
+        }
+        if (live + 2u > ZW_BOX_CERT_STACK) {
+            return ZW_OK;
+        }
+        if (bl_point_unstable(L, bd->ws, bl_mid(c.m_lo, c.m_hi), bl_mid(c.b_lo, c.b_hi), bl_mid(c.k_lo, c.k_hi),
+                              c.K_hi, bl_mid(c.B_lo, c.B_hi), &unstable) != ZW_OK) {
+            return ZW_OK;
+        }
+        side = bl_split_side(L->box.T, K, &c);
+        if (unstable || !bl_halve(&c, side, &cells[live + 1u], &cells[live])) {
+            return ZW_OK;
+        }
+        bc_set_node(bd->cert, pos + n, side);
+        n += 1u;
+        live += 2u;
+    }
+    *n_nodes = n;
+    *proven = true;
+    return ZW_OK;
+}
+
+/* The least point K_max at the corners and centre of the box at B (bl_k_max's bracket). */
+static zw_status bc_k_upper(const bl_loop *L, zw_loop_workspace *ws, zw_real B, zw_box_loop_bound *best)
+{
+    const zw_plant_box *f = &L->box;
+    const bool stiff = (f->k_hi > ZW_R(0.0));
+    int corner;
+    for (corner = 0; corner < (stiff ? 9 : 5); ++corner) {
+        const bool centre = (corner == 8) || ((corner == 4) && !stiff);
+        const zw_real m = centre ? bl_mid(f->m_lo, f->m_hi) : (((corner & 1) != 0) ? f->m_hi : f->m_lo);
+        const zw_real b = centre ? bl_mid(f->b_lo, f->b_hi) : (((corner & 2) != 0) ? f->b_hi : f->b_lo);
+        const zw_real kp = centre ? bl_mid(f->k_lo, f->k_hi) : (((corner & 4) != 0) ? f->k_hi : f->k_lo);
+        const zw_status st = bl_point_k_max(L, ws, m, b, kp, B, best);
+        if (st != ZW_OK) {
+            return st;
+        }
+    }
+    return ZW_OK;
+}
+
+/* Step i's level: bisection between 0 and the point bracket, each try a proof within the
+ * budget; the best proof is redone at the end so that its nodes are the ones left. */
+static zw_status bc_build_step(bc_builder *bd, unsigned i, unsigned budget, zw_real rel_tol, uint_least32_t *pos,
+                               zw_real *K_upper)
+{
+    zw_box_cert *cert = bd->cert;
+    const zw_real B_lo = (zw_real)cert->B[i], B_hi = (zw_real)cert->B[i + 1u];
+    zw_box_loop_bound best;
+    zw_real lo = ZW_R(0.0), hi;
+    uint_least32_t n = 0u;
+    bool proven;
+    int step;
+    zw_status st;
+    best.K_upper = ZW_INF;
+    st = bc_k_upper(bd->L, bd->ws, B_lo, &best);
+    if (st == ZW_OK) {
+        st = bc_k_upper(bd->L, bd->ws, bl_mid(B_lo, B_hi), &best);
+    }
+    if (st == ZW_OK) {
+        st = bc_k_upper(bd->L, bd->ws, B_hi, &best);
+    }
+    if (st != ZW_OK) {
+        return st;
+    }
+    *K_upper = best.K_upper;
+    hi = bx_min(best.K_upper, (zw_real)FLT_MAX);
+    cert->K[i] = 0.0f;
+    for (step = 0; (step < BL_BISECT_STEPS) && (hi - lo > rel_tol * best.K_upper); ++step) {
+        const zw_real mid = (lo > ZW_R(0.0)) ? bl_mid(lo, hi) : ZW_R(0.5) * hi;
+        const float Kf = bc_float_down(mid);
+        if (!(Kf > 0.0f) || !((zw_real)Kf > lo)) {
+            break;
+        }
+        st = bc_prove(bd, (zw_real)Kf, B_lo, B_hi, budget, *pos, &n, &proven);
+        if (st != ZW_OK) {
+            return st;
+        }
+        if (proven) {
+            lo = (zw_real)Kf;
+            cert->K[i] = Kf;
+        } else {
+            hi = mid;
+        }
+    }
+    if (cert->K[i] > 0.0f) {
+        st = bc_prove(bd, (zw_real)cert->K[i], B_lo, B_hi, budget, *pos, &n, &proven);
+        if ((st == ZW_OK) && proven) {
+            *pos += n;
+        } else {
+            cert->K[i] = 0.0f;
+        }
+    }
+    return st;
+}
+
+static zw_status bc_build(const zw_plant_box *box, const zw_device_loop_spec *spec, zw_loop_workspace *ws,
+                          float B_lo, float B_hi, unsigned n_steps, unsigned max_leaves, zw_real rel_tol,
+                          const zw_box_loop_work *work, zw_box_cert *cert, zw_box_cert_report *report)
+{
+    bl_loop L;
+    bc_builder bd;
+    zw_plant_box f;
+    uint_least32_t pos = 0u;
+    unsigned i;
+    zw_status st;
+    if ((spec == NULL) || (ws == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    st = zw_box_fold(box, &f);
+    if (st == ZW_OK) {
+        st = bc_validate_work(work);
+    }
+    if (st != ZW_OK) {
+        return st;
+    }
+    if ((n_steps < 1u) || (n_steps > ZW_BOX_CERT_MAX_STEPS) || (max_leaves < n_steps) ||
+        (max_leaves > ZW_BOX_CERT_MAX_LEAVES) || !(B_lo < B_hi) || !(rel_tol >= ZW_R(0.0)) ||
+        !(rel_tol < ZW_R(1.0))) {
+        return ZW_ERR_ARG;
+    }
+    st = bl_setup_scratch(&L, &f, spec, work->scratch);
+    if (st != ZW_OK) {
+        return st;
+    }
+    cert->n_steps = (uint_least16_t)n_steps;
+    for (i = 0u; i <= n_steps; ++i) { /* equal steps, the ends exact */
+        const zw_real t = (zw_real)i / (zw_real)n_steps;
+        cert->B[i] = (i == n_steps) ? B_hi : (float)((zw_real)B_lo + (t * ((zw_real)B_hi - (zw_real)B_lo)));
+        if ((i > 0u) && !(cert->B[i] > cert->B[i - 1u])) {
+            return ZW_ERR_ARG;
+        }
+    }
+    for (i = 0u; i < n_steps; ++i) {
+        if (!bc_step_ok(&L, cert->B[i], cert->B[i + 1u], 1.0f)) {
+            return ZW_ERR_RANGE;
+        }
+    }
+    bd.L = &L;
+    bd.ws = ws;
+    bd.work = work;
+    bd.cert = cert;
+    bd.tests = 0u;
+    for (i = 0u; i < n_steps; ++i) {
+        st = bc_build_step(&bd, i, max_leaves / n_steps, rel_tol, &pos, &report->K_upper[i]);
+        if (st != ZW_OK) {
+            return st;
+        }
+        if (!(cert->K[i] > 0.0f)) {
+            report->failed_step = (uint_least16_t)i;
+            break;
+        }
+    }
+    report->tests = bd.tests;
+    if (report->failed_step < ZW_BOX_CERT_MAX_STEPS) {
+        return ZW_OK;
+    }
+    cert->n_nodes = (uint_least16_t)pos;
+    while (pos < 4u * ZW_BOX_CERT_NODE_WORDS) { /* a longer failed try's nodes */
+        bc_set_node(cert, pos, 0u);
+        pos += 1u;
+    }
+    return ZW_OK;
+}
+
+zw_status zw_box_cert_build(const zw_plant_box *box, const zw_device_loop_spec *spec, zw_loop_workspace *ws,
+                            float B_lo, float B_hi, unsigned n_steps, unsigned max_leaves, zw_real rel_tol,
+                            const zw_box_loop_work *work, zw_box_cert *cert, zw_box_cert_report *report)
+{
+    unsigned i;
+    zw_status st;
+    if ((cert == NULL) || (report == NULL)) {
+        return ZW_ERR_NULL;
+    }
+    (void)memset(cert, 0, sizeof(*cert));
+    report->tests = 0u;
+    report->leaves = 0u;
+    report->failed_step = (uint_least16_t)ZW_BOX_CERT_MAX_STEPS;
+    for (i = 0u; i < ZW_BOX_CERT_MAX_STEPS; ++i) {
+        report->K_upper[i] = ZW_R(0.0);
+    }
+    st = bc_build(box, spec, ws, B_lo, B_hi, n_steps, max_leaves, rel_tol, work, cert, report);
+    if ((st != ZW_OK) || (report->failed_step < ZW_BOX_CERT_MAX_STEPS)) {
+        (void)memset(cert, 0, sizeof(*cert));
+    }
+    if (st == ZW_OK) {
+        uint_least32_t j;
+        for (j = 0u; j < (uint_least32_t)cert->n_nodes; ++j) {
+            report->leaves += (bc_node(cert, j) == ZW_BOX_CERT_LEAF) ? 1u : 0u;
+        }
     }
     return st;
 }

@@ -36,6 +36,12 @@
 #define zw_box_loop_k_max zw_box_loop_k_max_f
 #define zw_box_loop_b_range zw_box_loop_b_range_f
 #define zw_box_loop_k_mmax zw_box_loop_k_mmax_f
+/* box_cert.h */
+#define zw_box_cert_verify zw_box_cert_verify_f
+#define zw_box_cert_level zw_box_cert_level_f
+#define zw_box_cert_b_range zw_box_cert_b_range_f
+#define zw_box_cert_k_mmax zw_box_cert_k_mmax_f
+#define zw_box_cert_build zw_box_cert_build_f
 /* plant_box.h */
 #define zw_plant_enclose zw_plant_enclose_f
 #define zw_plant_enclose2 zw_plant_enclose2_f

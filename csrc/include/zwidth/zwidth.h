@@ -9,6 +9,7 @@
 
 #include "zwidth/batch.h"
 #include "zwidth/box.h"
+#include "zwidth/box_cert.h"
 #include "zwidth/plant_box.h"
 #include "zwidth/coeffs.h"
 #include "zwidth/device.h"
