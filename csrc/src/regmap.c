@@ -429,7 +429,7 @@ static zw_reason write_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t c
 
 /* Power-up state without the live registers: unsealed, gains off, counters 0, then the
  * given block through the path of a commissioned one (the same checks). */
-ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert)
+ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert, const zw_box_cert *box_cert)
 {
     unsigned i;
     zw_reason why = ZW_REASON_NONE;
@@ -441,6 +441,10 @@ ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert)
     for (i = 0u; i < 2u; ++i) { /* both slots of each double buffer */
         zw_rm_publish_gains(rm, 0.0f, 0.0f);
         zw_regmap_set_state(rm, 0.0f, 0.0f, 0.0f, 0u);
+    }
+    if ((cert != NULL) && (box_cert != NULL)) { /* verified by the admission (regmap_policy.c) */
+        rm->box_cert = *box_cert;
+        rm->box_cert_pending = 1u;
     }
     if (cert != NULL) {
         zw_cert_encode(cert, rm->staged);
@@ -454,11 +458,16 @@ ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert)
 
 zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason)
 {
+    return zw_regmap_init_box(rm, cert, NULL, reason);
+}
+
+zw_status zw_regmap_init_box(zw_regmap *rm, const zw_cert *cert, const zw_box_cert *box_cert, zw_reason *reason)
+{
     zw_reason why;
     if (rm == NULL) {
         return ZW_ERR_NULL;
     }
-    why = power_up(rm, cert);
+    why = power_up(rm, cert, box_cert);
     if (reason != NULL) {
         *reason = why;
     }

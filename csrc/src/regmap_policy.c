@@ -180,6 +180,12 @@ static bool cert_box_setup(zw_regmap *rm, const zw_cert *c, zw_plant_box *box,
     return spec_of(f, spec);
 }
 
+/* The verified certificate of block c, NULL when c is a point block or has none. */
+static const zw_box_cert *staircase_of(const zw_regmap *rm, const zw_cert *c)
+{
+    return (cert_ranged(c) && (rm->box_cert_valid != 0u)) ? &rm->box_cert : NULL;
+}
+
 /* Box K_max at B: a certified lower bound of the infimum over the box (every K in
  * (0, K_lower] stable at B for every plant); 0 with an error status when it fails. */
 ZW_NOINLINE static zw_status cert_box_k_max(zw_regmap *rm, const zw_cert *c, float B, zw_real *k_max)
@@ -189,7 +195,15 @@ ZW_NOINLINE static zw_status cert_box_k_max(zw_regmap *rm, const zw_cert *c, flo
     zw_box_loop_work work;
     zw_box_loop_bound bound;
     zw_status st;
+    const zw_box_cert *stairs = staircase_of(rm, c);
     *k_max = ZW_R(0.0);
+    if (stairs != NULL) { /* the level at B: certified for every plant */
+        float level;
+        bool inside;
+        zw_box_cert_level(stairs, B, &level, &inside);
+        *k_max = (zw_real)level;
+        return inside ? ZW_OK : ZW_ERR_DOMAIN;
+    }
     if (!cert_box_setup(rm, c, &box, &spec, &work)) {
         return ZW_ERR_ARG;
     }
@@ -221,6 +235,19 @@ ZW_NOINLINE static zw_reason cert_box_certify(zw_regmap *rm, const zw_cert *c, f
     zw_box_loop_work work;
     zw_box_loop_verdict v;
     zw_status st;
+    const zw_box_cert *stairs = staircase_of(rm, c);
+    if (stairs != NULL) { /* every K' in (0, level] is proven at B: K / sigma within it */
+        float level;
+        bool inside;
+        zw_box_cert_level(stairs, B, &level, &inside);
+        if (!inside) {
+            return ZW_REASON_OUTSIDE_CERT;
+        }
+        if (!(K > 0.0f)) { /* K <= 0 has a pole at or outside z = 1 without stiffness */
+            return ZW_REASON_UNSTABLE;
+        }
+        return (k_over_sigma_up(K, c->sigma) <= (zw_real)level) ? ZW_REASON_NONE : ZW_REASON_ABOVE_SIGMA;
+    }
     if (!cert_box_setup(rm, c, &box, &spec, &work)) {
         return ZW_REASON_UNSTABLE;
     }
@@ -253,7 +280,13 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm, const zw_cert *c, bool *any
 {
     zw_status st;
     zw_real K = ZW_R(0.0), B = ZW_R(0.0);
-    if (cert_ranged(c)) { /* certified for the whole box (box.h) */
+    if (staircase_of(rm, c) != NULL) { /* the highest level, in the middle of its step */
+        float Kf, Bf;
+        zw_box_cert_k_mmax(&rm->box_cert, &Kf, &Bf);
+        K = (zw_real)Kf;
+        B = (zw_real)Bf;
+        st = ZW_OK;
+    } else if (cert_ranged(c)) { /* certified for the whole box (box.h) */
         zw_plant_box box;
         zw_device_loop_spec spec;
         zw_box_loop_work work;
@@ -387,6 +420,28 @@ static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_F
     return ZW_REASON_NONE;
 }
 
+/* A certificate given at power-up, against the staged block c: verified (bounded,
+ * box_cert.h) and then in force with it; none given: the block runs without one. */
+ZW_NOINLINE static zw_reason admit_box_cert(zw_regmap *rm, const zw_cert *c)
+{
+    zw_plant_box box;
+    zw_device_loop_spec spec;
+    zw_box_loop_work work;
+    zw_box_cert_fault fault = ZW_BOX_CERT_BAD_HEADER;
+    uint_least32_t leaves = 0u;
+    rm->box_cert_valid = 0u;
+    if (rm->box_cert_pending == 0u) {
+        return ZW_REASON_NONE;
+    }
+    if (!cert_ranged(c) || !cert_box_setup(rm, c, &box, &spec, &work) ||
+        (zw_box_cert_verify(&box, &spec, &rm->box_cert, &work, &fault, &leaves) != ZW_OK) ||
+        (fault != ZW_BOX_CERT_OK)) {
+        return ZW_REASON_BOX_CERT;
+    }
+    rm->box_cert_valid = 1u;
+    return ZW_REASON_NONE;
+}
+
 zw_reason zw_rm_policy_admit(zw_regmap *rm)
 {
     unsigned i;
@@ -411,6 +466,10 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
         why = check_firmware_loop(&rm->ceilings, f);
     }
     if (why == ZW_REASON_NONE) {
+        why = admit_box_cert(rm, &c);
+    }
+    rm->box_cert_pending = 0u; /* only power-up gives one: no earlier certificate to keep */
+    if (why == ZW_REASON_NONE) {
         live_extremes(rm, &c, &any);
         if (!any) {
             why = ZW_REASON_LOOP_NEVER_STABLE;
@@ -423,6 +482,8 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
     if (why != ZW_REASON_NONE) {
         /* the sealed block stays in force: its loop back (it was valid when sealed), and
          * its extremes */
+        rm->box_cert_valid = 0u; /* a refused block's certificate is not kept */
+        (void)memset(&rm->box_cert, 0, sizeof rm->box_cert);
         if (rm->is_sealed != 0u) {
             (void)build_loop(rm, false);
             live_extremes(rm, &rm->sealed, &any);
@@ -794,9 +855,20 @@ ZW_NOINLINE static void live_refresh(zw_regmap *rm)
     }
     rm->live[L_K_MAX] = value_or_nan(st, x);
     if (ranged) {
-        rm->live[L_K_MAX] = (st == ZW_OK) ? float_down(x) : QUIET_NAN_F; /* no box form per write: NaN (regmap.h); delta of the lower ends */
+        rm->live[L_K_MAX] = (st == ZW_OK) ? float_down(x) : QUIET_NAN_F;
+        /* B range: the certificate's run of steps at K / sigma; without one no box form per
+         * write (NaN, regmap.h).  RHO NaN; delta of the lower ends. */
         rm->live[L_B_LO] = QUIET_NAN_F;
         rm->live[L_B_HI] = QUIET_NAN_F;
+        if (staircase_of(rm, &rm->sealed) != NULL) {
+            float q = rm->K / rm->sealed.sigma, lo, hi;
+            if (rm->sealed.sigma != 1.0f) {
+                q = ZW_NEXTAFTERF(q, ZW_HUGE_VALF); /* rounded up */
+            }
+            zw_box_cert_b_range(&rm->box_cert, q, rm->B, &lo, &hi, &any);
+            rm->live[L_B_LO] = lo;
+            rm->live[L_B_HI] = hi;
+        }
         rm->live[L_RHO] = QUIET_NAN_F;
         rm->live[L_DELTA] = zw_rm_to_float(d->co.delta);
         return;
@@ -868,6 +940,8 @@ const char *zw_reason_name(zw_reason reason)
     case ZW_REASON_LOOP_MISMATCH: name = "ZW_REASON_LOOP_MISMATCH"; break;
     case ZW_REASON_BOX_BUDGET: name = "ZW_REASON_BOX_BUDGET"; break;
     case ZW_REASON_BOX_RADIUS: name = "ZW_REASON_BOX_RADIUS"; break;
+    case ZW_REASON_BOX_CERT: name = "ZW_REASON_BOX_CERT"; break;
+    case ZW_REASON_OUTSIDE_CERT: name = "ZW_REASON_OUTSIDE_CERT"; break;
     default: name = "ZW_REASON_UNKNOWN"; break; /* a value outside the enumeration */
     }
     return name;

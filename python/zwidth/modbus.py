@@ -231,6 +231,8 @@ REASONS: Dict[int, str] = {
     39: "ZW_REASON_LOOP_MISMATCH",
     40: "ZW_REASON_BOX_BUDGET",
     41: "ZW_REASON_BOX_RADIUS",
+    42: "ZW_REASON_BOX_CERT",
+    43: "ZW_REASON_OUTSIDE_CERT",
 }
 
 # The reason reported for a refusal whose "last refusal" registers were overwritten by

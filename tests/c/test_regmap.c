@@ -1612,6 +1612,7 @@ static void test_reason_names(void **state)
         ZWT_REASON(ZW_REASON_STORAGE),      ZWT_REASON(ZW_REASON_IMAGE_FORMAT),
         ZWT_REASON(ZW_REASON_IMAGE_CRC),    ZWT_REASON(ZW_REASON_LOOP_MISMATCH),
         ZWT_REASON(ZW_REASON_BOX_BUDGET),   ZWT_REASON(ZW_REASON_BOX_RADIUS),
+        ZWT_REASON(ZW_REASON_BOX_CERT),     ZWT_REASON(ZW_REASON_OUTSIDE_CERT),
     };
     size_t i;
     (void)state;
@@ -2871,6 +2872,87 @@ static void test_box_budget_refuses(void **state)
     assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), ZW_REASON_BOX_BUDGET);
 }
 
+/* The valley block's certificate over B in [0, 2 VALLEY_B], built in this precision. */
+static zw_box_cert valley_box_cert(void)
+{
+    static zw_box_loop_cell cells[ZW_BOX_CERT_STACK];
+    static zw_box_loop_scratch scratch;
+    zw_box_cert bc;
+    zw_box_cert_report r;
+    zw_box_loop_work w;
+    zw_device_loop_spec spec;
+    zw_plant_box box;
+    memset(&spec, 0, sizeof spec);
+    memset(&box, 0, sizeof box);
+    box.m_lo = (zw_real)VALLEY_M_LO;
+    box.m_hi = (zw_real)VALLEY_M_HI;
+    box.b_lo = (zw_real)B_SHORT;
+    box.b_hi = (zw_real)B_SHORT;
+    box.T = (zw_real)T_20MS;
+    EXPECT_OK(zw_box_loop_work_init(&w, cells, ZW_BOX_CERT_STACK, &scratch));
+    EXPECT_OK(zw_box_cert_build(&box, &spec, &g_box_ws, 0.0f, 2.0f * VALLEY_B, 8u, 256u, R(1.0e-3), &w, &bc, &r));
+    assert_int_equal(r.failed_step, ZW_BOX_CERT_MAX_STEPS);
+    return bc;
+}
+
+/* Power-up with a certificate: writes are lookups in its staircase (accepted up to the
+ * level, ABOVE_SIGMA above it, OUTSIDE_CERT beyond its B range), the live registers come
+ * from it, and a damaged one or one for a point block refuses the block. */
+static void test_box_certificate(void **state)
+{
+    static zw_regmap rm;
+    zw_cert c = valley_cert(), point = valley_cert();
+    zw_box_cert bc = valley_box_cert(), bad;
+    zw_reason why = ZW_REASON_NONE;
+    float level = 0.0f, m_at = 0.0f;
+    bool inside = false;
+    const double least = valley_min(VALLEY_B, &m_at);
+    (void)state;
+    zw_box_cert_level(&bc, VALLEY_B, &level, &inside);
+    assert_true(inside && level > 0.0f && (double)level <= least);
+    c.sigma = 0.8f;
+    memset(&rm, 0xA5, sizeof rm);
+    EXPECT_OK(zw_regmap_init_box(&rm, &c, &bc, &why));
+    assert_string_equal(zw_reason_name(why), "ZW_REASON_NONE");
+    assert_int_equal(rm.box_cert_valid, 1);
+    memset(&g_auth, 0, sizeof g_auth);
+    allow_commissioning(&rm);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.79f * level, VALLEY_B));
+    /* live: the level, sigma times it, the run of steps certified at K / sigma */
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_MAX) == level);
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_CERT) <= 0.8f * level && rdf(&rm, ZW_REG_LIVE_K_CERT) > 0.7f * level);
+    assert_true(rdf(&rm, ZW_REG_LIVE_B_LO) <= VALLEY_B && rdf(&rm, ZW_REG_LIVE_B_HI) >= VALLEY_B);
+    {
+        float K_mm = 0.0f, B_mm = 0.0f;
+        zw_box_cert_k_mmax(&bc, &K_mm, &B_mm);
+        assert_true(rdf(&rm, ZW_REG_LIVE_K_MMAX) == K_mm && rdf(&rm, ZW_REG_LIVE_B_AT_KMMAX) == B_mm);
+    }
+    EXPECT_ACCEPTED(write_K(&rm, rdf(&rm, ZW_REG_LIVE_K_CERT)));
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.81f * level), ZW_MB_ILLEGAL_VALUE, ZW_REASON_ABOVE_SIGMA);
+    EXPECT_ACCEPTED(write_pair(&rm, 0.0f, 0.0f));
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.01f * level, -1.0e-4f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_OUTSIDE_CERT);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.01f * level, 2.0f * VALLEY_B + 1.0e-4f), ZW_MB_ILLEGAL_VALUE,
+                   ZW_REASON_OUTSIDE_CERT);
+    /* every accepted K at B is stable at the interior plant the point block misses */
+    assert_int_equal(point_verdict(m_at, 0.79f * level, VALLEY_B), 1);
+    /* a level raised above what its leaves prove: the block is refused, the drive unsealed */
+    bad = bc;
+    bad.K[3] = 1.5f * bad.K[3];
+    memset(&rm, 0xA5, sizeof rm);
+    EXPECT_STATUS(zw_regmap_init_box(&rm, &c, &bad, &why), ZW_ERR_ARG);
+    assert_string_equal(zw_reason_name(why), "ZW_REASON_BOX_CERT");
+    assert_int_equal(rd(&rm, ZW_REG_SEALED), 0u);
+    assert_int_equal(rm.box_cert_valid, 0);
+    /* a certificate with a point block */
+    point.m_hi = 0.0f;
+    point.b_hi = 0.0f;
+    EXPECT_STATUS(zw_regmap_init_box(&rm, &point, &bc, &why), ZW_ERR_ARG);
+    assert_string_equal(zw_reason_name(why), "ZW_REASON_BOX_CERT");
+    /* without one the ranged block runs the search, as before */
+    EXPECT_OK(zw_regmap_init_box(&rm, &c, NULL, &why));
+    assert_int_equal(rm.box_cert_valid, 0);
+}
+
 /* SEAL's rules for the ranges, and the ceilings applied to each end. */
 static void test_box_block_validation(void **state)
 {
@@ -3064,6 +3146,7 @@ int main(void)
         cmocka_unit_test(test_box_refuses_interior_instability),
         cmocka_unit_test(test_box_sigma_rule),
         cmocka_unit_test(test_box_budget_refuses),
+        cmocka_unit_test(test_box_certificate),
         cmocka_unit_test(test_box_block_validation),
         cmocka_unit_test(test_version3_client_refused),
         cmocka_unit_test(test_box_persistence),

@@ -110,6 +110,7 @@
 #define zw_check_proportional zw_check_proportional_f
 /* regmap.h (float on the wire in both builds, but zw_regmap holds a zw_device) */
 #define zw_regmap_init zw_regmap_init_f
+#define zw_regmap_init_box zw_regmap_init_box_f
 #define zw_regmap_active_gains zw_regmap_active_gains_f
 #define zw_regmap_set_state zw_regmap_set_state_f
 #define zw_regmap_handle_pdu zw_regmap_handle_pdu_f

@@ -180,6 +180,7 @@
 #include <stdint.h>
 
 #include "zwidth/box.h"
+#include "zwidth/box_cert.h"
 #include "zwidth/device_loop.h"
 #include "zwidth/regmap_codec.h"
 #include "zwidth/regmap_commission.h"
@@ -336,6 +337,11 @@ typedef struct zw_regmap {
      * K_max lower bound. */
     zw_box_loop_cell box_cells[ZW_REGMAP_BOX_CELLS];
     zw_box_loop_scratch box_scratch;
+    /* A ranged block's certificate (box_cert.h, zw_regmap_init_box), 648 B: while
+     * box_cert_valid the box rules are lookups in its staircase, no search.
+     * box_cert_pending: given at power-up, verified when the block is admitted. */
+    zw_box_cert box_cert;
+    uint_least16_t box_cert_valid, box_cert_pending;
 } zw_regmap;
 
 /* Power-up (init context: before the control loop and the Modbus task run): with cert
@@ -346,6 +352,21 @@ typedef struct zw_regmap {
  * ZW_ERR_ARG or ZW_ERR_FPENV it is a working unsealed drive (gains off) that can be
  * commissioned.  reason may be NULL; it receives ZW_REASON_NONE on success. */
 zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason);
+
+/* Power-up with a ranged block and its box certificate (box_cert.h, built by the
+ * commissioning tool with zw_box_cert_build in this drive's precision): as zw_regmap_init,
+ * and the certificate is verified against the block's box and loop before the block is
+ * admitted (at most ZW_BOX_CERT_MAX_LEAVES interval tests, the bound of this call).  Then
+ * every box rule is a lookup: a write is accepted when K / sigma (rounded up) is at most
+ * the certified level at B (else ZW_REASON_ABOVE_SIGMA), refused with
+ * ZW_REASON_OUTSIDE_CERT when B is outside the staircase; K_MAX is the level at B, K_MMAX
+ * the highest level, B_LO / B_HI the run of steps around B certified at K / sigma.  A
+ * certificate that fails verification, or one given with a point block, refuses the block
+ * (ZW_REASON_BOX_CERT).  box_cert NULL: zw_regmap_init.  A block sealed later over Modbus
+ * has no certificate (the window is not in the map yet) and runs the search; the stored
+ * image does not carry the certificate either. */
+zw_status zw_regmap_init_box(zw_regmap *rm, const zw_cert *cert, const zw_box_cert *box_cert,
+                             zw_reason *reason);
 
 /* Commissioning (zwidth/regmap_commission.h), Modbus task or init context.  The enable
  * input: commissioning is possible only while it is on (off after zw_regmap_init; a

@@ -115,8 +115,12 @@ typedef enum zw_reason {
     /* the plant box (map version 4) */
     ZW_REASON_BOX_BUDGET = 40,    /* a ranged block's search ran out of its budget before a
                                      proof either way: refused, never accepted unproven */
-    ZW_REASON_BOX_RADIUS = 41     /* SEAL: a ranged block with r < 1 (the radius rule has no
+    ZW_REASON_BOX_RADIUS = 41,    /* SEAL: a ranged block with r < 1 (the radius rule has no
                                      box form here) */
+    /* box certificates (box_cert.h, zw_regmap_init_box) */
+    ZW_REASON_BOX_CERT = 42,      /* power-up: the certificate does not verify for the block's
+                                     box and loop, or was given with a point block */
+    ZW_REASON_OUTSIDE_CERT = 43   /* a write's B outside the certificate's staircase */
 } zw_reason;
 
 /* The box search of a ranged block (map version 4), its memory in zw_regmap: cells of the
