@@ -28,6 +28,7 @@
 #include <vector>
 
 extern "C" {
+#include "box_cert_glue.h"
 #include "zwidth/device_loop.h"
 #include "zwidth/loop.h"
 #include "zwidth/loop_limits.h"
@@ -1512,6 +1513,122 @@ py::dict box_loop_k_mmax(double m_lo, double m_hi, double b_lo, double b_hi, dou
     return out;
 }
 
+// ---- box certificates (box_cert.h), built and verified in the drive's precision --------------
+zwb_box_args cert_args(const BoxLoopCall &c, double cutoff_or_pole, bool pole_given) {
+    zwb_box_args a{};
+    const zw_plant_box &b = c.box;
+    const double f[15] = {b.m_lo, b.m_hi, b.b_lo, b.b_hi, b.T, b.k_lo, b.k_hi, b.m_h_lo, b.m_h_hi,
+                          b.b_h_lo, b.b_h_hi, b.k_h_lo, b.k_h_hi, b.tau_lo, b.tau_hi};
+    for (int i = 0; i < 15; ++i) a.box[i] = f[i];
+    a.delay = c.spec.delay;
+    a.average = c.spec.average;
+    a.differentiator = static_cast<int>(c.spec.differentiator);
+    a.filter = static_cast<int>(c.spec.filter);
+    a.pole_given = pole_given ? 1 : 0;
+    a.cutoff_or_pole = cutoff_or_pole;
+    return a;
+}
+
+py::dict cert_dict(const zw_box_cert &cert) {
+    py::dict out;
+    py::list B, K, nodes;
+    for (unsigned i = 0; i <= cert.n_steps && i <= ZW_BOX_CERT_MAX_STEPS; ++i) B.append(double{cert.B[i]});
+    for (unsigned i = 0; i < cert.n_steps && i < ZW_BOX_CERT_MAX_STEPS; ++i) K.append(double{cert.K[i]});
+    for (unsigned i = 0; i < cert.n_nodes && i < ZW_BOX_CERT_MAX_NODES; ++i)
+        nodes.append((cert.nodes[i / 4u] >> (4u * (i % 4u))) & 0xFu);
+    out["n_steps"] = unsigned{cert.n_steps};
+    out["n_nodes"] = unsigned{cert.n_nodes};
+    out["B"] = B;
+    out["K"] = K;
+    out["nodes"] = nodes;
+    return out;
+}
+
+std::vector<double> numbers_of(const py::handle &h) {
+    std::vector<double> v;
+    for (const py::handle &x : py::reinterpret_borrow<py::sequence>(h)) v.push_back(py::cast<double>(x));
+    return v;
+}
+
+zw_box_cert cert_from(const py::dict &d) {
+    zw_box_cert cert{};
+    const std::vector<double> B = numbers_of(d["B"]), K = numbers_of(d["K"]), nodes = numbers_of(d["nodes"]);
+    if (B.size() > ZW_BOX_CERT_MAX_STEPS + 1u || K.size() > ZW_BOX_CERT_MAX_STEPS ||
+        nodes.size() > ZW_BOX_CERT_MAX_NODES)
+        throw py::value_error("certificate too large for the wire format");
+    cert.n_steps = static_cast<uint_least16_t>(py::cast<unsigned>(d["n_steps"]));
+    cert.n_nodes = static_cast<uint_least16_t>(py::cast<unsigned>(d["n_nodes"]));
+    for (std::size_t i = 0; i < B.size(); ++i) cert.B[i] = static_cast<float>(B[i]);
+    for (std::size_t i = 0; i < K.size(); ++i) cert.K[i] = static_cast<float>(K[i]);
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        const unsigned code = static_cast<unsigned>(nodes[i]) & 0xFu;
+        cert.nodes[i / 4u] = static_cast<uint_least16_t>(cert.nodes[i / 4u] | (code << (4u * (i % 4u))));
+    }
+    return cert;
+}
+
+py::dict box_cert_build(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
+                        int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
+                        double B_lo, double B_hi, long steps, long leaves, bool single, long capacity,
+                        long max_evals, double rel_tol, const py::object &parts) {
+    BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
+                  capacity, max_evals, rel_tol);
+    box_set_parts(c.box, parts);
+    if (steps < 1 || steps > static_cast<long>(ZW_BOX_CERT_MAX_STEPS))
+        throw py::value_error("steps must be in 1.." + std::to_string(ZW_BOX_CERT_MAX_STEPS));
+    if (leaves < steps || leaves > static_cast<long>(ZW_BOX_CERT_MAX_LEAVES))
+        throw py::value_error("leaves must be in steps.." + std::to_string(ZW_BOX_CERT_MAX_LEAVES));
+    const zwb_box_args a = cert_args(c, cutoff_or_pole, pole_given);
+    zw_box_cert cert{};
+    zwb_box_cert_result r{};
+    int rc;
+    {
+        py::gil_scoped_release release;
+        rc = (single ? zwb_box_cert_build_f : zwb_box_cert_build_d)(
+            &a, static_cast<float>(B_lo), static_cast<float>(B_hi), static_cast<unsigned>(steps),
+            static_cast<unsigned>(leaves), rel_tol, &cert, &r);
+    }
+    if (rc != 0) throw std::bad_alloc();
+    py::dict out = cert_dict(cert);
+    py::list upper;
+    for (long i = 0; i < steps; ++i) upper.append(r.K_upper[i]);
+    out["status"] = r.status;
+    out["failed_step"] = r.failed_step;
+    out["tests"] = r.tests;
+    out["leaves"] = r.leaves;
+    out["K_upper"] = upper;
+    out["verify_status"] = r.verify_status;
+    out["fault"] = r.fault;
+    out["verify_leaves"] = r.verify_leaves;
+    out["build_seconds"] = r.build_seconds;
+    out["verify_seconds"] = r.verify_seconds;
+    return out;
+}
+
+py::dict box_cert_verify(double m_lo, double m_hi, double b_lo, double b_hi, double T, unsigned delay,
+                         int differentiator, int filter, double cutoff_or_pole, bool pole_given, unsigned average,
+                         const py::dict &certificate, bool single, long capacity, long max_evals, double rel_tol,
+                         const py::object &parts) {
+    BoxLoopCall c(m_lo, m_hi, b_lo, b_hi, T, delay, differentiator, filter, cutoff_or_pole, pole_given, average,
+                  capacity, max_evals, rel_tol);
+    box_set_parts(c.box, parts);
+    const zwb_box_args a = cert_args(c, cutoff_or_pole, pole_given);
+    const zw_box_cert cert = cert_from(certificate);
+    int fault = 0;
+    unsigned long leaves = 0;
+    int st;
+    {
+        py::gil_scoped_release release;
+        st = (single ? zwb_box_cert_verify_f : zwb_box_cert_verify_d)(&a, &cert, &fault, &leaves);
+    }
+    if (st < 0) throw std::bad_alloc();
+    py::dict out;
+    out["status"] = st;
+    out["fault"] = fault;
+    out["leaves"] = leaves;
+    return out;
+}
+
 }  // namespace
 
 void zw_register_box(py::module_ &mod) {
@@ -1537,4 +1654,13 @@ void zw_register_box(py::module_ &mod) {
             py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), cap, ev, tol, parts,
             "zw_box_loop_k_mmax.");
     mod.attr("BOX_LOOP_DEFAULT_REL_TOL") = double{ZW_BOX_LOOP_DEFAULT_REL_TOL};
+    mod.def("box_cert_build", &box_cert_build, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
+            py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"), py::arg("B_lo"),
+            py::arg("B_hi"), py::arg("steps"), py::arg("leaves"), py::arg("single"), cap, ev, tol, parts,
+            "zw_box_cert_build then zw_box_cert_verify, in float (single) or double.");
+    mod.def("box_cert_verify", &box_cert_verify, ml, mh, bl, bh, T, py::arg("delay"), py::arg("differentiator"),
+            py::arg("filter"), py::arg("cutoff_or_pole"), py::arg("pole_given"), py::arg("average"),
+            py::arg("certificate"), py::arg("single"), cap, ev, tol, parts, "zw_box_cert_verify.");
+    mod.attr("BOX_CERT_MAX_STEPS") = long{ZW_BOX_CERT_MAX_STEPS};
+    mod.attr("BOX_CERT_MAX_LEAVES") = long{ZW_BOX_CERT_MAX_LEAVES};
 }

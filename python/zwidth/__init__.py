@@ -32,7 +32,7 @@ from typing import Dict as _Dict
 
 from . import _core
 from ._kernels import STATUS_NAMES, ZwidthError, ZwidthTypeError
-from .box import PlantBox
+from .box import BoxCertificate, PlantBox
 from .device import Device, LoopNotSupported, PlantSensitivity
 from .loop import Loop
 from .normalized import (alpha_max, beta_interval, boundary, char_poly, check, coefficients,
@@ -72,7 +72,7 @@ __all__ = [
     "LoopExtremes", "DeviceLoopExtremes", "LoopInfluence",
     "check", "verdict", "spectral_radius", "radius_within", "char_poly", "coefficients",
     "coefficients_literal", "extremes", "hyperbola_top", "corner", "alpha_max", "beta_interval",
-    "Device", "PlantBox", "Verdict", "Coefficients", "Extremes", "BoundaryPoint", "Interval", "Normalized",
+    "Device", "PlantBox", "BoxCertificate", "Verdict", "Coefficients", "Extremes", "BoundaryPoint", "Interval", "Normalized",
     "DeviceExtremes", "Influence", "PlantSensitivity",
     "load_scene", "Scene", "SceneError", "simulate", "Simulation", "SimulationSet", "SimVerdict",
 ]

@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, Dict, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 from . import _core
 from ._kernels import STATUS_NAMES, ZwidthError
@@ -152,6 +152,59 @@ class BoxExtremes(Result):
     b_worst: float
     converged: bool
     k_worst: float = 0.0
+
+
+#: Bytes of a certificate on the wire and in a drive's stored image (box_cert.h's
+#: zw_box_cert: 2 counts, 17 breakpoints and 16 levels as binary32, 256 words of nodes).
+BOX_CERT_BYTES = 2 * (2 + 2 * 17 + 2 * 16 + 256)
+
+#: zw_box_cert_fault's names (box_cert.h).
+BOX_CERT_FAULTS = ("ok", "bad header", "bad step", "bad node", "bad split", "too many leaves",
+                   "unused nodes", "a leaf fails")
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class BoxCertificate(Result):
+    """A staircase of stiffness limits over B, proven for every plant of a box (box_cert.h).
+
+    Step i: every K' in (0, K[i]] is stable at every B in [B[i], B[i+1]] for every plant,
+    with the box's loop.  ``K_upper[i]``: the least point K_max found at the step's ends and
+    middle (the level cannot pass it; ``K[i] / K_upper[i]`` is how much the proof keeps).
+    ``nodes``: the proof, the preorder of a k-d tree per step (0 a leaf, 1..5 a split of
+    m, b, K, B or k_p).  Built and verified in ``precision`` ("float": what a float drive
+    checks); ``verify_seconds`` is the host's verification, a drive's is measured by
+    tools/m4f_box_cert.sh."""
+
+    B: Tuple[float, ...]
+    K: Tuple[float, ...]
+    K_upper: Tuple[float, ...]
+    nodes: Tuple[int, ...]
+    precision: str
+    leaves: int
+    tests: int
+    build_seconds: float
+    verify_seconds: float
+
+    @property
+    def size_bytes(self) -> int:
+        """Its size on the wire and in the stored image (fixed: the largest certificate)."""
+        return BOX_CERT_BYTES
+
+    def level(self, B: float) -> float:
+        """The certified level at B (the larger one on a breakpoint; 0 outside)."""
+        B = float(B)
+        if not self.B[0] <= B <= self.B[-1]:
+            return 0.0
+        return max(k for k, lo, hi in zip(self.K, self.B, self.B[1:]) if lo <= B <= hi)
+
+    def steps(self) -> List[Tuple[float, float, float, float]]:
+        """(B_lo, B_hi, K, K_upper) per step."""
+        return list(zip(self.B, self.B[1:], self.K, self.K_upper))
+
+    def as_wire(self) -> Dict[str, Any]:
+        """The fields zw_box_cert holds (for _core.box_cert_verify and a drive)."""
+        return {"n_steps": len(self.K), "n_nodes": len(self.nodes), "B": list(self.B), "K": list(self.K),
+                "nodes": list(self.nodes)}
 
 
 HandLike = Tuple[RangeLike, RangeLike, RangeLike]
@@ -360,6 +413,51 @@ class PlantBox:
         else:
             out = self._raise(self._call(_core.box_b_range, float(K)), "b_range", {"K": float(K)})
         return Interval(float(out["B_lo"]), float(out["B_hi"]), bool(out["nonempty"]))
+
+    def certificate(self, B_range: Optional[Tuple[float, float]] = None, *, steps: int = 16,
+                    leaves: int = 512, precision: str = "float") -> BoxCertificate:
+        """A box certificate for a drive (box_cert.h): ``steps`` equal steps over ``B_range``
+        (default: the B range certified over the box at half its K_mmax), at most
+        ``leaves`` interval tests in its proof (what the drive runs to verify it), built in
+        the drive's ``precision`` ("float" or "double").  The search runs here; the result is
+        verified before it is returned.  A B range with a step that nothing proves (B near
+        or past the edge of stability) raises ZwidthError naming the step."""
+        if precision not in ("float", "double"):
+            raise ValueError(f"zwidth.PlantBox.certificate: precision must be 'float' or 'double', got {precision!r}")
+        if B_range is None:
+            x = self.extremes()
+            iv = self.b_range(0.5 * x.K_mmax)
+            if not iv.nonempty:
+                raise ZwidthError("zwidth.PlantBox.certificate: no B is certified over the box; give B_range",
+                                  "ZW_ERR_DOMAIN", "B_range", (), {})
+            B_range = (iv.lo, iv.hi)
+        lo, hi = (float(B_range[0]), float(B_range[1]))
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+            raise ValueError(f"zwidth.PlantBox.certificate: B_range must be finite with lo < hi, got {B_range!r}")
+        gains = {"B_lo": lo, "B_hi": hi}
+        out = self._raise(self._call_loop(_core.box_cert_build, lo, hi, int(steps), int(leaves),
+                                          precision == "float"), "certificate", gains)
+        if int(out["failed_step"]) < int(steps):
+            i = int(out["failed_step"])
+            width = (hi - lo) / int(steps)
+            raise ZwidthError(f"zwidth.PlantBox.certificate: step {i} (B in [{lo + i * width:.6g}, "
+                              f"{lo + (i + 1) * width:.6g}]) is proven at no K within {int(steps)} x "
+                              f"{int(leaves) // int(steps)} leaves (point K_max there {out['K_upper'][i]:.6g}): "
+                              "narrow B_range away from the edge of stability, or give fewer steps",
+                              "ZW_ERR_DOMAIN", "B_range", (), gains)
+        if int(out["verify_status"]) != 0 or int(out["fault"]) != 0:
+            raise RuntimeError(f"zwidth.PlantBox.certificate: the certificate built does not verify "
+                               f"({BOX_CERT_FAULTS[int(out['fault'])]}): please report this")
+        return BoxCertificate(tuple(out["B"]), tuple(out["K"]), tuple(out["K_upper"]), tuple(out["nodes"]),
+                              precision, int(out["leaves"]), int(out["tests"]), float(out["build_seconds"]),
+                              float(out["verify_seconds"]))
+
+    def verify_certificate(self, cert: BoxCertificate) -> str:
+        """Verify cert for this box and loop in its precision, as a drive does: "ok" or the
+        fault (BOX_CERT_FAULTS)."""
+        out = self._raise(self._call_loop(_core.box_cert_verify, cert.as_wire(), cert.precision == "float"),
+                          "verify_certificate", {})
+        return BOX_CERT_FAULTS[int(out["fault"])]
 
     def extremes(self) -> BoxExtremes:
         """The largest K one B makes stable for the whole box (certified), and that B."""

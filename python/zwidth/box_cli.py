@@ -168,7 +168,29 @@ def cmd_limits(args: argparse.Namespace, box: PlantBox) -> _Outcome:
              f"  K with B = 0 (stiffness only): K < {_fmt(kp.K_lower)} {u['K']}",
              f"  nominal plant ({_plant_text(box, M.mid, Bp.mid, Kp.mid)}): "
              f"K_mmax = {_fmt(nom.K_mmax)} {u['K']} at B = {_fmt(nom.B_at_K_mmax)} {u['B']}"]
+    lines += _certificate_lines(box, data, u)
     return _Outcome(EXIT_OK, data, lines)
+
+
+def _certificate_lines(box: PlantBox, data: Dict[str, Any], u: Dict[str, str]) -> List[str]:
+    """The drive's certificate (PlantBox.certificate, float): its steps, or why none."""
+    try:
+        c = box.certificate()
+    except ZwidthError as exc:
+        data["certificate"] = {"error": str(exc)}
+        return ["", f"Drive certificate (float): not built: {exc}"]
+    data["certificate"] = {"steps": [{"B_lo": lo, "B_hi": hi, "K": k, "K_upper": up} for lo, hi, k, up in c.steps()],
+                           "leaves": c.leaves, "bytes": c.size_bytes, "build_seconds": c.build_seconds,
+                           "verify_seconds": c.verify_seconds, "precision": c.precision}
+    lines = ["", f"Drive certificate (float, {len(c.K)} steps, {c.leaves} leaves, {c.size_bytes} bytes; "
+                 f"built in {c.build_seconds:.2f} s, verified in {1e3 * c.verify_seconds:.2f} ms here):",
+             f"  {'B from':>12} {'B to':>12} {'K certified':>12} {'point K_max':>12}  kept"]
+    for lo, hi, k, up in c.steps():
+        kept = k / up if up > 0.0 else 0.0
+        lines.append(f"  {_fmt(lo):>12} {_fmt(hi):>12} {_fmt(k):>12} {_fmt(up):>12}  {kept:.0%}")
+    lines.append(f"  every K' in (0, K] is proven stable over its B step for every plant ({u['K']}, {u['B']});"
+                 " 'point K_max' is the least of the box's corners and centre there")
+    return lines
 
 
 def cmd_plot(args: argparse.Namespace, box: PlantBox) -> _Outcome:
