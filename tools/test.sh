@@ -83,6 +83,9 @@ tools/avr_build.sh
 step "zw_selftest on the Cortex-M4F (QEMU): c99 passes, GNU-mode contraction and round-to-zero refused"
 tools/fpenv_m4f.sh
 
+step "box certificates on the Cortex-M4F (QEMU): verification and the register map within their targets (tools/m4f_box_cert.sh)"
+tools/m4f_box_cert.sh | tail -n 3
+
 step "fuzzing the request handler (libFuzzer, ASan/UBSan, ${ZW_FUZZ_SECONDS:-30} s)"
 tools/fuzz.sh "${ZW_FUZZ_SECONDS:-30}" 2>&1 | tail -n 4
 

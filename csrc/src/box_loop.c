@@ -558,6 +558,7 @@ static zw_status bl_setup_scratch(bl_loop *L, const zw_plant_box *f, const zw_de
 static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_loop_spec *spec,
                           zw_loop_workspace *ws, const zw_box_loop_work *work)
 {
+    zw_box_loop_scratch *sc;
     zw_plant_box f;
     zw_status st;
     if ((spec == NULL) || (ws == NULL)) {
@@ -571,7 +572,8 @@ static zw_status bl_setup(bl_loop *L, const zw_plant_box *box, const zw_device_l
     if (st != ZW_OK) {
         return st;
     }
-    return bl_setup_scratch(L, &f, spec, work->scratch);
+    sc = work->scratch; /* a pointer of our own, not the const struct's member (MISRA 11.8) */
+    return bl_setup_scratch(L, &f, spec, sc);
 }
 
 /* ---- public functions -------------------------------------------------------------------- */
@@ -1029,15 +1031,15 @@ static zw_status bc_validate_work(const zw_box_loop_work *work)
     return (work->capacity >= ZW_BOX_CERT_STACK) ? ZW_OK : ZW_ERR_ARG;
 }
 
-static zw_status bc_verify(const zw_plant_box *box, const zw_device_loop_spec *spec, const zw_box_cert *cert,
-                           const zw_box_loop_work *work, zw_box_cert_fault *fault, uint_least32_t *leaves)
+/* The loop over the folded box with the work's scratch (the spec validated as for
+ * zw_box_loop_check). */
+static zw_status bc_setup(bl_loop *L, const zw_plant_box *box, const zw_device_loop_spec *spec,
+                          const zw_box_loop_work *work)
 {
-    bl_loop L;
     zw_plant_box f;
-    uint_least32_t pos = 0u, j;
-    unsigned i;
+    zw_box_loop_scratch *sc;
     zw_status st;
-    if ((spec == NULL) || (cert == NULL)) {
+    if (spec == NULL) {
         return ZW_ERR_NULL;
     }
     st = zw_box_fold(box, &f);
@@ -1047,7 +1049,21 @@ static zw_status bc_verify(const zw_plant_box *box, const zw_device_loop_spec *s
     if (st != ZW_OK) {
         return st;
     }
-    st = bl_setup_scratch(&L, &f, spec, work->scratch);
+    sc = work->scratch; /* a pointer of our own, not the const struct's member (MISRA 11.8) */
+    return bl_setup_scratch(L, &f, spec, sc);
+}
+
+static zw_status bc_verify(const zw_plant_box *box, const zw_device_loop_spec *spec, const zw_box_cert *cert,
+                           const zw_box_loop_work *work, zw_box_cert_fault *fault, uint_least32_t *leaves)
+{
+    bl_loop L;
+    uint_least32_t pos = 0u, j;
+    unsigned i;
+    zw_status st;
+    if (cert == NULL) {
+        return ZW_ERR_NULL;
+    }
+    st = bc_setup(&L, box, spec, work);
     if (st != ZW_OK) {
         return st;
     }
@@ -1342,17 +1358,13 @@ static zw_status bc_build(const zw_plant_box *box, const zw_device_loop_spec *sp
 {
     bl_loop L;
     bc_builder bd;
-    zw_plant_box f;
     uint_least32_t pos = 0u;
     unsigned i;
     zw_status st;
-    if ((spec == NULL) || (ws == NULL)) {
+    if (ws == NULL) {
         return ZW_ERR_NULL;
     }
-    st = zw_box_fold(box, &f);
-    if (st == ZW_OK) {
-        st = bc_validate_work(work);
-    }
+    st = bc_setup(&L, box, spec, work);
     if (st != ZW_OK) {
         return st;
     }
@@ -1360,10 +1372,6 @@ static zw_status bc_build(const zw_plant_box *box, const zw_device_loop_spec *sp
         (max_leaves > ZW_BOX_CERT_MAX_LEAVES) || !(B_lo < B_hi) || !(rel_tol >= ZW_R(0.0)) ||
         !(rel_tol < ZW_R(1.0))) {
         return ZW_ERR_ARG;
-    }
-    st = bl_setup_scratch(&L, &f, spec, work->scratch);
-    if (st != ZW_OK) {
-        return st;
     }
     cert->n_steps = (uint_least16_t)n_steps;
     for (i = 0u; i <= n_steps; ++i) { /* equal steps, the ends exact */

@@ -321,7 +321,7 @@ class PlantBox:
                       self.parts)
         return out
 
-    def _call_loop(self, kernel: Any, *gains: float, max_evals_override: Optional[int] = None) -> Dict[str, Any]:
+    def _call_loop(self, kernel: Any, *gains: Any, max_evals_override: Optional[int] = None) -> Dict[str, Any]:
         lp = self.loop
         opts = lp.kernel_options()
         pole_given = lp.cutoff is None and lp.pole is not None
@@ -425,12 +425,7 @@ class PlantBox:
         if precision not in ("float", "double"):
             raise ValueError(f"zwidth.PlantBox.certificate: precision must be 'float' or 'double', got {precision!r}")
         if B_range is None:
-            x = self.extremes()
-            iv = self.b_range(0.5 * x.K_mmax)
-            if not iv.nonempty:
-                raise ZwidthError("zwidth.PlantBox.certificate: no B is certified over the box; give B_range",
-                                  "ZW_ERR_DOMAIN", "B_range", (), {})
-            B_range = (iv.lo, iv.hi)
+            B_range = self.certificate_range()
         lo, hi = (float(B_range[0]), float(B_range[1]))
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise ValueError(f"zwidth.PlantBox.certificate: B_range must be finite with lo < hi, got {B_range!r}")
@@ -451,6 +446,16 @@ class PlantBox:
         return BoxCertificate(tuple(out["B"]), tuple(out["K"]), tuple(out["K_upper"]), tuple(out["nodes"]),
                               precision, int(out["leaves"]), int(out["tests"]), float(out["build_seconds"]),
                               float(out["verify_seconds"]))
+
+    def certificate_range(self, K_mmax: Optional[float] = None) -> Tuple[float, float]:
+        """certificate()'s default B range: the B certified over the box at half of K_mmax
+        (computed when not given)."""
+        K = self.extremes().K_mmax if K_mmax is None else float(K_mmax)
+        iv = self.b_range(0.5 * K)
+        if not iv.nonempty:
+            raise ZwidthError("zwidth.PlantBox.certificate: no B is certified over the box at half its K_mmax; "
+                              "give B_range", "ZW_ERR_DOMAIN", "B_range", (), {})
+        return (iv.lo, iv.hi)
 
     def verify_certificate(self, cert: BoxCertificate) -> str:
         """Verify cert for this box and loop in its precision, as a drive does: "ok" or the

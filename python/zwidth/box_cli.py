@@ -168,14 +168,15 @@ def cmd_limits(args: argparse.Namespace, box: PlantBox) -> _Outcome:
              f"  K with B = 0 (stiffness only): K < {_fmt(kp.K_lower)} {u['K']}",
              f"  nominal plant ({_plant_text(box, M.mid, Bp.mid, Kp.mid)}): "
              f"K_mmax = {_fmt(nom.K_mmax)} {u['K']} at B = {_fmt(nom.B_at_K_mmax)} {u['B']}"]
-    lines += _certificate_lines(box, data, u)
+    lines += _certificate_lines(box, x.K_mmax, data, u)
     return _Outcome(EXIT_OK, data, lines)
 
 
-def _certificate_lines(box: PlantBox, data: Dict[str, Any], u: Dict[str, str]) -> List[str]:
-    """The drive's certificate (PlantBox.certificate, float): its steps, or why none."""
+def _certificate_lines(box: PlantBox, K_mmax: float, data: Dict[str, Any], u: Dict[str, str]) -> List[str]:
+    """The drive's certificate (PlantBox.certificate, float, over the B certified at half of
+    K_mmax: its default range): its steps, or why none."""
     try:
-        c = box.certificate()
+        c = box.certificate(box.certificate_range(K_mmax))
     except ZwidthError as exc:
         data["certificate"] = {"error": str(exc)}
         return ["", f"Drive certificate (float): not built: {exc}"]
