@@ -4,12 +4,17 @@
 # SPDX-License-Identifier: Apache-2.0
 
 # tools/m4f_box_cert.sh - instructions of a box certificate's check on the Cortex-M4F
-# (zw_box_cert_verify, zw_box_cert_level, a corrupted copy refused), under QEMU mps2-an386.
+# (zw_box_cert_verify, zw_box_cert_level, a corrupted copy refused) and of the register map
+# with the certificate in force (zw_regmap_init_box, gain writes, sizeof(zw_regmap)), under
+# QEMU mps2-an386.
 #
 # Usage:  bash tools/m4f_box_cert.sh [--keep]
 #   --keep   keep the temporary build directory (its path goes to stderr)
 # Environment:
 #   M4F_CERT_VERIFY_LIMIT  verify's instruction target per box (8400000: the issue's SEAL target)
+#   M4F_SEAL_LIMIT         zw_regmap_init_box's instruction target per box (8400000)
+#   M4F_WRITE_LIMIT        a gain write's instruction target (20000)
+#   M4F_REGMAP_SIZE_LIMIT  sizeof(zw_regmap) target on the M4F, bytes (12288)
 #   ZW_HOST_LIB            link the generator with this float library (e.g. build/libzwidth_f.a)
 #                          instead of compiling ZW_CORE_SOURCES with the host compiler (the
 #                          default: the generator then sees exactly the sources the M4F image has)
@@ -17,9 +22,11 @@
 #   QEMU_TIMEOUT           seconds (300)
 #
 # Exit status: 0 every box verified on the M4F within the target, its lookups as on the
-# host, its corrupted copy refused; 1 one of those failed (each failure on stderr); 2 a
-# build or the generator failed; 77 (skip) the Arm toolchain, newlib or qemu-system-arm is
-# missing.
+# host, its corrupted copy refused, the register map sealed with it (ZW_OK, ZW_REASON_NONE)
+# within the SEAL target, its three gain writes with the expected outcome within the write
+# target, sizeof(zw_regmap) within its target; 1 one of those failed (each failure on
+# stderr); 2 a build or the generator failed; 77 (skip) the Arm toolchain, newlib or
+# qemu-system-arm is missing.
 #
 # What it does
 #   1. bench/box/cert_gen.c, built for the host in float (-DZW_REAL_FLOAT), builds the
@@ -32,7 +39,8 @@
 #   3. qemu-system-arm -M mps2-an386 -icount shift=0 -semihosting runs it: instructions are
 #      counted with the CMSDK timer 0 (1 tick = 40 instructions, checked by a calibration
 #      loop; figures within 40), as the firmware review's m4f_cost.c does.
-#   4. Prints a Markdown table.
+#   4. Prints two Markdown tables: the certificate alone, and the register map with it in
+#      force (bench/box/m4f_cert.c's header says which block and which writes).
 #
 # Needs: a host C compiler, gcc-arm-none-eabi, libnewlib-arm-none-eabi, qemu-system-arm.
 set -euo pipefail
@@ -58,8 +66,13 @@ CROSS=arm-none-eabi-
 QEMU=qemu-system-arm
 HOST_CC=${CC:-cc}
 LIMIT=${M4F_CERT_VERIFY_LIMIT:-8400000}
+SEAL_LIMIT=${M4F_SEAL_LIMIT:-8400000}
+WRITE_LIMIT=${M4F_WRITE_LIMIT:-20000}
+SIZE_LIMIT=${M4F_REGMAP_SIZE_LIMIT:-12288}
 QEMU_TIMEOUT=${QEMU_TIMEOUT:-300}
-case "$LIMIT" in '' | *[!0-9]*) echo "m4f_box_cert.sh: M4F_CERT_VERIFY_LIMIT must be an integer" >&2; exit 2 ;; esac
+for v in LIMIT SEAL_LIMIT WRITE_LIMIT SIZE_LIMIT; do
+    case "${!v}" in '' | *[!0-9]*) echo "m4f_box_cert.sh: the M4F_* limits must be integers ($v=${!v})" >&2; exit 2 ;; esac
+done
 
 skip() {
     echo "m4f_box_cert.sh: SKIP: $1" >&2
@@ -130,7 +143,8 @@ fi
 
 # 2. the M4F image
 # shellcheck disable=SC2086 # the flag lists are word lists
-if ! "${CROSS}gcc" $CFLAGS $M4F_FLAGS -DVERIFY_LIMIT="${LIMIT}ul" -Icsrc/include -I"$MCU" -Ibench/box \
+if ! "${CROSS}gcc" $CFLAGS $M4F_FLAGS -DVERIFY_LIMIT="${LIMIT}ul" \
+    -DSEAL_LIMIT="${SEAL_LIMIT}ul" -DWRITE_LIMIT="${WRITE_LIMIT}ul" -DREGMAP_SIZE_LIMIT="${SIZE_LIMIT}ul" -Icsrc/include -I"$MCU" -Ibench/box \
     -nostartfiles $LDFLAGS -T "$MCU/mps2_an386.ld" "$MCU/startup.c" bench/box/m4f_cert.c "$W/cert_data.c" \
     "${SOURCES[@]}" -lm -o "$W/m4f_cert.elf" >"$W/log" 2>&1; then
     cat "$W/log" >&2
@@ -172,6 +186,43 @@ awk -v limit="$LIMIT" '
         print "Target: verify <= " limit " instructions per box.  Timer calibration: " calib " instructions."
     }' "$W/run.txt"
 echo
+echo "### The register map with the certificate in force (zw_regmap_init_box, then gain writes)"
+echo
+echo "Block: the box's m, m_hi, b, b_hi; T 0.02, sigma 0.8, r 1, K in [0, 10] step 1, B in the"
+echo "certificate's [B[0], B[n]] step its width, the box's delay, no filter.  Writes: K and B"
+echo "(zw_regmap_write, 4 registers, as FC 0x10), from (0, 0): accepted at the middle of step 3"
+echo "with K = 0.5 x the level; refused at the middle of step 10 with K = 1.1 x the level; outside"
+echo "at B[n] + w/8 (w = B[n] - B[0]) under the same block with its B range widened by w/4 each side"
+echo "(with b_max = B[n] it would be ZW_REASON_B_ABOVE_MAX).  selftest: zw_selftest alone (SEAL's first step)."
+echo
+awk -v seal_limit="$SEAL_LIMIT" -v write_limit="$WRITE_LIMIT" -v size_limit="$SIZE_LIMIT" '
+    function kv(line, i) { delete f; for (i = 2; i <= NF; i++) if (index($i, "=")) f[substr($i, 1, index($i, "=") - 1)] = substr($i, index($i, "=") + 1) }
+    function mark(x, lim) { return (x + 0 > lim + 0) ? " **over**" : "" }
+    function outcome(exc, reason, want) { return (reason + 0 == want + 0) ? "" : " **reason " reason ", exception " exc "**" }
+    /^BOX / { kv(); verify[f["box"]] = f["verify_insn"] }
+    /^SIZE / { kv(); size = f["regmap"]; bcsize = f["box_cert"] }
+    /^RM / {
+        kv()
+        if (!hdr) {
+            print "| box | SEAL: zw_regmap_init_box (instructions) | verify alone (above) | zw_selftest alone | SEAL stack (B) | SEAL, B range widened | write accepted (B changes) | refused ABOVE_SIGMA | refused OUTSIDE_CERT |"
+            print "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+            hdr = 1
+        }
+        sealok = (f["seal_status"] == 0 && f["seal_reason"] == 0) ? "" : " **status " f["seal_status"] ", reason " f["seal_reason"] "**"
+        wideok = (f["wide_seal_status"] == 0 && f["wide_seal_reason"] == 0) ? "" : " **status " f["wide_seal_status"] ", reason " f["wide_seal_reason"] "**"
+        printf "| %s | %s%s%s | %s | %s | %s | %s%s%s | %s%s%s | %s%s%s | %s%s%s |\n", f["box"],
+            f["seal_insn"], mark(f["seal_insn"], seal_limit), sealok, verify[f["box"]], f["selftest_insn"], f["seal_stack"],
+            f["wide_seal_insn"], mark(f["wide_seal_insn"], seal_limit), wideok,
+            f["acc_insn"], mark(f["acc_insn"], write_limit), outcome(f["acc_exc"], f["acc_reason"], 0) (f["live_ok"] == 1 ? "" : " **live**"),
+            f["above_insn"], mark(f["above_insn"], write_limit), outcome(f["above_exc"], f["above_reason"], 16),
+            f["out_insn"], mark(f["out_insn"], write_limit), outcome(f["out_exc"], f["out_reason"], 43)
+    }
+    END {
+        print ""
+        printf "sizeof(zw_regmap) on the M4F: %s B%s (target <= %s B; its zw_box_cert %s B).  ", size, (size + 0 > size_limit + 0) ? " **over**" : "", size_limit, bcsize
+        print "Targets: SEAL <= " seal_limit " instructions, a write <= " write_limit "."
+    }' "$W/run.txt"
+echo
 
 FAIL=0
 if grep -q '^FAIL' "$W/run.txt"; then
@@ -184,5 +235,10 @@ if [ "$rc" != 0 ] || ! grep -qx 'DONE ok' "$W/run.txt"; then
     FAIL=1
 fi
 [ "$(grep -c '^BOX ' "$W/run.txt")" = 3 ] || { echo "m4f_box_cert.sh: FAIL: expected 3 boxes" >&2; FAIL=1; }
-if [ "$FAIL" = 0 ]; then echo "m4f_box_cert.sh: all boxes verified within $LIMIT instructions, corrupted copies refused" >&2; fi
+[ "$(grep -c '^RM ' "$W/run.txt")" = 3 ] || { echo "m4f_box_cert.sh: FAIL: expected 3 register-map lines" >&2; FAIL=1; }
+grep -q '^SIZE ' "$W/run.txt" || { echo "m4f_box_cert.sh: FAIL: no sizeof(zw_regmap) line" >&2; FAIL=1; }
+if [ "$FAIL" = 0 ]; then
+    echo "m4f_box_cert.sh: all boxes verified within $LIMIT instructions, corrupted copies refused;" \
+        "sealed within $SEAL_LIMIT, writes within $WRITE_LIMIT as expected, sizeof(zw_regmap) within $SIZE_LIMIT B" >&2
+fi
 exit "$FAIL"

@@ -5,7 +5,8 @@
 
 /* bench/box/cert_case.h - one box of the Cortex-M4F box-certificate benchmark: the box, its
  * loop, the B range and the certificate the host built for it (bench/box/cert_gen.c writes
- * the table, bench/box/m4f_cert.c checks it on the drive; tools/m4f_box_cert.sh runs both). */
+ * the table, bench/box/m4f_cert.c checks it on the drive and runs the register map with it
+ * in force; tools/m4f_box_cert.sh runs both). */
 #ifndef ZW_BENCH_CERT_CASE_H
 #define ZW_BENCH_CERT_CASE_H
 
@@ -16,6 +17,12 @@
 #include "zwidth/box_cert.h"
 
 #define CERT_CASE_LOOKUPS 5u
+
+/* The register map's ranged block over a box (bench/box/m4f_cert.c, zw_regmap_init_box):
+ * sigma, K range, K step; B range the certificate's [B[0], B[n]], B step its width. */
+#define CERT_CASE_SIGMA 0.8f
+#define CERT_CASE_K_MAX 10.0f
+#define CERT_CASE_DK_MAX 1.0f
 
 typedef struct cert_case {
     const char *name;

@@ -18,10 +18,27 @@
  * zw_box_cert_level per call, in hundredths.  Stack: the free RAM between the bss end and sp
  * is painted before each verify and the deepest word touched is reported.
  *
+ * The register map with the certificate in force (one "RM key=value ..." line per box): a
+ * ranged block over the box (m, m_hi, b, b_hi the box's; T 0.02; sigma CERT_CASE_SIGMA;
+ * r 1; K in [0, CERT_CASE_K_MAX], step CERT_CASE_DK_MAX; B in the certificate's
+ * [B[0], B[n]], step its width; the box's delay; backward differentiator, no filter) is
+ * sealed at power-up with zw_regmap_init_box (timed, and its stack; zw_selftest, which the
+ * SEAL runs first, is timed alone too), then three gain writes (K and B, FC 0x10's
+ * zw_regmap_write of 4 registers) are timed: one that moves B to the middle of step 3 with
+ * K half the level there (accepted), one that moves B to the middle of step 10 with K 1.1
+ * times the level there (ZW_REASON_ABOVE_SIGMA), and one with B outside the staircase
+ * (ZW_REASON_OUTSIDE_CERT).  The last needs a block whose B range is wider than the
+ * staircase (else ZW_REASON_B_ABOVE_MAX comes first): the same block with the range widened
+ * by a quarter of its width on each side (B step: the widened width), sealed with the same
+ * certificate (also timed), B at the staircase's top plus an eighth of its width.  One
+ * "SIZE regmap=..." line: sizeof(zw_regmap).  zw_regmap is static (about 9 KB).
+ *
  * Exit status (main's return: 0 -> QEMU exits 0): 1 when the calibration is off, a
  * verification is not ZW_BOX_CERT_OK, its leaves differ from the host's, a lookup differs
- * from the host's, the corrupted copy is accepted, or a verify exceeds VERIFY_LIMIT
- * instructions. */
+ * from the host's, the corrupted copy is accepted, a verify exceeds VERIFY_LIMIT
+ * instructions, a SEAL is not ZW_OK / ZW_REASON_NONE or exceeds SEAL_LIMIT, a write's outcome
+ * is not the expected one or exceeds WRITE_LIMIT instructions, or sizeof(zw_regmap) exceeds
+ * REGMAP_SIZE_LIMIT bytes. */
 #include <stdbool.h>
 #include <stdint.h>
 #include <string.h>
@@ -34,6 +51,15 @@
 #ifndef VERIFY_LIMIT
 #define VERIFY_LIMIT 8400000ul /* the SEAL target (tools/m4f_box_cert.sh may set it) */
 #endif
+#ifndef SEAL_LIMIT
+#define SEAL_LIMIT 8400000ul /* zw_regmap_init_box with a certificate */
+#endif
+#ifndef WRITE_LIMIT
+#define WRITE_LIMIT 20000ul /* one gain write with a certificate in force */
+#endif
+#ifndef REGMAP_SIZE_LIMIT
+#define REGMAP_SIZE_LIMIT 12288ul /* sizeof(zw_regmap), bytes */
+#endif
 #define LOOKUP_REPS 1000u
 #define CALIB_ITER 100000u
 #define CALIB_INSN (2ul * CALIB_ITER + 3ul) /* movw, movt, CALIB_ITER x (subs, bne), bx lr */
@@ -44,9 +70,10 @@ static zw_box_loop_cell g_cells[ZW_BOX_CERT_STACK];
 static zw_box_loop_scratch g_scratch;
 static zw_box_loop_work g_work;
 static zw_box_cert g_bad_cert;
+static zw_regmap g_rm; /* about 9 KB: static, not on the stack */
 
 /* ---- output: one line built in a buffer, written with SYS_WRITE0 */
-static char g_line[256];
+static char g_line[512];
 static unsigned g_len;
 
 static void out_s(const char *s)
@@ -98,7 +125,17 @@ static void out_end(void)
 }
 
 /* ---- counting */
-static uint32_t now(void) { return TIMER0[1]; } /* VALUE: counts down */
+/* VALUE: counts down.  The compiler barriers keep ordinary loads and stores (the stack
+ * paint before a timed call, above all: a megabyte) on their side of the reading; a volatile
+ * access alone does not order them. */
+static uint32_t now(void)
+{
+    uint32_t v;
+    __asm__ volatile("" ::: "memory");
+    v = TIMER0[1];
+    __asm__ volatile("" ::: "memory");
+    return v;
+}
 static unsigned long insn(uint32_t t0, uint32_t t1) { return (unsigned long)(t0 - t1) * INSN_PER_TICK; }
 
 static uint32_t *paint(void)
@@ -159,6 +196,209 @@ static unsigned long time_level(level_fn f, const zw_box_cert *c, float B)
 }
 
 static bool same_float(float a, float b) { return memcmp(&a, &b, sizeof a) == 0; }
+
+/* ---- the register map with the certificate in force */
+
+/* The ranged block over the box of cc, B range [b_min, b_max] (B step: its width). */
+static zw_cert block_of(const cert_case *cc, float b_min, float b_max)
+{
+    zw_cert c;
+    memset(&c, 0, sizeof c);
+    c.m = (float)cc->box.m_lo;
+    c.m_hi = (float)cc->box.m_hi;
+    c.b = (float)cc->box.b_lo;
+    c.b_hi = (float)cc->box.b_hi;
+    c.T = (float)cc->box.T;
+    c.sigma = CERT_CASE_SIGMA;
+    c.r = 1.0f; /* required for a ranged block */
+    c.k_min = 0.0f;
+    c.k_max = CERT_CASE_K_MAX;
+    c.b_min = b_min;
+    c.b_max = b_max;
+    c.dk_max = CERT_CASE_DK_MAX;
+    c.db_max = b_max - b_min;
+    c.delay = (float)cc->spec.delay;
+    c.vfilter = 0.0f;
+    c.vf_param = 0.0f;
+    c.differentiator = 0.0f;
+    return c;
+}
+
+/* zw_regmap_init_box of block c with certificate bc: instructions; *stack the bytes used. */
+static unsigned long time_seal(const zw_cert *c, const zw_box_cert *bc, zw_status *st, zw_reason *why,
+                               unsigned long *stack)
+{
+    uint32_t *top = paint();
+    uint32_t t0, t1;
+    *why = (zw_reason)999;
+    t0 = now();
+    *st = zw_regmap_init_box(&g_rm, c, bc, why);
+    t1 = now();
+    *stack = used(top);
+    return insn(t0, t1);
+}
+
+/* One gain write, K and B (ZW_REG_K, 4 registers, as FC 0x10 writes them): instructions. */
+static unsigned long time_write(float K, float B, zw_mb_exception *exc, zw_reason *why)
+{
+    uint_least16_t w[4];
+    uint32_t t0, t1;
+    zw_float_to_words(K, &w[0]);
+    zw_float_to_words(B, &w[2]);
+    *why = (zw_reason)999;
+    t0 = now();
+    *exc = zw_regmap_write(&g_rm, ZW_REG_K, 4u, w, why);
+    t1 = now();
+    return insn(t0, t1);
+}
+
+static float read_float(uint_least16_t addr)
+{
+    uint_least16_t w[2] = {0u, 0u};
+    (void)zw_regmap_read(&g_rm, addr, 2u, w, NULL);
+    return zw_words_to_float(w);
+}
+
+static void fail_s(const char *what, unsigned box)
+{
+    out_s("FAIL box ");
+    out_u(box);
+    out_s(": ");
+    out_s(what);
+    out_end();
+}
+
+/* The register map over box i+1: its "RM" line; 1 when something failed. */
+static int regmap_case(unsigned i, const cert_case *cc)
+{
+    const zw_box_cert *bc = &cc->cert;
+    const unsigned n = bc->n_steps;
+    const float lo = bc->B[0], hi = bc->B[n], w = hi - lo;
+    const float B_acc = 0.5f * (bc->B[3] + bc->B[4]), B_above = 0.5f * (bc->B[10] + bc->B[11]);
+    const float B_out = hi + 0.125f * w;
+    zw_cert c = block_of(cc, lo, hi), wide = block_of(cc, lo - 0.25f * w, hi + 0.25f * w);
+    zw_status st = ZW_ERR_ARG, wst = ZW_ERR_ARG, self;
+    zw_reason why = ZW_REASON_NONE, wwhy = ZW_REASON_NONE, acc_why, above_why, out_why;
+    zw_mb_exception acc_exc, above_exc, out_exc;
+    unsigned long seal, seal_stack, wseal, wseal_stack, self_insn, acc, above, out;
+    float L_acc = 0.0f, L_above = 0.0f, K_now = -1.0f, B_now = -1.0f;
+    bool in_acc = false, in_above = false, in_out = true, live_ok;
+    uint32_t t0, t1;
+    int failed = 0;
+
+    zw_box_cert_level(bc, B_acc, &L_acc, &in_acc);
+    zw_box_cert_level(bc, B_above, &L_above, &in_above);
+    zw_box_cert_level(bc, B_out, &K_now, &in_out);
+    t0 = now();
+    self = zw_selftest();
+    t1 = now();
+    self_insn = insn(t0, t1);
+
+    seal = time_seal(&c, bc, &st, &why, &seal_stack);
+    acc = time_write(0.5f * L_acc, B_acc, &acc_exc, &acc_why);
+    (void)zw_regmap_active_gains(&g_rm, &K_now, &B_now);
+    live_ok = same_float(K_now, 0.5f * L_acc) && same_float(B_now, B_acc) &&
+              same_float(read_float(ZW_REG_LIVE_K_MAX), L_acc);
+    above = time_write(1.1f * L_above, B_above, &above_exc, &above_why);
+
+    wseal = time_seal(&wide, bc, &wst, &wwhy, &wseal_stack);
+    out = time_write(0.5f * L_acc, B_out, &out_exc, &out_why);
+
+    out_s("RM");
+    out_kv("box", i + 1u);
+    out_kv("selftest_insn", self_insn);
+    out_kv("seal_status", (unsigned long)st);
+    out_kv("seal_reason", (unsigned long)why);
+    out_kv("seal_insn", seal);
+    out_kv("seal_stack", seal_stack);
+    out_kv("acc_exc", (unsigned long)acc_exc);
+    out_kv("acc_reason", (unsigned long)acc_why);
+    out_kv("acc_insn", acc);
+    out_kv("live_ok", live_ok ? 1ul : 0ul);
+    out_kv("above_exc", (unsigned long)above_exc);
+    out_kv("above_reason", (unsigned long)above_why);
+    out_kv("above_insn", above);
+    out_kv("wide_seal_status", (unsigned long)wst);
+    out_kv("wide_seal_reason", (unsigned long)wwhy);
+    out_kv("wide_seal_insn", wseal);
+    out_kv("out_exc", (unsigned long)out_exc);
+    out_kv("out_reason", (unsigned long)out_why);
+    out_kv("out_insn", out);
+    out_end();
+
+    if (self != ZW_OK) {
+        fail_s("zw_selftest is not ZW_OK", i + 1u);
+        failed = 1;
+    }
+    if (!in_acc || !in_above || in_out || !(L_acc > 0.0f) || !(L_above > 0.0f)) {
+        fail_s("the write's B are not where the staircase was expected", i + 1u);
+        failed = 1;
+    }
+    if (st != ZW_OK || why != ZW_REASON_NONE) {
+        out_s("FAIL box ");
+        out_u(i + 1u);
+        out_s(": zw_regmap_init_box: ");
+        out_s(zw_status_name(st));
+        out_s(", ");
+        out_s(zw_reason_name(why));
+        out_end();
+        failed = 1;
+    }
+    if (wst != ZW_OK || wwhy != ZW_REASON_NONE) {
+        out_s("FAIL box ");
+        out_u(i + 1u);
+        out_s(": zw_regmap_init_box (B range widened): ");
+        out_s(zw_status_name(wst));
+        out_s(", ");
+        out_s(zw_reason_name(wwhy));
+        out_end();
+        failed = 1;
+    }
+    if (seal > SEAL_LIMIT || wseal > SEAL_LIMIT) {
+        out_s("FAIL box ");
+        out_u(i + 1u);
+        out_s(": SEAL over SEAL_LIMIT instructions: ");
+        out_u(SEAL_LIMIT);
+        out_end();
+        failed = 1;
+    }
+    if (acc_exc != ZW_MB_OK || acc_why != ZW_REASON_NONE) {
+        out_s("FAIL box ");
+        out_u(i + 1u);
+        out_s(": the write at half the level is refused: ");
+        out_s(zw_reason_name(acc_why));
+        out_end();
+        failed = 1;
+    } else if (!live_ok) {
+        fail_s("after the accepted write the gains or LIVE_K_MAX are not the written pair / the level", i + 1u);
+        failed = 1;
+    }
+    if (above_exc != ZW_MB_ILLEGAL_VALUE || above_why != ZW_REASON_ABOVE_SIGMA) {
+        out_s("FAIL box ");
+        out_u(i + 1u);
+        out_s(": the write above the level is not refused ZW_REASON_ABOVE_SIGMA: ");
+        out_s(zw_reason_name(above_why));
+        out_end();
+        failed = 1;
+    }
+    if (out_exc != ZW_MB_ILLEGAL_VALUE || out_why != ZW_REASON_OUTSIDE_CERT) {
+        out_s("FAIL box ");
+        out_u(i + 1u);
+        out_s(": the write outside the staircase is not refused ZW_REASON_OUTSIDE_CERT: ");
+        out_s(zw_reason_name(out_why));
+        out_end();
+        failed = 1;
+    }
+    if (acc > WRITE_LIMIT || above > WRITE_LIMIT || out > WRITE_LIMIT) {
+        out_s("FAIL box ");
+        out_u(i + 1u);
+        out_s(": a write over WRITE_LIMIT instructions: ");
+        out_u(WRITE_LIMIT);
+        out_end();
+        failed = 1;
+    }
+    return failed;
+}
 
 int main(void)
 {
@@ -274,6 +514,21 @@ int main(void)
         if (bad_fault == ZW_BOX_CERT_OK) {
             out_s("FAIL the corrupted copy is accepted");
             out_end();
+            failed = 1;
+        }
+    }
+    out_s("SIZE");
+    out_kv("regmap", (unsigned long)sizeof(zw_regmap));
+    out_kv("box_cert", (unsigned long)sizeof(zw_box_cert));
+    out_kv("limit", REGMAP_SIZE_LIMIT);
+    out_end();
+    if ((unsigned long)sizeof(zw_regmap) > REGMAP_SIZE_LIMIT) {
+        out_s("FAIL sizeof(zw_regmap) over REGMAP_SIZE_LIMIT bytes");
+        out_end();
+        failed = 1;
+    }
+    for (i = 0u; i < cert_n_cases; ++i) {
+        if (regmap_case(i, &cert_cases[i]) != 0) {
             failed = 1;
         }
     }
