@@ -172,18 +172,7 @@ fi
 
 # The firmware modules: ZW_CORE_SOURCES of CMakeLists.txt (set(...) and list(APPEND ...)),
 # in its order, so that a module added there is measured and gated without editing this.
-MODULES=$(awk '
-    /^[ \t]*(set[ \t]*\([ \t]*ZW_CORE_SOURCES|list[ \t]*\([ \t]*APPEND[ \t]+ZW_CORE_SOURCES)([ \t]|$)/ { on = 1 }
-    on {
-        line = $0; sub(/#.*/, "", line)
-        rest = line
-        while (match(rest, /csrc\/src\/[A-Za-z0-9_]+\.c/)) {
-            m = substr(rest, RSTART + 9, RLENGTH - 11)
-            if (!(m in seen)) { seen[m] = 1; printf "%s ", m }
-            rest = substr(rest, RSTART + RLENGTH)
-        }
-        if (line ~ /\)/) on = 0
-    }' CMakeLists.txt | sed 's/ $//')
+MODULES=$(tools/core_modules.sh)
 CHECK_MODULES="status coeffs region extremes"
 if [ -z "$MODULES" ]; then
     echo "footprint.sh: no csrc/src/*.c found in ZW_CORE_SOURCES of CMakeLists.txt" >&2

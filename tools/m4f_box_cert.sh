@@ -86,18 +86,7 @@ command -v "$HOST_CC" >/dev/null 2>&1 || skip "host compiler $HOST_CC not found"
 
 # The core's sources: ZW_CORE_SOURCES of CMakeLists.txt (set(...) and list(APPEND ...)), the
 # same awk as tools/footprint.sh.
-MODULES=$(awk '
-    /^[ \t]*(set[ \t]*\([ \t]*ZW_CORE_SOURCES|list[ \t]*\([ \t]*APPEND[ \t]+ZW_CORE_SOURCES)([ \t]|$)/ { on = 1 }
-    on {
-        line = $0; sub(/#.*/, "", line)
-        rest = line
-        while (match(rest, /csrc\/src\/[A-Za-z0-9_]+\.c/)) {
-            m = substr(rest, RSTART + 9, RLENGTH - 11)
-            if (!(m in seen)) { seen[m] = 1; printf "%s ", m }
-            rest = substr(rest, RSTART + RLENGTH)
-        }
-        if (line ~ /\)/) on = 0
-    }' CMakeLists.txt | sed 's/ $//')
+MODULES=$(tools/core_modules.sh)
 [ -n "$MODULES" ] || { echo "m4f_box_cert.sh: no csrc/src/*.c in ZW_CORE_SOURCES of CMakeLists.txt" >&2; exit 2; }
 SOURCES=()
 for m in $MODULES; do

@@ -331,8 +331,8 @@ typedef struct zw_regmap {
      * cell stack and scratch, here rather than on the stack (scratch only, nothing kept
      * between requests): 2,560 + 2,880 B with float zw_real on a Cortex-M4F (2,560 +
      * 2,884 B on x86-64), 5,120 + 5,760 B with double (x86-64), the largest part of the
-     * map: sizeof(zw_regmap) is 8,436 B on the Cortex-M4F (float), 8,504 B / 16,456 B on
-     * x86-64 (float / double; measured with sizeof, docs/modbus.md).  With a ranged block
+     * map: sizeof(zw_regmap) is 9,088 B on the Cortex-M4F (float; tools/m4f_box_cert.sh),
+     * 9,160 B / 17,112 B on x86-64 (float / double), the box certificate's 648 B included.  With a ranged block
      * kmax_value holds the box's
      * K_max lower bound. */
     zw_box_loop_cell box_cells[ZW_REGMAP_BOX_CELLS];
