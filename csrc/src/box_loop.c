@@ -965,16 +965,22 @@ zw_status zw_box_loop_k_mmax(const zw_plant_box *box, const zw_device_loop_spec 
 
 /* ---- certificates (box_cert.h) ------------------------------------------------------------- */
 
+/* Node j (0xF, no code, past the last word: unreachable, the callers bound j). */
 static unsigned bc_node(const zw_box_cert *cert, uint_least32_t j)
 {
+    if (j >= 4u * ZW_BOX_CERT_NODE_WORDS) {
+        return 0xFu;
+    }
     return ((unsigned)cert->nodes[j / 4u] >> (4u * (unsigned)(j % 4u))) & 0xFu;
 }
 
 static void bc_set_node(zw_box_cert *cert, uint_least32_t j, unsigned code)
 {
     const unsigned shift = 4u * (unsigned)(j % 4u);
-    const unsigned word = ((unsigned)cert->nodes[j / 4u] & ~(0xFu << shift)) | ((code & 0xFu) << shift);
-    cert->nodes[j / 4u] = (uint_least16_t)word;
+    if (j < 4u * ZW_BOX_CERT_NODE_WORDS) {
+        const unsigned word = ((unsigned)cert->nodes[j / 4u] & ~(0xFu << shift)) | ((code & 0xFu) << shift);
+        cert->nodes[j / 4u] = (uint_least16_t)word;
+    }
 }
 
 /* A step's claim is one the box can normalize: finite increasing ends, a level > 0. */
@@ -993,8 +999,12 @@ static zw_box_cert_fault bc_verify_step(const bl_loop *L, const zw_box_cert *cer
     unsigned live = 1u;
     bl_root(&L->box, (zw_real)cert->K[step], (zw_real)cert->B[step], (zw_real)cert->B[step + 1u], &cells[0]);
     while (live > 0u) {
-        const zw_box_loop_cell c = cells[live - 1u];
+        zw_box_loop_cell c;
         unsigned code;
+        if (live > ZW_BOX_CERT_STACK) { /* unreachable (the split below keeps it), for the analyser */
+            return ZW_BOX_CERT_BAD_SPLIT;
+        }
+        c = cells[live - 1u];
         live -= 1u;
         if (*pos >= (uint_least32_t)cert->n_nodes) {
             return ZW_BOX_CERT_BAD_NODE;
@@ -1113,21 +1123,31 @@ zw_status zw_box_cert_verify(const zw_plant_box *box, const zw_device_loop_spec 
 /* The step holding B (the one with the larger level on a breakpoint); false outside. */
 static bool bc_step_at(const zw_box_cert *cert, float B, unsigned *step)
 {
-    unsigned lo = 0u, hi;
-    if ((cert == NULL) || (cert->n_steps < 1u) || (cert->n_steps > ZW_BOX_CERT_MAX_STEPS)) {
+    unsigned lo = 0u, hi, n;
+    if (cert == NULL) {
         return false;
     }
-    hi = (unsigned)cert->n_steps;
+    n = (unsigned)cert->n_steps; /* a local: the bounds below are then the analyser's too */
+    if ((n < 1u) || (n > ZW_BOX_CERT_MAX_STEPS)) {
+        return false;
+    }
+    hi = n;
     if (!(B >= cert->B[0]) || !(B <= cert->B[hi])) {
         return false;
     }
-    while (hi - lo > 1u) { /* the last step starting at or below B */
+    while (hi - lo > 1u) { /* the last step starting at or below B: lo < hi <= n */
         const unsigned mid = lo + ((hi - lo) / 2u);
+        if (mid >= ZW_BOX_CERT_MAX_STEPS) { /* unreachable (mid < hi <= n), for the analyser */
+            return false;
+        }
         if (cert->B[mid] <= B) {
             lo = mid;
         } else {
             hi = mid;
         }
+    }
+    if (lo >= ZW_BOX_CERT_MAX_STEPS) { /* unreachable, as above */
+        return false;
     }
     if ((lo > 0u) && (B == cert->B[lo]) && (cert->K[lo - 1u] > cert->K[lo])) {
         lo -= 1u;
@@ -1139,7 +1159,7 @@ static bool bc_step_at(const zw_box_cert *cert, float B, unsigned *step)
 void zw_box_cert_level(const zw_box_cert *cert, float B, float *K, bool *inside)
 {
     unsigned step = 0u;
-    const bool in = bc_step_at(cert, B, &step);
+    const bool in = bc_step_at(cert, B, &step) && (step < ZW_BOX_CERT_MAX_STEPS);
     if (K != NULL) {
         *K = in ? cert->K[step] : 0.0f;
     }
@@ -1151,7 +1171,7 @@ void zw_box_cert_level(const zw_box_cert *cert, float B, float *K, bool *inside)
 void zw_box_cert_b_range(const zw_box_cert *cert, float K, float B, float *B_lo, float *B_hi, bool *nonempty)
 {
     unsigned step = 0u, first, last;
-    const bool in = bc_step_at(cert, B, &step) && (cert->K[step] >= K);
+    const bool in = bc_step_at(cert, B, &step) && (step < ZW_BOX_CERT_MAX_STEPS) && (cert->K[step] >= K);
     if ((B_lo == NULL) || (B_hi == NULL) || (nonempty == NULL)) {
         return;
     }
@@ -1166,7 +1186,8 @@ void zw_box_cert_b_range(const zw_box_cert *cert, float K, float B, float *B_lo,
     while ((first > 0u) && (cert->K[first - 1u] >= K)) {
         first -= 1u;
     }
-    while ((last + 1u < (unsigned)cert->n_steps) && (cert->K[last + 1u] >= K)) {
+    /* n_steps <= ZW_BOX_CERT_MAX_STEPS (bc_step_at), repeated for the analyser */
+    while ((last + 1u < (unsigned)cert->n_steps) && (last + 1u < ZW_BOX_CERT_MAX_STEPS) && (cert->K[last + 1u] >= K)) {
         last += 1u;
     }
     *B_lo = cert->B[first];
@@ -1241,11 +1262,14 @@ static zw_status bc_prove(bc_builder *bd, zw_real K, zw_real B_lo, zw_real B_hi,
     *proven = false;
     bl_root(&L->box, K, B_lo, B_hi, &cells[0]);
     while (live > 0u) {
-        const zw_box_loop_cell c = cells[live - 1u];
-        zw_box_loop_cell w;
+        zw_box_loop_cell c, w;
         bl_result res = BL_UNSURE;
         unsigned side;
         bool unstable;
+        if (live > ZW_BOX_CERT_STACK) { /* unreachable, as in bc_verify_step */
+            return ZW_OK;
+        }
+        c = cells[live - 1u];
         live -= 1u;
         if ((leaves + live + 1u > budget) || (pos + n >= ZW_BOX_CERT_MAX_NODES)) {
             return ZW_OK; /* every waiting cell needs a leaf at least */

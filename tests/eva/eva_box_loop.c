@@ -6,7 +6,7 @@
  * eva-modules: box_loop
  * eva-support: status coeffs plant plant_box box loop
  * eva-precision: 1
- * eva-split-return: bl_loop_init:0
+ * eva-split-return: bl_loop_init:0,bl_setup_scratch:0,bl_setup:0,bc_validate_work:0,bc_setup:0
  * eva-options: -eva-domains cvalue,octagon -eva-widening-delay 10
  *
  * As eva_ideal.c: a read of a volatile is any value of its type (NaN and infinities
@@ -38,12 +38,15 @@
 #include <stdint.h>
 
 #include "zwidth/box.h"
+#include "zwidth/box_cert.h"
 #include "zwidth/device_loop.h"
 #include "eva_any.h"
 
 #define ZW_EVA_CELLS 10u
 
 volatile uint_least32_t any_u32_source;
+volatile uint_least16_t any_u16_source;
+volatile float any_float_source;
 
 volatile uint_least32_t sink_u32;
 
@@ -244,6 +247,94 @@ static void any_spec(zw_device_loop_spec *s, zw_velocity_filter filter)
     s->average = any_unsigned_source;
 }
 
+/* A certificate holding any values (box_cert.h: the drive must refuse whatever is wrong). */
+static void any_cert(zw_box_cert *c)
+{
+    unsigned i;
+    c->n_steps = any_u16_source;
+    c->n_nodes = any_u16_source;
+    /*@ loop unroll ZW_BOX_CERT_MAX_STEPS + 1u; */
+    for (i = 0u; i <= ZW_BOX_CERT_MAX_STEPS; ++i) {
+        c->B[i] = any_float_source;
+    }
+    /*@ loop unroll ZW_BOX_CERT_MAX_STEPS; */
+    for (i = 0u; i < ZW_BOX_CERT_MAX_STEPS; ++i) {
+        c->K[i] = any_float_source;
+    }
+    /*@ loop unroll ZW_BOX_CERT_NODE_WORDS; */
+    for (i = 0u; i < ZW_BOX_CERT_NODE_WORDS; ++i) {
+        c->nodes[i] = any_u16_source;
+    }
+}
+
+/* The certificates' functions: verify with any certificate and a work whose capacity is any
+ * value up to its stack's; build with any arguments; the lookups on any certificate. */
+static void drive_cert(const zw_plant_box *box, const zw_device_loop_spec *spec, zw_loop_workspace *ws,
+                       zw_box_loop_scratch *scratch)
+{
+    zw_box_loop_cell cells[ZW_BOX_CERT_STACK];
+    zw_box_loop_work work;
+    zw_box_cert cert;
+    zw_box_cert_report report;
+    zw_box_cert_fault fault;
+    uint_least32_t leaves;
+    float K, B, lo, hi;
+    bool flag;
+    unsigned i;
+    /*@ loop unroll ZW_BOX_CERT_STACK; */
+    for (i = 0u; i < ZW_BOX_CERT_STACK; ++i) {
+        cells[i].m_lo = any_real();
+        cells[i].m_hi = any_real();
+        cells[i].b_lo = any_real();
+        cells[i].b_hi = any_real();
+        cells[i].K_lo = any_real();
+        cells[i].K_hi = any_real();
+        cells[i].B_lo = any_real();
+        cells[i].B_hi = any_real();
+        cells[i].k_lo = any_real();
+        cells[i].k_hi = any_real();
+    }
+    work.cells = cells;
+    work.scratch = scratch;
+    work.capacity = any_u32_source;
+    if (work.capacity > ZW_BOX_CERT_STACK) {
+        work.capacity = ZW_BOX_CERT_STACK; /* the contract: cells holds capacity cells */
+    }
+    work.max_evals = any_u32_source;
+    work.rel_tol = any_real();
+    any_cert(&cert);
+    (void)zw_box_cert_verify(box, spec, &cert, &work, &fault, &leaves);
+    sink_int = (int)fault;
+    sink_u32 = leaves;
+    zw_box_cert_level(&cert, any_float_source, &K, &flag);
+    sink_real = (zw_real)K;
+    sink_int = flag;
+    zw_box_cert_b_range(&cert, any_float_source, any_float_source, &lo, &hi, &flag);
+    sink_real = (zw_real)lo;
+    sink_real = (zw_real)hi;
+    sink_int = flag;
+    zw_box_cert_k_mmax(&cert, &K, &B);
+    sink_real = (zw_real)K;
+    sink_real = (zw_real)B;
+    (void)zw_box_cert_build(box, spec, ws, any_float_source, any_float_source, any_unsigned_source,
+                            any_unsigned_source, any_real(), &work, &cert, &report);
+    sink_u32 = report.tests;
+    sink_u32 = report.leaves;
+    sink_unsigned = report.failed_step;
+    sink_real = report.K_upper[0];
+    sink_unsigned = cert.n_steps;
+    sink_unsigned = cert.n_nodes;
+    (void)zw_box_cert_verify(maybe_null(box), maybe_null(spec), maybe_null(&cert), maybe_null(&work),
+                             maybe_null(&fault), maybe_null(&leaves));
+    zw_box_cert_level(maybe_null(&cert), any_float_source, maybe_null(&K), maybe_null(&flag));
+    zw_box_cert_b_range(maybe_null(&cert), any_float_source, any_float_source, maybe_null(&lo), maybe_null(&hi),
+                        maybe_null(&flag));
+    zw_box_cert_k_mmax(maybe_null(&cert), maybe_null(&K), maybe_null(&B));
+    (void)zw_box_cert_build(maybe_null(box), maybe_null(spec), maybe_null(ws), any_float_source,
+                            any_float_source, any_unsigned_source, any_unsigned_source, any_real(),
+                            maybe_null(&work), maybe_null(&cert), maybe_null(&report));
+}
+
 /* Every public function, first with every pointer valid (every output read after the
  * call), then with every pointer independently NULL or valid. */
 static void drive(zw_velocity_filter filter)
@@ -337,6 +428,7 @@ static void drive(zw_velocity_filter filter)
                               maybe_null(&nonempty));
     (void)zw_box_loop_k_mmax(maybe_null(&box), maybe_null(&spec), maybe_null(&ws),
                              maybe_null(&work), maybe_null(&x));
+    drive_cert(&box, &spec, &ws, &scratch);
 }
 
 int main(void)
