@@ -977,8 +977,9 @@ static unsigned bc_node(const zw_box_cert *cert, uint_least32_t j)
 static void bc_set_node(zw_box_cert *cert, uint_least32_t j, unsigned code)
 {
     const unsigned shift = 4u * (unsigned)(j % 4u);
+    const unsigned mask = 0xFu; /* unsigned int, not a constant's essential 8 bits (MISRA 12.2) */
     if (j < 4u * ZW_BOX_CERT_NODE_WORDS) {
-        const unsigned word = ((unsigned)cert->nodes[j / 4u] & ~(0xFu << shift)) | ((code & 0xFu) << shift);
+        const unsigned word = ((unsigned)cert->nodes[j / 4u] & ~(mask << shift)) | ((code & mask) << shift);
         cert->nodes[j / 4u] = (uint_least16_t)word;
     }
 }
