@@ -86,8 +86,9 @@ def section(rows: List[Dict[str, Any]], md_table, mcu_text: str) -> str:
            "(float, 16 steps, at most 512 leaves) searches, `zw_box_cert_verify` walks the proof with at most 512 "
            "interval tests and no search (box_cert.h; docs/design/box-certificate.md). Tightness: each step's level "
            "over the least point K_max (`Device.k_max`, tested against mpmath) on a grid of plants and 5 B per step; "
-           "never above 1. The ideal-loop boxes keep about half: the Kharitonov leaves are loose there "
-           "(box.c's closed-form bound has no B-interval form yet).", "",
+           "never above 1. The steps at the ends of a B range keep least (K_max falls steeply there). The valley box "
+           "(an interior minimum in m, ideal loop) keeps about half: the Kharitonov leaves are loose there, and box.c's "
+           "closed-form bound has no B-interval form yet.", "",
            md_table(head, body, "lrrrrrrr"), ""]
     mcu_text = re.sub(r"^(#+) ", lambda m: "#" * (len(m.group(1)) + 1) + " ", mcu_text, flags=re.M)
     out.append(mcu_text if mcu_text else "_The Cortex-M4F run was skipped (see the skipped list)._")
