@@ -15,7 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-build/amalgamation}
-MODULES=$(sed -n '/^set(ZW_CORE_SOURCES/,/)/s/.*csrc\/src\/\([a-z_]*\)\.c.*/\1/p' CMakeLists.txt)
+MODULES=$(tools/core_modules.sh)
 # Files are copied as the preprocessor reads them: a local #include (zwidth/X.h, or a
 # private X.h of csrc/src) is replaced by that file's text where it first appears, and
 # dropped where it appears again, so include order (even a header included half-way

@@ -15,7 +15,7 @@ AVR_CC=${AVR_CC:-avr-gcc}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 # the core's source list, as CMake builds it (one place decides what the firmware part is)
-mapfile -t sources < <(sed -n '/^set(ZW_CORE_SOURCES/,/)/p' CMakeLists.txt | grep -o 'csrc/src/[a-z_]*\.c')
+mapfile -t sources < <(tools/core_modules.sh | tr ' ' '\n' | sed 's|.*|csrc/src/&.c|')
 [ "${#sources[@]}" -gt 0 ] || { echo "FAIL: no ZW_CORE_SOURCES in CMakeLists.txt"; exit 1; }
 failed=0
 for src in "${sources[@]}"; do

@@ -4,8 +4,9 @@
 #
 # tools/core_modules.sh - the firmware modules: ZW_CORE_SOURCES of CMakeLists.txt (set(...)
 # and list(APPEND ...)), in its order, one line, names without csrc/src/ and .c.  The one
-# parser of that list for the scripts that build the core themselves (footprint.sh,
-# m4f_box_cert.sh), so that a module added there is measured without editing them.
+# parser of that list for the scripts that build or ship the core themselves (footprint.sh,
+# m4f_box_cert.sh, avr_build.sh, amalgamate.sh, firmware_release.sh, dist_check.sh,
+# diff_plant.sh), so that a module added there is covered without editing them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 awk '

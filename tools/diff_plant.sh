@@ -20,7 +20,7 @@ trap 'rm -rf "$T"' EXIT
 mkdir -p "$T/old"
 git archive "$BASE" csrc | tar -x -C "$T/old"
 # ZW_CORE_SOURCES of CMakeLists.txt (the libraries' sources)
-SRCS=$(awk '/ZW_CORE_SOURCES/ { on = 1 } on { while (match($0, /csrc\/src\/[A-Za-z0-9_]+\.c/)) { print substr($0, RSTART, RLENGTH); $0 = substr($0, RSTART + RLENGTH) } if ($0 ~ /\)/) on = 0 }' CMakeLists.txt | sort -u)
+SRCS=$(tools/core_modules.sh | tr ' ' '\n' | sed 's|.*|csrc/src/&.c|' | sort -u)
 CFLAGS="-std=c99 -O2 -ffp-contract=off -fPIC -shared"
 status=0
 for prec in double float; do

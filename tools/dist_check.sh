@@ -41,7 +41,7 @@ for f in pyproject.toml CMakeLists.txt PKG-INFO README.md CHANGELOG.md LICENSE L
     grep -qx "$f" "$T/sdist.txt" || fail "the sdist lacks $f"
 done
 # Every firmware module the CMake build lists must be in it (a new module is, by rule).
-for m in $(sed -n '/^set(ZW_CORE_SOURCES/,/)/s/.*\(csrc\/src\/[a-z_]*\.c\).*/\1/p' CMakeLists.txt); do
+for m in $(tools/core_modules.sh | sed 's|[^ ]*|csrc/src/&.c|g'); do
     grep -qx "$m" "$T/sdist.txt" || fail "the sdist lacks $m"
 done
 if grep -E '(^|/)(build[^/]*|\.venv|__pycache__|\.pytest_cache|\.mypy_cache|\.hypothesis|\.git)/|^(tests|bench|tools)/|\.pyc$' \

@@ -36,7 +36,7 @@ fail() { echo "firmware_release: FAIL: $*" >&2; exit 1; }
 VERSION=$(sed -n 's/^#define ZW_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)$/\2/p' \
     csrc/include/zwidth/version.h | paste -sd.)
 NAME=zwidth-firmware-$VERSION
-MODULES=$(sed -n '/^set(ZW_CORE_SOURCES/,/)/s/.*csrc\/src\/\([a-z_]*\)\.c.*/\1/p' CMakeLists.txt)
+MODULES=$(tools/core_modules.sh)
 [ -n "$MODULES" ] || fail "no ZW_CORE_SOURCES in CMakeLists.txt"
 T=$(mktemp -d "${TMPDIR:-/tmp}/zw-fwrel.XXXXXX")
 trap 'rm -rf "$T"' EXIT
