@@ -235,18 +235,15 @@ ZW_NOINLINE static zw_reason cert_box_certify(zw_regmap *rm, const zw_cert *c, f
     zw_box_loop_work work;
     zw_box_loop_verdict v;
     zw_status st;
-    const zw_box_cert *stairs = staircase_of(rm, c);
-    if (stairs != NULL) { /* every K' in (0, level] is proven at B: K / sigma within it */
-        float level;
-        bool inside;
-        zw_box_cert_level(stairs, B, &level, &inside);
-        if (!inside) {
+    if (staircase_of(rm, c) != NULL) { /* every K' in (0, level] is proven at B: K / sigma within it */
+        zw_real level;
+        if (cert_box_k_max(rm, c, B, &level) != ZW_OK) { /* B outside the staircase */
             return ZW_REASON_OUTSIDE_CERT;
         }
         if (!(K > 0.0f)) { /* K <= 0 has a pole at or outside z = 1 without stiffness */
             return ZW_REASON_UNSTABLE;
         }
-        return (k_over_sigma_up(K, c->sigma) <= (zw_real)level) ? ZW_REASON_NONE : ZW_REASON_ABOVE_SIGMA;
+        return (k_over_sigma_up(K, c->sigma) <= level) ? ZW_REASON_NONE : ZW_REASON_ABOVE_SIGMA;
     }
     if (!cert_box_setup(rm, c, &box, &spec, &work)) {
         return ZW_REASON_UNSTABLE;
@@ -421,8 +418,9 @@ static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_F
 }
 
 /* A certificate given at power-up, against the staged block c: verified (bounded,
- * box_cert.h) and then in force with it; none given: the block runs without one. */
-ZW_NOINLINE static zw_reason admit_box_cert(zw_regmap *rm, const zw_cert *c)
+ * box_cert.h) and then in force with it; none given: the block runs without one (the
+ * caller restores the sealed block's on a refusal). */
+ZW_NOINLINE static zw_reason admit_box_cert(zw_regmap *rm, const zw_cert *c, bool given)
 {
     zw_plant_box box;
     zw_device_loop_spec spec;
@@ -430,7 +428,7 @@ ZW_NOINLINE static zw_reason admit_box_cert(zw_regmap *rm, const zw_cert *c)
     zw_box_cert_fault fault = ZW_BOX_CERT_BAD_HEADER;
     uint_least32_t leaves = 0u;
     rm->box_cert_valid = 0u;
-    if (rm->box_cert_pending == 0u) {
+    if (!given) {
         return ZW_REASON_NONE;
     }
     if (!cert_ranged(c) || !cert_box_setup(rm, c, &box, &spec, &work) ||
@@ -449,6 +447,9 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
     zw_cert c;
     zw_reason why;
     bool any;
+    const uint_least16_t sealed_cert_valid = rm->box_cert_valid; /* the block in force's */
+    const bool given = (rm->box_cert_pending != 0u);
+    rm->box_cert_pending = 0u; /* only power-up gives one, for this admission alone */
     for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
         f[i] = zw_rm_staged_float(rm, i);
         zw_cert_set_field(&c, i, f[i]);
@@ -466,9 +467,8 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
         why = check_firmware_loop(&rm->ceilings, f);
     }
     if (why == ZW_REASON_NONE) {
-        why = admit_box_cert(rm, &c);
+        why = admit_box_cert(rm, &c, given);
     }
-    rm->box_cert_pending = 0u; /* only power-up gives one: no earlier certificate to keep */
     if (why == ZW_REASON_NONE) {
         live_extremes(rm, &c, &any);
         if (!any) {
@@ -482,8 +482,10 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
     if (why != ZW_REASON_NONE) {
         /* the sealed block stays in force: its loop back (it was valid when sealed), and
          * its extremes */
-        rm->box_cert_valid = 0u; /* a refused block's certificate is not kept */
-        (void)memset(&rm->box_cert, 0, sizeof rm->box_cert);
+        if (given) { /* a refused block's certificate is not kept */
+            (void)memset(&rm->box_cert, 0, sizeof rm->box_cert);
+        }
+        rm->box_cert_valid = given ? 0u : sealed_cert_valid; /* the sealed block keeps its own */
         if (rm->is_sealed != 0u) {
             (void)build_loop(rm, false);
             live_extremes(rm, &rm->sealed, &any);

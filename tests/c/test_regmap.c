@@ -2935,6 +2935,19 @@ static void test_box_certificate(void **state)
                    ZW_REASON_OUTSIDE_CERT);
     /* every accepted K at B is stable at the interior plant the point block misses */
     assert_int_equal(point_verdict(m_at, 0.79f * level, VALLEY_B), 1);
+    /* a block refused at SEAL after its box was set up (no usable pair: K >= 50) leaves the
+     * one in force with its certificate: writes are still lookups */
+    {
+        zw_cert only_off = c;
+        only_off.k_min = 50.0f;
+        only_off.dk_max = 50.0f;
+        EXPECT_TRUE_MSG(seal_block(&rm, &only_off).why == ZW_REASON_ONLY_OFF, "%s",
+                        zw_reason_name((zw_reason)rd(&rm, ZW_REG_LAST_REASON)));
+        EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+        assert_int_equal(rm.box_cert_valid, 1);
+        EXPECT_ACCEPTED(write_pair(&rm, 0.79f * level, VALLEY_B));
+        assert_true(rdf(&rm, ZW_REG_LIVE_K_MAX) == level);
+    }
     /* a level raised above what its leaves prove: the block is refused, the drive unsealed */
     bad = bc;
     bad.K[3] = 1.5f * bad.K[3];
