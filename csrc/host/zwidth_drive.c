@@ -48,6 +48,7 @@
 
 #include "zw_hostloop.h"
 #include "zw_mbhost.h"
+#include "zwidth/ident.h"
 #include "zwidth/sim.h"
 #include "zwidth/zwidth.h"
 
@@ -156,6 +157,20 @@ static void usage(FILE *to)
             "                      loop's velocity estimate and the force applied\n"
             "  --speed S           simulated seconds per real second (default 1)\n"
             "  --x0 X              initial position (default 0.01)\n"
+            "\n"
+            "Identification (docs/identify.md): with --simulate, --identify FILE plays the\n"
+            "experiment through the firmware's zw_ident (ident.h) on the simulated plant with\n"
+            "the gains off, writes the log FILE (CSV: t, command, position) for 'zwidth\n"
+            "identify FILE --time t' and exits (0 done, 1 tripped); no Modbus is served\n"
+            "  --excite KIND       prbs (default) or steps\n"
+            "  --amplitude F       the command's amplitude [N or N m] (default 1)\n"
+            "  --samples N         the run's length (default 4000; at most 65536)\n"
+            "  --hold N            PRBS: samples per level (default 5)\n"
+            "  --seed N            PRBS: the sequence's seed (default 1)\n"
+            "  --counts-per-unit C the position measured in encoder counts, C per m (or rad)\n"
+            "  --x-window X        the firmware's position window around the start (default 1)\n"
+            "  --v-max V           the firmware's velocity limit (default 10)\n"
+            "  --amplitude-max F   the firmware's amplitude ceiling (default: the amplitude)\n"
             "\n"
             "  -v, --verbose       also log connections and served requests (default: one\n"
             "                      line per refused request on stderr, nothing else)\n"
@@ -1178,6 +1193,105 @@ static int gain_bounds(zw_cert_opts *co, int from_limits, char *from, size_t cap
     return 1;
 }
 
+/* What --identify runs: the experiment of docs/identify.md, offline. */
+typedef struct ident_opts {
+    const char *out;
+    uint_least16_t kind, hold;
+    uint_least32_t seed, samples;
+    double amplitude, amplitude_max, x_window, v_max, counts_per_unit, x0;
+} ident_opts;
+
+#define IDENT_MAX_SAMPLES 65536u
+
+/* Play the identification experiment through zw_ident (the firmware's module, as a
+ * drive's control loop calls it) on the plant m x'' + b x' = F, sampled exactly under the
+ * zero-order hold, the command computed at tick n applied from tick n + delay; the position
+ * measured at each tick (in counts when counts_per_unit > 0), its backward difference the
+ * velocity the limits see.  Writes the log and returns the exit status. */
+static int run_identify(const ident_opts *o, double m, double b, double T, int delay)
+{
+    static float command[IDENT_MAX_SAMPLES], position[IDENT_MAX_SAMPLES];
+    double pending[ZW_LOOP_MAX_DELAY + 1], x = o->x0, v = 0.0, x_prev;
+    const double a = b / m, p = exp(-a * T);
+    /* (1 - p)/a and (T - (1 - p)/a)/a, accurate for a T near 0 (b = 0 included) */
+    const double g1 = a * T > 1e-5 ? (1.0 - p) / a : T * (1.0 - 0.5 * a * T);
+    const double g2 = a * T > 1e-5 ? (T - g1) / a : 0.5 * T * T * (1.0 - a * T / 3.0);
+    zw_ident id;
+    zw_ident_limits lim;
+    zw_ident_request req;
+    zw_status st;
+    uint_least32_t n;
+    FILE *f;
+    int k;
+    lim.amplitude_max = (float)o->amplitude_max;
+    lim.x_window = (float)o->x_window;
+    lim.v_max = (float)o->v_max;
+    lim.samples_max = IDENT_MAX_SAMPLES;
+    st = zw_ident_init(&id, &lim, command, position, IDENT_MAX_SAMPLES);
+    if (st != ZW_OK) {
+        fprintf(stderr, PROG ": the identification ceilings are not valid (%s): --amplitude-max, "
+                "--x-window and --v-max must be > 0 and finite\n", zw_status_name(st));
+        return ZW_EXIT_USAGE;
+    }
+    req.kind = o->kind;
+    req.hold = o->hold;
+    req.seed = o->seed;
+    req.amplitude = (float)o->amplitude;
+    req.samples = o->samples;
+    for (k = 0; k <= (int)ZW_LOOP_MAX_DELAY; ++k) pending[k] = 0.0;
+    st = zw_ident_start(&id, &req, (float)o->x0);
+    if (st != ZW_OK) {
+        fprintf(stderr, PROG ": the identification request is refused by the firmware (%s): the "
+                "amplitude must be in (0, --amplitude-max], the samples in 1..%u\n",
+                zw_status_name(st), IDENT_MAX_SAMPLES);
+        return ZW_EXIT_USAGE;
+    }
+    x_prev = o->x0;
+    for (n = 0; zw_ident_running(&id); ++n) {
+        double xm = o->counts_per_unit > 0.0 ? floor(x * o->counts_per_unit + 0.5) / o->counts_per_unit : x;
+        double vm = n > 0 ? (xm - x_prev) / T : 0.0, F;
+        float u;
+        x_prev = xm;
+        (void)zw_ident_step(&id, (float)xm, (float)vm, &u);
+        /* the delay line: pending[delay] is applied now, the new command enters at 0 */
+        for (k = delay; k > 0; --k) pending[k] = pending[k - 1];
+        pending[0] = (double)u;
+        F = pending[delay];
+        x += v * g1 + F * g2 / m;
+        v = v * p + F * g1 / m;
+    }
+    f = fopen(o->out, "w");
+    if (f == NULL) {
+        fprintf(stderr, PROG ": cannot write %s: %s\n", o->out, strerror(errno));
+        return ZW_EXIT_FAILURE;
+    }
+    fprintf(f, "# zwidth-drive --identify: m = %.9g, b = %.9g, T = %.9g s, delay %d, %s\n", m, b, T, delay,
+            o->counts_per_unit > 0.0 ? "position in counts" : "position in m (or rad)");
+    fprintf(f, "t,command,position\n");
+    for (n = 0; n < id.recorded; ++n) {
+        float u, xm;
+        (void)zw_ident_sample(&id, n, &u, &xm);
+        fprintf(f, "%.9g,%.9g,%.9g\n", (double)n * T, (double)u,
+                o->counts_per_unit > 0.0 ? floor((double)xm * o->counts_per_unit + 0.5) : (double)xm);
+    }
+    if (fclose(f) != 0) {
+        fprintf(stderr, PROG ": cannot write %s: %s\n", o->out, strerror(errno));
+        return ZW_EXIT_FAILURE;
+    }
+    if (id.state == ZW_IDENT_TRIPPED) {
+        static const char *const why[] = {"", "left the position window (--x-window)",
+                                          "exceeded the velocity limit (--v-max)", "measured a non-finite value",
+                                          "was aborted"};
+        logf_("identification tripped after %lu of %lu samples: the device %s; output off; the %lu "
+              "samples before are in %s", (unsigned long)id.recorded, (unsigned long)o->samples,
+              why[id.trip <= 4u ? id.trip : 0u], (unsigned long)id.recorded, o->out);
+        return ZW_EXIT_FAILURE;
+    }
+    logf_("identification done: %lu samples in %s (zwidth identify %s --time t%s)", (unsigned long)id.recorded,
+          o->out, o->out, o->counts_per_unit > 0.0 ? " --counts-per-unit C" : "");
+    return ZW_EXIT_OK;
+}
+
 int main(int argc, char **argv)
 {
     static drive d; /* large; one per process */
@@ -1194,6 +1308,17 @@ int main(int argc, char **argv)
     zw_ceilings ceil;
     struct in_addr probe;
 
+    ident_opts io;
+    io.out = NULL;
+    io.kind = ZW_IDENT_PRBS;
+    io.hold = 5u;
+    io.seed = 1u;
+    io.samples = 4000u;
+    io.amplitude = 1.0;
+    io.amplitude_max = -1.0; /* the amplitude unless given */
+    io.x_window = 1.0;
+    io.v_max = 10.0;
+    io.counts_per_unit = 0.0;
     zw_cert_opts_defaults(&co);
     for (i = 1; i < argc; ++i) {
         const char *arg = argv[i];
@@ -1231,7 +1356,12 @@ int main(int argc, char **argv)
             strcmp(arg, "--idle-timeout") != 0 && strcmp(arg, "--key-file") != 0 &&
             strcmp(arg, "--max-sigma") != 0 && strcmp(arg, "--max-r") != 0 &&
             strcmp(arg, "--plant-tol") != 0 && strcmp(arg, "--state-file") != 0 &&
-            strcmp(arg, "--word-order") != 0) {
+            strcmp(arg, "--word-order") != 0 && strcmp(arg, "--identify") != 0 &&
+            strcmp(arg, "--excite") != 0 && strcmp(arg, "--amplitude") != 0 &&
+            strcmp(arg, "--samples") != 0 && strcmp(arg, "--hold") != 0 &&
+            strcmp(arg, "--seed") != 0 && strcmp(arg, "--counts-per-unit") != 0 &&
+            strcmp(arg, "--x-window") != 0 && strcmp(arg, "--v-max") != 0 &&
+            strcmp(arg, "--amplitude-max") != 0) {
             fprintf(stderr, PROG ": unknown option '%s'\n", arg);
             usage(stderr);
             return ZW_EXIT_USAGE;
@@ -1291,6 +1421,34 @@ int main(int argc, char **argv)
                 return ZW_EXIT_USAGE;
             }
             cdab = val[0] == 'c';
+        } else if (strcmp(arg, "--identify") == 0) {
+            io.out = val;
+        } else if (strcmp(arg, "--excite") == 0) {
+            if (strcmp(val, "prbs") != 0 && strcmp(val, "steps") != 0) {
+                fprintf(stderr, PROG ": --excite expects prbs or steps, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+            io.kind = val[0] == 'p' ? ZW_IDENT_PRBS : ZW_IDENT_STEPS;
+        } else if (strcmp(arg, "--samples") == 0 || strcmp(arg, "--hold") == 0 || strcmp(arg, "--seed") == 0) {
+            long n;
+            const long hi = arg[3] == 'a' ? (long)IDENT_MAX_SAMPLES : arg[2] == 'h' ? 65535L : 2147483647L;
+            if (!zw_parse_long(PROG, arg, val, arg[2] == 's' && arg[3] == 'e' ? 0 : 1, hi, &n)) return ZW_EXIT_USAGE;
+            if (arg[3] == 'a') io.samples = (uint_least32_t)n;
+            else if (arg[2] == 'h') io.hold = (uint_least16_t)n;
+            else io.seed = (uint_least32_t)n;
+        } else if (strcmp(arg, "--amplitude") == 0 || strcmp(arg, "--amplitude-max") == 0 ||
+                   strcmp(arg, "--counts-per-unit") == 0 || strcmp(arg, "--x-window") == 0 ||
+                   strcmp(arg, "--v-max") == 0) {
+            double *t = strcmp(arg, "--amplitude") == 0       ? &io.amplitude
+                        : strcmp(arg, "--amplitude-max") == 0 ? &io.amplitude_max
+                        : strcmp(arg, "--counts-per-unit") == 0 ? &io.counts_per_unit
+                        : strcmp(arg, "--x-window") == 0      ? &io.x_window
+                                                              : &io.v_max;
+            if (!zw_parse_double(PROG, arg, val, t)) return ZW_EXIT_USAGE;
+            if (!(*t > 0.0 && *t < 1e30)) {
+                fprintf(stderr, PROG ": %s expects a number > 0, got '%s'\n", arg, val);
+                return ZW_EXIT_USAGE;
+            }
         } else if (strcmp(arg, "--max-sigma") == 0 || strcmp(arg, "--max-r") == 0 ||
                    strcmp(arg, "--plant-tol") == 0) {
             double *t = arg[2] == 'p' ? &plant_tol : arg[6] == 's' ? &max_sigma : &max_r;
@@ -1300,6 +1458,20 @@ int main(int argc, char **argv)
         }
     }
 
+    if (io.out != NULL) { /* the experiment needs the plant and the loop's delay, no block */
+        if (!simulate) {
+            fprintf(stderr, PROG ": --identify runs on the simulated plant: give --simulate (on a real drive the "
+                    "firmware plays it through ident.h)\n");
+            return ZW_EXIT_USAGE;
+        }
+        if (!(co.v[0] > 0.0) || !(co.v[1] >= 0.0) || !(co.v[2] > 0.0)) {
+            fprintf(stderr, PROG ": --identify needs the simulated plant: --m (or --J) > 0, --b >= 0, --T > 0\n");
+            return ZW_EXIT_USAGE;
+        }
+        if (io.amplitude_max < 0.0) io.amplitude_max = io.amplitude;
+        io.x0 = x0;
+        return run_identify(&io, co.v[0], co.v[1], co.v[2], (int)co.v[11]);
+    }
     if (!gain_bounds(&co, from_limits, bounds_from, sizeof bounds_from)) return ZW_EXIT_USAGE;
     zw_cert_opts_to_cert(&co, &cert);
     { /* which plant, loop and bounds this drive certifies for, always said */

@@ -59,6 +59,8 @@ exit status:
     undecided, 3 an invalid scene file or a run too large for memory
 
 simulate takes a scene file instead of a plant (docs/scenes.md): 'zwidth simulate --help'.
+identify takes a log of the drive and gives the plant box it measured (docs/identify.md):
+'zwidth identify --help'; exit 6 when it identified the plant but has no box to certify.
 
 every verdict and limit is for a stated loop: --delay N is required (0 the paper's ideal
 loop, 1 most firmware: the force applied at the next tick), with --velocity-filter and
@@ -72,6 +74,7 @@ examples:
   zwidth advise --preset paper-drive --K 0.5 --B -1.36e-3
   zwidth plot region --delta 5.122 --alpha 23 --beta -1.5 --delay 0 -o region.png
   zwidth simulate scenes/paper-fig15.toml --plot fig15.png
+  zwidth identify run.csv --time t --counts-per-unit 6366.2 --plot fit.png
 
 'zwidth SUBCOMMAND --help' lists the keys of each subcommand's --json output."""
 
@@ -1594,7 +1597,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="zwidth", description=DESCRIPTION, epilog=EPILOG,
                                      formatter_class=fmt, allow_abbrev=False)
     parser.add_argument("--version", action="version", version=f"zwidth {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{check,limits,advise,plot,simulate}",
+    sub = parser.add_subparsers(dest="command", metavar="{check,limits,advise,plot,simulate,identify}",
                                 required=True)
 
     p = sub.add_parser("check", help="is the gain pair stable? why not? (exit 1 if not)",
@@ -1656,6 +1659,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="no progress bar (otherwise one on stderr for long runs)")
     p.add_argument("--json", action="store_true", help="print one JSON object (keys below)")
     p.set_defaults(handler=None, needs_gains=False, parser=p)
+    from . import identify_cli   # zwidth identify LOG.csv (its options and runner live there)
+    identify_cli.add_parser(sub, fmt)
     return parser
 
 
@@ -1715,6 +1720,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     plant: Optional[_Plant] = None
     if args.command == "simulate":
         return _main_simulate(args, sub)
+    if args.command == "identify":
+        from . import identify_cli
+        return identify_cli.main(args, sub)
     from . import box_cli  # plant ranges (--m 0.10:0.14): every plant of a box
     parts_given = [f"--{n.replace('_', '-')}" for n in ("actuator_tau", "hand", "stiffness")
                    if getattr(args, n, None) is not None]

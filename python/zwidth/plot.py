@@ -40,12 +40,13 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure, SubFigure
 
     from .box import PlantBox
+    from .identify import Identification
     from .scene import Scene
     from .sim import Simulation, SimulationSet
 
 __all__ = ["region", "loop_region", "extremes", "influence", "device", "simulation", "save",
            "CRITICAL_DELTAS", "FORMATS", "box_region", "plant_region", "device_region",
-           "plant_influence"]
+           "plant_influence", "identification"]
 
 _INSTALL_HINT = "zwidth.plot needs matplotlib: pip install zwidth[plot]"
 
@@ -1232,3 +1233,32 @@ def box_region(box: "PlantBox", K: Optional[float] = None, B: Optional[float] = 
 def __dir__() -> List[str]:
     """The figures, not the typing names this module imports."""
     return sorted(__all__)
+
+
+def identification(ident: "Identification", *, fig: Optional["Figure"] = None) -> "Figure":
+    """An identification (:func:`zwidth.identify.identify`): the command, the measured
+    position with the model's, and the residual against the quantization floor (+-q/sqrt(12)
+    dashed when the log is in counts).  Draws into ``fig`` if given (cleared)."""
+    fig, (ax_u, ax_x, ax_r) = _axes_grid(fig, 3, 1, (9.0, 8.0))
+    t = ident.time
+    force = "torque [N m]" if ident.rotary else "force [N]"
+    position = "position [rad]" if ident.rotary else "position [m]"
+    ax_u.step(t, ident.command, where="post", color="#455a64", lw=0.8)
+    ax_u.set_ylabel(f"command, {force}")
+    ax_x.plot(t, ident.measured, color="#1565c0", lw=0.9, label="measured")
+    ax_x.plot(t, ident.fitted, color="#c62828", lw=0.9, ls="--", label="model")
+    ax_x.set_ylabel(position)
+    ax_x.legend(loc="upper left", fontsize="small")
+    ax_r.plot(t, ident.residual, color="#6a1b9a", lw=0.7)
+    if ident.fit.floor > 0.0:
+        for sign in (-1.0, 1.0):
+            ax_r.axhline(sign * ident.fit.floor, color="#9e9e9e", ls="--", lw=0.8)
+    ax_r.set_ylabel("residual")
+    ax_r.set_xlabel("time [s]")
+    e = ident.estimates
+    sym = ident.mass_symbol
+    ax_u.set_title(f"{sym} = {e[sym].value:.4g}, b = {e['b'].value:.4g}, delay {ident.delay}; "
+                   f"{ident.fit.reason}", fontsize="medium")
+    for ax in (ax_u, ax_x, ax_r):
+        ax.grid(True, alpha=0.3)
+    return fig

@@ -134,6 +134,13 @@
 #define zw_float_to_words zw_float_to_words_f
 #define zw_words_to_float zw_words_to_float_f
 #define zw_reason_name zw_reason_name_f
+/* ident.h */
+#define zw_ident_init zw_ident_init_f
+#define zw_ident_start zw_ident_start_f
+#define zw_ident_step zw_ident_step_f
+#define zw_ident_abort zw_ident_abort_f
+#define zw_ident_running zw_ident_running_f
+#define zw_ident_sample zw_ident_sample_f
 /* selftest.h */
 #define zw_selftest zw_selftest_f
 #define zw_selftest_failures zw_selftest_failures_f

@@ -15,6 +15,7 @@
 #include "zwidth/device.h"
 #include "zwidth/device_loop.h"
 #include "zwidth/extremes.h"
+#include "zwidth/ident.h"
 #include "zwidth/loop.h"
 #include "zwidth/loop_limits.h"
 #include "zwidth/margin.h"
