@@ -1193,6 +1193,17 @@ static int gain_bounds(zw_cert_opts *co, int from_limits, char *from, size_t cap
     return 1;
 }
 
+/* An option with one of two values: *first = 1 for the first, 0 for the second; 0 after
+ * saying what it expects. */
+static int parse_choice(const char *opt, const char *val, const char *first_value, const char *second_value,
+                        int *first)
+{
+    *first = strcmp(val, first_value) == 0;
+    if (*first || strcmp(val, second_value) == 0) return 1;
+    fprintf(stderr, PROG ": %s expects %s or %s, got '%s'\n", opt, first_value, second_value, val);
+    return 0;
+}
+
 /* What --identify runs: the experiment of docs/identify.md, offline. */
 typedef struct ident_opts {
     const char *out;
@@ -1416,26 +1427,27 @@ int main(int argc, char **argv)
         } else if (strcmp(arg, "--state-file") == 0) {
             d.state_file = val;
         } else if (strcmp(arg, "--word-order") == 0) {
-            if (strcmp(val, "abcd") != 0 && strcmp(val, "cdab") != 0) {
-                fprintf(stderr, PROG ": --word-order expects abcd or cdab, got '%s'\n", val);
-                return ZW_EXIT_USAGE;
-            }
-            cdab = val[0] == 'c';
+            int abcd;
+            if (!parse_choice(arg, val, "abcd", "cdab", &abcd)) return ZW_EXIT_USAGE;
+            cdab = !abcd;
         } else if (strcmp(arg, "--identify") == 0) {
             io.out = val;
         } else if (strcmp(arg, "--excite") == 0) {
-            if (strcmp(val, "prbs") != 0 && strcmp(val, "steps") != 0) {
-                fprintf(stderr, PROG ": --excite expects prbs or steps, got '%s'\n", val);
-                return ZW_EXIT_USAGE;
-            }
-            io.kind = val[0] == 'p' ? ZW_IDENT_PRBS : ZW_IDENT_STEPS;
-        } else if (strcmp(arg, "--samples") == 0 || strcmp(arg, "--hold") == 0 || strcmp(arg, "--seed") == 0) {
+            int is_prbs;
+            if (!parse_choice(arg, val, "prbs", "steps", &is_prbs)) return ZW_EXIT_USAGE;
+            io.kind = is_prbs ? ZW_IDENT_PRBS : ZW_IDENT_STEPS;
+        } else if (strcmp(arg, "--samples") == 0) {
             long n;
-            const long hi = arg[3] == 'a' ? (long)IDENT_MAX_SAMPLES : arg[2] == 'h' ? 65535L : 2147483647L;
-            if (!zw_parse_long(PROG, arg, val, arg[2] == 's' && arg[3] == 'e' ? 0 : 1, hi, &n)) return ZW_EXIT_USAGE;
-            if (arg[3] == 'a') io.samples = (uint_least32_t)n;
-            else if (arg[2] == 'h') io.hold = (uint_least16_t)n;
-            else io.seed = (uint_least32_t)n;
+            if (!zw_parse_long(PROG, arg, val, 1, (long)IDENT_MAX_SAMPLES, &n)) return ZW_EXIT_USAGE;
+            io.samples = (uint_least32_t)n;
+        } else if (strcmp(arg, "--hold") == 0) {
+            long n;
+            if (!zw_parse_long(PROG, arg, val, 1, 65535L, &n)) return ZW_EXIT_USAGE;
+            io.hold = (uint_least16_t)n;
+        } else if (strcmp(arg, "--seed") == 0) {
+            long n;
+            if (!zw_parse_long(PROG, arg, val, 0, 2147483647L, &n)) return ZW_EXIT_USAGE;
+            io.seed = (uint_least32_t)n;
         } else if (strcmp(arg, "--amplitude") == 0 || strcmp(arg, "--amplitude-max") == 0 ||
                    strcmp(arg, "--counts-per-unit") == 0 || strcmp(arg, "--x-window") == 0 ||
                    strcmp(arg, "--v-max") == 0) {

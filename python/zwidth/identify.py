@@ -47,6 +47,7 @@ from numpy.typing import ArrayLike, NDArray
 from .box import PlantBox
 from .device import Device
 from .results import Result
+from .sim import _expm
 
 __all__ = ["identify", "Identification", "Estimate", "FitCheck", "IdentifyError", "read_log", "excitation",
            "MAX_DELAY", "MIN_SAMPLES", "DEFAULT_LEVEL", "DEFAULT_BOX_LEVEL"]
@@ -427,28 +428,12 @@ def _discrete(shape: _Shape, psi: NDArray[np.float64]) -> Tuple[NDArray[np.float
         M[2, 2], M[2, 3] = -lam, lam
     else:
         M[1, 2] = 1.0
-    E = _expm_small(M)
+    # sim's Taylor expm (to 3e-12 of mpmath's over the fit's range, test_identify.py):
+    # scipy.linalg.expm is closer (1e-13), but on a machine whose cores are busy it was
+    # measured at 8 ms per 3x3 call instead of 50 us (OpenBLAS's threads contending;
+    # OPENBLAS_NUM_THREADS=1 cures it), and the fit calls this thousands of times
+    E = _expm(M)
     return E[:n, :n], E[:n, n]
-
-
-def _expm_small(M: NDArray[np.float64]) -> NDArray[np.float64]:
-    """exp(M) of a small matrix by scaling and squaring with an 18-term Taylor series (its
-    remainder below 1e-17 once the norm is at most 1/2): within 3e-12 of mpmath's, relative
-    to the largest entry, over the fit's range (test_identify.py), far below any log's
-    noise.  scipy.linalg.expm is closer (1e-13), but on a machine whose cores are busy it
-    was measured at 8 ms per 3x3 call instead of 50 us (OpenBLAS's threads contending;
-    OPENBLAS_NUM_THREADS=1 cures it), and the fit calls this thousands of times."""
-    norm = float(np.max(np.sum(np.abs(M), axis=1)))
-    squarings = max(0, int(math.ceil(math.log2(norm / 0.5)))) if norm > 0.5 else 0
-    A = M / 2.0 ** squarings
-    E = np.eye(M.shape[0])
-    term = np.eye(M.shape[0])
-    for i in range(1, 19):
-        term = term @ A / i
-        E = E + term
-    for _ in range(squarings):
-        E = E @ E
-    return E
 
 
 def _responses(shape: _Shape, psi: NDArray[np.float64], inputs: Sequence[NDArray[np.float64]],

@@ -233,10 +233,11 @@ def test_resonance_does_not_fit() -> None:
 
 
 def test_sampling_matrix_against_mpmath() -> None:
-    """The fit's exp(M) (the exact ZOH sampling) against mpmath's at 40 digits, over the
-    shapes the fit visits: b T/m in 1e-9..1e3, w2 in 0..4, tau/T in 1e-4..1e3."""
+    """The fit's exp(M) (the exact ZOH sampling; zwidth.sim's) against mpmath's at 40
+    digits, over the shapes the fit visits: b T/m in 1e-9..1e3, w2 in 0..4, tau/T in
+    1e-4..1e3."""
     mpmath = pytest.importorskip("mpmath")
-    from zwidth.identify import _expm_small
+    from zwidth.sim import _expm as _expm_small
     mpmath.mp.dps = 40
     rng = np.random.default_rng(7)
     for _ in range(200):
