@@ -72,6 +72,8 @@ CLAIMS: List[Tuple[str, str, str, float, str]] = [
     ("c.check.double", "false_stable", "<=", 0, "the guard never calls an unstable point stable"),
     ("cert.tightness", "max_ratio", "<=", 1.0, "a certificate's level is never above the true box limit"),
     ("cert.m4f", "verify_max_instructions", "<=", 8.4e6, "SEAL's verification within 50 ms at 168 MHz"),
+    ("ident.coverage.plain", "m", ">=", 0.95, "the stated 95 % intervals of m cover the truth (plain plants)"),
+    ("ident.coverage.plain", "b", ">=", 0.95, "the stated 95 % intervals of b cover the truth (plain plants)"),
     ("c.check.double", "worst_ulps", "<=", 32, "false unstable only within the rounding band"),
     ("c.check.float", "false_stable", "<=", 0, "the guard never calls an unstable point stable"),
     ("c.check.float", "worst_ulps", "<=", 32, "false unstable only within the rounding band"),
@@ -326,6 +328,7 @@ class Report:
         self.skipped: List[str] = []
         self.times: Dict[str, float] = {}          # phase -> seconds
         self.sim_section = ""
+        self.ident_section = ""
 
     def phase(self, name: str, t0: float) -> None:
         self.times[name] = time.perf_counter() - t0
@@ -675,6 +678,13 @@ class Report:
             self.phase("box certificates on the Cortex-M4F (QEMU)", t0)
         return cs.section(rows, md_table, mcu_text)
 
+    def identification(self) -> str:
+        """Identification (ident_section.py): the committed 1,000-trial validation's summary."""
+        import ident_section as ids
+        s = ids.load()
+        self.res.update(ids.results(s))
+        return ids.section(s, md_table)
+
     def check_claims(self) -> List[Tuple[str, str, str, float, str, Optional[float], Optional[bool]]]:
         out = []
         for rid, metric, op, bound, why in CLAIMS:
@@ -933,6 +943,12 @@ def write_report(R: Report, claims: List[Any], elapsed: float) -> str:
     w(R.cert_section)
     w("")
 
+    # ---- section: identification
+    w("## Identification: from a log to a box (zwidth.identify)")
+    w("")
+    w(R.ident_section)
+    w("")
+
     # ---- section 4
     w("## 4. Simulation")
     w("")
@@ -1120,6 +1136,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         R.sim_section = R.simulation()
         R.loop_section = R.general_loop()
         R.cert_section = R.box_certificates()
+        R.ident_section = R.identification()
     except (RuntimeError, subprocess.TimeoutExpired) as exc:
         print(f"generate.py: {exc}", file=sys.stderr)
         return 2

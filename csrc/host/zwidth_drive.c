@@ -1234,6 +1234,10 @@ static int run_identify(const ident_opts *o, double m, double b, double T, int d
     uint_least32_t n;
     FILE *f;
     int k;
+    if (delay < 0 || delay > (int)ZW_LOOP_MAX_DELAY) {
+        fprintf(stderr, PROG ": --delay must be in 0..%u\n", ZW_LOOP_MAX_DELAY);
+        return ZW_EXIT_USAGE;
+    }
     lim.amplitude_max = (float)o->amplitude_max;
     lim.x_window = (float)o->x_window;
     lim.v_max = (float)o->v_max;
@@ -1298,8 +1302,12 @@ static int run_identify(const ident_opts *o, double m, double b, double T, int d
               why[id.trip <= 4u ? id.trip : 0u], (unsigned long)id.recorded, o->out);
         return ZW_EXIT_FAILURE;
     }
-    logf_("identification done: %lu samples in %s (zwidth identify %s --time t%s)", (unsigned long)id.recorded,
-          o->out, o->out, o->counts_per_unit > 0.0 ? " --counts-per-unit C" : "");
+    if (o->counts_per_unit > 0.0)
+        logf_("identification done: %lu samples in %s (zwidth identify %s --time t --counts-per-unit %.9g)",
+              (unsigned long)id.recorded, o->out, o->out, o->counts_per_unit);
+    else
+        logf_("identification done: %lu samples in %s (zwidth identify %s --time t)", (unsigned long)id.recorded,
+              o->out, o->out);
     return ZW_EXIT_OK;
 }
 

@@ -64,6 +64,10 @@ MAX_MISSING = 0.05
 MAX_MISSING_SAMPLES = 64
 #: Time stamps may deviate from the grid by this fraction of T.
 TIME_TOLERANCE = 0.05
+#: A fit (another delay, the lag's mirrored solution) whose extra residual over the best has an
+#: F statistic within this is one the log cannot reject (about 5 sigma, generous for the
+#: correlated residuals of quantized logs): its delay and parameters stay possible.
+PLAUSIBLE_F = 25.0
 #: The smallest relative standard error an estimate is given (the precision of a binary32
 #: log with margin; real logs' noise gives far more).
 MIN_RELATIVE_SE = 1e-6
@@ -151,6 +155,15 @@ class Identification(Result):
     fitted: NDArray[np.float64] = dataclasses.field(metadata={"result": False})
     command: NDArray[np.float64] = dataclasses.field(metadata={"result": False})
     covariance: NDArray[np.float64] = dataclasses.field(metadata={"result": False})
+    #: every fit the log allows (delay, physical values, covariance, degrees of freedom),
+    #: the best first: the intervals and the box cover all of them
+    plausible: Tuple[Tuple[int, NDArray[np.float64], NDArray[np.float64], int], ...] = dataclasses.field(
+        default=(), metadata={"result": False}, repr=False)
+
+    @property
+    def plausible_delays(self) -> Tuple[int, ...]:
+        """The delays of the fits the log cannot reject (the best one's first)."""
+        return tuple(sorted({d for d, *_ in self.plausible}, key=lambda d: (d != self.delay, d))) or (self.delay,)
 
     @property
     def residual(self) -> NDArray[np.float64]:
@@ -165,7 +178,9 @@ class Identification(Result):
         out = [f"Identified from {self.samples} samples, T = {self.T:g} s:"]
         out += [f"  {e}" for e in self.estimates.values()]
         tried = ", ".join(f"{d}: {rss:.4g}" for d, rss in sorted(self.delay_rss.items()))
-        out.append(f"  delay = {self.delay} samples (residual sum of squares per delay: {tried})")
+        also = [d for d in self.plausible_delays if d != self.delay]
+        allowed = f"; {', '.join(map(str, also))} also fit" if also else ""
+        out.append(f"  delay = {self.delay} samples{allowed} (residual sum of squares per delay: {tried})")
         f = self.fit
         floor = f", quantization floor {f.floor:.3g}" if f.floor > 0 else ""
         out.append(f"  fit: residual RMS {f.rms:.3g}{floor}, lag-1 autocorrelation {f.rho1:.2f}, "
@@ -176,7 +191,8 @@ class Identification(Result):
     def box(self, level: float = DEFAULT_BOX_LEVEL, **loop: Any) -> PlantBox:
         """The :class:`zwidth.PlantBox` holding the plant at joint ``level``: m and b (and k)
         over their intervals at level 1 - (1 - level)/p each (Bonferroni, p the box's
-        parameters), the delay found; friction is left out (it only dissipates).  ``loop``:
+        parameters) and over every fit the log allows, at the largest delay it allows
+        (``plausible_delays``); friction is left out (it only dissipates).  ``loop``:
         the drive's other loop keywords (velocity_filter, differentiator) and PlantBox options.
 
         Raises IdentifyError when the model does not fit, m or b is not identified, or a lag
@@ -198,12 +214,20 @@ class Identification(Result):
                                 f"{tau.hi:.4g}]), and a plant box is certified without one (a lag over a box is "
                                 f"not built yet); Identification.device() gives the plant with its lag for a "
                                 f"point check")
-        # k's box is [max(0, lo), hi]: a wide interval is still a bound
+        # k's box is [max(0, lo), hi]: a wide interval is still a bound.  Every fit the log
+        # allows contributes its intervals; the delay is the largest one allowed (a delay
+        # the log cannot see is assumed, not ignored)
         names = [n for n in (self.mass_symbol, "b", "k") if n in self.estimates]
         each = 1.0 - (1.0 - level) / len(names)
-        iv = {n: _interval(self._fitted_coordinate(n), self.covariance, self._index(n), each, self.dof)
-              for n in names}
-        kwargs: Dict[str, Any] = dict(delay=self.delay, rotary=self.rotary)
+        fits = self.plausible or ((self.delay, np.array([self._fitted_coordinate(n)[0] for n in self.estimates]),
+                                   self.covariance, self.dof),)
+        iv: Dict[str, Tuple[float, float]] = {}
+        for n in names:
+            i = self._index(n)
+            log = n in _LOG_COORDINATES
+            ends = [_interval((float(v[i]), log), c, i, each, dof) for _, v, c, dof in fits]
+            iv[n] = (min(a for a, _ in ends), max(b for _, b in ends))
+        kwargs: Dict[str, Any] = dict(delay=max(d for d, *_ in fits), rotary=self.rotary)
         if "k" in iv:
             kwargs["stiffness"] = (max(0.0, iv["k"][0]), max(0.0, iv["k"][1]))
         kwargs.update(loop)
@@ -227,6 +251,7 @@ class Identification(Result):
         return list(self.estimates).index(name)
 
     def _fitted_coordinate(self, name: str) -> Tuple[float, bool]:
+        """The estimate in the coordinate its interval is in (log for m, b, tau)."""
         e = self.estimates[name]
         log = name in _LOG_COORDINATES
         return (math.log(e.value) if log else e.value, log)
@@ -237,6 +262,7 @@ class Identification(Result):
         out["fit"] = self.fit.as_dict()
         out["delay_rss"] = {str(d): v for d, v in self.delay_rss.items()}
         out["warnings"] = list(self.warnings)
+        out["plausible_delays"] = list(self.plausible_delays)
         return out
 
 
@@ -522,16 +548,18 @@ def _fit_shape(problem: _Problem, psi0: NDArray[np.float64]) -> NDArray[np.float
 
 def _start(problem: _Problem) -> NDArray[np.float64]:
     """The shape to start from: the best point of a grid over log(a T) (and w2 T^2 with a
-    spring; a lag starts at 0.05 T), each grid point an exact linear least squares."""
+    spring, log(tau/T) with a lag), each grid point an exact linear least squares."""
     shape = problem.shape
-    springs = [0.0] + list(np.logspace(-8.0, 0.0, 17)) if shape.spring else [None]
+    springs = ([0.0] + list(np.logspace(-8.0, 0.0, 9 if shape.lag else 17))) if shape.spring else [None]
+    lags = [math.log(t) for t in (0.02, 0.1, 0.3, 1.0, 3.0)] if shape.lag else [None]
     best: Tuple[float, NDArray[np.float64]] = (math.inf, np.zeros(shape.n_psi))
-    for la in np.linspace(math.log(1e-7), math.log(1e2), _GRID):
+    for la in np.linspace(math.log(1e-7), math.log(1e2), _GRID // 2 if shape.lag else _GRID):
         for w2 in springs:
-            psi = np.array([la] + ([w2] if w2 is not None else []) + [math.log(0.05)] * int(shape.lag))
-            rss = float(np.sum(problem.solve(psi)[1] ** 2))
-            if rss < best[0]:
-                best = (rss, psi)
+            for lt in lags:
+                psi = np.array([la] + ([w2] if w2 is not None else []) + ([lt] if lt is not None else []))
+                rss = float(np.sum(problem.solve(psi)[1] ** 2))
+                if rss < best[0]:
+                    best = (rss, psi)
     return best[1]
 
 
@@ -607,8 +635,17 @@ def _physical(shape: _Shape, T: float, phi: NDArray[np.float64]) -> NDArray[np.f
 
 
 def _newey_west(J: NDArray[np.float64], r: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The Newey-West meat with Bartlett weights over Andrews' (1991) automatic bandwidth
+    for an AR(1) residual, 1.1447 (alpha n)^(1/3), alpha = 4 rho^2 / (1 - rho^2)^2, at least
+    4 (n/100)^(2/9) and at most n/4: a slowly varying residual (the quantization of slow
+    motion is one) gets the long window it needs."""
     n = r.size
-    lags = max(1, int(math.ceil(4.0 * (n / 100.0) ** (2.0 / 9.0))))
+    rc = r - r.mean()
+    denom = float(rc @ rc)
+    rho = min(0.99, max(0.0, float(rc[1:] @ rc[:-1]) / denom)) if denom > 0.0 else 0.0
+    alpha = 4.0 * rho * rho / (1.0 - rho * rho) ** 2
+    lags = max(1, int(math.ceil(4.0 * (n / 100.0) ** (2.0 / 9.0))), int(math.ceil(1.1447 * (alpha * n) ** (1 / 3))))
+    lags = min(lags, max(1, n // 4))
     G = J * r[:, None]
     S = G.T @ G
     for L in range(1, lags + 1):
@@ -748,7 +785,7 @@ def identify(position: ArrayLike, command: ArrayLike, T: Optional[float] = None,
              time: Optional[ArrayLike] = None, index: Optional[ArrayLike] = None,
              counts_per_unit: Optional[float] = None, force_constant: float = 1.0,
              force_limit: Optional[float] = None, max_delay: int = 3, delay: Optional[int] = None,
-             lag: bool = False, friction: bool = False, spring: bool = False,
+             lag: Union[bool, str] = False, friction: bool = False, spring: bool = False,
              level: float = DEFAULT_LEVEL, rotary: bool = False,
              progress: Union[bool, Callable[[str], None]] = False) -> Identification:
     """Fit m (J), b, the delay and, when asked, the lag tau, Coulomb friction and a spring k
@@ -759,7 +796,10 @@ def identify(position: ArrayLike, command: ArrayLike, T: Optional[float] = None,
     ``force_constant``; T: sampling period [s] (or read from ``time``, in s; ``index``: the
     sample numbers).  Missing samples (gaps in time or index) are left out, repeated ones
     dropped.  ``force_limit``: the drive's force ceiling; a log that sits at it is refused.
-    delay: fix the delay instead of choosing it among 0..``max_delay``.  level: each
+    delay: fix the delay instead of choosing it among 0..``max_delay``.  lag: True fits a lag
+    tau assumed faster than the mechanics (tau <= m/b, as a current loop is); "either" drops
+    that assumption (the model is symmetric in tau and m/b, so m is then often not
+    identified: both solutions fit).  level: each
     interval's confidence level.  progress: True prints a line per delay fitted to stderr
     (or a callable takes the lines).  Raises IdentifyError naming the column and the reason."""
     if not 0.0 < level < 1.0:
@@ -785,6 +825,8 @@ def identify(position: ArrayLike, command: ArrayLike, T: Optional[float] = None,
     for name, col in (("time", t), ("index", ix)):
         if col is not None and col.size != y.size:
             raise IdentifyError(f"{name}: {col.size} samples, position has {y.size}", name)
+    if lag not in (False, True, "either"):
+        raise IdentifyError(f"lag: must be False, True or 'either', got {lag!r}", "lag")
     shape = _Shape(spring=bool(spring), lag=bool(lag), friction=bool(friction))
     need = max(MIN_SAMPLES, 20 * (shape.n_psi + shape.n_states + 1 + int(shape.friction)))
     if y.size < need + max(delays):
@@ -821,65 +863,81 @@ def identify(position: ArrayLike, command: ArrayLike, T: Optional[float] = None,
         raise IdentifyError("time: friction is not fitted on a log with missing samples (their unknown commands "
                             "would decide where the device sticks)", "time")
     say = progress if callable(progress) else (_stderr if progress else None)
-    fits: Dict[int, _Fitted] = {}
+    fits: Dict[int, List[_Fitted]] = {}
     grid_start: List[NDArray[np.float64]] = []
     for d in delays:
         problem = _Problem(log, shape, d, start)
         # the grid once (a delay moves the best shape little), then from it and from the
         # previous delay's optimum
         grid_start = grid_start or [_start(problem)]
-        previous = [fits[d - 1].params[:shape.n_psi]] if d - 1 in fits else []
-        fits[d] = _fit_delay(problem, grid_start + previous)
+        previous = [fits[d - 1][0].params[:shape.n_psi]] if d - 1 in fits else []
+        fits[d] = [_fit_delay(problem, grid_start + previous)]
+        if shape.lag:
+            # 1/(s (m s + b)(tau s + 1)) is symmetric in m/b and tau: fit the mirrored
+            # solution too, so that a log that cannot tell them apart says so
+            psi = fits[d][0].params[:shape.n_psi].copy()
+            psi[0], psi[-1] = -psi[-1], -psi[0]
+            fits[d].append(_fit_delay(problem, [psi]))
         if say is not None:
             say(f"zwidth identify: delay {d}: residual RMS "
-                f"{math.sqrt(fits[d].rss / max(1, int(fits[d].problem.mask.sum()))) * scale:.4g}")
-    best = min(fits, key=lambda d: fits[d].rss)
-    chosen = fits[best]
-    problem, rss = chosen.problem, chosen.rss
-    if chosen.params[shape.n_psi] <= 0.0:
+                f"{math.sqrt(min(f.rss for f in fits[d]) / max(1, int(problem.mask.sum()))) * scale:.4g}")
+    candidates = [(d, f) for d in delays for f in fits[d] if lag == "either" or not shape.lag or _lag_faster(f)]
+    candidates = [c for c in candidates if c[1].params[shape.n_psi] > 0.0]   # 1/m > 0
+    if not candidates:
         raise IdentifyError("position: the fitted plant moves against the command (1/m < 0): is the command's "
                             "or the position's sign reversed?", "position")
-    cov, values, dof = _covariance(chosen.model, chosen.params, chosen.n_phi, problem.y, problem.mask, shape, Tf,
-                                   chosen.at_bound)
-    # the position was divided by `scale`, so the fitted g is T^2/(m scale): m, b and k carry
-    # 1/scale (log m, log b shift; k scales); F_c = g F_c / g and tau do not
-    values[0] -= math.log(scale)
-    values[1] -= math.log(scale)
-    if shape.spring:
-        values[2] /= scale
-        cov[2, :] /= scale
-        cov[:, 2] /= scale
+    best, chosen = min(candidates, key=lambda c: c[1].rss)
+    problem, rss = chosen.problem, chosen.rss
     names = ["J" if rotary else "m", "b"] + ["k"] * shape.spring + ["tau"] * shape.lag + ["F_c"] * shape.friction
     units = (["kg m^2", "N m s/rad"] if rotary else ["kg", "N s/m"]) + \
         [("N m/rad" if rotary else "N/m")] * shape.spring + ["s"] * shape.lag + [("N m" if rotary else "N")] * shape.friction
-    # no interval narrower than the log's own precision: a drive logs binary32 (6e-8
-    # relative) and the model is computed to about 1e-11, so below MIN_RELATIVE_SE a
-    # near-noiseless log would claim more than either holds
-    for i, name in enumerate(names):
-        scale_i = 1.0 if name in _LOG_COORDINATES else abs(values[i])
-        cov[i, i] = max(cov[i, i], (MIN_RELATIVE_SE * scale_i) ** 2)
+    n_fit = int(problem.mask.sum())
+    # every fit the log cannot reject against the best (F statistic of its extra residual
+    # within PLAUSIBLE_F): its delay and its parameters stay possible
+    plausible: List[Tuple[int, NDArray[np.float64], NDArray[np.float64], int]] = []
+    # a correlated residual holds fewer independent samples: with lag-1 autocorrelation rho
+    # (AR(1)) about n (1 - rho)/(1 + rho), and the F statistic shrinks with it (a noise-free
+    # encoder log's rounding is such a residual; counting every sample rejected true delays)
+    r_best = problem.solve(chosen.params[:shape.n_psi])[1] if not shape.friction else \
+        (problem.y - chosen.model(chosen.params))[problem.mask]
+    rc = r_best - r_best.mean()
+    rho = max(0.0, min(0.99, float(rc[1:] @ rc[:-1]) / max(float(rc @ rc), 1e-300)))
+    effective = (1.0 - rho) / (1.0 + rho)
+    for d, f in sorted(candidates, key=lambda c: c[1].rss):
+        F = effective * (f.rss - rss) / max(rss / max(n_fit - 1, 1), 1e-300)
+        if F <= PLAUSIBLE_F and f.params[shape.n_psi] > 0.0:
+            cov_f, values_f, dof_f = _physical_covariance(f, shape, Tf, scale, names)
+            plausible.append((d, values_f, cov_f, dof_f))
+    _, values, cov, dof = plausible[0]
     estimates: Dict[str, Estimate] = {}
     warnings = list(log.warnings)
     for i, (name, unit) in enumerate(zip(names, units)):
         log_coord = name in _LOG_COORDINATES
-        lo, hi = _interval((values[i], log_coord), cov, i, level, dof)
+        ivs = [_interval((v[i], log_coord), c, i, level, dof_c) for _, v, c, dof_c in plausible]
+        lo, hi = min(a for a, _ in ivs), max(b for _, b in ivs)
         value = math.exp(values[i]) if log_coord else values[i]
         se = math.sqrt(max(cov[i, i], 0.0))
-        rel = se if log_coord else se / max(abs(value), 1e-300)
-        estimates[name] = Estimate(name, value, lo, hi, level, se,
-                                   bool(rel * _t(level, dof) <= MAX_RELATIVE_HALF_WIDTH), unit)
+        if log_coord:
+            half = 0.5 * (math.log(hi) - math.log(lo)) if lo > 0.0 and math.isfinite(hi) else math.inf
+        else:
+            half = 0.5 * (hi - lo) / max(abs(value), 1e-300)
+        estimates[name] = Estimate(name, value, lo, hi, level, se, bool(half <= MAX_RELATIVE_HALF_WIDTH), unit)
     for e in estimates.values():
         if not e.identified:
             warnings.append(f"{e.name} is not identified by this log: its interval spans more than "
                             f"+-{100 * MAX_RELATIVE_HALF_WIDTH:g} % (excite longer, stronger, or nearer the corner "
                             f"frequency b/(2 pi m))")
-    # delay: is the choice clear? (the F statistic of the runner-up against the best)
-    if len(fits) > 1:
-        second = min((d for d in fits if d != best), key=lambda d: fits[d].rss)
-        ratio = fits[second].rss / max(rss, 1e-300)
-        if ratio < 1.0 + 10.0 / max(dof, 1):
-            warnings.append(f"the delay is not clear: {second} samples fits almost as well as {best} "
-                            f"(residual ratio {ratio:.4f}); the box takes {best}")
+    other = sorted({d for d, *_ in plausible} - {best})
+    if other:
+        warnings.append(f"the delay is not clear: {', '.join(map(str, other))} samples fit the log as well as "
+                        f"{best}; the intervals cover every fit the log allows, and the box takes the largest "
+                        f"delay, {max(other + [best])}")
+    if shape.lag and len(plausible) > len({d for d, *_ in plausible}):
+        warnings.append("the lag and the mechanical time constant m/b cannot be told apart by this log (the "
+                        "model is symmetric in them): the intervals cover both solutions")
+    elif shape.lag and lag is True:
+        warnings.append(f"the lag is taken as the faster time constant (tau <= m/b: the model is symmetric in "
+                        f"them; lag='either' drops the assumption)")
     fitted = np.full(log.y.size, np.nan)
     fitted[start:] = chosen.model(chosen.params)
     fitted *= scale
@@ -888,10 +946,39 @@ def identify(position: ArrayLike, command: ArrayLike, T: Optional[float] = None,
     if fit.ok and not (shape.friction or shape.lag or shape.spring) and log.present.all():
         fit = _friction_probe(log, best, start, chosen, dof, fit, scale)
     fitted[:start] = np.nan
-    return Identification(estimates, best, {d: f.rss * scale ** 2 for d, f in fits.items()}, fit, tuple(warnings),
-                          Tf, int(problem.mask.sum()), bool(rotary), dof,
+    return Identification(estimates, best, {d: min(f.rss for f in fs) * scale ** 2 for d, fs in fits.items()}, fit,
+                          tuple(warnings), Tf, n_fit, bool(rotary), dof,
                           np.arange(log.y.size, dtype=np.float64) * Tf, measured, fitted,
-                          log.u, cov)
+                          log.u, cov, tuple(plausible))
+
+
+def _lag_faster(f: _Fitted) -> bool:
+    """Is the fit's lag tau at most the mechanical time constant m/b (psi: log(b T/m) first,
+    log(tau/T) last)?"""
+    return float(f.params[0]) + float(f.params[f.problem.shape.n_psi - 1]) <= 0.0
+
+
+def _physical_covariance(f: _Fitted, shape: _Shape, T: float, scale: float,
+                         names: Sequence[str]) -> Tuple[NDArray[np.float64], NDArray[np.float64], int]:
+    """A fit's physical values (log m, log b, [k], [log tau], [F_c]) and their covariance,
+    in the log's units, with the floor of MIN_RELATIVE_SE."""
+    problem = f.problem
+    cov, values, dof = _covariance(f.model, f.params, f.n_phi, problem.y, problem.mask, shape, T, f.at_bound)
+    # the position was divided by `scale`, so the fitted g is T^2/(m scale): m, b and k carry
+    # 1/scale (log m, log b shift; k scales); F_c = g F_c / g and tau do not
+    values[0] -= math.log(scale)
+    values[1] -= math.log(scale)
+    if shape.spring:
+        values[2] /= scale
+        cov[2, :] /= scale
+        cov[:, 2] /= scale
+    # no interval narrower than the log's own precision: a drive logs binary32 (6e-8
+    # relative) and the model is computed to about 1e-11, so below MIN_RELATIVE_SE a
+    # near-noiseless log would claim more than either holds
+    for i, name in enumerate(names):
+        scale_i = 1.0 if name in _LOG_COORDINATES else abs(values[i])
+        cov[i, i] = max(cov[i, i], (MIN_RELATIVE_SE * scale_i) ** 2)
+    return cov, values, dof
 
 
 def _t(level: float, dof: int) -> float:
@@ -913,7 +1000,9 @@ def _fit_check(y: NDArray[np.float64], y_hat: NDArray[np.float64], q: float) -> 
     rho1 = float(rc[1:] @ rc[:-1]) / denom if denom > 0 else 0.0
     motion = float(np.var(y))
     explained = 1.0 - float(np.mean(r ** 2)) / motion if motion > 0 else 0.0
-    if rho1 > MISFIT_RHO and rms > MISFIT_FLOOR_RATIO * max(floor, 1e-300):
+    # a residual at the arithmetic's own level (a noise-free simulated log) is no misfit
+    exact = rms <= 1e-9 * math.sqrt(motion) if motion > 0 else True
+    if rho1 > MISFIT_RHO and rms > MISFIT_FLOOR_RATIO * max(floor, 1e-300) and not exact:
         return FitCheck(rms, floor, rho1, explained, False,
                         "the model does not fit: the residual is slow and well above the noise (a resonance, "
                         "backlash, sticking friction, a spring not fitted, or the wrong T)")

@@ -11,10 +11,12 @@ import argparse
 import math
 import sys
 from pathlib import Path
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Union
 
 from ._kernels import ZwidthError
 
+#: --lag's value -> identify's lag=
+_LAG_CHOICE: Dict[Optional[str], Union[bool, str]] = {None: False, "faster": True, "either": "either"}
 #: identified, but no box to certify (the model does not fit, m or b not identified, a lag)
 EXIT_NO_BOX = 6
 
@@ -36,6 +38,11 @@ examples:
   zwidth identify run.csv --time t --T 1e-3 --counts-per-unit 6366.2
   zwidth identify run.csv --T 5e-4 --force-constant 0.052 --friction --json
   zwidth identify run.csv --T 1e-3 --velocity-filter lowpass:100Hz --plot fit.png
+--json keys: command, loop (the box's; absent without a box), identification (estimates
+  {name: value, lo, hi, level, standard_error, identified}, delay, delay_rss,
+  plausible_delays, fit {rms, floor, rho1, explained, ok, reason}, warnings, T, samples,
+  rotary, dof), box ({m|J, b, T, delay, stiffness, level} or null), limits (K_mmax, B_at,
+  converged, worst), limits_command, no_box (why, when there is none).
 exit status: 0 identified with a box, 3 the log cannot be used (the message names the
   column), 6 identified but no box (the model does not fit, m or b not identified by the
   excitation, or a lag was found: a box is certified without one)."""
@@ -65,10 +72,13 @@ def add_parser(sub: Any, formatter: Any) -> argparse.ArgumentParser:
     p.add_argument("--force-limit", type=_number, metavar="F",
                    help="the drive's force ceiling: a log that sits at it is refused (saturated)")
     p.add_argument("--max-delay", type=int, default=3, metavar="N",
-                   help=f"try delays 0..N samples and take the best fit (0..{MAX_DELAY}; default 3)")
+                   help=f"try delays 0..N samples (0..{MAX_DELAY}; default 3): the best fit's is reported, every "
+                        f"one the log cannot reject widens the intervals, and the box takes the largest")
     p.add_argument("--delay", type=int, metavar="N", help="fix the delay instead of choosing it")
     model = p.add_argument_group("what else to fit (default: m, b and the delay only)")
-    model.add_argument("--lag", action="store_true", help="an actuator (current-loop) lag tau")
+    model.add_argument("--lag", nargs="?", const="faster", choices=("faster", "either"), metavar="faster|either",
+                       help="an actuator (current-loop) lag tau, taken as faster than the mechanics (tau <= m/b, "
+                            "the default) or 'either' (the model is symmetric in tau and m/b)")
     model.add_argument("--friction", action="store_true", help="Coulomb friction F_c")
     model.add_argument("--spring", action="store_true", help="a spring k (a return spring, a cable)")
     p.add_argument("--level", type=_number, default=DEFAULT_LEVEL, metavar="P",
@@ -111,7 +121,8 @@ def main(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
         ident = identify(columns["position"], columns["command"], args.T, time=columns.get("time"),
                          index=columns.get("index"), counts_per_unit=args.counts_per_unit,
                          force_constant=args.force_constant, force_limit=args.force_limit,
-                         max_delay=args.max_delay, delay=args.delay, lag=args.lag, friction=args.friction,
+                         max_delay=args.max_delay, delay=args.delay,
+                         lag=_LAG_CHOICE[args.lag], friction=args.friction,
                          spring=args.spring, level=args.level, rotary=args.rotary, progress=args.progress)
     except IdentifyError as exc:
         where = f" (column {exc.column!r})" if exc.column and exc.column not in ("T", "level") else ""
