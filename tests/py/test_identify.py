@@ -93,6 +93,12 @@ def test_lag_identified_and_box_refused() -> None:
         ident.box()
     dev = ident.device()
     assert float(dev.actuator_tau) == pytest.approx(ident.estimates["tau"].value)
+    assert any("faster time constant" in w for w in ident.warnings)
+    # 1/(s (m s + b)(tau s + 1)) is symmetric in m/b and tau: without the assumption that the
+    # lag is the faster, the mirrored plant (m/b = 0.3 ms, tau = 50 ms) fits as well
+    either = identify(log["x"], log["u"], T, lag="either")
+    assert not either.estimates["m"].identified and _inside(either.estimates["m"], M)
+    assert any("cannot be told apart" in w for w in either.warnings)
 
 
 def test_spring() -> None:
