@@ -634,15 +634,20 @@ def _physical(shape: _Shape, T: float, phi: NDArray[np.float64]) -> NDArray[np.f
     return np.array(out)
 
 
+def _lag1_autocorrelation(r: NDArray[np.float64]) -> float:
+    """The residual's lag-1 autocorrelation (0 for a constant residual)."""
+    rc = r - r.mean()
+    denom = float(rc @ rc)
+    return float(rc[1:] @ rc[:-1]) / denom if denom > 0.0 else 0.0
+
+
 def _newey_west(J: NDArray[np.float64], r: NDArray[np.float64]) -> NDArray[np.float64]:
     """The Newey-West meat with Bartlett weights over Andrews' (1991) automatic bandwidth
     for an AR(1) residual, 1.1447 (alpha n)^(1/3), alpha = 4 rho^2 / (1 - rho^2)^2, at least
     4 (n/100)^(2/9) and at most n/4: a slowly varying residual (the quantization of slow
     motion is one) gets the long window it needs."""
     n = r.size
-    rc = r - r.mean()
-    denom = float(rc @ rc)
-    rho = min(0.99, max(0.0, float(rc[1:] @ rc[:-1]) / denom)) if denom > 0.0 else 0.0
+    rho = min(0.99, max(0.0, _lag1_autocorrelation(r)))
     alpha = 4.0 * rho * rho / (1.0 - rho * rho) ** 2
     lags = max(1, int(math.ceil(4.0 * (n / 100.0) ** (2.0 / 9.0))), int(math.ceil(1.1447 * (alpha * n) ** (1 / 3))))
     lags = min(lags, max(1, n // 4))
@@ -855,7 +860,6 @@ def identify(position: ArrayLike, command: ArrayLike, T: Optional[float] = None,
     scale = float(np.std(yp)) or 1.0
     log.y = log.y / scale
     start = max(delays)
-    say = progress if callable(progress) else (_stderr if progress else None)
     if shape.friction and (shape.lag or shape.spring):
         raise IdentifyError("friction: fitted on the plant without a lag or a spring only (its exact model with "
                             "sticking); drop lag= / spring=, or friction=", "friction")
@@ -898,10 +902,8 @@ def identify(position: ArrayLike, command: ArrayLike, T: Optional[float] = None,
     # a correlated residual holds fewer independent samples: with lag-1 autocorrelation rho
     # (AR(1)) about n (1 - rho)/(1 + rho), and the F statistic shrinks with it (a noise-free
     # encoder log's rounding is such a residual; counting every sample rejected true delays)
-    r_best = problem.solve(chosen.params[:shape.n_psi])[1] if not shape.friction else \
-        (problem.y - chosen.model(chosen.params))[problem.mask]
-    rc = r_best - r_best.mean()
-    rho = max(0.0, min(0.99, float(rc[1:] @ rc[:-1]) / max(float(rc @ rc), 1e-300)))
+    r_best = (problem.y - chosen.model(chosen.params))[problem.mask]
+    rho = max(0.0, min(0.99, _lag1_autocorrelation(r_best)))
     effective = (1.0 - rho) / (1.0 + rho)
     for d, f in sorted(candidates, key=lambda c: c[1].rss):
         F = effective * (f.rss - rss) / max(rss / max(n_fit - 1, 1), 1e-300)
@@ -995,9 +997,7 @@ def _fit_check(y: NDArray[np.float64], y_hat: NDArray[np.float64], q: float) -> 
     r = y - y_hat
     rms = float(np.sqrt(np.mean(r ** 2)))
     floor = q / math.sqrt(12.0)
-    rc = r - r.mean()
-    denom = float(rc @ rc)
-    rho1 = float(rc[1:] @ rc[:-1]) / denom if denom > 0 else 0.0
+    rho1 = _lag1_autocorrelation(r)
     motion = float(np.var(y))
     explained = 1.0 - float(np.mean(r ** 2)) / motion if motion > 0 else 0.0
     # a residual at the arithmetic's own level (a noise-free simulated log) is no misfit
