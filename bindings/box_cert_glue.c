@@ -102,6 +102,33 @@ int ZWB(zwb_box_cert_build)(const zwb_box_args *a, float B_lo, float B_hi, unsig
     return 0;
 }
 
+int ZWB(zwb_box_cert_range)(const zwb_box_args *a, double *B_lo, double *B_hi)
+{
+    glue_work *g = glue_open(a);
+    zw_box_loop_cell *cells = (zw_box_loop_cell *)calloc(ZWB_RANGE_CELLS, sizeof *cells);
+    zw_box_loop_work work;
+    zw_box_loop_extremes e;
+    zw_real lo = ZW_R(0.0), hi = ZW_R(0.0);
+    bool nonempty = false;
+    int rc = -1;
+    if ((g != NULL) && (cells != NULL) &&
+        (zw_box_loop_work_init(&work, cells, ZWB_RANGE_CELLS, &g->scratch) == ZW_OK)) {
+        zw_status st;
+        work.max_evals = 100000u; /* the host's default (python/zwidth/box.py) */
+        st = zw_box_loop_k_mmax(&g->box, &g->spec, &g->ws, &work, &e);
+        if (st == ZW_OK) {
+            st = zw_box_loop_b_range(&g->box, &g->spec, &g->ws, ZW_R(0.5) * e.K_mmax, &work, &lo, &hi,
+                                     &nonempty);
+        }
+        rc = (st != ZW_OK) ? (int)st : nonempty ? 0 : -2;
+        *B_lo = (double)lo;
+        *B_hi = (double)hi;
+    }
+    free(cells);
+    free(g);
+    return rc;
+}
+
 int ZWB(zwb_box_cert_verify)(const zwb_box_args *a, const zw_box_cert *cert, int *fault, unsigned long *leaves)
 {
     glue_work *g = glue_open(a);

@@ -42,6 +42,13 @@ int zwb_box_cert_build_d(const zwb_box_args *a, float B_lo, float B_hi, unsigned
                          double rel_tol, struct zw_box_cert *cert, zwb_box_cert_result *out);
 int zwb_box_cert_build_f(const zwb_box_args *a, float B_lo, float B_hi, unsigned steps, unsigned leaves,
                          double rel_tol, struct zw_box_cert *cert, zwb_box_cert_result *out);
+/* certificate()'s default B range: the B certified over the box at half its K_mmax
+ * (zw_box_loop_k_mmax, zw_box_loop_b_range; the host's search defaults, a work list of
+ * ZWB_RANGE_CELLS).  0 with *B_lo, *B_hi set; a zw_status (> 0) when a search fails,
+ * -1 when memory could not be had, -2 when no B is certified there. */
+#define ZWB_RANGE_CELLS 65536u
+int zwb_box_cert_range_d(const zwb_box_args *a, double *B_lo, double *B_hi);
+int zwb_box_cert_range_f(const zwb_box_args *a, double *B_lo, double *B_hi);
 /* Verify only: *fault (zw_box_cert_fault), the status returned. */
 int zwb_box_cert_verify_d(const zwb_box_args *a, const struct zw_box_cert *cert, int *fault, unsigned long *leaves);
 int zwb_box_cert_verify_f(const zwb_box_args *a, const struct zw_box_cert *cert, int *fault, unsigned long *leaves);

@@ -23,6 +23,7 @@
 
 #include <modbus.h>
 
+#include "box_cert_glue.h"
 #include "zw_mbhost.h"
 #include "zwidth/version.h"
 
@@ -41,7 +42,7 @@ static void usage(FILE *to)
             "                   --k-min K --k-max K --b-min B --b-max B --dk-max D --db-max D\n"
             "                   [--delay D] [--velocity-filter none|lowpass:F[Hz]|average:N]\n"
             "                   [--differentiator backward|tustin] [--paper-defaults] [--json]\n"
-            "                   --key-file PATH\n"
+            "                   [--cert-b LO:HI] --key-file PATH\n"
             "\n"
             "Talks to a zwidth drive (zwidth-drive, or firmware with the same register map).\n"
             "\n"
@@ -68,7 +69,14 @@ static void usage(FILE *to)
             "              --differentiator tustin; the drive certifies gains for it.\n"
             "              Plant ranges (map version 4): --m LO:HI and/or --b LO:HI (or\n"
             "              --m-hi, --b-hi) commission a box of plants: every gain write is\n"
-            "              then certified for every plant of the box (needs --r 1)\n"
+            "              then certified for every plant of the box (needs --r 1).  With\n"
+            "              ranges, a box certificate is built here first, in the drive's\n"
+            "              precision (its PRECISION register; map version 5), and sent with\n"
+            "              the block: the drive verifies it at SEAL in bounded time and every\n"
+            "              gain write is a lookup in its staircase of K limits over B.\n"
+            "              --cert-b LO:HI: the staircase's B range (default: [b-min, b-max]\n"
+            "              cut to the B the box certifies at half its K_mmax); gain writes\n"
+            "              with B outside it are refused (ZW_REASON_OUTSIDE_CERT)\n"
             "\n"
             "Connection (Modbus TCP by default)\n"
             "  --host ADDR     drive address (default 127.0.0.1)\n"
@@ -172,7 +180,9 @@ typedef struct snapshot {
     uint_least16_t gains[4];  /* 0x10..0x13 */
     uint_least16_t live[24];  /* 0x20..0x37 */
     uint_least16_t cert[ZW_CERT_WORDS + 1u];  /* 0x40..0x62: the block and its CRC */
-    int have_live, have_cert;
+    uint_least16_t stairs[ZW_BOX_CERT_WORD_NODES]; /* 0x100..0x143: the box certificate's
+                                                       header, breakpoints and levels */
+    int have_live, have_cert, have_stairs;
     unsigned cert_exc;
 } snapshot;
 
@@ -236,8 +246,22 @@ static int read_snapshot(modbus_t *ctx, snapshot *s)
     s->have_cert = read_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, s->cert, &s->cert_exc) == 0;
     if (!s->have_cert && s->cert_exc == 0) return protocol_error("cannot read the certified block");
     if (s->have_cert) wire_pairs(s->cert, (int)ZW_CERT_WORDS); /* not the CRC word */
+    s->have_stairs = read_regs(ctx, ZW_REG_BOX_CERT, (int)ZW_BOX_CERT_WORD_NODES, s->stairs, &exc) == 0;
+    if (!s->have_stairs && exc == 0) return protocol_error("cannot read the box certificate");
+    if (s->have_stairs)
+        wire_pairs(&s->stairs[ZW_BOX_CERT_WORD_B], (int)(ZW_BOX_CERT_WORD_NODES - ZW_BOX_CERT_WORD_B));
     return ZW_EXIT_OK;
 }
+
+/* Steps of the box certificate the snapshot shows (0: none, or not readable; at most 16). */
+static unsigned stairs_steps(const snapshot *s)
+{
+    unsigned n = s->have_stairs ? (unsigned)s->stairs[0] : 0u;
+    return n <= ZW_BOX_CERT_MAX_STEPS ? n : 0u;
+}
+
+static float stairs_B(const snapshot *s, unsigned i) { return zw_words_to_float(&s->stairs[ZW_BOX_CERT_WORD_B + 2u * i]); }
+static float stairs_K(const snapshot *s, unsigned i) { return zw_words_to_float(&s->stairs[ZW_BOX_CERT_WORD_K + 2u * i]); }
 
 static float fw(const uint_least16_t *w) { return zw_words_to_float(w); }
 
@@ -266,6 +290,19 @@ static void print_snapshot_text(const snapshot *s)
                (double)c.b_max, (double)c.dk_max, (double)c.db_max, (unsigned)s->cert[ZW_CERT_WORDS]);
         zw_cert_loop_text(&c, loop, sizeof loop);
         printf("loop       : %s\n", loop);
+        if (stairs_steps(s) > 0u) {
+            unsigned i, n = stairs_steps(s);
+            float lo = stairs_K(s, 0u), hi = lo;
+            for (i = 1u; i < n; ++i) {
+                lo = stairs_K(s, i) < lo ? stairs_K(s, i) : lo;
+                hi = stairs_K(s, i) > hi ? stairs_K(s, i) : hi;
+            }
+            printf("certificate: %u steps over B in [%.9g, %.9g], K levels %.9g .. %.9g (%u proof\n"
+                   "             nodes; every gain write is a lookup)\n", n, (double)stairs_B(s, 0u),
+                   (double)stairs_B(s, n), (double)lo, (double)hi, (unsigned)s->stairs[1]);
+        } else if (zw_cert_ranged(&c)) {
+            printf("certificate: none (every gain write runs the drive's box search)\n");
+        }
     } else {
         printf("plant      : certified block not readable (exception 0x%02X %s)\n", s->cert_exc,
                zw_exception_name(s->cert_exc));
@@ -321,6 +358,23 @@ static void print_snapshot_json(const snapshot *s)
         for (k = 0; k < ZW_CERT_NFIELDS; ++k)
             json_kv_float(zw_cert_label[k], (double)zw_cert_field(&c, (unsigned)k), k > 0);
         printf(", \"crc\": %u}", (unsigned)s->cert[ZW_CERT_WORDS]);
+    } else {
+        printf("null");
+    }
+    printf(", \"box_certificate\": ");
+    if (stairs_steps(s) > 0u) {
+        unsigned i, n = stairs_steps(s);
+        printf("{\"steps\": %u, \"nodes\": %u, \"B\": [", n, (unsigned)s->stairs[1]);
+        for (i = 0u; i <= n; ++i) {
+            if (i) printf(", ");
+            zw_json_float(stdout, (double)stairs_B(s, i));
+        }
+        printf("], \"K\": [");
+        for (i = 0u; i < n; ++i) {
+            if (i) printf(", ");
+            zw_json_float(stdout, (double)stairs_K(s, i));
+        }
+        printf("]}");
     } else {
         printf("null");
     }
@@ -567,13 +621,119 @@ static int commission_transport_error(modbus_t *ctx, const char *what)
     return ZW_EXIT_USAGE;
 }
 
-/* Commission: UNLOCK1, UNLOCK2, read the nonce, write the block with its CRC and the MAC
- * of (version, nonce, block) under the drive's key, SEAL; then read back mode, sealed flag,
- * block and CRC and say what the drive did. */
-static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const uint8_t key[ZW_KEY_BYTES],
-                          int json)
+/* A ranged block's box certificate (box_cert.h), built here in the drive's precision (its
+ * PRECISION register) over B in cert_b (NULL: the block's B bounds cut to the B the box
+ * certifies at half its K_mmax), before anything is sent.  ZW_EXIT_OK, or a usage error
+ * with its message (nothing was sent then). */
+static int build_box_cert(modbus_t *ctx, const zw_cert *c, const double *cert_b, zw_box_cert *out)
+{
+    zwb_box_args a;
+    zwb_box_cert_result r;
+    uint_least16_t precision;
+    unsigned exc;
+    double lo, hi;
+    int single, rc;
+    memset(&a, 0, sizeof a);
+    a.box[0] = (double)c->m;
+    a.box[1] = (double)(c->m_hi > 0.0f ? c->m_hi : c->m);
+    a.box[2] = (double)c->b;
+    a.box[3] = (double)(c->b_hi > 0.0f ? c->b_hi : c->b);
+    a.box[4] = (double)c->T;
+    a.delay = (unsigned)c->delay;
+    a.differentiator = (int)c->differentiator;
+    a.filter = (int)c->vfilter;
+    a.average = a.filter == 2 ? (unsigned)c->vf_param : 0u;
+    a.cutoff_or_pole = a.filter == 1 ? (double)c->vf_param : 0.0;
+    if (read_regs(ctx, ZW_REG_PRECISION, 1, &precision, &exc) != 0)
+        return protocol_error("cannot read the drive's PRECISION register");
+    if (precision != 4u && precision != 8u) {
+        fprintf(stderr, PROG ": the drive reports a precision of %u bytes (4 or 8 expected)\n",
+                (unsigned)precision);
+        return ZW_EXIT_USAGE;
+    }
+    single = precision == 4u;
+    if (cert_b != NULL) {
+        lo = cert_b[0];
+        hi = cert_b[1];
+    } else {
+        fprintf(stderr, PROG ": finding the B range the box certifies (its K_mmax, then B at half "
+                        "of it)...\n");
+        rc = single ? zwb_box_cert_range_f(&a, &lo, &hi) : zwb_box_cert_range_d(&a, &lo, &hi);
+        if (rc != 0) {
+            fprintf(stderr, PROG ": %s: give the certificate's B range, --cert-b LO:HI\n",
+                    rc == -2 ? "no B is certified over the box at half its K_mmax"
+                    : rc == -1 ? "out of memory for the box search"
+                               : "the box search failed");
+            return ZW_EXIT_USAGE;
+        }
+        lo = lo > (double)c->b_min ? lo : (double)c->b_min;
+        hi = hi < (double)c->b_max ? hi : (double)c->b_max;
+    }
+    if (!(lo < hi) || fabs(lo) > (double)FLT_MAX || fabs(hi) > (double)FLT_MAX ||
+        (float)lo >= (float)hi) {
+        fprintf(stderr, PROG ": the certificate's B range [%.9g, %.9g] is empty (within the "
+                        "block's B bounds [%.9g, %.9g]): give --cert-b LO:HI\n",
+                lo, hi, (double)c->b_min, (double)c->b_max);
+        return ZW_EXIT_USAGE;
+    }
+    fprintf(stderr, PROG ": building the box certificate (%s, 16 steps over B in [%.9g, %.9g], "
+                    "at most 512 leaves)...\n", single ? "float" : "double", lo, hi);
+    rc = single ? zwb_box_cert_build_f(&a, (float)lo, (float)hi, 16u, 512u, 1e-4, out, &r)
+                : zwb_box_cert_build_d(&a, (float)lo, (float)hi, 16u, 512u, 1e-4, out, &r);
+    if (rc != 0 || r.status != 0) {
+        fprintf(stderr, PROG ": the box certificate cannot be built (%s)\n",
+                rc != 0 ? "out of memory" : "the box or its loop is refused by the core");
+        return ZW_EXIT_USAGE;
+    }
+    if (r.failed_step < 16u) {
+        const double width = (hi - lo) / 16.0;
+        fprintf(stderr, PROG ": step %u of the box certificate (B in [%.6g, %.6g]) is proven at no "
+                        "K: narrow --cert-b away from the edge of stability\n", r.failed_step,
+                lo + r.failed_step * width, lo + (r.failed_step + 1u) * width);
+        return ZW_EXIT_USAGE;
+    }
+    if (r.verify_status != 0 || r.fault != 0) {
+        fprintf(stderr, PROG ": the box certificate built does not verify (fault %d): please report "
+                        "this\n", r.fault);
+        return ZW_EXIT_USAGE;
+    }
+    fprintf(stderr, PROG ": box certificate: %lu leaves, built in %.2f s, verified here in %.3f s\n",
+            r.leaves, r.build_seconds, r.verify_seconds);
+    return ZW_EXIT_OK;
+}
+
+/* Write n words at addr in requests of at most 123 words (FC 0x10's limit). */
+static int write_window(modbus_t *ctx, int addr, int n, const uint_least16_t *w, unsigned *exc)
+{
+    int done;
+    for (done = 0; done < n; done += 123) {
+        const int part = n - done < 123 ? n - done : 123;
+        if (write_regs(ctx, addr + done, part, w + done, exc) != 0) return -1;
+    }
+    return 0;
+}
+
+/* Read n words at addr in requests of at most 125 words (FC 0x03's limit). */
+static int read_window(modbus_t *ctx, int addr, int n, uint_least16_t *w, unsigned *exc)
+{
+    int done;
+    for (done = 0; done < n; done += 125) {
+        const int part = n - done < 125 ? n - done : 125;
+        if (read_regs(ctx, addr + done, part, w + done, exc) != 0) return -1;
+    }
+    return 0;
+}
+
+/* Commission: a ranged block's certificate built first; UNLOCK1, UNLOCK2, read the nonce,
+ * write the block with its CRC, the certificate window, and the MAC of (version, nonce,
+ * block, certificate) under the drive's key, SEAL; then read back mode, sealed flag, block,
+ * CRC and certificate and say what the drive did. */
+static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const double *cert_b,
+                          const uint8_t key[ZW_KEY_BYTES], int json)
 {
     zw_cert cert;
+    zw_box_cert box_cert;
+    uint_least16_t bc[ZW_BOX_CERT_WORDS], bc_wire[ZW_BOX_CERT_WORDS], bc_back[ZW_BOX_CERT_WORDS];
     uint_least16_t w[ZW_CERT_WORDS + 1u], wire[ZW_CERT_WORDS + 1u], head[4], back[ZW_CERT_WORDS + 1u];
     uint_least16_t nonce[ZW_AUTH_NONCE_WORDS], macw[ZW_AUTH_MAC_WORDS];
     uint_least8_t msg[ZW_AUTH_MSG_BYTES];
@@ -589,6 +749,18 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const uint8_t k
     crc = w[ZW_CERT_WORDS];
     rc = read_head(ctx, &s); /* a drive of another map version is not written to */
     if (rc != ZW_EXIT_OK) return rc;
+    memset(&box_cert, 0, sizeof box_cert);
+    if (zw_cert_ranged(&cert)) {
+        rc = build_box_cert(ctx, &cert, cert_b, &box_cert);
+        if (rc != ZW_EXIT_OK) return rc;
+        zw_box_cert_encode(&box_cert, bc);
+    } else {
+        if (cert_b != NULL) {
+            fprintf(stderr, PROG ": --cert-b needs plant ranges (--m LO:HI or --b LO:HI)\n");
+            return ZW_EXIT_USAGE;
+        }
+        memset(bc, 0, sizeof bc);
+    }
 
     if (write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_UNLOCK1, &exc) != 0) {
         if (exc == 0) return protocol_error("cannot send the unlock commands");
@@ -603,7 +775,7 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const uint8_t k
         if (exc == 0) return commission_transport_error(ctx, "cannot read the nonce");
         return commission_refused(ctx, "nonce", exc, 1, json);
     }
-    zw_regmap_auth_message(nonce, w, msg);
+    zw_regmap_auth_message(nonce, w, bc, msg);
     if (!zw_hmac_sha256(key, msg, sizeof msg, mac)) {
         fprintf(stderr, PROG ": libcrypto cannot compute HMAC-SHA256\n");
         (void)write_reg(ctx, ZW_REG_COMMAND, ZW_CMD_ABORT, &exc);
@@ -616,6 +788,12 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const uint8_t k
     if (write_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, wire, &exc) != 0) {
         if (exc == 0) return commission_transport_error(ctx, "cannot write the certified block");
         return commission_refused(ctx, "block", exc, 1, json);
+    }
+    memcpy(bc_wire, bc, sizeof bc);
+    wire_pairs(&bc_wire[ZW_BOX_CERT_WORD_B], (int)(ZW_BOX_CERT_WORD_NODES - ZW_BOX_CERT_WORD_B));
+    if (write_window(ctx, ZW_REG_BOX_CERT, (int)ZW_BOX_CERT_WORDS, bc_wire, &exc) != 0) {
+        if (exc == 0) return commission_transport_error(ctx, "cannot write the box certificate");
+        return commission_refused(ctx, "certificate", exc, 1, json);
     }
     if (write_regs(ctx, ZW_REG_MAC, (int)ZW_AUTH_MAC_WORDS, macw, &exc) != 0) {
         if (exc == 0) return commission_transport_error(ctx, "cannot write the MAC");
@@ -640,11 +818,13 @@ static int cmd_commission(modbus_t *ctx, const zw_cert_opts *co, const uint8_t k
      * what the drive is doing now: another client may have unlocked it again since (its
      * reads then show a staged copy, not the block in force). */
     if (read_regs(ctx, ZW_REG_MAGIC, 4, head, &exc) != 0 ||
-        read_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, back, &exc) != 0)
+        read_regs(ctx, ZW_REG_CERT_M, (int)ZW_CERT_WORDS + 1, back, &exc) != 0 ||
+        read_window(ctx, ZW_REG_BOX_CERT, (int)ZW_BOX_CERT_WORDS, bc_back, &exc) != 0)
         return protocol_error("cannot read back the sealed block");
     wire_pairs(back, (int)ZW_CERT_WORDS);
+    wire_pairs(&bc_back[ZW_BOX_CERT_WORD_B], (int)(ZW_BOX_CERT_WORD_NODES - ZW_BOX_CERT_WORD_B));
     for (k = 0; k <= (int)ZW_CERT_WORDS && back[k] == w[k]; ++k) {}
-    same = k > (int)ZW_CERT_WORDS;
+    same = k > (int)ZW_CERT_WORDS && memcmp(bc_back, bc, sizeof bc) == 0;
     what = head[2] != 0u ? "the drive accepted SEAL, but is in commissioning mode again: another "
                            "client unlocked it after us (output off until that session ends)"
            : head[3] != 1u ? "the drive accepted SEAL but reports no sealed block"
@@ -713,8 +893,8 @@ int main(int argc, char **argv)
     zw_cert_opts co;
     const char *cmd = NULL, *key_file = NULL;
     uint8_t key[ZW_KEY_BYTES];
-    double K = 0.0, B = 0.0;
-    int have_K = 0, have_B = 0, json = 0, paper = 0, i, rc, k;
+    double K = 0.0, B = 0.0, cert_b[2] = {0.0, 0.0};
+    int have_K = 0, have_B = 0, have_cert_b = 0, json = 0, paper = 0, i, rc, k;
     modbus_t *ctx;
     struct in_addr probe;
 
@@ -770,7 +950,7 @@ int main(int argc, char **argv)
                             strcmp(arg, "--rtu") == 0 || strcmp(arg, "--baud") == 0 ||
                             strcmp(arg, "--parity") == 0 || strcmp(arg, "--slave") == 0 ||
                             strcmp(arg, "--timeout") == 0 || strcmp(arg, "--key-file") == 0 ||
-                            strcmp(arg, "--word-order") == 0
+                            strcmp(arg, "--word-order") == 0 || strcmp(arg, "--cert-b") == 0
                         ? "missing value for"
                         : "unknown option",
                     arg);
@@ -800,6 +980,24 @@ int main(int argc, char **argv)
             if (!zw_parse_long(PROG, arg, val, 10, 60000, &o.timeout_ms)) return ZW_EXIT_USAGE;
         } else if (strcmp(arg, "--key-file") == 0) {
             key_file = val;
+        } else if (strcmp(arg, "--cert-b") == 0) {
+            char lo_text[64];
+            const char *colon = strchr(val, ':');
+            size_t n = colon != NULL ? (size_t)(colon - val) : 0u;
+            if (colon == NULL || n == 0u || n >= sizeof lo_text) {
+                fprintf(stderr, PROG ": --cert-b expects LO:HI, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+            memcpy(lo_text, val, n);
+            lo_text[n] = '\0';
+            if (!zw_parse_double(PROG, arg, lo_text, &cert_b[0]) ||
+                !zw_parse_double(PROG, arg, colon + 1, &cert_b[1]))
+                return ZW_EXIT_USAGE;
+            if (!(cert_b[0] < cert_b[1])) {
+                fprintf(stderr, PROG ": --cert-b needs LO < HI, got '%s'\n", val);
+                return ZW_EXIT_USAGE;
+            }
+            have_cert_b = 1;
         } else if (strcmp(arg, "--word-order") == 0) {
             if (strcmp(val, "auto") == 0) o.word_order = -1;
             else if (strcmp(val, "abcd") == 0) o.word_order = (int)ZW_WORD_ORDER_ABCD;
@@ -855,6 +1053,10 @@ int main(int argc, char **argv)
             fprintf(stderr, PROG ": %s belongs to commission\n", zw_cert_option[k]);
             return ZW_EXIT_USAGE;
         }
+    if (have_cert_b && strcmp(cmd, "commission") != 0) {
+        fprintf(stderr, PROG ": --cert-b belongs to commission\n");
+        return ZW_EXIT_USAGE;
+    }
     if ((have_K || have_B) && strcmp(cmd, "set") != 0) {
         fprintf(stderr, PROG ": --K and --B belong to set\n");
         return ZW_EXIT_USAGE;
@@ -866,7 +1068,7 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "status") == 0) rc = cmd_status(ctx, json);
     else if (strcmp(cmd, "save") == 0) rc = cmd_save(ctx, json);
     else if (strcmp(cmd, "set") == 0) rc = cmd_set(ctx, have_K, K, have_B, B, json);
-    else rc = cmd_commission(ctx, &co, key, json);
+    else rc = cmd_commission(ctx, &co, have_cert_b ? cert_b : NULL, key, json);
     modbus_close(ctx);
     modbus_free(ctx);
     return rc;

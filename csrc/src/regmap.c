@@ -45,6 +45,7 @@
 #define RK_CMD 8u   /* the command register */
 #define RK_PAIR 16u /* two-word values, each starting at an even address */
 #define RK_MAC 32u  /* the commissioning MAC: writable in commissioning */
+#define RK_BOXC 64u /* the box certificate window: writable in commissioning */
 
 /* ---- publication between contexts (regmap.h, threading model) ---------------------------- */
 
@@ -136,9 +137,12 @@ static uint_least16_t reg_kind(uint_least32_t addr)
         {ZW_REG_CERT_M, ZW_REG_CERT_CRC - 1, RK_CERT | RK_PAIR},
         {ZW_REG_CERT_CRC, ZW_REG_CERT_CRC, RK_CERT},
         {ZW_REG_COMMAND, ZW_REG_COMMAND, RK_CMD},
-        {ZW_REG_CONSENT, ZW_REG_WORD_ORDER, RK_RO},
+        {ZW_REG_CONSENT, ZW_REG_PRECISION, RK_RO},
         {ZW_REG_NONCE, ZW_REG_NONCE + ZW_AUTH_NONCE_WORDS - 1u, RK_RO},
         {ZW_REG_MAC, ZW_REG_MAC + ZW_AUTH_MAC_WORDS - 1u, RK_MAC},
+        {ZW_REG_BOX_CERT, ZW_REG_BOX_CERT_B - 1u, RK_BOXC},
+        {ZW_REG_BOX_CERT_B, ZW_REG_BOX_CERT_NODES - 1u, RK_BOXC | RK_PAIR},
+        {ZW_REG_BOX_CERT_NODES, ZW_REG_COUNT - 1u, RK_BOXC},
     };
     size_t i;
     for (i = 0u; i < (sizeof k_ranges / sizeof k_ranges[0]); ++i) {
@@ -158,6 +162,12 @@ static void read_pair(const zw_regmap *rm, const state_sample *st, uint_least16_
 {
     uint_least32_t u;
     float f;
+    if (base >= ZW_REG_BOX_CERT) { /* the certificate: staged in commissioning, else in force */
+        unsigned i = (unsigned)(base - ZW_REG_BOX_CERT);
+        w[0] = (rm->mode != 0u) ? rm->staged_box_cert[i] : zw_rm_sealed_box_cert_word(rm, i);
+        w[1] = (rm->mode != 0u) ? rm->staged_box_cert[i + 1u] : zw_rm_sealed_box_cert_word(rm, i + 1u);
+        return;
+    }
     if (base >= ZW_REG_CERT_M) { /* the block: staged in commissioning, else sealed */
         unsigned i = (unsigned)(base - ZW_REG_CERT_M);
         w[0] = (rm->mode != 0u) ? rm->staged[i] : zw_rm_sealed_word(rm, i);
@@ -205,6 +215,7 @@ static uint_least16_t read_single(const zw_regmap *rm, uint_least16_t addr)
     case ZW_REG_RESTORE_SOURCE: w = rm->restore_source; break;
     case ZW_REG_RESTORE_REASON: w = rm->restore_reason; break;
     case ZW_REG_WORD_ORDER: w = rm->word_order; break;
+    case ZW_REG_PRECISION: w = (uint_least16_t)ZW_REAL_BYTES; break;
     case ZW_REG_CERT_CRC:
         w = (rm->mode != 0u) ? rm->staged[CRC_INDEX] : zw_rm_sealed_word(rm, CRC_INDEX);
         break;
@@ -213,6 +224,9 @@ static uint_least16_t read_single(const zw_regmap *rm, uint_least16_t addr)
             w = rm->nonce[addr - ZW_REG_NONCE];
         } else if ((addr >= ZW_REG_MAC) && (addr < (ZW_REG_MAC + ZW_AUTH_MAC_WORDS))) {
             w = rm->mac[addr - ZW_REG_MAC];
+        } else if ((addr >= ZW_REG_BOX_CERT) && (addr < ZW_REG_COUNT)) {
+            const unsigned i = (unsigned)(addr - ZW_REG_BOX_CERT);
+            w = (rm->mode != 0u) ? rm->staged_box_cert[i] : zw_rm_sealed_box_cert_word(rm, i);
         } else {
             /* the command register and the unmapped words in between (never asked) */
         }
@@ -403,6 +417,12 @@ static zw_reason write_core(zw_regmap *rm, uint_least16_t addr, uint_least16_t c
         }
         return zw_rm_write_mac(rm, addr, count, words, bytes);
     }
+    if ((kinds & RK_BOXC) != 0u) {
+        if (rm->mode == 0u) {
+            return ZW_REASON_LOCKED;
+        }
+        return zw_rm_write_box_cert(rm, addr, count, words, bytes);
+    }
     if ((kinds & RK_CERT) != 0u) {
         if (rm->mode == 0u) {
             return ZW_REASON_LOCKED;
@@ -442,15 +462,17 @@ ZW_NOINLINE static zw_reason power_up(zw_regmap *rm, const zw_cert *cert, const 
         zw_rm_publish_gains(rm, 0.0f, 0.0f);
         zw_regmap_set_state(rm, 0.0f, 0.0f, 0.0f, 0u);
     }
-    if ((cert != NULL) && (box_cert != NULL)) { /* verified by the admission (regmap_policy.c) */
-        rm->box_cert = *box_cert;
-        rm->box_cert_pending = 1u;
-    }
-    if (cert != NULL) {
+    if (cert != NULL) { /* the block and its certificate through a SEAL's checks, no MAC */
         zw_cert_encode(cert, rm->staged);
+        if (box_cert != NULL) { /* verified by the admission (regmap_policy.c) */
+            zw_box_cert_encode(box_cert, rm->staged_box_cert);
+        }
         why = zw_rm_seal_staged(rm, false);
         for (i = 0u; i <= ZW_CERT_WORDS; ++i) {
             rm->staged[i] = 0u;
+        }
+        for (i = 0u; i < ZW_BOX_CERT_WORDS; ++i) {
+            rm->staged_box_cert[i] = 0u;
         }
     }
     return why;

@@ -171,3 +171,51 @@ void zw_cert_decode(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *c)
     }
 }
 
+
+uint_least16_t zw_box_cert_word(const zw_box_cert *c, unsigned i)
+{
+    uint_least16_t w[2] = {0u, 0u};
+    unsigned k;
+    if (i == 0u) {
+        w[0] = c->n_steps;
+    } else if (i == 1u) {
+        w[0] = c->n_nodes;
+    } else if (i < ZW_BOX_CERT_WORD_K) {
+        k = i - ZW_BOX_CERT_WORD_B;
+        zw_float_to_words(c->B[k / 2u], w);
+        w[0] = w[k & 1u];
+    } else if (i < ZW_BOX_CERT_WORD_NODES) {
+        k = i - ZW_BOX_CERT_WORD_K;
+        zw_float_to_words(c->K[k / 2u], w);
+        w[0] = w[k & 1u];
+    } else if (i < ZW_BOX_CERT_WORDS) {
+        w[0] = c->nodes[i - ZW_BOX_CERT_WORD_NODES];
+    } else {
+        /* past the end: 0 */
+    }
+    return (uint_least16_t)(w[0] & 0xFFFFu);
+}
+
+void zw_box_cert_encode(const zw_box_cert *c, uint_least16_t words[ZW_BOX_CERT_WORDS])
+{
+    unsigned i;
+    for (i = 0u; i < ZW_BOX_CERT_WORDS; ++i) {
+        words[i] = zw_box_cert_word(c, i);
+    }
+}
+
+void zw_box_cert_decode(const uint_least16_t words[ZW_BOX_CERT_WORDS], zw_box_cert *c)
+{
+    unsigned i;
+    c->n_steps = (uint_least16_t)(words[0] & 0xFFFFu);
+    c->n_nodes = (uint_least16_t)(words[1] & 0xFFFFu);
+    for (i = 0u; i <= ZW_BOX_CERT_MAX_STEPS; ++i) {
+        c->B[i] = zw_words_to_float(&words[ZW_BOX_CERT_WORD_B + (2u * i)]);
+    }
+    for (i = 0u; i < ZW_BOX_CERT_MAX_STEPS; ++i) {
+        c->K[i] = zw_words_to_float(&words[ZW_BOX_CERT_WORD_K + (2u * i)]);
+    }
+    for (i = 0u; i < ZW_BOX_CERT_NODE_WORDS; ++i) {
+        c->nodes[i] = (uint_least16_t)(words[ZW_BOX_CERT_WORD_NODES + i] & 0xFFFFu);
+    }
+}

@@ -33,38 +33,48 @@ uint_least16_t zw_rm_sealed_word(const zw_regmap *rm, unsigned i)
 
 void zw_regmap_auth_message(const uint_least16_t nonce[ZW_AUTH_NONCE_WORDS],
                             const uint_least16_t block[ZW_CERT_WORDS + 1u],
+                            const uint_least16_t box_cert[ZW_BOX_CERT_WORDS],
                             uint_least8_t msg[ZW_AUTH_MSG_BYTES])
 {
     size_t i;
     const unsigned version = ZW_REGMAP_VERSION;
-    if ((nonce == NULL) || (block == NULL) || (msg == NULL)) {
+    const size_t block_end = ZW_AUTH_NONCE_WORDS + ZW_CERT_WORDS + 1u;
+    if ((nonce == NULL) || (block == NULL) || (box_cert == NULL) || (msg == NULL)) {
         return;
     }
     msg[0] = (uint_least8_t)((version >> 8) & 0xFFu);
     msg[1] = (uint_least8_t)(version & 0xFFu);
-    /* then the nonce and the block with its CRC, each word high byte first */
-    for (i = 0u; i < (ZW_AUTH_NONCE_WORDS + ZW_CERT_WORDS + 1u); ++i) {
-        const unsigned w = (unsigned)((i < ZW_AUTH_NONCE_WORDS) ? nonce[i] : block[i - ZW_AUTH_NONCE_WORDS]);
+    /* then the nonce, the block with its CRC and the certificate, each word high byte first */
+    for (i = 0u; i < (block_end + ZW_BOX_CERT_WORDS); ++i) {
+        unsigned w;
+        if (i < ZW_AUTH_NONCE_WORDS) {
+            w = (unsigned)nonce[i];
+        } else if (i < block_end) {
+            w = (unsigned)block[i - ZW_AUTH_NONCE_WORDS];
+        } else {
+            w = (unsigned)box_cert[i - block_end];
+        }
         msg[2u + (2u * i)] = (uint_least8_t)((w >> 8) & 0xFFu);
         msg[3u + (2u * i)] = (uint_least8_t)(w & 0xFFu);
     }
 }
 
-/* The firmware's verdict on the client's MAC over this session's nonce and the staged
- * block (a frame of its own: the message is gone before the policy runs). */
-ZW_NOINLINE static bool mac_verifies(const zw_regmap *rm)
+/* The firmware's verdict on the client's MAC over this session's nonce, the staged block
+ * and the staged certificate (the message in rm's scratch: 736 B is too much for the
+ * Modbus task's stack). */
+ZW_NOINLINE static bool mac_verifies(zw_regmap *rm)
 {
-    uint_least8_t msg[ZW_AUTH_MSG_BYTES], mac[2u * ZW_AUTH_MAC_WORDS];
+    uint_least8_t mac[2u * ZW_AUTH_MAC_WORDS];
     size_t i;
     if (rm->auth.verify == NULL) {
         return false;
     }
-    zw_regmap_auth_message(rm->nonce, rm->staged, msg);
+    zw_regmap_auth_message(rm->nonce, rm->staged, rm->staged_box_cert, rm->wire_scratch);
     for (i = 0u; i < ZW_AUTH_MAC_WORDS; ++i) {
         mac[2u * i] = (uint_least8_t)(((unsigned)rm->mac[i] >> 8) & 0xFFu);
         mac[2u * i + 1u] = (uint_least8_t)((unsigned)rm->mac[i] & 0xFFu);
     }
-    return rm->auth.verify(rm->auth.ctx, msg, sizeof msg, mac, sizeof mac);
+    return rm->auth.verify(rm->auth.ctx, rm->wire_scratch, ZW_AUTH_MSG_BYTES, mac, sizeof mac);
 }
 
 /* Back to operation: the nonce and the MAC die with the session. */
@@ -129,6 +139,27 @@ zw_reason zw_rm_seal_staged(zw_regmap *rm, bool authenticate)
     return ZW_REASON_NONE;
 }
 
+/* The box certificate window, written in commissioning: any words (SEAL judges them), the
+ * floats turned from the map's word order into canonical ABCD words. */
+zw_reason zw_rm_write_box_cert(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
+                               const uint_least16_t *words, const uint_least8_t *bytes)
+{
+    size_t i;
+    for (i = 0u; i < count; ++i) {
+        const uint_least32_t a = (uint_least32_t)addr + (uint_least32_t)i;
+        rm->staged_box_cert[a - ZW_REG_BOX_CERT] =
+            ((a >= ZW_REG_BOX_CERT_B) && (a < ZW_REG_BOX_CERT_NODES))
+                ? zw_rm_pair_word(rm, words, bytes, i) : zw_rm_payload_word(words, bytes, i);
+    }
+    return ZW_REASON_NONE;
+}
+
+/* Word i of the box certificate in force (all 0 without one). */
+uint_least16_t zw_rm_sealed_box_cert_word(const zw_regmap *rm, unsigned i)
+{
+    return ((rm->is_sealed != 0u) && (rm->box_cert_valid != 0u)) ? zw_box_cert_word(&rm->box_cert, i) : 0u;
+}
+
 /* Staged block: every float finite, then all words stored.  The CRC word is free. */
 zw_reason zw_rm_write_cert(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
                             const uint_least16_t *words, const uint_least8_t *bytes)
@@ -160,8 +191,8 @@ zw_reason zw_rm_write_mac(zw_regmap *rm, uint_least16_t addr, uint_least16_t cou
     return ZW_REASON_NONE;
 }
 
-/* UNLOCK2: a commissioning session with a fresh nonce, the staged block a copy of the one
- * in force (a frame of its own: the nonce is not on SEAL's stack). */
+/* UNLOCK2: a commissioning session with a fresh nonce, the staged block and certificate a
+ * copy of those in force (a frame of its own: the nonce is not on SEAL's stack). */
 ZW_NOINLINE static zw_reason unlock2(zw_regmap *rm, bool armed)
 {
     unsigned i;
@@ -182,6 +213,9 @@ ZW_NOINLINE static zw_reason unlock2(zw_regmap *rm, bool armed)
     zw_rm_publish_gains(rm, 0.0f, 0.0f); /* output off while the block may change */
     for (i = 0u; i <= ZW_CERT_WORDS; ++i) {
         rm->staged[i] = zw_rm_sealed_word(rm, i);
+    }
+    for (i = 0u; i < ZW_BOX_CERT_WORDS; ++i) {
+        rm->staged_box_cert[i] = zw_rm_sealed_box_cert_word(rm, i);
     }
     for (i = 0u; i < ZW_AUTH_NONCE_WORDS; ++i) {
         rm->nonce[i] = nonce[i];

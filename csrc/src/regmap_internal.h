@@ -102,6 +102,11 @@ zw_reason zw_rm_seal_staged(zw_regmap *rm, bool authenticate);
 zw_reason zw_rm_write_mac(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
                           const uint_least16_t *words, const uint_least8_t *bytes);
 uint_least16_t zw_rm_sealed_word(const zw_regmap *rm, unsigned i);
+/* The same for the box certificate window: a write of it in commissioning, word i of the
+ * certificate in force. */
+zw_reason zw_rm_write_box_cert(zw_regmap *rm, uint_least16_t addr, uint_least16_t count,
+                               const uint_least16_t *words, const uint_least8_t *bytes);
+uint_least16_t zw_rm_sealed_box_cert_word(const zw_regmap *rm, unsigned i);
 
 /* regmap_persist.c: the SAVE command. */
 zw_reason zw_rm_save(zw_regmap *rm);

@@ -13,6 +13,7 @@
 #define IMAGE_MAGIC1 0x4E56u /* "NV" */
 #define IMAGE_BLOCK 3u       /* first word of the block */
 #define IMAGE_GAINS (IMAGE_BLOCK + ZW_CERT_WORDS + 1u) /* K, then B */
+#define IMAGE_BOX_CERT (IMAGE_GAINS + 4u)              /* the box certificate's words */
 #define IMAGE_CRC (ZW_IMAGE_WORDS - 1u)
 
 static uint_least16_t image_word(const uint_least8_t *img, unsigned i)
@@ -20,33 +21,48 @@ static uint_least16_t image_word(const uint_least8_t *img, unsigned i)
     return (uint_least16_t)((((unsigned)img[2u * i] & 0xFFu) << 8) | ((unsigned)img[(2u * i) + 1u] & 0xFFu));
 }
 
+/* Word i (below IMAGE_CRC) of the image of what is in force. */
+static uint_least16_t image_word_of(const zw_regmap *rm, unsigned i)
+{
+    uint_least16_t w[2];
+    if (i == 0u) {
+        return IMAGE_MAGIC0;
+    }
+    if (i == 1u) {
+        return IMAGE_MAGIC1;
+    }
+    if (i == 2u) {
+        return ZW_IMAGE_FORMAT;
+    }
+    if (i < IMAGE_GAINS) {
+        return zw_rm_sealed_word(rm, i - IMAGE_BLOCK);
+    }
+    if (i < IMAGE_BOX_CERT) {
+        zw_float_to_words((i < (IMAGE_GAINS + 2u)) ? rm->K : rm->B, w);
+        return w[(i - IMAGE_GAINS) & 1u];
+    }
+    return zw_rm_sealed_box_cert_word(rm, i - IMAGE_BOX_CERT);
+}
+
 bool zw_regmap_image(const zw_regmap *rm, uint_least8_t image[ZW_IMAGE_BYTES])
 {
-    uint_least16_t w[ZW_IMAGE_WORDS];
     unsigned i;
+    uint_least16_t crc = 0xFFFFu;
     if ((rm == NULL) || (image == NULL) || (rm->is_sealed == 0u)) {
         return false;
     }
-    w[0] = IMAGE_MAGIC0;
-    w[1] = IMAGE_MAGIC1;
-    w[2] = ZW_IMAGE_FORMAT;
-    for (i = 0u; i <= ZW_CERT_WORDS; ++i) {
-        w[IMAGE_BLOCK + i] = zw_rm_sealed_word(rm, i);
-    }
-    zw_float_to_words(rm->K, &w[IMAGE_GAINS]);
-    zw_float_to_words(rm->B, &w[IMAGE_GAINS + 2u]);
-    w[IMAGE_CRC] = zw_crc16_words(w, IMAGE_CRC);
     for (i = 0u; i < ZW_IMAGE_WORDS; ++i) {
-        image[2u * i] = (uint_least8_t)(((unsigned)w[i] >> 8) & 0xFFu);
-        image[2u * i + 1u] = (uint_least8_t)((unsigned)w[i] & 0xFFu);
+        const uint_least16_t w = (i < IMAGE_CRC) ? image_word_of(rm, i) : crc;
+        crc = zw_rm_crc_word(crc, w);
+        image[2u * i] = (uint_least8_t)(((unsigned)w >> 8) & 0xFFu);
+        image[2u * i + 1u] = (uint_least8_t)((unsigned)w & 0xFFu);
     }
     return true;
 }
 
-/* The SAVE command (regmap_persist.h). */
+/* The SAVE command (regmap_persist.h); the image is built in rm's scratch (734 B). */
 zw_reason zw_rm_save(zw_regmap *rm)
 {
-    uint_least8_t image[ZW_IMAGE_BYTES];
     if (rm->mode != 0u) {
         return ZW_REASON_BAD_COMMAND;
     }
@@ -59,9 +75,9 @@ zw_reason zw_rm_save(zw_regmap *rm)
     if (rm->storage.save == NULL) {
         return ZW_REASON_NO_STORAGE;
     }
-    (void)zw_regmap_image(rm, image);
-    return rm->storage.save(rm->storage.ctx, image, sizeof image) ? ZW_REASON_NONE
-                                                                   : ZW_REASON_STORAGE;
+    (void)zw_regmap_image(rm, rm->wire_scratch);
+    return rm->storage.save(rm->storage.ctx, rm->wire_scratch, ZW_IMAGE_BYTES) ? ZW_REASON_NONE
+                                                                               : ZW_REASON_STORAGE;
 }
 
 void zw_regmap_set_storage(zw_regmap *rm, const zw_regmap_storage *storage)
@@ -83,29 +99,40 @@ void zw_regmap_set_storage(zw_regmap *rm, const zw_regmap_storage *storage)
 static zw_reason restore_one(zw_regmap *rm, const uint_least8_t *img, size_t len,
                              zw_reason *gains_why)
 {
-    uint_least16_t w[ZW_IMAGE_WORDS];
+    uint_least16_t gains[4];
     uint_least32_t accepted = rm->accepted;
     unsigned i;
+    uint_least16_t crc = 0xFFFFu;
     zw_reason why;
     *gains_why = ZW_REASON_NONE;
     if ((img == NULL) || (len != ZW_IMAGE_BYTES)) {
         return ZW_REASON_IMAGE_FORMAT;
     }
-    for (i = 0u; i < ZW_IMAGE_WORDS; ++i) {
-        w[i] = image_word(img, i);
-    }
-    if ((w[0] != IMAGE_MAGIC0) || (w[1] != IMAGE_MAGIC1) || (w[2] != ZW_IMAGE_FORMAT)) {
+    if ((image_word(img, 0u) != IMAGE_MAGIC0) || (image_word(img, 1u) != IMAGE_MAGIC1) ||
+        (image_word(img, 2u) != ZW_IMAGE_FORMAT)) {
         return ZW_REASON_IMAGE_FORMAT;
     }
-    if (zw_crc16_words(w, IMAGE_CRC) != w[IMAGE_CRC]) {
+    for (i = 0u; i < IMAGE_CRC; ++i) {
+        crc = zw_rm_crc_word(crc, image_word(img, i));
+    }
+    if (crc != image_word(img, IMAGE_CRC)) {
         return ZW_REASON_IMAGE_CRC;
     }
     for (i = 0u; i <= ZW_CERT_WORDS; ++i) {
-        rm->staged[i] = w[IMAGE_BLOCK + i];
+        rm->staged[i] = image_word(img, IMAGE_BLOCK + i);
+    }
+    for (i = 0u; i < ZW_BOX_CERT_WORDS; ++i) {
+        rm->staged_box_cert[i] = image_word(img, IMAGE_BOX_CERT + i);
+    }
+    for (i = 0u; i < 4u; ++i) {
+        gains[i] = image_word(img, IMAGE_GAINS + i);
     }
     why = zw_rm_seal_staged(rm, false); /* sealed: operation, gains off */
     for (i = 0u; i <= ZW_CERT_WORDS; ++i) {
         rm->staged[i] = 0u;
+    }
+    for (i = 0u; i < ZW_BOX_CERT_WORDS; ++i) {
+        rm->staged_box_cert[i] = 0u;
     }
     if (why == ZW_REASON_CRC) {
         return ZW_REASON_IMAGE_CRC;
@@ -113,8 +140,7 @@ static zw_reason restore_one(zw_regmap *rm, const uint_least8_t *img, size_t len
     if (why != ZW_REASON_NONE) {
         return why;
     }
-    *gains_why = zw_rm_apply_gains(rm, zw_words_to_float(&w[IMAGE_GAINS]),
-                                   zw_words_to_float(&w[IMAGE_GAINS + 2u]));
+    *gains_why = zw_rm_apply_gains(rm, zw_words_to_float(&gains[0]), zw_words_to_float(&gains[2]));
     rm->accepted = accepted; /* a restore is not a gain write */
     return ZW_REASON_NONE;
 }

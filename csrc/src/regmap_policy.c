@@ -180,10 +180,17 @@ static bool cert_box_setup(zw_regmap *rm, const zw_cert *c, zw_plant_box *box,
     return spec_of(f, spec);
 }
 
-/* The verified certificate of block c, NULL when c is a point block or has none. */
+/* The verified certificate of block c, NULL when c is a point block or has none: the one in
+ * force for the sealed block, the candidate for a block being admitted. */
 static const zw_box_cert *staircase_of(const zw_regmap *rm, const zw_cert *c)
 {
-    return (cert_ranged(c) && (rm->box_cert_valid != 0u)) ? &rm->box_cert : NULL;
+    if (!cert_ranged(c)) {
+        return NULL;
+    }
+    if (c == &rm->sealed) {
+        return (rm->box_cert_valid != 0u) ? &rm->box_cert : NULL;
+    }
+    return (rm->box_cert_candidate_valid != 0u) ? &rm->box_cert_candidate : NULL;
 }
 
 /* Box K_max at B: a certified lower bound of the infimum over the box (every K in
@@ -277,9 +284,10 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm, const zw_cert *c, bool *any
 {
     zw_status st;
     zw_real K = ZW_R(0.0), B = ZW_R(0.0);
-    if (staircase_of(rm, c) != NULL) { /* the highest level, in the middle of its step */
+    const zw_box_cert *stairs = staircase_of(rm, c);
+    if (stairs != NULL) { /* the highest level, in the middle of its step */
         float Kf, Bf;
-        zw_box_cert_k_mmax(&rm->box_cert, &Kf, &Bf);
+        zw_box_cert_k_mmax(stairs, &Kf, &Bf);
         K = (zw_real)Kf;
         B = (zw_real)Bf;
         st = ZW_OK;
@@ -417,26 +425,39 @@ static zw_reason check_block_fields(const zw_regmap *rm, const float f[ZW_CERT_F
     return ZW_REASON_NONE;
 }
 
-/* A certificate given at power-up, against the staged block c: verified (bounded,
- * box_cert.h) and then in force with it; none given: the block runs without one (the
- * caller restores the sealed block's on a refusal). */
-ZW_NOINLINE static zw_reason admit_box_cert(zw_regmap *rm, const zw_cert *c, bool given)
+/* The staged certificate words (ZW_REG_BOX_CERT; power-up and restore put theirs there
+ * too), against the staged block c: all 0 is none; otherwise decoded into the candidate,
+ * which must encode back to the same words (so the drive holds exactly what the MAC
+ * covered) and pass verification (bounded, box_cert.h).  The certificate in force is not
+ * touched: the caller installs the candidate once the whole block is admitted. */
+ZW_NOINLINE static zw_reason admit_box_cert(zw_regmap *rm, const zw_cert *c)
 {
     zw_plant_box box;
     zw_device_loop_spec spec;
     zw_box_loop_work work;
     zw_box_cert_fault fault = ZW_BOX_CERT_BAD_HEADER;
     uint_least32_t leaves = 0u;
-    rm->box_cert_valid = 0u;
+    unsigned i;
+    bool given = false;
+    rm->box_cert_candidate_valid = 0u;
+    for (i = 0u; i < ZW_BOX_CERT_WORDS; ++i) {
+        given = given || (rm->staged_box_cert[i] != 0u);
+    }
     if (!given) {
         return ZW_REASON_NONE;
     }
+    zw_box_cert_decode(rm->staged_box_cert, &rm->box_cert_candidate);
+    for (i = 0u; i < ZW_BOX_CERT_WORDS; ++i) {
+        if (zw_box_cert_word(&rm->box_cert_candidate, i) != (rm->staged_box_cert[i] & 0xFFFFu)) {
+            return ZW_REASON_BOX_CERT; /* not canonical: a NaN payload, a flushed subnormal */
+        }
+    }
     if (!cert_ranged(c) || !cert_box_setup(rm, c, &box, &spec, &work) ||
-        (zw_box_cert_verify(&box, &spec, &rm->box_cert, &work, &fault, &leaves) != ZW_OK) ||
+        (zw_box_cert_verify(&box, &spec, &rm->box_cert_candidate, &work, &fault, &leaves) != ZW_OK) ||
         (fault != ZW_BOX_CERT_OK)) {
         return ZW_REASON_BOX_CERT;
     }
-    rm->box_cert_valid = 1u;
+    rm->box_cert_candidate_valid = 1u;
     return ZW_REASON_NONE;
 }
 
@@ -447,9 +468,6 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
     zw_cert c;
     zw_reason why;
     bool any;
-    const uint_least16_t sealed_cert_valid = rm->box_cert_valid; /* the block in force's */
-    const bool given = (rm->box_cert_pending != 0u);
-    rm->box_cert_pending = 0u; /* only power-up gives one, for this admission alone */
     for (i = 0u; i < ZW_CERT_FIELDS; ++i) {
         f[i] = zw_rm_staged_float(rm, i);
         zw_cert_set_field(&c, i, f[i]);
@@ -467,7 +485,7 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
         why = check_firmware_loop(&rm->ceilings, f);
     }
     if (why == ZW_REASON_NONE) {
-        why = admit_box_cert(rm, &c, given);
+        why = admit_box_cert(rm, &c);
     }
     if (why == ZW_REASON_NONE) {
         live_extremes(rm, &c, &any);
@@ -480,18 +498,19 @@ zw_reason zw_rm_policy_admit(zw_regmap *rm)
         }
     }
     if (why != ZW_REASON_NONE) {
-        /* the sealed block stays in force: its loop back (it was valid when sealed), and
-         * its extremes */
-        if (given) { /* a refused block's certificate is not kept */
-            (void)memset(&rm->box_cert, 0, sizeof rm->box_cert);
-        }
-        rm->box_cert_valid = given ? 0u : sealed_cert_valid; /* the sealed block keeps its own */
+        /* the sealed block stays in force with its certificate: its loop back (it was
+         * valid when sealed), and its extremes */
+        rm->box_cert_candidate_valid = 0u;
         if (rm->is_sealed != 0u) {
             (void)build_loop(rm, false);
             live_extremes(rm, &rm->sealed, &any);
         }
         return why;
     }
+    /* admitted: its certificate (or none) goes into force with it */
+    rm->box_cert = rm->box_cert_candidate;
+    rm->box_cert_valid = rm->box_cert_candidate_valid;
+    rm->box_cert_candidate_valid = 0u;
     return ZW_REASON_NONE;
 }
 

@@ -156,6 +156,8 @@ class BoxExtremes(Result):
 
 #: Bytes of a certificate on the wire and in a drive's stored image (box_cert.h's
 #: zw_box_cert: 2 counts, 17 breakpoints and 16 levels as binary32, 256 words of nodes).
+BOX_CERT_MAX_STEPS = 16
+BOX_CERT_NODE_WORDS = 256
 BOX_CERT_BYTES = 2 * (2 + 2 * 17 + 2 * 16 + 256)
 
 #: zw_box_cert_fault's names (box_cert.h).
@@ -200,6 +202,22 @@ class BoxCertificate(Result):
     def steps(self) -> List[Tuple[float, float, float, float]]:
         """(B_lo, B_hi, K, K_upper) per step."""
         return list(zip(self.B, self.B[1:], self.K, self.K_upper))
+
+    def words(self) -> List[int]:
+        """The certificate as the drive's window (ZW_REG_BOX_CERT, map version 5) and stored
+        image hold it: n_steps, n_nodes, the 17 breakpoints and 16 levels as binary32 (high
+        word first, unused ones 0), the nodes four to a word (lowest nibble first), 324
+        words in all."""
+        import struct
+
+        B = list(self.B) + [0.0] * (BOX_CERT_MAX_STEPS + 1 - len(self.B))
+        K = list(self.K) + [0.0] * (BOX_CERT_MAX_STEPS - len(self.K))
+        out = [len(self.K), len(self.nodes)]
+        out += list(struct.unpack(f">{2 * len(B + K)}H", struct.pack(f">{len(B + K)}f", *(B + K))))
+        packed = [0] * BOX_CERT_NODE_WORDS
+        for j, code in enumerate(self.nodes):
+            packed[j // 4] |= (int(code) & 0xF) << (4 * (j % 4))
+        return out + packed
 
     def as_wire(self) -> Dict[str, Any]:
         """The fields zw_box_cert holds (for _core.box_cert_verify and a drive)."""

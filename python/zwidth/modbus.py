@@ -98,6 +98,7 @@ __all__ = [
     "GainResult",
     "CommissionResult",
     "SaveResult",
+    "Staircase",
     "REG",
     "REASONS",
     "REASON_UNKNOWN",
@@ -109,6 +110,7 @@ __all__ = [
     "KEY_BYTES",
     "AUTH_NONCE_WORDS",
     "AUTH_MAC_WORDS",
+    "BOX_CERT_WORDS",
     "load_key",
     "auth_message",
     "auth_mac",
@@ -127,11 +129,12 @@ __all__ = [
 # ---------------------------------------------------------------------------------------
 
 MAGIC = 0x5A57
-MAP_VERSION = 4  # 4: the block holds plant ranges (3: commissioning needs consent and a MAC)
+MAP_VERSION = 5  # 5: the box certificate window (4: plant ranges, 3: consent and a MAC)
 CERT_WORDS = 34  # words 0x0040..0x0061 covered by the CRC
 KEY_BYTES = 32  # the drive's commissioning key (HMAC-SHA256)
 AUTH_NONCE_WORDS = 8  # ZW_REG_NONCE
 AUTH_MAC_WORDS = 16  # ZW_REG_MAC
+BOX_CERT_WORDS = 324  # ZW_REG_BOX_CERT: a ranged block's box certificate (box_cert.h)
 
 REG: Dict[str, int] = {
     "MAGIC": 0x0000,
@@ -180,9 +183,13 @@ REG: Dict[str, int] = {
     "RESTORE_SOURCE": 0x0081,
     "RESTORE_REASON": 0x0082,
     "WORD_ORDER": 0x0083,
+    "PRECISION": 0x0084,
     "NONCE": 0x0088,
     "MAC": 0x0090,
-    "COUNT": 0x00A0,
+    "BOX_CERT": 0x0100,
+    "BOX_CERT_B": 0x0102,  # its breakpoints, then levels (binary32)
+    "BOX_CERT_NODES": 0x0144,
+    "COUNT": 0x0244,
 }
 
 CMD: Dict[str, int] = {"UNLOCK1": 0xC0DE, "UNLOCK2": 0x5AFE, "SEAL": 0x5EA1, "ABORT": 0xAB07,
@@ -324,20 +331,26 @@ def load_key(path: "os.PathLike[str] | str") -> bytes:
     return bytes.fromhex(digits.decode("ascii"))
 
 
-def auth_message(nonce: Sequence[int], block: Sequence[int]) -> bytes:
+def auth_message(nonce: Sequence[int], block: Sequence[int],
+                 box_cert: Optional[Sequence[int]] = None) -> bytes:
     """The message a commissioning client MACs (zw_regmap_auth_message): the map version,
-    the 8 nonce words and the 34 block words with their CRC, every word high byte first."""
-    if len(nonce) != AUTH_NONCE_WORDS or len(block) != CERT_WORDS + 1:
-        raise ValueError(f"auth_message needs {AUTH_NONCE_WORDS} nonce words and "
-                         f"{CERT_WORDS + 1} block words")
-    return struct.pack(f">{1 + len(nonce) + len(block)}H", MAP_VERSION, *nonce, *block)
+    the 8 nonce words, the 34 block words with their CRC and the 324 words of the box
+    certificate window (None: all 0, no certificate), every word high byte first."""
+    cert = [0] * BOX_CERT_WORDS if box_cert is None else list(box_cert)
+    if len(nonce) != AUTH_NONCE_WORDS or len(block) != CERT_WORDS + 1 or len(cert) != BOX_CERT_WORDS:
+        raise ValueError(f"auth_message needs {AUTH_NONCE_WORDS} nonce words, "
+                         f"{CERT_WORDS + 1} block words and {BOX_CERT_WORDS} certificate words")
+    words = [MAP_VERSION, *nonce, *block, *cert]
+    return struct.pack(f">{len(words)}H", *words)
 
 
-def auth_mac(key: bytes, nonce: Sequence[int], block: Sequence[int]) -> List[int]:
-    """HMAC-SHA256 of auth_message(nonce, block) under key, as the 16 words of ZW_REG_MAC."""
+def auth_mac(key: bytes, nonce: Sequence[int], block: Sequence[int],
+             box_cert: Optional[Sequence[int]] = None) -> List[int]:
+    """HMAC-SHA256 of auth_message(nonce, block, box_cert) under key, as the 16 words of
+    ZW_REG_MAC."""
     if not isinstance(key, (bytes, bytearray)) or len(key) != KEY_BYTES:
         raise ValueError(f"key must be {KEY_BYTES} bytes (load_key(path))")
-    digest = hmac.new(bytes(key), auth_message(nonce, block), hashlib.sha256).digest()
+    digest = hmac.new(bytes(key), auth_message(nonce, block, box_cert), hashlib.sha256).digest()
     return list(struct.unpack(">16H", digest))
 
 
@@ -610,8 +623,25 @@ class Refusal:
 
 
 @dataclass(frozen=True)
+class Staircase:
+    """The box certificate in force (map version 5), as the drive shows it: step i
+    certifies every K' in (0, K[i]] at every B in [B[i], B[i+1]] for every plant of the
+    block's box; ``nodes``: the size of its proof."""
+
+    B: Tuple[float, ...]
+    K: Tuple[float, ...]
+    nodes: int
+
+    def level(self, B: float) -> float:
+        """The certified level at B (the larger one on a breakpoint; 0 outside)."""
+        if not self.B[0] <= B <= self.B[-1]:
+            return 0.0
+        return max(k for k, lo, hi in zip(self.K, self.B, self.B[1:]) if lo <= B <= hi)
+
+
+@dataclass(frozen=True)
 class Status:
-    """Everything the drive shows, read in five requests (one per mapped block, so not an
+    """Everything the drive shows, read in six requests (one per mapped block, so not an
     atomic snapshot).
 
     mode: "operation" or "commissioning"; sealed: a certified block is in force (CRC
@@ -630,6 +660,8 @@ class Status:
     last_refusal: Refusal
     version: int
     loop: Loop
+    #: The box certificate in force (None: a point block, or a ranged one without).
+    staircase: Optional[Staircase] = None
 
 
 @dataclass(frozen=True)
@@ -672,6 +704,9 @@ class CommissionResult:
     aborted: bool
     output_off: bool = False
     message: str = ""
+    #: The box certificate sent with a ranged block (zwidth.box.BoxCertificate; None for a
+    #: point block, or when commission(certificate=None) sent none).
+    certificate: Any = None
 
     def __str__(self) -> str:
         return self.message or repr(self)
@@ -914,8 +949,8 @@ class Drive:
     # -- public API ---------------------------------------------------------------------
 
     def status(self) -> Status:
-        """Read the whole map (five read requests, one per mapped block).  DriveError if
-        the drive refuses a read."""
+        """Read the whole map (six read requests, one per mapped block; of the box
+        certificate its steps, not its proof).  DriveError if the drive refuses a read."""
         head = self._read(*_BLOCK_HEAD)
         head = head[:6] + self._pairs(head[6:])  # the two u32 counters
         gains = self._pairs(self._read(*_BLOCK_GAINS))
@@ -926,6 +961,9 @@ class Drive:
         block = {name: _f(cert, c0 + 2 * i, c0) for i, name in enumerate(_CERT_FIELDS)}
         l0 = _BLOCK_LIVE[0]
         s0 = _BLOCK_STATE[0]
+        stairs = self._box_cert_wire(self._read(REG["BOX_CERT"], REG["BOX_CERT_NODES"] - REG["BOX_CERT"]))
+        n = stairs[0] if stairs[0] <= 16 else 0
+        floats = [words_to_float(stairs[i], stairs[i + 1]) for i in range(2, len(stairs), 2)]
         return Status(
             mode={0: "operation", 1: "commissioning"}.get(head[REG["MODE"]],
                                                           f"unknown({head[REG['MODE']]})"),
@@ -966,6 +1004,7 @@ class Drive:
                                                     f"unknown({block['differentiator']})"),
                 pole=_f(state, REG["LIVE_POLE"], s0),
             ),
+            staircase=Staircase(tuple(floats[:n + 1]), tuple(floats[17:17 + n]), stairs[1]) if n else None,
         )
 
     def gains(self) -> Gains:
@@ -1012,7 +1051,9 @@ class Drive:
                    k_min: float, k_max: float, b_min: float, b_max: float,
                    dk_max: float, db_max: float, *, delay: int = 0,
                    velocity_filter: Any = None, differentiator: str = "backward",
-                   abort_on_refusal: bool = True, key: Optional[bytes] = None) -> CommissionResult:
+                   abort_on_refusal: bool = True, key: Optional[bytes] = None,
+                   certificate: Any = "auto",
+                   certificate_B: Optional[Tuple[float, float]] = None) -> CommissionResult:
         """Install and seal a new certified block.
 
         m: mass [kg] or inertia J [kg m^2]; b: physical damping [N s/m or N m s/rad];
@@ -1034,14 +1075,24 @@ class Drive:
         (ZW_REASON_BAD_DELAY, _BAD_FILTER, _BAD_FILTER_PARAM, _BAD_DIFFERENTIATOR,
         _LOOP_NEVER_STABLE).
 
+        certificate (map version 5; ranged blocks only): "auto" (default) builds the box
+        certificate here, in the drive's precision (its PRECISION register), with
+        ``PlantBox(...).certificate(certificate_B, precision=...)``; certificate_B defaults to
+        [b_min, b_max] cut to the B the box certifies at half its K_mmax.  The drive verifies
+        it at SEAL in bounded time (ZW_REASON_BOX_CERT when it does not prove its claims) and
+        every gain write is then a lookup (ZW_REASON_OUTSIDE_CERT for B outside its range).
+        A zwidth.box.BoxCertificate is sent as it is; None sends none (the drive then runs
+        its box search on every write, unbounded on an MCU).  Building takes seconds; a B
+        range with a step nothing proves raises ZwidthError before anything is sent.
+
         key: the drive's 32-byte commissioning key (``load_key(path)``; ValueError without
         it).  The drive must also consent (its commissioning enable input), else the
         unlock is refused with ZW_REASON_NO_CONSENT.
 
         Steps: UNLOCK1 and UNLOCK2 (two single writes in a row; the drive turns the output
         off and publishes a fresh nonce), the 34 block words and their CRC-16/MODBUS in one
-        write-multiple request, the HMAC-SHA256 of nonce and block (auth_mac) in another,
-        then SEAL (the drive checks the CRC, the MAC and the policy and returns to
+        write-multiple request, the certificate window (324 words, all 0 for none) in three
+        more, the HMAC-SHA256 of nonce, block and certificate (auth_mac) in another, then SEAL (the drive checks the CRC, the MAC and the policy and returns to
         operation with the gains off).  A ranged block's SEAL certifies over its whole
         plant box (about a second on a PC, longer on a drive's MCU): give the Drive a
         timeout that covers it (``Drive(host, timeout=30)``; zwidth-tune waits 30 s for
@@ -1075,6 +1126,8 @@ class Drive:
         if not isinstance(key, (bytes, bytearray)) or len(key) != KEY_BYTES:
             raise ValueError(f"key must be the drive's {KEY_BYTES}-byte commissioning key "
                              f"(load_key(path)), got {type(key).__name__}")
+        cert = self._box_certificate(values, velocity_filter, differentiator, certificate, certificate_B)
+        box_words = cert.words() if cert is not None else [0] * BOX_CERT_WORDS
 
         def refused(stage: str, exc: int, abort: bool) -> CommissionResult:
             """abort: the refusal came after the UNLOCK (which turned the output off)."""
@@ -1092,7 +1145,7 @@ class Drive:
                          "neither the refusal nor ABORT brings the old gains back; set them "
                          "again with Drive.set_gains(K=..., B=...)" if off else
                          f"; active gains now K = {now.K:.9g}, B = {now.B:.9g}")
-            return CommissionResult(False, reason, exc, stage, crc, aborted, off, text)
+            return CommissionResult(False, reason, exc, stage, crc, aborted, off, text, cert)
 
         exc = self.command("UNLOCK1")
         if exc:
@@ -1101,10 +1154,13 @@ class Drive:
         if exc:
             return refused("unlock", exc, False)
         nonce = self._read(REG["NONCE"], AUTH_NONCE_WORDS)
-        mac = auth_mac(bytes(key), nonce, words + [crc])
+        mac = auth_mac(bytes(key), nonce, words + [crc], box_words)
         exc = self._write_many(REG["CERT_M"], self._pairs(words) + [crc])  # CRC, MAC: ABCD
         if exc:
             return refused("write", exc, True)
+        exc = self._write_window(REG["BOX_CERT"], self._box_cert_wire(box_words))
+        if exc:
+            return refused("certificate", exc, True)
         exc = self._write_many(REG["MAC"], mac)
         if exc:
             return refused("mac", exc, True)
@@ -1113,15 +1169,76 @@ class Drive:
             return refused("seal", exc, True)
         mode, sealed = self._read(REG["MODE"], 2)
         held = self._pairs(self._read(*_BLOCK_CERT), CERT_WORDS)
-        if mode != 0 or held != words + [crc] or sealed != 1:
+        held_cert = self._box_cert_wire(self._read_window(REG["BOX_CERT"], BOX_CERT_WORDS))
+        if mode != 0 or held != words + [crc] or sealed != 1 or held_cert != box_words:
             raise DriveError(
                 f"zwidth drive at {self.address}: after SEAL the drive is not in operation "
                 f"with the block this client sent (another client commissioned after us?): "
                 f"MODE = {mode}, sent CRC 0x{crc:04X}, drive holds CRC 0x{held[-1]:04X}"
-                f"{'' if held[:-1] == words else ' over different words'}, SEALED = {sealed}")
+                f"{'' if held[:-1] == words else ' over different words'}, SEALED = {sealed}"
+                f"{'' if held_cert == box_words else ', another box certificate'}")
+        with_cert = (f" with its box certificate ({cert.leaves} leaves, {len(cert.K)} steps over B in "
+                     f"[{cert.B[0]:.6g}, {cert.B[-1]:.6g}])" if cert is not None else "")
         return CommissionResult(True, REASONS[0], 0, "done", crc, False, True,
-                                f"commissioned: the drive sealed the block (CRC 0x{crc:04X}) and is in "
-                                f"operation; the output is off (gains 0, 0) until set_gains")
+                                f"commissioned: the drive sealed the block (CRC 0x{crc:04X}){with_cert} and "
+                                f"is in operation; the output is off (gains 0, 0) until set_gains", cert)
+
+    def _box_certificate(self, values: Dict[str, float], velocity_filter: Any, differentiator: str,
+                         certificate: Any, certificate_B: Optional[Tuple[float, float]]) -> Any:
+        """commission()'s box certificate: None for a point block or certificate=None; else
+        the one given, or one built in the drive's precision over the block's float plant."""
+        from .box import BoxCertificate, PlantBox
+
+        def f32(x: float) -> float:  # the value the drive holds
+            return float(struct.unpack(">f", struct.pack(">f", float(x)))[0])
+
+        ranged = f32(values["m_hi"]) != f32(values["m"]) or f32(values["b_hi"]) != f32(values["b"])
+        if not ranged or certificate is None:
+            if isinstance(certificate, BoxCertificate) or certificate_B is not None:
+                raise ValueError("certificate and certificate_B need plant ranges (m or b as (lo, hi))")
+            return None
+        if isinstance(certificate, BoxCertificate):
+            return certificate
+        if certificate != "auto":
+            raise ValueError(f"certificate must be 'auto', None or a BoxCertificate, got {certificate!r}")
+        precision = {4: "float", 8: "double"}.get(self._read(REG["PRECISION"], 1)[0])
+        if precision is None:
+            raise DriveError(f"zwidth drive at {self.address} reports a precision other than 4 or 8 bytes")
+        vkind, vparam = values["vfilter"], values["vf_param"]
+        vf = ("lowpass", f32(vparam)) if vkind == 1.0 else ("average", int(vparam)) if vkind == 2.0 else None
+        box = PlantBox((f32(values["m"]), f32(values["m_hi"])), (f32(values["b"]), f32(values["b_hi"])),
+                       f32(values["T"]), delay=int(values["delay"]), velocity_filter=vf,
+                       differentiator=differentiator, method="kharitonov")
+        if certificate_B is None:
+            lo, hi = box.certificate_range()
+            certificate_B = (max(lo, f32(values["b_min"])), min(hi, f32(values["b_max"])))
+            if not certificate_B[0] < certificate_B[1]:
+                raise ValueError(f"no B within [b_min, b_max] is certified over the box at half its K_mmax "
+                                 f"(B in [{lo:.6g}, {hi:.6g}]): give certificate_B")
+        return box.certificate(certificate_B, precision=precision)
+
+    def _box_cert_wire(self, words: Sequence[int]) -> List[int]:
+        """The certificate's words with its floats in the drive's word order (its own inverse)."""
+        lo, hi = REG["BOX_CERT_B"] - REG["BOX_CERT"], REG["BOX_CERT_NODES"] - REG["BOX_CERT"]
+        out = list(words)
+        out[lo:hi] = self._pairs(out[lo:hi])
+        return out
+
+    def _write_window(self, addr: int, words: Sequence[int]) -> int:
+        """Write words at addr in requests of at most 123 (FC 0x10's limit); the first
+        exception code, 0 when all were accepted."""
+        for at in range(0, len(words), 123):
+            exc = self._write_many(addr + at, words[at:at + 123])
+            if exc:
+                return exc
+        return 0
+
+    def _read_window(self, addr: int, count: int) -> List[int]:
+        """Read count words at addr in requests of at most 125 (FC 0x03's limit)."""
+        out: List[int] = []
+        for at in range(0, count, 125):
+            out += self._read(addr + at, min(125, count - at))
+        return out
 
     def save(self) -> SaveResult:
         """SAVE (0x5A7E to COMMAND): the drive writes its sealed block and the active gains

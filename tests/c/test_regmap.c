@@ -273,8 +273,8 @@ static void expect_outcome(outcome o, zw_mb_exception exc, zw_reason why, const 
 static const struct {
     uint_least16_t first, last;
 } k_mapped[] = {
-    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x62}, {0x64, 0x64}, {0x80, 0x83},
-    {0x88, 0x9F},
+    {0x00, 0x09}, {0x10, 0x13}, {0x20, 0x39}, {0x40, 0x62}, {0x64, 0x64}, {0x80, 0x84},
+    {0x88, 0x9F}, {0x100, 0x243},
 };
 
 static bool is_mapped(unsigned addr)
@@ -297,9 +297,13 @@ static snap snapshot(const zw_regmap *rm)
     zw_regmap copy = *rm;
     memset(&s, 0, sizeof s);
     for (i = 0; i < ZWT_ARRAY_LEN(k_mapped); ++i) {
-        uint_least16_t n = (uint_least16_t)(k_mapped[i].last - k_mapped[i].first + 1u);
-        assert_int_equal(zw_regmap_read(&copy, k_mapped[i].first, n, &s.w[k_mapped[i].first], NULL),
-                         ZW_MB_OK);
+        unsigned a;
+        for (a = k_mapped[i].first; a <= k_mapped[i].last; a += 125u) { /* FC 0x03's limit */
+            unsigned n = k_mapped[i].last - a + 1u;
+            n = n < 125u ? n : 125u;
+            assert_int_equal(zw_regmap_read(&copy, (uint_least16_t)a, (uint_least16_t)n, &s.w[a], NULL),
+                             ZW_MB_OK);
+        }
     }
     return s;
 }
@@ -346,6 +350,8 @@ static void check_refused(zw_regmap *rm, const snap *before, const zw_regmap *st
     expect.ws = rm->ws; /* the loop checks' scratch: no state, any contents */
     memcpy(expect.box_cells, rm->box_cells, sizeof expect.box_cells); /* the box search's too */
     expect.box_scratch = rm->box_scratch;
+    memcpy(expect.wire_scratch, rm->wire_scratch, sizeof expect.wire_scratch); /* SEAL's, SAVE's */
+    expect.box_cert_candidate = rm->box_cert_candidate; /* SEAL's decoded certificate */
     if (memcmp(&expect, rm, sizeof expect) != 0) {
         print_error("%s:%d: %s changed the map beyond the refusal registers\n", file, line, expr);
         _fail(file, line);
@@ -389,9 +395,9 @@ static uint16_t ref_crc_bytes(const unsigned char *p, size_t n)
 
 static uint16_t ref_crc_words(const uint_least16_t *w, size_t n)
 {
-    unsigned char bytes[2 * 64];
+    unsigned char bytes[2 * 400];
     size_t i;
-    assert_true(n <= 64);
+    assert_true(n <= 400);
     for (i = 0; i < n; ++i) {
         bytes[2 * i] = (unsigned char)(w[i] >> 8);
         bytes[2 * i + 1] = (unsigned char)(w[i] & 0xFFu);
@@ -536,7 +542,7 @@ static void test_init_sealed(void **state)
     (void)state;
     rm_init(&rm, &c);
     assert_int_equal(rd(&rm, ZW_REG_MAGIC), 0x5A57u);
-    assert_int_equal(rd(&rm, ZW_REG_VERSION), 4u);
+    assert_int_equal(rd(&rm, ZW_REG_VERSION), 5u);
     assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
     assert_int_equal(rd(&rm, ZW_REG_SEALED), 1u);
     assert_int_equal(rd(&rm, ZW_REG_LAST_REASON), 0u);
@@ -696,13 +702,20 @@ static void test_access_map_writes(void **state)
     uint_least16_t w[2] = {0u, 0u};
     (void)state;
     rm_init(&rm, &c);
-    for (a = 0; a < 0x100u; ++a) {
+    for (a = 0; a < ZW_REG_COUNT + 8u; ++a) {
         uint_least16_t addr = (uint_least16_t)a;
         if (!is_mapped(a)) {
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
                            ZW_REASON_UNMAPPED);
+        } else if (a >= ZW_REG_BOX_CERT_B && a < ZW_REG_BOX_CERT_NODES) {
+            /* the certificate's floats: as the block's */
+            EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
+                           ZW_REASON_HALF_FLOAT);
+            if ((a & 1u) == 0u)
+                EXPECT_REFUSED(&rm, write_words(&rm, addr, 2, w), ZW_MB_ILLEGAL_ADDRESS,
+                               ZW_REASON_LOCKED);
         } else if (a <= 0x09u || (a >= 0x20u && a <= 0x39u) ||
-                   (a >= ZW_REG_CONSENT && a <= ZW_REG_WORD_ORDER) ||
+                   (a >= ZW_REG_CONSENT && a <= ZW_REG_PRECISION) ||
                    (a >= ZW_REG_NONCE && a < ZW_REG_MAC)) {
             /* read-only, whether one word or a whole (aligned) value is written */
             EXPECT_REFUSED(&rm, write_words(&rm, addr, 1, w), ZW_MB_ILLEGAL_ADDRESS,
@@ -1341,7 +1354,7 @@ static void test_pdu_read(void **state)
     assert_int_equal(r.b[2], 0x5A);
     assert_int_equal(r.b[3], 0x57);
     assert_int_equal(r.b[4], 0x00);
-    assert_int_equal(r.b[5], 0x04); /* map version 4 */
+    assert_int_equal(r.b[5], 0x05); /* map version 5 */
     assert_int_equal(r.b[8], 0x00);
     assert_int_equal(r.b[9], 0x01); /* SEALED */
     EXPECT_ACCEPTED(write_pair(&rm, 0.25f, -0x1p-11f));
@@ -2043,13 +2056,14 @@ static void test_loop_block_certifies_the_real_loop(void **state)
 /* ---- consent and authentication (map version 3; review 2026-12, A3 and A4) --------------- */
 
 /* The message a client MACs, built here from the documented layout (regmap_commission.h):
- * the map version, the nonce words, the 34 block words and the CRC, high byte first. */
-static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t block[35],
-                             unsigned char msg[ZW_AUTH_MSG_BYTES])
+ * the map version, the nonce words, the 34 block words and the CRC, the 324 words of the
+ * box certificate window (box NULL: all 0), high byte first. */
+static void ref_auth_message_box(const uint_least16_t nonce[8], const uint_least16_t block[35],
+                                 const uint_least16_t *box, unsigned char msg[ZW_AUTH_MSG_BYTES])
 {
     size_t i, n = 0;
     msg[n++] = 0x00;
-    msg[n++] = 0x04;
+    msg[n++] = 0x05;
     for (i = 0; i < 8; ++i) {
         msg[n++] = (unsigned char)(nonce[i] >> 8);
         msg[n++] = (unsigned char)(nonce[i] & 0xFFu);
@@ -2058,28 +2072,59 @@ static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t
         msg[n++] = (unsigned char)(block[i] >> 8);
         msg[n++] = (unsigned char)(block[i] & 0xFFu);
     }
+    for (i = 0; i < 324; ++i) {
+        const unsigned w = box != NULL ? (unsigned)box[i] : 0u;
+        msg[n++] = (unsigned char)(w >> 8);
+        msg[n++] = (unsigned char)(w & 0xFFu);
+    }
     assert_int_equal(n, ZW_AUTH_MSG_BYTES);
 }
 
-/* A commissioning client in commissioning mode: stages block (with its CRC) and the MAC
+static void ref_auth_message(const uint_least16_t nonce[8], const uint_least16_t block[35],
+                             unsigned char msg[ZW_AUTH_MSG_BYTES])
+{
+    ref_auth_message_box(nonce, block, NULL, msg);
+}
+
+/* n words at addr in writes of at most 123 (FC 0x10's limit); the first refusal, if any. */
+static outcome write_window(zw_regmap *rm, uint_least16_t addr, unsigned n, const uint_least16_t *w)
+{
+    unsigned done;
+    outcome o = {ZW_MB_OK, ZW_REASON_NONE};
+    for (done = 0; done < n && o.exc == ZW_MB_OK; done += 123u)
+        o = write_words(rm, (uint_least16_t)(addr + done), (uint_least16_t)(n - done < 123u ? n - done : 123u),
+                        w + done);
+    return o;
+}
+
+/* A commissioning client in commissioning mode: stages block (with its CRC), the box
+ * certificate window (box NULL: left as UNLOCK2 staged it, and MACed as all 0) and the MAC
  * under key over this session's nonce (read from the map), or the given mac_words when
  * not NULL (a replay); returns the SEAL's outcome. */
-static outcome client_seal(zw_regmap *rm, const uint_least16_t block[35], const unsigned char key[8],
-                           const uint_least16_t *mac_words, uint_least16_t mac_out[16])
+static outcome client_seal_box(zw_regmap *rm, const uint_least16_t block[35], const uint_least16_t *box,
+                               const unsigned char key[8], const uint_least16_t *mac_words,
+                               uint_least16_t mac_out[16])
 {
     uint_least16_t nonce[8], macw[16];
     unsigned char msg[ZW_AUTH_MSG_BYTES], mac[32];
     size_t i;
     assert_int_equal(zw_regmap_read(rm, ZW_REG_NONCE, 8, nonce, NULL), ZW_MB_OK);
-    ref_auth_message(nonce, block, msg);
+    ref_auth_message_box(nonce, block, box, msg);
     test_mac(key, msg, sizeof msg, mac);
     for (i = 0; i < 16; ++i)
         macw[i] = mac_words != NULL ? mac_words[i]
                                     : (uint_least16_t)(((unsigned)mac[2 * i] << 8) | mac[2 * i + 1]);
     if (mac_out != NULL) memcpy(mac_out, macw, sizeof macw);
     EXPECT_ACCEPTED(write_words(rm, ZW_REG_CERT_M, ZW_CERT_WORDS + 1u, block));
+    if (box != NULL) EXPECT_ACCEPTED(write_window(rm, ZW_REG_BOX_CERT, ZW_BOX_CERT_WORDS, box));
     EXPECT_ACCEPTED(write_words(rm, ZW_REG_MAC, 16, macw));
     return command(rm, ZW_CMD_SEAL);
+}
+
+static outcome client_seal(zw_regmap *rm, const uint_least16_t block[35], const unsigned char key[8],
+                           const uint_least16_t *mac_words, uint_least16_t mac_out[16])
+{
+    return client_seal_box(rm, block, NULL, key, mac_words, mac_out);
 }
 
 /* The lying block of the review (A3): the plant's inertia doubled, no margin, no step limit. */
@@ -2258,20 +2303,26 @@ static void test_replay_refused(void **state)
 
 static void test_auth_message_layout(void **state)
 {
-    uint_least16_t nonce[8], block[35];
+    uint_least16_t nonce[8], block[35], box[324];
     uint_least8_t msg[ZW_AUTH_MSG_BYTES];
     unsigned char ref[ZW_AUTH_MSG_BYTES], got[ZW_AUTH_MSG_BYTES];
     size_t i;
     (void)state;
     for (i = 0; i < 8; ++i) nonce[i] = (uint_least16_t)(0xA100u + i);
     for (i = 0; i < 35; ++i) block[i] = (uint_least16_t)(0x0100u * i + 0xFFu - i);
-    zw_regmap_auth_message(nonce, block, msg);
-    ref_auth_message(nonce, block, ref);
+    for (i = 0; i < 324; ++i) box[i] = (uint_least16_t)((0x9E37u * (i + 1u)) & 0xFFFFu);
+    zw_regmap_auth_message(nonce, block, box, msg);
+    ref_auth_message_box(nonce, block, box, ref);
     for (i = 0; i < sizeof got; ++i) got[i] = (unsigned char)msg[i];
     assert_memory_equal(got, ref, sizeof ref);
-    zw_regmap_auth_message(NULL, block, msg); /* no-ops */
-    zw_regmap_auth_message(nonce, NULL, msg);
-    zw_regmap_auth_message(nonce, block, NULL);
+    memset(msg, 0xEE, sizeof msg);
+    zw_regmap_auth_message(NULL, block, box, msg); /* no-ops */
+    zw_regmap_auth_message(nonce, NULL, box, msg);
+    zw_regmap_auth_message(nonce, block, NULL, msg);
+    zw_regmap_auth_message(nonce, block, box, NULL);
+    for (i = 0; i < sizeof msg; ++i) assert_int_equal(msg[i], 0xEEu);
+    /* the scratch that holds the message also holds SAVE's image */
+    assert_true(ZW_IMAGE_BYTES <= sizeof ((zw_regmap *)NULL)->wire_scratch);
 }
 
 /* ---- factory ceilings and unusable blocks (review A3, A4, A2) ----------------------------- */
@@ -2488,11 +2539,11 @@ static bool test_save(void *ctx, const uint_least8_t *image, size_t len)
 }
 
 /* The documented image (regmap_persist.h), built here: magic, format, block + CRC, K, B,
- * CRC of the 42 words before it (format 2). */
-static void ref_image(const zw_cert *c, float K, float B, unsigned format,
-                      unsigned char img[ZW_IMAGE_BYTES])
+ * the box certificate's 324 words (box NULL: 0), CRC of the 366 words before it (format 3). */
+static void ref_image_box(const zw_cert *c, float K, float B, unsigned format, const uint_least16_t *box,
+                          unsigned char img[ZW_IMAGE_BYTES])
 {
-    uint_least16_t w[43];
+    uint_least16_t w[367];
     size_t i;
     w[0] = 0x5A57u;
     w[1] = 0x4E56u;
@@ -2500,11 +2551,18 @@ static void ref_image(const zw_cert *c, float K, float B, unsigned format,
     block_words(c, &w[3]);
     words_of(K, &w[38]);
     words_of(B, &w[40]);
-    w[42] = ref_crc_words(w, 42);
-    for (i = 0; i < 43; ++i) {
+    for (i = 0; i < 324; ++i) w[42 + i] = box != NULL ? box[i] : 0u;
+    w[366] = ref_crc_words(w, 366);
+    assert_int_equal(2u * ZWT_ARRAY_LEN(w), ZW_IMAGE_BYTES);
+    for (i = 0; i < 367; ++i) {
         img[2 * i] = (unsigned char)(w[i] >> 8);
         img[2 * i + 1] = (unsigned char)(w[i] & 0xFFu);
     }
+}
+
+static void ref_image(const zw_cert *c, float K, float B, unsigned format, unsigned char img[ZW_IMAGE_BYTES])
+{
+    ref_image_box(c, K, B, format, NULL, img);
 }
 
 /* A drive at power-up: the paper's block with sigma 0.8, factory ceilings, gains off. */
@@ -2966,6 +3024,195 @@ static void test_box_certificate(void **state)
     assert_int_equal(rm.box_cert_valid, 0);
 }
 
+/* A box certificate as the window's words, from the documented layout (regmap.h): n_steps,
+ * n_nodes, 17 breakpoints and 16 levels (host bit casts, high word first), 256 node words. */
+static void ref_box_cert_words(const zw_box_cert *bc, uint_least16_t w[324])
+{
+    size_t i;
+    w[0] = bc->n_steps;
+    w[1] = bc->n_nodes;
+    for (i = 0; i < 17; ++i) words_of(bc->B[i], &w[2 + 2 * i]);
+    for (i = 0; i < 16; ++i) words_of(bc->K[i], &w[36 + 2 * i]);
+    for (i = 0; i < 256; ++i) w[68 + i] = bc->nodes[i];
+}
+
+static void read_window(zw_regmap *rm, uint_least16_t addr, unsigned n, uint_least16_t *w)
+{
+    unsigned done;
+    for (done = 0; done < n; done += 125u)
+        EXPECT_ACCEPTED(read_words(rm, (uint_least16_t)(addr + done),
+                                   (uint_least16_t)(n - done < 125u ? n - done : 125u), w + done));
+}
+
+/* Map version 5: a ranged block commissioned over Modbus with its certificate (the window
+ * at ZW_REG_BOX_CERT, under the MAC), verified at SEAL; writes are then lookups.  Forged,
+ * damaged, non-canonical or misplaced certificates are refused and change nothing; the
+ * certificate is staged by UNLOCK2, read back, saved in the image and verified again at
+ * restore. */
+static void test_box_certificate_window(void **state)
+{
+    static zw_regmap rm, fresh;
+    zw_cert c = valley_cert(), point = valley_cert();
+    zw_box_cert bc = valley_box_cert();
+    uint_least16_t block[35], box[324], bad[324], back[324], zeros[324];
+    float level = 0.0f;
+    bool inside = false;
+    test_store st;
+    zw_regmap_storage storage;
+    unsigned i;
+    (void)state;
+    memset(zeros, 0, sizeof zeros);
+    zw_box_cert_level(&bc, VALLEY_B, &level, &inside);
+    assert_true(inside && level > 0.0f);
+    ref_box_cert_words(&bc, box);
+    rm_init(&rm, &c); /* the ranged block without a certificate: the search */
+    g_auth.strict = 1;
+    memcpy(g_auth.key, k_key, sizeof k_key);
+    assert_int_equal(rd(&rm, ZW_REG_VERSION), 5u);
+    assert_int_equal(rd(&rm, ZW_REG_PRECISION), (unsigned)sizeof(zw_real));
+    read_window(&rm, ZW_REG_BOX_CERT, 324, back);
+    assert_memory_equal(back, zeros, sizeof back);
+    /* the window is locked outside commissioning */
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_BOX_CERT, 2, box), ZW_MB_ILLEGAL_ADDRESS, ZW_REASON_LOCKED);
+    EXPECT_REFUSED(&rm, write_words(&rm, ZW_REG_BOX_CERT_B + 1u, 2, box), ZW_MB_ILLEGAL_ADDRESS,
+                   ZW_REASON_HALF_FLOAT);
+    c.sigma = 0.8f;
+    block_words(&c, block);
+    /* a level raised above what its leaves prove, under a valid MAC: refused, nothing changes */
+    memcpy(bad, box, sizeof bad);
+    words_of(1.5f * bc.K[3], &bad[36 + 2 * 3]);
+    unlock(&rm);
+    EXPECT_OUTCOME(client_seal_box(&rm, block, bad, k_key, NULL, NULL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BOX_CERT);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+    assert_int_equal(rm.box_cert_valid, 0);
+    /* a NaN payload in the padding (decodes to the quiet NaN: not what was MACed) */
+    memcpy(bad, box, sizeof bad);
+    bad[36 + 2 * 15] = 0x7F80u;
+    bad[36 + 2 * 15 + 1] = 0x0001u;
+    EXPECT_OUTCOME(client_seal_box(&rm, block, bad, k_key, NULL, NULL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BOX_CERT);
+    /* the certificate changed after the MAC was computed over the good one */
+    EXPECT_OUTCOME(client_seal_box(&rm, block, box, k_key, NULL, NULL), ZW_MB_OK, ZW_REASON_NONE);
+    assert_int_equal(rm.box_cert_valid, 1);
+    assert_int_equal(rd(&rm, ZW_REG_MODE), 0u);
+    read_window(&rm, ZW_REG_BOX_CERT, 324, back);
+    assert_memory_equal(back, box, sizeof back); /* in force: exactly the words sent */
+    allow_commissioning(&rm);
+    /* writes are lookups in its staircase */
+    EXPECT_ACCEPTED(write_pair(&rm, 0.79f * level, VALLEY_B));
+    assert_true(rdf(&rm, ZW_REG_LIVE_K_MAX) == level);
+    EXPECT_REFUSED(&rm, write_K(&rm, 0.81f * level), ZW_MB_ILLEGAL_VALUE, ZW_REASON_ABOVE_SIGMA);
+    EXPECT_REFUSED(&rm, write_pair(&rm, 0.01f * level, -1.0e-4f), ZW_MB_ILLEGAL_VALUE, ZW_REASON_OUTSIDE_CERT);
+    /* UNLOCK2 stages the certificate in force; a keyless change of it fails the MAC */
+    unlock(&rm);
+    read_window(&rm, ZW_REG_BOX_CERT, 324, back);
+    assert_memory_equal(back, box, sizeof back);
+    {
+        uint_least16_t nonce[8], macw[16];
+        unsigned char msg[ZW_AUTH_MSG_BYTES], mac[32];
+        assert_int_equal(zw_regmap_read(&rm, ZW_REG_NONCE, 8, nonce, NULL), ZW_MB_OK);
+        ref_auth_message_box(nonce, block, box, msg);
+        test_mac(k_key, msg, sizeof msg, mac);
+        for (i = 0; i < 16; ++i) macw[i] = (uint_least16_t)(((unsigned)mac[2 * i] << 8) | mac[2 * i + 1]);
+        EXPECT_ACCEPTED(write_words(&rm, ZW_REG_MAC, 16, macw));
+        memcpy(bad, box, sizeof bad);
+        bad[68 + 5] ^= 0x0010u; /* one node changed after the MAC */
+        EXPECT_ACCEPTED(write_window(&rm, ZW_REG_BOX_CERT, 324, bad));
+        EXPECT_REFUSED(&rm, command(&rm, ZW_CMD_SEAL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_AUTH);
+    }
+    /* a certificate with a point block */
+    point.m_hi = 0.0f;
+    point.b_hi = 0.0f;
+    point.sigma = 0.8f;
+    block_words(&point, block);
+    EXPECT_OUTCOME(client_seal_box(&rm, block, box, k_key, NULL, NULL), ZW_MB_ILLEGAL_VALUE, ZW_REASON_BOX_CERT);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+    assert_int_equal(rm.box_cert_valid, 1); /* the block in force kept its own */
+    EXPECT_ACCEPTED(write_pair(&rm, 0.79f * level, VALLEY_B));
+    /* SAVE carries it; restore verifies it again */
+    memset(&st, 0, sizeof st);
+    storage.save = test_save;
+    storage.ctx = &st;
+    zw_regmap_set_storage(&rm, &storage);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_SAVE));
+    {
+        unsigned char want[ZW_IMAGE_BYTES];
+        ref_image_box(&c, 0.79f * level, VALLEY_B, ZW_IMAGE_FORMAT, box, want);
+        assert_memory_equal(st.image, want, sizeof want);
+        memset(&fresh, 0xA5, sizeof fresh);
+        EXPECT_OK(zw_regmap_init(&fresh, NULL, NULL));
+        EXPECT_OK(restore_bytes(&fresh, want, sizeof want, NULL, 0, NULL));
+        assert_int_equal(fresh.box_cert_valid, 1);
+        read_window(&fresh, ZW_REG_BOX_CERT, 324, back);
+        assert_memory_equal(back, box, sizeof back);
+        EXPECT_ACTIVE(&fresh, 0.79f * level, VALLEY_B);
+        /* an image whose certificate claims more than it proves (its CRC made right) */
+        memcpy(bad, box, sizeof bad);
+        words_of(1.5f * bc.K[3], &bad[36 + 2 * 3]);
+        ref_image_box(&c, 0.79f * level, VALLEY_B, ZW_IMAGE_FORMAT, bad, want);
+        memset(&fresh, 0xA5, sizeof fresh);
+        EXPECT_OK(zw_regmap_init(&fresh, NULL, NULL));
+        EXPECT_STATUS(restore_bytes(&fresh, want, sizeof want, NULL, 0, NULL), ZW_ERR_ARG);
+        assert_int_equal(rd(&fresh, ZW_REG_RESTORE_REASON), ZW_REASON_BOX_CERT);
+        assert_int_equal(rd(&fresh, ZW_REG_SEALED), 0u);
+    }
+}
+
+/* Fuzzed certificates over Modbus, every one under a valid MAC: random words, bits and nodes
+ * changed.  Each is refused (BOX_CERT) and changes nothing, or it verifies; then every level
+ * it certifies must hold at the box's least point K_max (the valley's interior plant). */
+static void test_box_certificate_fuzz(void **state)
+{
+    static zw_regmap rm;
+    zw_cert c = valley_cert();
+    zw_box_cert bc = valley_box_cert();
+    uint_least16_t block[35], box[324], bad[324];
+    uint32_t seed = 0x2545F491u;
+    unsigned trial, refused = 0u, accepted = 0u;
+    (void)state;
+    ref_box_cert_words(&bc, box);
+    c.sigma = 0.8f;
+    rm_init(&rm, &c);
+    g_auth.strict = 1;
+    memcpy(g_auth.key, k_key, sizeof k_key);
+    block_words(&c, block);
+    unlock(&rm);
+    for (trial = 0; trial < 60u; ++trial) {
+        unsigned k, n = 1u + trial % 4u;
+        outcome o;
+        memcpy(bad, box, sizeof bad);
+        for (k = 0; k < n; ++k) {
+            seed = seed * 1664525u + 1013904223u;
+            {
+                const unsigned at = (seed >> 8) % 324u, bit = (seed >> 20) % 16u;
+                bad[at] = (uint_least16_t)(bad[at] ^ (1u << bit));
+            }
+        }
+        o = client_seal_box(&rm, block, bad, k_key, NULL, NULL);
+        if (o.exc == ZW_MB_OK) {
+            unsigned s;
+            float m_at = 0.0f;
+            ++accepted;
+            assert_int_equal(rm.box_cert_valid, 1);
+            for (s = 0; s < rm.box_cert.n_steps; ++s) {
+                const float lo = rm.box_cert.B[s], hi = rm.box_cert.B[s + 1u];
+                const float mid = 0.5f * (lo + hi);
+                /* no level above the box's least K_max at the step's ends and middle */
+                assert_true((double)rm.box_cert.K[s] <= valley_min(lo, &m_at));
+                assert_true((double)rm.box_cert.K[s] <= valley_min(hi, &m_at));
+                assert_true((double)rm.box_cert.K[s] <= valley_min(mid, &m_at));
+            }
+            unlock(&rm);
+        } else {
+            ++refused;
+            assert_int_equal(o.why, ZW_REASON_BOX_CERT);
+            assert_int_equal(rd(&rm, ZW_REG_MODE), 1u);
+        }
+    }
+    assert_true(refused > 30u); /* most changes break the proof */
+    print_message("fuzzed certificates: %u refused, %u accepted (each sound)\n", refused, accepted);
+    EXPECT_ACCEPTED(command(&rm, ZW_CMD_ABORT));
+}
+
 /* SEAL's rules for the ranges, and the ceilings applied to each end. */
 static void test_box_block_validation(void **state)
 {
@@ -3160,6 +3407,8 @@ int main(void)
         cmocka_unit_test(test_box_sigma_rule),
         cmocka_unit_test(test_box_budget_refuses),
         cmocka_unit_test(test_box_certificate),
+        cmocka_unit_test(test_box_certificate_window),
+        cmocka_unit_test(test_box_certificate_fuzz),
         cmocka_unit_test(test_box_block_validation),
         cmocka_unit_test(test_version3_client_refused),
         cmocka_unit_test(test_box_persistence),

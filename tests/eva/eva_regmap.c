@@ -671,7 +671,9 @@ static void drive_registers(zw_regmap *rm)
 static void drive_codec(void)
 {
     uint_least16_t w[2], block[ZW_CERT_WORDS + 1u], nonce[ZW_AUTH_NONCE_WORDS];
-    uint_least8_t msg[ZW_AUTH_MSG_BYTES];
+    static uint_least16_t box_words[ZW_BOX_CERT_WORDS];
+    static uint_least8_t msg[ZW_AUTH_MSG_BYTES];
+    static zw_box_cert bc;
     zw_cert c, d;
     size_t i;
     zw_float_to_words(any_float(), w);
@@ -702,11 +704,18 @@ static void drive_codec(void)
     }
     sink_unsigned = zw_crc16_words(block, any_size_upto(ZW_CERT_WORDS + 1u));
     sink_unsigned = zw_crc16_words(maybe_null(block), any_size_upto(ZW_CERT_WORDS + 1u));
-    zw_regmap_auth_message(nonce, block, msg);
+    for (i = 0u; i < ZW_BOX_CERT_WORDS; ++i) {
+        box_words[i] = any_word_source;
+    }
+    zw_regmap_auth_message(nonce, block, box_words, msg);
     for (i = 0u; i < ZW_AUTH_MSG_BYTES; ++i) {
         sink_unsigned = msg[i];
     }
-    zw_regmap_auth_message(maybe_null(nonce), maybe_null(block), maybe_null(msg));
+    zw_regmap_auth_message(maybe_null(nonce), maybe_null(block), maybe_null(box_words), maybe_null(msg));
+    /* the box certificate's words (any words: decoded, encoded, one at a time) */
+    zw_box_cert_decode(box_words, &bc);
+    zw_box_cert_encode(&bc, box_words);
+    sink_unsigned = zw_box_cert_word(&bc, any_unsigned_source);
     sink_name = zw_reason_name((zw_reason)any_int_source);
     /* the map's internal reader of a float payload (regmap_internal.h; no caller in the map
      * today, so reached here): two words, or four PDU bytes */

@@ -162,7 +162,8 @@ def test_minus_zero_gains_stored_as_zero(drive):
 
 def test_commission_a_box_of_plants_with_tune(start_drive):
     """Map version 4: `zwidth-tune commission --m LO:HI --b LO:HI` seals a ranged block (the
-    drive needs r = 1 in its ceilings); status shows the box; a drive started with ranges
+    drive needs r = 1 in its ceilings); status shows the box; map version 5: with its box
+    certificate, which status shows and writes look up; a drive started with ranges
     takes its middle as the nameplate."""
     d = start_drive("--max-r", "1")
     m_lo, m_hi, b_lo, b_hi = 0.97 * 85.78e-7, 1.04 * 85.78e-7, 0.98 * 2.197e-3, 1.03 * 2.197e-3
@@ -172,8 +173,31 @@ def test_commission_a_box_of_plants_with_tune(start_drive):
     s = status(d)
     assert (s["cert"]["m"], s["cert"]["m_hi"], s["cert"]["b"], s["cert"]["b_hi"]) == \
         (f32(m_lo), f32(m_hi), f32(b_lo), f32(b_hi))
+    # map version 5: the certificate was built in the drive's precision and sent with it
+    with d.client() as c:
+        precision = {4: "float", 8: "double"}[c.read(E["ZW_REG_PRECISION"], 1)[0]]
+    assert "box certificate:" in p.stderr and f"({precision}, 16 steps" in p.stderr, p.stderr
+    stairs = s["box_certificate"]
+    assert stairs["steps"] == 16 and len(stairs["B"]) == 17 and all(k > 0 for k in stairs["K"])
+    assert s["cert"]["b_min"] <= stairs["B"][0] < stairs["B"][-1] <= s["cert"]["b_max"]
     p = d.tune("status")
-    assert "a box of plants" in p.stdout, p.stdout
+    assert "a box of plants" in p.stdout and "certificate: 16 steps" in p.stdout, p.stdout
+    # writes are lookups: the level at B, and B outside the staircase refused by name
+    B_mid = 0.5 * (stairs["B"][7] + stairs["B"][8])
+    level = min(stairs["K"][7], stairs["K"][8])
+    p = d.tune("set", "--K", repr(0.79 * level), "--B", repr(B_mid), "--json")
+    assert p.returncode == 0, (p.stdout, p.stderr)
+    p = d.tune("set", "--K", repr(0.5 * level), "--B", repr(stairs["B"][-1] * 1.5 + 1e-3), "--json")
+    assert p.returncode == 3 and json.loads(p.stdout)["reason"] == "ZW_REASON_OUTSIDE_CERT", p.stdout
+    # --cert-b: the staircase's range as given; without ranges it is a usage error
+    p = d.tune("commission", "--paper-defaults", "--r", "1", "--m", f"{m_lo!r}:{m_hi!r}",
+               "--cert-b", "-1e-3:2e-3", "--json")
+    assert p.returncode == 0, (p.stdout, p.stderr)
+    assert status(d)["box_certificate"]["B"][0] == f32(-1e-3)
+    p = d.tune("commission", "--paper-defaults", "--cert-b", "-1e-3:2e-3")
+    assert p.returncode == 2 and "--cert-b needs plant ranges" in p.stderr, p.stderr
+    p = d.tune("commission", "--paper-defaults", "--r", "1", "--m", f"{m_lo!r}:{m_hi!r}", "--cert-b", "2e-3")
+    assert p.returncode == 2 and "--cert-b expects LO:HI" in p.stderr, p.stderr
     # r < 1 with ranges: refused by name at SEAL, the block in force stays
     p = d.tune("commission", "--paper-defaults", "--r", "0.999", "--m", f"{m_lo!r}:{m_hi!r}", "--json")
     assert p.returncode == 3 and json.loads(p.stdout)["reason"] == "ZW_REASON_BOX_RADIUS", p.stdout

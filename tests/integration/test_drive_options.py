@@ -31,7 +31,7 @@ def test_drive_logs_the_bound_address(start_drive):
 
 
 READ_MAGIC = struct.pack(">BHH", 3, 0, 2)
-MAGIC_ANSWER = b"\x03\x04\x5a\x57\x00\x04"  # magic, map version 4
+MAGIC_ANSWER = b"\x03\x04\x5a\x57\x00\x05"  # magic, map version 5
 
 
 @pytest.mark.skipif(SOCAT is None, reason="socat not installed")

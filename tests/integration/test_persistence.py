@@ -33,7 +33,7 @@ def test_saved_settings_survive_a_restart_and_bad_images_apply_nothing(start_dri
         c.set_gains(0.30, -1.0e-3)
         c.write1(CMD, SAVE)                  # the first copy becomes drive.state.prev
     assert (tmp_path / "drive.state.prev").read_bytes() == first
-    assert len(first) == 86 and first[:6] == b"ZWNV\x00\x02"
+    assert len(first) == 734 and first[:6] == b"ZWNV\x00\x03"
     assert state.stat().st_mode & 0o077 == 0
     d.stop()
 

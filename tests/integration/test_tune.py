@@ -68,7 +68,7 @@ def test_bad_certified_block_refused_at_startup():
 
 def test_status_of_a_fresh_drive(drive):
     s = status(drive)
-    assert s["magic"] == 0x5A57 and s["version"] == 4
+    assert s["magic"] == 0x5A57 and s["version"] == 5
     assert s["mode"] == "operation" and s["sealed"] is True
     assert s["gains"] == {"K": 0.0, "B": 0.0}
     for k, v in PAPER.items():
@@ -249,7 +249,7 @@ def test_save_then_restart_restores(start_drive, tmp_path):
     assert p.returncode == 0, (p.stdout, p.stderr)
     assert p.stdout == (f"saved: the drive stored its sealed block (CRC 0x{crc:04X}) and the active "
                         f"gains K = 0.389999986, B = -0.00135999999; they are restored at power-up\n")
-    assert state.stat().st_size == 86
+    assert state.stat().st_size == 734
     p = d.tune("save", "--json")
     assert p.returncode == 0 and loads(p.stdout) == {"verdict": "saved", "crc": crc, "K": f32(0.39),
                                                      "B": f32(-1.36e-3)}

@@ -250,10 +250,49 @@ def test_auth_message_agrees_with_the_c_library():
     lib.zw_regmap_auth_message.restype = None
     nonce = [0xA100 + i for i in range(8)]
     block = [(0x0100 * i + 0xFF - i) & 0xFFFF for i in range(35)]
-    out = (ctypes.c_uint8 * 88)()
-    lib.zw_regmap_auth_message((ctypes.c_uint16 * 8)(*nonce), (ctypes.c_uint16 * 35)(*block), out)
+    box = [(0x9E37 * (i + 1)) & 0xFFFF for i in range(zm.BOX_CERT_WORDS)]
+    out = (ctypes.c_uint8 * 736)()
+    lib.zw_regmap_auth_message((ctypes.c_uint16 * 8)(*nonce), (ctypes.c_uint16 * 35)(*block),
+                               (ctypes.c_uint16 * zm.BOX_CERT_WORDS)(*box), out)
+    assert bytes(out) == zm.auth_message(nonce, block, box)
+    assert zm.auth_message(nonce, block)[:2] == b"\x00\x05"
+    # no certificate: 324 zero words at the end
+    lib.zw_regmap_auth_message((ctypes.c_uint16 * 8)(*nonce), (ctypes.c_uint16 * 35)(*block),
+                               (ctypes.c_uint16 * zm.BOX_CERT_WORDS)(), out)
     assert bytes(out) == zm.auth_message(nonce, block)
-    assert zm.auth_message(nonce, block)[:2] == b"\x00\x04"
+    with pytest.raises(ValueError):
+        zm.auth_message(nonce, block, box[:-1])
+
+
+def test_box_certificate_words_agree_with_the_c_library():
+    """BoxCertificate.words() (python/zwidth/box.py) against zw_box_cert_encode of the same
+    certificate, through the bindings' wire form and the C encoder."""
+    lib_path = BUILD_DIR / "libzwidth_d_shared.so"
+    if not lib_path.is_file():
+        pytest.skip(f"{lib_path} not built")
+    import zwidth
+
+    cert = zwidth.PlantBox((0.95 * 85.78e-7, 1.05 * 85.78e-7), 2.197e-3, 0.02).certificate(
+        (-1e-3, 1e-3), steps=4, leaves=64)
+
+    class ZwBoxCert(ctypes.Structure):
+        _fields_ = [("n_steps", ctypes.c_uint16), ("n_nodes", ctypes.c_uint16),
+                    ("B", ctypes.c_float * 17), ("K", ctypes.c_float * 16),
+                    ("nodes", ctypes.c_uint16 * 256)]
+
+    c = ZwBoxCert()
+    c.n_steps, c.n_nodes = len(cert.K), len(cert.nodes)
+    for i, v in enumerate(cert.B):
+        c.B[i] = v
+    for i, v in enumerate(cert.K):
+        c.K[i] = v
+    for j, code in enumerate(cert.nodes):
+        c.nodes[j // 4] |= code << (4 * (j % 4))
+    lib = ctypes.CDLL(str(lib_path))
+    out = (ctypes.c_uint16 * zm.BOX_CERT_WORDS)()
+    lib.zw_box_cert_encode(ctypes.byref(c), out)
+    assert list(out) == cert.words()
+    assert len(cert.words()) * 2 == cert.size_bytes
 
 
 def test_auth_mac_is_rfc4231_hmac_sha256():

@@ -5,6 +5,7 @@
 as a client that nobody here wrote (interoperability of the exception responses)."""
 from __future__ import annotations
 
+import dataclasses
 import math
 import struct
 
@@ -38,7 +39,7 @@ def fields6(c: zm.CommissionResult) -> tuple:
 def test_status_of_a_fresh_drive(drive_port):
     with drive(drive_port) as d:
         s = d.status()
-    assert s.mode == "operation" and s.sealed and s.version == 4
+    assert s.mode == "operation" and s.sealed and s.version == 5
     assert s.plant == zm.Plant(*(f32(PAPER_PLANT[k]) for k in ("m", "b", "T", "m", "b")))
     expected_policy = {k: f32(v) for k, v in POLICY.items()}
     assert {k: getattr(s.policy, k) for k in POLICY} == expected_policy
@@ -350,7 +351,7 @@ def test_recorded_session_cannot_be_replayed(raw, drive_port, monkeypatch):
         monkeypatch.undo()
         assert d.commission(**NEW_BLOCK, key=TEST_KEY).accepted  # the block in force now
         before = d.status()
-    assert [a for a, _ in recorded] == [0x0040, 0x0090]
+    assert [a for a, _ in recorded] == [0x0040, 0x0100, 0x017B, 0x01F6, 0x0090]  # block, window, MAC
     for cmd in (0xC0DE, 0x5AFE):
         assert not client.write_register(zm.REG["COMMAND"], cmd, **unit).isError()
     for addr, words in recorded:
@@ -429,7 +430,7 @@ def test_raw_read_of_the_head(raw):
     client, unit = raw
     rsp = client.read_holding_registers(0x0000, count=10, **unit)
     assert not rsp.isError()
-    assert list(rsp.registers[:4]) == [0x5A57, 4, 0, 1]  # magic, map version 4, operation, sealed
+    assert list(rsp.registers[:4]) == [0x5A57, 5, 0, 1]  # magic, map version 5, operation, sealed
 
 
 def test_raw_bad_pair_is_exception_3(raw):
@@ -652,14 +653,16 @@ BOX_BLOCK = dict(m=(0.97 * J_PAPER, 1.04 * J_PAPER), b=f"{0.98 * B_PAPER!r}:{1.0
 
 
 def test_commission_a_ranged_block(start_drive):
-    """A box of plants commissioned through the client: the drive shows the ranges, its live
-    limits are box bounds (NaN where it has no box form), and it judges writes for the box."""
+    """A box of plants commissioned through the client without a certificate (map version 4's
+    way): the drive shows the ranges, its live limits are box bounds (NaN where it has no
+    box form), and its search judges writes for the box."""
     port = start_drive(extra=("--max-r", "1"))
     with drive(port, timeout=30.0) as d:  # a ranged SEAL certifies over the box (modbus.py)
-        c = d.commission(**BOX_BLOCK, key=TEST_KEY)
-        assert (c.accepted, c.reason, c.stage) == (True, "ZW_REASON_NONE", "done")
+        c = d.commission(**BOX_BLOCK, key=TEST_KEY, certificate=None)
+        assert (c.accepted, c.reason, c.stage, c.certificate) == (True, "ZW_REASON_NONE", "done", None)
         s = d.status()
-        assert s.version == 4 and s.sealed and s.mode == "operation"
+        assert s.staircase is None
+        assert s.version == 5 and s.sealed and s.mode == "operation"
         assert s.plant == zm.Plant(f32(0.97 * J_PAPER), f32(0.98 * B_PAPER), f32(0.02),
                                    f32(1.04 * J_PAPER), f32(1.03 * B_PAPER))
         assert s.plant.ranged
@@ -679,6 +682,44 @@ def test_commission_a_ranged_block(start_drive):
         r = d.set_gains(K=0.40, B=-1.36e-3)
         assert not r.accepted and r.reason in ("ZW_REASON_ABOVE_SIGMA", "ZW_REASON_UNSTABLE")
         assert d.gains() == zm.Gains(f32(lim.K_cert), 0.0)
+
+
+def test_commission_a_ranged_block_with_its_certificate(start_drive):
+    """Map version 5: commission() builds the box certificate in the drive's precision and
+    sends it; the drive holds exactly its words, shows its staircase, and every write is a
+    lookup.  A certificate that claims more than it proves is refused at SEAL by name, and
+    the block in force stays."""
+    port = start_drive(extra=("--max-r", "1"))
+    with drive(port, timeout=30.0) as d:
+        c = d.commission(**BOX_BLOCK, key=TEST_KEY)
+        assert (c.accepted, c.reason, c.stage) == (True, "ZW_REASON_NONE", "done"), c.message
+        cert = c.certificate
+        assert cert is not None and "box certificate" in c.message
+        assert cert.precision == {4: "float", 8: "double"}[d._read(zm.REG["PRECISION"], 1)[0]]
+        assert d._box_cert_wire(d._read_window(zm.REG["BOX_CERT"], zm.BOX_CERT_WORDS)) == cert.words()
+        s = d.status()
+        assert s.staircase == zm.Staircase(tuple(map(f32, cert.B)), tuple(map(f32, cert.K)), len(cert.nodes))
+        assert BOX_BLOCK["b_min"] <= cert.B[0] < cert.B[-1] <= BOX_BLOCK["b_max"]
+        B = 0.5 * (cert.B[5] + cert.B[6])
+        level = s.staircase.level(B)
+        assert level == cert.level(B) > 0.0
+        r = d.set_gains(K=0.79 * level, B=B)
+        assert r.accepted, r.reason
+        lim = d.status().limits
+        assert lim.K_max == f32(level) and lim.B_lo <= B <= lim.B_hi
+        r = d.set_gains(K=0.81 * level, B=B)
+        assert (r.accepted, r.reason) == (False, "ZW_REASON_ABOVE_SIGMA")
+        r = d.set_gains(K=0.1 * level, B=cert.B[-1] + 1e-3)
+        assert (r.accepted, r.reason) == (False, "ZW_REASON_OUTSIDE_CERT")
+        # a forged certificate: one level raised by half (the MAC is right: the proof is not)
+        forged = dataclasses.replace(cert, K=tuple(k * (1.5 if i == 3 else 1.0) for i, k in enumerate(cert.K)))
+        r2 = d.commission(**{**BOX_BLOCK, "sigma": 0.7}, key=TEST_KEY, certificate=forged)
+        assert (r2.accepted, r2.reason, r2.stage, r2.aborted) == (False, "ZW_REASON_BOX_CERT", "seal", True)
+        s = d.status()
+        assert s.policy.sigma == f32(0.8) and s.staircase is not None and s.staircase.K == tuple(map(f32, cert.K))
+        # a certificate needs ranges
+        with pytest.raises(ValueError, match="need plant ranges"):
+            d.commission(**{**BOX_BLOCK, "m": J_PAPER, "b": B_PAPER}, key=TEST_KEY, certificate=cert)
 
 
 def test_ranged_block_with_a_radius_bound_is_refused(start_drive):

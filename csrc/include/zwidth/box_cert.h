@@ -38,6 +38,12 @@ extern "C" {
 #define ZW_BOX_CERT_MAX_LEAVES 512u
 #define ZW_BOX_CERT_MAX_NODES 1024u            /* 2 x leaves, less one per step */
 #define ZW_BOX_CERT_NODE_WORDS 256u            /* 4 nodes per 16-bit word */
+/* On the wire and in the stored image (regmap_codec.h): n_steps, n_nodes, the 17
+ * breakpoints and 16 levels as binary32 (two words each, high word first), the node words. */
+#define ZW_BOX_CERT_WORDS 324u
+#define ZW_BOX_CERT_WORD_B 2u                  /* first word of B[0] */
+#define ZW_BOX_CERT_WORD_K 36u                 /* first word of K[0] */
+#define ZW_BOX_CERT_WORD_NODES 68u             /* nodes[0] */
 #define ZW_BOX_CERT_WIDEN ZW_R(6.103515625e-05) /* 2^-14 */
 
 /* Node codes: a leaf, or the side a split halves. */

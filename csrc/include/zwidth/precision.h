@@ -130,6 +130,9 @@
 #define zw_cert_set_field zw_cert_set_field_f
 #define zw_cert_encode zw_cert_encode_f
 #define zw_cert_decode zw_cert_decode_f
+#define zw_box_cert_word zw_box_cert_word_f
+#define zw_box_cert_encode zw_box_cert_encode_f
+#define zw_box_cert_decode zw_box_cert_decode_f
 #define zw_crc16_words zw_crc16_words_f
 #define zw_float_to_words zw_float_to_words_f
 #define zw_words_to_float zw_words_to_float_f
@@ -172,6 +175,8 @@
 #define zw_rm_seal_staged zw_rm_seal_staged_f
 #define zw_rm_sealed_word zw_rm_sealed_word_f
 #define zw_rm_write_mac zw_rm_write_mac_f
+#define zw_rm_write_box_cert zw_rm_write_box_cert_f
+#define zw_rm_sealed_box_cert_word zw_rm_sealed_box_cert_word_f
 #define zw_rm_save zw_rm_save_f
 #endif /* ZW_REAL_FLOAT */
 

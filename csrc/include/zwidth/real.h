@@ -73,6 +73,8 @@ typedef float zw_real;
 /* Unit roundoff u = 2^-24: |fl(x op y) - x op y| <= u |x op y| for normal results. */
 #define ZW_UNIT_ROUNDOFF ZW_R(5.9604644775390625e-8)
 #define ZW_REAL_NAME "float"
+/* Bytes of zw_real in IEEE-754 terms (not sizeof, which counts 16-bit chars on TI C28x). */
+#define ZW_REAL_BYTES 4u
 #if defined(HUGE_VALF) && !defined(ZW_PORTABLE_MATH)
 #define ZW_HUGE_VAL HUGE_VALF
 #endif
@@ -99,6 +101,7 @@ typedef double zw_real;
 /* Unit roundoff u = 2^-53. */
 #define ZW_UNIT_ROUNDOFF ZW_R(1.1102230246251565404e-16)
 #define ZW_REAL_NAME "double"
+#define ZW_REAL_BYTES 8u
 #if defined(HUGE_VAL) && !defined(ZW_PORTABLE_MATH)
 #define ZW_HUGE_VAL HUGE_VAL
 #endif

@@ -16,9 +16,10 @@
  *
  *   addr    name                    access  meaning
  *   0x0000  ZW_REG_MAGIC            r       0x5A57 ("ZW")
- *   0x0001  ZW_REG_VERSION          r       map version, 4 (1: no loop description, 2: no
- *                                           commissioning consent, 3: no plant ranges; see
- *                                           docs/modbus.md for what changed)
+ *   0x0001  ZW_REG_VERSION          r       map version, 5 (1: no loop description, 2: no
+ *                                           commissioning consent, 3: no plant ranges, 4: no
+ *                                           box certificate window; see docs/modbus.md for
+ *                                           what changed)
  *   0x0002  ZW_REG_MODE             r       0 operation, 1 commissioning
  *   0x0003  ZW_REG_SEALED           r       1 when the certified block is sealed (CRC valid)
  *   0x0004  ZW_REG_LAST_REASON      r       zw_reason of the last refused request (0 none)
@@ -119,9 +120,31 @@
  *   0x0082  ZW_REG_RESTORE_REASON r     why an image or its gains were refused (0 none)
  *   0x0083  ZW_REG_WORD_ORDER   r       0 ABCD (high word first, the default), 1 CDAB (low
  *                                       word first) for every f32 and u32 register
+ *   0x0084  ZW_REG_PRECISION    r       bytes of the drive's zw_real, 4 (float) or 8 (double)
+ *                                       (map version 5): the precision a box certificate
+ *                                       must be built in to pass on this drive
  *   0x0088  ZW_REG_NONCE (8)    r       the commissioning session's nonce (0 in operation)
  *   0x0090  ZW_REG_MAC (16)     rw      the client's MAC over the session (rw in
  *                                       commissioning, else LOCKED; 0 in operation)
+ *
+ *   0x0100  ZW_REG_BOX_CERT (324) rw    a ranged block's box certificate (map version 5;
+ *                                       box_cert.h, words as zw_box_cert_encode): rw in
+ *                                       commissioning (else LOCKED), reads show the staged
+ *                                       words there and the certificate in force in
+ *                                       operation (all 0 without one); UNLOCK2 stages the
+ *                                       one in force.  Any words may be written (three
+ *                                       FC 0x10 requests for the whole window); SEAL judges
+ *                                       them:
+ *   0x0100  n_steps   0x0101 n_nodes   (one word each)
+ *   0x0102  B[0..16]  breakpoints, f32 in the map's word order (34 words)
+ *   0x0124  K[0..15]  levels, f32 (32 words)
+ *   0x0144  nodes     256 words, four 4-bit node codes each (lowest nibble first)
+ *           All 324 words 0: no certificate.  Otherwise SEAL admits the block only with
+ *           the certificate verified for its box and loop (at most ZW_BOX_CERT_MAX_LEAVES
+ *           interval tests, no search) and canonical (decoding and encoding it gives the
+ *           same words); else ZW_REASON_BOX_CERT, and nothing changes.  The MAC covers the
+ *           324 words.  A ranged block sealed with one has bounded writes (lookups); one
+ *           sealed without runs the box search (unbounded: regmap_policy.h).
  *
  * Everything else is unmapped (exception 0x02, ZW_REASON_UNMAPPED).
  *
@@ -239,13 +262,17 @@ enum {
     ZW_REG_RESTORE_SOURCE = 0x0081,
     ZW_REG_RESTORE_REASON = 0x0082,
     ZW_REG_WORD_ORDER = 0x0083,
+    ZW_REG_PRECISION = 0x0084,
     ZW_REG_NONCE = 0x0088,
     ZW_REG_MAC = 0x0090,
-    ZW_REG_COUNT = 0x00A0 /* registers 0 .. ZW_REG_COUNT-1 may be mapped */
+    ZW_REG_BOX_CERT = 0x0100,
+    ZW_REG_BOX_CERT_B = 0x0102,
+    ZW_REG_BOX_CERT_NODES = 0x0144,
+    ZW_REG_COUNT = 0x0244 /* registers 0 .. ZW_REG_COUNT-1 may be mapped */
 };
 
 #define ZW_REGMAP_MAGIC 0x5A57u
-#define ZW_REGMAP_VERSION 4u
+#define ZW_REGMAP_VERSION 5u
 
 
 /* Modbus exception codes used. */
@@ -337,11 +364,19 @@ typedef struct zw_regmap {
      * K_max lower bound. */
     zw_box_loop_cell box_cells[ZW_REGMAP_BOX_CELLS];
     zw_box_loop_scratch box_scratch;
-    /* A ranged block's certificate (box_cert.h, zw_regmap_init_box), 648 B: while
-     * box_cert_valid the box rules are lookups in its staircase, no search.
-     * box_cert_pending: given at power-up, verified when the block is admitted. */
+    /* A ranged block's certificate (box_cert.h), 648 B: while box_cert_valid the box rules
+     * are lookups in its staircase, no search.  The words being written in commissioning
+     * (the window at ZW_REG_BOX_CERT; power-up and restore put theirs here too), 648 B,
+     * and the candidate SEAL decodes them into and verifies, 648 B, so that a refused
+     * certificate leaves the one in force untouched. */
     zw_box_cert box_cert;
-    uint_least16_t box_cert_valid, box_cert_pending;
+    uint_least16_t box_cert_valid;
+    uint_least16_t staged_box_cert[ZW_BOX_CERT_WORDS];
+    zw_box_cert box_cert_candidate;
+    uint_least16_t box_cert_candidate_valid; /* verified, during one admission only */
+    /* SEAL's MAC message and SAVE's image (never both at once), off the Modbus task's
+     * stack: 736 B. */
+    uint_least8_t wire_scratch[ZW_AUTH_MSG_BYTES];
 } zw_regmap;
 
 /* Power-up (init context: before the control loop and the Modbus task run): with cert

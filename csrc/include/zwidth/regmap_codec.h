@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "zwidth/box_cert.h"
 #include "zwidth/precision.h"
 
 #ifdef __cplusplus
@@ -46,6 +47,15 @@ void zw_cert_set_field(zw_cert *c, unsigned field, float value);
 /* The block as it is on the wire: 34 words, then its CRC (words[ZW_CERT_WORDS]). */
 void zw_cert_encode(const zw_cert *c, uint_least16_t words[ZW_CERT_WORDS + 1u]);
 void zw_cert_decode(const uint_least16_t words[ZW_CERT_WORDS], zw_cert *c);
+
+/* A box certificate (box_cert.h) as words (map version 5's window, the stored image):
+ * word i (0..ZW_BOX_CERT_WORDS-1; 0 past the end); all of them; and back.  Decoding and
+ * encoding again gives the same words exactly when the words are canonical (every float
+ * finite, or the one quiet NaN; no subnormal on a flushing FPU): the register map seals
+ * only such a certificate, so what it holds is bit for bit what the client wrote. */
+uint_least16_t zw_box_cert_word(const zw_box_cert *c, unsigned i);
+void zw_box_cert_encode(const zw_box_cert *c, uint_least16_t words[ZW_BOX_CERT_WORDS]);
+void zw_box_cert_decode(const uint_least16_t words[ZW_BOX_CERT_WORDS], zw_box_cert *c);
 
 /* CRC-16/MODBUS (poly 0xA001 reflected, init 0xFFFF) of 16-bit words, high byte first
  * (words NULL: the CRC of no words, 0xFFFF). */

@@ -31,8 +31,9 @@
  *     8 words, r; 0 outside commissioning); without the hooks, or when the RNG fails,
  *     UNLOCK2 is refused with ZW_REASON_RNG and nothing changes.  The client writes the
  *     block, its CRC and a MAC of zw_regmap_auth_message (the map version, the nonce, the
- *     34 block words and the CRC) under the drive's key into ZW_REG_MAC (0x0090, 16 words,
- *     rw in commissioning, reset to 0 by UNLOCK2).  SEAL checks, in this order: consent,
+ *     34 block words, the CRC and the 324 words of the box certificate window) under the
+ *     drive's key into ZW_REG_MAC (0x0090, 16 words, rw in commissioning, reset to 0 by
+ *     UNLOCK2).  SEAL checks, in this order: consent,
  *     the self-test, the CRC, the MAC (the firmware's verify hook; ZW_REASON_AUTH), then
  *     the policy.  A refused SEAL changes nothing (the client may correct and retry under
  *     the same nonce); the nonce dies with the session (SEAL accepted or ABORT), so a
@@ -46,6 +47,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "zwidth/box_cert.h"
 #include "zwidth/regmap_codec.h"
 
 #ifdef __cplusplus
@@ -61,7 +63,8 @@ extern "C" {
 
 #define ZW_AUTH_NONCE_WORDS 8u  /* 128-bit nonce, ZW_REG_NONCE */
 #define ZW_AUTH_MAC_WORDS 16u   /* 256-bit MAC (HMAC-SHA256 on zwidth's hosts), ZW_REG_MAC */
-#define ZW_AUTH_MSG_BYTES 88u   /* 2 (map version) + 16 (nonce) + 70 (block words and CRC) */
+/* 2 (map version) + 16 (nonce) + 70 (block words and CRC) + 648 (box certificate words) */
+#define ZW_AUTH_MSG_BYTES 736u
 
 /* What the firmware supplies for commissioning (the map has no crypto of its own).  Both
  * run in the Modbus task, during the request that needs them.
@@ -78,10 +81,13 @@ typedef struct zw_regmap_auth {
 } zw_regmap_auth;
 
 /* The message a commissioning client MACs (and SEAL verifies): ZW_REGMAP_VERSION as two
- * bytes, high first; the nonce words; the 34 block words and the CRC word, each word high
- * byte first.  Bytes 0..255 in uint_least8_t.  Any argument NULL: no-op. */
+ * bytes, high first; the nonce words; the 34 block words and the CRC word; the 324 box
+ * certificate words (ZW_REG_BOX_CERT, all 0 for none; floats as canonical ABCD words
+ * whatever the wire order); each word high byte first.  Bytes 0..255 in uint_least8_t.
+ * Any argument NULL: no-op. */
 void zw_regmap_auth_message(const uint_least16_t nonce[ZW_AUTH_NONCE_WORDS],
                             const uint_least16_t block[ZW_CERT_WORDS + 1u],
+                            const uint_least16_t box_cert[ZW_BOX_CERT_WORDS],
                             uint_least8_t msg[ZW_AUTH_MSG_BYTES]);
 
 #ifdef __cplusplus

@@ -11,9 +11,12 @@
  *   word  2      ZW_IMAGE_FORMAT
  *   words 3..37  the sealed block's 34 words and its CRC (map version 4: the plant ranges)
  *   words 38..41 K and B (binary32, high word first)
- *   word  42     CRC-16/MODBUS of words 0..41
- * Format 2 (map version 4).  A format-1 image (78 bytes, map version 3's 30-word block) is
- * refused, ZW_REASON_IMAGE_FORMAT, not migrated: the drive then starts with its power-up
+ *   words 42..365 the box certificate in force (the window of ZW_REG_BOX_CERT; all 0
+ *                without one), verified again at restore
+ *   word  366    CRC-16/MODBUS of words 0..365
+ * Format 3 (map version 5).  An image of an older format (format 2: 86 bytes, no
+ * certificate; format 1: 78 bytes, map version 3's 30-word block) is refused,
+ * ZW_REASON_IMAGE_FORMAT, not migrated: the drive then starts with its power-up
  * block and gains off until it is commissioned again (a migration would seal a block no
  * client wrote in the new layout; the old image stays in storage, untouched).
  * SAVE (in operation, with a sealed block and consent; refused ZW_REASON_NO_CONSENT,
@@ -43,9 +46,9 @@ extern "C" {
 #endif
 
 #define ZW_CMD_SAVE 0x5A7Eu
-#define ZW_IMAGE_FORMAT 2u
-#define ZW_IMAGE_WORDS 43u
-#define ZW_IMAGE_BYTES 86u
+#define ZW_IMAGE_FORMAT 3u
+#define ZW_IMAGE_WORDS 367u
+#define ZW_IMAGE_BYTES 734u
 
 /* The firmware's non-volatile storage: save writes the image (len bytes, each 0..255)
  * and returns true once it is stored durably (write the new copy, keep the previous one
