@@ -437,13 +437,12 @@ ZW_NOINLINE static zw_reason admit_box_cert(zw_regmap *rm, const zw_cert *c)
     zw_box_loop_work work;
     zw_box_cert_fault fault = ZW_BOX_CERT_BAD_HEADER;
     uint_least32_t leaves = 0u;
-    unsigned i;
-    bool given = false;
+    unsigned i, any_bits = 0u;
     rm->box_cert_candidate_valid = 0u;
     for (i = 0u; i < ZW_BOX_CERT_WORDS; ++i) {
-        given = given || (rm->staged_box_cert[i] != 0u);
+        any_bits |= (unsigned)rm->staged_box_cert[i];
     }
-    if (!given) {
+    if (any_bits == 0u) { /* all 0: no certificate */
         return ZW_REASON_NONE;
     }
     zw_box_cert_decode(rm->staged_box_cert, &rm->box_cert_candidate);

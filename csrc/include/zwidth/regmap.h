@@ -358,8 +358,9 @@ typedef struct zw_regmap {
      * cell stack and scratch, here rather than on the stack (scratch only, nothing kept
      * between requests): 2,560 + 2,880 B with float zw_real on a Cortex-M4F (2,560 +
      * 2,884 B on x86-64), 5,120 + 5,760 B with double (x86-64), the largest part of the
-     * map: sizeof(zw_regmap) is 9,088 B on the Cortex-M4F (float; tools/m4f_box_cert.sh),
-     * 9,160 B / 17,112 B on x86-64 (float / double), the box certificate's 648 B included.  With a ranged block
+     * map: sizeof(zw_regmap) is 11,192 B / 19,144 B on x86-64 (float /
+     * double; the Cortex-M4F figure: tools/m4f_box_cert.sh), the box certificate's
+     * 3 x 648 B and the 736 B wire scratch included.  With a ranged block
      * kmax_value holds the box's
      * K_max lower bound. */
     zw_box_loop_cell box_cells[ZW_REGMAP_BOX_CELLS];
@@ -398,8 +399,8 @@ zw_status zw_regmap_init(zw_regmap *rm, const zw_cert *cert, zw_reason *reason);
  * the highest level, B_LO / B_HI the run of steps around B certified at K / sigma.  A
  * certificate that fails verification, or one given with a point block, refuses the block
  * (ZW_REASON_BOX_CERT).  box_cert NULL: zw_regmap_init.  A block sealed later over Modbus
- * has no certificate (the window is not in the map yet) and runs the search; the stored
- * image does not carry the certificate either. */
+ * brings its own certificate through the window at ZW_REG_BOX_CERT (or none: the search);
+ * SAVE's image carries the one in force. */
 zw_status zw_regmap_init_box(zw_regmap *rm, const zw_cert *cert, const zw_box_cert *box_cert,
                              zw_reason *reason);
 

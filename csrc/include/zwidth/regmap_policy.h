@@ -117,9 +117,10 @@ typedef enum zw_reason {
                                      proof either way: refused, never accepted unproven */
     ZW_REASON_BOX_RADIUS = 41,    /* SEAL: a ranged block with r < 1 (the radius rule has no
                                      box form here) */
-    /* box certificates (box_cert.h, zw_regmap_init_box) */
-    ZW_REASON_BOX_CERT = 42,      /* power-up: the certificate does not verify for the block's
-                                     box and loop, or was given with a point block */
+    /* box certificates (box_cert.h; map version 5's window, zw_regmap_init_box, the image) */
+    ZW_REASON_BOX_CERT = 42,      /* SEAL, power-up, restore: the certificate does not verify
+                                     for the block's box and loop, is not canonical, or was
+                                     given with a point block */
     ZW_REASON_OUTSIDE_CERT = 43   /* a write's B outside the certificate's staircase */
 } zw_reason;
 
