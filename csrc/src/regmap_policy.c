@@ -205,11 +205,13 @@ ZW_NOINLINE static zw_status cert_box_k_max(zw_regmap *rm, const zw_cert *c, flo
     const zw_box_cert *stairs = staircase_of(rm, c);
     *k_max = ZW_R(0.0);
     if (stairs != NULL) { /* the level at B: certified for every plant */
-        float level;
-        bool inside;
+        float level = 0.0f; /* set by the lookup; initialized for the analysis (docs/eva.md) */
+        bool inside = (level > 0.0f);
         zw_box_cert_level(stairs, B, &level, &inside);
         *k_max = (zw_real)level;
-        return inside ? ZW_OK : ZW_ERR_DOMAIN;
+        /* a verified certificate's levels are all > 0, and outside it reads 0: so the level
+         * alone says whether B is inside (and a 0 is refused either way) */
+        return (level > 0.0f) ? ZW_OK : ZW_ERR_DOMAIN;
     }
     if (!cert_box_setup(rm, c, &box, &spec, &work)) {
         return ZW_ERR_ARG;
@@ -286,7 +288,7 @@ ZW_NOINLINE static void live_extremes(zw_regmap *rm, const zw_cert *c, bool *any
     zw_real K = ZW_R(0.0), B = ZW_R(0.0);
     const zw_box_cert *stairs = staircase_of(rm, c);
     if (stairs != NULL) { /* the highest level, in the middle of its step */
-        float Kf, Bf;
+        float Kf = 0.0f, Bf = 0.0f;
         zw_box_cert_k_mmax(stairs, &Kf, &Bf);
         K = (zw_real)Kf;
         B = (zw_real)Bf;
@@ -881,7 +883,7 @@ ZW_NOINLINE static void live_refresh(zw_regmap *rm)
         rm->live[L_B_LO] = QUIET_NAN_F;
         rm->live[L_B_HI] = QUIET_NAN_F;
         if (staircase_of(rm, &rm->sealed) != NULL) {
-            float q = rm->K / rm->sealed.sigma, lo, hi;
+            float q = rm->K / rm->sealed.sigma, lo = QUIET_NAN_F, hi = QUIET_NAN_F;
             if (rm->sealed.sigma != 1.0f) {
                 q = ZW_NEXTAFTERF(q, ZW_HUGE_VALF); /* rounded up */
             }

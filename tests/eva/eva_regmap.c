@@ -582,7 +582,9 @@ static void drive_configuration(zw_regmap *rm)
 
 static void drive_restore(zw_regmap *rm)
 {
-    uint_least8_t newest[ZW_EVA_IMAGE], previous[ZW_EVA_IMAGE], image[ZW_IMAGE_BYTES];
+    uint_least8_t newest[ZW_EVA_IMAGE], previous[ZW_EVA_IMAGE];
+    static uint_least8_t image[ZW_IMAGE_BYTES]; /* zero first: Eva widens the 367-word loop
+                                                   that fills it */
     zw_reason reason;
     zw_status st;
     size_t i;

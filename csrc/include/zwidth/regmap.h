@@ -171,7 +171,8 @@
  *                   accepted write or a SEAL runs the core (live registers, K_CERT search,
  *                   400-iteration root finder, and for a ranged block the box search): a
  *                   point block's SEAL measured 37,840 instructions on a Cortex-M4F, a
- *                   ranged block's SEAL 3.3e9 (about 20 s at 168 MHz), far more on a
+ *                   ranged block's SEAL with its box certificate 3.6-5.0e6 (tools/m4f_box_cert.sh),
+ *                   without one (the search) 3.3e9 (about 20 s at 168 MHz), far more on a
  *                   soft-float C28x; measure its worst case on the target and size the
  *                   Modbus task's watchdog and the master's response timeout for it (a
  *                   ranged SEAL needs seconds, not milliseconds).  The control loop only ever reads the
@@ -359,7 +360,7 @@ typedef struct zw_regmap {
      * between requests): 2,560 + 2,880 B with float zw_real on a Cortex-M4F (2,560 +
      * 2,884 B on x86-64), 5,120 + 5,760 B with double (x86-64), the largest part of the
      * map: sizeof(zw_regmap) is 11,192 B / 19,144 B on x86-64 (float /
-     * double; the Cortex-M4F figure: tools/m4f_box_cert.sh), the box certificate's
+     * double; 11,124 B on the Cortex-M4F, tools/m4f_box_cert.sh), the box certificate's
      * 3 x 648 B and the 736 B wire scratch included.  With a ranged block
      * kmax_value holds the box's
      * K_max lower bound. */
