@@ -59,7 +59,7 @@ def test_unmapped_and_read_only_refused_0x02(drive):
         # the certified block is locked outside commissioning
         expect_exception(c, struct.pack(">BHHB2H", 0x10, E["ZW_REG_CERT_SIGMA"], 2, 4, *float_words(0.9)),
                          2, "ZW_REASON_LOCKED")
-        assert c.read(0, 2) == [0x5A57, 4]
+        assert c.read(0, 2) == [0x5A57, 5]
 
 
 def test_nan_refused_0x03(drive):
@@ -133,7 +133,7 @@ def test_pipelined_requests_in_one_segment(drive):
         for tid in range(1, 6):
             head = c.recv_exact(7)
             assert struct.unpack(">HHHB", head) == (tid, 0, 7, 7)  # tid and unit id echoed
-            assert c.recv_exact(6) == bytes([3, 4, 0x5A, 0x57, 0, 4])
+            assert c.recv_exact(6) == bytes([3, 4, 0x5A, 0x57, 0, 5])
 
 
 def test_not_modbus_tcp_closes_only_that_connection(drive):
@@ -185,7 +185,7 @@ def test_client_vanishes_before_its_answer(drive):
         s.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
         s.close()
     with drive.client() as c:
-        assert c.read(0, 2) == [0x5A57, 4]
+        assert c.read(0, 2) == [0x5A57, 5]
     assert drive.alive()
     assert "refused the connection" not in drive.log()
 
@@ -224,7 +224,7 @@ def test_garbage_burst(drive):
         s.close()
     assert drive.alive()
     with drive.client() as c:
-        assert c.read(0, 2) == [0x5A57, 4]
+        assert c.read(0, 2) == [0x5A57, 5]
         assert c.gains() == (f32(0.2), f32(-5e-4))
         assert c.counters()[0] == accepted_before
         c.set_gains(0.25, -5e-4)  # and it still takes a good write

@@ -128,10 +128,10 @@ def test_rtu_tune_and_raw_frames(pty_pair, start_drive):
         frame[-1] ^= 0xFF
         os.write(raw.fd, bytes(frame))
         assert raw.read_frame(timeout=0.4) == b""
-        assert raw.request(1, struct.pack(">BHH", 3, 0, 2)) == b"\x03\x04\x5a\x57\x00\x04"
+        assert raw.request(1, struct.pack(">BHH", 3, 0, 2)) == b"\x03\x04\x5a\x57\x00\x05"
         # another slave's request: no answer, and the next request is not lost
         assert raw.request(2, struct.pack(">BHH", 3, 0, 2), timeout=0.4) is None
-        assert raw.request(1, struct.pack(">BHH", 3, 0, 2)) == b"\x03\x04\x5a\x57\x00\x04"
+        assert raw.request(1, struct.pack(">BHH", 3, 0, 2)) == b"\x03\x04\x5a\x57\x00\x05"
         # a broadcast write of the gains: no answer, not applied
         pdu = struct.pack(">BHHB4H", 0x10, E["ZW_REG_K"], 4, 8, *float_words(0.25, -5e-4))
         os.write(raw.fd, rtu_frame(0, pdu))
